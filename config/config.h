@@ -1,0 +1,65 @@
+// The validated configuration: what `tiltgate run --config FILE` serves. Plain data; the
+// loader (config/config_loader.h) is the only place that knows TOML.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tiltgate {
+
+enum class WordOrder { big, little };  // 32-bit values: high word first, or low word first
+
+struct ServerConfig {
+  std::string listen = "0.0.0.0";
+  std::uint16_t port = 502;
+  int max_clients = 32;
+  WordOrder word_order = WordOrder::big;
+  bool writes = false;                     // every write is refused with 0x01 unless true
+  std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed
+  std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
+  std::chrono::milliseconds write_timeout{3000};   // a queued write not done by then fails 0x0B
+};
+
+enum class BusProtocol { rieker, spectron_9bit, spectron_modbus };
+
+struct BusConfig {
+  std::string name;
+  std::string port;                 // tty path, e.g. /dev/ttyUSB0
+  BusProtocol protocol = BusProtocol::rieker;
+  std::uint32_t baud = 125000;
+  std::chrono::milliseconds timeout{50};     // reply timeout per attempt
+  int retries = 2;                            // extra attempts after a time-out (reads)
+  std::chrono::microseconds gap{1000};        // quiet time between master packets
+  bool rs485_kernel = false;                  // TIOCSRS485 on on-board UARTs
+  bool echo = false;                          // the adapter hears its own transmission
+  std::uint16_t master_address = 0;           // Rieker: the gateway's own address
+  std::chrono::milliseconds reopen_min{500};  // back-off when the tty disappears
+  std::chrono::milliseconds reopen_max{10000};
+  int line = 0;                               // where it was declared, for messages
+};
+
+struct SensorConfig {
+  std::string name;
+  std::string bus;
+  std::string model;                // "h6" | "h4360" | "dyna"
+  std::uint32_t address = 0;        // bus address
+  std::uint8_t unit_id = 1;         // Modbus unit id 1..247
+  std::chrono::milliseconds poll{100};
+  std::optional<std::chrono::milliseconds> stale_after;  // default: max(3 x poll, 1 s)
+  // Dyna only: raw counts -> degrees (the document gives no conversion).
+  double counts_per_degree = 100.0;
+  double zero_counts = 0.0;
+  int line = 0;
+};
+
+struct Config {
+  std::string path;                 // the file it came from
+  ServerConfig server;
+  std::vector<BusConfig> buses;
+  std::vector<SensorConfig> sensors;
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,15 @@
+#include "driver/line.h"
+
+namespace tiltgate {
+
+const char* to_string(LineError e) {
+  switch (e) {
+    case LineError::timeout: return "time-out";
+    case LineError::io: return "port I/O error";
+    case LineError::closed: return "port not open";
+    case LineError::cancelled: return "cancelled";
+  }
+  return "unknown";
+}
+
+}  // namespace tiltgate

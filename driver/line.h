@@ -1,0 +1,75 @@
+// The seam between drivers and serial buses. A driver speaks a protocol as a sequence of
+// transactions; a Line moves the bytes of one transaction at a time and knows nothing of the
+// protocol beyond "has a whole reply arrived yet", which the driver's ReplyFramer answers.
+#pragma once
+
+#include <boost/asio/awaitable.hpp>
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "driver/expected.h"
+
+namespace tiltgate {
+
+enum class LineError {
+  timeout,  // no complete reply within the reply timeout (after every retry)
+  io,       // the port failed (unplugged adapter, I/O error); the line reopens by itself
+  closed,   // the port is not open right now (reopening with back-off)
+  cancelled // shutdown
+};
+
+const char* to_string(LineError e);
+
+// Decides when the bytes received so far hold a whole reply. Pure: fed by the Line, owned by
+// the driver, which reads the decoded reply out of it afterwards.
+class ReplyFramer {
+ public:
+  virtual ~ReplyFramer() = default;
+  // Forget everything; called before each attempt of a transaction.
+  virtual void reset() = 0;
+  // Consume received bytes. Returns true once a complete, valid reply is held; bytes after it
+  // are ignored. Bytes that cannot be part of a valid reply are dropped by the framer itself.
+  virtual bool feed(std::span<const std::uint8_t> bytes) = 0;
+};
+
+struct LineRequest {
+  std::vector<std::uint8_t> bytes;
+  // Leading bytes of `bytes` that are address bytes (sent with the 9th bit set on a 9-bit
+  // bus, i.e. mark parity). Zero on byte-oriented protocols.
+  std::size_t address_bytes = 0;
+  // Null for a request that gets no reply (the Line then only writes).
+  ReplyFramer* framer = nullptr;
+  // Zero means the bus's configured reply timeout.
+  std::chrono::milliseconds timeout{0};
+  // Extra attempts after a time-out. -1 means the bus's configured retries. A driver sets 0
+  // for commands that must not run twice (set address).
+  int retries = -1;
+  // Quiet time the Line keeps after this transaction before the next one (Rieker: 50 ms after
+  // Set Address).
+  std::chrono::milliseconds settle{0};
+};
+
+struct LineStats {
+  std::uint64_t attempts = 0;   // requests written, retries included
+  std::uint64_t timeouts = 0;   // attempts that timed out
+  std::uint64_t io_errors = 0;  // failed reads/writes
+  std::uint64_t reopens = 0;    // successful (re)opens after the first
+};
+
+class Line {
+ public:
+  virtual ~Line() = default;
+  // Run one request/reply exchange. Only one runs at a time; the caller (the bus) serialises.
+  virtual boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) = 0;
+  // Increments on every successful (re)open, so a driver can tell that the device may have
+  // been replaced or power-cycled and re-read its identity.
+  virtual std::uint64_t generation() const = 0;
+  virtual bool is_open() const = 0;
+  virtual const std::string& name() const = 0;
+  virtual const LineStats& stats() const = 0;
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,50 @@
+// What the gateway knows about one sensor: the cache that Modbus reads are answered from.
+// Drivers fill it; the register map reads it. Vendor-neutral by design.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace tiltgate {
+
+using SteadyClock = std::chrono::steady_clock;
+
+// One measurement, taken in one poll. A Modbus read sees all of it or none of it.
+struct Reading {
+  double angle_x = NAN;                 // degrees (single-axis sensors: their one axis)
+  double angle_y = NAN;                 // degrees, NaN on single-axis sensors
+  std::optional<std::int32_t> raw_counts;       // sensors that report counts (Dyna)
+  std::optional<std::int32_t> raw_temperature; // sensors that report a temperature
+  SteadyClock::time_point taken{};     // when the reply arrived
+};
+
+// Counters a field engineer reads when a bus misbehaves.
+struct SensorCounters {
+  std::uint32_t transactions = 0;   // request/reply exchanges started, retries not counted
+  std::uint32_t polls_ok = 0;       // measurement polls that produced a reading
+  std::uint32_t polls_failed = 0;   // measurement polls that did not
+  std::uint32_t timeouts = 0;       // exchanges that got no valid reply in time
+  std::uint32_t checksum_errors = 0;  // replies dropped for a bad CRC/LRC
+  std::uint32_t io_errors = 0;      // exchanges lost to a port failure
+  std::array<std::uint32_t, 8> naks{};  // by NAK code (Rieker 0..5; the rest spare)
+  std::optional<std::uint8_t> last_nak;
+};
+
+struct SensorState {
+  std::optional<Reading> reading;   // the last good measurement
+  std::uint16_t sample_seq = 0;     // +1 for every new reading (wraps)
+  bool online = false;              // the last exchange with the sensor got a valid reply
+  bool identity_known = false;      // serial/firmware read since the last (re)connect
+  bool last_write_failed = false;
+  std::string serial;               // as the sensor reports it, trailing spaces trimmed
+  std::string firmware;
+  std::optional<std::uint16_t> lock_level;
+  std::uint32_t bus_address = 0;    // the sensor's address on its bus (follows Set Address)
+  SensorCounters counters;
+};
+
+}  // namespace tiltgate
