@@ -1,0 +1,113 @@
+#include "mapping/default_maps.h"
+
+#include <vector>
+
+namespace tiltgate {
+namespace {
+
+Point input(std::string name, std::uint16_t address, PointType type, ValueSource source,
+            std::string units, std::string description, std::uint16_t chars = 0) {
+  Point p;
+  p.name = std::move(name);
+  p.table = RegisterTable::input;
+  p.address = address;
+  p.type = type;
+  p.chars = chars;
+  p.source = source;
+  p.units = std::move(units);
+  p.description = std::move(description);
+  return p;
+}
+
+Point holding(std::string name, std::uint16_t address, PointType type, WriteTarget target,
+              double min, double max, std::string units, std::string description) {
+  Point p;
+  p.name = std::move(name);
+  p.table = RegisterTable::holding;
+  p.address = address;
+  p.type = type;
+  p.source = ValueSource::written;
+  p.write = target;
+  p.min = min;
+  p.max = max;
+  p.units = std::move(units);
+  p.description = std::move(description);
+  return p;
+}
+
+// Registers 6..15 and the identity strings: the same place and meaning on every model, so a
+// PLC program written for one sensor family reads the other's health the same way.
+void add_status_block(std::vector<Point>& points) {
+  using T = PointType;
+  using S = ValueSource;
+  points.push_back(input("status", 6, T::uint16, S::status, "",
+                         "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity unknown"));
+  points.push_back(input("age_ms", 7, T::uint16, S::age_ms, "ms",
+                         "time since the last good reading, saturating at 65535"));
+  points.push_back(input("polls_ok", 8, T::uint32, S::polls_ok, "", "measurement polls answered"));
+  points.push_back(input("polls_failed", 10, T::uint32, S::polls_failed, "",
+                         "measurement polls not answered"));
+  points.push_back(input("last_nak", 12, T::uint16, S::last_nak, "",
+                         "last NAK code from the sensor, 65535 if none"));
+  points.push_back(input("lock_level", 13, T::uint16, S::lock_level, "",
+                         "sensor lock level, 65535 if unknown"));
+  points.push_back(input("rs485_address", 14, T::uint16, S::bus_address, "",
+                         "the sensor's address on its bus"));
+  points.push_back(input("sample_seq", 15, T::uint16, S::sample_seq, "",
+                         "increments with every new reading"));
+  points.push_back(input("serial", 16, T::string, S::serial, "",
+                         "serial number, 2 characters per register, first in the high byte", 10));
+  points.push_back(input("firmware", 21, T::string, S::firmware, "",
+                         "firmware revision, space padded", 7));
+  Point online;
+  online.name = "online";
+  online.table = RegisterTable::discrete;
+  online.address = 0;
+  online.type = PointType::boolean;
+  online.source = ValueSource::online;
+  online.description = "the sensor answers";
+  points.push_back(online);
+}
+
+RegisterMap rieker_map(bool dual_axis) {
+  using T = PointType;
+  using S = ValueSource;
+  using W = WriteTarget;
+  std::vector<Point> points;
+  points.push_back(input("angle_x", 0, T::float32, S::angle_x, "deg",
+                         dual_axis ? "X angle after the zero offset" : "the single axis angle"));
+  points.push_back(input("angle_y", 2, T::float32, S::angle_y, "deg",
+                         dual_axis ? "Y angle after the zero offset" : "NaN (single axis)"));
+  points.push_back(input("angle_x_cdeg", 4, T::int16, S::angle_x_cdeg, "0.01 deg",
+                         "X angle in hundredths of a degree, saturating"));
+  points.push_back(input("angle_y_cdeg", 5, T::int16, S::angle_y_cdeg, "0.01 deg",
+                         dual_axis ? "Y angle in hundredths of a degree, saturating" : "0 (single axis)"));
+  add_status_block(points);
+  // Ranges: Rieker function 41 takes 1..6, 38 codes 1..8, addresses 1..65000; a zero offset
+  // beyond the +-180 deg measuring range makes no sense.
+  points.push_back(holding("filter", 0, T::uint16, W::filter, 1, 6, "",
+                           "Set Filter Response 1 (fast, noisy) .. 6 (slow, quiet)"));
+  points.push_back(holding("zero_x", 1, T::float32, W::zero_x, -180, 180, "deg",
+                           "Set Zero To Value, axis 1"));
+  if (dual_axis) {
+    points.push_back(holding("zero_y", 3, T::float32, W::zero_y, -180, 180, "deg",
+                             "Set Zero To Value, axis 2"));
+  }
+  points.push_back(holding("command", 5, T::uint16, W::command, 1, 3, "",
+                           "1 zero to current angle (temporary), 2 (permanent), 3 restart"));
+  points.push_back(holding("baud_code", 6, T::uint16, W::baud_code, 1, 8, "",
+                           "Set Baud 1..8, takes effect after restart"));
+  points.push_back(holding("rs485_address", 7, T::uint16, W::bus_address, 1, 65000, "",
+                           "Set Address; the gateway follows the sensor"));
+  return RegisterMap(std::move(points));
+}
+
+}  // namespace
+
+RegisterMap default_map(std::string_view model) {
+  if (model == "h6") return rieker_map(true);
+  if (model == "h4360") return rieker_map(false);
+  return RegisterMap();
+}
+
+}  // namespace tiltgate

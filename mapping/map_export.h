@@ -1,0 +1,28 @@
+// `tiltgate map`: the register maps as CSV for PLC tag databases, or as a Markdown table for a
+// commissioning report.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mapping/register_map.h"
+
+namespace tiltgate {
+
+struct UnitMap {
+  std::uint8_t unit_id;
+  std::string sensor;  // sensor name, for headings
+  std::string model;
+  const RegisterMap* map;
+};
+
+// Header: unit_id,name,table,address,words,type,access,units,description
+std::string export_csv(const std::vector<UnitMap>& units);
+std::string export_markdown(const std::vector<UnitMap>& units);
+
+// The 1-based number many PLC tools show: 0xxxx coils, 1xxxx discrete inputs, 3xxxx input
+// registers, 4xxxx holding registers (e.g. input register 0 is 30001).
+std::string plc_number(RegisterTable table, std::uint16_t address);
+
+}  // namespace tiltgate

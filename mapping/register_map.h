@@ -1,0 +1,36 @@
+// The points one Modbus unit shows, with the lookups the request path needs.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "driver/expected.h"
+#include "mapping/point.h"
+
+namespace tiltgate {
+
+class RegisterMap {
+ public:
+  RegisterMap() = default;
+  // Points may come in any order; overlapping points are a programming or config error and are
+  // reported by validate(), not silently accepted.
+  explicit RegisterMap(std::vector<Point> points);
+
+  const std::vector<Point>& points() const { return points_; }
+  bool has_table(RegisterTable table) const;
+  // The points of one table that overlap [address, address + count), in address order.
+  std::vector<const Point*> overlapping(RegisterTable table, std::uint32_t address,
+                                        std::uint32_t count) const;
+  const Point* find(std::string_view name) const;
+  // One past the highest holding register, so the gateway can size its written-values shadow.
+  std::uint32_t holding_end() const;
+
+  // Empty when the map is consistent; otherwise one message per problem.
+  std::vector<std::string> validate() const;
+
+ private:
+  std::vector<Point> points_;  // sorted by (table, address)
+};
+
+}  // namespace tiltgate
