@@ -1,0 +1,68 @@
+// The Rieker Flex driver: turns polls and register writes into Rieker transactions.
+// Reads angles (type 4 on an H6, type 1 on an H4360), reads identity after start and after
+// every reconnect, and does the lock dance around every setting (unlock, command, check the
+// ACK, lock again) so the caller never sees lock levels.
+#pragma once
+
+#include <boost/asio/awaitable.hpp>
+
+#include "driver/sensor_driver.h"
+#include "rieker/codec.h"
+
+namespace tiltgate::rieker {
+
+struct RiekerDriverOptions {
+  std::string name = "sensor";  // for log lines
+  Model model = Model::h6;
+  std::uint16_t address = kFactoryAddress;
+  std::uint16_t master_address = 0;
+  int busy_retries = 3;  // NAK 5 "busy, wait and try again": this many more tries
+  std::chrono::milliseconds busy_wait{20};
+};
+
+// Why one exchange produced no usable reply.
+struct ExchangeError {
+  enum class Kind { line, nak, bad_reply } kind;
+  LineError line = LineError::timeout;
+  std::uint8_t nak = 0;
+  std::string detail;
+};
+
+struct ExchangeOptions {
+  int retries = -1;  // -1: the bus's
+  std::chrono::milliseconds settle{0};
+};
+
+class RiekerDriver : public SensorDriver {
+ public:
+  explicit RiekerDriver(RiekerDriverOptions options);
+
+  std::string_view model() const override;
+  WriteResult check_write(WriteTarget target, double value) const override;
+  boost::asio::awaitable<void> poll(Line& line) override;
+  boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
+  const SensorState& state() const override { return state_; }
+
+  std::uint16_t address() const { return options_.address; }
+
+ private:
+  // One request and its reply, with counters kept. A NAK 5 is retried after a pause.
+  boost::asio::awaitable<Expected<Frame, ExchangeError>> exchange(Line& line, RequestResult request,
+                                                                  ExchangeOptions options = {});
+  boost::asio::awaitable<bool> read_identity(Line& line);
+  boost::asio::awaitable<void> read_angles(Line& line);
+  // The setting itself, between unlock and lock.
+  boost::asio::awaitable<WriteResult> apply(Line& line, WriteTarget target, double value);
+  boost::asio::awaitable<WriteResult> set_address(Line& line, std::uint16_t new_address);
+  Route route() const { return Route{options_.address, options_.master_address}; }
+  AngleType angle_type() const;
+
+  RiekerDriverOptions options_;
+  SensorState state_;
+  std::uint64_t identity_generation_ = 0;  // the line generation the identity was read on
+};
+
+// An ExchangeError as the write error the gateway maps to a Modbus exception.
+WriteError to_write_error(const ExchangeError& error, std::string_view step);
+
+}  // namespace tiltgate::rieker

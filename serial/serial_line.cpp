@@ -1,0 +1,333 @@
+#include "serial/serial_line.h"
+
+#include <fcntl.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <boost/asio/write.hpp>
+#include <cerrno>
+
+namespace tiltgate {
+
+namespace asio = boost::asio;
+using boost::system::error_code;
+
+namespace {
+
+// A driver takes a short packet into its buffer at once; a write not accepted within a second
+// (beyond the packet's own wire time) means the port is wedged.
+constexpr std::chrono::seconds kStalledWrite{1};
+
+// Cancels the port's pending operation if it is still running at `deadline`: the race between
+// an I/O operation and a timer that Boost 1.74 cannot express (no awaitable operators, no
+// cancel_after). Lives in the coroutine frame around one co_await.
+class PortDeadline {
+ public:
+  PortDeadline(asio::posix::stream_descriptor& port, std::chrono::steady_clock::time_point at)
+      : timer_(port.get_executor(), at) {
+    timer_.async_wait([&port, state = state_](const error_code& ec) {
+      // `finished`: the operation won and this guard is gone; the port must not be touched
+      // (the handler may run after the line itself is destroyed).
+      if (ec || state->finished) return;
+      state->passed = true;
+      error_code ignored;
+      port.cancel(ignored);
+    });
+  }
+  ~PortDeadline() {
+    state_->finished = true;
+    timer_.cancel();
+  }
+  PortDeadline(const PortDeadline&) = delete;
+  PortDeadline& operator=(const PortDeadline&) = delete;
+
+  bool passed() const { return state_->passed; }
+
+ private:
+  struct State {
+    bool finished = false;
+    bool passed = false;
+  };
+  std::shared_ptr<State> state_ = std::make_shared<State>();
+  asio::steady_timer timer_;
+};
+
+std::string errno_text(int error) {
+  return std::error_code(error, std::generic_category()).message();
+}
+
+}  // namespace
+
+SerialLineOptions from_config(const BusConfig& bus) {
+  SerialLineOptions o;
+  o.name = bus.name;
+  o.port = bus.port;
+  o.baud = bus.baud;
+  o.timeout = bus.timeout;
+  o.retries = bus.retries;
+  o.gap = bus.gap;
+  o.rs485_kernel = bus.rs485_kernel;
+  o.echo = bus.echo;
+  o.reopen_min = bus.reopen_min;
+  o.reopen_max = bus.reopen_max;
+  switch (bus.protocol) {
+    case BusProtocol::rieker: o.framing = Framing::eight_none_one; break;
+    case BusProtocol::spectron_9bit: o.framing = Framing::nine_bit; break;
+    case BusProtocol::spectron_modbus: o.framing = Framing::eight_even_one; break;
+  }
+  return o;
+}
+
+SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options)
+    : options_(std::move(options)),
+      port_(executor),
+      quiet_timer_(executor),
+      reopen_timer_(executor) {
+  // A zero back-off would spin; a maximum below the minimum would make no sense.
+  options_.reopen_min = std::max(options_.reopen_min, std::chrono::milliseconds{1});
+  options_.reopen_max = std::max(options_.reopen_max, options_.reopen_min);
+  reopen_delay_ = options_.reopen_min;
+}
+
+SerialLine::~SerialLine() { stop(); }
+
+bool SerialLine::start() {
+  if (stopped_ || port_.is_open()) return port_.is_open();
+  auto opened = open_port();
+  if (opened) {
+    spdlog::info("{}: {} opened at {} baud", options_.name, options_.port, options_.baud);
+    return true;
+  }
+  spdlog::warn("{}: cannot open {} ({}), retrying", options_.name, options_.port, opened.error());
+  reopen_delay_ = options_.reopen_min;
+  schedule_reopen();
+  return false;
+}
+
+void SerialLine::stop() {
+  stopped_ = true;
+  reopen_timer_.cancel();
+  quiet_timer_.cancel();
+  error_code ignored;
+  port_.close(ignored);  // a pending read or write completes with operation_aborted
+}
+
+std::optional<TtySettings> SerialLine::termios_in_force() {
+  if (!port_.is_open()) return std::nullopt;
+  auto settings = read_settings(port_.native_handle());
+  if (!settings) return std::nullopt;
+  return *settings;
+}
+
+Parity SerialLine::idle_parity() const {
+  switch (options_.framing) {
+    case Framing::eight_none_one: return Parity::none;
+    case Framing::eight_even_one: return Parity::even;
+    case Framing::nine_bit: return Parity::space;  // data bytes; address bytes switch to mark
+  }
+  return Parity::none;
+}
+
+Expected<Done, std::string> SerialLine::open_port() {
+  // O_NONBLOCK: do not wait for a carrier, and let Asio drive the reads and writes.
+  const int fd = ::open(options_.port.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return Unexpected(errno_text(errno));
+  auto configured = apply_raw_settings(fd, options_.baud, idle_parity());
+  if (!configured) {
+    ::close(fd);
+    return Unexpected("cannot configure: " + configured.error().message());
+  }
+  if (options_.rs485_kernel) {
+    auto rs485 = enable_kernel_rs485(fd);
+    if (!rs485 && !warned_rs485_) {
+      // Not fatal: USB adapters switch direction themselves and reject the ioctl.
+      warned_rs485_ = true;
+      spdlog::warn("{}: {} has no kernel RS485 mode ({}), continuing without it", options_.name,
+                   options_.port, rs485.error().message());
+    }
+  }
+  (void)discard_input(fd);  // whatever arrived before we were listening
+  error_code ec;
+  port_.assign(fd, ec);
+  if (ec) {
+    ::close(fd);
+    return Unexpected(ec.message());
+  }
+  ++generation_;
+  return Done{};
+}
+
+void SerialLine::schedule_reopen() {
+  reopen_timer_.expires_after(reopen_delay_);
+  reopen_timer_.async_wait([this, alive = std::weak_ptr<int>(alive_)](const error_code& ec) {
+    if (ec || alive.expired()) return;
+    reopen_now();
+  });
+}
+
+void SerialLine::reopen_now() {
+  if (stopped_ || port_.is_open()) return;
+  auto opened = open_port();
+  if (!opened) {
+    reopen_delay_ = std::min(reopen_delay_ * 2, options_.reopen_max);
+    spdlog::debug("{}: {} still unavailable ({}), next try in {} ms", options_.name,
+                  options_.port, opened.error(), reopen_delay_.count());
+    schedule_reopen();
+    return;
+  }
+  reopen_delay_ = options_.reopen_min;
+  if (generation_ > 1) {
+    ++stats_.reopens;
+    spdlog::info("{}: {} reopened", options_.name, options_.port);
+  } else {
+    spdlog::info("{}: {} opened at {} baud", options_.name, options_.port, options_.baud);
+  }
+}
+
+void SerialLine::lose_port(const std::string& why) {
+  ++stats_.io_errors;
+  error_code ignored;
+  port_.close(ignored);
+  spdlog::warn("{}: {} lost ({}), reopening", options_.name, options_.port, why);
+  reopen_delay_ = options_.reopen_min;
+  schedule_reopen();
+}
+
+SerialLine::Attempt SerialLine::port_failure(const std::string& why) {
+  if (stopped_) return Attempt::cancelled;  // stop() closed the port under the operation
+  lose_port(why);
+  return Attempt::failed;
+}
+
+asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest request) {
+  const int retries = request.retries < 0 ? options_.retries : request.retries;
+  const auto timeout = request.timeout.count() > 0 ? request.timeout : options_.timeout;
+  for (int attempts_left = retries + 1;; --attempts_left) {
+    if (stopped_) co_return Unexpected(LineError::cancelled);
+    if (!port_.is_open()) co_return Unexpected(LineError::closed);
+    const Attempt outcome = co_await attempt(request, timeout);
+    switch (outcome) {
+      case Attempt::replied: co_return Done{};
+      case Attempt::failed: co_return Unexpected(LineError::io);
+      case Attempt::cancelled: co_return Unexpected(LineError::cancelled);
+      case Attempt::timed_out:
+        ++stats_.timeouts;
+        spdlog::debug("{}: no reply within {} ms", options_.name, timeout.count());
+        if (attempts_left <= 1) co_return Unexpected(LineError::timeout);
+        break;
+    }
+  }
+}
+
+asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& request,
+                                                         std::chrono::milliseconds timeout) {
+  const bool quiet = co_await keep_quiet();
+  if (!quiet) co_return Attempt::cancelled;
+  if (request.framer) request.framer->reset();
+  // Bytes that arrived since the last reply (a late answer, line noise) would be taken for
+  // the start of this reply.
+  auto flushed = discard_input(port_.native_handle());
+  if (!flushed) co_return port_failure(flushed.error().message());
+  ++stats_.attempts;
+  const std::optional<Attempt> send_failure = co_await send(request);
+  if (send_failure) co_return *send_failure;
+  quiet_until_ = packet_end_ + request.settle + options_.gap;
+  if (!request.framer) co_return Attempt::replied;  // nothing to wait for: written is done
+  co_return co_await receive(request, packet_end_ + timeout);
+}
+
+asio::awaitable<bool> SerialLine::keep_quiet() {
+  if (Clock::now() < quiet_until_) {
+    quiet_timer_.expires_at(quiet_until_);
+    error_code ec;
+    co_await quiet_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+  }
+  co_return !stopped_;
+}
+
+asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::send(const LineRequest& request) {
+  std::span<const std::uint8_t> bytes(request.bytes);
+  const std::size_t address_bytes =
+      options_.framing == Framing::nine_bit ? std::min(request.address_bytes, bytes.size()) : 0;
+  if (address_bytes > 0) {
+    const int fd = port_.native_handle();
+    auto marked = apply_parity(fd, Parity::mark);
+    if (!marked) co_return port_failure(marked.error().message());
+    const std::optional<Attempt> address_failure =
+        co_await write_segment(bytes.first(address_bytes), Parity::mark);
+    if (address_failure) co_return address_failure;
+    // The parity must not change while the address is still in the UART. tcdrain blocks the
+    // event loop, but only for the few byte-times the address takes (1.1 ms per byte at 9600).
+    auto drained = wait_until_sent(fd);
+    if (!drained) co_return port_failure(drained.error().message());
+    auto spaced = apply_parity(fd, Parity::space);
+    if (!spaced) co_return port_failure(spaced.error().message());
+    bytes = bytes.subspan(address_bytes);
+    if (bytes.empty()) co_return std::nullopt;
+  }
+  co_return co_await write_segment(bytes, idle_parity());
+}
+
+asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
+    std::span<const std::uint8_t> bytes, Parity parity) {
+  const auto wire = wire_time(bytes.size(), options_.baud, parity);
+  error_code ec;
+  bool stalled = false;
+  {
+    // One write for the whole packet: Rieker bytes must follow each other within 125 us.
+    PortDeadline deadline(port_, Clock::now() + wire + kStalledWrite);
+    co_await asio::async_write(port_, asio::buffer(bytes.data(), bytes.size()),
+                               asio::redirect_error(asio::use_awaitable, ec));
+    stalled = deadline.passed();
+  }
+  if (ec) co_return port_failure(stalled ? std::string("write stalled") : ec.message());
+  // The driver has the bytes; they are on the wire for `wire` more (its buffer was empty).
+  packet_end_ = Clock::now() + wire;
+  if (write_observer_) {
+    auto in_force = read_settings(port_.native_handle());
+    if (in_force) write_observer_(bytes, parity, *in_force);
+  }
+  co_return std::nullopt;
+}
+
+asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& request,
+                                                         Clock::time_point deadline) {
+  std::span<const std::uint8_t> echo;
+  if (options_.echo) echo = std::span<const std::uint8_t>(request.bytes);
+  std::array<std::uint8_t, 256> buffer{};
+  for (;;) {
+    // Also ends an attempt drowned in bytes that never make a reply.
+    if (Clock::now() >= deadline) co_return Attempt::timed_out;
+    error_code ec;
+    std::size_t received = 0;
+    bool passed = false;
+    {
+      PortDeadline guard(port_, deadline);
+      received = co_await port_.async_read_some(asio::buffer(buffer),
+                                                asio::redirect_error(asio::use_awaitable, ec));
+      passed = guard.passed();
+    }
+    if (ec) {
+      if (!stopped_ && passed && ec == asio::error::operation_aborted) co_return Attempt::timed_out;
+      co_return port_failure(ec.message());  // EIO, or end of file after a hang-up
+    }
+    std::span<const std::uint8_t> chunk(buffer.data(), received);
+    if (!echo.empty()) {
+      const std::size_t n = std::min(chunk.size(), echo.size());
+      if (!std::equal(chunk.begin(), chunk.begin() + n, echo.begin())) {
+        ++echo_mismatches_;
+        spdlog::debug("{}: echo differs from what was sent (collision)", options_.name);
+        co_return Attempt::timed_out;
+      }
+      echo = echo.subspan(n);
+      chunk = chunk.subspan(n);
+    }
+    if (!chunk.empty() && request.framer->feed(chunk)) co_return Attempt::replied;
+  }
+}
+
+}  // namespace tiltgate

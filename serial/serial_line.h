@@ -1,0 +1,141 @@
+// A Line over a Linux tty (USB RS485 adapter, on-board UART, or a pseudo-terminal in tests):
+// moves the bytes of one transaction at a time and keeps the bus timing (the quiet gap
+// between master packets, the reply timeout, retries). It knows no protocol: the request's
+// ReplyFramer says when a reply is complete.
+//
+// A port that fails (EIO from an unplugged adapter, a vanished device file) is closed and
+// reopened in the background with exponential back-off; meanwhile transact() returns
+// LineError::closed at once. Nothing here throws or ends the process.
+//
+// Timing: a packet ends when its write completes plus its wire time at the baud rate (10 bits
+// a byte, 11 with parity). The next packet starts no earlier than that end + the request's
+// settle + the bus gap; the reply timeout also runs from that end. Input received before a
+// packet is discarded (TCIFLUSH) so a late reply is never taken for the next one.
+//
+// Echo (an adapter that hears its own transmission): the echo is read back and compared with
+// what was sent. A mismatch means another transmitter collided with ours; that attempt fails
+// like a time-out (retried, counted in stats().timeouts and echo_mismatches()), because the
+// port itself is fine and LineError::io would wrongly make drivers think it was unplugged.
+// A request without a framer is only written; its echo goes with the next request's flush.
+//
+// 9-bit framing: address bytes go out with mark parity, then tcdrain (which blocks the event
+// loop for the few byte-times the address takes), then space parity for the data bytes.
+//
+// Kernel RS485 (rs485_kernel): a port whose driver refuses TIOCSRS485 (USB adapters, ptys)
+// logs one warning and is used as it is.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "config/config.h"
+#include "driver/line.h"
+#include "serial/termios_settings.h"
+
+namespace tiltgate {
+
+enum class Framing {
+  eight_none_one,  // Rieker Flex
+  eight_even_one,  // Spectron Dyna, Modbus-ASCII-style protocol
+  nine_bit,        // Spectron Dyna, 9-bit addressing: address bytes mark parity, data space
+};
+
+struct SerialLineOptions {
+  std::string name;  // for log lines, e.g. "line1"
+  std::string port;  // tty path, e.g. /dev/ttyUSB0 (a symlink is followed at every open)
+  std::uint32_t baud = 125000;
+  std::chrono::milliseconds timeout{50};  // reply timeout per attempt
+  int retries = 2;                        // extra attempts after a time-out
+  std::chrono::microseconds gap{1000};    // quiet time between master packets
+  bool rs485_kernel = false;              // TIOCSRS485; a port without it logs a warning
+  bool echo = false;                      // the adapter hears its own transmission
+  std::chrono::milliseconds reopen_min{500};
+  std::chrono::milliseconds reopen_max{10000};
+  Framing framing = Framing::eight_none_one;
+};
+
+SerialLineOptions from_config(const BusConfig& bus);
+// The name gateway/gateway.cpp uses.
+inline SerialLineOptions serial_options_from(const BusConfig& bus) { return from_config(bus); }
+
+class SerialLine final : public Line {
+ public:
+  // Test hook: called after each write, with the termios read back from the port right then,
+  // so a test can see the parity an address byte went out with.
+  using WriteObserver = std::function<void(std::span<const std::uint8_t> written,
+                                           Parity applied, const TtySettings& in_force)>;
+
+  SerialLine(boost::asio::any_io_executor executor, SerialLineOptions options);
+  // Calls stop(). Destroy the line only when no transact() is suspended on it.
+  ~SerialLine() override;
+  SerialLine(const SerialLine&) = delete;
+  SerialLine& operator=(const SerialLine&) = delete;
+
+  // Opens the port. A port that cannot be opened yet is not an error: it is logged and retried
+  // in the background with back-off. Returns whether the port is open now.
+  bool start();
+  // Closes the port and cancels everything: a suspended transact() returns cancelled, and so
+  // does every later one. A stopped line does not start again.
+  void stop();
+
+  boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override;
+
+  std::uint64_t generation() const override { return generation_; }
+  bool is_open() const override { return port_.is_open(); }
+  const std::string& name() const override { return options_.name; }
+  const LineStats& stats() const override { return stats_; }
+  std::uint64_t echo_mismatches() const { return echo_mismatches_; }
+  const SerialLineOptions& options() const { return options_; }
+
+  // The settings in force on the open port (nullopt while closed).
+  std::optional<TtySettings> termios_in_force();
+  void observe_writes(WriteObserver observer) { write_observer_ = std::move(observer); }
+
+ private:
+  enum class Attempt { replied, timed_out, failed, cancelled };
+  using Clock = std::chrono::steady_clock;
+
+  Expected<Done, std::string> open_port();
+  void schedule_reopen();
+  void reopen_now();
+  void lose_port(const std::string& why);
+  Attempt port_failure(const std::string& why);
+  Parity idle_parity() const;
+
+  boost::asio::awaitable<Attempt> attempt(const LineRequest& request,
+                                          std::chrono::milliseconds timeout);
+  // Waits out the quiet time after the previous packet; false once stopped.
+  boost::asio::awaitable<bool> keep_quiet();
+  // Send steps return the attempt's outcome if it ends there, nothing if it goes on.
+  boost::asio::awaitable<std::optional<Attempt>> send(const LineRequest& request);
+  boost::asio::awaitable<std::optional<Attempt>> write_segment(std::span<const std::uint8_t> bytes,
+                                                               Parity parity);
+  boost::asio::awaitable<Attempt> receive(const LineRequest& request, Clock::time_point deadline);
+
+  SerialLineOptions options_;
+  boost::asio::posix::stream_descriptor port_;
+  boost::asio::steady_timer quiet_timer_;
+  boost::asio::steady_timer reopen_timer_;
+  std::chrono::milliseconds reopen_delay_;
+  Clock::time_point packet_end_{};   // when the last byte written leaves the UART
+  Clock::time_point quiet_until_{};  // earliest start of the next master packet
+  bool stopped_ = false;
+  bool warned_rs485_ = false;
+  std::uint64_t generation_ = 0;
+  std::uint64_t echo_mismatches_ = 0;
+  LineStats stats_;
+  WriteObserver write_observer_;
+  // Lets timer handlers that outlive the line see that it is gone.
+  std::shared_ptr<int> alive_ = std::make_shared<int>(0);
+};
+
+}  // namespace tiltgate
