@@ -1,0 +1,150 @@
+#include "config/config_loader.h"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "config/cross_checks.h"
+#include "config/sections.h"
+#include "config/toml_reader.h"
+
+namespace tiltgate {
+
+std::string ConfigError::to_string() const {
+  std::string out = file;
+  if (line > 0) out += fmt::format(":{}:{}", line, column);
+  out += ": ";
+  if (!key.empty()) out += key + ": ";
+  return out + message;
+}
+
+namespace config {
+namespace {
+
+// The top-level tables a file may hold, written as they appear in a file.
+constexpr std::string_view kTopLevel = "[server], [[bus]] and [[sensor]]";
+
+std::string table_header(std::string_view name) {
+  return name == "server" ? "[server]" : fmt::format("[[{}]]", name);
+}
+
+// [[bus]] and [[sensor]]: an array whose every element is a table.
+template <class ReadOne>
+void read_table_array(std::string_view name, const toml::key& key, const toml::node& node,
+                      ErrorList& errors, ReadOne read_one) {
+  const toml::array* array = node.as_array();
+  if (array == nullptr) {
+    errors.add(place_of(key.source()), std::string(name),
+               fmt::format("expected an array of tables ({}), got {}", table_header(name),
+                           type_name(node.type())));
+    return;
+  }
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& element = *array->get(i);
+    std::string path = fmt::format("{}[{}]", name, i);
+    if (const toml::table* table = element.as_table())
+      read_one(*table, std::move(path));
+    else
+      errors.add(place_of(element.source()), std::move(path),
+                 fmt::format("expected a table, got {}", type_name(element.type())));
+  }
+}
+
+void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
+  const bool is_table = node.is_table() || node.is_array_of_tables();
+  const std::vector<std::string> known{"server", "bus", "sensor"};
+  const std::string guess = closest_key(key.str(), known);
+  std::string message = is_table ? "unknown table" : "unknown key at the top level";
+  if (!guess.empty())
+    message += fmt::format("; did you mean {}?", table_header(guess));
+  else
+    message += fmt::format("; expected the tables {}", kTopLevel);
+  errors.add(place_of(key.source()), std::string(key.str()), std::move(message));
+}
+
+// A gateway with nothing to serve is a commissioning mistake, not a configuration.
+bool sensors_missing(const toml::table& root) {
+  const toml::node* node = root.get("sensor");
+  return node == nullptr || (node->is_array() && node->as_array()->empty());
+}
+
+Config assemble(std::string path, ServerConfig server, std::vector<ParsedBus> buses,
+                std::vector<ParsedSensor> sensors) {
+  Config config;
+  config.path = std::move(path);
+  config.server = server;
+  for (ParsedBus& bus : buses) config.buses.push_back(std::move(bus.config));
+  for (ParsedSensor& sensor : sensors) {
+    sensor.config.address = std::uint32_t(sensor.address);  // range checked against its bus
+    config.sensors.push_back(std::move(sensor.config));
+  }
+  return config;
+}
+
+}  // namespace
+}  // namespace config
+
+Expected<Config, ConfigErrors> load_config_string(std::string_view text,
+                                                  std::string_view source_name) {
+  using namespace config;
+  toml::table root;
+  try {
+    root = toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    const Place where = place_of(e.source());
+    return Unexpected(ConfigErrors{ConfigError{std::string(source_name), where.line, where.column,
+                                               "", std::string(e.description())}});
+  }
+  ErrorList errors{std::string(source_name)};
+  ServerConfig server;
+  std::vector<ParsedBus> buses;
+  std::vector<ParsedSensor> sensors;
+  for (auto&& [key, node] : root) {
+    if (key == "server") {
+      if (const toml::table* table = node.as_table())
+        server = read_server(*table, errors);
+      else
+        errors.add(place_of(key.source()), "server",
+                   fmt::format("expected a table ([server]), got {}", type_name(node.type())));
+    } else if (key == "bus") {
+      read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
+        buses.push_back(read_bus(table, std::move(path), errors));
+      });
+    } else if (key == "sensor") {
+      read_table_array("sensor", key, node, errors,
+                       [&](const toml::table& table, std::string path) {
+                         sensors.push_back(read_sensor(table, std::move(path), errors));
+                       });
+    } else {
+      report_unknown_top_level(key, node, errors);
+    }
+  }
+  if (sensors_missing(root))
+    errors.add(Place{}, "sensor", "no [[sensor]] defined, expected at least one");
+  check_buses(buses, errors);
+  check_sensors(sensors, buses, errors);
+  if (!errors.empty()) return Unexpected(errors.take());
+  return assemble(std::string(source_name), server, std::move(buses), std::move(sensors));
+}
+
+Expected<Config, ConfigErrors> load_config_file(const std::string& path) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored))
+    return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", "is a directory, expected a file"}});
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    const std::string reason = std::strerror(errno);
+    return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", "cannot open: " + reason}});
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad())
+    return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", "cannot read the file"}});
+  return load_config_string(text.str(), path);
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,191 @@
+#include "config/cross_checks.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <optional>
+#include <span>
+
+namespace tiltgate::config {
+
+namespace {
+
+// `bus "line1" (line 4)`, or `bus[0] (line 4)` when its name is itself in error.
+template <class Parsed>
+std::string describe(const Parsed& parsed, std::string_view kind) {
+  const int line = parsed.where.header().line;
+  if (parsed.where.valid("name"))
+    return fmt::format("{} \"{}\" (line {})", kind, parsed.config.name, line);
+  return fmt::format("{} (line {})", parsed.where.path(), line);
+}
+
+template <class Parsed>
+void reject_duplicate_names(const std::vector<Parsed>& items, std::string_view kind,
+                            ErrorList& errors) {
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (!items[i].where.valid("name")) continue;
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!items[j].where.valid("name") || items[j].config.name != items[i].config.name) continue;
+      items[i].where.report(errors, "name",
+                            fmt::format("duplicate {} name \"{}\", first declared at line {}", kind,
+                                        items[i].config.name, items[j].where.header().line));
+      break;
+    }
+  }
+}
+
+// The same device under two names (/dev/serial/by-id/... and /dev/ttyUSB0) is still one line;
+// only ports that exist right now can be resolved.
+std::optional<std::filesystem::path> resolve_port(const ParsedBus& bus) {
+  if (!bus.where.valid("port")) return std::nullopt;
+  std::error_code error;
+  auto path = std::filesystem::canonical(bus.config.port, error);
+  if (error) return std::nullopt;
+  return path;
+}
+
+void reject_shared_ports(const std::vector<ParsedBus>& buses, ErrorList& errors) {
+  std::vector<std::optional<std::filesystem::path>> devices;
+  for (const ParsedBus& bus : buses) devices.push_back(resolve_port(bus));
+  for (std::size_t i = 0; i < buses.size(); ++i) {
+    if (!buses[i].where.valid("port")) continue;
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!buses[j].where.valid("port")) continue;
+      const std::string& port = buses[i].config.port;
+      if (port == buses[j].config.port) {
+        buses[i].where.report(
+            errors, "port",
+            fmt::format("\"{}\" is already used by {}", port, describe(buses[j], "bus")));
+        break;
+      }
+      if (devices[i] && devices[j] && *devices[i] == *devices[j]) {
+        buses[i].where.report(
+            errors, "port",
+            fmt::format("\"{}\" is {}, the same device as the port \"{}\" of {}", port,
+                        devices[i]->string(), buses[j].config.port, describe(buses[j], "bus")));
+        break;
+      }
+    }
+  }
+}
+
+const ParsedBus* find_bus(const std::vector<ParsedBus>& buses, const std::string& name) {
+  for (const ParsedBus& bus : buses)
+    if (bus.where.valid("name") && bus.config.name == name) return &bus;
+  return nullptr;
+}
+
+struct AddressRange {
+  std::int64_t min;
+  std::int64_t max;
+};
+
+AddressRange address_range(BusProtocol protocol) {
+  switch (protocol) {
+    case BusProtocol::rieker:
+      return {1, 65000};  // PROTOCOL-NOTES, Rieker
+    case BusProtocol::spectron_9bit:
+      return {0, 255};  // one address byte, factory 0
+    case BusProtocol::spectron_modbus:
+      return {1, 250};  // PROTOCOL-NOTES, Dyna protocol 2
+  }
+  return {0, 0};
+}
+
+bool model_fits(const std::string& model, BusProtocol protocol) {
+  return (model == "dyna") == (protocol != BusProtocol::rieker);
+}
+
+void report_unknown_bus(const ParsedSensor& sensor, const std::vector<ParsedBus>& buses,
+                        ErrorList& errors) {
+  std::vector<std::string> names;
+  for (const ParsedBus& bus : buses)
+    if (bus.where.valid("name")) names.push_back(bus.config.name);
+  sensor.where.report(
+      errors, "bus",
+      names.empty() ? fmt::format("unknown bus \"{}\": no [[bus]] is defined", sensor.config.bus)
+                    : fmt::format("unknown bus \"{}\", expected one of: {}", sensor.config.bus,
+                                  fmt::join(names, ", ")));
+}
+
+// The address against its bus: the protocol's range, the master, and the sensors declared
+// before it (`earlier`).
+void check_address(const ParsedSensor& sensor, const ParsedBus& bus,
+                   std::span<const ParsedSensor> earlier, ErrorList& errors) {
+  if (!sensor.where.valid("address")) return;
+  const BusProtocol protocol = bus.config.protocol;
+  const auto [min, max] = address_range(protocol);
+  if (sensor.address < min || sensor.address > max) {
+    return sensor.where.report(errors, "address",
+                               fmt::format("{} is out of range for a {} bus, expected {}..{}",
+                                           sensor.address, protocol_name(protocol), min, max));
+  }
+  // PROTOCOL-NOTES, Rieker: the master's address must differ from every sensor's.
+  if (protocol == BusProtocol::rieker && bus.where.usable("master_address") &&
+      sensor.address == bus.config.master_address) {
+    return sensor.where.report(errors, "address",
+                               fmt::format("{} is the master_address of bus \"{}\"; a sensor "
+                                           "needs an address of its own",
+                                           sensor.address, bus.config.name));
+  }
+  for (const ParsedSensor& other : earlier) {
+    if (other.where.valid("bus") && other.config.bus == sensor.config.bus &&
+        other.where.valid("address") && other.address == sensor.address) {
+      return sensor.where.report(
+          errors, "address",
+          fmt::format("{} is already used on bus \"{}\" by {}", sensor.address, sensor.config.bus,
+                      describe(other, "sensor")));
+    }
+  }
+}
+
+void check_against_bus(const ParsedSensor& sensor, std::span<const ParsedSensor> earlier,
+                       const std::vector<ParsedBus>& buses, ErrorList& errors) {
+  if (!sensor.where.valid("bus")) return;
+  const ParsedBus* bus = find_bus(buses, sensor.config.bus);
+  if (bus == nullptr) return report_unknown_bus(sensor, buses, errors);
+  if (!bus->where.usable("protocol")) return;
+  const BusProtocol protocol = bus->config.protocol;
+  if (sensor.where.valid("model") && !model_fits(sensor.config.model, protocol)) {
+    sensor.where.report(
+        errors, "model",
+        fmt::format("model \"{}\" needs a {} bus, but bus \"{}\" is {}", sensor.config.model,
+                    sensor.config.model == "dyna" ? "spectron-9bit or spectron-modbus" : "rieker",
+                    bus->config.name, protocol_name(protocol)));
+  }
+  check_address(sensor, *bus, earlier, errors);
+}
+
+void reject_duplicate_unit_ids(const std::vector<ParsedSensor>& sensors, ErrorList& errors) {
+  for (std::size_t i = 0; i < sensors.size(); ++i) {
+    if (!sensors[i].where.valid("unit_id")) continue;
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!sensors[j].where.valid("unit_id") ||
+          sensors[j].config.unit_id != sensors[i].config.unit_id)
+        continue;
+      sensors[i].where.report(
+          errors, "unit_id",
+          fmt::format("unit id {} is already used by {}", sensors[i].config.unit_id,
+                      describe(sensors[j], "sensor")));
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+void check_buses(const std::vector<ParsedBus>& buses, ErrorList& errors) {
+  reject_duplicate_names(buses, "bus", errors);
+  reject_shared_ports(buses, errors);
+}
+
+void check_sensors(const std::vector<ParsedSensor>& sensors, const std::vector<ParsedBus>& buses,
+                   ErrorList& errors) {
+  reject_duplicate_names(sensors, "sensor", errors);
+  reject_duplicate_unit_ids(sensors, errors);
+  const std::span<const ParsedSensor> all(sensors);
+  for (std::size_t i = 0; i < sensors.size(); ++i)
+    check_against_bus(sensors[i], all.first(i), buses, errors);
+}
+
+}  // namespace tiltgate::config

@@ -1,0 +1,16 @@
+// Checks across tables: names and unit ids that must be unique, two buses on one tty, and
+// each sensor against its bus (protocol, address range, address clashes).
+#pragma once
+
+#include <vector>
+
+#include "config/error_list.h"
+#include "config/sections.h"
+
+namespace tiltgate::config {
+
+void check_buses(const std::vector<ParsedBus>& buses, ErrorList& errors);
+void check_sensors(const std::vector<ParsedSensor>& sensors, const std::vector<ParsedBus>& buses,
+                   ErrorList& errors);
+
+}  // namespace tiltgate::config

@@ -1,0 +1,35 @@
+#include "config/error_list.h"
+
+#include <algorithm>
+
+namespace tiltgate::config {
+
+void ErrorList::add(Place where, std::string key, std::string message) {
+  errors_.push_back(
+      ConfigError{file_, where.line, where.column, std::move(key), std::move(message)});
+}
+
+ConfigErrors ErrorList::take() {
+  auto order = [](const ConfigError& e) {
+    // Errors without a line (a missing section) read best after the located ones.
+    return std::pair(e.line == 0 ? 1 : 0, std::pair(e.line, e.column));
+  };
+  std::stable_sort(errors_.begin(), errors_.end(),
+                   [&](const ConfigError& a, const ConfigError& b) { return order(a) < order(b); });
+  return std::move(errors_);
+}
+
+Place Located::at(std::string_view key) const {
+  auto found = places_.find(key);
+  return found == places_.end() ? header_ : found->second;
+}
+
+std::string Located::key_path(std::string_view key) const {
+  return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+}
+
+void Located::report(ErrorList& errors, std::string_view key, std::string message) const {
+  errors.add(at(key), key_path(key), std::move(message));
+}
+
+}  // namespace tiltgate::config

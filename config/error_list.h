@@ -1,0 +1,63 @@
+// Collecting configuration errors, and remembering where each key was written so that checks
+// made after reading (duplicates, a sensor against its bus) still point at the right line.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "config/config_loader.h"
+
+namespace tiltgate::config {
+
+struct Place {
+  int line = 0;
+  int column = 0;
+};
+
+class ErrorList {
+ public:
+  explicit ErrorList(std::string file) : file_(std::move(file)) {}
+
+  void add(Place where, std::string key, std::string message);
+  bool empty() const { return errors_.empty(); }
+  // The errors ordered by place; those without a line come last.
+  ConfigErrors take();
+
+ private:
+  std::string file_;
+  ConfigErrors errors_;
+};
+
+// Where one table ([server], one [[bus]], one [[sensor]]) and its keys were written.
+class Located {
+ public:
+  Located(std::string path, Place header) : path_(std::move(path)), header_(header) {}
+
+  void set(std::string_view key, Place where) { places_[std::string(key)] = where; }
+  void mark_valid(std::string_view key) { valid_.insert(std::string(key)); }
+
+  // Present, of the right type and in range: later checks may rely on its value.
+  bool valid(std::string_view key) const { return valid_.find(key) != valid_.end(); }
+  // Valid, or absent so that its default holds.
+  bool usable(std::string_view key) const {
+    return valid(key) || places_.find(key) == places_.end();
+  }
+  // The key's place, or the table header's when the key is absent.
+  Place at(std::string_view key) const;
+  Place header() const { return header_; }
+  const std::string& path() const { return path_; }
+  // "sensor[2].unit_id"
+  std::string key_path(std::string_view key) const;
+  void report(ErrorList& errors, std::string_view key, std::string message) const;
+
+ private:
+  std::string path_;
+  Place header_;
+  std::map<std::string, Place, std::less<>> places_;
+  std::set<std::string, std::less<>> valid_;
+};
+
+}  // namespace tiltgate::config

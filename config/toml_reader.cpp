@@ -1,0 +1,204 @@
+#include "config/toml_reader.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tiltgate::config {
+
+Place place_of(const toml::source_region& region) {
+  return Place{int(region.begin.line), int(region.begin.column)};
+}
+
+std::string_view type_name(toml::node_type type) {
+  switch (type) {
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    case toml::node_type::none:
+      break;
+  }
+  return "nothing";
+}
+
+namespace {
+
+// Optimal string alignment distance: insertions, deletions, substitutions and swaps of two
+// neighbouring letters ("buad") each cost one.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+// Short prefixes ("po" of "port" and "poll_ms") say too little to guess from.
+constexpr std::size_t kMinPrefix = 3;
+
+bool is_prefix_either_way(std::string_view a, std::string_view b) {
+  const std::string_view shorter = a.size() < b.size() ? a : b;
+  const std::string_view longer = a.size() < b.size() ? b : a;
+  return shorter.size() >= kMinPrefix && longer.substr(0, shorter.size()) == shorter;
+}
+
+std::string join(std::span<const std::string> words, std::string_view separator) {
+  std::string out;
+  for (const std::string& word : words) out += (out.empty() ? "" : std::string(separator)) + word;
+  return out;
+}
+
+}  // namespace
+
+std::string closest_key(std::string_view unknown, std::span<const std::string> known) {
+  std::string best;
+  std::size_t best_distance = 3;  // suggest only within distance 2
+  for (const std::string& candidate : known) {
+    const std::size_t distance = edit_distance(unknown, candidate);
+    if (distance < best_distance) {
+      best = candidate;
+      best_distance = distance;
+    }
+  }
+  if (!best.empty()) return best;
+  for (const std::string& candidate : known)
+    if (is_prefix_either_way(unknown, candidate)) return candidate;
+  return {};
+}
+
+TableReader::TableReader(const toml::table& table, std::string path, ErrorList& errors)
+    : table_(table), errors_(errors), located_(std::move(path), place_of(table.source())) {
+  for (auto&& [key, node] : table) located_.set(key.str(), place_of(key.source()));
+}
+
+void TableReader::error(std::string_view key, std::string message) {
+  located_.report(errors_, key, std::move(message));
+}
+
+const toml::node* TableReader::find_any(std::string_view key, Presence presence,
+                                        std::string_view expectation) {
+  asked_.emplace_back(key);
+  const toml::node* node = table_.get(key);
+  if (node == nullptr && presence == Presence::required)
+    error(key, fmt::format("required key is missing; expected {}", expectation));
+  return node;
+}
+
+const toml::node* TableReader::find(std::string_view key, toml::node_type expected,
+                                    Presence presence, std::string_view expectation) {
+  const toml::node* node = find_any(key, presence, expectation);
+  if (node != nullptr && node->type() != expected) {
+    error(key, fmt::format("expected {}, got {}", type_name(expected), type_name(node->type())));
+    return nullptr;
+  }
+  return node;
+}
+
+std::optional<std::int64_t> TableReader::integer(std::string_view key, std::int64_t min,
+                                                 std::int64_t max, Presence presence) {
+  const auto range = fmt::format("{}..{}", min, max);
+  // A key whose range depends on another key (an address on its bus) is read unbounded.
+  const bool bounded = min != std::numeric_limits<std::int64_t>::min() ||
+                       max != std::numeric_limits<std::int64_t>::max();
+  const toml::node* node = find(key, toml::node_type::integer, presence,
+                                bounded ? fmt::format("an integer in {}", range) : "an integer");
+  if (node == nullptr) return std::nullopt;
+  const std::int64_t value = node->as_integer()->get();
+  if (value < min || value > max) {
+    error(key, fmt::format("{} is out of range, expected {}", value, range));
+    return std::nullopt;
+  }
+  located_.mark_valid(key);
+  return value;
+}
+
+std::optional<double> TableReader::number(std::string_view key, Presence presence) {
+  const toml::node* node = find_any(key, presence, "a number");
+  if (node == nullptr) return std::nullopt;
+  double value = 0;
+  if (const auto* i = node->as_integer()) {
+    value = double(i->get());
+  } else if (const auto* f = node->as_floating_point()) {
+    value = f->get();
+  } else {
+    error(key, fmt::format("expected a number, got {}", type_name(node->type())));
+    return std::nullopt;
+  }
+  if (!std::isfinite(value)) {
+    error(key, fmt::format("{} is not a finite number", value));
+    return std::nullopt;
+  }
+  located_.mark_valid(key);
+  return value;
+}
+
+std::optional<bool> TableReader::boolean(std::string_view key, Presence presence) {
+  const toml::node* node =
+      find(key, toml::node_type::boolean, presence, "a boolean (true or false)");
+  if (node == nullptr) return std::nullopt;
+  located_.mark_valid(key);
+  return node->as_boolean()->get();
+}
+
+std::optional<std::string> TableReader::string(std::string_view key, Presence presence) {
+  const toml::node* node = find(key, toml::node_type::string, presence, "a string");
+  if (node == nullptr) return std::nullopt;
+  located_.mark_valid(key);
+  return node->as_string()->get();
+}
+
+std::optional<std::string> TableReader::choice(std::string_view key,
+                                               std::initializer_list<std::string_view> allowed,
+                                               Presence presence) {
+  std::string expected;
+  std::size_t index = 0;
+  for (std::string_view option : allowed) {
+    const bool last = ++index == allowed.size();
+    expected += fmt::format("{}\"{}\"", index == 1 ? "" : last ? " or " : ", ", option);
+  }
+  const toml::node* node = find(key, toml::node_type::string, presence, expected);
+  if (node == nullptr) return std::nullopt;
+  const std::string& value = node->as_string()->get();
+  if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
+    error(key, fmt::format("\"{}\" is not valid, expected {}", value, expected));
+    return std::nullopt;
+  }
+  located_.mark_valid(key);
+  return value;
+}
+
+void TableReader::reject_unknown_keys() {
+  for (auto&& [key, node] : table_) {
+    if (std::find(asked_.begin(), asked_.end(), key.str()) != asked_.end()) continue;
+    const std::string guess = closest_key(key.str(), asked_);
+    error(key.str(), guess.empty()
+                         ? fmt::format("unknown key; expected one of: {}", join(asked_, ", "))
+                         : fmt::format("unknown key; did you mean \"{}\"?", guess));
+  }
+}
+
+}  // namespace tiltgate::config

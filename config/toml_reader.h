@@ -1,0 +1,67 @@
+// Typed, range-checked reads from one TOML table. Each read reports its own error (wrong
+// type, out of range, missing) and returns nothing, so the caller simply reads on and every
+// problem in the file is found in one pass.
+#pragma once
+
+#include <toml++/toml.h>
+
+#include <cstdint>
+#include <initializer_list>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "config/error_list.h"
+
+namespace tiltgate::config {
+
+enum class Presence { optional, required };
+
+class TableReader {
+ public:
+  // `path` names the table in messages: "server", "bus[0]".
+  TableReader(const toml::table& table, std::string path, ErrorList& errors);
+
+  std::optional<std::int64_t> integer(std::string_view key, std::int64_t min, std::int64_t max,
+                                      Presence presence = Presence::optional);
+  // An integer or a float, finite.
+  std::optional<double> number(std::string_view key, Presence presence = Presence::optional);
+  std::optional<bool> boolean(std::string_view key, Presence presence = Presence::optional);
+  std::optional<std::string> string(std::string_view key, Presence presence = Presence::optional);
+  // A string that must be one of `allowed`.
+  std::optional<std::string> choice(std::string_view key,
+                                    std::initializer_list<std::string_view> allowed,
+                                    Presence presence = Presence::optional);
+
+  bool has(std::string_view key) const { return table_.contains(key); }
+  // A problem with a value that read fine on its own (a check against another key).
+  void error(std::string_view key, std::string message);
+  // Every key that no read above asked for is an error, with a "did you mean" when a known
+  // key is close. Call after the last read.
+  void reject_unknown_keys();
+
+  const Located& located() const { return located_; }
+
+ private:
+  // The node if present and of type `expected`; reports a missing required key or a wrong type.
+  const toml::node* find(std::string_view key, toml::node_type expected, Presence presence,
+                         std::string_view expectation);
+  const toml::node* find_any(std::string_view key, Presence presence, std::string_view expectation);
+
+  const toml::table& table_;
+  ErrorList& errors_;
+  Located located_;
+  std::vector<std::string> asked_;
+};
+
+// Where a node was written (toml++ counts lines and columns from 1, as do compilers).
+Place place_of(const toml::source_region& region);
+// "an integer", "a string": for "expected X, got Y".
+std::string_view type_name(toml::node_type type);
+// The known key a misspelt one most likely meant: within edit distance 2, or a prefix either
+// way ("baudrate" -> "baud", "timeout" -> "timeout_ms"). Empty when nothing is close.
+std::string closest_key(std::string_view unknown, std::span<const std::string> known);
+
+}  // namespace tiltgate::config
