@@ -20,7 +20,7 @@ struct ServerConfig {
   bool writes = false;                     // every write is refused with 0x01 unless true
   std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed
   std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
-  std::chrono::milliseconds write_timeout{3000};   // a queued write not done by then fails 0x0B
+  std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
 };
 
 enum class BusProtocol { rieker, spectron_9bit, spectron_modbus };

@@ -1,0 +1,82 @@
+#include "gateway/gateway.h"
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <spdlog/spdlog.h>
+
+#include "gateway/driver_registry.h"
+#include "mapping/default_maps.h"
+
+namespace tiltgate {
+
+RegisterMap map_for(const SensorConfig& sensor) { return default_map(sensor.model); }
+
+Gateway::Gateway(boost::asio::io_context& io, const Config& config)
+    : io_(io),
+      config_(config),
+      router_(RouterOptions{config.server.writes, config.server.word_order,
+                            config.server.write_timeout}) {
+  for (const BusConfig& bus : config_.buses) {
+    Bus b;
+    b.line = std::make_unique<SerialLine>(io_.get_executor(), serial_options_from(bus));
+    b.scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *b.line, bus.name);
+    buses_.push_back(std::move(b));
+  }
+  for (const SensorConfig& sc : config_.sensors) {
+    std::size_t bus_index = 0;
+    while (bus_index < config_.buses.size() && config_.buses[bus_index].name != sc.bus) ++bus_index;
+    if (bus_index == config_.buses.size()) continue;  // the loader rejects this
+    auto sensor = std::make_unique<GatewaySensor>();
+    sensor->config = sc;
+    sensor->driver = make_driver(sc, config_.buses[bus_index]);
+    if (!sensor->driver) continue;  // the loader rejects unknown models
+    sensor->map = map_for(sc);
+    sensor->written.assign(sensor->map.holding_end(), 0);
+    sensor->stale_after = sc.stale_after.value_or(default_stale_after(sc.poll));
+    buses_[bus_index].scheduler->add(*sensor);
+    router_.add(*sensor);
+    sensors_.push_back(std::move(sensor));
+  }
+  ModbusServerOptions options;
+  options.listen = config_.server.listen;
+  options.port = config_.server.port;
+  options.max_clients = config_.server.max_clients;
+  options.idle_timeout = config_.server.idle_timeout;
+  options.request_timeout = config_.server.request_timeout;
+  server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_, options);
+}
+
+Gateway::~Gateway() = default;
+
+Expected<Done, std::string> Gateway::start() {
+  auto listening = server_->start();
+  if (!listening) return Unexpected(listening.error());
+  for (Bus& bus : buses_) {
+    bus.line->start();
+    boost::asio::co_spawn(io_, bus.scheduler->run(), boost::asio::detached);
+  }
+  spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
+               buses_.size(), config_.server.listen, server_->local_port(),
+               config_.server.writes ? ", writes enabled" : "");
+  return Done{};
+}
+
+void Gateway::stop() {
+  server_->stop();
+  for (Bus& bus : buses_) {
+    bus.scheduler->stop();
+    bus.line->stop();
+  }
+}
+
+std::uint16_t Gateway::port() const { return server_->local_port(); }
+
+std::vector<UnitMap> Gateway::unit_maps() const {
+  std::vector<UnitMap> units;
+  for (const auto& s : sensors_) {
+    units.push_back({s->config.unit_id, s->config.name, s->config.model, &s->map});
+  }
+  return units;
+}
+
+}  // namespace tiltgate

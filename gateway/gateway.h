@@ -1,0 +1,51 @@
+// The assembled product: buses, drivers, register maps and the Modbus TCP server, built from a
+// validated Config and run on one io_context.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <memory>
+#include <vector>
+
+#include "config/config.h"
+#include "driver/expected.h"
+#include "gateway/bus_scheduler.h"
+#include "gateway/gateway_sensor.h"
+#include "gateway/modbus_tcp_server.h"
+#include "gateway/request_router.h"
+#include "mapping/map_export.h"
+#include "serial/serial_line.h"
+
+namespace tiltgate {
+
+class Gateway {
+ public:
+  Gateway(boost::asio::io_context& io, const Config& config);
+  ~Gateway();
+
+  // Opens the buses (a missing tty is not fatal: it is retried with back-off) and binds the
+  // Modbus server (fatal: the error says why).
+  Expected<Done, std::string> start();
+  void stop();
+
+  std::uint16_t port() const;
+  std::vector<UnitMap> unit_maps() const;
+  const std::vector<std::unique_ptr<GatewaySensor>>& sensors() const { return sensors_; }
+
+ private:
+  struct Bus {
+    std::unique_ptr<SerialLine> line;
+    std::unique_ptr<BusScheduler> scheduler;
+  };
+
+  boost::asio::io_context& io_;
+  Config config_;
+  std::vector<Bus> buses_;
+  std::vector<std::unique_ptr<GatewaySensor>> sensors_;
+  RequestRouter router_;
+  std::unique_ptr<ModbusTcpServer> server_;
+};
+
+// Builds the register map a sensor serves (its model's built-in map for now).
+RegisterMap map_for(const SensorConfig& sensor);
+
+}  // namespace tiltgate

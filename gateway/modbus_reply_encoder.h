@@ -1,0 +1,51 @@
+// Formats Modbus TCP replies with libmodbus, without letting libmodbus near a client socket or
+// an unchecked frame. libmodbus 3.1.6 (Debian 12) can only reply by writing to its context's
+// socket, so the context gets one end of a socketpair and the reply is read back from the
+// other end. Only requests that parse_adu() accepted are handed to modbus_reply: its 3.1.6
+// request handling has memory-safety bugs on malformed frames (CVE-2022-0367 on 0x17,
+// out-of-bounds reads on short 07/11 frames).
+//
+// Not thread-safe (neither is a libmodbus context): use it from the event loop thread only.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "driver/expected.h"
+#include "gateway/modbus_types.h"
+
+struct _modbus;  // libmodbus's modbus_t, kept out of this header
+
+namespace tiltgate {
+
+class ModbusReplyEncoder {
+ public:
+  static Expected<std::unique_ptr<ModbusReplyEncoder>, std::string> create();
+  ~ModbusReplyEncoder();
+  ModbusReplyEncoder(const ModbusReplyEncoder&) = delete;
+  ModbusReplyEncoder& operator=(const ModbusReplyEncoder&) = delete;
+
+  // The reply ADU to `request` carrying `response`. A response that does not fit the request
+  // (a read answered with the wrong number of values) is answered with exception 04. Fails,
+  // without calling libmodbus, if request.adu is not a frame parse_adu() accepts as this
+  // request; fails if libmodbus or the socketpair does.
+  Expected<std::vector<std::uint8_t>, std::string> encode(const ModbusRequest& request,
+                                                          const ModbusResponse& response);
+
+  // How many times modbus_reply / modbus_reply_exception ran (tests check it stays put).
+  std::uint64_t libmodbus_calls() const { return libmodbus_calls_; }
+
+ private:
+  ModbusReplyEncoder(_modbus* context, int libmodbus_end, int reply_end);
+  Expected<std::vector<std::uint8_t>, std::string> read_reply(int sent);
+  void discard_stale_bytes();
+
+  _modbus* context_;
+  int libmodbus_end_;  // the socket libmodbus writes replies to
+  int reply_end_;      // where we read them back
+  std::uint64_t libmodbus_calls_ = 0;
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,301 @@
+#include "gateway/modbus_tcp_server.h"
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <boost/asio/write.hpp>
+#include <exception>
+#include <spdlog/spdlog.h>
+#include <variant>
+
+#include "gateway/modbus_reply_encoder.h"
+#include "gateway/modbus_request.h"
+
+namespace tiltgate {
+
+namespace asio = boost::asio;
+using asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
+
+std::string peer_of(const tcp::socket& socket) {
+  boost::system::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  if (ec) return "(unknown peer)";
+  return fmt::format("{}:{}", peer.address().to_string(), peer.port());
+}
+
+// What a connection's deadline currently guards.
+enum class Wait {
+  idle,     // between requests: idle_timeout
+  request,  // the rest of a request whose first byte arrived: request_timeout
+  handler,  // the handler is working: no deadline of ours (writes have their own)
+  reply,    // the client taking its reply: request_timeout
+};
+
+}  // namespace
+
+struct ModbusTcpServer::Connection {
+  Connection(tcp::socket s, std::string peer_name)
+      : socket(std::move(s)), timer(socket.get_executor()), peer(std::move(peer_name)) {}
+
+  // Sets what the watchdog enforces next. Moving the deadline earlier wakes the watchdog;
+  // moving it later does not need to (it re-reads the deadline when its timer fires).
+  void expect(Wait what, Clock::time_point when) {
+    waiting_for = what;
+    if (when < deadline) timer.cancel();
+    deadline = when;
+  }
+
+  void close() {
+    closed = true;
+    boost::system::error_code ec;
+    socket.close(ec);
+    timer.cancel();
+  }
+
+  tcp::socket socket;
+  asio::steady_timer timer;
+  std::string peer;
+  Wait waiting_for = Wait::idle;
+  Clock::time_point deadline = Clock::time_point::max();
+  bool closed = false;
+};
+
+ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHandler& handler,
+                                 ModbusServerOptions options)
+    : executor_(executor), handler_(handler), options_(std::move(options)), acceptor_(executor) {}
+
+ModbusTcpServer::~ModbusTcpServer() = default;
+
+Expected<Done, std::string> ModbusTcpServer::start() {
+  if (acceptor_.is_open()) return Unexpected(std::string("Modbus server already started"));
+  if (options_.max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
+  auto encoder = ModbusReplyEncoder::create();
+  if (!encoder) return Unexpected("Modbus reply encoder: " + encoder.error());
+
+  boost::system::error_code ec;
+  const auto address = asio::ip::make_address(options_.listen, ec);
+  if (ec) {
+    return Unexpected(fmt::format("listen address '{}' is not an IP address", options_.listen));
+  }
+  const tcp::endpoint endpoint(address, options_.port);
+  auto failed = [&](const char* step) {
+    boost::system::error_code ignored;
+    acceptor_.close(ignored);
+    return Unexpected(fmt::format("cannot {} Modbus TCP {}:{}: {}", step, options_.listen,
+                                  options_.port, ec.message()));
+  };
+  acceptor_.open(endpoint.protocol(), ec);
+  if (ec) return failed("open a socket for");
+  // Lets a restarted gateway bind while old connections sit in TIME_WAIT.
+  acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
+  if (ec) return failed("configure");
+  acceptor_.bind(endpoint, ec);
+  if (ec) return failed("bind");
+  acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec) return failed("listen on");
+
+  encoder_ = std::move(*encoder);
+  asio::co_spawn(executor_, accept_clients(), asio::detached);
+  return Done{};
+}
+
+std::uint16_t ModbusTcpServer::local_port() const {
+  boost::system::error_code ec;
+  const tcp::endpoint local = acceptor_.local_endpoint(ec);
+  return ec ? 0 : local.port();
+}
+
+void ModbusTcpServer::stop() {
+  boost::system::error_code ec;
+  acceptor_.close(ec);
+  // Each connection's coroutine removes it from the set when it sees the closed socket.
+  for (const auto& connection : connections_) connection->close();
+}
+
+ModbusServerStats ModbusTcpServer::stats() const {
+  ModbusServerStats stats = stats_;
+  if (encoder_) stats.libmodbus_replies = encoder_->libmodbus_calls();
+  return stats;
+}
+
+asio::awaitable<void> ModbusTcpServer::accept_clients() {
+  while (acceptor_.is_open()) {
+    boost::system::error_code ec;
+    tcp::socket socket =
+        co_await acceptor_.async_accept(asio::redirect_error(asio::use_awaitable, ec));
+    if (ec == asio::error::operation_aborted || !acceptor_.is_open()) co_return;
+    if (ec) {
+      spdlog::warn("Modbus TCP accept failed: {}", ec.message());
+      // Out of descriptors (EMFILE) fails again at once: pause instead of spinning.
+      asio::steady_timer pause(executor_, accept_retry_pause);
+      co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+      continue;
+    }
+    if (connections_.size() >= std::size_t(options_.max_clients)) {
+      refuse(std::move(socket));
+    } else {
+      admit(std::move(socket));
+    }
+  }
+}
+
+void ModbusTcpServer::refuse(tcp::socket socket) {
+  ++stats_.refused;
+  if (!refusing_) {
+    spdlog::warn("Modbus TCP client {} refused: {} clients connected (max_clients)",
+                 peer_of(socket), connections_.size());
+    refusing_ = true;
+  }
+  boost::system::error_code ec;
+  socket.close(ec);
+}
+
+void ModbusTcpServer::admit(tcp::socket socket) {
+  refusing_ = false;
+  ++stats_.accepted;
+  boost::system::error_code ec;
+  // Replies are small and the client waits for each one: do not hold them for Nagle.
+  socket.set_option(tcp::no_delay(true), ec);
+  std::string peer = peer_of(socket);
+  auto connection = std::make_shared<Connection>(std::move(socket), std::move(peer));
+  connections_.insert(connection);
+  spdlog::debug("Modbus TCP client {} connected ({} connected)", connection->peer,
+                connections_.size());
+  asio::co_spawn(executor_, watch(connection), asio::detached);
+  asio::co_spawn(executor_, serve(connection), asio::detached);
+}
+
+asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connection) {
+  Connection& c = *connection;
+  ModbusFrameAssembler frames;
+  Clock::time_point first_byte_at = Clock::now();
+  while (!c.closed) {
+    const auto next = frames.next();
+    if (const auto* error = std::get_if<FramingError>(&next)) {
+      spdlog::info("closing Modbus TCP client {}: {}", c.peer, to_string(*error));
+      ++stats_.framing_errors;
+      break;
+    }
+    if (const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next)) {
+      if (!co_await answer(c, *adu)) break;
+      frames.pop();
+      // Pipelined bytes already buffered start their request clock now.
+      first_byte_at = Clock::now();
+      continue;
+    }
+    if (frames.buffered() == 0) {
+      c.expect(Wait::idle, Clock::now() + options_.idle_timeout);
+    } else {
+      c.expect(Wait::request, first_byte_at + options_.request_timeout);
+    }
+    boost::system::error_code ec;
+    const std::span<std::uint8_t> space = frames.space();
+    const std::size_t n = co_await c.socket.async_read_some(
+        asio::buffer(space.data(), space.size()), asio::redirect_error(asio::use_awaitable, ec));
+    if (ec) {
+      if (!c.closed) spdlog::debug("Modbus TCP client {}: {}", c.peer, ec.message());
+      break;
+    }
+    if (frames.buffered() == 0) first_byte_at = Clock::now();
+    frames.commit(n);
+  }
+  finish(connection);
+}
+
+asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std::uint8_t> adu) {
+  ParsedAdu parsed = parse_adu(adu);
+  std::vector<std::uint8_t> reply;
+  if (auto* rejected = std::get_if<RejectedRequest>(&parsed)) {
+    ++stats_.rejected;
+    spdlog::debug("Modbus TCP client {}: function {:02X} answered with exception {:02X}", c.peer,
+                  adu[7], std::uint8_t(rejected->exception));
+    reply = std::move(rejected->reply);
+  } else if (auto* request = std::get_if<ModbusRequest>(&parsed)) {
+    ++stats_.requests;
+    c.expect(Wait::handler, Clock::time_point::max());
+    const ModbusResponse response = co_await ask_handler(*request);
+    reply = encode(*request, response);
+  } else {
+    co_return false;  // unreachable: the assembler only hands out framed ADUs
+  }
+  if (c.closed) co_return false;  // stop() while the handler worked
+  c.expect(Wait::reply, Clock::now() + options_.request_timeout);
+  boost::system::error_code ec;
+  co_await asio::async_write(c.socket, asio::buffer(reply),
+                             asio::redirect_error(asio::use_awaitable, ec));
+  co_return !ec;
+}
+
+asio::awaitable<ModbusResponse> ModbusTcpServer::ask_handler(const ModbusRequest& request) {
+  // A throwing handler is a bug, but it must cost one 04 reply, not the connection.
+  try {
+    co_return co_await handler_.handle(request);
+  } catch (const std::exception& e) {
+    spdlog::warn("Modbus handler failed on function {:02X}: {}", request.function, e.what());
+  }
+  ModbusResponse failed;
+  failed.exception = ModbusException::device_failure;
+  co_return failed;
+}
+
+std::vector<std::uint8_t> ModbusTcpServer::encode(const ModbusRequest& request,
+                                                  const ModbusResponse& response) {
+  auto reply = encoder_->encode(request, response);
+  if (reply) return std::move(*reply);
+  spdlog::warn("Modbus reply to function {:02X} failed ({}): answering 04", request.function,
+               reply.error());
+  return exception_reply(request.adu, ModbusException::device_failure);
+}
+
+// Closes the connection when its deadline passes. Sleeps on the connection's timer, which
+// expect() cancels when it moves the deadline earlier.
+asio::awaitable<void> ModbusTcpServer::watch(std::shared_ptr<Connection> connection) {
+  Connection& c = *connection;
+  while (!c.closed) {
+    if (Clock::now() >= c.deadline) {
+      expire(c);
+      c.close();
+      co_return;
+    }
+    c.timer.expires_at(c.deadline);
+    boost::system::error_code ec;
+    co_await c.timer.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+  }
+}
+
+void ModbusTcpServer::expire(Connection& c) {
+  switch (c.waiting_for) {
+    case Wait::idle:
+      ++stats_.idle_timeouts;
+      spdlog::info("closing Modbus TCP client {}: idle for {} ms", c.peer,
+                   options_.idle_timeout.count());
+      break;
+    case Wait::request:
+      ++stats_.request_timeouts;
+      spdlog::info("closing Modbus TCP client {}: request incomplete after {} ms", c.peer,
+                   options_.request_timeout.count());
+      break;
+    case Wait::reply:
+      ++stats_.request_timeouts;
+      spdlog::info("closing Modbus TCP client {}: reply not taken within {} ms", c.peer,
+                   options_.request_timeout.count());
+      break;
+    case Wait::handler: break;  // no deadline while the handler works
+  }
+}
+
+void ModbusTcpServer::finish(const std::shared_ptr<Connection>& connection) {
+  connection->close();
+  connections_.erase(connection);
+  spdlog::debug("Modbus TCP client {} disconnected ({} connected)", connection->peer,
+                connections_.size());
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,89 @@
+// The Modbus TCP server: accepts clients, frames and checks their requests, asks the handler,
+// and sends the replies. One coroutine per connection on a single-threaded event loop (epoll,
+// so no FD_SETSIZE limit); a slow, silent or half-sent client only ever holds up itself.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "driver/expected.h"
+#include "gateway/modbus_types.h"
+
+namespace tiltgate {
+
+class ModbusReplyEncoder;
+
+struct ModbusServerOptions {
+  std::string listen = "0.0.0.0";  // an IP address literal (IPv4 or IPv6)
+  std::uint16_t port = 502;        // 0 picks a free port (tests); see local_port()
+  int max_clients = 32;            // the next client is accepted and closed at once
+  std::chrono::milliseconds idle_timeout{60000};    // no request for this long: closed
+  std::chrono::milliseconds request_timeout{5000};  // a request (or its reply) stuck this long
+                                                    // since its first byte: closed
+};
+
+struct ModbusServerStats {
+  std::uint64_t accepted = 0;          // connections served
+  std::uint64_t refused = 0;           // connections closed at once: max_clients reached
+  std::uint64_t requests = 0;          // checked requests passed to the handler
+  std::uint64_t rejected = 0;          // malformed or unsupported: answered by the parser
+  std::uint64_t framing_errors = 0;    // connections closed for a bad MBAP header
+  std::uint64_t request_timeouts = 0;  // connections closed with a request or reply stuck
+  std::uint64_t idle_timeouts = 0;     // connections closed for silence
+  std::uint64_t libmodbus_replies = 0; // replies libmodbus formatted
+};
+
+// Everything runs on `executor`, which must be single-threaded (an io_context run by one
+// thread): the handler, the libmodbus encoder and these members are not synchronised. Call
+// stop() and let the event loop finish the connections before destroying the server.
+class ModbusTcpServer {
+ public:
+  ModbusTcpServer(boost::asio::any_io_executor executor, ModbusRequestHandler& handler,
+                  ModbusServerOptions options);
+  ~ModbusTcpServer();
+  ModbusTcpServer(const ModbusTcpServer&) = delete;
+  ModbusTcpServer& operator=(const ModbusTcpServer&) = delete;
+
+  // Binds and listens, then accepts in the background. The error says what failed and where.
+  Expected<Done, std::string> start();
+  // The bound port (the ephemeral one when options.port is 0); 0 before start().
+  std::uint16_t local_port() const;
+  // Closes the acceptor and every connection; their coroutines end on the next loop turns.
+  void stop();
+
+  std::size_t client_count() const { return connections_.size(); }
+  ModbusServerStats stats() const;
+
+ private:
+  struct Connection;
+
+  boost::asio::awaitable<void> accept_clients();
+  void admit(boost::asio::ip::tcp::socket socket);
+  void refuse(boost::asio::ip::tcp::socket socket);
+  boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
+  boost::asio::awaitable<void> watch(std::shared_ptr<Connection> connection);
+  boost::asio::awaitable<bool> answer(Connection& connection, std::span<const std::uint8_t> adu);
+  boost::asio::awaitable<ModbusResponse> ask_handler(const ModbusRequest& request);
+  std::vector<std::uint8_t> encode(const ModbusRequest& request, const ModbusResponse& response);
+  void expire(Connection& connection);
+  void finish(const std::shared_ptr<Connection>& connection);
+
+  boost::asio::any_io_executor executor_;
+  ModbusRequestHandler& handler_;
+  ModbusServerOptions options_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  std::unique_ptr<ModbusReplyEncoder> encoder_;
+  std::unordered_set<std::shared_ptr<Connection>> connections_;
+  ModbusServerStats stats_;
+  bool refusing_ = false;  // warn once per burst of refused clients
+};
+
+}  // namespace tiltgate

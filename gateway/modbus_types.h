@@ -1,0 +1,55 @@
+// What the Modbus TCP server hands to the rest of the gateway: a request that has already been
+// checked against the Modbus spec, and the answer the gateway gives to it. The handler never
+// sees a socket or a malformed frame.
+#pragma once
+
+#include <boost/asio/awaitable.hpp>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace tiltgate {
+
+enum class ModbusTable { coil, discrete, input, holding };
+
+// Modbus Application Protocol V1.1b3, section 7 (exception codes).
+enum class ModbusException : std::uint8_t {
+  illegal_function = 0x01,
+  illegal_address = 0x02,
+  illegal_value = 0x03,
+  device_failure = 0x04,
+  busy = 0x06,
+  gateway_path_unavailable = 0x0A,
+  gateway_target_failed = 0x0B,
+};
+
+struct ModbusRequest {
+  std::uint16_t transaction_id = 0;
+  std::uint8_t unit_id = 0;
+  std::uint8_t function = 0;
+  ModbusTable table = ModbusTable::holding;
+  bool is_write = false;
+  std::uint16_t address = 0;
+  std::uint16_t count = 0;             // 1 for the single writes 05 and 06
+  std::vector<std::uint16_t> registers;  // the values of 06 / 16
+  std::vector<bool> bits;                // the values of 05 / 15
+  std::vector<std::uint8_t> adu;         // the whole checked frame, MBAP header included
+};
+
+struct ModbusResponse {
+  std::optional<ModbusException> exception;
+  // A read answers exactly `count` values in the one that matches its table (registers for
+  // 03/04, bits for 01/02); a write leaves both empty on success.
+  std::vector<std::uint16_t> registers;
+  std::vector<bool> bits;
+};
+
+// Answers checked requests. Runs on the server's event loop: a read should return at once; a
+// write may take as long as the sensor needs (other connections are served meanwhile).
+class ModbusRequestHandler {
+ public:
+  virtual ~ModbusRequestHandler() = default;
+  virtual boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) = 0;
+};
+
+}  // namespace tiltgate
