@@ -19,8 +19,12 @@ using Bytes = std::vector<std::uint8_t>;
 // MBAP header (transaction 0x1234, protocol 0, unit 0x11) + pdu.
 Bytes frame(const Bytes& pdu) {
   const auto length = std::uint16_t(pdu.size() + 1);
-  Bytes adu{0x12, 0x34, 0x00, 0x00, std::uint8_t(length >> 8), std::uint8_t(length & 0xFF), 0x11};
-  adu.insert(adu.end(), pdu.begin(), pdu.end());
+  // Built with reserve + push_back: g++ 12 -O2 reports a false array-bounds error for
+  // vector::insert after an initializer list here.
+  Bytes adu;
+  adu.reserve(7 + pdu.size());
+  for (std::uint8_t b : {0x12, 0x34, 0x00, 0x00, length >> 8, length & 0xFF, 0x11}) adu.push_back(b);
+  for (std::uint8_t b : pdu) adu.push_back(b);
   return adu;
 }
 
