@@ -12,7 +12,7 @@ enum class Protocol {
   nine_bit,      // "1st Protocol": address byte with the 9th bit set, ASCII command, CR LF
   modbus_ascii,  // "Modbus protocol": ':' + hex + LRC + CR LF, 8 data bits, even parity
 };
-const char* protocol_name(Protocol protocol);  // "nine_bit", "modbus_ascii"
+const char* protocol_name(Protocol protocol);  // "9-bit", "Modbus-ASCII" (for messages)
 
 // A request argument the document does not allow; nothing was encoded.
 struct ArgumentError {

@@ -1,0 +1,75 @@
+// Tell the Line when the reply to one Dyna request has arrived, one framer per protocol.
+// Header-only: driver/line.h brings in an Asio header, which the pure codec library must not
+// include, so these thin adapters stay outside it and the logic stays in the parsers.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "driver/line.h"
+#include "spectron/ascii_frame_parser.h"
+#include "spectron/nine_bit_codec.h"
+
+namespace tiltgate::spectron {
+
+// 9-bit addressing: the first line up to CR LF (replies carry no address; only the addressed
+// module answers). Noise bytes and overlong lines are dropped by NineBitLineParser.
+class NineBitReplyFramer : public ReplyFramer {
+ public:
+  void reset() override {
+    parser_.reset();
+    reply_.reset();
+  }
+
+  bool feed(std::span<const std::uint8_t> bytes) override {
+    if (!reply_) {
+      parser_.feed(bytes);
+      reply_ = parser_.next();
+    }
+    return reply_.has_value();
+  }
+
+  // The reply line without its CR LF.
+  const std::optional<std::string>& reply() const { return reply_; }
+  const LineParserCounters& counters() const { return parser_.counters(); }
+
+ private:
+  NineBitLineParser parser_;
+  std::optional<std::string> reply_;
+};
+
+// Modbus-ASCII: the first good frame from the addressed module answering the request's
+// command. Other frames (a late reply to an earlier request, another module) are skipped;
+// bad LRCs are counted.
+class AsciiReplyFramer : public ReplyFramer {
+ public:
+  explicit AsciiReplyFramer(AsciiFrame request) : request_(std::move(request)) {}
+
+  void reset() override {
+    parser_.reset();
+    reply_.reset();
+  }
+
+  bool feed(std::span<const std::uint8_t> bytes) override {
+    if (reply_) return true;
+    parser_.feed(bytes);
+    while (auto frame = parser_.next()) {
+      if (is_reply_to(*frame, request_)) {
+        reply_ = std::move(*frame);
+        break;
+      }
+    }
+    return reply_.has_value();
+  }
+
+  const std::optional<AsciiFrame>& reply() const { return reply_; }
+  std::uint64_t lrc_errors() const { return parser_.counters().lrc_errors; }
+  const AsciiParserCounters& counters() const { return parser_.counters(); }
+
+ private:
+  AsciiFrame request_;
+  AsciiFrameParser parser_;
+  std::optional<AsciiFrame> reply_;
+};
+
+}  // namespace tiltgate::spectron

@@ -1,0 +1,115 @@
+// A virtual Dyna RS485 bus on a pseudo-terminal: the gateway (or a test) opens slave_path()
+// (or the stable link path) as if it were a USB-RS485 adapter, and the simulated modules on
+// the bus answer its requests in the protocol chosen in the options. Used by the sim tests,
+// the demo and `tiltgate sim spectron`.
+//
+// 9-bit addressing on a pseudo-terminal. A pty carries bytes, not parity bits, so the ninth
+// bit that marks an address byte cannot reach the simulator. In nine_bit mode the simulator
+// therefore uses a framing convention that exists ONLY in simulation:
+//   the address byte is the first byte ever received, the first byte after a CR LF, or the
+//   first byte after 20 ms of silence that followed part of a command body.
+// (Silence right after an address byte does not restart framing: the serial line sends the
+// address byte, drains it, switches parity, then sends the body, and on a busy machine that
+// switch can take longer than 20 ms.) The real UART path (mark parity for the address byte,
+// space parity for the body, in serial/serial_line) does not depend on this convention; it
+// just happens to produce byte streams the convention splits correctly.
+//
+// Threading: the simulator runs on the caller's io_context, which must outlive it. Call its
+// methods from the thread running that io_context (or through post()), or while it is not
+// running.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "driver/expected.h"
+#include "serial/pseudo_terminal.h"
+#include "spectron/ascii_codec.h"
+#include "spectron/protocol.h"
+#include "spectron/simulated_dyna.h"
+
+namespace tiltgate::spectron {
+
+// The silence after part of a 9-bit command body that makes the next byte an address byte.
+inline constexpr std::chrono::milliseconds kNineBitResyncSilence{20};
+
+struct DynaSimulatorOptions {
+  Protocol protocol = Protocol::nine_bit;
+  std::vector<SimulatedDynaOptions> sensors;
+  // Pace replies as a real line at this baud would: each waits bytes * 11 / baud seconds
+  // (8E1 and 9-bit framing both take 11 bits a byte). Off by default so tests run fast.
+  std::optional<std::uint32_t> pace_baud;
+  // Time a module takes to start answering.
+  std::chrono::microseconds reply_latency{200};
+  // A stable path re-pointed (atomically) at the current slave on every (re)open and removed
+  // on unplug, since a new pseudo-terminal gets a new /dev/pts number. Empty: no link.
+  std::string link_path;
+};
+
+struct DynaSimulatorCounters {
+  std::uint64_t requests_seen = 0;  // well-formed requests, whoever they were for
+  std::uint64_t replies_sent = 0;
+  std::uint64_t lrc_errors = 0;     // Modbus-ASCII frames with a bad LRC (never answered)
+  std::uint64_t malformed = 0;      // frames or 9-bit commands that could not be read
+  std::uint64_t bytes_received = 0;
+};
+
+class DynaSimulator {
+ public:
+  DynaSimulator(boost::asio::io_context& io, DynaSimulatorOptions options);
+  ~DynaSimulator();
+  DynaSimulator(const DynaSimulator&) = delete;
+  DynaSimulator& operator=(const DynaSimulator&) = delete;
+
+  // Opens a pseudo-terminal (and the link) and starts serving it.
+  Expected<Done, std::string> start();
+  // Closes the pseudo-terminal and removes the link: the gateway's next read or write on the
+  // slave fails as on an unplugged adapter. The modules keep their state (the bus stays powered).
+  void unplug();
+  // A new pseudo-terminal (a new slave path; the link follows it).
+  Expected<Done, std::string> replug() { return start(); }
+  // Stops serving for good; the destructor does it too.
+  void stop() { unplug(); }
+
+  bool plugged() const { return port_ != nullptr; }
+  Protocol protocol() const { return options_.protocol; }
+  // The current slave path; empty while unplugged.
+  const std::string& slave_path() const { return slave_path_; }
+  const std::string& link_path() const { return options_.link_path; }
+
+  std::size_t sensor_count() const { return sensors_.size(); }
+  SimulatedDyna& sensor(std::size_t index) { return sensors_.at(index); }
+  // The module now at `address` (it follows writes to EEPROM location 16), or nullptr.
+  SimulatedDyna* sensor_by_address(std::uint8_t address);
+
+  const DynaSimulatorCounters& counters() const { return counters_; }
+
+ private:
+  struct Port;
+  struct PendingReply;
+
+  void read_more(const std::shared_ptr<Port>& port);
+  void on_bytes(const std::shared_ptr<Port>& port, std::size_t count);
+  void on_nine_bit_bytes(const std::shared_ptr<Port>& port, std::size_t count);
+  void on_ascii_bytes(const std::shared_ptr<Port>& port, std::size_t count);
+  void queue_reply(const std::shared_ptr<Port>& port, std::vector<std::uint8_t> bytes);
+  void write_next(const std::shared_ptr<Port>& port);
+  Expected<Done, std::string> point_link_at(const std::string& target) const;
+  SimTime now() const;
+
+  boost::asio::io_context& io_;
+  DynaSimulatorOptions options_;
+  std::vector<SimulatedDyna> sensors_;
+  std::chrono::steady_clock::time_point started_;
+  std::optional<PseudoTerminal> pty_;
+  std::shared_ptr<Port> port_;  // shared with the handlers in flight, which outlive a close
+  std::string slave_path_;
+  DynaSimulatorCounters counters_;
+};
+
+}  // namespace tiltgate::spectron
