@@ -90,7 +90,9 @@ std::optional<NineBitCommand> nine_bit_command(char c) {
 bool is_nine_bit_delimiter(char c) { return c == ' ' || c == ',' || c == ':' || c == '\t'; }
 
 std::vector<std::uint8_t> wire_bytes(const NineBitRequest& request) {
-  std::vector<std::uint8_t> bytes{request.address};
+  std::vector<std::uint8_t> bytes;
+  bytes.reserve(1 + request.body.size());
+  bytes.push_back(request.address);
   bytes.insert(bytes.end(), request.body.begin(), request.body.end());
   return bytes;
 }
