@@ -10,14 +10,15 @@
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdint>
-#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "driver/expected.h"
+#include "rieker/frame_parser.h"
 #include "rieker/simulated_sensor.h"
-#include "serial/pseudo_terminal.h"
+#include "serial/pty_bus_server.h"
 
 namespace tiltgate::rieker {
 
@@ -53,16 +54,16 @@ class RiekerSimulator {
   Expected<Done, std::string> start();
   // Closes the pseudo-terminal and removes the link: the gateway's next read or write on the
   // slave fails as on an unplugged adapter. The sensors keep their state (the bus stays powered).
-  void unplug();
+  void unplug() { server_.unplug(); }
   // A new pseudo-terminal (a new slave path; the link follows it).
   Expected<Done, std::string> replug() { return start(); }
   // Stops serving for good; the destructor does it too.
   void stop() { unplug(); }
 
-  bool plugged() const { return port_ != nullptr; }
+  bool plugged() const { return server_.plugged(); }
   // The current slave path; empty while unplugged.
-  const std::string& slave_path() const { return slave_path_; }
-  const std::string& link_path() const { return options_.link_path; }
+  const std::string& slave_path() const { return server_.slave_path(); }
+  const std::string& link_path() const { return server_.link_path(); }
 
   std::size_t sensor_count() const { return sensors_.size(); }
   SimulatedSensor& sensor(std::size_t index) { return sensors_.at(index); }
@@ -72,25 +73,17 @@ class RiekerSimulator {
   const SimulatorCounters& counters() const { return counters_; }
 
  private:
-  struct Port;
-  struct PendingReply;
-
-  void read_more(const std::shared_ptr<Port>& port);
-  void on_bytes(const std::shared_ptr<Port>& port, std::size_t count);
-  void dispatch(const std::shared_ptr<Port>& port, const Frame& request);
-  void queue_reply(const std::shared_ptr<Port>& port, std::vector<std::uint8_t> bytes);
-  void write_next(const std::shared_ptr<Port>& port);
-  Expected<Done, std::string> point_link_at(const std::string& target) const;
+  void on_bytes(std::span<const std::uint8_t> bytes);
+  void dispatch(const Frame& request);
+  void queue_reply(std::vector<std::uint8_t> bytes);
   SimTime now() const;
 
-  boost::asio::io_context& io_;
   RiekerSimulatorOptions options_;
   std::vector<SimulatedSensor> sensors_;
   std::chrono::steady_clock::time_point started_;
-  std::optional<PseudoTerminal> pty_;
-  std::shared_ptr<Port> port_;  // shared with the handlers in flight, which outlive a close
-  std::string slave_path_;
+  RiekerFrameParser parser_;  // a fresh one for every (re)open, as a new adapter would see
   SimulatorCounters counters_;
+  PtyBusServer server_;  // last: destroyed (and unplugged) before what its callbacks use
 };
 
 }  // namespace tiltgate::rieker

@@ -4,16 +4,11 @@
 #include <cctype>
 #include <charconv>
 
+#include "driver/text_list.h"
 #include "spectron/eeprom_map.h"
 
 namespace tiltgate::spectron {
 namespace {
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
 
 bool is_dyna(std::string_view model) {
   constexpr std::string_view kModel = "dyna";
@@ -25,14 +20,14 @@ bool is_dyna(std::string_view model) {
 Expected<SimulatedDynaOptions, std::string> parse_item(std::string_view item, std::size_t index,
                                                        Protocol protocol) {
   const std::size_t colon = item.find(':');
-  if (!is_dyna(trim(item.substr(0, colon)))) {
+  if (!is_dyna(trim_whitespace(item.substr(0, colon)))) {
     return Unexpected("sensor '" + std::string(item) + "': model must be dyna");
   }
   const int min = eeprom::min_address(protocol);
   const int max = eeprom::max_address(protocol);
   int address = min;
   if (colon != std::string_view::npos) {
-    const std::string_view text = trim(item.substr(colon + 1));
+    const std::string_view text = trim_whitespace(item.substr(colon + 1));
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), address);
     if (text.empty() || ec != std::errc() || end != text.data() + text.size() || address < min ||
         address > max) {
@@ -56,25 +51,9 @@ Expected<SimulatedDynaOptions, std::string> parse_item(std::string_view item, st
 
 Expected<std::vector<SimulatedDynaOptions>, std::string> parse_sensor_spec(std::string_view spec,
                                                                          Protocol protocol) {
-  std::vector<SimulatedDynaOptions> sensors;
-  while (true) {
-    const std::size_t comma = spec.find(',');
-    const std::string_view item = trim(spec.substr(0, comma));
-    if (item.empty()) return Unexpected(std::string("empty sensor in the sensor list"));
-    auto sensor = parse_item(item, sensors.size(), protocol);
-    if (!sensor) return Unexpected(sensor.error());
-    const bool taken = std::any_of(sensors.begin(), sensors.end(), [&](const auto& other) {
-      return other.address == sensor->address;
-    });
-    if (taken) {
-      return Unexpected("sensor '" + std::string(item) + "': address " +
-                        std::to_string(sensor->address) + " is used twice");
-    }
-    sensors.push_back(std::move(*sensor));
-    if (comma == std::string_view::npos) break;
-    spec.remove_prefix(comma + 1);
-  }
-  return sensors;
+  return parse_sensor_list(spec, [protocol](std::string_view item, std::size_t index) {
+    return parse_item(item, index, protocol);
+  });
 }
 
 }  // namespace tiltgate::spectron

@@ -1,15 +1,5 @@
 #include "spectron/simulator.h"
 
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <array>
-#include <boost/asio/posix/stream_descriptor.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <boost/asio/write.hpp>
-#include <cerrno>
-#include <cstring>
-#include <deque>
 #include <span>
 
 #include "spectron/ascii_frame_parser.h"
@@ -20,6 +10,8 @@ namespace tiltgate::spectron {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+constexpr unsigned kBitsPerByte = 11;  // start + 8 data + parity/9th bit + stop
 
 struct NineBitPtyRequest {
   std::uint8_t address = 0;
@@ -84,29 +76,18 @@ class NineBitPtyFraming {
 
 }  // namespace
 
-struct DynaSimulator::PendingReply {
-  Clock::time_point due;
-  std::vector<std::uint8_t> bytes;
-};
-
-// One open pseudo-terminal. Handlers hold it by shared_ptr; `owner` is cleared when the port is
-// closed, so a handler that runs after unplug() or the simulator's end touches nothing else.
-struct DynaSimulator::Port {
-  Port(boost::asio::io_context& io, int master_fd, DynaSimulator* owner)
-      : stream(io, master_fd), reply_timer(io), owner(owner) {}
-
-  boost::asio::posix::stream_descriptor stream;
-  boost::asio::steady_timer reply_timer;
-  std::array<std::uint8_t, 512> read_buffer{};
+struct DynaSimulator::Framing {
   NineBitPtyFraming nine_bit;
   AsciiFrameParser ascii;
-  std::deque<PendingReply> replies;
-  bool writing = false;
-  DynaSimulator* owner;
 };
 
 DynaSimulator::DynaSimulator(boost::asio::io_context& io, DynaSimulatorOptions options)
-    : io_(io), options_(std::move(options)), started_(Clock::now()) {
+    : options_(std::move(options)),
+      started_(Clock::now()),
+      framing_(std::make_unique<Framing>()),
+      server_(io, PtyBusServerOptions{options_.link_path, options_.pace_baud, kBitsPerByte},
+              [this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
+              [this] { ++counters_.replies_sent; }) {
   sensors_.reserve(options_.sensors.size());
   for (const auto& sensor : options_.sensors) sensors_.emplace_back(sensor);
 }
@@ -114,32 +95,9 @@ DynaSimulator::DynaSimulator(boost::asio::io_context& io, DynaSimulatorOptions o
 DynaSimulator::~DynaSimulator() { stop(); }
 
 Expected<Done, std::string> DynaSimulator::start() {
-  unplug();
-  auto pty = PseudoTerminal::open();
-  if (!pty) return Unexpected(pty.error());
-  if (auto linked = point_link_at(pty->slave_path()); !linked) return linked;
-  slave_path_ = pty->slave_path();
-  port_ = std::make_shared<Port>(io_, pty->release_master(), this);
-  pty_.emplace(std::move(*pty));
-  read_more(port_);
-  return Done{};
-}
-
-void DynaSimulator::unplug() {
-  if (port_) {
-    port_->owner = nullptr;
-    boost::system::error_code ignored;
-    port_->reply_timer.cancel();
-    port_->stream.close(ignored);
-    port_.reset();
-  }
-  pty_.reset();  // closes the slave side the pair held
-  slave_path_.clear();
-  struct stat link {};
-  const std::string& path = options_.link_path;
-  if (!path.empty() && ::lstat(path.c_str(), &link) == 0 && S_ISLNK(link.st_mode)) {
-    ::unlink(path.c_str());
-  }
+  server_.unplug();  // before the framing is replaced: no handler of the old port feeds it
+  framing_ = std::make_unique<Framing>();
+  return server_.start();
 }
 
 SimulatedDyna* DynaSimulator::sensor_by_address(std::uint8_t address) {
@@ -149,31 +107,18 @@ SimulatedDyna* DynaSimulator::sensor_by_address(std::uint8_t address) {
   return nullptr;
 }
 
-void DynaSimulator::read_more(const std::shared_ptr<Port>& port) {
-  port->stream.async_read_some(
-      boost::asio::buffer(port->read_buffer),
-      [port](const boost::system::error_code& ec, std::size_t count) {
-        // An error other than a close means the pair broke; the port stays dead until
-        // replug(), as an adapter would.
-        if (!port->owner || ec) return;
-        port->owner->on_bytes(port, count);
-        port->owner->read_more(port);
-      });
-}
-
-void DynaSimulator::on_bytes(const std::shared_ptr<Port>& port, std::size_t count) {
-  counters_.bytes_received += count;
+void DynaSimulator::on_bytes(std::span<const std::uint8_t> bytes) {
+  counters_.bytes_received += bytes.size();
   if (options_.protocol == Protocol::nine_bit) {
-    on_nine_bit_bytes(port, count);
+    on_nine_bit_bytes(bytes);
   } else {
-    on_ascii_bytes(port, count);
+    on_ascii_bytes(bytes);
   }
 }
 
-void DynaSimulator::on_nine_bit_bytes(const std::shared_ptr<Port>& port, std::size_t count) {
+void DynaSimulator::on_nine_bit_bytes(std::span<const std::uint8_t> bytes) {
   std::vector<NineBitPtyRequest> requests;
-  counters_.malformed +=
-      port->nine_bit.feed(std::span(port->read_buffer.data(), count), Clock::now(), requests);
+  counters_.malformed += framing_->nine_bit.feed(bytes, Clock::now(), requests);
   const SimTime at = now();
   for (const auto& request : requests) {
     if (!parse_nine_bit_body(request.body)) {
@@ -183,74 +128,29 @@ void DynaSimulator::on_nine_bit_bytes(const std::shared_ptr<Port>& port, std::si
     ++counters_.requests_seen;
     for (auto& sensor : sensors_) {
       if (auto reply = sensor.respond_nine_bit(request.address, request.body, at)) {
-        queue_reply(port, std::move(*reply));
+        queue_reply(std::move(*reply));
       }
     }
   }
 }
 
-void DynaSimulator::on_ascii_bytes(const std::shared_ptr<Port>& port, std::size_t count) {
-  AsciiFrameParser& parser = port->ascii;
+void DynaSimulator::on_ascii_bytes(std::span<const std::uint8_t> bytes) {
+  AsciiFrameParser& parser = framing_->ascii;
   const AsciiParserCounters before = parser.counters();
-  parser.feed(std::span(port->read_buffer.data(), count));
+  parser.feed(bytes);
   counters_.lrc_errors += parser.counters().lrc_errors - before.lrc_errors;
   counters_.malformed += parser.counters().malformed - before.malformed;
   const SimTime at = now();
   while (auto request = parser.next()) {
     ++counters_.requests_seen;
     for (auto& sensor : sensors_) {
-      if (auto reply = sensor.respond_ascii(*request, at)) queue_reply(port, std::move(*reply));
+      if (auto reply = sensor.respond_ascii(*request, at)) queue_reply(std::move(*reply));
     }
   }
 }
 
-void DynaSimulator::queue_reply(const std::shared_ptr<Port>& port,
-                                std::vector<std::uint8_t> bytes) {
-  auto delay = std::chrono::duration_cast<Clock::duration>(options_.reply_latency);
-  if (options_.pace_baud && *options_.pace_baud > 0) {
-    constexpr double kBitsPerByte = 11.0;  // start + 8 data + parity/9th bit + stop
-    delay += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
-        static_cast<double>(bytes.size()) * kBitsPerByte / *options_.pace_baud));
-  }
-  port->replies.push_back({Clock::now() + delay, std::move(bytes)});
-  if (!port->writing) write_next(port);
-}
-
-// Replies go out one at a time, each once its due time has come.
-void DynaSimulator::write_next(const std::shared_ptr<Port>& port) {
-  port->writing = !port->replies.empty();
-  if (!port->writing) return;
-  port->reply_timer.expires_at(port->replies.front().due);
-  port->reply_timer.async_wait([port](const boost::system::error_code& ec) {
-    if (!port->owner || ec) return;
-    boost::asio::async_write(
-        port->stream, boost::asio::buffer(port->replies.front().bytes),
-        [port](const boost::system::error_code& write_error, std::size_t) {
-          if (!port->owner || write_error) return;
-          ++port->owner->counters_.replies_sent;
-          port->replies.pop_front();
-          port->owner->write_next(port);
-        });
-  });
-}
-
-Expected<Done, std::string> DynaSimulator::point_link_at(const std::string& target) const {
-  const std::string& link = options_.link_path;
-  if (link.empty()) return Done{};
-  struct stat existing {};
-  if (::lstat(link.c_str(), &existing) == 0 && !S_ISLNK(existing.st_mode)) {
-    return Unexpected(link + " exists and is not a symbolic link; not replacing it");
-  }
-  // A symlink beside it, renamed over it: the link never disappears while being re-pointed.
-  const std::string temporary = link + ".new";
-  ::unlink(temporary.c_str());
-  if (::symlink(target.c_str(), temporary.c_str()) != 0 ||
-      ::rename(temporary.c_str(), link.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    ::unlink(temporary.c_str());
-    return Unexpected("cannot point " + link + " at " + target + ": " + reason);
-  }
-  return Done{};
+void DynaSimulator::queue_reply(std::vector<std::uint8_t> bytes) {
+  server_.send_after(options_.reply_latency, std::move(bytes));
 }
 
 SimTime DynaSimulator::now() const { return Clock::now() - started_; }

@@ -24,11 +24,12 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "driver/expected.h"
-#include "serial/pseudo_terminal.h"
+#include "serial/pty_bus_server.h"
 #include "spectron/ascii_codec.h"
 #include "spectron/protocol.h"
 #include "spectron/simulated_dyna.h"
@@ -70,17 +71,17 @@ class DynaSimulator {
   Expected<Done, std::string> start();
   // Closes the pseudo-terminal and removes the link: the gateway's next read or write on the
   // slave fails as on an unplugged adapter. The modules keep their state (the bus stays powered).
-  void unplug();
+  void unplug() { server_.unplug(); }
   // A new pseudo-terminal (a new slave path; the link follows it).
   Expected<Done, std::string> replug() { return start(); }
   // Stops serving for good; the destructor does it too.
   void stop() { unplug(); }
 
-  bool plugged() const { return port_ != nullptr; }
+  bool plugged() const { return server_.plugged(); }
   Protocol protocol() const { return options_.protocol; }
   // The current slave path; empty while unplugged.
-  const std::string& slave_path() const { return slave_path_; }
-  const std::string& link_path() const { return options_.link_path; }
+  const std::string& slave_path() const { return server_.slave_path(); }
+  const std::string& link_path() const { return server_.link_path(); }
 
   std::size_t sensor_count() const { return sensors_.size(); }
   SimulatedDyna& sensor(std::size_t index) { return sensors_.at(index); }
@@ -90,26 +91,20 @@ class DynaSimulator {
   const DynaSimulatorCounters& counters() const { return counters_; }
 
  private:
-  struct Port;
-  struct PendingReply;
+  struct Framing;  // the request framing of the current pseudo-terminal
 
-  void read_more(const std::shared_ptr<Port>& port);
-  void on_bytes(const std::shared_ptr<Port>& port, std::size_t count);
-  void on_nine_bit_bytes(const std::shared_ptr<Port>& port, std::size_t count);
-  void on_ascii_bytes(const std::shared_ptr<Port>& port, std::size_t count);
-  void queue_reply(const std::shared_ptr<Port>& port, std::vector<std::uint8_t> bytes);
-  void write_next(const std::shared_ptr<Port>& port);
-  Expected<Done, std::string> point_link_at(const std::string& target) const;
+  void on_bytes(std::span<const std::uint8_t> bytes);
+  void on_nine_bit_bytes(std::span<const std::uint8_t> bytes);
+  void on_ascii_bytes(std::span<const std::uint8_t> bytes);
+  void queue_reply(std::vector<std::uint8_t> bytes);
   SimTime now() const;
 
-  boost::asio::io_context& io_;
   DynaSimulatorOptions options_;
   std::vector<SimulatedDyna> sensors_;
   std::chrono::steady_clock::time_point started_;
-  std::optional<PseudoTerminal> pty_;
-  std::shared_ptr<Port> port_;  // shared with the handlers in flight, which outlive a close
-  std::string slave_path_;
+  std::unique_ptr<Framing> framing_;  // a fresh one for every (re)open
   DynaSimulatorCounters counters_;
+  PtyBusServer server_;  // last: destroyed (and unplugged) before what its callbacks use
 };
 
 }  // namespace tiltgate::spectron

@@ -2,20 +2,16 @@
 // raw tty, as the gateway would, sends encoded requests and decodes what comes back.
 // Single-threaded: the test pumps the io_context while it waits, always up to a deadline.
 #include <doctest/doctest.h>
-#include <fcntl.h>
-#include <termios.h>
-#include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
 #include <cerrno>
 #include <chrono>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <thread>
 
 #include "rieker/frame_parser.h"
 #include "rieker/simulator.h"
+#include "sim/support/raw_tty_client.h"
 #include "unit/rieker_test_vectors.h"
 
 using namespace tiltgate;
@@ -26,27 +22,16 @@ using rieker::test::hex;
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
-constexpr auto kReplyDeadline = 2s;  // generous: the machine may be busy
-constexpr auto kSilence = 300ms;     // how long "no reply" is waited for
+using tiltgate::test::kReplyDeadline;
+using tiltgate::test::kSilence;
+using tiltgate::test::run_until;
 
-// The gateway's side of the bus: a raw, non-blocking tty on the slave path.
+// The gateway's side of the bus, reading Rieker frames.
 class BusClient {
  public:
-  BusClient(boost::asio::io_context& io, const std::string& path) : io_(io) {
-    fd_ = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-    REQUIRE_MESSAGE(fd_ >= 0, "cannot open " << path << ": " << std::strerror(errno));
-    termios settings{};
-    REQUIRE(::tcgetattr(fd_, &settings) == 0);
-    ::cfmakeraw(&settings);
-    REQUIRE(::tcsetattr(fd_, TCSANOW, &settings) == 0);
-  }
-  ~BusClient() { ::close(fd_); }
-  BusClient(const BusClient&) = delete;
-  BusClient& operator=(const BusClient&) = delete;
+  BusClient(boost::asio::io_context& io, const std::string& path) : tty_(io, path) {}
 
-  void send(const Bytes& bytes) {
-    REQUIRE(::write(fd_, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size()));
-  }
+  void send(const Bytes& bytes) { tty_.send(bytes); }
   void send(const RequestResult& request) {
     REQUIRE(request.has_value());
     send(encode(*request));
@@ -54,15 +39,8 @@ class BusClient {
 
   // The next frame with a good CRC, or nullopt once `limit` has passed.
   std::optional<Frame> receive(std::chrono::milliseconds limit = kReplyDeadline) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (true) {
-      if (auto frame = parser_.next()) return frame;
-      if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
-      pump();
-      const Bytes bytes = read_available();
-      parser_.feed(bytes);
-      raw_.insert(raw_.end(), bytes.begin(), bytes.end());
-    }
+    return tty_.wait_for([&] { return parser_.next(); },
+                         [&](std::span<const std::uint8_t> bytes) { parser_.feed(bytes); }, limit);
   }
   // The next frame, which must come.
   Frame receive_frame() {
@@ -75,70 +53,31 @@ class BusClient {
     return receive_frame();
   }
   // Every byte received, frames and garbage alike.
-  const Bytes& raw() const { return raw_; }
+  const Bytes& raw() const { return tty_.raw(); }
   const RiekerFrameParser& parser() const { return parser_; }
-
-  // What a read on the tty returns now: bytes, or -1 with errno.
-  ssize_t read_once(int& error) {
-    std::uint8_t byte = 0;
-    const ssize_t n = ::read(fd_, &byte, 1);
-    error = errno;
-    return n;
-  }
+  ssize_t read_once(int& error) { return tty_.read_once(error); }
 
  private:
-  void pump() {
-    io_.restart();
-    io_.run_for(2ms);
-    if (io_.stopped()) std::this_thread::sleep_for(1ms);  // nothing to run: unplugged
-  }
-  Bytes read_available() {
-    Bytes bytes(512);
-    const ssize_t n = ::read(fd_, bytes.data(), bytes.size());
-    bytes.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
-    return bytes;
-  }
-
-  boost::asio::io_context& io_;
-  int fd_ = -1;
+  tiltgate::test::RawTtyClient tty_;
   RiekerFrameParser parser_;
-  Bytes raw_;
 };
 
 struct Bus {
   boost::asio::io_context io;
-  std::filesystem::path dir;
-  std::optional<RiekerSimulator> sim;
+  tiltgate::test::ScratchDir dir{"tiltgate-rieker-sim"};
+  std::optional<RiekerSimulator> sim;  // last: gone before the directory and the io_context
 
   explicit Bus(std::vector<SimulatedSensorOptions> sensors,
                std::optional<std::uint32_t> pace_baud = std::nullopt) {
-    char pattern[] = "/tmp/tiltgate-rieker-sim-XXXXXX";
-    REQUIRE(::mkdtemp(pattern) != nullptr);
-    dir = pattern;
     RiekerSimulatorOptions options;
     options.sensors = std::move(sensors);
-    options.link_path = (dir / "ttyRIEKER").string();
+    options.link_path = dir.path("ttyRIEKER");
     options.pace_baud = pace_baud;
     sim.emplace(io, std::move(options));
     const auto started = sim->start();
     REQUIRE_MESSAGE(started.has_value(), started.error());
   }
-  ~Bus() {
-    sim.reset();
-    std::filesystem::remove_all(dir);
-  }
 };
-
-// Runs the io_context until `done` holds (true) or the reply deadline passes (false).
-template <class Predicate>
-bool run_until(boost::asio::io_context& io, Predicate done) {
-  const auto deadline = std::chrono::steady_clock::now() + kReplyDeadline;
-  while (!done() && std::chrono::steady_clock::now() < deadline) {
-    io.restart();
-    io.run_for(2ms);
-  }
-  return done();
-}
 
 SimulatedSensorOptions sensor(Model model, std::uint16_t address) {
   SimulatedSensorOptions options;
@@ -306,10 +245,8 @@ TEST_CASE("unplug looks like a lost adapter and replug serves a new pty behind t
 
 TEST_CASE("the simulator refuses to replace a file that is not a link") {
   boost::asio::io_context io;
-  char pattern[] = "/tmp/tiltgate-rieker-sim-XXXXXX";
-  REQUIRE(::mkdtemp(pattern) != nullptr);
-  const std::filesystem::path dir = pattern;
-  const std::string path = (dir / "not-a-link").string();
+  const tiltgate::test::ScratchDir dir("tiltgate-rieker-sim");
+  const std::string path = dir.path("not-a-link");
   { std::ofstream(path) << "keep me"; }
   RiekerSimulatorOptions options;
   options.sensors = {sensor(Model::h6, 101)};
@@ -320,7 +257,6 @@ TEST_CASE("the simulator refuses to replace a file that is not a link") {
     CHECK_FALSE(sim.plugged());
   }
   CHECK(std::filesystem::is_regular_file(path));
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("replies paced at a baud rate take at least their transmission time") {

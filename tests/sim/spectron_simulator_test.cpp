@@ -2,18 +2,14 @@
 // slave side as a raw tty, as the gateway would, sends requests and reads what comes back.
 // Single-threaded: the test pumps the io_context while it waits, always up to a deadline.
 #include <doctest/doctest.h>
-#include <fcntl.h>
-#include <termios.h>
-#include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
 #include <cerrno>
 #include <chrono>
-#include <cstring>
 #include <filesystem>
-#include <thread>
 
 #include "serial/serial_line.h"
+#include "sim/support/raw_tty_client.h"
 #include "sim/support/run_coroutine.h"
 #include "spectron/ascii_frame_parser.h"
 #include "spectron/nine_bit_codec.h"
@@ -29,28 +25,17 @@ using spectron::test::bytes;
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
-constexpr auto kReplyDeadline = 2s;  // generous: the machine may be busy
-constexpr auto kSilence = 300ms;     // how long "no reply" is waited for
+using tiltgate::test::kReplyDeadline;
+using tiltgate::test::kSilence;
+using tiltgate::test::run_until;
 
-// The gateway's side of the bus: a raw, non-blocking tty on the slave path. Replies are split
-// into 9-bit lines and Modbus-ASCII frames at the same time; each test reads the one it needs.
+// The gateway's side of the bus. Replies are split into 9-bit lines and Modbus-ASCII frames at
+// the same time; each test reads the one it needs.
 class BusClient {
  public:
-  BusClient(boost::asio::io_context& io, const std::string& path) : io_(io) {
-    fd_ = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-    REQUIRE_MESSAGE(fd_ >= 0, "cannot open " << path << ": " << std::strerror(errno));
-    termios settings{};
-    REQUIRE(::tcgetattr(fd_, &settings) == 0);
-    ::cfmakeraw(&settings);
-    REQUIRE(::tcsetattr(fd_, TCSANOW, &settings) == 0);
-  }
-  ~BusClient() { ::close(fd_); }
-  BusClient(const BusClient&) = delete;
-  BusClient& operator=(const BusClient&) = delete;
+  BusClient(boost::asio::io_context& io, const std::string& path) : tty_(io, path) {}
 
-  void send(const Bytes& data) {
-    REQUIRE(::write(fd_, data.data(), data.size()) == static_cast<ssize_t>(data.size()));
-  }
+  void send(const Bytes& data) { tty_.send(data); }
   void send(std::string_view text) { send(bytes(text)); }
   void send(const NineBitRequest& request) { send(wire_bytes(request)); }
   void send(const NineBitRequestResult& request) {
@@ -85,79 +70,45 @@ class BusClient {
     return *reply;
   }
 
-  const Bytes& raw() const { return raw_; }
+  const Bytes& raw() const { return tty_.raw(); }
   const AsciiFrameParser& frames() const { return frames_; }
   const NineBitLineParser& lines() const { return lines_; }
-
-  // What a read on the tty returns now: bytes, or -1 with errno.
-  ssize_t read_once(int& error) {
-    std::uint8_t byte = 0;
-    const ssize_t n = ::read(fd_, &byte, 1);
-    error = errno;
-    return n;
-  }
+  ssize_t read_once(int& error) { return tty_.read_once(error); }
 
  private:
   template <class Take>
   auto wait_for(Take take, std::chrono::milliseconds limit) -> decltype(take()) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (true) {
-      if (auto item = take()) return item;
-      if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
-      io_.restart();
-      io_.run_for(2ms);
-      if (io_.stopped()) std::this_thread::sleep_for(1ms);  // nothing to run: unplugged
-      Bytes chunk(512);
-      const ssize_t n = ::read(fd_, chunk.data(), chunk.size());
-      chunk.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
-      lines_.feed(chunk);
-      frames_.feed(chunk);
-      raw_.insert(raw_.end(), chunk.begin(), chunk.end());
-    }
+    return tty_.wait_for(
+        take,
+        [&](std::span<const std::uint8_t> chunk) {
+          lines_.feed(chunk);
+          frames_.feed(chunk);
+        },
+        limit);
   }
 
-  boost::asio::io_context& io_;
-  int fd_ = -1;
+  tiltgate::test::RawTtyClient tty_;
   NineBitLineParser lines_;
   AsciiFrameParser frames_;
-  Bytes raw_;
 };
 
 struct Bus {
   boost::asio::io_context io;
-  std::filesystem::path dir;
-  std::optional<DynaSimulator> sim;
+  tiltgate::test::ScratchDir dir{"tiltgate-spectron-sim"};
+  std::optional<DynaSimulator> sim;  // last: gone before the directory and the io_context
 
   Bus(Protocol protocol, std::vector<SimulatedDynaOptions> sensors,
       std::optional<std::uint32_t> pace_baud = std::nullopt) {
-    char pattern[] = "/tmp/tiltgate-spectron-sim-XXXXXX";
-    REQUIRE(::mkdtemp(pattern) != nullptr);
-    dir = pattern;
     DynaSimulatorOptions options;
     options.protocol = protocol;
     options.sensors = std::move(sensors);
-    options.link_path = (dir / "ttyDYNA").string();
+    options.link_path = dir.path("ttyDYNA");
     options.pace_baud = pace_baud;
     sim.emplace(io, std::move(options));
     const auto started = sim->start();
     REQUIRE_MESSAGE(started.has_value(), started.error());
   }
-  ~Bus() {
-    sim.reset();
-    std::filesystem::remove_all(dir);
-  }
 };
-
-// Runs the io_context until `done` holds (true) or the reply deadline passes (false).
-template <class Predicate>
-bool run_until(boost::asio::io_context& io, Predicate done) {
-  const auto deadline = std::chrono::steady_clock::now() + kReplyDeadline;
-  while (!done() && std::chrono::steady_clock::now() < deadline) {
-    io.restart();
-    io.run_for(2ms);
-  }
-  return done();
-}
 
 SimulatedDynaOptions dyna(std::uint8_t address, std::int16_t counts = 1001) {
   SimulatedDynaOptions options;

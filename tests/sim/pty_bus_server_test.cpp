@@ -1,0 +1,177 @@
+// The protocol-free pseudo-terminal server under both simulators: bytes both ways, the link,
+// pacing, unplug and its lifetime with sends in flight. Single-threaded: the test pumps the
+// io_context while it waits, always up to a deadline.
+#include "serial/pty_bus_server.h"
+
+#include <doctest/doctest.h>
+
+#include <boost/asio/io_context.hpp>
+#include <cerrno>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "sim/support/raw_tty_client.h"
+
+using namespace tiltgate;
+using namespace std::chrono_literals;
+using tiltgate::test::kReplyDeadline;
+using tiltgate::test::RawTtyClient;
+using tiltgate::test::run_until;
+using tiltgate::test::ScratchDir;
+
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+// An echo device: every chunk it reads goes back after `delay`.
+struct EchoBus {
+  boost::asio::io_context io;
+  ScratchDir dir{"tiltgate-pty-bus"};
+  Bytes received;
+  std::chrono::milliseconds delay{0};
+  std::unique_ptr<PtyBusServer> server;  // last: gone before what its callbacks use
+
+  explicit EchoBus(PtyBusServerOptions options = {}) {
+    if (options.link_path.empty()) options.link_path = dir.path("ttyBUS");
+    server = std::make_unique<PtyBusServer>(io, std::move(options),
+                                            [this](std::span<const std::uint8_t> bytes) {
+                                              received.insert(received.end(), bytes.begin(),
+                                                              bytes.end());
+                                              server->send_after(delay, Bytes(bytes.begin(),
+                                                                              bytes.end()));
+                                            });
+    const auto started = server->start();
+    REQUIRE_MESSAGE(started.has_value(), started.error());
+  }
+};
+
+// The first `count` bytes the client receives, or what came before the deadline.
+Bytes receive(RawTtyClient& client, std::size_t count,
+              std::chrono::milliseconds limit = kReplyDeadline) {
+  const auto enough = [&]() -> std::optional<Bytes> {
+    if (client.raw().size() < count) return std::nullopt;
+    return Bytes(client.raw().begin(), client.raw().begin() + count);
+  };
+  return client.wait_for(enough, [](std::span<const std::uint8_t>) {}, limit)
+      .value_or(client.raw());
+}
+
+}  // namespace
+
+TEST_CASE("bytes written on the slave reach the receiver and sends reach the slave") {
+  EchoBus bus;
+  RawTtyClient client(bus.io, bus.server->slave_path());
+  client.send(Bytes{1, 2, 3, 0xFF});
+  CHECK(receive(client, 4) == Bytes{1, 2, 3, 0xFF});
+  CHECK(bus.received == Bytes{1, 2, 3, 0xFF});
+  CHECK(bus.server->counters().bytes_received == 4);
+  CHECK(run_until(bus.io, [&] { return bus.server->counters().bytes_sent == 4; }));
+}
+
+TEST_CASE("sends go out in the order they were made, each after its own delay") {
+  boost::asio::io_context io;
+  std::uint64_t completed = 0;
+  PtyBusServer server(io, {}, [](std::span<const std::uint8_t>) {}, [&] { ++completed; });
+  REQUIRE(server.start().has_value());
+  RawTtyClient client(io, server.slave_path());
+  server.send_after(50ms, Bytes{'a'});
+  server.send(Bytes{'b', 'c'});  // due at once, but queued behind 'a'
+  CHECK(receive(client, 3) == Bytes{'a', 'b', 'c'});
+  CHECK(run_until(io, [&] { return completed == 2; }));
+  CHECK(server.counters().sends_completed == 2);
+}
+
+TEST_CASE("the link follows the slave over replug, replaces a stale link and goes on unplug") {
+  ScratchDir dir("tiltgate-pty-bus");
+  const std::string link = dir.path("ttyBUS");
+  std::filesystem::create_symlink("/dev/null", link);  // left over from an earlier run
+  EchoBus bus({link, std::nullopt, 10});
+  CHECK(std::filesystem::read_symlink(link) == bus.server->slave_path());
+
+  bus.server->unplug();
+  CHECK_FALSE(bus.server->plugged());
+  CHECK(bus.server->slave_path().empty());
+  CHECK_FALSE(std::filesystem::exists(std::filesystem::symlink_status(link)));
+
+  REQUIRE(bus.server->replug().has_value());
+  CHECK(bus.server->plugged());
+  CHECK(std::filesystem::read_symlink(link) == bus.server->slave_path());
+  RawTtyClient client(bus.io, link);
+  client.send(Bytes{42});
+  CHECK(receive(client, 1) == Bytes{42});
+}
+
+TEST_CASE("a file at the link path that is not a link is refused and kept") {
+  boost::asio::io_context io;
+  ScratchDir dir("tiltgate-pty-bus");
+  const std::string path = dir.path("not-a-link");
+  { std::ofstream(path) << "keep me"; }
+  {
+    PtyBusServer server(io, {path, std::nullopt, 10}, [](std::span<const std::uint8_t>) {});
+    const auto started = server.start();
+    REQUIRE_FALSE(started.has_value());
+    CHECK(started.error().find("not a symbolic link") != std::string::npos);
+    CHECK_FALSE(server.plugged());
+  }
+  CHECK(std::filesystem::is_regular_file(path));
+}
+
+TEST_CASE("paced sends take at least their transmission time at the baud and bits per byte") {
+  // 24 bytes at 2400 baud, 11 bits a byte: 110 ms. Only the lower bound is checked; a busy
+  // machine can only make it longer.
+  EchoBus bus({"", 2400, 11});
+  RawTtyClient client(bus.io, bus.server->link_path());
+  const Bytes request(24, 0x55);
+  const auto sent = std::chrono::steady_clock::now();
+  client.send(request);
+  CHECK(receive(client, request.size()) == request);
+  CHECK(std::chrono::steady_clock::now() - sent >= 110ms);
+}
+
+TEST_CASE("unplug makes the slave side read as a lost adapter and drops later sends") {
+  EchoBus bus;
+  RawTtyClient client(bus.io, bus.server->link_path());
+  client.send(Bytes{7});
+  CHECK(receive(client, 1) == Bytes{7});
+  bus.server->unplug();
+  int error = 0;
+  const ssize_t n = client.read_once(error);
+  CHECK(n <= 0);
+  if (n < 0) CHECK(error == EIO);
+  bus.server->send(Bytes{8});  // nobody to send to: dropped
+  run_until(bus.io, [] { return false; }, 50ms);
+  CHECK(bus.server->counters().sends_completed == 1);
+}
+
+TEST_CASE("destroying the server with a send still waiting is safe") {
+  EchoBus bus;
+  bus.delay = 100ms;  // the echo waits on its timer
+  RawTtyClient client(bus.io, bus.server->link_path());
+  client.send(Bytes{1, 2});
+  REQUIRE(run_until(bus.io, [&] { return bus.received.size() == 2; }));
+  bus.server.reset();
+  // The aborted handlers run now, after the server is gone.
+  bus.io.restart();
+  bus.io.run_for(150ms);
+  CHECK(receive(client, 1, 50ms).empty());
+}
+
+TEST_CASE("a receiver may unplug the bus from inside its callback") {
+  boost::asio::io_context io;
+  std::unique_ptr<PtyBusServer> server;
+  std::size_t calls = 0;
+  server = std::make_unique<PtyBusServer>(io, PtyBusServerOptions{},
+                                          [&](std::span<const std::uint8_t>) {
+                                            ++calls;
+                                            server->unplug();
+                                          });
+  REQUIRE(server->start().has_value());
+  RawTtyClient client(io, server->slave_path());
+  client.send(Bytes{1});
+  CHECK(run_until(io, [&] { return calls == 1; }));
+  CHECK_FALSE(server->plugged());
+  run_until(io, [] { return false; }, 50ms);
+  CHECK(calls == 1);
+}
