@@ -8,9 +8,10 @@
 #include <string>
 #include <vector>
 
-namespace tiltgate {
+#include "mapping/map_definition.h"
+#include "mapping/point_types.h"  // WordOrder, OfflineRead
 
-enum class WordOrder { big, little };  // 32-bit values: high word first, or low word first
+namespace tiltgate {
 
 struct ServerConfig {
   std::string listen = "0.0.0.0";
@@ -41,6 +42,24 @@ struct BusConfig {
   int line = 0;                               // where it was declared, for messages
 };
 
+// A sensor mounted askew or upside down: applied to every reading before the map sees it,
+// in this order: swap, invert, rotate.
+struct MountingConfig {
+  bool swap_axes = false;
+  bool invert_x = false;
+  bool invert_y = false;
+  double rotate_deg = 0.0;  // rotates the X/Y frame by this angle (degrees, counter-clockwise)
+};
+
+// Alarm thresholds in degrees (after mounting). Each alarm sets when its value passes the
+// threshold and clears only once it is back by `hysteresis_deg`.
+struct AlarmConfig {
+  std::optional<double> x_high, x_low, y_high, y_low;
+  std::optional<double> tilt_high;          // on sqrt(x^2 + y^2)
+  double hysteresis_deg = 0.5;
+  std::optional<double> rate_limit_deg_s;   // |d angle / dt| on either axis above this
+};
+
 struct SensorConfig {
   std::string name;
   std::string bus;
@@ -52,6 +71,14 @@ struct SensorConfig {
   // Dyna only: raw counts -> degrees (the document gives no conversion).
   double counts_per_degree = 100.0;
   double zero_counts = 0.0;
+  MountingConfig mounting;
+  AlarmConfig alarms;
+  OfflineRead offline = OfflineRead::exception;
+  double substitute = 0.0;  // offline == substitute: the value every measurement point shows
+  // The register map: none for the model's built-in map; else from `map_file` (resolved
+  // against the config file's directory) or written inline.
+  std::optional<MapDefinition> map;
+  std::string map_file;     // as resolved; empty for the built-in or an inline map
   int line = 0;
 };
 

@@ -2,14 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
 #include "config/cross_checks.h"
+#include "config/map_files.h"
 #include "config/sections.h"
+#include "config/text_file.h"
 #include "config/toml_reader.h"
 
 namespace tiltgate {
@@ -127,24 +123,19 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
     errors.add(Place{}, "sensor", "no [[sensor]] defined, expected at least one");
   check_buses(buses, errors);
   check_sensors(sensors, buses, errors);
-  if (!errors.empty()) return Unexpected(errors.take());
+  ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors);
+  if (!errors.empty() || !map_file_errors.empty()) {
+    ConfigErrors all = errors.take();
+    all.insert(all.end(), map_file_errors.begin(), map_file_errors.end());
+    return Unexpected(std::move(all));
+  }
   return assemble(std::string(source_name), server, std::move(buses), std::move(sensors));
 }
 
 Expected<Config, ConfigErrors> load_config_file(const std::string& path) {
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored))
-    return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", "is a directory, expected a file"}});
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    const std::string reason = std::strerror(errno);
-    return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", "cannot open: " + reason}});
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad())
-    return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", "cannot read the file"}});
-  return load_config_string(text.str(), path);
+  auto text = config::read_text_file(path);
+  if (!text) return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", text.error()}});
+  return load_config_string(*text, path);
 }
 
 }  // namespace tiltgate

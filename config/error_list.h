@@ -23,6 +23,7 @@ class ErrorList {
 
   void add(Place where, std::string key, std::string message);
   bool empty() const { return errors_.empty(); }
+  std::size_t size() const { return errors_.size(); }
   // The errors ordered by place; those without a line come last.
   ConfigErrors take();
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <span>
 
+#include "config/sensor_options.h"
 #include "config/toml_reader.h"
 
 namespace tiltgate::config {
@@ -102,6 +103,24 @@ void read_dyna_scaling(TableReader& in, SensorConfig& sensor) {
   for (std::string_view key : {"counts_per_degree", "zero_counts"})
     if (in.has(key))
       in.error(key, fmt::format("applies to model \"dyna\" only, not \"{}\"", sensor.model));
+}
+
+// map = "FILE" (loaded once every sensor is read) or an inline map table.
+void read_map_key(TableReader& in, ParsedSensor& parsed, ErrorList& errors) {
+  const toml::node* node = in.node("map");
+  if (node == nullptr) return;
+  if (const auto* file = node->as_string()) {
+    if (file->get().empty()) return in.error("map", "empty, expected a map file name");
+    parsed.map_file = file->get();
+    in.accept("map");
+  } else if (const toml::table* table = node->as_table()) {
+    parsed.inline_map = read_map(*table, in.located().key_path("map"), errors);
+    in.accept("map");
+  } else {
+    in.error("map", fmt::format("expected a map file name (a string) or an inline map (a "
+                                "table), got {}",
+                                type_name(node->type())));
+  }
 }
 
 }  // namespace
@@ -208,8 +227,14 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
       sensor.stale_after = milliseconds(*ms);
   }
   read_dyna_scaling(in, sensor);
+  read_mounting(in, sensor, errors);
+  read_alarms(in, sensor, errors);
+  read_offline(in, sensor);
+  ParsedSensor parsed{std::move(sensor), address.value_or(0), in.located(), {}, {}};
+  read_map_key(in, parsed, errors);
   in.reject_unknown_keys();
-  return ParsedSensor{std::move(sensor), address.value_or(0), in.located()};
+  parsed.where = in.located();
+  return parsed;
 }
 
 }  // namespace tiltgate::config

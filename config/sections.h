@@ -11,6 +11,7 @@
 
 #include "config/config.h"
 #include "config/error_list.h"
+#include "config/map_reader.h"
 
 namespace tiltgate::config {
 
@@ -24,6 +25,8 @@ struct ParsedSensor {
   // As written; its range depends on the bus protocol, checked once the bus is known.
   std::int64_t address = 0;
   Located where;
+  std::string map_file;                 // map = "FILE", as written
+  std::optional<ParsedMap> inline_map;  // map = { ... } or [sensor.map]
 };
 
 ServerConfig read_server(const toml::table& table, ErrorList& errors);

@@ -136,7 +136,8 @@ std::optional<std::int64_t> TableReader::integer(std::string_view key, std::int6
   return value;
 }
 
-std::optional<double> TableReader::number(std::string_view key, Presence presence) {
+std::optional<double> TableReader::number(std::string_view key, Presence presence,
+                                          bool allow_nan) {
   const toml::node* node = find_any(key, presence, "a number");
   if (node == nullptr) return std::nullopt;
   double value = 0;
@@ -148,11 +149,22 @@ std::optional<double> TableReader::number(std::string_view key, Presence presenc
     error(key, fmt::format("expected a number, got {}", type_name(node->type())));
     return std::nullopt;
   }
-  if (!std::isfinite(value)) {
+  if (!std::isfinite(value) && !(allow_nan && std::isnan(value))) {
     error(key, fmt::format("{} is not a finite number", value));
     return std::nullopt;
   }
   located_.mark_valid(key);
+  return value;
+}
+
+std::optional<double> TableReader::number_in(std::string_view key, double min, double max,
+                                             Presence presence) {
+  const auto value = number(key, presence);
+  if (!value) return std::nullopt;
+  if (*value < min || *value > max) {
+    error(key, fmt::format("{} is out of range, expected {}..{}", *value, min, max));
+    return std::nullopt;
+  }
   return value;
 }
 
@@ -174,6 +186,12 @@ std::optional<std::string> TableReader::string(std::string_view key, Presence pr
 std::optional<std::string> TableReader::choice(std::string_view key,
                                                std::initializer_list<std::string_view> allowed,
                                                Presence presence) {
+  return choice(key, std::span<const std::string_view>(allowed.begin(), allowed.size()), presence);
+}
+
+std::optional<std::string> TableReader::choice(std::string_view key,
+                                               std::span<const std::string_view> allowed,
+                                               Presence presence) {
   std::string expected;
   std::size_t index = 0;
   for (std::string_view option : allowed) {
@@ -189,6 +207,33 @@ std::optional<std::string> TableReader::choice(std::string_view key,
   }
   located_.mark_valid(key);
   return value;
+}
+
+std::optional<std::vector<std::string>> TableReader::strings(std::string_view key,
+                                                             Presence presence) {
+  const toml::node* node = find(key, toml::node_type::array, presence, "an array of strings");
+  if (node == nullptr) return std::nullopt;
+  std::vector<std::string> values;
+  for (const toml::node& element : *node->as_array()) {
+    if (!element.is_string()) {
+      error(key, fmt::format("expected an array of strings, found {}", type_name(element.type())));
+      return std::nullopt;
+    }
+    values.push_back(element.as_string()->get());
+  }
+  located_.mark_valid(key);
+  return values;
+}
+
+const toml::table* TableReader::table(std::string_view key, Presence presence) {
+  const toml::node* node = find(key, toml::node_type::table, presence, "a table");
+  if (node == nullptr) return nullptr;
+  located_.mark_valid(key);
+  return node->as_table();
+}
+
+const toml::node* TableReader::node(std::string_view key) {
+  return find_any(key, Presence::optional, "");
 }
 
 void TableReader::reject_unknown_keys() {

@@ -26,14 +26,29 @@ class TableReader {
 
   std::optional<std::int64_t> integer(std::string_view key, std::int64_t min, std::int64_t max,
                                       Presence presence = Presence::optional);
-  // An integer or a float, finite.
-  std::optional<double> number(std::string_view key, Presence presence = Presence::optional);
+  // An integer or a float, finite (or NaN too, when allow_nan).
+  std::optional<double> number(std::string_view key, Presence presence = Presence::optional,
+                               bool allow_nan = false);
+  // A number in min..max.
+  std::optional<double> number_in(std::string_view key, double min, double max,
+                                  Presence presence = Presence::optional);
   std::optional<bool> boolean(std::string_view key, Presence presence = Presence::optional);
   std::optional<std::string> string(std::string_view key, Presence presence = Presence::optional);
   // A string that must be one of `allowed`.
   std::optional<std::string> choice(std::string_view key,
                                     std::initializer_list<std::string_view> allowed,
                                     Presence presence = Presence::optional);
+  std::optional<std::string> choice(std::string_view key, std::span<const std::string_view> allowed,
+                                    Presence presence = Presence::optional);
+  // An array of strings.
+  std::optional<std::vector<std::string>> strings(std::string_view key,
+                                                  Presence presence = Presence::optional);
+  // A table: an inline table or a [parent.key] sub-table, which toml++ gives alike.
+  const toml::table* table(std::string_view key, Presence presence = Presence::optional);
+  // Any node, for a key whose type selects its meaning; the caller checks it and calls
+  // accept() when it is valid.
+  const toml::node* node(std::string_view key);
+  void accept(std::string_view key) { located_.mark_valid(key); }
 
   bool has(std::string_view key) const { return table_.contains(key); }
   // A problem with a value that read fine on its own (a check against another key).

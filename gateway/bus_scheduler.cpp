@@ -14,6 +14,9 @@ BusScheduler::BusScheduler(asio::any_io_executor executor, Line& line, std::stri
 
 void BusScheduler::add(GatewaySensor& sensor) {
   sensor.bus = this;
+  // The sensor arrives configured: its mounting and alarms are known from here on.
+  sensor.processing = SensorProcessing(sensor.config.mounting, sensor.config.alarms);
+  sensor.processed_seq = sensor.driver->state().sample_seq;
   sensors_.push_back({&sensor, SteadyClock::now()});
 }
 
@@ -68,8 +71,16 @@ asio::awaitable<void> BusScheduler::run() {
     }
     co_await polled->sensor->driver->poll(line_);
     ++stats_.polls;
+    process_new_reading(*polled->sensor);
     reschedule(*polled, SteadyClock::now());
   }
+}
+
+void BusScheduler::process_new_reading(GatewaySensor& sensor) {
+  const SensorState& state = sensor.driver->state();
+  if (state.sample_seq == sensor.processed_seq || !state.reading) return;
+  sensor.processing.update(*state.reading);
+  sensor.processed_seq = state.sample_seq;
 }
 
 asio::awaitable<void> BusScheduler::run_write(std::shared_ptr<PendingWrite> pending) {

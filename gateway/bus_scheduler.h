@@ -62,6 +62,8 @@ class BusScheduler {
 
   Polled* next_due();
   void reschedule(Polled& polled, SteadyClock::time_point now);
+  // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
+  static void process_new_reading(GatewaySensor& sensor);
   boost::asio::awaitable<void> run_write(std::shared_ptr<PendingWrite> pending);
 
   boost::asio::any_io_executor executor_;

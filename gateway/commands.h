@@ -23,4 +23,12 @@ struct RiekerSimOptions {
 };
 int sim_rieker_command(const RiekerSimOptions& options);
 
+struct SpectronSimOptions {
+  std::string protocol = "9bit";   // "9bit" (9-bit addressing) or "modbus" (Modbus-ASCII)
+  std::string sensors = "dyna:1";  // dyna:address[,dyna:address...]
+  std::string link;                // optional stable symlink to the pty
+  std::uint32_t pace_baud = 0;     // 0: answer at once; else pace replies at this baud rate
+};
+int sim_spectron_command(const SpectronSimOptions& options);
+
 }  // namespace tiltgate

@@ -43,7 +43,8 @@ int map_command(const std::string& config_path, const std::string& format) {
   std::vector<UnitMap> units;
   for (const SensorConfig& sensor : config->sensors) {
     maps.push_back(map_for(sensor));
-    units.push_back({sensor.unit_id, sensor.name, sensor.model, &maps.back()});
+    units.push_back({sensor.unit_id, sensor.name, sensor.model, &maps.back(),
+                     config->server.word_order});
   }
   std::cout << (format == "markdown" ? export_markdown(units) : export_csv(units));
   return 0;

@@ -1,8 +1,17 @@
 #include "gateway/driver_registry.h"
 
 #include "rieker/rieker_driver.h"
+#include "spectron/dyna_driver.h"
 
 namespace tiltgate {
+
+namespace {
+
+bool is_spectron(BusProtocol protocol) {
+  return protocol == BusProtocol::spectron_9bit || protocol == BusProtocol::spectron_modbus;
+}
+
+}  // namespace
 
 std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusConfig& bus) {
   if (bus.protocol == BusProtocol::rieker && (sensor.model == "h6" || sensor.model == "h4360")) {
@@ -12,6 +21,17 @@ std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusC
     options.address = std::uint16_t(sensor.address);
     options.master_address = bus.master_address;
     return std::make_unique<rieker::RiekerDriver>(options);
+  }
+  if (is_spectron(bus.protocol) && sensor.model == "dyna") {
+    spectron::DynaDriverOptions options;
+    options.name = sensor.name;
+    options.protocol = bus.protocol == BusProtocol::spectron_9bit
+                           ? spectron::Protocol::nine_bit
+                           : spectron::Protocol::modbus_ascii;
+    options.address = int(sensor.address);
+    options.counts_per_degree = sensor.counts_per_degree;
+    options.zero_counts = sensor.zero_counts;
+    return std::make_unique<spectron::DynaDriver>(options);
   }
   return nullptr;
 }

@@ -5,11 +5,11 @@
 #include <spdlog/spdlog.h>
 
 #include "gateway/driver_registry.h"
-#include "mapping/default_maps.h"
+#include "mapping/map_definition.h"
 
 namespace tiltgate {
 
-RegisterMap map_for(const SensorConfig& sensor) { return default_map(sensor.model); }
+RegisterMap map_for(const SensorConfig& sensor) { return build_map(sensor.map, sensor.model); }
 
 Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     : io_(io),
@@ -74,7 +74,8 @@ std::uint16_t Gateway::port() const { return server_->local_port(); }
 std::vector<UnitMap> Gateway::unit_maps() const {
   std::vector<UnitMap> units;
   for (const auto& s : sensors_) {
-    units.push_back({s->config.unit_id, s->config.name, s->config.model, &s->map});
+    units.push_back({s->config.unit_id, s->config.name, s->config.model, &s->map,
+                     config_.server.word_order});
   }
   return units;
 }

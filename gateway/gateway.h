@@ -45,7 +45,8 @@ class Gateway {
   std::unique_ptr<ModbusTcpServer> server_;
 };
 
-// Builds the register map a sensor serves (its model's built-in map for now).
+// Builds the register map a sensor serves: its model's built-in map, or the map its
+// configuration describes (a map file or an inline map, checked when the config was loaded).
 RegisterMap map_for(const SensorConfig& sensor);
 
 }  // namespace tiltgate

@@ -52,6 +52,17 @@ int main(int argc, char** argv) {
   rieker->add_option("--pace-baud", rieker_options.pace_baud,
                      "pace replies at this baud rate (0: no pacing)");
 
+  tiltgate::SpectronSimOptions spectron_options;
+  auto* spectron = sim->add_subcommand("spectron", "Spectron SPECTROTILT Dyna modules");
+  spectron->add_option("--protocol", spectron_options.protocol, "9bit or modbus (Modbus-ASCII)")
+      ->check(CLI::IsMember({"9bit", "modbus"}))
+      ->capture_default_str();
+  spectron->add_option("--sensors", spectron_options.sensors, "dyna:address[,dyna:address...]")
+      ->capture_default_str();
+  spectron->add_option("--link", spectron_options.link, "also make this symlink to the pty");
+  spectron->add_option("--pace-baud", spectron_options.pace_baud,
+                       "pace replies at this baud rate (0: no pacing)");
+
   CLI11_PARSE(app, argc, argv);
   set_up_logging(log_level);
 
@@ -60,5 +71,6 @@ int main(int argc, char** argv) {
   if (*map) return tiltgate::map_command(config_path, format);
   if (*demo) return tiltgate::demo_command(demo_options);
   if (*rieker) return tiltgate::sim_rieker_command(rieker_options);
+  if (*spectron) return tiltgate::sim_spectron_command(spectron_options);
   return 2;
 }

@@ -1,8 +1,10 @@
 # tiltgate_modbus: the Modbus TCP server side. Requests are framed and checked by our own pure
 # parser (modbus_request); libmodbus only formats replies to checked requests
-# (modbus_reply_encoder); Asio does all socket I/O (modbus_tcp_server).
+# (modbus_reply_encoder), except 43 / 14 Read Device Identification, which it does not serve
+# (device_identification); Asio does all socket I/O (modbus_tcp_server).
 add_library(tiltgate_modbus STATIC
   ${CMAKE_CURRENT_LIST_DIR}/modbus_request.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/device_identification.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_reply_encoder.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server.cpp)
 target_include_directories(tiltgate_modbus PUBLIC ${PROJECT_SOURCE_DIR})

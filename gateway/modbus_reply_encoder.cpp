@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 #include <variant>
 
+#include "gateway/device_identification.h"
 #include "gateway/modbus_request.h"
 
 namespace tiltgate {
@@ -24,7 +25,26 @@ bool is_checked(const ModbusRequest& request) {
   ParsedAdu parsed = parse_adu(request.adu);
   const auto* checked = std::get_if<ModbusRequest>(&parsed);
   return checked != nullptr && checked->function == request.function &&
-         checked->address == request.address && checked->count == request.count;
+         checked->address == request.address && checked->count == request.count &&
+         checked->read_device_id_code == request.read_device_id_code &&
+         checked->object_id == request.object_id;
+}
+
+// 43 / 14, without libmodbus: the request's MBAP header (transaction, protocol 0, a length
+// that counts the unit id and the PDU, unit id) around the identification PDU, or the
+// exception the handler or the objects call for.
+std::vector<std::uint8_t> device_identification_reply(const ModbusRequest& request,
+                                                      const ModbusResponse& response) {
+  if (response.exception) return exception_reply(request.adu, *response.exception);
+  auto pdu = encode_device_identification(response.device_objects, request.read_device_id_code,
+                                          request.object_id);
+  if (!pdu) return exception_reply(request.adu, pdu.error());
+  const std::size_t length = 1 + pdu->size();
+  std::vector<std::uint8_t> reply = {request.adu[0], request.adu[1], 0x00, 0x00,
+                                     std::uint8_t(length >> 8), std::uint8_t(length & 0xFF),
+                                     request.adu[6]};
+  reply.insert(reply.end(), pdu->begin(), pdu->end());
+  return reply;
 }
 
 // How many values a read's response carries in the request's table.
@@ -101,6 +121,9 @@ Expected<std::vector<std::uint8_t>, std::string> ModbusReplyEncoder::encode(
     const ModbusRequest& request, const ModbusResponse& response) {
   if (!is_checked(request)) {
     return Unexpected(std::string("refusing to encode an unchecked request"));
+  }
+  if (request.function == modbus_function::encapsulated_interface) {
+    return device_identification_reply(request, response);
   }
   discard_stale_bytes();
   const std::uint8_t* adu = request.adu.data();

@@ -5,6 +5,9 @@
 // request handling has memory-safety bugs on malformed frames (CVE-2022-0367 on 0x17,
 // out-of-bounds reads on short 07/11 frames).
 //
+// Function 43 / 14 (Read Device Identification), which libmodbus does not serve, is encoded
+// here without libmodbus (gateway/device_identification.h), its exceptions too.
+//
 // Not thread-safe (neither is a libmodbus context): use it from the event loop thread only.
 #pragma once
 
@@ -34,7 +37,8 @@ class ModbusReplyEncoder {
   Expected<std::vector<std::uint8_t>, std::string> encode(const ModbusRequest& request,
                                                           const ModbusResponse& response);
 
-  // How many times modbus_reply / modbus_reply_exception ran (tests check it stays put).
+  // How many times modbus_reply / modbus_reply_exception ran (tests check it stays put; a
+  // 43 / 14 reply never counts).
   std::uint64_t libmodbus_calls() const { return libmodbus_calls_; }
 
  private:

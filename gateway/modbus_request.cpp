@@ -4,6 +4,8 @@
 #include <cstring>
 #include <optional>
 
+#include "gateway/device_identification.h"
+
 namespace tiltgate {
 
 namespace {
@@ -25,8 +27,8 @@ using PduCheck = std::optional<ModbusException> (*)(const FunctionRule& rule,
                                                     std::span<const std::uint8_t> pdu,
                                                     ModbusRequest& request);
 
-// One row per function the server answers. Supporting a new function (43 Read Device
-// Identification, say) is one more row with its own check, plus its reply in the encoder.
+// One row per function the server answers. Supporting a new function is one more row with its
+// own check, plus its reply in the encoder.
 struct FunctionRule {
   std::uint8_t function;
   ModbusTable table;
@@ -117,6 +119,24 @@ std::optional<ModbusException> check_write_multiple_registers(const FunctionRule
   return std::nullopt;
 }
 
+// 43 / 14 Read Device Identification (section 6.21): function, MEI type, Read Device ID code,
+// object id, nothing more. Another MEI type is a function the gateway does not serve (01, as
+// the section's state diagram has it for an unsupported MEI type); a missing or extra byte or
+// a Read Device ID code other than 1..4 is 03. Whether the object exists is the unit's
+// business (02 for individual access, a restart for streams).
+std::optional<ModbusException> check_read_device_identification(
+    const FunctionRule&, std::span<const std::uint8_t> pdu, ModbusRequest& request) {
+  if (pdu.size() < 2) return ModbusException::illegal_value;
+  if (pdu[1] != mei_read_device_identification) return ModbusException::illegal_function;
+  if (pdu.size() != 4) return ModbusException::illegal_value;
+  if (pdu[2] < read_device_id::basic_stream || pdu[2] > read_device_id::one_object) {
+    return ModbusException::illegal_value;
+  }
+  request.read_device_id_code = pdu[2];
+  request.object_id = pdu[3];
+  return std::nullopt;
+}
+
 constexpr FunctionRule function_rules[] = {
     {modbus_function::read_coils, ModbusTable::coil, false, 2000, check_read},
     {modbus_function::read_discrete_inputs, ModbusTable::discrete, false, 2000, check_read},
@@ -129,6 +149,9 @@ constexpr FunctionRule function_rules[] = {
      check_write_multiple_coils},
     {modbus_function::write_multiple_registers, ModbusTable::holding, true, 123,
      check_write_multiple_registers},
+    // Table and count unused: the reply is built from the unit's identification objects.
+    {modbus_function::encapsulated_interface, ModbusTable::holding, false, 0,
+     check_read_device_identification},
 };
 
 const FunctionRule* rule_for(std::uint8_t function) {
@@ -174,7 +197,7 @@ ParsedAdu parse_adu(std::span<const std::uint8_t> adu) {
   request.unit_id = adu[6];
   request.function = adu[7];
   const FunctionRule* rule = rule_for(request.function);
-  // Unknown functions (07, 08, 11, 17, 23, 43, ...) never reach the handler or libmodbus.
+  // Unknown functions (07, 08, 11, 17, 23, ...) never reach the handler or libmodbus.
   if (rule == nullptr) return reject(adu, ModbusException::illegal_function);
   request.table = rule->table;
   request.is_write = rule->is_write;

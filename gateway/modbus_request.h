@@ -32,6 +32,9 @@ inline constexpr std::uint8_t write_single_coil = 0x05;
 inline constexpr std::uint8_t write_single_register = 0x06;
 inline constexpr std::uint8_t write_multiple_coils = 0x0F;
 inline constexpr std::uint8_t write_multiple_registers = 0x10;
+// Encapsulated Interface Transport; the gateway serves MEI type 14, Read Device
+// Identification (gateway/device_identification.h).
+inline constexpr std::uint8_t encapsulated_interface = 0x2B;
 }  // namespace modbus_function
 
 // Why a byte stream cannot be cut into frames; the connection has to be closed.

@@ -6,6 +6,7 @@
 #include <boost/asio/awaitable.hpp>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace tiltgate {
@@ -23,6 +24,14 @@ enum class ModbusException : std::uint8_t {
   gateway_target_failed = 0x0B,
 };
 
+// One Read Device Identification object (function 43 / MEI type 14): its id and its value, an
+// ASCII string. gateway/device_identification.h lists the ids the gateway uses.
+struct DeviceObject {
+  std::uint8_t id = 0;
+  std::string value;
+  friend bool operator==(const DeviceObject&, const DeviceObject&) = default;
+};
+
 struct ModbusRequest {
   std::uint16_t transaction_id = 0;
   std::uint8_t unit_id = 0;
@@ -33,6 +42,10 @@ struct ModbusRequest {
   std::uint16_t count = 0;             // 1 for the single writes 05 and 06
   std::vector<std::uint16_t> registers;  // the values of 06 / 16
   std::vector<bool> bits;                // the values of 05 / 15
+  // 43 / 14 Read Device Identification (table, address and count unused): the Read Device ID
+  // code (1 basic, 2 regular, 3 extended stream, 4 one object) and the object id.
+  std::uint8_t read_device_id_code = 0;
+  std::uint8_t object_id = 0;
   std::vector<std::uint8_t> adu;         // the whole checked frame, MBAP header included
 };
 
@@ -42,6 +55,9 @@ struct ModbusResponse {
   // 03/04, bits for 01/02); a write leaves both empty on success.
   std::vector<std::uint16_t> registers;
   std::vector<bool> bits;
+  // 43 / 14: every identification object of the unit, in id order. The reply encoder picks
+  // what the request asks for (category, start, paging) and answers 02 for a missing object.
+  std::vector<DeviceObject> device_objects;
 };
 
 // Answers checked requests. Runs on the server's event loop: a read should return at once; a

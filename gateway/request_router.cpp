@@ -2,7 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <string_view>
+
 #include "gateway/bus_scheduler.h"
+#include "gateway/device_identification.h"
+#include "gateway/modbus_request.h"
 
 namespace tiltgate {
 
@@ -26,6 +30,28 @@ RegisterTable table_of(ModbusTable table) {
 
 ModbusException exception_for(MapFault fault) { return ModbusException(std::uint8_t(fault)); }
 
+// What Read Device Identification says about each model the drivers serve.
+struct Product {
+  std::string_view model;         // SensorDriver::model()
+  std::string_view vendor;        // VendorName
+  std::string_view product_code;  // ProductCode and ModelName
+  std::string_view product_name;  // ProductName
+};
+
+constexpr Product products[] = {
+    {"h6", "Rieker Inc.", "H6", "H6 dual-axis inclinometer"},
+    {"h4360", "Rieker Inc.", "H4360", "H4360 single-axis inclinometer"},
+    {"dyna", "Spectron Systems Technology", "Dyna", "SPECTROTILT Dyna inclinometer"},
+};
+
+Product product_of(std::string_view model) {
+  for (const Product& product : products) {
+    if (product.model == model) return product;
+  }
+  // A model added to the drivers but not here still answers, with what the driver calls it.
+  return {model, "", model, model};
+}
+
 }  // namespace
 
 ModbusException exception_for(WriteErrorKind kind) {
@@ -40,11 +66,30 @@ ModbusException exception_for(WriteErrorKind kind) {
   return ModbusException::device_failure;
 }
 
+std::vector<DeviceObject> device_objects(const GatewaySensor& sensor) {
+  const SensorState& state = sensor.driver->state();
+  const Product product = product_of(sensor.driver->model());
+  return {
+      {device_object::vendor_name, std::string(product.vendor)},
+      {device_object::product_code, std::string(product.product_code)},
+      {device_object::major_minor_revision, state.firmware},
+      {device_object::product_name, std::string(product.product_name)},
+      {device_object::model_name, std::string(product.product_code)},
+      {device_object::user_application_name, std::string("tiltgate ") + TILTGATE_VERSION},
+      {device_object::serial_number, state.serial},
+      {device_object::sensor_name, sensor.config.name},
+      {device_object::bus_name, sensor.config.bus},
+      {device_object::bus_address, std::to_string(state.bus_address)},
+      {device_object::gateway_version, TILTGATE_VERSION},
+  };
+}
+
 void RequestRouter::add(GatewaySensor& sensor) { units_[sensor.config.unit_id] = &sensor; }
 
 boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest& request) {
   GatewaySensor* sensor = units_[request.unit_id];
   if (sensor == nullptr) co_return failure(ModbusException::gateway_path_unavailable);
+  if (request.function == modbus_function::encapsulated_interface) co_return identify(*sensor);
   if (!request.is_write) co_return read(*sensor, request);
   co_return co_await write(*sensor, request);
 }
@@ -63,6 +108,13 @@ ModbusResponse RequestRouter::read(const GatewaySensor& sensor,
     if (!words) return failure(exception_for(words.error()));
     response.registers = std::move(*words);
   }
+  return response;
+}
+
+ModbusResponse RequestRouter::identify(const GatewaySensor& sensor) {
+  // The encoder picks the objects the request asks for and pages them.
+  ModbusResponse response;
+  response.device_objects = device_objects(sensor);
   return response;
 }
 

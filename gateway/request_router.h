@@ -1,5 +1,6 @@
 // Answers checked Modbus requests: routes by unit id to a sensor, reads from its cache through
-// its register map, and turns register writes into queued sensor writes.
+// its register map, turns register writes into queued sensor writes, and lists the sensor's
+// identification objects for Read Device Identification (43 / 14).
 #pragma once
 
 #include <array>
@@ -28,6 +29,7 @@ class RequestRouter : public ModbusRequestHandler {
 
  private:
   ModbusResponse read(const GatewaySensor& sensor, const ModbusRequest& request) const;
+  static ModbusResponse identify(const GatewaySensor& sensor);
   boost::asio::awaitable<ModbusResponse> write(GatewaySensor& sensor,
                                                const ModbusRequest& request);
 
@@ -36,5 +38,10 @@ class RequestRouter : public ModbusRequestHandler {
 };
 
 ModbusException exception_for(WriteErrorKind kind);
+
+// Every Read Device Identification object of a sensor (gateway/device_identification.h for
+// the ids): vendor and product from its model, firmware and serial as the sensor reported
+// them (empty until read), its name, bus and bus address, and the gateway's version.
+std::vector<DeviceObject> device_objects(const GatewaySensor& sensor);
 
 }  // namespace tiltgate

@@ -1,38 +1,49 @@
 #include "mapping/default_maps.h"
 
+#include <array>
 #include <vector>
+
+#include "mapping/dyna_map.h"
 
 namespace tiltgate {
 namespace {
 
 Point input(std::string name, std::uint16_t address, PointType type, ValueSource source,
             std::string units, std::string description, std::uint16_t chars = 0) {
-  Point p;
-  p.name = std::move(name);
-  p.table = RegisterTable::input;
-  p.address = address;
-  p.type = type;
+  Point p = make_point(std::move(name), RegisterTable::input, address, type, source,
+                       std::move(units), std::move(description));
   p.chars = chars;
-  p.source = source;
-  p.units = std::move(units);
-  p.description = std::move(description);
   return p;
 }
 
 Point holding(std::string name, std::uint16_t address, PointType type, WriteTarget target,
               double min, double max, std::string units, std::string description) {
-  Point p;
-  p.name = std::move(name);
-  p.table = RegisterTable::holding;
-  p.address = address;
-  p.type = type;
-  p.source = ValueSource::written;
+  Point p = make_point(std::move(name), RegisterTable::holding, address, type,
+                       ValueSource::written, std::move(units), std::move(description));
   p.write = target;
   p.min = min;
   p.max = max;
-  p.units = std::move(units);
-  p.description = std::move(description);
   return p;
+}
+
+Point discrete(std::string name, std::uint16_t address, ValueSource source,
+               std::string description) {
+  return make_point(std::move(name), RegisterTable::discrete, address, PointType::boolean, source,
+                    "", std::move(description));
+}
+
+// Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit
+// order), 0 unless the sensor's [sensor] alarms configure them.
+void add_discrete_inputs(std::vector<Point>& points) {
+  using S = ValueSource;
+  points.push_back(discrete("online", 0, S::online, "the sensor answers"));
+  points.push_back(discrete("alarm_x_high", 1, S::alarm_x_high, "X above alarms.x_high"));
+  points.push_back(discrete("alarm_x_low", 2, S::alarm_x_low, "X below alarms.x_low"));
+  points.push_back(discrete("alarm_y_high", 3, S::alarm_y_high, "Y above alarms.y_high"));
+  points.push_back(discrete("alarm_y_low", 4, S::alarm_y_low, "Y below alarms.y_low"));
+  points.push_back(discrete("alarm_tilt", 5, S::alarm_tilt, "tilt above alarms.tilt_high"));
+  points.push_back(discrete("alarm_rate", 6, S::alarm_rate,
+                            "an angle changes faster than alarms.rate_limit_deg_s"));
 }
 
 // Registers 6..15 and the identity strings: the same place and meaning on every model, so a
@@ -41,7 +52,8 @@ void add_status_block(std::vector<Point>& points) {
   using T = PointType;
   using S = ValueSource;
   points.push_back(input("status", 6, T::uint16, S::status, "",
-                         "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity unknown"));
+                         "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity "
+                         "unknown, bit 4 an alarm is active"));
   points.push_back(input("age_ms", 7, T::uint16, S::age_ms, "ms",
                          "time since the last good reading, saturating at 65535"));
   points.push_back(input("polls_ok", 8, T::uint32, S::polls_ok, "", "measurement polls answered"));
@@ -59,14 +71,12 @@ void add_status_block(std::vector<Point>& points) {
                          "serial number, 2 characters per register, first in the high byte", 10));
   points.push_back(input("firmware", 21, T::string, S::firmware, "",
                          "firmware revision, space padded", 7));
-  Point online;
-  online.name = "online";
-  online.table = RegisterTable::discrete;
-  online.address = 0;
-  online.type = PointType::boolean;
-  online.source = ValueSource::online;
-  online.description = "the sensor answers";
-  points.push_back(online);
+  points.push_back(input("tilt", 25, T::float32, S::tilt, "deg",
+                         "tilt magnitude sqrt(x^2 + y^2) after mounting; |x| on one axis"));
+  points.push_back(input("alarms", 27, T::uint16, S::alarms, "",
+                         "bit 0 x high, 1 x low, 2 y high, 3 y low, 4 tilt high, 5 rate; "
+                         "0 without [sensor] alarms"));
+  add_discrete_inputs(points);
 }
 
 RegisterMap rieker_map(bool dual_axis) {
@@ -75,13 +85,16 @@ RegisterMap rieker_map(bool dual_axis) {
   using W = WriteTarget;
   std::vector<Point> points;
   points.push_back(input("angle_x", 0, T::float32, S::angle_x, "deg",
-                         dual_axis ? "X angle after the zero offset" : "the single axis angle"));
+                         dual_axis ? "X angle after the zero offset and the mounting"
+                                   : "the single axis angle"));
   points.push_back(input("angle_y", 2, T::float32, S::angle_y, "deg",
-                         dual_axis ? "Y angle after the zero offset" : "NaN (single axis)"));
+                         dual_axis ? "Y angle after the zero offset and the mounting"
+                                   : "NaN (single axis)"));
   points.push_back(input("angle_x_cdeg", 4, T::int16, S::angle_x_cdeg, "0.01 deg",
                          "X angle in hundredths of a degree, saturating"));
   points.push_back(input("angle_y_cdeg", 5, T::int16, S::angle_y_cdeg, "0.01 deg",
-                         dual_axis ? "Y angle in hundredths of a degree, saturating" : "0 (single axis)"));
+                         dual_axis ? "Y angle in hundredths of a degree, saturating"
+                                   : "0 (single axis)"));
   add_status_block(points);
   // Ranges: Rieker function 41 takes 1..6, 38 codes 1..8, addresses 1..65000; a zero offset
   // beyond the +-180 deg measuring range makes no sense.
@@ -102,12 +115,33 @@ RegisterMap rieker_map(bool dual_axis) {
   return RegisterMap(std::move(points));
 }
 
+RegisterMap h6_map() { return rieker_map(true); }
+RegisterMap h4360_map() { return rieker_map(false); }
+
+struct BuiltInMap {
+  std::string_view model;
+  RegisterMap (*build)();
+};
+
+// One row per model with a built-in map.
+constexpr std::array<BuiltInMap, 3> kBuiltInMaps{{
+    {"h6", h6_map},
+    {"h4360", h4360_map},
+    {"dyna", dyna_default_map},
+}};
+
 }  // namespace
 
 RegisterMap default_map(std::string_view model) {
-  if (model == "h6") return rieker_map(true);
-  if (model == "h4360") return rieker_map(false);
+  for (const BuiltInMap& m : kBuiltInMaps)
+    if (m.model == model) return m.build();
   return RegisterMap();
+}
+
+std::vector<std::string_view> models_with_default_maps() {
+  std::vector<std::string_view> models;
+  for (const BuiltInMap& m : kBuiltInMaps) models.push_back(m.model);
+  return models;
 }
 
 }  // namespace tiltgate

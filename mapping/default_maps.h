@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string_view>
+#include <vector>
 
 #include "mapping/register_map.h"
 
@@ -9,5 +10,7 @@ namespace tiltgate {
 
 // Empty map for an unknown model.
 RegisterMap default_map(std::string_view model);
+// The models that have a built-in map: what a map file may extend.
+std::vector<std::string_view> models_with_default_maps();
 
 }  // namespace tiltgate

@@ -15,6 +15,13 @@ std::string csv_field(const std::string& text) {
   return quoted + '"';
 }
 
+// A Markdown cell: a '|' would end it.
+std::string md_cell(const std::string& text) {
+  std::string out;
+  for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
 const char* access_of(const Point& p) {
   if (p.write) return "rw";
   return "r";
@@ -23,6 +30,22 @@ const char* access_of(const Point& p) {
 std::string type_of(const Point& p) {
   if (p.type == PointType::string) return fmt::format("string{}", p.chars);
   return to_string(p.type);
+}
+
+bool is_number(const Point& p) {
+  return p.type != PointType::boolean && p.type != PointType::string;
+}
+
+// Scale or offset: empty for bits and text, which are not scaled.
+std::string scaling(const Point& p, double value) {
+  return is_number(p) ? fmt::format("{}", value) : std::string();
+}
+
+std::string layout_of(const Point& p, WordOrder server) {
+  if (!is_number(p)) return "";
+  const RegisterOrder order = p.order.value_or(register_order(server));
+  if (p.words() == 1) return swaps_bytes(order) ? "BA" : "AB";
+  return std::string(name_of(order_names(), order));
 }
 
 }  // namespace
@@ -38,12 +61,14 @@ std::string plc_number(RegisterTable table, std::uint16_t address) {
 }
 
 std::string export_csv(const std::vector<UnitMap>& units) {
-  std::string out = "unit_id,name,table,address,words,type,access,units,description\n";
+  std::string out =
+      "unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order\n";
   for (const UnitMap& unit : units) {
     for (const Point& p : unit.map->points()) {
-      out += fmt::format("{},{},{},{},{},{},{},{},{}\n", unit.unit_id, csv_field(p.name),
+      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", unit.unit_id, csv_field(p.name),
                          to_string(p.table), p.address, p.words(), type_of(p), access_of(p),
-                         csv_field(p.units), csv_field(p.description));
+                         csv_field(p.units), csv_field(p.description), scaling(p, p.scale),
+                         scaling(p, p.offset), layout_of(p, unit.word_order));
     }
   }
   return out;
@@ -53,12 +78,16 @@ std::string export_markdown(const std::vector<UnitMap>& units) {
   std::string out;
   for (const UnitMap& unit : units) {
     out += fmt::format("### Unit {}: {} ({})\n\n", unit.unit_id, unit.sensor, unit.model);
-    out += "| table | address | PLC | words | type | name | access | units | description |\n";
-    out += "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    out +=
+        "| table | address | PLC | words | type | name | access | units | description | "
+        "scale | offset | word order |\n";
+    out += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
     for (const Point& p : unit.map->points()) {
-      out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", to_string(p.table),
-                         p.address, plc_number(p.table, p.address), p.words(), type_of(p), p.name,
-                         access_of(p), p.units, p.description);
+      out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                         to_string(p.table), p.address, plc_number(p.table, p.address), p.words(),
+                         type_of(p), md_cell(p.name), access_of(p), md_cell(p.units),
+                         md_cell(p.description), scaling(p, p.scale), scaling(p, p.offset),
+                         layout_of(p, unit.word_order));
     }
     out += "\n";
   }

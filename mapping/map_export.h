@@ -15,9 +15,12 @@ struct UnitMap {
   std::string sensor;  // sensor name, for headings
   std::string model;
   const RegisterMap* map;
+  WordOrder word_order = WordOrder::big;  // [server] word_order, for points without their own
 };
 
-// Header: unit_id,name,table,address,words,type,access,units,description
+// Header: unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order
+// word_order is the byte layout (ABCD, CDAB, BADC, DCBA; AB or BA for 16-bit values), empty
+// for bits and strings.
 std::string export_csv(const std::vector<UnitMap>& units);
 std::string export_markdown(const std::vector<UnitMap>& units);
 

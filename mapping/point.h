@@ -1,64 +1,53 @@
-// A register-map point: one named value at a fixed place in one Modbus table of one unit.
+// A register-map point: one named value at a fixed place in one Modbus table of one unit, and
+// how it is encoded there.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "driver/sensor_driver.h"
+#include "mapping/point_types.h"
+#include "mapping/value_source.h"
 
 namespace tiltgate {
-
-enum class RegisterTable : std::uint8_t { coil, discrete, input, holding };
-
-const char* to_string(RegisterTable table);
-
-enum class PointType : std::uint8_t { boolean, uint16, int16, uint32, float32, string };
-
-const char* to_string(PointType type);
-
-// What a point shows. Every value a driver's SensorState offers, plus values the gateway derives.
-enum class ValueSource : std::uint8_t {
-  angle_x,          // degrees
-  angle_y,
-  angle_x_cdeg,     // hundredths of a degree
-  angle_y_cdeg,
-  raw_counts,
-  raw_temperature,
-  status,           // bit 0 online, 1 stale, 2 last write failed, 3 identity unknown
-  online,           // status bit 0 as a bit
-  age_ms,
-  polls_ok,
-  polls_failed,
-  last_nak,         // 65535 when none
-  lock_level,
-  bus_address,
-  sample_seq,
-  serial,
-  firmware,
-  written,          // holding registers: the last value written through the gateway
-};
-
-const char* to_string(ValueSource source);
-
-// Whether reading the point needs a fresh measurement (0x0B while the sensor is offline or
-// stale) or is diagnostic and always readable, so a PLC can see why the data is missing.
-bool is_measurement(ValueSource source);
 
 struct Point {
   std::string name;
   RegisterTable table = RegisterTable::input;
-  std::uint16_t address = 0;      // 0-based protocol address
+  std::uint16_t address = 0;  // 0-based protocol address
   PointType type = PointType::uint16;
-  std::uint16_t chars = 0;        // strings: characters (two per register)
+  std::uint16_t chars = 0;  // strings: characters (two per register)
   ValueSource source = ValueSource::written;
-  std::optional<WriteTarget> write;  // holding points that trigger a sensor write
-  double min = 0, max = 0;        // writable points: allowed range (inclusive)
+  std::optional<RegisterOrder> order;         // none: the [server] word_order
+  AngleUnit angle_unit = AngleUnit::degrees;  // angle sources only
+  // Register value = source value * scale + offset (a write is decoded the other way round).
+  double scale = 1.0;
+  double offset = 0.0;
+  Rounding rounding = Rounding::nearest;  // integer types; then saturated at the type's limits
+  // Integer types: the map says the source's range may exceed the type, and values beyond it
+  // saturate. Without it such a map is rejected.
+  bool saturate = false;
+  double nan_value = 0.0;           // integer types: what a missing value (NaN) reads as
+  std::optional<std::uint8_t> bit;  // this bit (0 = least significant) of an integer source
+  std::vector<std::optional<ValueSource>> bits;  // source `bits`: bit i shows bits[i]; none: 0
+  std::optional<WriteTarget> write;              // holding points that trigger a sensor write
+  double min = 0, max = 0;  // writable points: allowed range (inclusive, before scaling)
   std::string units;
   std::string description;
 
-  std::uint16_t words() const;    // registers (or bits) the point occupies
+  std::uint16_t words() const;  // registers (or bits) the point occupies
   std::uint32_t end() const { return std::uint32_t(address) + words(); }
 };
+
+// A read-only point showing `source`: what built-in maps and tests start from.
+Point make_point(std::string name, RegisterTable table, std::uint16_t address, PointType type,
+                 ValueSource source, std::string units = {}, std::string description = {});
+
+// The names a map file uses for WriteTarget.
+std::span<const Named<WriteTarget>> write_target_names();
+const char* to_string(WriteTarget target);
 
 }  // namespace tiltgate

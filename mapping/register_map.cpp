@@ -1,8 +1,11 @@
 #include "mapping/register_map.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+
+#include <algorithm>
 #include <tuple>
+
+#include "mapping/map_validation.h"
 
 namespace tiltgate {
 
@@ -42,27 +45,12 @@ std::uint32_t RegisterMap::holding_end() const {
   return end;
 }
 
-std::vector<std::string> RegisterMap::validate() const {
-  std::vector<std::string> problems;
-  for (std::size_t i = 0; i < points_.size(); ++i) {
-    const Point& p = points_[i];
-    if (p.end() > 65536) {
-      problems.push_back(fmt::format("point '{}' ends past address 65535", p.name));
-    }
-    const bool bit_table = p.table == RegisterTable::coil || p.table == RegisterTable::discrete;
-    if (bit_table != (p.type == PointType::boolean)) {
-      problems.push_back(fmt::format("point '{}': type {} does not fit the {} table", p.name,
-                                     to_string(p.type), to_string(p.table)));
-    }
-    if (i + 1 < points_.size()) {
-      const Point& next = points_[i + 1];
-      if (next.table == p.table && next.address < p.end()) {
-        problems.push_back(fmt::format("points '{}' and '{}' overlap in the {} table at {}",
-                                       p.name, next.name, to_string(p.table), next.address));
-      }
-    }
-  }
-  return problems;
+std::vector<std::string> RegisterMap::validate(std::string_view model) const {
+  std::vector<std::string> messages;
+  for (const MapProblem& problem : check_points(points_, model))
+    messages.push_back(fmt::format("point \"{}\": {}: {}", points_[problem.point].name, problem.key,
+                                   problem.message));
+  return messages;
 }
 
 }  // namespace tiltgate

@@ -3,6 +3,7 @@
 
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "driver/expected.h"
@@ -26,8 +27,9 @@ class RegisterMap {
   // One past the highest holding register, so the gateway can size its written-values shadow.
   std::uint32_t holding_end() const;
 
-  // Empty when the map is consistent; otherwise one message per problem.
-  std::vector<std::string> validate() const;
+  // Empty when the map is consistent (mapping/map_validation.h), also as the map of a sensor
+  // of `model` when one is given; otherwise one message per problem.
+  std::vector<std::string> validate(std::string_view model = {}) const;
 
  private:
   std::vector<Point> points_;  // sorted by (table, address)

@@ -47,6 +47,10 @@ class FakeHandler : public ModbusRequestHandler {
       response.exception = code;
       co_return response;
     }
+    if (request.function == 0x2B) {
+      response.device_objects = identification();
+      co_return response;
+    }
     if (request.is_write && request.address == slow_address) co_await wait_for_release();
     for (std::uint16_t i = 0; i < request.count; ++i) {
       const std::uint16_t address = std::uint16_t(request.address + i);
@@ -75,6 +79,13 @@ class FakeHandler : public ModbusRequestHandler {
   }
 
   std::atomic<bool> slow_write_started{false};
+
+  // Read Device Identification: the basic objects, then two private ones of 150 bytes that
+  // cannot share one response.
+  static std::vector<DeviceObject> identification() {
+    return {{0x00, "Test Vendor"}, {0x01, "TV1"}, {0x02, "1.0"},
+            {0x80, std::string(150, 'a')}, {0x81, std::string(150, 'b')}};
+  }
 
  private:
   static std::optional<ModbusException> exception_for(const ModbusRequest& request) {
@@ -317,6 +328,79 @@ TEST_CASE("malformed requests get the parser's exception and never reach libmodb
   // Still served afterwards.
   raw.send(read_holding_frame(0x0C, 5));
   CHECK(raw.receive(11) == holding_reply(0x0C, 1005));
+}
+
+namespace {
+
+Bytes device_id_frame(std::uint16_t transaction, std::uint8_t unit, Bytes pdu) {
+  Bytes adu{std::uint8_t(transaction >> 8), std::uint8_t(transaction), 0x00, 0x00, 0x00,
+            std::uint8_t(pdu.size() + 1), unit};
+  adu.insert(adu.end(), pdu.begin(), pdu.end());
+  return adu;
+}
+
+// One whole reply: the MBAP header, then as many bytes as its length field says.
+Bytes receive_reply(RawSocket& raw) {
+  Bytes reply = raw.receive(7);
+  REQUIRE(reply.size() == 7);
+  const Bytes rest = raw.receive(std::size_t((reply[4] << 8) | reply[5]) - 1);
+  reply.insert(reply.end(), rest.begin(), rest.end());
+  return reply;
+}
+
+Bytes text(const std::string& s) { return Bytes(s.begin(), s.end()); }
+
+}  // namespace
+
+TEST_CASE("read device identification is answered by the server itself, paged, never by libmodbus") {
+  RunningServer server;
+  RawSocket raw(server.port);
+  // Basic stream: the three basic objects, nothing to follow.
+  raw.send(device_id_frame(0x21, 1, {0x2B, 0x0E, 0x01, 0x00}));
+  Bytes basic = {0x00, 0x21, 0x00, 0x00, 0x00, 0x1F, 0x01, 0x2B, 0x0E, 0x01, 0x83, 0x00, 0x00,
+                 0x03, 0x00, 0x0B};
+  for (const Bytes& part : {text("Test Vendor"), Bytes{0x01, 0x03}, text("TV1"), Bytes{0x02, 0x03},
+                            text("1.0")}) {
+    basic.insert(basic.end(), part.begin(), part.end());
+  }
+  CHECK(receive_reply(raw) == basic);
+
+  // Extended stream: 0x81 does not fit after 0x80, so it follows on request.
+  raw.send(device_id_frame(0x22, 1, {0x2B, 0x0E, 0x03, 0x00}));
+  const Bytes first = receive_reply(raw);
+  REQUIRE(first.size() == 7 + 7 + 13 + 5 + 5 + 152);
+  CHECK(first[11] == 0xFF);  // more follows
+  CHECK(first[12] == 0x81);  // next object id
+  CHECK(first[13] == 4);     // objects in this reply
+  raw.send(device_id_frame(0x23, 1, {0x2B, 0x0E, 0x03, first[12]}));
+  const Bytes second = receive_reply(raw);
+  REQUIRE(second.size() == 7 + 7 + 152);
+  CHECK(Bytes(second.begin() + 7, second.begin() + 16) ==
+        Bytes{0x2B, 0x0E, 0x03, 0x83, 0x00, 0x00, 0x01, 0x81, 150});
+  CHECK(second.back() == 'b');
+
+  // One object, a missing one (02), an unknown unit (0A), a bad code (03), another MEI (01).
+  raw.send(device_id_frame(0x24, 1, {0x2B, 0x0E, 0x04, 0x01}));
+  CHECK(receive_reply(raw) == Bytes{0x00, 0x24, 0x00, 0x00, 0x00, 0x0D, 0x01, 0x2B, 0x0E, 0x04,
+                                    0x83, 0x00, 0x00, 0x01, 0x01, 0x03, 'T', 'V', '1'});
+  raw.send(device_id_frame(0x25, 1, {0x2B, 0x0E, 0x04, 0x05}));
+  CHECK(receive_reply(raw) == Bytes{0x00, 0x25, 0x00, 0x00, 0x00, 0x03, 0x01, 0xAB, 0x02});
+  raw.send(device_id_frame(0x26, 2, {0x2B, 0x0E, 0x01, 0x00}));
+  CHECK(receive_reply(raw) == Bytes{0x00, 0x26, 0x00, 0x00, 0x00, 0x03, 0x02, 0xAB, 0x0A});
+  raw.send(device_id_frame(0x27, 1, {0x2B, 0x0E, 0x07, 0x00}));
+  CHECK(receive_reply(raw) == Bytes{0x00, 0x27, 0x00, 0x00, 0x00, 0x03, 0x01, 0xAB, 0x03});
+  raw.send(device_id_frame(0x28, 1, {0x2B, 0x0D, 0x00, 0x00}));
+  CHECK(receive_reply(raw) == Bytes{0x00, 0x28, 0x00, 0x00, 0x00, 0x03, 0x01, 0xAB, 0x01});
+  raw.send(device_id_frame(0x29, 1, {0x2B, 0x0E, 0x01}));
+  CHECK(receive_reply(raw) == Bytes{0x00, 0x29, 0x00, 0x00, 0x00, 0x03, 0x01, 0xAB, 0x03});
+
+  const auto stats = server.stats();
+  CHECK(stats.requests == 6);
+  CHECK(stats.rejected == 3);
+  CHECK(stats.libmodbus_replies == 0);
+  // The connection goes on with ordinary requests.
+  raw.send(read_holding_frame(0x2A, 5));
+  CHECK(raw.receive(11) == holding_reply(0x2A, 1005));
 }
 
 TEST_CASE("pipelined and split requests are answered in order") {

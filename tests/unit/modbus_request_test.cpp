@@ -44,6 +44,11 @@ FramingError framing_error(const Bytes& adu) {
   return std::get<FramingError>(parsed);
 }
 
+Bytes operator+(Bytes a, const Bytes& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
 Bytes read_pdu(std::uint8_t function, std::uint16_t address, std::uint16_t count) {
   return {function, std::uint8_t(address >> 8), std::uint8_t(address), std::uint8_t(count >> 8),
           std::uint8_t(count)};
@@ -129,7 +134,7 @@ TEST_CASE("unsupported functions are answered 01 by the parser, however short or
   CHECK(rejected(frame({0x0B})) == ModbusException::illegal_function);  // short 11
   CHECK(rejected(frame({0x08, 0x00, 0x00, 0xA5, 0x37})) == ModbusException::illegal_function);
   CHECK(rejected(frame({0x11})) == ModbusException::illegal_function);
-  CHECK(rejected(frame({0x2B, 0x0E, 0x01, 0x00})) == ModbusException::illegal_function);
+  CHECK(rejected(frame({0x2B, 0x0D, 0x00, 0x00})) == ModbusException::illegal_function);  // 43/13
   CHECK(rejected(frame({0x00})) == ModbusException::illegal_function);
   CHECK(rejected(frame({0x83, 0x02})) == ModbusException::illegal_function);
   // 0x17 write-and-read claiming 121 registers (242 bytes) it does not carry: CVE-2022-0367.
@@ -138,6 +143,43 @@ TEST_CASE("unsupported functions are answered 01 by the parser, however short or
   // ... and one with a byte count larger than the whole frame.
   CHECK(rejected(frame({0x17, 0x00, 0x00, 0x00, 0x01, 0xFF, 0xF0, 0x00, 0x01, 0xFF}))
         == ModbusException::illegal_function);
+}
+
+TEST_CASE("43 / 14 read device identification carries its read code and object id") {
+  // Section 6.21's example: basic stream from object 0.
+  const Bytes adu = frame({0x2B, 0x0E, 0x01, 0x00});
+  const ModbusRequest basic = accepted(adu);
+  CHECK(basic.function == 0x2B);
+  CHECK_FALSE(basic.is_write);
+  CHECK(basic.read_device_id_code == 0x01);
+  CHECK(basic.object_id == 0x00);
+  CHECK(basic.adu == adu);
+  const ModbusRequest one = accepted(frame({0x2B, 0x0E, 0x04, 0x81}));
+  CHECK(one.read_device_id_code == 0x04);
+  CHECK(one.object_id == 0x81);
+  // Any object id is the unit's business (02 or a restart), not the parser's.
+  CHECK(accepted(frame({0x2B, 0x0E, 0x03, 0xFF})).object_id == 0xFF);
+  CHECK(accepted(frame({0x2B, 0x0E, 0x02, 0x42})).object_id == 0x42);
+}
+
+TEST_CASE("43 / 14 with a byte missing or extra or a read code outside 1..4 is 03") {
+  CHECK(rejected(frame({0x2B})) == ModbusException::illegal_value);
+  CHECK(rejected(frame({0x2B, 0x0E})) == ModbusException::illegal_value);
+  CHECK(rejected(frame({0x2B, 0x0E, 0x01})) == ModbusException::illegal_value);
+  CHECK(rejected(frame({0x2B, 0x0E, 0x01, 0x00, 0x00})) == ModbusException::illegal_value);
+  CHECK(rejected(frame(Bytes{0x2B, 0x0E, 0x01, 0x00} + Bytes(249, 0x00))) ==
+        ModbusException::illegal_value);
+  CHECK(rejected(frame({0x2B, 0x0E, 0x00, 0x00})) == ModbusException::illegal_value);
+  CHECK(rejected(frame({0x2B, 0x0E, 0x05, 0x00})) == ModbusException::illegal_value);
+  CHECK(rejected(frame({0x2B, 0x0E, 0xFF, 0x00})) == ModbusException::illegal_value);
+}
+
+TEST_CASE("43 with another MEI type is 01, whatever follows") {
+  CHECK(rejected(frame({0x2B, 0x0D})) == ModbusException::illegal_function);
+  CHECK(rejected(frame({0x2B, 0x0D, 0x00, 0x00, 0x01, 0x00, 0x00})) ==
+        ModbusException::illegal_function);
+  CHECK(rejected(frame({0x2B, 0x00, 0x01, 0x00})) == ModbusException::illegal_function);
+  CHECK(rejected(frame({0x2B, 0xFF, 0x01, 0x00})) == ModbusException::illegal_function);
 }
 
 TEST_CASE("the exception reply keeps transaction and unit and sets the function's high bit") {

@@ -1,0 +1,104 @@
+#include "config/map_files.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+
+#include "config/text_file.h"
+#include "config/toml_reader.h"
+
+namespace tiltgate::config {
+namespace {
+
+struct MapFile {
+  explicit MapFile(std::string p) : path(p), errors(std::move(p)) {}
+
+  std::string path;
+  std::string open_error;        // why it could not be read; empty when it was
+  std::optional<ParsedMap> map;  // when it was read and parsed
+  ErrorList errors;
+  std::set<std::string, std::less<>> checked_models;  // each model's checks reported once
+};
+
+std::string resolve(std::string_view config_path, const std::string& map_file) {
+  std::filesystem::path path(map_file);
+  if (path.is_relative()) path = std::filesystem::path(config_path).parent_path() / path;
+  return path.lexically_normal().string();
+}
+
+std::unique_ptr<MapFile> load(const std::string& path) {
+  auto file = std::make_unique<MapFile>(path);
+  auto text = read_text_file(path);
+  if (!text) {
+    file->open_error = text.error();
+    return file;
+  }
+  toml::table root;
+  try {
+    root = toml::parse(*text, path);
+  } catch (const toml::parse_error& e) {
+    file->errors.add(place_of(e.source()), "", std::string(e.description()));
+    return file;
+  }
+  file->map = read_map(root, "", file->errors);
+  return file;
+}
+
+class MapFiles {
+ public:
+  MapFile& get(const std::string& path) {
+    for (auto& file : files_)
+      if (file->path == path) return *file;
+    files_.push_back(load(path));
+    return *files_.back();
+  }
+
+  ConfigErrors take_errors() {
+    ConfigErrors all;
+    for (auto& file : files_) {
+      ConfigErrors errors = file->errors.take();
+      all.insert(all.end(), errors.begin(), errors.end());
+    }
+    return all;
+  }
+
+ private:
+  std::vector<std::unique_ptr<MapFile>> files_;
+};
+
+void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& files,
+              ErrorList& errors) {
+  const std::string path = resolve(config_path, sensor.map_file);
+  MapFile& file = files.get(path);
+  if (!file.open_error.empty())
+    return sensor.where.report(
+        errors, "map", fmt::format("\"{}\" ({}) {}", sensor.map_file, path, file.open_error));
+  if (!file.map) return;  // its syntax error is reported in the file
+  const std::string& model = sensor.config.model;
+  if (sensor.where.valid("model") && file.checked_models.insert(model).second)
+    check_map(*file.map, model, file.errors);
+  sensor.config.map = file.map->definition;
+  sensor.config.map_file = path;
+}
+
+}  // namespace
+
+ConfigErrors load_sensor_maps(std::vector<ParsedSensor>& sensors, std::string_view config_path,
+                              ErrorList& errors) {
+  MapFiles files;
+  for (ParsedSensor& sensor : sensors) {
+    if (sensor.inline_map) {
+      if (sensor.where.valid("model")) check_map(*sensor.inline_map, sensor.config.model, errors);
+      sensor.config.map = sensor.inline_map->definition;
+    } else if (!sensor.map_file.empty()) {
+      use_file(sensor, config_path, files, errors);
+    }
+  }
+  return files.take_errors();
+}
+
+}  // namespace tiltgate::config

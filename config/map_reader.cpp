@@ -1,0 +1,104 @@
+#include "config/map_reader.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "config/point_reader.h"
+#include "config/toml_reader.h"
+#include "mapping/default_maps.h"
+#include "mapping/map_validation.h"
+
+namespace tiltgate::config {
+namespace {
+
+std::string point_path(const std::string& map_path, std::size_t index) {
+  return map_path.empty() ? fmt::format("point[{}]", index)
+                          : fmt::format("{}.point[{}]", map_path, index);
+}
+
+void read_points(TableReader& in, const std::string& map_path, ParsedMap& map, ErrorList& errors) {
+  const toml::node* node = in.node("point");
+  if (node == nullptr) return;
+  const toml::array* array = node->as_array();
+  if (array == nullptr) {
+    in.error("point", fmt::format("expected an array of tables ([[point]]), got {}",
+                                  type_name(node->type())));
+    return;
+  }
+  in.accept("point");
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& element = *array->get(i);
+    if (const toml::table* table = element.as_table()) {
+      ParsedPoint point = read_point(*table, point_path(map_path, i), errors);
+      map.definition.points.push_back(std::move(point.point));
+      map.points.push_back(std::move(point.where));
+    } else {
+      errors.add(place_of(element.source()), point_path(map_path, i),
+                 fmt::format("expected a table, got {}", type_name(element.type())));
+    }
+  }
+}
+
+// Where a problem with a resolved point is reported: at the map's own point (the later one
+// of a clash), or at `extends` when only built-in points are involved.
+void report(const ParsedMap& map, const std::vector<ResolvedPoint>& resolved,
+            const MapProblem& problem, ErrorList& errors) {
+  std::size_t origin = resolved[problem.point].origin;
+  if (problem.other != kNoOtherPoint && resolved[problem.other].origin != kBuiltIn &&
+      (origin == kBuiltIn || resolved[problem.other].origin > origin))
+    origin = resolved[problem.other].origin;
+  if (origin != kBuiltIn && origin < map.points.size())
+    return map.points[origin].report(errors, problem.key, problem.message);
+  map.where.report(errors, "extends",
+                   fmt::format("built-in point \"{}\": {}: {}", resolved[problem.point].point.name,
+                               problem.key, problem.message));
+}
+
+void check_removals(const ParsedMap& map, const std::string& base, ErrorList& errors) {
+  const auto& remove = map.definition.remove;
+  if (remove.empty()) return;
+  if (base.empty())
+    return map.where.report(errors, "remove", "nothing to remove: the map extends no built-in map");
+  const RegisterMap builtin = default_map(base);
+  for (const std::string& name : remove)
+    if (builtin.find(name) == nullptr)
+      map.where.report(errors, "remove",
+                       fmt::format("\"{}\" is not a point of the built-in \"{}\" map", name, base));
+}
+
+}  // namespace
+
+ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors) {
+  const std::size_t errors_before = errors.size();
+  TableReader in(table, path, errors);
+  ParsedMap map{MapDefinition{}, in.located(), {}, true};
+  std::vector<std::string_view> profiles{kDefaultProfile};
+  for (std::string_view model : models_with_default_maps()) profiles.push_back(model);
+  if (auto extends = in.choice("extends", profiles)) map.definition.extends = *extends;
+  if (auto remove = in.strings("remove")) map.definition.remove = *remove;
+  read_points(in, path, map, errors);
+  in.reject_unknown_keys();
+  map.where = in.located();
+  map.complete = errors.size() == errors_before;
+  return map;
+}
+
+void check_map(const ParsedMap& map, std::string_view model, ErrorList& errors) {
+  if (!map.complete) return;
+  const std::string base = base_profile(map.definition, model);
+  if (map.definition.extends == kDefaultProfile && default_map(base).points().empty())
+    return map.where.report(errors, "extends",
+                            fmt::format("model \"{}\" has no built-in map to extend", model));
+  check_removals(map, base, errors);
+  const std::vector<ResolvedPoint> resolved = resolve_points(map.definition, model);
+  if (resolved.empty())
+    return map.where.report(errors, "point",
+                            "the map has no points; add [[point]] tables or extends = \"default\"");
+  std::vector<Point> points;
+  for (const ResolvedPoint& r : resolved) points.push_back(r.point);
+  for (const MapProblem& problem : check_points(points, model))
+    report(map, resolved, problem, errors);
+}
+
+}  // namespace tiltgate::config

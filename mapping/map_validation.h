@@ -1,0 +1,30 @@
+// The checks a register map must pass before anything serves it: points that overlap or do
+// not fit their table, types too small for their scaled source, writes on read-only sources,
+// and sources or settings the sensor model does not have. Every problem names the point and
+// the map-file key it is about, so config/ can point at the line.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mapping/point.h"
+
+namespace tiltgate {
+
+struct MapProblem {
+  std::size_t point;  // index into the checked points
+  std::size_t other;  // the other point of a clash (overlap, duplicate name), or npos
+  std::string key;    // "address", "type", "source", ...
+  std::string message;
+};
+
+inline constexpr std::size_t kNoOtherPoint = static_cast<std::size_t>(-1);
+
+// Every problem of `points` as the map of a sensor of `model`; model "" skips the checks
+// against a model (mapping/model_capabilities.h).
+std::vector<MapProblem> check_points(std::span<const Point> points, std::string_view model);
+
+}  // namespace tiltgate

@@ -1,0 +1,41 @@
+// One sensor as a Modbus read sees it at one instant: its cached state, what was derived from
+// its last reading, the holding shadow, and the read policies. Pure: "now" is passed in.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+
+#include "driver/sensor_state.h"
+#include "mapping/derived_state.h"
+#include "mapping/point_types.h"
+
+namespace tiltgate {
+
+struct SensorView {
+  const SensorState& state;
+  SteadyClock::time_point now;
+  std::chrono::milliseconds stale_after;
+  std::span<const std::uint16_t> written;  // holding shadow: last values written, 0 before
+  WordOrder order = WordOrder::big;        // for points without a word_order of their own
+  // Mounting-corrected angles, tilt and alarms; when non-null and valid, angle sources read
+  // from it instead of the raw reading.
+  const DerivedState* derived = nullptr;
+  OfflineRead offline = OfflineRead::exception;
+  double substitute = 0.0;  // offline == substitute: what numeric measurement points show
+
+  bool stale() const;
+  std::uint16_t age_ms() const;  // 65535 when there never was a reading
+  std::uint16_t status() const;
+  std::uint16_t alarms() const;  // alarm_bit flags, 0 without derived state
+};
+
+namespace status_bit {
+constexpr std::uint16_t online = 1 << 0;
+constexpr std::uint16_t stale = 1 << 1;
+constexpr std::uint16_t last_write_failed = 1 << 2;
+constexpr std::uint16_t identity_unknown = 1 << 3;
+constexpr std::uint16_t alarm_active = 1 << 4;
+}  // namespace status_bit
+
+}  // namespace tiltgate

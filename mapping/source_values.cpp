@@ -1,0 +1,126 @@
+#include "mapping/source_values.h"
+
+#include <cmath>
+
+namespace tiltgate {
+namespace {
+
+using S = ValueSource;
+
+bool derived_valid(const SensorView& v) { return v.derived != nullptr && v.derived->valid; }
+
+double angle(const SensorView& v, bool x) {
+  if (derived_valid(v)) return x ? v.derived->angle_x : v.derived->angle_y;
+  if (!v.state.reading) return NAN;
+  return x ? v.state.reading->angle_x : v.state.reading->angle_y;
+}
+
+// Without derived state: the magnitude of the raw reading, |x| on a single-axis sensor.
+double tilt(const SensorView& v) {
+  if (derived_valid(v)) return v.derived->tilt;
+  const double x = angle(v, true);
+  const double y = angle(v, false);
+  return std::isnan(y) ? std::fabs(x) : std::hypot(x, y);
+}
+
+double optional_int(const std::optional<std::int32_t>& value) {
+  return value ? double(*value) : NAN;
+}
+
+double bit_of(std::uint16_t flags, std::uint16_t bit) { return (flags & bit) != 0 ? 1 : 0; }
+
+}  // namespace
+
+double source_value(ValueSource source, const SensorView& v) {
+  const SensorState& s = v.state;
+  const SensorCounters& c = s.counters;
+  switch (source) {
+    case S::angle_x:
+      return angle(v, true);
+    case S::angle_y:
+      return angle(v, false);
+    case S::angle_x_cdeg:
+      return angle(v, true) * 100.0;
+    case S::angle_y_cdeg:
+      return angle(v, false) * 100.0;
+    case S::tilt:
+      return tilt(v);
+    case S::raw_counts:
+      return s.reading ? optional_int(s.reading->raw_counts) : NAN;
+    case S::raw_temperature:
+      return s.reading ? optional_int(s.reading->raw_temperature) : NAN;
+    case S::status:
+      return v.status();
+    case S::online:
+      return bit_of(v.status(), status_bit::online);
+    case S::stale:
+      return bit_of(v.status(), status_bit::stale);
+    case S::last_write_failed:
+      return bit_of(v.status(), status_bit::last_write_failed);
+    case S::identity_unknown:
+      return bit_of(v.status(), status_bit::identity_unknown);
+    case S::alarm_active:
+      return bit_of(v.status(), status_bit::alarm_active);
+    case S::alarms:
+      return v.alarms();
+    case S::alarm_x_high:
+      return bit_of(v.alarms(), alarm_bit::x_high);
+    case S::alarm_x_low:
+      return bit_of(v.alarms(), alarm_bit::x_low);
+    case S::alarm_y_high:
+      return bit_of(v.alarms(), alarm_bit::y_high);
+    case S::alarm_y_low:
+      return bit_of(v.alarms(), alarm_bit::y_low);
+    case S::alarm_tilt:
+      return bit_of(v.alarms(), alarm_bit::tilt_high);
+    case S::alarm_rate:
+      return bit_of(v.alarms(), alarm_bit::rate);
+    case S::age_ms:
+      return v.age_ms();
+    case S::polls_ok:
+      return c.polls_ok;
+    case S::polls_failed:
+      return c.polls_failed;
+    case S::transactions:
+      return c.transactions;
+    case S::timeouts:
+      return c.timeouts;
+    case S::checksum_errors:
+      return c.checksum_errors;
+    case S::io_errors:
+      return c.io_errors;
+    case S::last_nak:
+      return c.last_nak ? *c.last_nak : 65535;
+    case S::lock_level:
+      return s.lock_level ? *s.lock_level : 65535;
+    case S::bus_address:
+      return s.bus_address;
+    case S::sample_seq:
+      return s.sample_seq;
+    case S::serial:
+    case S::firmware:
+    case S::written:
+    case S::bits:
+      return NAN;
+  }
+  return NAN;
+}
+
+double point_value(const Point& p, const SensorView& v) {
+  if (p.source == S::bits) {
+    std::uint32_t packed = 0;
+    for (std::size_t i = 0; i < p.bits.size(); ++i)
+      if (p.bits[i] && source_value(*p.bits[i], v) != 0) packed |= std::uint32_t(1) << i;
+    return packed;
+  }
+  const double value = source_value(p.source, v);
+  if (p.bit) {
+    if (std::isnan(value)) return 0;
+    // Integer sources only (checked when the map is loaded); signed ones in two's complement.
+    return double((std::uint64_t(std::int64_t(value)) >> *p.bit) & 1);
+  }
+  if (is_angle_source(p.source)) return convert_angle(value, p.angle_unit);
+  return value;
+}
+
+}  // namespace tiltgate

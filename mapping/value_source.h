@@ -1,0 +1,78 @@
+// What a point shows: every value a driver's SensorState offers, and what the gateway derives
+// from it (mapping/derived_state.h), with the range each one is documented to have so that a
+// map can be checked for types too small to hold it.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "mapping/point_types.h"
+
+namespace tiltgate {
+
+enum class ValueSource : std::uint8_t {
+  angle_x,  // degrees (after mounting, when configured)
+  angle_y,
+  angle_x_cdeg,  // hundredths of a degree
+  angle_y_cdeg,
+  tilt,  // degrees, magnitude of (angle_x, angle_y); |angle_x| on one axis
+  raw_counts,
+  raw_temperature,
+  status,  // status_bit flags (mapping/sensor_view.h)
+  online,  // one bit each: the status bits ...
+  stale,
+  last_write_failed,
+  identity_unknown,
+  alarm_active,
+  alarms,  // ... and the alarm_bit flags, as one integer or one bit each
+  alarm_x_high,
+  alarm_x_low,
+  alarm_y_high,
+  alarm_y_low,
+  alarm_tilt,
+  alarm_rate,
+  age_ms,
+  polls_ok,
+  polls_failed,
+  transactions,
+  timeouts,
+  checksum_errors,
+  io_errors,
+  last_nak,    // 65535 when none
+  lock_level,  // 65535 when unknown
+  bus_address,
+  sample_seq,
+  serial,
+  firmware,
+  written,  // holding registers: the last value written through the gateway
+  bits,     // an integer made of one-bit sources (Point::bits), not named in files
+};
+
+// Every source a map file may name (all but `bits`, which is spelt as a key of its own).
+std::span<const Named<ValueSource>> source_names();
+const char* to_string(ValueSource source);
+
+// Whether reading the point needs a fresh measurement (see OfflineRead) or is diagnostic and
+// always readable, so a PLC can see why the data is missing. Alarm flags are diagnostic: they
+// keep the state of the last reading, and the status word says whether that is stale.
+bool is_measurement(ValueSource source);
+// A source whose value is one bit (0 or 1): what a coil or discrete input shows.
+bool is_bit_source(ValueSource source);
+// A whole number whose single bits can be picked out with `bit = N`.
+bool is_integer_source(ValueSource source);
+// Degrees that a point may show in another AngleUnit (not the fixed *_cdeg forms).
+bool is_angle_source(ValueSource source);
+
+// The documented range of a source's value, in `unit` for angle sources; infinite bounds where
+// the value has none (percent grade). Strings and `written` have no numeric range: empty.
+struct ValueRange {
+  double min = 0;
+  double max = 0;
+  bool known = false;
+};
+ValueRange source_range(ValueSource source, AngleUnit unit);
+
+// Degrees in another unit (mapping/angle_units.h: percent grade is NaN beyond +-90 degrees).
+double convert_angle(double degrees, AngleUnit unit);
+
+}  // namespace tiltgate

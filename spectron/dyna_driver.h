@@ -1,0 +1,98 @@
+// The SPECTROTILT Dyna driver, for both of its protocols (9-bit addressing and Modbus-ASCII):
+// turns polls and register writes into Dyna transactions (spectron/dyna_transactions.h).
+//
+// A poll reads the raw sensor counts and the raw temperature; the counts become degrees by the
+// sensor's configured linear conversion, because the application note gives none. Identity
+// (firmware revision, serial number from EEPROM 4) is read at start, after every reconnect of
+// the line and after a reset. Settings are EEPROM writes: the named offsets (6, 10, 20), the
+// module address (16; the driver follows the module), the baud code (22; in force after the
+// next reset, so the bus's baud must follow), and any other writable location through an
+// EEPROM window (select a location, then write its value). The Dyna has no NAKs and no locks.
+#pragma once
+
+#include <boost/asio/awaitable.hpp>
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "driver/sensor_driver.h"
+#include "spectron/dyna_transactions.h"
+#include "spectron/protocol.h"
+
+namespace tiltgate::spectron {
+
+struct DynaDriverOptions {
+  std::string name = "sensor";  // for log lines
+  Protocol protocol = Protocol::nine_bit;
+  int address = 0;  // 0..255 on a 9-bit bus ("Module address = 0 (factory set)"), 1..250 on Modbus
+  // degrees = (counts - zero_counts) / counts_per_degree ([[sensor]] keys of the same name).
+  double counts_per_degree = 100.0;
+  double zero_counts = 0.0;
+  // Quiet time after a reset before the next request. The note does not say how long the
+  // processor takes to restart; a module that takes longer only costs one timed-out poll.
+  std::chrono::milliseconds reset_settle{200};
+};
+
+// Why one exchange produced no usable reply.
+struct ExchangeError {
+  enum class Kind {
+    line,         // no reply (time-out, port failure)
+    bad_reply,    // a reply that does not answer the request as expected
+    bad_request,  // the protocol cannot carry the request (nothing was sent)
+  } kind;
+  LineError line = LineError::timeout;
+  std::string detail;
+};
+
+struct ExchangeOptions {
+  int retries = -1;  // -1: the bus's
+  std::chrono::milliseconds settle{0};
+};
+
+class DynaDriver : public SensorDriver {
+ public:
+  explicit DynaDriver(DynaDriverOptions options);
+
+  std::string_view model() const override { return "dyna"; }
+  // Checks every value against the memory map, except that an eeprom_value is only checked as
+  // a 16-bit word here: it goes to the location selected when the write runs (a request that
+  // writes the location and value registers together is checked before either runs), so
+  // write() checks it against that location, before anything is sent.
+  WriteResult check_write(WriteTarget target, double value) const override;
+  boost::asio::awaitable<void> poll(Line& line) override;
+  boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
+  const SensorState& state() const override { return state_; }
+
+  int address() const { return options_.address; }
+  // The EEPROM window's location (WriteTarget::eeprom_location), none until one is written.
+  std::optional<std::uint16_t> eeprom_location() const { return eeprom_location_; }
+
+ private:
+  // One request to the module at `address` (default: the configured one) and its reply, with
+  // the counters kept.
+  boost::asio::awaitable<Expected<DynaAnswer, ExchangeError>> exchange(
+      Line& line, DynaRequest request, ExchangeOptions options = {},
+      std::optional<int> address = std::nullopt);
+  boost::asio::awaitable<bool> read_identity(Line& line);
+  boost::asio::awaitable<void> read_measurement(Line& line);
+  void failed_measurement(const ExchangeError& error);
+  // Writes `value` to EEPROM `location`, already checked; location 16 moves the module.
+  boost::asio::awaitable<WriteResult> write_location(Line& line, std::uint16_t location,
+                                                     std::uint16_t value);
+  boost::asio::awaitable<WriteResult> set_address(Line& line, int new_address);
+  boost::asio::awaitable<WriteResult> reset(Line& line);
+  WriteResult check_location_value(std::int64_t location, double value) const;
+
+  DynaDriverOptions options_;
+  SensorState state_;
+  std::uint64_t identity_generation_ = 0;  // the line generation the identity was read on
+  std::optional<std::uint16_t> eeprom_location_;
+};
+
+// An ExchangeError as the write error the gateway maps to a Modbus exception: no reply is
+// no_response (0x0B), a reply that is not the expected acknowledgement is refused (0x04), a
+// request the protocol cannot carry is bad_value (0x03).
+WriteError to_write_error(const ExchangeError& error, std::string_view step);
+
+}  // namespace tiltgate::spectron

@@ -1,0 +1,384 @@
+// The Dyna driver over a real SerialLine on a pseudo-terminal, against the Dyna simulator, in
+// both protocols: 9-bit addressing (mark/space framing) and Modbus-ASCII (8E1, LRC).
+#include <doctest/doctest.h>
+
+#include <boost/asio/io_context.hpp>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "serial/serial_line.h"
+#include "sim/support/raw_tty_client.h"
+#include "sim/support/run_coroutine.h"
+#include "spectron/ascii_codec.h"
+#include "spectron/dyna_driver.h"
+#include "spectron/simulator.h"
+
+using namespace tiltgate;
+using namespace tiltgate::spectron;
+using namespace std::chrono_literals;
+using test::run_coroutine;
+
+namespace {
+
+// The protocols every behaviour is checked in, with what each reports as firmware.
+struct NineBit {
+  static constexpr Protocol protocol = Protocol::nine_bit;
+  static constexpr const char* firmware = "DYNA 1.07";  // the "F" reply, free text
+};
+struct ModbusAscii {
+  static constexpr Protocol protocol = Protocol::modbus_ascii;
+  static constexpr const char* firmware = "01.07";  // the 0x6A word 0x0107 (A7)
+};
+
+constexpr std::uint8_t kAddress = 7;  // valid on both buses
+
+struct Bench {
+  boost::asio::io_context io;
+  test::ScratchDir dir{"tiltgate-dyna-driver"};
+  std::optional<DynaSimulator> sim;
+  std::unique_ptr<SerialLine> line;
+
+  Bench(Protocol protocol, std::vector<SimulatedDynaOptions> sensors, int retries = 1) {
+    DynaSimulatorOptions options;
+    options.protocol = protocol;
+    options.sensors = std::move(sensors);
+    options.link_path = dir.path("ttyDYNA");
+    sim.emplace(io, std::move(options));
+    const auto started = sim->start();
+    REQUIRE_MESSAGE(started.has_value(), started.error());
+    SerialLineOptions line_options;
+    line_options.name = "dyna-line";
+    line_options.port = sim->link_path();
+    line_options.baud = 28800;
+    line_options.framing = protocol == Protocol::nine_bit ? Framing::nine_bit
+                                                          : Framing::eight_even_one;
+    line_options.timeout = 100ms;  // generous: the machine may be busy
+    line_options.retries = retries;
+    line_options.reopen_min = 20ms;
+    line_options.reopen_max = 100ms;
+    line = std::make_unique<SerialLine>(io.get_executor(), line_options);
+    REQUIRE(line->start());
+  }
+  ~Bench() {
+    line->stop();
+    sim->stop();
+    test::run_for(io, 10ms);
+  }
+  SimulatedDyna& module() { return sim->sensor(0); }
+  void poll(DynaDriver& driver) { run_coroutine(io, driver.poll(*line)); }
+  WriteResult write(DynaDriver& driver, WriteTarget target, double value) {
+    return run_coroutine(io, driver.write(*line, target, value));
+  }
+};
+
+SimulatedDynaOptions dyna(std::uint8_t address = kAddress, std::int16_t counts = 1001) {
+  SimulatedDynaOptions options;
+  options.address = address;
+  options.counts = counts;
+  options.temperature = -40;
+  return options;
+}
+
+DynaDriverOptions driver_for(Protocol protocol, int address = kAddress) {
+  DynaDriverOptions options;
+  options.name = "dyna";
+  options.protocol = protocol;
+  options.address = address;
+  options.counts_per_degree = 100.0;
+  options.zero_counts = 1.0;
+  options.reset_settle = 20ms;
+  return options;
+}
+
+WriteErrorKind kind_of(const WriteResult& result) {
+  REQUIRE_FALSE(result.has_value());
+  return result.error().kind;
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("a first poll reads the identity, then counts and temperature as degrees", P,
+                   NineBit, ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  const SensorState& s = driver.state();
+  CHECK(s.online);
+  CHECK(s.identity_known);
+  CHECK(s.serial == "12345");  // EEPROM 4, as decimal text
+  CHECK(s.firmware == P::firmware);
+  CHECK_FALSE(s.lock_level.has_value());  // the Dyna has no locks
+  REQUIRE(s.reading.has_value());
+  CHECK(s.reading->raw_counts == std::optional<std::int32_t>(1001));
+  CHECK(s.reading->raw_temperature == std::optional<std::int32_t>(-40));
+  CHECK(s.reading->angle_x == doctest::Approx(10.0));  // (1001 - 1) / 100
+  CHECK(std::isnan(s.reading->angle_y));
+  CHECK(s.sample_seq == 1);
+  CHECK(s.counters.transactions == 4);  // firmware, serial, sensor, temperature
+  bench.poll(driver);
+  CHECK(s.counters.transactions == 6);  // identity is not read again
+  CHECK(s.counters.polls_ok == 2);
+  CHECK(s.sample_seq == 2);
+}
+
+TEST_CASE_TEMPLATE("negative counts convert to negative degrees", P, NineBit, ModbusAscii) {
+  Bench bench(P::protocol, {dyna(kAddress, -2499)});
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  REQUIRE(driver.state().reading.has_value());
+  CHECK(driver.state().reading->raw_counts == std::optional<std::int32_t>(-2499));
+  CHECK(driver.state().reading->angle_x == doctest::Approx(-25.0));
+}
+
+TEST_CASE_TEMPLATE("every named EEPROM setting and the EEPROM window reach the module", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  SimulatedDyna& module = bench.module();
+
+  CHECK(bench.write(driver, WriteTarget::sensor_offset, 1).has_value());
+  CHECK(module.eeprom(6) == std::optional<std::uint16_t>(1));
+  bench.poll(driver);
+  CHECK(driver.state().reading->raw_counts == std::optional<std::int32_t>(1000));
+  CHECK(bench.write(driver, WriteTarget::temperature_offset, 65535).has_value());  // -1 as a word
+  CHECK(module.eeprom(10) == std::optional<std::uint16_t>(65535));
+  CHECK(bench.write(driver, WriteTarget::pwm_offset, 2501).has_value());  // the note's example value
+  CHECK(module.eeprom(20) == std::optional<std::uint16_t>(2501));
+  bench.poll(driver);
+  CHECK(driver.state().reading->raw_temperature == std::optional<std::int32_t>(-39));
+
+  CHECK(bench.write(driver, WriteTarget::baud_code, 15).has_value());
+  CHECK(module.eeprom(22) == std::optional<std::uint16_t>(15));
+  CHECK(module.baud_code() == 10);  // in force only after a reset
+
+  // The window: select, then write.
+  CHECK(bench.write(driver, WriteTarget::eeprom_location, 20).has_value());
+  CHECK(driver.eeprom_location() == std::optional<std::uint16_t>(20));
+  CHECK(bench.write(driver, WriteTarget::eeprom_value, 355).has_value());
+  CHECK(module.eeprom(20) == std::optional<std::uint16_t>(355));
+  CHECK(bench.write(driver, WriteTarget::eeprom_location, 6).has_value());
+  CHECK(bench.write(driver, WriteTarget::eeprom_value, 0).has_value());
+  CHECK(module.eeprom(6) == std::optional<std::uint16_t>(0));
+  CHECK_FALSE(driver.state().last_write_failed);
+}
+
+TEST_CASE_TEMPLATE("the EEPROM window refuses before sending anything", P, NineBit, ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  const auto handled = bench.module().requests_handled();
+  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 1)) == WriteErrorKind::bad_value);
+  CHECK(bench.write(driver, WriteTarget::eeprom_location, 4).has_value());  // documented ...
+  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 1)) ==
+        WriteErrorKind::bad_value);  // ... but the serial number is read-only
+  CHECK(bench.write(driver, WriteTarget::eeprom_location, 100).has_value());
+  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 355)) ==
+        WriteErrorKind::bad_value);  // reserved: read-only through the gateway (A10)
+  CHECK(bench.write(driver, WriteTarget::eeprom_location, 22).has_value());
+  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 8)) == WriteErrorKind::bad_value);
+  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_location, 24)) ==
+        WriteErrorKind::bad_value);  // not in the memory map
+  CHECK(driver.eeprom_location() == std::optional<std::uint16_t>(22));
+  CHECK(bench.module().requests_handled() == handled);
+  CHECK(bench.module().eeprom(4) == std::optional<std::uint16_t>(12345));
+  CHECK(bench.module().eeprom(100) == std::optional<std::uint16_t>(0));
+}
+
+TEST_CASE_TEMPLATE("a module address change is followed to the new address", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  CHECK(bench.write(driver, WriteTarget::bus_address, 42).has_value());
+  CHECK(bench.sim->sensor_by_address(42) != nullptr);
+  CHECK(driver.address() == 42);
+  CHECK(driver.state().bus_address == 42);
+  bench.poll(driver);
+  CHECK(driver.state().online);
+  CHECK(driver.state().counters.polls_ok == 1);
+  // Through the window too, and back.
+  CHECK(bench.write(driver, WriteTarget::eeprom_location, 16).has_value());
+  CHECK(bench.write(driver, WriteTarget::eeprom_value, kAddress).has_value());
+  CHECK(driver.address() == kAddress);
+  bench.poll(driver);
+  CHECK(driver.state().counters.polls_ok == 2);
+}
+
+TEST_CASE_TEMPLATE("an ignored address change fails with no response and the driver stays", P,
+                   NineBit, ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  bench.module().faults().silent = 1;  // the write is never taken in, and never retried
+  CHECK(kind_of(bench.write(driver, WriteTarget::bus_address, 42)) ==
+        WriteErrorKind::no_response);
+  CHECK(driver.address() == kAddress);
+  CHECK(bench.module().address() == kAddress);
+  CHECK(driver.state().last_write_failed);
+  bench.poll(driver);
+  CHECK(driver.state().online);
+}
+
+TEST_CASE("Modbus-ASCII: an address change whose acknowledgement is lost is found at the new one") {
+  Bench bench(Protocol::modbus_ascii, {dyna()});
+  DynaDriver driver(driver_for(Protocol::modbus_ascii));
+  bench.module().faults().corrupt_lrc = 1;  // the module moves, its acknowledgement is dropped
+  CHECK(bench.write(driver, WriteTarget::bus_address, 42).has_value());
+  CHECK(driver.address() == 42);
+  CHECK(driver.state().counters.checksum_errors == 1);
+  bench.poll(driver);
+  CHECK(driver.state().counters.polls_ok == 1);
+}
+
+TEST_CASE_TEMPLATE("a reset is sent, and the identity is read again afterwards", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  REQUIRE(driver.state().identity_known);
+  CHECK(bench.write(driver, WriteTarget::baud_code, 32).has_value());
+  CHECK(bench.write(driver, WriteTarget::command, 1).has_value());
+  CHECK(bench.module().resets() == 1);
+  CHECK(bench.module().baud_code() == 32);  // the stored code is now in force
+  CHECK_FALSE(driver.state().identity_known);
+  const auto transactions = driver.state().counters.transactions;
+  bench.poll(driver);
+  CHECK(driver.state().identity_known);
+  CHECK(driver.state().counters.transactions == transactions + 4);
+}
+
+TEST_CASE("values a Dyna cannot take are refused before anything is sent") {
+  DynaDriver nine_bit(driver_for(Protocol::nine_bit));
+  DynaDriver modbus(driver_for(Protocol::modbus_ascii));
+  const auto refused = [](const DynaDriver& driver, WriteTarget target, double value) {
+    const auto checked = driver.check_write(target, value);
+    return checked ? std::optional<WriteErrorKind>() : checked.error().kind;
+  };
+  const auto bad = std::optional<WriteErrorKind>(WriteErrorKind::bad_value);
+  const auto ok = std::optional<WriteErrorKind>();
+  for (auto target :
+       {WriteTarget::sensor_offset, WriteTarget::temperature_offset, WriteTarget::pwm_offset}) {
+    CHECK(refused(modbus, target, 0) == ok);
+    CHECK(refused(modbus, target, 65535) == ok);
+    CHECK(refused(modbus, target, 65536) == bad);
+    CHECK(refused(modbus, target, -1) == bad);
+    CHECK(refused(modbus, target, 1.5) == bad);
+    CHECK(refused(modbus, target, NAN) == bad);
+  }
+  for (int code : {7, 10, 15, 32, 64}) CHECK(refused(modbus, WriteTarget::baud_code, code) == ok);
+  CHECK(refused(modbus, WriteTarget::baud_code, 8) == bad);
+  CHECK(refused(modbus, WriteTarget::bus_address, 0) == bad);  // Modbus-ASCII: 1..250
+  CHECK(refused(modbus, WriteTarget::bus_address, 251) == bad);
+  CHECK(refused(modbus, WriteTarget::bus_address, 250) == ok);
+  CHECK(refused(nine_bit, WriteTarget::bus_address, 0) == ok);  // 9-bit: 0..255
+  CHECK(refused(nine_bit, WriteTarget::bus_address, 255) == ok);
+  CHECK(refused(nine_bit, WriteTarget::bus_address, 256) == bad);
+  CHECK(refused(modbus, WriteTarget::command, 1) == ok);
+  CHECK(refused(modbus, WriteTarget::command, 3) == bad);
+  CHECK(refused(modbus, WriteTarget::eeprom_location, 4) == ok);    // documented, read-only
+  CHECK(refused(modbus, WriteTarget::eeprom_location, 280) == ok);  // reserved block
+  CHECK(refused(modbus, WriteTarget::eeprom_location, 5) == bad);   // odd
+  CHECK(refused(modbus, WriteTarget::eeprom_location, 24) == bad);  // not in the map
+  CHECK(refused(modbus, WriteTarget::eeprom_location, 282) == bad);
+  CHECK(refused(modbus, WriteTarget::eeprom_value, 65536) == bad);
+  CHECK(refused(modbus, WriteTarget::filter, 1) ==
+        std::optional<WriteErrorKind>(WriteErrorKind::not_supported));
+  CHECK(refused(modbus, WriteTarget::zero_x, 0) ==
+        std::optional<WriteErrorKind>(WriteErrorKind::not_supported));
+}
+
+TEST_CASE_TEMPLATE("a silent module times out, goes offline, and comes back", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna()}, /*retries=*/1);
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  REQUIRE(driver.state().online);
+  bench.module().faults().silent = 2;  // both attempts of the next exchange
+  bench.poll(driver);
+  CHECK_FALSE(driver.state().online);
+  CHECK(driver.state().counters.timeouts == 1);
+  CHECK(driver.state().counters.polls_failed == 1);
+  bench.poll(driver);
+  CHECK(driver.state().online);
+  CHECK(driver.state().counters.polls_ok == 2);
+}
+
+TEST_CASE_TEMPLATE("noise on the line before a reply does not lose the reply", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  bench.module().faults().garbage = 4;  // before every reply of the first poll
+  bench.poll(driver);
+  CHECK(driver.state().identity_known);
+  CHECK(driver.state().counters.polls_ok == 1);
+  CHECK(driver.state().counters.timeouts == 0);
+}
+
+TEST_CASE("Modbus-ASCII: a reply with a bad LRC is counted and the retry succeeds") {
+  Bench bench(Protocol::modbus_ascii, {dyna()}, /*retries=*/2);
+  DynaDriver driver(driver_for(Protocol::modbus_ascii));
+  bench.poll(driver);
+  bench.module().faults().corrupt_lrc = 1;
+  bench.poll(driver);
+  CHECK(driver.state().counters.checksum_errors == 1);
+  CHECK(driver.state().counters.timeouts == 0);  // the retry got it
+  CHECK(driver.state().counters.polls_ok == 2);
+}
+
+TEST_CASE("Modbus-ASCII: a reply that is not the acknowledgement refuses the write") {
+  Bench bench(Protocol::modbus_ascii, {dyna()});
+  DynaDriver driver(driver_for(Protocol::modbus_ascii));
+  // A well-framed answer to the write that carries a data word: not ":AA68LRC".
+  const auto wrong = encode(make_ascii_word_reply(kAddress, AsciiCommand::write_eeprom, 1));
+  bench.module().faults().garbage_bytes.assign(wrong.begin(), wrong.end());
+  bench.module().faults().garbage = 1;
+  CHECK(kind_of(bench.write(driver, WriteTarget::sensor_offset, 5)) == WriteErrorKind::refused);
+  CHECK(driver.state().last_write_failed);
+  CHECK(driver.state().online);  // it answered
+}
+
+TEST_CASE("9-bit: a reply line that is not a number fails the poll, the module stays online") {
+  Bench bench(Protocol::nine_bit, {dyna()});
+  DynaDriver driver(driver_for(Protocol::nine_bit));
+  bench.poll(driver);
+  const std::string text = "ERR\r\n";
+  bench.module().faults().garbage_bytes.assign(text.begin(), text.end());
+  bench.module().faults().garbage = 1;  // the read sensor reply starts with another line
+  bench.poll(driver);
+  CHECK(driver.state().online);
+  CHECK(driver.state().counters.polls_failed == 1);
+  bench.poll(driver);
+  CHECK(driver.state().counters.polls_ok == 2);
+}
+
+TEST_CASE_TEMPLATE("a module on another address is silent to this driver", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna(8)}, /*retries=*/0);
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  CHECK_FALSE(driver.state().online);
+  CHECK(driver.state().counters.timeouts == 1);
+}
+
+TEST_CASE_TEMPLATE("an unplugged adapter fails polls, and after the replug identity is read again",
+                   P, NineBit, ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  REQUIRE(driver.state().identity_known);
+  const auto generation = bench.line->generation();
+
+  bench.sim->unplug();
+  bench.poll(driver);
+  CHECK_FALSE(driver.state().online);
+  CHECK(driver.state().counters.io_errors >= 1);
+
+  REQUIRE(bench.sim->replug().has_value());
+  for (int i = 0; i < 100 && bench.line->generation() == generation; ++i) {
+    test::run_for(bench.io, 20ms);
+  }
+  REQUIRE(bench.line->generation() > generation);
+  const auto transactions = driver.state().counters.transactions;
+  bench.poll(driver);
+  CHECK(driver.state().online);
+  CHECK(driver.state().identity_known);
+  CHECK(driver.state().counters.transactions == transactions + 4);  // identity again + reading
+}

@@ -1,0 +1,187 @@
+// What configured points read: scaled integers, angle units, corrected angles and alarms from
+// the derived state, bits, the offline policies, and writes through scaled and reordered
+// points.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "mapping/default_maps.h"
+#include "mapping/map_access.h"
+#include "mapping/value_codec.h"
+
+using namespace tiltgate;
+using namespace std::chrono_literals;
+
+namespace {
+
+using Words = std::vector<std::uint16_t>;
+
+SensorState sensor_at(SteadyClock::time_point now, double x, double y) {
+  SensorState s;
+  s.online = true;
+  s.identity_known = true;
+  s.counters.polls_ok = 5;
+  Reading r;
+  r.angle_x = x;
+  r.angle_y = y;
+  r.taken = now - 10ms;
+  s.reading = r;
+  return s;
+}
+
+Point input(std::string name, std::uint16_t address, PointType type, ValueSource source) {
+  return make_point(std::move(name), RegisterTable::input, address, type, source);
+}
+
+Words read(const RegisterMap& map, const SensorView& view, std::uint16_t address,
+           std::uint16_t count) {
+  auto words = read_registers(map, view, RegisterTable::input, address, count);
+  REQUIRE(words.has_value());
+  return *words;
+}
+
+}  // namespace
+
+TEST_CASE("an angle as int16 hundredths through scale 100, and negative values") {
+  Point p = input("x", 0, PointType::int16, ValueSource::angle_x);
+  p.scale = 100;
+  const RegisterMap map({p});
+  const auto now = SteadyClock::now();
+  const auto state = sensor_at(now, -12.345, 0);
+  const SensorView view{state, now, 1000ms, {}};
+  CHECK(std::int16_t(read(map, view, 0, 1)[0]) == -1235);  // -1234.5 rounds away from zero
+}
+
+TEST_CASE("offset and negative scale apply before rounding and saturation") {
+  Point p = input("x", 0, PointType::uint16, ValueSource::angle_x);
+  p.scale = -10;
+  p.offset = 1000;
+  p.rounding = Rounding::floor;
+  const RegisterMap map({p});
+  const auto now = SteadyClock::now();
+  auto state = sensor_at(now, 2.55, 0);
+  CHECK(read(map, SensorView{state, now, 1000ms, {}}, 0, 1)[0] == 974);  // 974.5 floored
+  state.reading->angle_x = 170;                                          // -700: below 0
+  CHECK(read(map, SensorView{state, now, 1000ms, {}}, 0, 1)[0] == 0);
+}
+
+TEST_CASE("angles in milliradians and percent grade") {
+  Point mrad = input("mrad", 0, PointType::float32, ValueSource::angle_x);
+  mrad.angle_unit = AngleUnit::milliradians;
+  Point grade = input("grade", 2, PointType::float64, ValueSource::angle_y);
+  grade.angle_unit = AngleUnit::percent_grade;
+  const RegisterMap map({mrad, grade});
+  const auto now = SteadyClock::now();
+  const auto state = sensor_at(now, 45.0, 45.0);
+  const SensorView view{state, now, 1000ms, {}};
+  const Words w = read(map, view, 0, 6);
+  CHECK(decode_number(std::span(w).first(2), PointType::float32, RegisterOrder::abcd) ==
+        doctest::Approx(std::numbers::pi / 4 * 1000).epsilon(1e-6));
+  CHECK(decode_number(std::span(w).subspan(2, 4), PointType::float64, RegisterOrder::abcd) ==
+        doctest::Approx(100.0));
+}
+
+TEST_CASE("angles, tilt and alarms come from the derived state once it is valid") {
+  const RegisterMap map = default_map("h6");
+  const auto now = SteadyClock::now();
+  const auto state = sensor_at(now, 3.0, 4.0);
+  SensorView raw{state, now, 1000ms, {}};
+  Words w = read(map, raw, 25, 3);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 5.0f);  // hypot(3, 4)
+  CHECK(w[2] == 0);
+
+  DerivedState derived;
+  derived.angle_x = -4.0;
+  derived.angle_y = 3.0;
+  derived.tilt = 5.0;
+  derived.alarms = alarm_bit::x_low | alarm_bit::rate;
+  derived.valid = true;
+  SensorView corrected{state, now, 1000ms, {}, WordOrder::big, &derived};
+  w = read(map, corrected, 0, 8);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == -4.0f);
+  CHECK(std::int16_t(w[4]) == -400);
+  CHECK(std::int16_t(w[5]) == 300);
+  CHECK(w[6] == (status_bit::online | status_bit::alarm_active));
+  CHECK(read(map, corrected, 27, 1)[0] == (alarm_bit::x_low | alarm_bit::rate));
+  auto bits = read_bits(map, corrected, RegisterTable::discrete, 0, 7);
+  REQUIRE(bits.has_value());
+  CHECK(*bits == std::vector<bool>{true, false, true, false, false, false, true});
+}
+
+TEST_CASE("a single-axis sensor's tilt is |x|") {
+  const RegisterMap map = default_map("h4360");
+  const auto now = SteadyClock::now();
+  const auto state = sensor_at(now, -30.5, NAN);
+  const Words w = read(map, SensorView{state, now, 1000ms, {}}, 25, 2);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 30.5f);
+}
+
+TEST_CASE("bit points pick one status bit; a packed register carries several") {
+  Point stale = input("stale", 0, PointType::boolean, ValueSource::status);
+  stale.table = RegisterTable::discrete;
+  stale.bit = 1;
+  Point packed = input("flags", 0, PointType::uint16, ValueSource::bits);
+  packed.bits = {ValueSource::online, std::nullopt, ValueSource::stale, ValueSource::alarm_tilt};
+  const RegisterMap map({stale, packed});
+  const auto now = SteadyClock::now();
+  auto state = sensor_at(now, 1, 1);
+  DerivedState derived;
+  derived.alarms = alarm_bit::tilt_high;
+  derived.valid = true;
+  const SensorView view{state, now + 5s, 1000ms, {}, WordOrder::big, &derived};
+  CHECK(read(map, view, 0, 1)[0] == 0b1101);
+  auto bits = read_bits(map, view, RegisterTable::discrete, 0, 1);
+  REQUIRE(bits.has_value());
+  CHECK((*bits)[0] == true);
+}
+
+TEST_CASE("offline reads: exception, last value or a substitute") {
+  const RegisterMap map = default_map("h6");
+  const auto now = SteadyClock::now();
+  auto state = sensor_at(now, 1.5, -2.25);
+  state.online = false;
+  SensorView view{state, now, 1000ms, {}};
+  CHECK(read_registers(map, view, RegisterTable::input, 0, 6).error() == MapFault::unavailable);
+
+  view.offline = OfflineRead::last_value;
+  Words w = read(map, view, 0, 6);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 1.5f);
+  CHECK(std::int16_t(w[5]) == -225);
+
+  view.offline = OfflineRead::substitute;
+  view.substitute = -999;
+  w = read(map, view, 0, 7);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == -999.0f);
+  CHECK(std::int16_t(w[4]) == -999);  // shown as is, not scaled to hundredths
+  CHECK(w[6] == 0);                   // status is no measurement: offline, not stale
+}
+
+TEST_CASE("offline last value is still an exception before the first reading") {
+  const RegisterMap map = default_map("h6");
+  SensorState never;
+  SensorView view{never, SteadyClock::now(), 1000ms, {}};
+  view.offline = OfflineRead::last_value;
+  CHECK(read_registers(map, view, RegisterTable::input, 0, 2).error() == MapFault::unavailable);
+  CHECK(read_registers(map, view, RegisterTable::input, 6, 1).has_value());
+}
+
+TEST_CASE("a write through a scaled, word-swapped point is decoded before the range check") {
+  Point zero;
+  zero.name = "zero_x_cdeg";
+  zero.table = RegisterTable::holding;
+  zero.address = 10;
+  zero.type = PointType::int32;
+  zero.order = RegisterOrder::cdab;
+  zero.scale = 100;
+  zero.write = WriteTarget::zero_x;
+  zero.min = -180;
+  zero.max = 180;
+  const RegisterMap map({zero});
+  const Words words{0xE0C0, 0xFFFF};  // -8000 = 0xFFFFE0C0, low word first
+  auto plan = plan_register_write(map, WordOrder::big, 10, words);
+  REQUIRE(plan.has_value());
+  CHECK(plan->front().value == -80.0);
+  const Words too_far{0x4E20, 0x0000};  // 20000 -> 200 degrees
+  CHECK(plan_register_write(map, WordOrder::big, 10, too_far).error() == MapFault::illegal_value);
+}
