@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "driver/online_log.h"
 #include "rieker/reply_framer.h"
 
 namespace tiltgate::rieker {
@@ -181,11 +182,8 @@ asio::awaitable<void> RiekerDriver::poll(Line& line) {
   } else {
     ++state_.counters.polls_failed;
   }
-  if (was_online && !state_.online) {
-    spdlog::warn("{}: sensor {} on {} stopped answering", options_.name, options_.address, line.name());
-  } else if (!was_online && state_.online) {
-    spdlog::info("{}: sensor {} on {} answering", options_.name, options_.address, line.name());
-  }
+  log_online_change(options_.name, "sensor", options_.address, line.name(), was_online,
+                    state_.online);
 }
 
 asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target, double value) {

@@ -1,5 +1,7 @@
 #include "spectron/dyna_driver.h"
 
+#include "driver/online_log.h"
+
 #include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -190,12 +192,8 @@ asio::awaitable<void> DynaDriver::poll(Line& line) {
   } else {
     ++state_.counters.polls_failed;
   }
-  if (was_online && !state_.online) {
-    spdlog::warn("{}: Dyna {} on {} stopped answering", options_.name, options_.address,
-                 line.name());
-  } else if (!was_online && state_.online) {
-    spdlog::info("{}: Dyna {} on {} answering", options_.name, options_.address, line.name());
-  }
+  log_online_change(options_.name, "Dyna", options_.address, line.name(), was_online,
+                    state_.online);
 }
 
 asio::awaitable<WriteResult> DynaDriver::write(Line& line, WriteTarget target, double value) {
