@@ -23,12 +23,13 @@ check() {  # check NAME COMMAND...: passes when the command succeeds
   fi
 }
 
-"$tiltgate" sim rieker --sensors h6:223,h4360:101 --link "$dir/ttyUSB0" >"$dir/sim.out" 2>"$dir/sim.err" &
+"$tiltgate" sim rieker --sensors h6:223,h4360:101,h6:224 --link "$dir/ttyUSB0" >"$dir/sim.out" 2>"$dir/sim.err" &
 pids+=($!)
 for _ in $(seq 100); do [ -e "$dir/ttyUSB0" ] && break; sleep 0.05; done
 [ -e "$dir/ttyUSB0" ] || { echo "simulator did not start"; cat "$dir/sim.err"; exit 1; }
 
 port=$((20000 + RANDOM % 20000))
+cp "$(dirname "$0")/../../examples/maps/cdab-floats.toml" "$dir/cdab-floats.toml"
 cat >"$dir/plant.toml" <<TOML
 [server]
 listen = "127.0.0.1"
@@ -56,6 +57,15 @@ model = "h4360"
 address = 101
 unit_id = 2
 poll_ms = 50
+
+[[sensor]]
+name = "jib"
+bus = "line1"
+model = "h6"
+address = 224
+unit_id = 3
+poll_ms = 50
+map = "cdab-floats.toml"
 TOML
 "$tiltgate" run --config "$dir/plant.toml" 2>"$dir/gateway.err" &
 pids+=($!)
@@ -77,6 +87,12 @@ angles_ok() {
     END {exit !(x > 0.7 && x < 1.3 && y < -0.7 && y > -1.3)}'
 }
 check "mbpoll reads the H6 angles as big-endian floats" angles_ok
+# Unit 3 uses examples/maps/cdab-floats.toml: mbpoll's default word order is CDAB (no -B).
+cdab_ok() {
+  mb -a 3 -t 3:float -r 1 -c 2 | awk '/^\[1\]:/ {x=$2} /^\[3\]:/ {y=$2}
+    END {exit !(x > 2.7 && x < 3.3 && y < -2.7 && y > -3.3)}'
+}
+check "mbpoll reads a CDAB map file's floats in its own default word order" cdab_ok
 serial_ok() { mb -a 1 -t 3:hex -r 17 -c 5 | grep -q '^\[17\]:.*0x3936'; }
 check "mbpoll reads the serial number string" serial_ok
 online_ok() { mb -a 2 -t 1 -r 1 | grep -q '^\[1\]:.*1'; }
