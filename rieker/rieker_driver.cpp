@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "driver/online_log.h"
 #include "rieker/reply_framer.h"
 
 namespace tiltgate::rieker {
@@ -131,7 +130,7 @@ asio::awaitable<bool> RiekerDriver::read_identity(Line& line) {
 
   // A sensor that refuses an identity function still measures: carry on without it rather
   // than asking again every poll (status bit 3 stays set until the next reconnect).
-  identity_generation_ = generation;
+  identity_read_on(generation);
   auto serial_text = serial ? parse_serial_reply(*serial) : Unexpected(ReplyError{});
   auto firmware_text = firmware ? parse_firmware_reply(*firmware) : Unexpected(ReplyError{});
   auto lock_level = lock ? parse_lock_level_reply(*lock) : Unexpected(ReplyError{});
@@ -149,7 +148,7 @@ asio::awaitable<bool> RiekerDriver::read_identity(Line& line) {
   co_return true;
 }
 
-asio::awaitable<void> RiekerDriver::read_angles(Line& line) {
+asio::awaitable<void> RiekerDriver::read_measurement(Line& line) {
   auto reply = co_await exchange(line, get_angle_request(route(), angle_type()));
   if (!reply) {
     ++state_.counters.polls_failed;
@@ -168,22 +167,6 @@ asio::awaitable<void> RiekerDriver::read_angles(Line& line) {
   state_.reading = reading;
   ++state_.sample_seq;
   ++state_.counters.polls_ok;
-}
-
-asio::awaitable<void> RiekerDriver::poll(Line& line) {
-  const bool was_online = state_.online;
-  if (identity_generation_ != line.generation()) state_.identity_known = false;
-  bool reachable = true;
-  if (!state_.identity_known && identity_generation_ != line.generation()) {
-    reachable = co_await read_identity(line);
-  }
-  if (reachable) {
-    co_await read_angles(line);
-  } else {
-    ++state_.counters.polls_failed;
-  }
-  log_online_change(options_.name, "sensor", options_.address, line.name(), was_online,
-                    state_.online);
 }
 
 asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target, double value) {
@@ -240,8 +223,7 @@ asio::awaitable<WriteResult> RiekerDriver::apply(Line& line, WriteTarget target,
   if (!reply) co_return Unexpected(to_write_error(reply.error(), "command"));
   if (!parse_ack(*reply)) co_return Unexpected(WriteError{WriteErrorKind::refused, "command: no ACK"});
   if (target == WriteTarget::command && SensorCommand(int(value)) == SensorCommand::restart) {
-    state_.identity_known = false;  // re-read after the restart, like after a reconnect
-    identity_generation_ = 0;
+    forget_identity();  // re-read after the restart, like after a reconnect
   }
   co_return Done{};
 }

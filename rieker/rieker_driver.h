@@ -6,7 +6,7 @@
 
 #include <boost/asio/awaitable.hpp>
 
-#include "driver/sensor_driver.h"
+#include "driver/polled_sensor_driver.h"
 #include "rieker/codec.h"
 
 namespace tiltgate::rieker {
@@ -33,24 +33,26 @@ struct ExchangeOptions {
   std::chrono::milliseconds settle{0};
 };
 
-class RiekerDriver : public SensorDriver {
+class RiekerDriver : public PolledSensorDriver {
  public:
   explicit RiekerDriver(RiekerDriverOptions options);
 
   std::string_view model() const override;
   WriteResult check_write(WriteTarget target, double value) const override;
-  boost::asio::awaitable<void> poll(Line& line) override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
-  const SensorState& state() const override { return state_; }
 
   std::uint16_t address() const { return options_.address; }
+
+ protected:
+  boost::asio::awaitable<bool> read_identity(Line& line) override;
+  boost::asio::awaitable<void> read_measurement(Line& line) override;  // Get Angle
+  const std::string& log_name() const override { return options_.name; }
+  const char* kind() const override { return "sensor"; }
 
  private:
   // One request and its reply, with counters kept. A NAK 5 is retried after a pause.
   boost::asio::awaitable<Expected<Frame, ExchangeError>> exchange(Line& line, RequestResult request,
                                                                   ExchangeOptions options = {});
-  boost::asio::awaitable<bool> read_identity(Line& line);
-  boost::asio::awaitable<void> read_angles(Line& line);
   // The setting itself, between unlock and lock.
   boost::asio::awaitable<WriteResult> apply(Line& line, WriteTarget target, double value);
   boost::asio::awaitable<WriteResult> set_address(Line& line, std::uint16_t new_address);
@@ -58,8 +60,6 @@ class RiekerDriver : public SensorDriver {
   AngleType angle_type() const;
 
   RiekerDriverOptions options_;
-  SensorState state_;
-  std::uint64_t identity_generation_ = 0;  // the line generation the identity was read on
 };
 
 // An ExchangeError as the write error the gateway maps to a Modbus exception.

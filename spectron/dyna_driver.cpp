@@ -1,6 +1,5 @@
 #include "spectron/dyna_driver.h"
 
-#include "driver/online_log.h"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -136,7 +135,7 @@ asio::awaitable<bool> DynaDriver::read_identity(Line& line) {
 
   // A module that answers identity requests with nonsense still measures: carry on without it
   // rather than asking again every poll (status bit 3 stays set until the next reconnect).
-  identity_generation_ = generation;
+  identity_read_on(generation);
   if (firmware) state_.firmware = firmware->text;
   if (serial) state_.serial = std::to_string(serial->number);  // EEPROM 4, a decimal number
   state_.identity_known = firmware.has_value() && serial.has_value();
@@ -178,22 +177,6 @@ void DynaDriver::failed_measurement(const ExchangeError& error) {
   if (error.kind != ExchangeError::Kind::line) {
     spdlog::debug("{}: unusable reply: {}", options_.name, error.detail);
   }
-}
-
-asio::awaitable<void> DynaDriver::poll(Line& line) {
-  const bool was_online = state_.online;
-  if (identity_generation_ != line.generation()) state_.identity_known = false;
-  bool reachable = true;
-  if (!state_.identity_known && identity_generation_ != line.generation()) {
-    reachable = co_await read_identity(line);
-  }
-  if (reachable) {
-    co_await read_measurement(line);
-  } else {
-    ++state_.counters.polls_failed;
-  }
-  log_online_change(options_.name, "Dyna", options_.address, line.name(), was_online,
-                    state_.online);
 }
 
 asio::awaitable<WriteResult> DynaDriver::write(Line& line, WriteTarget target, double value) {
@@ -262,8 +245,7 @@ asio::awaitable<WriteResult> DynaDriver::reset(Line& line) {
   if (!reply) co_return Unexpected(to_write_error(reply.error(), "reset"));
   // A reset may bring another firmware (or module) back: read the identity again, like after a
   // reconnect.
-  state_.identity_known = false;
-  identity_generation_ = 0;
+  forget_identity();
   spdlog::info("{}: Dyna {} reset", options_.name, options_.address);
   co_return Done{};
 }

@@ -16,7 +16,7 @@
 #include <optional>
 #include <string>
 
-#include "driver/sensor_driver.h"
+#include "driver/polled_sensor_driver.h"
 #include "spectron/dyna_transactions.h"
 #include "spectron/protocol.h"
 
@@ -50,7 +50,7 @@ struct ExchangeOptions {
   std::chrono::milliseconds settle{0};
 };
 
-class DynaDriver : public SensorDriver {
+class DynaDriver : public PolledSensorDriver {
  public:
   explicit DynaDriver(DynaDriverOptions options);
 
@@ -60,13 +60,17 @@ class DynaDriver : public SensorDriver {
   // writes the location and value registers together is checked before either runs), so
   // write() checks it against that location, before anything is sent.
   WriteResult check_write(WriteTarget target, double value) const override;
-  boost::asio::awaitable<void> poll(Line& line) override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
-  const SensorState& state() const override { return state_; }
 
   int address() const { return options_.address; }
   // The EEPROM window's location (WriteTarget::eeprom_location), none until one is written.
   std::optional<std::uint16_t> eeprom_location() const { return eeprom_location_; }
+
+ protected:
+  boost::asio::awaitable<bool> read_identity(Line& line) override;
+  boost::asio::awaitable<void> read_measurement(Line& line) override;  // sensor, temperature
+  const std::string& log_name() const override { return options_.name; }
+  const char* kind() const override { return "Dyna"; }
 
  private:
   // One request to the module at `address` (default: the configured one) and its reply, with
@@ -74,8 +78,6 @@ class DynaDriver : public SensorDriver {
   boost::asio::awaitable<Expected<DynaAnswer, ExchangeError>> exchange(
       Line& line, DynaRequest request, ExchangeOptions options = {},
       std::optional<int> address = std::nullopt);
-  boost::asio::awaitable<bool> read_identity(Line& line);
-  boost::asio::awaitable<void> read_measurement(Line& line);
   void failed_measurement(const ExchangeError& error);
   // Writes `value` to EEPROM `location`, already checked; location 16 moves the module.
   boost::asio::awaitable<WriteResult> write_location(Line& line, std::uint16_t location,
@@ -85,8 +87,6 @@ class DynaDriver : public SensorDriver {
   WriteResult check_location_value(std::int64_t location, double value) const;
 
   DynaDriverOptions options_;
-  SensorState state_;
-  std::uint64_t identity_generation_ = 0;  // the line generation the identity was read on
   std::optional<std::uint16_t> eeprom_location_;
 };
 

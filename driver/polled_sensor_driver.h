@@ -1,0 +1,44 @@
+// The poll cycle every sensor family shares, so each driver writes only its protocol: identity
+// first whenever it is unknown on this line (after start, a reconnect of the tty, a restart),
+// then one measurement; and one log line when the sensor stops or starts answering.
+#pragma once
+
+#include <boost/asio/awaitable.hpp>
+#include <cstdint>
+#include <string>
+
+#include "driver/sensor_driver.h"
+
+namespace tiltgate {
+
+class PolledSensorDriver : public SensorDriver {
+ public:
+  boost::asio::awaitable<void> poll(Line& line) final;
+  const SensorState& state() const final { return state_; }
+
+ protected:
+  // Reads serial, firmware and the like, then calls identity_read_on(generation seen before
+  // the first request). False when the sensor did not answer at all (the poll then fails).
+  virtual boost::asio::awaitable<bool> read_identity(Line& line) = 0;
+  // One measurement: a new Reading and polls_ok, or polls_failed.
+  virtual boost::asio::awaitable<void> read_measurement(Line& line) = 0;
+  // For log lines: the configured sensor name and what it is ("sensor", "Dyna").
+  virtual const std::string& log_name() const = 0;
+  virtual const char* kind() const = 0;
+
+  // The identity was read (or found unreadable) on this line generation: not again until the
+  // line reopens or forget_identity().
+  void identity_read_on(std::uint64_t generation) { identity_generation_ = generation; }
+  // After a restart or reset: read the identity again at the next poll.
+  void forget_identity() {
+    state_.identity_known = false;
+    identity_generation_ = 0;
+  }
+
+  SensorState state_;
+
+ private:
+  std::uint64_t identity_generation_ = 0;
+};
+
+}  // namespace tiltgate
