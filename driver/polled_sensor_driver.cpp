@@ -1,8 +1,22 @@
 #include "driver/polled_sensor_driver.h"
 
-#include "driver/online_log.h"
+#include <spdlog/spdlog.h>
 
 namespace tiltgate {
+
+namespace {
+
+// One line when a sensor stops or starts answering, not one per poll.
+void log_online_change(std::string_view sensor, std::string_view what, unsigned address,
+                       std::string_view line, bool was_online, bool is_online) {
+  if (was_online && !is_online) {
+    spdlog::warn("{}: {} {} on {} stopped answering", sensor, what, address, line);
+  } else if (!was_online && is_online) {
+    spdlog::info("{}: {} {} on {} answering", sensor, what, address, line);
+  }
+}
+
+}  // namespace
 
 boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
   const bool was_online = state_.online;
