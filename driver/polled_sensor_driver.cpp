@@ -33,4 +33,23 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
                     state_.online);
 }
 
+boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_counted(
+    Line& line, LineRequest request, ExchangeOptions options) {
+  request.retries = options.retries;
+  request.settle = options.settle;
+  ++state_.counters.transactions;
+  auto sent = co_await line.transact(std::move(request));
+  if (sent) {
+    state_.online = true;
+  } else {
+    if (sent.error() == LineError::timeout) {
+      ++state_.counters.timeouts;
+    } else {
+      ++state_.counters.io_errors;
+    }
+    state_.online = false;
+  }
+  co_return sent;
+}
+
 }  // namespace tiltgate

@@ -4,12 +4,19 @@
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
+#include <chrono>
 #include <cstdint>
 #include <string>
 
 #include "driver/sensor_driver.h"
 
 namespace tiltgate {
+
+// Per-exchange overrides of the bus settings a driver may ask for.
+struct ExchangeOptions {
+  int retries = -1;  // -1: the bus's
+  std::chrono::milliseconds settle{0};
+};
 
 class PolledSensorDriver : public SensorDriver {
  public:
@@ -25,6 +32,12 @@ class PolledSensorDriver : public SensorDriver {
   // For log lines: the configured sensor name and what it is ("sensor", "Dyna").
   virtual const std::string& log_name() const = 0;
   virtual const char* kind() const = 0;
+
+  // One request/reply on the line, keeping the counters every driver keeps the same way:
+  // transactions, time-outs, port errors, and online (whether anything valid came back).
+  boost::asio::awaitable<Expected<Done, LineError>> transact_counted(Line& line,
+                                                                    LineRequest request,
+                                                                    ExchangeOptions options);
 
   // The identity was read (or found unreadable) on this line generation: not again until the
   // line reopens or forget_identity().

@@ -90,19 +90,12 @@ asio::awaitable<Expected<Frame, ExchangeError>> RiekerDriver::exchange(Line& lin
     LineRequest line_request;
     line_request.bytes = encode(*request);
     line_request.framer = &framer;
-    line_request.retries = options.retries;
-    line_request.settle = options.settle;
-    ++state_.counters.transactions;
-    auto sent = co_await line.transact(std::move(line_request));
+    auto sent = co_await transact_counted(line, std::move(line_request), options);
     state_.counters.checksum_errors += std::uint32_t(framer.crc_errors());
     if (!sent) {
-      if (sent.error() == LineError::timeout) ++state_.counters.timeouts;
-      else ++state_.counters.io_errors;
-      state_.online = false;
       co_return Unexpected(ExchangeError{ExchangeError::Kind::line, sent.error(), 0,
                                          to_string(sent.error())});
     }
-    state_.online = true;
     const Frame& reply = *framer.reply();
     if (reply.function != std::uint16_t(Function::nak)) co_return reply;
 

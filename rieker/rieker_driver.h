@@ -28,11 +28,6 @@ struct ExchangeError {
   std::string detail;
 };
 
-struct ExchangeOptions {
-  int retries = -1;  // -1: the bus's
-  std::chrono::milliseconds settle{0};
-};
-
 class RiekerDriver : public PolledSensorDriver {
  public:
   explicit RiekerDriver(RiekerDriverOptions options);

@@ -99,24 +99,13 @@ asio::awaitable<Expected<DynaAnswer, ExchangeError>> DynaDriver::exchange(
     co_return Unexpected(
         ExchangeError{ExchangeError::Kind::bad_request, LineError::timeout, transaction.error()});
   }
-  LineRequest line_request = transaction->line_request();
-  line_request.retries = options.retries;
-  line_request.settle = options.settle;
-  ++state_.counters.transactions;
-  auto sent = co_await line.transact(std::move(line_request));
+  auto sent = co_await transact_counted(line, transaction->line_request(), options);
   state_.counters.checksum_errors += std::uint32_t(transaction->checksum_errors());
   if (!sent) {
-    if (sent.error() == LineError::timeout) {
-      ++state_.counters.timeouts;
-    } else {
-      ++state_.counters.io_errors;
-    }
-    state_.online = false;
     co_return Unexpected(ExchangeError{ExchangeError::Kind::line, sent.error(),
                                        fmt::format("{}: {}", request_name(request.kind),
                                                    to_string(sent.error()))});
   }
-  state_.online = true;
   auto answer = transaction->answer();
   if (!answer) {
     co_return Unexpected(ExchangeError{ExchangeError::Kind::bad_reply, LineError::timeout,

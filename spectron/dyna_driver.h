@@ -45,11 +45,6 @@ struct ExchangeError {
   std::string detail;
 };
 
-struct ExchangeOptions {
-  int retries = -1;  // -1: the bus's
-  std::chrono::milliseconds settle{0};
-};
-
 class DynaDriver : public PolledSensorDriver {
  public:
   explicit DynaDriver(DynaDriverOptions options);
