@@ -36,6 +36,30 @@ Point make_point(std::string name, RegisterTable table, std::uint16_t address, P
   return p;
 }
 
+Point input_point(std::string name, std::uint16_t address, PointType type, ValueSource source,
+                  std::string units, std::string description, std::uint16_t chars) {
+  Point p = make_point(std::move(name), RegisterTable::input, address, type, source,
+                       std::move(units), std::move(description));
+  p.chars = chars;
+  return p;
+}
+
+Point holding_point(std::string name, std::uint16_t address, PointType type, WriteTarget target,
+                    double min, double max, std::string units, std::string description) {
+  Point p = make_point(std::move(name), RegisterTable::holding, address, type,
+                       ValueSource::written, std::move(units), std::move(description));
+  p.write = target;
+  p.min = min;
+  p.max = max;
+  return p;
+}
+
+Point discrete_point(std::string name, std::uint16_t address, ValueSource source,
+                     std::string description) {
+  return make_point(std::move(name), RegisterTable::discrete, address, PointType::boolean, source,
+                    "", std::move(description));
+}
+
 std::span<const Named<WriteTarget>> write_target_names() { return kWriteTargets; }
 
 const char* to_string(WriteTarget target) { return name_of(write_target_names(), target).data(); }

@@ -46,6 +46,15 @@ struct Point {
 Point make_point(std::string name, RegisterTable table, std::uint16_t address, PointType type,
                  ValueSource source, std::string units = {}, std::string description = {});
 
+// The built-in maps' three kinds of point.
+Point input_point(std::string name, std::uint16_t address, PointType type, ValueSource source,
+                  std::string units, std::string description, std::uint16_t chars = 0);
+// A holding register that triggers `target`, accepting min..max; reads back what was written.
+Point holding_point(std::string name, std::uint16_t address, PointType type, WriteTarget target,
+                    double min, double max, std::string units, std::string description);
+Point discrete_point(std::string name, std::uint16_t address, ValueSource source,
+                     std::string description);
+
 // The names a map file uses for WriteTarget.
 std::span<const Named<WriteTarget>> write_target_names();
 const char* to_string(WriteTarget target);
