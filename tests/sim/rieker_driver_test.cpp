@@ -3,13 +3,11 @@
 
 #include <boost/asio/io_context.hpp>
 #include <cmath>
-#include <filesystem>
-#include <unistd.h>
 
 #include "rieker/rieker_driver.h"
 #include "rieker/simulator.h"
 #include "serial/serial_line.h"
-#include "sim/support/run_coroutine.h"
+#include "sim/support/driver_bench.h"
 
 using namespace tiltgate;
 using namespace tiltgate::rieker;
@@ -18,39 +16,21 @@ using test::run_coroutine;
 
 namespace {
 
-struct Bench {
-  boost::asio::io_context io;
-  std::filesystem::path dir;
-  std::unique_ptr<RiekerSimulator> sim;
-  std::unique_ptr<SerialLine> line;
+// One Rieker bus (8N1 at the factory 125000 baud) with these sensors.
+struct Bench : test::DriverBench<RiekerSimulator> {
+  explicit Bench(std::vector<SimulatedSensorOptions> sensors, int retries = 1)
+      : DriverBench(simulator_options(std::move(sensors)), line_options(retries)) {}
 
-  explicit Bench(std::vector<SimulatedSensorOptions> sensors, int retries = 1) {
-    char tmpl[] = "/tmp/tiltgate-driver-XXXXXX";
-    dir = ::mkdtemp(tmpl);
+  static RiekerSimulatorOptions simulator_options(std::vector<SimulatedSensorOptions> sensors) {
     RiekerSimulatorOptions options;
     options.sensors = std::move(sensors);
-    options.link_path = (dir / "ttyRS485").string();
-    sim = std::make_unique<RiekerSimulator>(io, options);
-    REQUIRE(sim->start().has_value());
-    SerialLineOptions line_options;
-    line_options.name = "line1";
-    line_options.port = options.link_path;
-    line_options.timeout = 100ms;  // generous: the machine may be busy
-    line_options.retries = retries;
-    line_options.reopen_min = 20ms;
-    line_options.reopen_max = 100ms;
-    line = std::make_unique<SerialLine>(io.get_executor(), line_options);
-    REQUIRE(line->start());
+    return options;
   }
-  ~Bench() {
-    line->stop();
-    sim->stop();
-    test::run_for(io, 10ms);
-    std::filesystem::remove_all(dir);
-  }
-  void poll(RiekerDriver& driver) { run_coroutine(io, driver.poll(*line)); }
-  WriteResult write(RiekerDriver& driver, WriteTarget target, double value) {
-    return run_coroutine(io, driver.write(*line, target, value));
+  static SerialLineOptions line_options(int retries) {
+    SerialLineOptions options;
+    options.name = "line1";
+    options.retries = retries;
+    return options;
   }
 };
 
@@ -267,10 +247,7 @@ TEST_CASE("an unplugged adapter fails polls, and after the replug identity is re
   CHECK(driver.state().counters.io_errors >= 1);
 
   REQUIRE(bench.sim->replug().has_value());
-  for (int i = 0; i < 100 && bench.line->generation() == generation; ++i) {
-    test::run_for(bench.io, 20ms);
-  }
-  REQUIRE(bench.line->generation() > generation);
+  REQUIRE(bench.wait_for_reopen(generation));
   const auto transactions = driver.state().counters.transactions;
   bench.poll(driver);
   CHECK(driver.state().online);

@@ -9,6 +9,7 @@
 
 #include "serial/serial_line.h"
 #include "sim/support/raw_tty_client.h"
+#include "sim/support/driver_bench.h"
 #include "sim/support/run_coroutine.h"
 #include "spectron/ascii_codec.h"
 #include "spectron/dyna_driver.h"
@@ -33,43 +34,29 @@ struct ModbusAscii {
 
 constexpr std::uint8_t kAddress = 7;  // valid on both buses
 
-struct Bench {
-  boost::asio::io_context io;
-  test::ScratchDir dir{"tiltgate-dyna-driver"};
-  std::optional<DynaSimulator> sim;
-  std::unique_ptr<SerialLine> line;
+// One Dyna bus at 28800 baud in `protocol`'s framing with these modules.
+struct Bench : test::DriverBench<DynaSimulator> {
+  Bench(Protocol protocol, std::vector<SimulatedDynaOptions> sensors, int retries = 1)
+      : DriverBench(simulator_options(protocol, std::move(sensors)),
+                    line_options(protocol, retries)) {}
 
-  Bench(Protocol protocol, std::vector<SimulatedDynaOptions> sensors, int retries = 1) {
+  static DynaSimulatorOptions simulator_options(Protocol protocol,
+                                                std::vector<SimulatedDynaOptions> sensors) {
     DynaSimulatorOptions options;
     options.protocol = protocol;
     options.sensors = std::move(sensors);
-    options.link_path = dir.path("ttyDYNA");
-    sim.emplace(io, std::move(options));
-    const auto started = sim->start();
-    REQUIRE_MESSAGE(started.has_value(), started.error());
-    SerialLineOptions line_options;
-    line_options.name = "dyna-line";
-    line_options.port = sim->link_path();
-    line_options.baud = 28800;
-    line_options.framing = protocol == Protocol::nine_bit ? Framing::nine_bit
-                                                          : Framing::eight_even_one;
-    line_options.timeout = 100ms;  // generous: the machine may be busy
-    line_options.retries = retries;
-    line_options.reopen_min = 20ms;
-    line_options.reopen_max = 100ms;
-    line = std::make_unique<SerialLine>(io.get_executor(), line_options);
-    REQUIRE(line->start());
+    return options;
   }
-  ~Bench() {
-    line->stop();
-    sim->stop();
-    test::run_for(io, 10ms);
+  static SerialLineOptions line_options(Protocol protocol, int retries) {
+    SerialLineOptions options;
+    options.name = "dyna-line";
+    options.baud = 28800;
+    options.framing =
+        protocol == Protocol::nine_bit ? Framing::nine_bit : Framing::eight_even_one;
+    options.retries = retries;
+    return options;
   }
   SimulatedDyna& module() { return sim->sensor(0); }
-  void poll(DynaDriver& driver) { run_coroutine(io, driver.poll(*line)); }
-  WriteResult write(DynaDriver& driver, WriteTarget target, double value) {
-    return run_coroutine(io, driver.write(*line, target, value));
-  }
 };
 
 SimulatedDynaOptions dyna(std::uint8_t address = kAddress, std::int16_t counts = 1001) {
@@ -372,10 +359,7 @@ TEST_CASE_TEMPLATE("an unplugged adapter fails polls, and after the replug ident
   CHECK(driver.state().counters.io_errors >= 1);
 
   REQUIRE(bench.sim->replug().has_value());
-  for (int i = 0; i < 100 && bench.line->generation() == generation; ++i) {
-    test::run_for(bench.io, 20ms);
-  }
-  REQUIRE(bench.line->generation() > generation);
+  REQUIRE(bench.wait_for_reopen(generation));
   const auto transactions = driver.state().counters.transactions;
   bench.poll(driver);
   CHECK(driver.state().online);
