@@ -30,6 +30,9 @@ struct SensorCounters {
   std::uint32_t timeouts = 0;       // exchanges that got no valid reply in time
   std::uint32_t checksum_errors = 0;  // replies dropped for a bad CRC/LRC
   std::uint32_t io_errors = 0;      // exchanges lost to a port failure
+  // Replies (or stray bytes) that arrived after the reply time-out: discarded, never taken as
+  // the answer to a later request.
+  std::uint32_t late_replies = 0;
   std::array<std::uint32_t, 8> naks{};  // by NAK code (Rieker 0..5; the rest spare)
   std::optional<std::uint8_t> last_nak;
 };
@@ -40,6 +43,12 @@ struct SensorState {
   bool online = false;              // the last exchange with the sensor got a valid reply
   bool identity_known = false;      // serial/firmware read since the last (re)connect
   bool last_write_failed = false;
+  // The sensor has answered after the reply time-out recently (status bit 5); its time-out
+  // is being adapted upward (reply_timeout).
+  bool answers_late = false;
+  // The reply time-out in use for this sensor now: the bus's, or more after late replies
+  // (never above the bus's maximum). Zero until the driver has exchanged anything.
+  std::chrono::milliseconds reply_timeout{0};
   std::string serial;               // as the sensor reports it, trailing spaces trimmed
   std::string firmware;
   std::optional<std::uint16_t> lock_level;

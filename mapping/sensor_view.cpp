@@ -26,6 +26,7 @@ std::uint16_t SensorView::status() const {
   if (state.last_write_failed) bits |= status_bit::last_write_failed;
   if (!state.identity_known) bits |= status_bit::identity_unknown;
   if (alarms() != 0) bits |= status_bit::alarm_active;
+  if (state.answers_late) bits |= status_bit::answers_late;
   return bits;
 }
 

@@ -36,6 +36,7 @@ constexpr std::uint16_t stale = 1 << 1;
 constexpr std::uint16_t last_write_failed = 1 << 2;
 constexpr std::uint16_t identity_unknown = 1 << 3;
 constexpr std::uint16_t alarm_active = 1 << 4;
+constexpr std::uint16_t answers_late = 1 << 5;
 }  // namespace status_bit
 
 }  // namespace tiltgate

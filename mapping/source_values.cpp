@@ -1,5 +1,6 @@
 #include "mapping/source_values.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tiltgate {
@@ -61,6 +62,8 @@ double source_value(ValueSource source, const SensorView& v) {
       return bit_of(v.status(), status_bit::identity_unknown);
     case S::alarm_active:
       return bit_of(v.status(), status_bit::alarm_active);
+    case S::answers_late:
+      return bit_of(v.status(), status_bit::answers_late);
     case S::alarms:
       return v.alarms();
     case S::alarm_x_high:
@@ -89,6 +92,10 @@ double source_value(ValueSource source, const SensorView& v) {
       return c.checksum_errors;
     case S::io_errors:
       return c.io_errors;
+    case S::late_replies:
+      return c.late_replies;
+    case S::reply_timeout_ms:
+      return double(std::min<long long>(s.reply_timeout.count(), 65535));
     case S::last_nak:
       return c.last_nak ? *c.last_nak : 65535;
     case S::lock_level:

@@ -11,7 +11,7 @@ namespace {
 
 using S = ValueSource;
 
-constexpr std::array<Named<ValueSource>, 34> kSources{{
+constexpr std::array<Named<ValueSource>, 37> kSources{{
     {"angle_x", S::angle_x},
     {"angle_y", S::angle_y},
     {"angle_x_cdeg", S::angle_x_cdeg},
@@ -25,6 +25,7 @@ constexpr std::array<Named<ValueSource>, 34> kSources{{
     {"last_write_failed", S::last_write_failed},
     {"identity_unknown", S::identity_unknown},
     {"alarm_active", S::alarm_active},
+    {"answers_late", S::answers_late},
     {"alarms", S::alarms},
     {"alarm_x_high", S::alarm_x_high},
     {"alarm_x_low", S::alarm_x_low},
@@ -39,6 +40,8 @@ constexpr std::array<Named<ValueSource>, 34> kSources{{
     {"timeouts", S::timeouts},
     {"checksum_errors", S::checksum_errors},
     {"io_errors", S::io_errors},
+    {"late_replies", S::late_replies},
+    {"reply_timeout_ms", S::reply_timeout_ms},
     {"last_nak", S::last_nak},
     {"lock_level", S::lock_level},
     {"bus_address", S::bus_address},
@@ -90,6 +93,7 @@ bool is_bit_source(ValueSource source) {
     case S::last_write_failed:
     case S::identity_unknown:
     case S::alarm_active:
+    case S::answers_late:
     case S::alarm_x_high:
     case S::alarm_x_low:
     case S::alarm_y_high:
@@ -116,6 +120,8 @@ bool is_integer_source(ValueSource source) {
     case S::timeouts:
     case S::checksum_errors:
     case S::io_errors:
+    case S::late_replies:
+    case S::reply_timeout_ms:
     case S::last_nak:
     case S::lock_level:
     case S::bus_address:
@@ -161,7 +167,7 @@ ValueRange source_range(ValueSource source, AngleUnit unit) {
     case S::raw_temperature:
       return range(kInt32Min, kInt32Max);  // the driver reports int32
     case S::status:
-      return range(0, 31);  // five status bits
+      return range(0, 63);  // six status bits
     case S::alarms:
       return range(0, 63);  // six alarm bits
     case S::polls_ok:
@@ -170,9 +176,11 @@ ValueRange source_range(ValueSource source, AngleUnit unit) {
     case S::timeouts:
     case S::checksum_errors:
     case S::io_errors:
+    case S::late_replies:
       return range(0, kUint32Max);
     // Saturating or 16-bit by nature; bus addresses: Rieker 1..65000, Spectron 0..255.
     case S::age_ms:
+    case S::reply_timeout_ms:
     case S::last_nak:
     case S::lock_level:
     case S::bus_address:

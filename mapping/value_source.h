@@ -24,6 +24,7 @@ enum class ValueSource : std::uint8_t {
   last_write_failed,
   identity_unknown,
   alarm_active,
+  answers_late,
   alarms,  // ... and the alarm_bit flags, as one integer or one bit each
   alarm_x_high,
   alarm_x_low,
@@ -38,6 +39,8 @@ enum class ValueSource : std::uint8_t {
   timeouts,
   checksum_errors,
   io_errors,
+  late_replies,
+  reply_timeout_ms,  // the reply time-out in use (adapts upward after late replies)
   last_nak,    // 65535 when none
   lock_level,  // 65535 when unknown
   bus_address,
