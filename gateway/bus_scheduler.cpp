@@ -46,10 +46,10 @@ WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteT
   for (const Polled& other : sensors_) {
     // Drivers follow their sensor to a new address, so this is where each one answers now.
     if (other.sensor == &sensor || other.sensor->driver->state().bus_address != *address) continue;
-    return Unexpected(WriteError{
+    return Unexpected{WriteError{
         WriteErrorKind::bad_value,
         fmt::format("address {} is taken by sensor \"{}\" on bus \"{}\"", *address,
-                    other.sensor->config.name, name_)});
+                    other.sensor->config.name, name_)}};
   }
   return Done{};
 }

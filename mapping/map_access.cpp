@@ -132,7 +132,7 @@ Expected<std::vector<PlannedWrite>, MapFault> plan_register_write(
     if (!p->write) return Unexpected(MapFault::illegal_address);
     const auto mine = words.subspan(p->address - address, p->words());
     const double decoded = decode_number(mine, p->type, order_of(*p, order));
-    if (!is_ordinary_float(decoded, p->type)) return Unexpected(MapFault::illegal_value);
+    if (!is_ordinary_float(decoded, p->type)) return Unexpected{MapFault::illegal_value};
     // The inverse of a read's "value * scale + offset"; the loader rejects scale 0.
     const double value = (decoded - p->offset) / p->scale;
     if (!(value >= p->min && value <= p->max)) return Unexpected(MapFault::illegal_value);
