@@ -5,6 +5,7 @@
 
 #include <boost/asio/awaitable.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -61,6 +62,14 @@ class SensorDriver {
 
   // Whether a value may be written, checked before the write is queued.
   virtual WriteResult check_write(WriteTarget target, double value) const = 0;
+
+  // The bus address this write would move the sensor to, if it moves it. The bus refuses one
+  // that another of its sensors has, before the write is queued and again when it starts (an
+  // earlier write may have moved a sensor, or selected the address for an EEPROM write).
+  virtual std::optional<std::uint32_t> address_after(WriteTarget target, double value) const {
+    if (target != WriteTarget::bus_address || !(value >= 0 && value <= 0xFFFF'FFFF)) return {};
+    return std::uint32_t(value);
+  }
 
   // One poll cycle: reads identity first when it is unknown (after start and after the line
   // reopened), then one measurement. Updates state(); never throws.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 namespace tiltgate {
@@ -17,7 +18,7 @@ void BusScheduler::add(GatewaySensor& sensor) {
   // The sensor arrives configured: its mounting and alarms are known from here on.
   sensor.processing = SensorProcessing(sensor.config.mounting, sensor.config.alarms);
   sensor.processed_seq = sensor.driver->state().sample_seq;
-  sensors_.push_back({&sensor, SteadyClock::now()});
+  sensors_.push_back({&sensor, PollSchedule{SteadyClock::now()}});
 }
 
 void BusScheduler::stop() {
@@ -32,25 +33,25 @@ void BusScheduler::stop() {
 
 BusScheduler::Polled* BusScheduler::next_due() {
   auto it = std::min_element(sensors_.begin(), sensors_.end(),
-                             [](const Polled& a, const Polled& b) { return a.due < b.due; });
+                             [](const Polled& a, const Polled& b) {
+                               return a.schedule.due < b.schedule.due;
+                             });
   return it == sensors_.end() ? nullptr : &*it;
 }
 
-void BusScheduler::reschedule(Polled& polled, SteadyClock::time_point now) {
-  const auto period = polled.sensor->config.poll;
-  if (polled.sensor->driver->state().online) {
-    polled.failures = 0;
-    // Keep the cadence while the bus keeps up; when it cannot, earliest-due-first shares it
-    // round-robin instead of letting one sensor catch up in a burst.
-    polled.due = std::max(polled.due + period, now);
-    return;
+WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteTarget target,
+                                             double value) const {
+  const auto address = sensor.driver->address_after(target, value);
+  if (!address) return Done{};
+  for (const Polled& other : sensors_) {
+    // Drivers follow their sensor to a new address, so this is where each one answers now.
+    if (other.sensor == &sensor || other.sensor->driver->state().bus_address != *address) continue;
+    return Unexpected{WriteError{
+        WriteErrorKind::bad_value,
+        fmt::format("address {} is taken by sensor \"{}\" on bus \"{}\"", *address,
+                    other.sensor->config.name, name_)}};
   }
-  // Offline: double the interval per failed poll, up to max_backoff, so a dead sensor costs
-  // the bus one time-out every few seconds instead of one per poll period.
-  polled.failures = std::min(polled.failures + 1, 16);
-  auto wait = period * (1LL << std::min(polled.failures - 1, 10));
-  polled.due = now + std::min<std::chrono::milliseconds>(
-                         std::chrono::duration_cast<std::chrono::milliseconds>(wait), max_backoff);
+  return Done{};
 }
 
 asio::awaitable<void> BusScheduler::run() {
@@ -63,8 +64,8 @@ asio::awaitable<void> BusScheduler::run() {
     }
     Polled* polled = next_due();
     auto now = SteadyClock::now();
-    if (polled == nullptr || polled->due > now) {
-      wake_.expires_at(polled ? polled->due : now + std::chrono::hours(1));
+    if (polled == nullptr || polled->schedule.due > now) {
+      wake_.expires_at(polled ? polled->schedule.due : now + std::chrono::hours(1));
       boost::system::error_code ec;
       co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
@@ -72,7 +73,8 @@ asio::awaitable<void> BusScheduler::run() {
     co_await polled->sensor->driver->poll(line_);
     ++stats_.polls;
     process_new_reading(*polled->sensor);
-    reschedule(*polled, SteadyClock::now());
+    polled->schedule = after_poll(polled->schedule, polled->sensor->driver->state().online,
+                                  polled->sensor->config.poll, max_backoff, SteadyClock::now());
   }
 }
 
@@ -85,8 +87,12 @@ void BusScheduler::process_new_reading(GatewaySensor& sensor) {
 
 asio::awaitable<void> BusScheduler::run_write(std::shared_ptr<PendingWrite> pending) {
   pending->started = true;
-  auto result = co_await pending->sensor->driver->write(line_, pending->target, pending->value);
-  ++stats_.writes;
+  // Again now: a write queued before this one may have moved a sensor to this address.
+  WriteResult result = check_address_free(*pending->sensor, pending->target, pending->value);
+  if (result) {
+    result = co_await pending->sensor->driver->write(line_, pending->target, pending->value);
+    ++stats_.writes;
+  }
   pending->result = std::move(result);
   pending->done.cancel();
 }

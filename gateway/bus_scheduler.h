@@ -14,6 +14,7 @@
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
 #include "gateway/gateway_sensor.h"
+#include "gateway/poll_schedule.h"
 
 namespace tiltgate {
 
@@ -38,18 +39,23 @@ class BusScheduler {
   boost::asio::awaitable<WriteResult> write(GatewaySensor& sensor, WriteTarget target,
                                             double value, SteadyClock::time_point deadline);
 
+  // Refuses (bad_value: Modbus 0x03) a write that would move `sensor` to the address another
+  // sensor on this bus has now: both would answer it, the bus would collide, and moving one
+  // back would move both. write() checks again when the write starts.
+  WriteResult check_address_free(const GatewaySensor& sensor, WriteTarget target,
+                                 double value) const;
+
   const std::string& name() const { return name_; }
   const BusSchedulerStats& stats() const { return stats_; }
   Line& line() { return line_; }
 
-  // Longest wait between polls of an offline sensor.
+  // Longest wait between polls of an offline sensor (gateway/poll_schedule.h).
   static constexpr std::chrono::milliseconds max_backoff{5000};
 
  private:
   struct Polled {
     GatewaySensor* sensor;
-    SteadyClock::time_point due;
-    int failures = 0;  // consecutive polls without a reply
+    PollSchedule schedule;
   };
   struct PendingWrite {
     GatewaySensor* sensor;
@@ -61,7 +67,6 @@ class BusScheduler {
   };
 
   Polled* next_due();
-  void reschedule(Polled& polled, SteadyClock::time_point now);
   // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
   static void process_new_reading(GatewaySensor& sensor);
   boost::asio::awaitable<void> run_write(std::shared_ptr<PendingWrite> pending);

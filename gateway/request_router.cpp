@@ -132,7 +132,14 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
   if (!plan) co_return failure(exception_for(plan.error()));
   for (const PlannedWrite& step : *plan) {
     auto checked = sensor.driver->check_write(*step.point->write, step.value);
-    if (!checked) co_return failure(exception_for(checked.error().kind));
+    if (checked && sensor.bus != nullptr) {
+      checked = sensor.bus->check_address_free(sensor, *step.point->write, step.value);
+    }
+    if (!checked) {
+      spdlog::warn("{}: write {} = {} refused: {}", sensor.config.name, step.point->name,
+                   step.value, checked.error().detail);
+      co_return failure(exception_for(checked.error().kind));
+    }
   }
   const auto deadline = SteadyClock::now() + options_.write_timeout;
   for (const PlannedWrite& step : *plan) {

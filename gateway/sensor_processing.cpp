@@ -5,6 +5,8 @@
 #include <numbers>
 #include <optional>
 
+#include "mapping/tilt.h"
+
 namespace tiltgate {
 
 namespace {
@@ -74,13 +76,15 @@ void SensorProcessing::update(const Reading& reading) {
   if (dual_axis && mounting_.swap_axes) std::swap(x, y);
   if (mounting_.invert_x) x = -x;
   if (dual_axis && mounting_.invert_y) y = -y;
+  // Exact (mapping/tilt.h) and invariant under the turn about the vertical, so taken before
+  // the small-angle rotation below, which would otherwise leak its error into it.
+  const double tilt = tilt_degrees(x, y);
   if (dual_axis) {
     const double turned_x = x * cos_ + y * sin_;
     const double turned_y = -x * sin_ + y * cos_;
     x = turned_x;
     y = turned_y;
   }
-  const double tilt = dual_axis ? std::hypot(x, y) : std::fabs(x);
 
   std::uint16_t alarms = derived_.alarms;
   const double h = alarms_.hysteresis_deg;

@@ -22,6 +22,11 @@
 // exact whatever the sensor's definition (they only swap and negate axes), so mount sensors
 // square where the tilt is large and use swap/invert.
 //
+// Tilt: the exact angle of the sensor's axis from vertical, tan^2(tilt) = tan^2(x) + tan^2(y)
+// over the whole +-180 degree range (mapping/tilt.h), not sqrt(x^2 + y^2). It does not change
+// with swap, invert or a turn about the vertical, so it is computed before the rotation and
+// carries none of its small-angle error.
+//
 // Single-axis sensors (angle_y NaN): swap and rotate need two axes and are not applied (the
 // config loader rejects them for single-axis models); invert_x applies; angle_y stays NaN and
 // tilt = |x|.

@@ -50,7 +50,7 @@ void add_status_block(std::vector<Point>& points) {
   points.push_back(input_point("firmware", 21, T::string, S::firmware, "",
                                "firmware revision, space padded", 7));
   points.push_back(input_point("tilt", 25, T::float32, S::tilt, "deg",
-                               "tilt magnitude sqrt(x^2 + y^2) after mounting; |x| on one axis"));
+                               "tilt from vertical, tan^2 = tan^2 x + tan^2 y; |x| on one axis"));
   points.push_back(input_point("alarms", 27, T::uint16, S::alarms, "",
                                "bit 0 x high, 1 x low, 2 y high, 3 y low, 4 tilt high, 5 rate; "
                                "0 without [sensor] alarms"));

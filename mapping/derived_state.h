@@ -20,7 +20,7 @@ constexpr std::uint16_t rate = 1 << 5;
 struct DerivedState {
   double angle_x = NAN;  // degrees, after swap/invert/rotate
   double angle_y = NAN;
-  double tilt = NAN;     // degrees, magnitude of (angle_x, angle_y); |angle_x| on one axis
+  double tilt = NAN;     // degrees from vertical, 0..180 (mapping/tilt.h); |angle_x| on one axis
   std::uint16_t alarms = 0;  // alarm_bit flags
   bool valid = false;        // false until the first reading
 };

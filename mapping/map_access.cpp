@@ -51,6 +51,17 @@ Expected<Measurements, MapFault> measurements_for(const std::vector<const Point*
   return Unexpected(MapFault::unavailable);
 }
 
+// A float as received is an ordinary number: not NaN, not infinite, and not subnormal. A
+// subnormal is what a client that swaps the two words of a float32 sends for an ordinary value
+// (0.75 is 3F40 0000; swapped, 0000 3F40 decodes as 2.3e-41), so it is refused rather than
+// stored. Zero is a number. Checked on the float itself, before scale and offset.
+bool is_ordinary_float(double decoded, PointType type) {
+  int kind = FP_NORMAL;
+  if (type == PointType::float32) kind = std::fpclassify(float(decoded));  // exact: it was a float
+  else if (type == PointType::float64) kind = std::fpclassify(decoded);
+  return kind == FP_NORMAL || kind == FP_ZERO;
+}
+
 RegisterOrder order_of(const Point& p, WordOrder server) {
   return p.order.value_or(register_order(server));
 }
@@ -120,8 +131,10 @@ Expected<std::vector<PlannedWrite>, MapFault> plan_register_write(
   for (const Point* p : *points) {
     if (!p->write) return Unexpected(MapFault::illegal_address);
     const auto mine = words.subspan(p->address - address, p->words());
+    const double decoded = decode_number(mine, p->type, order_of(*p, order));
+    if (!is_ordinary_float(decoded, p->type)) return Unexpected{MapFault::illegal_value};
     // The inverse of a read's "value * scale + offset"; the loader rejects scale 0.
-    const double value = (decode_number(mine, p->type, order_of(*p, order)) - p->offset) / p->scale;
+    const double value = (decoded - p->offset) / p->scale;
     if (!(value >= p->min && value <= p->max)) return Unexpected(MapFault::illegal_value);
     plan.push_back({p, value, {mine.begin(), mine.end()}});
   }

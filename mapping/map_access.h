@@ -40,7 +40,8 @@ struct PlannedWrite {
 };
 
 // Checks a write of holding registers: every register must belong to a writable point that
-// the request covers whole, and every value must be in its point's range. `order` is the
+// the request covers whole, every float must be a number (not NaN, infinite or subnormal, the
+// mark of swapped words), and every value must be in its point's range. `order` is the
 // [server] word order, for points without one of their own.
 Expected<std::vector<PlannedWrite>, MapFault> plan_register_write(
     const RegisterMap& map, WordOrder order, std::uint16_t address,

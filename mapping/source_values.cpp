@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mapping/tilt.h"
+
 namespace tiltgate {
 namespace {
 
@@ -16,12 +18,11 @@ double angle(const SensorView& v, bool x) {
   return x ? v.state.reading->angle_x : v.state.reading->angle_y;
 }
 
-// Without derived state: the magnitude of the raw reading, |x| on a single-axis sensor.
+// Without derived state: the tilt of the raw reading (the mounting does not change it),
+// |x| on a single-axis sensor.
 double tilt(const SensorView& v) {
   if (derived_valid(v)) return v.derived->tilt;
-  const double x = angle(v, true);
-  const double y = angle(v, false);
-  return std::isnan(y) ? std::fabs(x) : std::hypot(x, y);
+  return tilt_degrees(angle(v, true), angle(v, false));
 }
 
 double optional_int(const std::optional<std::int32_t>& value) {

@@ -52,8 +52,8 @@ constexpr std::array<Named<ValueSource>, 37> kSources{{
 }};
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-// Both axes at their +-180 degree limit: the largest magnitude the vector sum can have.
-const double kMaxTilt = std::hypot(180.0, 180.0);
+// Upside down (mapping/tilt.h): the largest angle from vertical there is.
+constexpr double kMaxTilt = 180.0;
 
 ValueRange range(double min, double max) { return ValueRange{min, max, true}; }
 

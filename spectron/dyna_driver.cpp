@@ -91,6 +91,13 @@ WriteResult DynaDriver::check_write(WriteTarget target, double value) const {
   }
 }
 
+std::optional<std::uint32_t> DynaDriver::address_after(WriteTarget target, double value) const {
+  if (target == WriteTarget::eeprom_value && eeprom_location_ == eeprom::kModuleAddress) {
+    target = WriteTarget::bus_address;
+  }
+  return SensorDriver::address_after(target, value);
+}
+
 asio::awaitable<Expected<DynaAnswer, ExchangeError>> DynaDriver::exchange(
     Line& line, DynaRequest request, ExchangeOptions options, std::optional<int> address) {
   auto transaction =

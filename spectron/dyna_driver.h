@@ -55,6 +55,8 @@ class DynaDriver : public PolledSensorDriver {
   // writes the location and value registers together is checked before either runs), so
   // write() checks it against that location, before anything is sent.
   WriteResult check_write(WriteTarget target, double value) const override;
+  // Also an EEPROM window write while the module address location is selected.
+  std::optional<std::uint32_t> address_after(WriteTarget target, double value) const override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
 
   int address() const { return options_.address; }

@@ -83,7 +83,8 @@ TEST_CASE("readings are corrected for the mounting and raise alarms before a PLC
   CHECK(std::int16_t(angles[4]) == 225);
   auto tilt = client.input(25, 3);
   REQUIRE(tilt.size() == 3);
-  CHECK(float_at(tilt, 0) == doctest::Approx(std::hypot(2.25, 1.5)));
+  // tan^2(tilt) = tan^2(2.25) + tan^2(1.5): 2.70331 (sqrt(x^2 + y^2) would be 2.70416).
+  CHECK(float_at(tilt, 0) == doctest::Approx(2.7033088).epsilon(1e-6));
   CHECK(tilt[2] == 0x01);  // alarms: X high
   CHECK(client.discrete(0, 3) == std::vector<std::uint8_t>{1, 1, 0});
   CHECK((client.input(6, 1).at(0) & 0x10) == 0x10);  // status bit 4: an alarm is active

@@ -8,6 +8,7 @@
 
 #include "mapping/default_maps.h"
 #include "mapping/map_access.h"
+#include "mapping/tilt.h"
 #include "mapping/value_codec.h"
 
 using namespace tiltgate;
@@ -88,7 +89,10 @@ TEST_CASE("angles, tilt and alarms come from the derived state once it is valid"
   const auto state = sensor_at(now, 3.0, 4.0);
   SensorView raw{state, now, 1000ms, {}};
   Words w = read(map, raw, 25, 3);
-  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 5.0f);  // hypot(3, 4)
+  // The exact tilt of the raw reading (mapping/tilt.h), not hypot(3, 4) = 5.
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == float(tilt_degrees(3.0, 4.0)));
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) ==
+        doctest::Approx(4.994169393).epsilon(1e-7));
   CHECK(w[2] == 0);
 
   DerivedState derived;

@@ -55,7 +55,7 @@ TEST_CASE("before the first reading nothing is valid; an unmounted reading passe
   CHECK(d.valid);
   CHECK(d.angle_x == 3.0);
   CHECK(d.angle_y == -4.0);
-  CHECK(d.tilt == 5.0);
+  CHECK(d.tilt == doctest::Approx(4.994169393).epsilon(1e-9));  // exact; hypot says 5
   CHECK(d.alarms == 0);
 }
 
@@ -108,6 +108,30 @@ TEST_CASE("an askew sensor: the tilt vector is turned into the machine frame, ti
   const DerivedState diagonal = mounted(rotated(45), 10.0, 10.0);
   CHECK(diagonal.angle_x == doctest::Approx(14.142135623730951).epsilon(1e-12));
   CHECK(diagonal.angle_y == doctest::Approx(0.0).epsilon(1e-12));
+}
+
+TEST_CASE("tilt is exact at large angles, whatever the mounting, and tilt alarms use it") {
+  // tan^2(tilt) = tan^2(45) + tan^2(45) = 2: 54.7356 degrees, where hypot says 63.64.
+  constexpr double exact = 54.735610317245346;
+  MountingConfig askew = rotated(30);
+  askew.swap_axes = true;
+  askew.invert_y = true;
+  for (const MountingConfig& mounting : {MountingConfig{}, rotated(30), askew, rotated(-135)}) {
+    CHECK(mounted(mounting, 45.0, 45.0).tilt == doctest::Approx(exact).epsilon(1e-9));
+    CHECK(mounted(mounting, 150.0, -170.0).tilt ==
+          doctest::Approx(mounted(MountingConfig{}, 150.0, -170.0).tilt).epsilon(1e-12));
+  }
+  CHECK(mounted(MountingConfig{}, 180.0, 180.0).tilt == doctest::Approx(180.0));
+
+  AlarmConfig alarms;
+  alarms.tilt_high = 60.0;
+  SensorProcessing processing(MountingConfig{}, alarms);
+  processing.update(reading(45.0, 45.0));
+  CHECK(processing.derived().alarms == 0);  // 54.7 is below 60
+  processing.update(reading(50.0, 50.0));   // 59.3: still below
+  CHECK(processing.derived().alarms == 0);
+  processing.update(reading(55.0, 50.0));   // 61.7
+  CHECK(processing.derived().alarms == alarm_bit::tilt_high);
 }
 
 TEST_CASE("single-axis sensors: invert_x applies, swap and rotate do not, tilt is |x|") {

@@ -1,0 +1,137 @@
+// A fake serial line and a fake sensor driver for testing the gateway core (BusScheduler,
+// RequestRouter) on an io_context without a tty or a protocol. The driver records what the
+// core asked of it, in one event list shared by every sensor of a bus, so tests can assert on
+// order and counts rather than on time.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "driver/line.h"
+#include "driver/sensor_driver.h"
+#include "gateway/gateway_sensor.h"
+#include "mapping/default_maps.h"
+
+namespace tiltgate::test {
+
+// Every transaction holds the line for its request's `timeout` (zero: just yields to the
+// event loop), then succeeds. Counts attempts.
+class FakeLine : public Line {
+ public:
+  explicit FakeLine(boost::asio::any_io_executor executor) : executor_(executor) {}
+
+  boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override {
+    ++stats_.attempts;
+    boost::asio::steady_timer busy(executor_, request.timeout);
+    co_await busy.async_wait(boost::asio::use_awaitable);
+    co_return Done{};
+  }
+  std::uint64_t generation() const override { return 1; }
+  bool is_open() const override { return true; }
+  const std::string& name() const override { return name_; }
+  const LineStats& stats() const override { return stats_; }
+
+ private:
+  boost::asio::any_io_executor executor_;
+  std::string name_ = "fake";
+  LineStats stats_;
+};
+
+// Events as "<sensor> poll", "<sensor> poll end", "<sensor> write", "<sensor> write end".
+using BusEvents = std::vector<std::string>;
+
+// An H6 as the core sees it. Each poll and write is one line transaction of poll_time /
+// write_time; a poll brings a reading while `answers`, else the sensor goes offline. A
+// bus_address write moves the sensor, as the real drivers do.
+class FakeDriver : public SensorDriver {
+ public:
+  FakeDriver(std::string name, std::uint32_t address, BusEvents& events)
+      : name_(std::move(name)), events_(events) {
+    state_.bus_address = address;
+  }
+
+  bool answers = true;
+  std::chrono::milliseconds poll_time{0};
+  std::chrono::milliseconds write_time{0};
+  std::function<void()> on_poll;  // runs as each poll starts, before it takes the line
+  int polls = 0;
+  mutable int checks = 0;  // check_write calls
+  std::vector<std::pair<WriteTarget, double>> writes;  // every write that reached the driver
+
+  std::string_view model() const override { return "h6"; }
+  WriteResult check_write(WriteTarget, double) const override {
+    ++checks;
+    return Done{};
+  }
+  boost::asio::awaitable<void> poll(Line& line) override {
+    ++polls;
+    events_.push_back(name_ + " poll");
+    if (on_poll) on_poll();
+    co_await line.transact(LineRequest{{}, 0, nullptr, poll_time});
+    state_.online = answers;
+    if (answers) {
+      state_.reading = Reading{1.0, 2.0, {}, {}, SteadyClock::now()};
+      ++state_.sample_seq;
+    }
+    events_.push_back(name_ + " poll end");
+  }
+  boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target,
+                                            double value) override {
+    events_.push_back(name_ + " write");
+    writes.emplace_back(target, value);
+    co_await line.transact(LineRequest{{}, 0, nullptr, write_time});
+    if (target == WriteTarget::bus_address) state_.bus_address = std::uint32_t(value);
+    events_.push_back(name_ + " write end");
+    co_return Done{};
+  }
+  const SensorState& state() const override { return state_; }
+
+ private:
+  std::string name_;
+  BusEvents& events_;
+  SensorState state_;
+};
+
+// A configured sensor around a FakeDriver, with the built-in H6 map (holding 0 filter,
+// 7 rs485_address).
+inline std::unique_ptr<GatewaySensor> fake_sensor(std::string name, std::uint8_t unit_id,
+                                                  std::uint32_t address, BusEvents& events,
+                                                  std::chrono::milliseconds poll =
+                                                      std::chrono::milliseconds(100)) {
+  auto sensor = std::make_unique<GatewaySensor>();
+  sensor->config.name = name;
+  sensor->config.bus = "bus";
+  sensor->config.model = "h6";
+  sensor->config.address = address;
+  sensor->config.unit_id = unit_id;
+  sensor->config.poll = poll;
+  sensor->driver = std::make_unique<FakeDriver>(std::move(name), address, events);
+  sensor->map = default_map("h6");
+  sensor->written.assign(sensor->map.holding_end(), 0);
+  return sensor;
+}
+
+inline FakeDriver& fake_driver(GatewaySensor& sensor) {
+  return static_cast<FakeDriver&>(*sensor.driver);
+}
+
+// Runs the io_context until `done()` holds or `limit` passes; false on the limit.
+inline bool run_until(boost::asio::io_context& io, const std::function<bool()>& done,
+                      std::chrono::seconds limit = std::chrono::seconds(20)) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    io.restart();
+    io.run_one_for(std::chrono::milliseconds(50));
+  }
+  return true;
+}
+
+}  // namespace tiltgate::test
