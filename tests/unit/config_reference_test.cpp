@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -47,7 +48,9 @@ TEST_CASE("config/CONFIG-REFERENCE.md has a row for every key the loader accepts
   REQUIRE_FALSE(doc.empty());
   const config::AcceptedKeys accepted = config::accepted_keys();
   REQUIRE(accepted.size() == kSections.size());  // a new kind of table needs a section
-  for (const auto& [kind, keys] : accepted) {
+  for (const auto& table : accepted) {
+    const std::string& kind = table.first;  // not a structured binding: INFO captures it
+    const std::set<std::string>& keys = table.second;
     INFO("table: " << kind);
     REQUIRE(kSections.count(kind) == 1);
     const std::string text = section(doc, kSections.at(kind));
