@@ -16,6 +16,11 @@ ConfigErrors ErrorList::take() {
   };
   std::stable_sort(errors_.begin(), errors_.end(),
                    [&](const ConfigError& a, const ConfigError& b) { return order(a) < order(b); });
+  // One map file checked for two models reports the problems they share twice.
+  auto same = [](const ConfigError& a, const ConfigError& b) {
+    return a.line == b.line && a.column == b.column && a.key == b.key && a.message == b.message;
+  };
+  errors_.erase(std::unique(errors_.begin(), errors_.end(), same), errors_.end());
   return std::move(errors_);
 }
 

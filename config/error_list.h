@@ -17,9 +17,18 @@ struct Place {
   int column = 0;
 };
 
+// The keys each kind of table accepts, as its reader asks for them, by the table's path without
+// indices: "sensor" -> {"name", "bus", ...}, "sensor.map.point" -> {"name", "table", ...}.
+using AcceptedKeys = std::map<std::string, std::set<std::string>, std::less<>>;
+
 class ErrorList {
  public:
   explicit ErrorList(std::string file) : file_(std::move(file)) {}
+
+  // Has every table read on this list record the keys it accepts into `keys` (see
+  // config/accepted_keys.h); nullptr, the default, records nothing.
+  void record_accepted_keys(AcceptedKeys* keys) { accepted_keys_ = keys; }
+  AcceptedKeys* accepted_keys() const { return accepted_keys_; }
 
   void add(Place where, std::string key, std::string message);
   bool empty() const { return errors_.empty(); }
@@ -30,6 +39,7 @@ class ErrorList {
  private:
   std::string file_;
   ConfigErrors errors_;
+  AcceptedKeys* accepted_keys_ = nullptr;
 };
 
 // Where one table ([server], one [[bus]], one [[sensor]]) and its keys were written.

@@ -70,6 +70,12 @@ class MapFiles {
   std::vector<std::unique_ptr<MapFile>> files_;
 };
 
+// The model a sensor's map is checked for: "" when the model is itself in error, so that the
+// map's own problems are still reported in the same run.
+std::string checked_model(const ParsedSensor& sensor) {
+  return sensor.where.valid("model") ? sensor.config.model : std::string();
+}
+
 void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& files,
               ErrorList& errors) {
   const std::string path = resolve(config_path, sensor.map_file);
@@ -78,9 +84,8 @@ void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& file
     return sensor.where.report(
         errors, "map", fmt::format("\"{}\" ({}) {}", sensor.map_file, path, file.open_error));
   if (!file.map) return;  // its syntax error is reported in the file
-  const std::string& model = sensor.config.model;
-  if (sensor.where.valid("model") && file.checked_models.insert(model).second)
-    check_map(*file.map, model, file.errors);
+  const std::string model = checked_model(sensor);
+  if (file.checked_models.insert(model).second) check_map(*file.map, model, file.errors);
   sensor.config.map = file.map->definition;
   sensor.config.map_file = path;
 }
@@ -92,7 +97,7 @@ ConfigErrors load_sensor_maps(std::vector<ParsedSensor>& sensors, std::string_vi
   MapFiles files;
   for (ParsedSensor& sensor : sensors) {
     if (sensor.inline_map) {
-      if (sensor.where.valid("model")) check_map(*sensor.inline_map, sensor.config.model, errors);
+      check_map(*sensor.inline_map, checked_model(sensor), errors);
       sensor.config.map = sensor.inline_map->definition;
     } else if (!sensor.map_file.empty()) {
       use_file(sensor, config_path, files, errors);

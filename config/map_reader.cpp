@@ -17,27 +17,33 @@ std::string point_path(const std::string& map_path, std::size_t index) {
                           : fmt::format("{}.point[{}]", map_path, index);
 }
 
-void read_points(TableReader& in, const std::string& map_path, ParsedMap& map, ErrorList& errors) {
+// False when `point` is not an array of tables (a problem of the map, not of one point).
+bool read_points(TableReader& in, const std::string& map_path, ParsedMap& map, ErrorList& errors) {
   const toml::node* node = in.node("point");
-  if (node == nullptr) return;
+  if (node == nullptr) return true;
   const toml::array* array = node->as_array();
   if (array == nullptr) {
     in.error("point", fmt::format("expected an array of tables ([[point]]), got {}",
                                   type_name(node->type())));
-    return;
+    return false;
   }
+  bool all_tables = true;
   in.accept("point");
   for (std::size_t i = 0; i < array->size(); ++i) {
     const toml::node& element = *array->get(i);
     if (const toml::table* table = element.as_table()) {
+      const std::size_t errors_before = errors.size();
       ParsedPoint point = read_point(*table, point_path(map_path, i), errors);
       map.definition.points.push_back(std::move(point.point));
       map.points.push_back(std::move(point.where));
+      map.points_read.push_back(errors.size() == errors_before);
     } else {
       errors.add(place_of(element.source()), point_path(map_path, i),
                  fmt::format("expected a table, got {}", type_name(element.type())));
+      all_tables = false;
     }
   }
+  return all_tables;
 }
 
 // Where a problem with a resolved point is reported: at the map's own point (the later one
@@ -67,38 +73,64 @@ void check_removals(const ParsedMap& map, const std::string& base, ErrorList& er
                        fmt::format("\"{}\" is not a point of the built-in \"{}\" map", name, base));
 }
 
+// The part of `map` worth checking: the points that read without errors and, when
+// `base_known`, the built-in map it extends and its removals.
+ParsedMap readable_part(const ParsedMap& map, bool base_known) {
+  ParsedMap part{MapDefinition{}, map.where, {}, {}, map.header_read};
+  if (base_known) {
+    part.definition.extends = map.definition.extends;
+    part.definition.remove = map.definition.remove;
+  }
+  for (std::size_t i = 0; i < map.points.size(); ++i) {
+    if (!map.points_read[i]) continue;
+    part.definition.points.push_back(map.definition.points[i]);
+    part.points.push_back(map.points[i]);
+    part.points_read.push_back(true);
+  }
+  return part;
+}
+
 }  // namespace
 
 ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors) {
   const std::size_t errors_before = errors.size();
   TableReader in(table, path, errors);
-  ParsedMap map{MapDefinition{}, in.located(), {}, true};
+  ParsedMap map{MapDefinition{}, in.located(), {}, {}, true};
   std::vector<std::string_view> profiles{kDefaultProfile};
   for (std::string_view model : models_with_default_maps()) profiles.push_back(model);
   if (auto extends = in.choice("extends", profiles)) map.definition.extends = *extends;
   if (auto remove = in.strings("remove")) map.definition.remove = *remove;
-  read_points(in, path, map, errors);
+  const bool own_keys_read = errors.size() == errors_before;
+  const bool points_array_read = read_points(in, path, map, errors);
+  const std::size_t errors_before_unknown = errors.size();
   in.reject_unknown_keys();
   map.where = in.located();
-  map.complete = errors.size() == errors_before;
+  map.header_read =
+      own_keys_read && points_array_read && errors.size() == errors_before_unknown;
   return map;
 }
 
 void check_map(const ParsedMap& map, std::string_view model, ErrorList& errors) {
-  if (!map.complete) return;
-  const std::string base = base_profile(map.definition, model);
-  if (map.definition.extends == kDefaultProfile && default_map(base).points().empty())
+  const bool base_known =
+      map.header_read && !(model.empty() && map.definition.extends == kDefaultProfile);
+  const ParsedMap part = readable_part(map, base_known);
+  const bool whole = base_known && part.points.size() == map.points.size();
+  const std::string base = base_profile(part.definition, model);
+  if (base_known && part.definition.extends == kDefaultProfile && default_map(base).points().empty())
     return map.where.report(errors, "extends",
                             fmt::format("model \"{}\" has no built-in map to extend", model));
-  check_removals(map, base, errors);
-  const std::vector<ResolvedPoint> resolved = resolve_points(map.definition, model);
-  if (resolved.empty())
-    return map.where.report(errors, "point",
-                            "the map has no points; add [[point]] tables or extends = \"default\"");
+  if (base_known) check_removals(part, base, errors);
+  const std::vector<ResolvedPoint> resolved = resolve_points(part.definition, model);
+  if (resolved.empty()) {
+    if (whole)
+      map.where.report(errors, "point",
+                       "the map has no points; add [[point]] tables or extends = \"default\"");
+    return;
+  }
   std::vector<Point> points;
   for (const ResolvedPoint& r : resolved) points.push_back(r.point);
   for (const MapProblem& problem : check_points(points, model))
-    report(map, resolved, problem, errors);
+    report(part, resolved, problem, errors);
 }
 
 }  // namespace tiltgate::config

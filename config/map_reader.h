@@ -18,14 +18,18 @@ struct ParsedMap {
   MapDefinition definition;
   Located where;                // extends, remove, point
   std::vector<Located> points;  // where each point's keys are, as definition.points
-  bool complete = true;         // read without errors, so worth checking as a whole
+  std::vector<bool> points_read;  // as definition.points: the point read without errors
+  bool header_read = true;        // extends, remove and the map's own keys read without errors
 };
 
 // `path` names the table in messages: "" for a map file's top level, "sensor[0].map" inline.
 ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors);
 
-// Checks `map` as the map of a sensor of `model` (mapping/map_validation.h); a map that is not
-// `complete` is not checked further (its points hold defaults where keys were wrong).
+// Checks `map` as the map of a sensor of `model` (mapping/map_validation.h); model "" when the
+// sensor's model is itself in error. Only what read without errors is checked, so that a key
+// error elsewhere hides no map problem in the same run and adds no false one: a point with a
+// wrong key (it holds defaults) is left out, and so are the built-in points when `extends`,
+// `remove` or the model could not be read.
 void check_map(const ParsedMap& map, std::string_view model, ErrorList& errors);
 
 }  // namespace tiltgate::config

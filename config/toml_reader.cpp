@@ -236,7 +236,25 @@ const toml::node* TableReader::node(std::string_view key) {
   return find_any(key, Presence::optional, "");
 }
 
+namespace {
+
+// "sensor[2].map.point[0]" -> "sensor.map.point"
+std::string kind_of_table(std::string_view path) {
+  std::string kind;
+  bool in_index = false;
+  for (char c : path) {
+    if (c == '[') in_index = true;
+    if (!in_index) kind += c;
+    if (c == ']') in_index = false;
+  }
+  return kind;
+}
+
+}  // namespace
+
 void TableReader::reject_unknown_keys() {
+  if (AcceptedKeys* accepted = errors_.accepted_keys())
+    (*accepted)[kind_of_table(located_.path())].insert(asked_.begin(), asked_.end());
   for (auto&& [key, node] : table_) {
     if (std::find(asked_.begin(), asked_.end(), key.str()) != asked_.end()) continue;
     const std::string guess = closest_key(key.str(), asked_);

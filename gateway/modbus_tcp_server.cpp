@@ -30,6 +30,13 @@ std::string peer_of(const tcp::socket& socket) {
   return fmt::format("{}:{}", peer.address().to_string(), peer.port());
 }
 
+// The client's address without its port: what a flood of connections has in common.
+std::string address_of(const tcp::socket& socket) {
+  boost::system::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  return ec ? "(unknown peer)" : peer.address().to_string();
+}
+
 // What a connection's deadline currently guards.
 enum class Wait {
   idle,     // between requests: idle_timeout
@@ -41,8 +48,11 @@ enum class Wait {
 }  // namespace
 
 struct ModbusTcpServer::Connection {
-  Connection(tcp::socket s, std::string peer_name)
-      : socket(std::move(s)), timer(socket.get_executor()), peer(std::move(peer_name)) {}
+  Connection(tcp::socket s, std::string peer_name, std::string peer_address)
+      : socket(std::move(s)),
+        timer(socket.get_executor()),
+        peer(std::move(peer_name)),
+        address(std::move(peer_address)) {}
 
   // Sets what the watchdog enforces next. Moving the deadline earlier wakes the watchdog;
   // moving it later does not need to (it re-reads the deadline when its timer fires).
@@ -62,6 +72,7 @@ struct ModbusTcpServer::Connection {
   tcp::socket socket;
   asio::steady_timer timer;
   std::string peer;
+  std::string address;  // peer without the port
   Wait waiting_for = Wait::idle;
   Clock::time_point deadline = Clock::time_point::max();
   bool closed = false;
@@ -69,7 +80,12 @@ struct ModbusTcpServer::Connection {
 
 ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHandler& handler,
                                  ModbusServerOptions options)
-    : executor_(executor), handler_(handler), options_(std::move(options)), acceptor_(executor) {}
+    : executor_(executor),
+      handler_(handler),
+      options_(std::move(options)),
+      acceptor_(executor),
+      problem_log_(options_.problem_log),
+      summary_timer_(executor) {}
 
 ModbusTcpServer::~ModbusTcpServer() = default;
 
@@ -103,6 +119,7 @@ Expected<Done, std::string> ModbusTcpServer::start() {
 
   encoder_ = std::move(*encoder);
   asio::co_spawn(executor_, accept_clients(), asio::detached);
+  asio::co_spawn(executor_, summarize_suppressed(), asio::detached);
   return Done{};
 }
 
@@ -115,6 +132,7 @@ std::uint16_t ModbusTcpServer::local_port() const {
 void ModbusTcpServer::stop() {
   boost::system::error_code ec;
   acceptor_.close(ec);
+  summary_timer_.cancel();
   // Each connection's coroutine removes it from the set when it sees the closed socket.
   for (const auto& connection : connections_) connection->close();
 }
@@ -164,7 +182,9 @@ void ModbusTcpServer::admit(tcp::socket socket) {
   // Replies are small and the client waits for each one: do not hold them for Nagle.
   socket.set_option(tcp::no_delay(true), ec);
   std::string peer = peer_of(socket);
-  auto connection = std::make_shared<Connection>(std::move(socket), std::move(peer));
+  std::string address = address_of(socket);
+  auto connection =
+      std::make_shared<Connection>(std::move(socket), std::move(peer), std::move(address));
   connections_.insert(connection);
   spdlog::debug("Modbus TCP client {} connected ({} connected)", connection->peer,
                 connections_.size());
@@ -179,7 +199,7 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
   while (!c.closed) {
     const auto next = frames.next();
     if (const auto* error = std::get_if<FramingError>(&next)) {
-      spdlog::info("closing Modbus TCP client {}: {}", c.peer, to_string(*error));
+      log_closing(c, spdlog::level::warn, to_string(*error));
       ++stats_.framing_errors;
       break;
     }
@@ -274,18 +294,19 @@ void ModbusTcpServer::expire(Connection& c) {
   switch (c.waiting_for) {
     case Wait::idle:
       ++stats_.idle_timeouts;
-      spdlog::info("closing Modbus TCP client {}: idle for {} ms", c.peer,
-                   options_.idle_timeout.count());
+      // Silence is no fault of the request: info, but throttled like the rest.
+      log_closing(c, spdlog::level::info,
+                  fmt::format("idle for {} ms", options_.idle_timeout.count()));
       break;
     case Wait::request:
       ++stats_.request_timeouts;
-      spdlog::info("closing Modbus TCP client {}: request incomplete after {} ms", c.peer,
-                   options_.request_timeout.count());
+      log_closing(c, spdlog::level::warn,
+                  fmt::format("request incomplete after {} ms", options_.request_timeout.count()));
       break;
     case Wait::reply:
       ++stats_.request_timeouts;
-      spdlog::info("closing Modbus TCP client {}: reply not taken within {} ms", c.peer,
-                   options_.request_timeout.count());
+      log_closing(c, spdlog::level::warn,
+                  fmt::format("reply not taken within {} ms", options_.request_timeout.count()));
       break;
     case Wait::handler: break;  // no deadline while the handler works
   }
@@ -296,6 +317,40 @@ void ModbusTcpServer::finish(const std::shared_ptr<Connection>& connection) {
   connections_.erase(connection);
   spdlog::debug("Modbus TCP client {} disconnected ({} connected)", connection->peer,
                 connections_.size());
+}
+
+void ModbusTcpServer::log_closing(const Connection& c, spdlog::level::level_enum level,
+                                  std::string_view why) {
+  const auto now = Clock::now();
+  if (problem_log_.admit(c.address, now)) {
+    spdlog::log(level, "closing Modbus TCP client {}: {}", c.peer, why);
+  } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
+    summary_timer_.cancel();  // summarize_suppressed() sleeps past this address's summary
+  }
+  log_suppressed(now);
+}
+
+void ModbusTcpServer::log_suppressed(Clock::time_point now) {
+  for (const SuppressedProblems& s : problem_log_.take_summaries(now)) {
+    spdlog::warn("Modbus TCP clients from {}: {} more closed for cause in the last {} s, not "
+                 "logged one by one",
+                 s.address, s.count,
+                 std::chrono::duration_cast<std::chrono::seconds>(s.span).count());
+  }
+}
+
+// Logs each interval's count of suppressed lines when it ends, also when no further problem
+// comes to trigger it.
+asio::awaitable<void> ModbusTcpServer::summarize_suppressed() {
+  while (acceptor_.is_open()) {
+    const auto now = Clock::now();
+    summary_timer_.expires_at(
+        problem_log_.next_summary_due().value_or(now + options_.problem_log.interval));
+    boost::system::error_code ec;
+    co_await summary_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+    if (!acceptor_.is_open()) co_return;
+    log_suppressed(Clock::now());
+  }
 }
 
 }  // namespace tiltgate

@@ -6,6 +6,8 @@
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <spdlog/common.h>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "driver/expected.h"
+#include "gateway/log_throttle.h"
 #include "gateway/modbus_types.h"
 
 namespace tiltgate {
@@ -28,6 +31,7 @@ struct ModbusServerOptions {
   std::chrono::milliseconds idle_timeout{60000};    // no request for this long: closed
   std::chrono::milliseconds request_timeout{5000};  // a request (or its reply) stuck this long
                                                     // since its first byte: closed
+  LogThrottleOptions problem_log;  // clients closed for cause: a few lines per address, then counts
 };
 
 struct ModbusServerStats {
@@ -75,6 +79,11 @@ class ModbusTcpServer {
   std::vector<std::uint8_t> encode(const ModbusRequest& request, const ModbusResponse& response);
   void expire(Connection& connection);
   void finish(const std::shared_ptr<Connection>& connection);
+  // Logs why a client is closed, unless its address has had its share of lines lately.
+  void log_closing(const Connection& connection, spdlog::level::level_enum level,
+                   std::string_view why);
+  void log_suppressed(LogThrottle::Clock::time_point now);
+  boost::asio::awaitable<void> summarize_suppressed();
 
   boost::asio::any_io_executor executor_;
   ModbusRequestHandler& handler_;
@@ -84,6 +93,8 @@ class ModbusTcpServer {
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   ModbusServerStats stats_;
   bool refusing_ = false;  // warn once per burst of refused clients
+  LogThrottle problem_log_;
+  boost::asio::steady_timer summary_timer_;  // wakes summarize_suppressed()
 };
 
 }  // namespace tiltgate

@@ -221,3 +221,27 @@ TEST_CASE("map file: check reports a map file's mistake at its line and refuses 
   auto run = run_tiltgate({"run", "--config", config.string()});
   CHECK(run.exit_code == 1);
 }
+
+TEST_CASE("map file: check reports key errors and map problems together, in one run") {
+  TempDir dir;
+  // Point "b" overlaps "a"; "c" has a misspelt key.
+  dir.write("bad-map.toml",
+            "[[point]]\nname = \"a\"\ntable = \"input\"\naddress = 0\ntype = \"float32\"\n"
+            "source = \"angle_x\"\n[[point]]\nname = \"b\"\ntable = \"input\"\naddress = 1\n"
+            "type = \"uint16\"\nsource = \"status\"\n[[point]]\nname = \"c\"\n"
+            "table = \"input\"\naddress = 5\ntype = \"uint16\"\nsource = \"status\"\nscael = 10\n");
+  const auto config = dir.write("plant.toml",
+                                "[[bus]]\nname = \"line1\"\nport = \"/dev/ttyUSB0\"\nbaudrate = 9600\n"
+                                "[[sensor]]\nname = \"boom\"\nbus = \"line1\"\nmodel = \"h6\"\n"
+                                "address = 223\nunit_id = 1\nmap = \"bad-map.toml\"\n");
+  const std::string map = (dir.path() / "bad-map.toml").string();
+  auto checked = run_tiltgate({"check", "--config", config.string()});
+  CHECK(checked.exit_code == 1);
+  INFO(checked.err);
+  CHECK(checked.err.find(config.string() + ":4:1: bus[0].baudrate: unknown key") !=
+        std::string::npos);
+  CHECK(checked.err.find(map + ":10:1: point[1].address: \"b\" at input 1..1 overlaps") !=
+        std::string::npos);
+  CHECK(checked.err.find(map + ":19:1: point[2].scael: unknown key") != std::string::npos);
+  CHECK(checked.err.find("3 error(s)") != std::string::npos);
+}

@@ -1,10 +1,41 @@
 #!/usr/bin/env bash
 # End to end with the clients a controls engineer uses: mbpoll (Debian's package) and
 # pymodbus (Debian's python3-pymodbus), against `tiltgate run` on a simulated Rieker bus
-# served by `tiltgate sim rieker` in another process.
+# served by `tiltgate sim rieker` in another process. A missing client is a failure, never a
+# skip: scripts/setup installs both.
 set -u
 tiltgate=${1:?usage: real_clients_test.sh path/to/tiltgate}
 dir=$(mktemp -d /tmp/tiltgate-clients-XXXXXX)
+# Python runs in the scratch directory: from the source tree, the serial/ folder would shadow
+# the serial module pymodbus imports.
+py() { (cd "$dir" && /usr/bin/python3 - "$@"); }
+
+# Exactly what the clients below import, so a missing module names its Debian package.
+clients_missing=""
+command -v mbpoll >/dev/null || clients_missing+="mbpoll not found (Debian package mbpoll). "
+if [ ! -x /usr/bin/python3 ]; then
+  clients_missing+="/usr/bin/python3 not found (Debian package python3). "
+elif ! py >"$dir/imports.out" 2>&1 <<'PY'
+import importlib, sys
+packages = {"pymodbus": "python3-pymodbus", "serial_asyncio": "python3-serial-asyncio",
+            "serial": "python3-serial"}
+for module in ("pymodbus.client", "pymodbus.mei_message"):
+    try:
+        importlib.import_module(module)
+    except ModuleNotFoundError as e:
+        top = (e.name or "").split(".")[0]
+        sys.exit(f"import {module}: no module named {e.name!r} "
+                 f"(Debian package {packages.get(top, 'unknown')})")
+PY
+then
+  clients_missing+="$(tail -1 "$dir/imports.out"). "
+fi
+if [ -n "$clients_missing" ]; then
+  echo "FAIL: the real clients are not installed: ${clients_missing}Run scripts/setup."
+  rm -rf "$dir"
+  echo "0 passed, 1 failed"
+  exit 1
+fi
 pids=()
 cleanup() {
   for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null; done
@@ -104,9 +135,8 @@ check "mbpoll sees exception 0x03 for filter 9" bad_value
 unknown_unit() { mb -a 9 -t 3 -r 1 -c 2 2>&1 | grep -qi "gateway path"; }
 check "mbpoll sees exception 0x0A for an unknown unit" unknown_unit
 
-if /usr/bin/python3 -c 'import pymodbus' 2>/dev/null; then
-  pymodbus_ok() {
-    /usr/bin/python3 - "$port" <<'PY'
+pymodbus_ok() {
+  py "$port" <<'PY'
 import struct, sys
 from pymodbus.client import ModbusTcpClient
 client = ModbusTcpClient("127.0.0.1", port=int(sys.argv[1]), timeout=3)
@@ -119,11 +149,29 @@ r = client.read_input_registers(1, 2, slave=2)
 assert r.isError() and r.exception_code == 2, r
 client.close()
 PY
-  }
-  check "pymodbus reads the H4360 angle and sees exception 0x02 for a split float" pymodbus_ok
-else
-  echo "pymodbus not installed: skipped its check"
-fi
+}
+check "pymodbus reads the H4360 angle and sees exception 0x02 for a split float" pymodbus_ok
+# The README's function 43 recipe, as written there, for Debian 12's pymodbus 3.0 (which has
+# no read_device_information(), and ignores slave= on a request object: the unit is unit=).
+device_identification_ok() {
+  py "$port" <<'PY'
+import sys
+from pymodbus.client import ModbusTcpClient
+from pymodbus.mei_message import ReadDeviceInformationRequest
+
+client = ModbusTcpClient("127.0.0.1", port=int(sys.argv[1]))
+client.connect()
+reply = client.execute(ReadDeviceInformationRequest(read_code=0x01, object_id=0x00, unit=2))
+print(reply.information)   # {0: b'Rieker Inc.', 1: b'H4360', 2: b'Rev ...'}
+assert not reply.isError(), reply
+assert reply.information[0] == b"Rieker Inc.", reply.information
+assert reply.information[1] == b"H4360", reply.information
+reply = client.execute(ReadDeviceInformationRequest(read_code=0x01, object_id=0x00, unit=1))
+assert reply.information[1] == b"H6", reply.information
+client.close()
+PY
+}
+check "pymodbus reads VendorName with the README's function 43 recipe" device_identification_ok
 
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

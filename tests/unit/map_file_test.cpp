@@ -256,3 +256,78 @@ TEST_CASE("the README's annotated map file loads") {
   CHECK(map.find("flags")->bits.size() == 4);
   CHECK(map.find("zero_x_cdeg")->write == WriteTarget::zero_x);
 }
+
+// Every problem in one run: a key error (in the config, in the map, or the sensor's model) hides
+// no map problem of the points that did read.
+namespace {
+
+bool has_error(const ConfigErrors& errors, const std::string& file, int line, std::string_view key,
+               std::string_view message) {
+  for (const ConfigError& e : errors)
+    if (e.file == file && e.line == line && e.key == key &&
+        e.message.find(message) != std::string::npos)
+      return true;
+  return false;
+}
+
+// Point "a" float32 at input 0, point "b" at input 1 (overlapping "a"), point "c" with a
+// misspelt key (lines 10 and 19 of the text); each point table opens with `header`
+// ("[[point]]" or "[[sensor.map.point]]").
+std::string overlapping_points_and_a_misspelt_key(std::string_view header) {
+  const std::string h(header);
+  return h + "\nname = \"a\"\ntable = \"input\"\naddress = 0\ntype = \"float32\"\n" +
+         "source = \"angle_x\"\n" + h + "\nname = \"b\"\ntable = \"input\"\naddress = 1\n" +
+         "type = \"uint16\"\nsource = \"status\"\n" + h + "\nname = \"c\"\ntable = \"input\"\n" +
+         "address = 5\ntype = \"uint16\"\nsource = \"status\"\nscael = 10\n";
+}
+
+constexpr std::string_view kOverlap = "\"b\" at input 1..1 overlaps \"a\" at 0..1";
+
+}  // namespace
+
+TEST_CASE("map files: an inline map's problems are reported with every key error, in one run") {
+  // Line 10: a misspelt sensor key; 11..29 the points; 30..31 a misspelt [server] key.
+  const ConfigErrors errors = errors_of_text(
+      config_with("poll_sm = 100\n" + overlapping_points_and_a_misspelt_key("[[sensor.map.point]]") +
+                  "[server]\nprot = 502\n"));
+  INFO(joined(errors));
+  CHECK(has_error(errors, "test.toml", 10, "sensor[0].poll_sm", "unknown key"));
+  CHECK(has_error(errors, "test.toml", 20, "sensor[0].map.point[1].address", kOverlap));
+  CHECK(has_error(errors, "test.toml", 29, "sensor[0].map.point[2].scael", "unknown key"));
+  CHECK(has_error(errors, "test.toml", 31, "server.prot", "unknown key"));
+  CHECK(errors.size() == 4);
+}
+
+TEST_CASE("map files: a map file's problems are reported with every key error, in one run") {
+  ScratchDir dir;
+  const auto map = dir.write("maps/m.toml", overlapping_points_and_a_misspelt_key("[[point]]"));
+  const auto config =
+      dir.write("plant.toml", config_with("poll_sm = 100\nmap = \"maps/m.toml\"\n"));
+  const ConfigErrors errors = errors_of(config);
+  INFO(joined(errors));
+  CHECK(has_error(errors, config, 10, "sensor[0].poll_sm", "unknown key"));
+  CHECK(has_error(errors, map, 10, "point[1].address", kOverlap));
+  CHECK(has_error(errors, map, 19, "point[2].scael", "unknown key"));
+  CHECK(errors.size() == 3);
+}
+
+TEST_CASE("map files: a map is checked even when the sensor's model is in error") {
+  const ConfigErrors errors = errors_of_text(
+      config_with(overlapping_points_and_a_misspelt_key("[[sensor.map.point]]"), "h7"));
+  INFO(joined(errors));
+  CHECK(has_error(errors, "test.toml", 7, "sensor[0].model", "\"h7\""));
+  CHECK(has_error(errors, "test.toml", 19, "sensor[0].map.point[1].address", kOverlap));
+  CHECK(has_error(errors, "test.toml", 28, "sensor[0].map.point[2].scael", "unknown key"));
+  CHECK(errors.size() == 3);
+}
+
+TEST_CASE("map files: a point with a key error adds no false clash") {
+  // "c" misses its address, so it holds address 0, where "a" is: no overlap may be reported.
+  const ConfigErrors errors = errors_of_text(config_with(
+      "[[sensor.map.point]]\nname = \"a\"\ntable = \"input\"\naddress = 0\ntype = \"float32\"\n"
+      "source = \"angle_x\"\n[[sensor.map.point]]\nname = \"c\"\ntable = \"input\"\n"
+      "type = \"float32\"\nsource = \"angle_y\"\n"));
+  INFO(joined(errors));
+  REQUIRE(errors.size() == 1);
+  CHECK(errors[0].key == "sensor[0].map.point[1].address");
+}

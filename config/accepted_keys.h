@@ -1,0 +1,14 @@
+// Every key the configuration loader accepts, table by table, taken from the readers
+// themselves (the keys each one asks for), so config/CONFIG-REFERENCE.md can be checked
+// against the loader by a test and never fall behind it.
+#pragma once
+
+#include "config/error_list.h"
+
+namespace tiltgate::config {
+
+// Kinds of table: "server", "bus", "sensor", "sensor.mounting", "sensor.alarms", "sensor.map"
+// (also a map file's top level) and "sensor.map.point" (also a map file's [[point]]).
+AcceptedKeys accepted_keys();
+
+}  // namespace tiltgate::config

@@ -1,0 +1,74 @@
+// config/CONFIG-REFERENCE.md lists every key the loader accepts, in its table's section: the
+// keys are taken from the loader's own readers, so a key added there fails this test until it
+// is documented.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "config/accepted_keys.h"
+
+using namespace tiltgate;
+
+namespace {
+
+std::string reference() {
+  std::ifstream in(std::string(TILTGATE_SOURCE_DIR) + "/config/CONFIG-REFERENCE.md");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The text from `heading` to the next heading.
+std::string section(const std::string& doc, const std::string& heading) {
+  const auto start = doc.find("\n" + heading + "\n");
+  if (start == std::string::npos) return {};
+  const auto end = doc.find("\n#", start + heading.size() + 1);
+  return doc.substr(start, end == std::string::npos ? std::string::npos : end - start);
+}
+
+// Each kind of table the loader reads, and the heading of its section.
+const std::map<std::string, std::string> kSections{
+    {"server", "## `[server]`"},
+    {"bus", "## `[[bus]]`"},
+    {"sensor", "## `[[sensor]]`"},
+    {"sensor.mounting", "### `mounting`"},
+    {"sensor.alarms", "### `alarms`"},
+    {"sensor.map", "## Register maps: `map`"},
+    {"sensor.map.point", "### `[[point]]`"},
+};
+
+}  // namespace
+
+TEST_CASE("config/CONFIG-REFERENCE.md has a row for every key the loader accepts") {
+  const std::string doc = reference();
+  REQUIRE_FALSE(doc.empty());
+  const config::AcceptedKeys accepted = config::accepted_keys();
+  REQUIRE(accepted.size() == kSections.size());  // a new kind of table needs a section
+  for (const auto& table : accepted) {
+    const std::string& kind = table.first;  // not a structured binding: INFO captures it
+    const std::set<std::string>& keys = table.second;
+    INFO("table: " << kind);
+    REQUIRE(kSections.count(kind) == 1);
+    const std::string text = section(doc, kSections.at(kind));
+    REQUIRE_FALSE(text.empty());
+    for (const std::string& key : keys) {
+      INFO("key: " << key);
+      CHECK(text.find("\n| `" + key + "` |") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("the loader's accepted keys include each table's keys, also those asked for later") {
+  const config::AcceptedKeys accepted = config::accepted_keys();
+  REQUIRE(accepted.count("sensor") == 1);
+  CHECK(accepted.at("sensor").count("unit_id") == 1);
+  CHECK(accepted.at("sensor").count("map") == 1);
+  CHECK(accepted.at("bus").count("reopen_max_ms") == 1);
+  CHECK(accepted.at("sensor.alarms").count("rate_limit_deg_s") == 1);
+  CHECK(accepted.at("sensor.map").count("extends") == 1);
+  CHECK(accepted.at("sensor.map.point").count("max") == 1);
+}
