@@ -36,7 +36,8 @@ WriteError to_write_error(const ExchangeError& error, std::string_view step) {
   return {WriteErrorKind::refused, detail};
 }
 
-RiekerDriver::RiekerDriver(RiekerDriverOptions options) : options_(std::move(options)) {
+RiekerDriver::RiekerDriver(RiekerDriverOptions options)
+    : PolledSensorDriver(options.reply_timeouts), options_(std::move(options)) {
   state_.bus_address = options_.address;
 }
 

@@ -18,6 +18,7 @@ struct RiekerDriverOptions {
   std::uint16_t master_address = 0;
   int busy_retries = 3;  // NAK 5 "busy, wait and try again": this many more tries
   std::chrono::milliseconds busy_wait{20};
+  ReplyTimeouts reply_timeouts;  // the bus's timeout_ms and max_timeout_ms
 };
 
 // Why one exchange produced no usable reply.
