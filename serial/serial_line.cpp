@@ -258,21 +258,10 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
   for (;;) {
     const Clock::time_point until = std::min(quiet_until, give_up);
     if (Clock::now() >= until) break;
-    error_code ec;
-    std::size_t received = 0;
-    bool passed = false;
-    {
-      PortDeadline deadline(port_, until);
-      received = co_await port_.async_read_some(asio::buffer(buffer),
-                                                asio::redirect_error(asio::use_awaitable, ec));
-      passed = deadline.passed();
-    }
-    if (ec) {
-      if (!stopped_ && passed && ec == asio::error::operation_aborted) break;  // quiet
-      co_return port_failure(ec.message());
-    }
-    if (received == 0) continue;
-    last_byte_at_ = Clock::now();
+    const Expected<std::size_t, Attempt> received = co_await read_before(buffer, until);
+    if (!received && received.error() == Attempt::timed_out) break;  // quiet
+    if (!received) co_return received.error();
+    if (*received == 0) continue;
     quiet_until = last_byte_at_ + guard;
     if (!in_burst) {
       in_burst = true;
@@ -374,21 +363,9 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
   for (;;) {
     // Also ends an attempt drowned in bytes that never make a reply.
     if (Clock::now() >= deadline) co_return Attempt::timed_out;
-    error_code ec;
-    std::size_t received = 0;
-    bool passed = false;
-    {
-      PortDeadline guard(port_, deadline);
-      received = co_await port_.async_read_some(asio::buffer(buffer),
-                                                asio::redirect_error(asio::use_awaitable, ec));
-      passed = guard.passed();
-    }
-    if (ec) {
-      if (!stopped_ && passed && ec == asio::error::operation_aborted) co_return Attempt::timed_out;
-      co_return port_failure(ec.message());  // EIO, or end of file after a hang-up
-    }
-    last_byte_at_ = Clock::now();
-    std::span<const std::uint8_t> chunk(buffer.data(), received);
+    const Expected<std::size_t, Attempt> received = co_await read_before(buffer, deadline);
+    if (!received) co_return received.error();
+    std::span<const std::uint8_t> chunk(buffer.data(), *received);
     if (!echo.empty()) {
       const std::size_t n = std::min(chunk.size(), echo.size());
       if (!std::equal(chunk.begin(), chunk.begin() + n, echo.begin())) {
@@ -404,6 +381,27 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
       co_return Attempt::replied;
     }
   }
+}
+
+asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_before(
+    std::span<std::uint8_t> buffer, Clock::time_point deadline) {
+  error_code ec;
+  std::size_t received = 0;
+  bool passed = false;
+  {
+    PortDeadline guard(port_, deadline);
+    received = co_await port_.async_read_some(asio::buffer(buffer.data(), buffer.size()),
+                                              asio::redirect_error(asio::use_awaitable, ec));
+    passed = guard.passed();
+  }
+  if (ec) {
+    if (!stopped_ && passed && ec == asio::error::operation_aborted) {
+      co_return Unexpected(Attempt::timed_out);
+    }
+    co_return Unexpected(port_failure(ec.message()));  // EIO, or end of file after a hang-up
+  }
+  last_byte_at_ = Clock::now();
+  co_return received;
 }
 
 }  // namespace tiltgate

@@ -138,6 +138,10 @@ class SerialLine final : public Line {
   boost::asio::awaitable<std::optional<Attempt>> write_segment(std::span<const std::uint8_t> bytes,
                                                                Parity parity);
   boost::asio::awaitable<Attempt> receive(const LineRequest& request, Clock::time_point deadline);
+  // One read that gives up at `deadline`: how many bytes came, or timed_out when none came in
+  // time, or the outcome of a failed port or a stopped line.
+  boost::asio::awaitable<Expected<std::size_t, Attempt>> read_before(std::span<std::uint8_t> buffer,
+                                                                      Clock::time_point deadline);
 
   SerialLineOptions options_;
   boost::asio::posix::stream_descriptor port_;
