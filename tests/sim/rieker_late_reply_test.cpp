@@ -170,3 +170,20 @@ TEST_CASE("a sensor 300 ms late gets a longer time-out, stays online and does no
   CHECK(state.reply_timeout <= 500ms);
   CHECK(bench.line->stats().late_replies == state.counters.late_replies);
 }
+
+TEST_CASE("an offline sensor is probed with one attempt, without retries") {
+  Bench bench([](SerialLineOptions& o) {
+    o.retries = 2;
+    o.late_guard = 30ms;
+  });
+  RiekerDriver driver(driver_options());
+  bench.sensor().faults().silent = 1000;
+  bench.poll(driver);  // the first poll after start gets the bus's retries
+  CHECK_FALSE(driver.state().online);
+  CHECK(bench.sensor().requests_handled() == 3);
+  bench.poll(driver);  // offline now: one attempt, since each retry would cost the guard too
+  CHECK(bench.sensor().requests_handled() == 4);
+  bench.sensor().faults().silent = 0;
+  bench.poll(driver);
+  CHECK(driver.state().online);
+}
