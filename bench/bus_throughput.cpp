@@ -57,7 +57,9 @@ double measure_polls_per_second(std::uint32_t baud, seconds run_time) {
   line_options.timeout = milliseconds(200);
   SerialLine line(io.get_executor(), line_options);
   line.start();
-  rieker::RiekerDriver driver(rieker::RiekerDriverOptions{});
+  rieker::RiekerDriverOptions driver_options;
+  driver_options.reply_timeouts = {line_options.timeout, line_options.timeout};  // drivers pass theirs
+  rieker::RiekerDriver driver(driver_options);
 
   std::uint32_t polls_at_start = 0;
   steady_clock::time_point start;

@@ -26,6 +26,10 @@ struct ServerConfig {
 
 enum class BusProtocol { rieker, spectron_9bit, spectron_modbus };
 
+// The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to
+// 16 ms each way) on top of a sensor's own slowness.
+inline constexpr std::chrono::milliseconds kMinDefaultLateGuard{100};
+
 struct BusConfig {
   std::string name;
   std::string port;                 // tty path, e.g. /dev/ttyUSB0
@@ -33,6 +37,12 @@ struct BusConfig {
   std::uint32_t baud = 125000;
   std::chrono::milliseconds timeout{50};     // reply timeout per attempt
   int retries = 2;                            // extra attempts after a time-out (reads)
+  // The most a sensor's own reply time-out may adapt up to after late replies (>= timeout).
+  std::chrono::milliseconds max_timeout{500};
+  // Quiet kept after a time-out before anything is sent, so a late reply is discarded and not
+  // taken for the next one. Default: max_timeout - timeout (so any reply within max_timeout
+  // lands in it), at least kMinDefaultLateGuard.
+  std::chrono::milliseconds late_guard{450};
   std::chrono::microseconds gap{1000};        // quiet time between master packets
   bool rs485_kernel = false;                  // TIOCSRS485 on on-board UARTs
   bool echo = false;                          // the adapter hears its own transmission

@@ -78,6 +78,27 @@ void read_baud(TableReader& in, BusConfig& bus, bool protocol_known) {
   bus.baud = std::uint32_t(*baud);
 }
 
+// timeout_ms, the cap of the adaptive per-sensor time-out, and the quiet guard after a
+// time-out. Defaults follow what is given: the cap is at least the time-out, and the guard
+// covers replies up to the cap (README, "Late replies").
+void read_reply_timeouts(TableReader& in, BusConfig& bus) {
+  if (auto ms = in.integer("timeout_ms", 1, 10'000)) bus.timeout = milliseconds(*ms);
+  auto max_timeout = in.integer("max_timeout_ms", 1, 10'000);
+  bus.max_timeout = max_timeout ? milliseconds(*max_timeout) : std::max(bus.max_timeout, bus.timeout);
+  const Located& where = in.located();
+  if (max_timeout && where.usable("timeout_ms") && bus.max_timeout < bus.timeout) {
+    in.error("max_timeout_ms", fmt::format("{} is less than timeout_ms {}, expected at least {}",
+                                           bus.max_timeout.count(), bus.timeout.count(),
+                                           bus.timeout.count()));
+    bus.max_timeout = bus.timeout;
+  }
+  if (auto ms = in.integer("late_guard_ms", 1, 10'000)) {
+    bus.late_guard = milliseconds(*ms);
+  } else {
+    bus.late_guard = std::max(bus.max_timeout - bus.timeout, kMinDefaultLateGuard);
+  }
+}
+
 void read_reopen_backoff(TableReader& in, BusConfig& bus) {
   if (auto ms = in.integer("reopen_min_ms", 10, 600'000)) bus.reopen_min = milliseconds(*ms);
   if (auto ms = in.integer("reopen_max_ms", 10, 3'600'000)) bus.reopen_max = milliseconds(*ms);
@@ -179,7 +200,7 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   if (protocol) bus.protocol = protocol_from_name(*protocol);
   const bool protocol_known = in.located().usable("protocol");
   read_baud(in, bus, protocol_known);
-  if (auto ms = in.integer("timeout_ms", 1, 10'000)) bus.timeout = milliseconds(*ms);
+  read_reply_timeouts(in, bus);
   if (auto n = in.integer("retries", 0, 10)) bus.retries = int(*n);
   if (auto us = in.integer("gap_us", 0, 1'000'000)) {
     // PROTOCOL-NOTES, Rieker: packets from the master at least 1 ms apart.

@@ -6,6 +6,7 @@
 #include <boost/asio/awaitable.hpp>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,7 +43,8 @@ struct LineRequest {
   std::size_t address_bytes = 0;
   // Null for a request that gets no reply (the Line then only writes).
   ReplyFramer* framer = nullptr;
-  // Zero means the bus's configured reply timeout.
+  // Zero means the bus's configured reply timeout. Drivers pass the sensor's own, which adapts
+  // upward when it answers late (driver/adaptive_reply_timeout.h).
   std::chrono::milliseconds timeout{0};
   // Extra attempts after a time-out. -1 means the bus's configured retries. A driver sets 0
   // for commands that must not run twice (set address).
@@ -55,8 +57,28 @@ struct LineRequest {
 struct LineStats {
   std::uint64_t attempts = 0;   // requests written, retries included
   std::uint64_t timeouts = 0;   // attempts that timed out
+  std::uint64_t late_replies = 0;  // bursts of bytes after a time-out, discarded (LineTiming)
   std::uint64_t io_errors = 0;  // failed reads/writes
   std::uint64_t reopens = 0;    // successful (re)opens after the first
+};
+
+// What the Line saw of the timing of the last transact(), for drivers that adapt their reply
+// time-out. A Line knows no protocol: it reports bursts of bytes, not replies.
+//
+// A late reply is a burst of bytes that arrives after an attempt timed out. The Line does not
+// send again until the line has been quiet for its guard time, so a late burst belongs to the
+// transaction whose request provoked it: it is discarded and reported here, never fed to a
+// later request's framer.
+struct LineTiming {
+  // From the end of the request to the completion of the reply that answered it; none when no
+  // reply came in time.
+  std::optional<std::chrono::milliseconds> reply_delay;
+  // Bursts of bytes discarded after a time-out: at most one per timed-out attempt, because a
+  // burst ends only when the line has been quiet for the guard time.
+  std::uint32_t late_replies = 0;
+  // The longest time from the end of the timed-out request to the last byte of its late burst:
+  // how long the sensor really took. None without late replies.
+  std::optional<std::chrono::milliseconds> late_delay;
 };
 
 class Line {
@@ -70,6 +92,8 @@ class Line {
   virtual bool is_open() const = 0;
   virtual const std::string& name() const = 0;
   virtual const LineStats& stats() const = 0;
+  // The timing of the last transact(), valid once it has returned and until the next one.
+  virtual const LineTiming& last_timing() const = 0;
 };
 
 }  // namespace tiltgate

@@ -18,8 +18,14 @@ void log_online_change(std::string_view sensor, std::string_view what, unsigned 
 
 }  // namespace
 
+PolledSensorDriver::PolledSensorDriver(ReplyTimeouts timeouts) : reply_timeout_(timeouts) {
+  state_.reply_timeout = reply_timeout_.current();
+}
+
 boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
   const bool was_online = state_.online;
+  // Only after a failure: the first poll after start gets the bus's retries.
+  probing_ = !state_.online && state_.counters.transactions > 0;
   const bool identity_current = identity_generation_ == line.generation();
   if (!identity_current) state_.identity_known = false;
   bool reachable = true;
@@ -29,6 +35,7 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
   } else {
     ++state_.counters.polls_failed;
   }
+  probing_ = false;
   log_online_change(log_name(), kind(), state_.bus_address, line.name(), was_online,
                     state_.online);
 }
@@ -36,9 +43,12 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
 boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_counted(
     Line& line, LineRequest request, ExchangeOptions options) {
   request.retries = options.retries;
+  if (request.retries < 0 && probing_ && !state_.online) request.retries = 0;
   request.settle = options.settle;
+  request.timeout = reply_timeout_.current();
   ++state_.counters.transactions;
   auto sent = co_await line.transact(std::move(request));
+  note_timing(line.last_timing(), line.name());
   if (sent) {
     state_.online = true;
   } else {
@@ -50,6 +60,29 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     state_.online = false;
   }
   co_return sent;
+}
+
+void PolledSensorDriver::note_timing(const LineTiming& timing, const std::string& line_name) {
+  state_.counters.late_replies += timing.late_replies;
+  const auto before = reply_timeout_.current();
+  const bool was_late = reply_timeout_.answers_late();
+  reply_timeout_.record(timing);
+  state_.reply_timeout = reply_timeout_.current();
+  state_.answers_late = reply_timeout_.answers_late();
+  if (!was_late && state_.answers_late) {
+    spdlog::warn("{}: {} {} on {} answers late ({} ms after the request, time-out {} ms); its "
+                 "late replies are discarded and its time-out adapted, up to {} ms",
+                 log_name(), kind(), state_.bus_address, line_name,
+                 timing.late_delay ? timing.late_delay->count() : 0, before.count(),
+                 reply_timeout_.limits().max.count());
+  } else if (was_late && !state_.answers_late) {
+    spdlog::info("{}: {} {} on {} answers in time again", log_name(), kind(), state_.bus_address,
+                 line_name);
+  }
+  if (state_.reply_timeout != before) {
+    spdlog::info("{}: reply time-out {} ms (was {} ms)", log_name(),
+                 state_.reply_timeout.count(), before.count());
+  }
 }
 
 }  // namespace tiltgate

@@ -1,6 +1,11 @@
 // The poll cycle every sensor family shares, so each driver writes only its protocol: identity
 // first whenever it is unknown on this line (after start, a reconnect of the tty, a restart),
 // then one measurement; and one log line when the sensor stops or starts answering.
+//
+// Every exchange also goes through here, with the sensor's own reply time-out
+// (driver/adaptive_reply_timeout.h), which the Line's timing adapts. A sensor that is offline
+// is probed without retries: each retry after a time-out costs the bus the late-reply guard
+// too, and the scheduler already tries again after its back-off.
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
@@ -8,6 +13,7 @@
 #include <cstdint>
 #include <string>
 
+#include "driver/adaptive_reply_timeout.h"
 #include "driver/sensor_driver.h"
 
 namespace tiltgate {
@@ -24,6 +30,8 @@ class PolledSensorDriver : public SensorDriver {
   const SensorState& state() const final { return state_; }
 
  protected:
+  explicit PolledSensorDriver(ReplyTimeouts timeouts);
+
   // Reads serial, firmware and the like, then calls identity_read_on(generation seen before
   // the first request). False when the sensor did not answer at all (the poll then fails).
   virtual boost::asio::awaitable<bool> read_identity(Line& line) = 0;
@@ -34,7 +42,8 @@ class PolledSensorDriver : public SensorDriver {
   virtual const char* kind() const = 0;
 
   // One request/reply on the line, keeping the counters every driver keeps the same way:
-  // transactions, time-outs, port errors, and online (whether anything valid came back).
+  // transactions, time-outs, port errors, late replies, and online (whether anything valid
+  // came back). Sends the request with the sensor's reply time-out and adapts it.
   boost::asio::awaitable<Expected<Done, LineError>> transact_counted(Line& line,
                                                                     LineRequest request,
                                                                     ExchangeOptions options);
@@ -51,7 +60,12 @@ class PolledSensorDriver : public SensorDriver {
   SensorState state_;
 
  private:
+  // Adapts the reply time-out to the Line's timing of one exchange; logs when that changes.
+  void note_timing(const LineTiming& timing, const std::string& line_name);
+
   std::uint64_t identity_generation_ = 0;
+  AdaptiveReplyTimeout reply_timeout_;
+  bool probing_ = false;  // in a poll of a sensor that was offline: no retries
 };
 
 }  // namespace tiltgate

@@ -11,6 +11,8 @@ bool is_spectron(BusProtocol protocol) {
   return protocol == BusProtocol::spectron_9bit || protocol == BusProtocol::spectron_modbus;
 }
 
+ReplyTimeouts reply_timeouts_of(const BusConfig& bus) { return {bus.timeout, bus.max_timeout}; }
+
 }  // namespace
 
 std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusConfig& bus) {
@@ -20,6 +22,7 @@ std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusC
     options.model = sensor.model == "h6" ? rieker::Model::h6 : rieker::Model::h4360;
     options.address = std::uint16_t(sensor.address);
     options.master_address = bus.master_address;
+    options.reply_timeouts = reply_timeouts_of(bus);
     return std::make_unique<rieker::RiekerDriver>(options);
   }
   if (is_spectron(bus.protocol) && sensor.model == "dyna") {
@@ -31,6 +34,7 @@ std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusC
     options.address = int(sensor.address);
     options.counts_per_degree = sensor.counts_per_degree;
     options.zero_counts = sensor.zero_counts;
+    options.reply_timeouts = reply_timeouts_of(bus);
     return std::make_unique<spectron::DynaDriver>(options);
   }
   return nullptr;

@@ -111,7 +111,11 @@ Expected<Frame, DecodeError> decode(std::span<const std::uint8_t> bytes) {
 
 bool is_reply_to(const Frame& reply, const Frame& request) {
   if (reply.dest != request.src) return false;
-  return request.dest == kBroadcastAddress || reply.src == request.dest;
+  if (request.dest != kBroadcastAddress && reply.src != request.dest) return false;
+  // A sensor answers a query with the query's own function, or with ACK or NAK.
+  return reply.function == request.function ||
+         reply.function == std::uint16_t(Function::ack) ||
+         reply.function == std::uint16_t(Function::nak);
 }
 
 const char* model_name(Model model) { return model == Model::h6 ? "h6" : "h4360"; }

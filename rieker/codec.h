@@ -118,8 +118,10 @@ std::vector<std::uint8_t> encode(const Frame& frame);
 // 00 data byte with DL 00 are length mismatches, not ACKs.
 Expected<Frame, DecodeError> decode(std::span<const std::uint8_t> bytes);
 
-// Whether `reply` answers `request`: addressed to the request's SRC, and sent by the sensor it
-// addressed (any sensor, for a broadcast).
+// Whether `reply` answers `request`: addressed to the request's SRC, sent by the sensor it
+// addressed (any sensor, for a broadcast), with the request's function, ACK or NAK. ACKs all
+// look alike, so this cannot tell a late ACK from the answer to the next request: the Line's
+// guard after a time-out does (driver/line.h).
 bool is_reply_to(const Frame& reply, const Frame& request);
 
 // ---- Typed requests (master -> sensor). Arguments are checked before anything is encoded. ----

@@ -36,7 +36,8 @@ WriteError to_write_error(const ExchangeError& error, std::string_view step) {
   return {WriteErrorKind::refused, detail};
 }
 
-RiekerDriver::RiekerDriver(RiekerDriverOptions options) : options_(std::move(options)) {
+RiekerDriver::RiekerDriver(RiekerDriverOptions options)
+    : PolledSensorDriver(options.reply_timeouts), options_(std::move(options)) {
   state_.bus_address = options_.address;
 }
 
@@ -167,28 +168,35 @@ asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target,
   if (!checked) co_return checked;
 
   auto unlocked = co_await exchange(line, change_lock_request(route(), LockLevel::unlocked));
+  WriteResult result = Done{};
   if (!unlocked || !parse_ack(*unlocked)) {
-    state_.last_write_failed = true;
-    co_return Unexpected(unlocked ? WriteError{WriteErrorKind::refused, "unlock: no ACK"}
-                                  : to_write_error(unlocked.error(), "unlock"));
+    result = Unexpected(unlocked ? WriteError{WriteErrorKind::refused, "unlock: no ACK"}
+                                 : to_write_error(unlocked.error(), "unlock"));
+  } else {
+    state_.lock_level = 1;
+    result = co_await apply(line, target, value);
   }
-  state_.lock_level = 1;
-  auto result = co_await apply(line, target, value);
 
   const bool restarted = result && target == WriteTarget::command &&
                          SensorCommand(int(value)) == SensorCommand::restart;
   if (restarted) {
     state_.lock_level = 0;  // a restart always comes back locked
   } else {
-    auto locked = co_await exchange(line, change_lock_request(route(), LockLevel::locked));
-    if (locked && parse_ack(*locked)) {
-      state_.lock_level = 0;
-    } else {
-      spdlog::warn("{}: could not lock the sensor again after a write", options_.name);
-    }
+    // Also after a failed unlock: the sensor may have unlocked and its ACK been lost, and an
+    // unlocked sensor accepts any stray setting. Best effort; the write keeps its own error.
+    co_await lock_again(line);
   }
   state_.last_write_failed = !result;
   co_return result;
+}
+
+asio::awaitable<void> RiekerDriver::lock_again(Line& line) {
+  auto locked = co_await exchange(line, change_lock_request(route(), LockLevel::locked));
+  if (locked && parse_ack(*locked)) {
+    state_.lock_level = 0;
+  } else {
+    spdlog::warn("{}: could not lock the sensor again after a write", options_.name);
+  }
 }
 
 asio::awaitable<WriteResult> RiekerDriver::apply(Line& line, WriteTarget target, double value) {

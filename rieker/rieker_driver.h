@@ -18,6 +18,7 @@ struct RiekerDriverOptions {
   std::uint16_t master_address = 0;
   int busy_retries = 3;  // NAK 5 "busy, wait and try again": this many more tries
   std::chrono::milliseconds busy_wait{20};
+  ReplyTimeouts reply_timeouts;  // the bus's timeout_ms and max_timeout_ms
 };
 
 // Why one exchange produced no usable reply.
@@ -51,6 +52,8 @@ class RiekerDriver : public PolledSensorDriver {
   // The setting itself, between unlock and lock.
   boost::asio::awaitable<WriteResult> apply(Line& line, WriteTarget target, double value);
   boost::asio::awaitable<WriteResult> set_address(Line& line, std::uint16_t new_address);
+  // Lock level 0 again after a write, whatever became of it; a failure is only logged.
+  boost::asio::awaitable<void> lock_again(Line& line);
   Route route() const { return Route{options_.address, options_.master_address}; }
   AngleType angle_type() const;
 

@@ -42,6 +42,7 @@ std::optional<Frame> SimulatedSensor::handle(const Frame& request, SimTime now) 
   // "ACK"/"NAK": "Not a query, no response".
   if (function == Function::ack || function == Function::nak) return std::nullopt;
   ++requests_handled_;
+  ++requests_by_function_[request.function];
   if (faults_.silent > 0) {
     --faults_.silent;
     return std::nullopt;
@@ -50,7 +51,30 @@ std::optional<Frame> SimulatedSensor::handle(const Frame& request, SimTime now) 
     --faults_.busy;
     return nak(request, NakCode::busy);
   }
+  auto own = faults_.by_function.find(function);
+  if (own != faults_.by_function.end()) {
+    if (own->second.silent > 0) {
+      --own->second.silent;
+      return std::nullopt;
+    }
+    if (own->second.nak > 0) {
+      --own->second.nak;
+      return nak(request, own->second.nak_code);
+    }
+  }
   return answer(request, now);
+}
+
+std::chrono::milliseconds SimulatedSensor::reply_delay(std::uint16_t function) const {
+  auto own = faults_.by_function.find(static_cast<Function>(function));
+  const auto extra = own == faults_.by_function.end() ? std::chrono::milliseconds{0}
+                                                      : own->second.delay;
+  return faults_.reply_delay + extra;
+}
+
+std::uint64_t SimulatedSensor::requests_of(Function function) const {
+  auto found = requests_by_function_.find(static_cast<std::uint16_t>(function));
+  return found == requests_by_function_.end() ? 0 : found->second;
 }
 
 std::optional<std::vector<std::uint8_t>> SimulatedSensor::respond(const Frame& request,

@@ -19,6 +19,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -46,8 +47,18 @@ struct SimulatedSensorOptions {
   int baud_code = kDefaultBaudCode;
 };
 
+// Faults of one function only, so a test can make exactly Set Filter fail. silent and nak
+// count queries of that function addressed to this sensor.
+struct FunctionFaults {
+  int silent = 0;  // answer nothing
+  int nak = 0;     // answer NAK nak_code instead (the query has no effect)
+  NakCode nak_code = NakCode::data_invalid;
+  // Answer every query of this function this much later (on top of SensorFaults::reply_delay).
+  std::chrono::milliseconds delay{0};
+};
+
 // Faults a test can inject. silent and busy count queries addressed to this sensor;
-// corrupt_crc and garbage count replies.
+// corrupt_crc and garbage count replies. The whole-sensor faults apply before by_function's.
 struct SensorFaults {
   int silent = 0;       // answer nothing
   int busy = 0;         // answer NAK 5
@@ -56,6 +67,9 @@ struct SensorFaults {
   // Looks like a header claiming DL 200, so a parser that trusts the first header waits for
   // 209 bytes that never come.
   std::vector<std::uint8_t> garbage_bytes = {0x00, 0x00, 0x00, 0xDF, 0x00, 0x05, 0xC8};
+  // Answer everything this much later: a slow sensor, or a slow adapter in between.
+  std::chrono::milliseconds reply_delay{0};
+  std::map<Function, FunctionFaults> by_function;
 };
 
 class SimulatedSensor {
@@ -81,6 +95,8 @@ class SimulatedSensor {
   void set_motion(double amplitude, double period_s);
 
   SensorFaults& faults() { return faults_; }
+  // How much later than usual this sensor answers a query of `function` (the simulator waits).
+  std::chrono::milliseconds reply_delay(std::uint16_t function) const;
 
   Model model() const { return options_.model; }
   std::uint16_t address() const { return address_; }
@@ -92,6 +108,8 @@ class SimulatedSensor {
   std::optional<int> pending_baud_code() const { return pending_baud_code_; }
   double zero_offset(Axis axis) const;  // the offset in effect (temporary, else permanent)
   std::uint64_t requests_handled() const { return requests_handled_; }
+  // Queries of `function` addressed to this sensor, answered or not.
+  std::uint64_t requests_of(Function function) const;
   std::uint64_t restarts() const { return restarts_; }
 
  private:
@@ -117,6 +135,7 @@ class SimulatedSensor {
   std::optional<double> temporary_zero_[2];
   SensorFaults faults_;
   std::uint64_t requests_handled_ = 0;
+  std::map<std::uint16_t, std::uint64_t> requests_by_function_;
   std::uint64_t restarts_ = 0;
 };
 

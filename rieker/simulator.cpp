@@ -49,12 +49,15 @@ void RiekerSimulator::dispatch(const Frame& request) {
   ++counters_.requests_seen;
   const SimTime at = now();
   for (auto& sensor : sensors_) {
-    if (auto bytes = sensor.respond(request, at)) queue_reply(std::move(*bytes));
+    if (auto bytes = sensor.respond(request, at)) {
+      queue_reply(std::move(*bytes), sensor.reply_delay(request.function));
+    }
   }
 }
 
-void RiekerSimulator::queue_reply(std::vector<std::uint8_t> bytes) {
-  server_.send_after(options_.reply_latency, std::move(bytes));
+void RiekerSimulator::queue_reply(std::vector<std::uint8_t> bytes,
+                                  std::chrono::milliseconds extra_delay) {
+  server_.send_after(options_.reply_latency + extra_delay, std::move(bytes));
 }
 
 SimTime RiekerSimulator::now() const {

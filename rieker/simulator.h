@@ -75,7 +75,10 @@ class RiekerSimulator {
  private:
   void on_bytes(std::span<const std::uint8_t> bytes);
   void dispatch(const Frame& request);
-  void queue_reply(std::vector<std::uint8_t> bytes);
+  // A late sensor's reply waits `extra_delay` more; later replies queue behind it, as on a bus
+  // where the master waits for a late sensor before anyone else talks.
+  void queue_reply(std::vector<std::uint8_t> bytes,
+                   std::chrono::milliseconds extra_delay = std::chrono::milliseconds{0});
   SimTime now() const;
 
   RiekerSimulatorOptions options_;

@@ -22,6 +22,16 @@ namespace {
 // (beyond the packet's own wire time) means the port is wedged.
 constexpr std::chrono::seconds kStalledWrite{1};
 
+// The wait for quiet after a time-out ends after this long (or 4 guard times) even if the line
+// keeps receiving: a babbling device must not hold the bus forever.
+constexpr std::chrono::milliseconds kLongestGuardWait{2000};
+
+// Rounded up, and never negative (a pty delivers a reply before the request's estimated wire
+// time has passed).
+std::chrono::milliseconds whole_ms(std::chrono::steady_clock::duration d) {
+  return std::max(std::chrono::ceil<std::chrono::milliseconds>(d), std::chrono::milliseconds{0});
+}
+
 // Cancels the port's pending operation if it is still running at `deadline`: the race between
 // an I/O operation and a timer that Boost 1.74 cannot express (no awaitable operators, no
 // cancel_after). Lives in the coroutine frame around one co_await.
@@ -69,6 +79,7 @@ SerialLineOptions from_config(const BusConfig& bus) {
   o.baud = bus.baud;
   o.timeout = bus.timeout;
   o.retries = bus.retries;
+  o.late_guard = bus.late_guard;
   o.gap = bus.gap;
   o.rs485_kernel = bus.rs485_kernel;
   o.echo = bus.echo;
@@ -206,21 +217,71 @@ SerialLine::Attempt SerialLine::port_failure(const std::string& why) {
 asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest request) {
   const int retries = request.retries < 0 ? options_.retries : request.retries;
   const auto timeout = request.timeout.count() > 0 ? request.timeout : options_.timeout;
+  timing_ = LineTiming{};
+  std::optional<Clock::time_point> timed_out_request_end;
   for (int attempts_left = retries + 1;; --attempts_left) {
     if (stopped_) co_return Unexpected(LineError::cancelled);
     if (!port_.is_open()) co_return Unexpected(LineError::closed);
-    const Attempt outcome = co_await attempt(request, timeout);
+    Attempt outcome = co_await attempt(request, timeout);
+    if (outcome == Attempt::timed_out) {
+      ++stats_.timeouts;
+      spdlog::debug("{}: no reply within {} ms", options_.name, timeout.count());
+      // From the deadline: an echo mismatch ends the attempt before it.
+      timed_out_request_end = packet_end_;
+      const auto guarded = co_await discard_late_replies(
+          std::max(Clock::now(), packet_end_ + timeout), packet_end_);
+      if (guarded) outcome = *guarded;
+    } else if (outcome == Attempt::replied && timed_out_request_end) {
+      // An earlier attempt's answer may still be on its way: let it land here, not in the
+      // next transaction.
+      const auto guarded = co_await discard_late_replies(Clock::now(), *timed_out_request_end);
+      if (guarded) outcome = *guarded;
+    }
     switch (outcome) {
       case Attempt::replied: co_return Done{};
       case Attempt::failed: co_return Unexpected(LineError::io);
       case Attempt::cancelled: co_return Unexpected(LineError::cancelled);
       case Attempt::timed_out:
-        ++stats_.timeouts;
-        spdlog::debug("{}: no reply within {} ms", options_.name, timeout.count());
         if (attempts_left <= 1) co_return Unexpected(LineError::timeout);
         break;
     }
   }
+}
+
+asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_replies(
+    Clock::time_point from, Clock::time_point request_end) {
+  const auto guard = options_.late_guard;
+  const Clock::time_point give_up = from + std::max<Clock::duration>(kLongestGuardWait, 4 * guard);
+  Clock::time_point quiet_until = std::max(from, last_byte_at_) + guard;
+  bool in_burst = false;
+  std::array<std::uint8_t, 256> buffer{};
+  for (;;) {
+    const Clock::time_point until = std::min(quiet_until, give_up);
+    if (Clock::now() >= until) break;
+    const Expected<std::size_t, Attempt> received = co_await read_before(buffer, until);
+    if (!received && received.error() == Attempt::timed_out) break;  // quiet
+    if (!received) co_return received.error();
+    if (*received == 0) continue;
+    quiet_until = last_byte_at_ + guard;
+    if (!in_burst) {
+      in_burst = true;
+      ++timing_.late_replies;
+      ++stats_.late_replies;
+    }
+    timing_.late_delay = std::max(timing_.late_delay.value_or(std::chrono::milliseconds{0}),
+                                  whole_ms(last_byte_at_ - request_end));
+  }
+  if (quiet_until > give_up) {
+    spdlog::debug("{}: still receiving {} ms after a time-out, sending anyway", options_.name,
+                  whole_ms(give_up - from).count());
+  }
+  if (in_burst) {
+    spdlog::debug("{}: discarded a reply {} ms after the request, past its time-out",
+                  options_.name, timing_.late_delay->count());
+  }
+  // The guard itself is the quiet time before the next packet; the bus gap still applies.
+  quiet_until_ = std::max(quiet_until_, Clock::now() + options_.gap);
+  co_return std::nullopt;
 }
 
 asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& request,
@@ -302,20 +363,9 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
   for (;;) {
     // Also ends an attempt drowned in bytes that never make a reply.
     if (Clock::now() >= deadline) co_return Attempt::timed_out;
-    error_code ec;
-    std::size_t received = 0;
-    bool passed = false;
-    {
-      PortDeadline guard(port_, deadline);
-      received = co_await port_.async_read_some(asio::buffer(buffer),
-                                                asio::redirect_error(asio::use_awaitable, ec));
-      passed = guard.passed();
-    }
-    if (ec) {
-      if (!stopped_ && passed && ec == asio::error::operation_aborted) co_return Attempt::timed_out;
-      co_return port_failure(ec.message());  // EIO, or end of file after a hang-up
-    }
-    std::span<const std::uint8_t> chunk(buffer.data(), received);
+    const Expected<std::size_t, Attempt> received = co_await read_before(buffer, deadline);
+    if (!received) co_return received.error();
+    std::span<const std::uint8_t> chunk(buffer.data(), *received);
     if (!echo.empty()) {
       const std::size_t n = std::min(chunk.size(), echo.size());
       if (!std::equal(chunk.begin(), chunk.begin() + n, echo.begin())) {
@@ -326,8 +376,32 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
       echo = echo.subspan(n);
       chunk = chunk.subspan(n);
     }
-    if (!chunk.empty() && request.framer->feed(chunk)) co_return Attempt::replied;
+    if (!chunk.empty() && request.framer->feed(chunk)) {
+      timing_.reply_delay = whole_ms(last_byte_at_ - packet_end_);
+      co_return Attempt::replied;
+    }
   }
+}
+
+asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_before(
+    std::span<std::uint8_t> buffer, Clock::time_point deadline) {
+  error_code ec;
+  std::size_t received = 0;
+  bool passed = false;
+  {
+    PortDeadline guard(port_, deadline);
+    received = co_await port_.async_read_some(asio::buffer(buffer.data(), buffer.size()),
+                                              asio::redirect_error(asio::use_awaitable, ec));
+    passed = guard.passed();
+  }
+  if (ec) {
+    if (!stopped_ && passed && ec == asio::error::operation_aborted) {
+      co_return Unexpected(Attempt::timed_out);
+    }
+    co_return Unexpected(port_failure(ec.message()));  // EIO, or end of file after a hang-up
+  }
+  last_byte_at_ = Clock::now();
+  co_return received;
 }
 
 }  // namespace tiltgate

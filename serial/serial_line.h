@@ -10,7 +10,17 @@
 // Timing: a packet ends when its write completes plus its wire time at the baud rate (10 bits
 // a byte, 11 with parity). The next packet starts no earlier than that end + the request's
 // settle + the bus gap; the reply timeout also runs from that end. Input received before a
-// packet is discarded (TCIFLUSH) so a late reply is never taken for the next one.
+// packet is discarded (TCIFLUSH), for line noise.
+//
+// Late replies: an attempt that timed out may still be answered (USB adapters add latency each
+// way; a slow sensor). Before anything else is sent (a retry, or the next transaction), the
+// line waits, within transact(), until no byte has arrived for `late_guard` (counted from the
+// attempt's deadline or the last byte received, whichever is later); what arrives meanwhile is
+// discarded and reported as a late burst (last_timing(), stats().late_replies), so it is never
+// taken as the reply to a later request. The same wait runs before returning from a
+// transaction whose retry succeeded, since the first attempt's answer may still be on its way.
+// A line that never falls quiet (a babbling device) ends the wait after kLongestGuardWait or
+// 4 guard times, whichever is longer, so the bus cannot be held forever.
 //
 // Echo (an adapter that hears its own transmission): the echo is read back and compared with
 // what was sent. A mismatch means another transmitter collided with ours; that attempt fails
@@ -55,6 +65,8 @@ struct SerialLineOptions {
   std::uint32_t baud = 125000;
   std::chrono::milliseconds timeout{50};  // reply timeout per attempt
   int retries = 2;                        // extra attempts after a time-out
+  // Quiet the line must keep after a time-out before anything is sent (late replies above).
+  std::chrono::milliseconds late_guard{450};
   std::chrono::microseconds gap{1000};    // quiet time between master packets
   bool rs485_kernel = false;              // TIOCSRS485; a port without it logs a warning
   bool echo = false;                      // the adapter hears its own transmission
@@ -93,6 +105,7 @@ class SerialLine final : public Line {
   bool is_open() const override { return port_.is_open(); }
   const std::string& name() const override { return options_.name; }
   const LineStats& stats() const override { return stats_; }
+  const LineTiming& last_timing() const override { return timing_; }
   std::uint64_t echo_mismatches() const { return echo_mismatches_; }
   const SerialLineOptions& options() const { return options_; }
 
@@ -113,6 +126,11 @@ class SerialLine final : public Line {
 
   boost::asio::awaitable<Attempt> attempt(const LineRequest& request,
                                           std::chrono::milliseconds timeout);
+  // Discards what arrives until the line has been quiet for the guard time from `from`, each
+  // burst counted as a late reply to the request that ended at `request_end`. Returns the
+  // attempt's outcome if the port failed or the line stopped meanwhile.
+  boost::asio::awaitable<std::optional<Attempt>> discard_late_replies(
+      Clock::time_point from, Clock::time_point request_end);
   // Waits out the quiet time after the previous packet; false once stopped.
   boost::asio::awaitable<bool> keep_quiet();
   // Send steps return the attempt's outcome if it ends there, nothing if it goes on.
@@ -120,6 +138,10 @@ class SerialLine final : public Line {
   boost::asio::awaitable<std::optional<Attempt>> write_segment(std::span<const std::uint8_t> bytes,
                                                                Parity parity);
   boost::asio::awaitable<Attempt> receive(const LineRequest& request, Clock::time_point deadline);
+  // One read that gives up at `deadline`: how many bytes came, or timed_out when none came in
+  // time, or the outcome of a failed port or a stopped line.
+  boost::asio::awaitable<Expected<std::size_t, Attempt>> read_before(std::span<std::uint8_t> buffer,
+                                                                      Clock::time_point deadline);
 
   SerialLineOptions options_;
   boost::asio::posix::stream_descriptor port_;
@@ -127,12 +149,14 @@ class SerialLine final : public Line {
   boost::asio::steady_timer reopen_timer_;
   std::chrono::milliseconds reopen_delay_;
   Clock::time_point packet_end_{};   // when the last byte written leaves the UART
+  Clock::time_point last_byte_at_{}; // when the last byte was received
   Clock::time_point quiet_until_{};  // earliest start of the next master packet
   bool stopped_ = false;
   bool warned_rs485_ = false;
   std::uint64_t generation_ = 0;
   std::uint64_t echo_mismatches_ = 0;
   LineStats stats_;
+  LineTiming timing_;
   WriteObserver write_observer_;
   // Lets timer handlers that outlive the line see that it is gone.
   std::shared_ptr<int> alive_ = std::make_shared<int>(0);

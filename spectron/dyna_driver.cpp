@@ -54,7 +54,8 @@ WriteError to_write_error(const ExchangeError& error, std::string_view step) {
   return {WriteErrorKind::refused, detail};
 }
 
-DynaDriver::DynaDriver(DynaDriverOptions options) : options_(std::move(options)) {
+DynaDriver::DynaDriver(DynaDriverOptions options)
+    : PolledSensorDriver(options.reply_timeouts), options_(std::move(options)) {
   state_.bus_address = std::uint32_t(options_.address);
 }
 

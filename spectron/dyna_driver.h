@@ -32,6 +32,7 @@ struct DynaDriverOptions {
   // Quiet time after a reset before the next request. The note does not say how long the
   // processor takes to restart; a module that takes longer only costs one timed-out poll.
   std::chrono::milliseconds reset_settle{200};
+  ReplyTimeouts reply_timeouts;  // the bus's timeout_ms and max_timeout_ms
 };
 
 // Why one exchange produced no usable reply.

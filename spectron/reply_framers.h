@@ -13,7 +13,9 @@
 namespace tiltgate::spectron {
 
 // 9-bit addressing: the first line up to CR LF (replies carry no address; only the addressed
-// module answers). Noise bytes and overlong lines are dropped by NineBitLineParser.
+// module answers). Noise bytes and overlong lines are dropped by NineBitLineParser. Nothing in a
+// line says which request it answers: a late one is kept out by the Line's quiet guard after a
+// time-out (driver/line.h), not here.
 class NineBitReplyFramer : public ReplyFramer {
  public:
   void reset() override {

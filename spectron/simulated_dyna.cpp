@@ -43,7 +43,7 @@ std::optional<std::vector<std::uint8_t>> SimulatedDyna::respond_nine_bit(std::ui
                                                                          SimTime now) {
   if (address != address_) return std::nullopt;
   const auto line = parse_nine_bit_body(body);
-  if (!line || !accept_request()) return std::nullopt;
+  if (!line || !accept_request(counterpart(line->command))) return std::nullopt;
   std::string text;  // A4: numbers in decimal; reset and write answer an empty line
   switch (line->command) {
     case NineBitCommand::reset: reset(); break;
@@ -67,8 +67,10 @@ std::optional<std::vector<std::uint8_t>> SimulatedDyna::respond_ascii(const Asci
                                                                       SimTime now) {
   if (request.address != address_) return std::nullopt;
   const auto data_bytes = request_data_bytes(request.command);
-  if (!data_bytes || request.data.size() != *data_bytes || !accept_request()) return std::nullopt;
   const auto command = static_cast<AsciiCommand>(request.command);
+  if (!data_bytes || request.data.size() != *data_bytes || !accept_request(command)) {
+    return std::nullopt;
+  }
   AsciiFrame reply = make_ascii_ack(request.address, command);
   switch (command) {
     case AsciiCommand::reset: reset(); break;
@@ -141,13 +143,37 @@ std::optional<std::uint16_t> SimulatedDyna::eeprom(std::int64_t location) const 
   return eeprom_[static_cast<std::size_t>(location / 2)];
 }
 
-bool SimulatedDyna::accept_request() {
+bool SimulatedDyna::accept_request(AsciiCommand command) {
   ++requests_handled_;
   if (faults_.silent > 0) {
     --faults_.silent;
     return false;
   }
+  auto own = faults_.by_command.find(command);
+  if (own != faults_.by_command.end() && own->second.silent > 0) {
+    --own->second.silent;
+    return false;
+  }
   return true;
+}
+
+std::chrono::milliseconds SimulatedDyna::reply_delay(AsciiCommand command) const {
+  auto own = faults_.by_command.find(command);
+  const auto extra = own == faults_.by_command.end() ? std::chrono::milliseconds{0}
+                                                     : own->second.delay;
+  return faults_.reply_delay + extra;
+}
+
+AsciiCommand counterpart(NineBitCommand command) {
+  switch (command) {
+    case NineBitCommand::reset: return AsciiCommand::reset;
+    case NineBitCommand::read_eeprom: return AsciiCommand::read_eeprom;
+    case NineBitCommand::read_sensor: return AsciiCommand::read_sensor;
+    case NineBitCommand::read_temperature: return AsciiCommand::read_temperature;
+    case NineBitCommand::write_eeprom: return AsciiCommand::write_eeprom;
+    case NineBitCommand::firmware: return AsciiCommand::revision;
+  }
+  return AsciiCommand::revision;
 }
 
 bool SimulatedDyna::write(std::int64_t location, std::uint16_t value, Protocol protocol) {

@@ -18,7 +18,9 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -26,6 +28,7 @@
 
 #include "spectron/ascii_codec.h"
 #include "spectron/eeprom_map.h"
+#include "spectron/nine_bit_codec.h"
 #include "spectron/protocol.h"
 
 namespace tiltgate::spectron {
@@ -43,15 +46,30 @@ struct SimulatedDynaOptions {
   int baud_code = 10;              // EEPROM 22: 28800, the rate of the note's example
 };
 
+// Faults of one command only. The Dyna has no NAKs: it can only stay silent or answer late.
+struct CommandFaults {
+  int silent = 0;  // answer nothing to this many requests of the command (no effect either)
+  // Answer every request of the command this much later (on top of DynaFaults::reply_delay).
+  std::chrono::milliseconds delay{0};
+};
+
 // Faults a test can inject. silent counts requests addressed to this module; corrupt_lrc and
-// garbage count replies.
+// garbage count replies. The whole-module faults apply before by_command's.
 struct DynaFaults {
   int silent = 0;       // answer nothing
   int corrupt_lrc = 0;  // Modbus-ASCII only: change the LRC's last digit (9-bit has no check)
   int garbage = 0;      // send garbage_bytes before the reply
   // Line noise: none of these is printable or ':', so both protocols' parsers drop them.
   std::vector<std::uint8_t> garbage_bytes = {0x00, 0xFF, 0x13, 0x80};
+  // Answer everything this much later: a slow module, or a slow adapter in between.
+  std::chrono::milliseconds reply_delay{0};
+  // Keyed by the Modbus-ASCII command; a 9-bit command counts as its counterpart ("A" as
+  // read_sensor, "F" as revision, and so on).
+  std::map<AsciiCommand, CommandFaults> by_command;
 };
+
+// The Modbus-ASCII command a 9-bit command corresponds to.
+AsciiCommand counterpart(NineBitCommand command);
 
 class SimulatedDyna {
  public:
@@ -75,6 +93,8 @@ class SimulatedDyna {
   void set_temperature(std::int16_t raw);
 
   DynaFaults& faults() { return faults_; }
+  // How much later than usual this module answers `command` (the simulator waits).
+  std::chrono::milliseconds reply_delay(AsciiCommand command) const;
 
   std::uint8_t address() const { return address_; }  // the address it answers at
   int baud_code() const { return baud_code_; }        // the code in effect
@@ -86,8 +106,8 @@ class SimulatedDyna {
   std::uint64_t resets() const { return resets_; }
 
  private:
-  // Counts the request and applies the silent fault: false when it must go unanswered.
-  bool accept_request();
+  // Counts the request and applies the silent faults: false when it must go unanswered.
+  bool accept_request(AsciiCommand command);
   // Stores `value`; false (and nothing stored) when the location or value is not accepted.
   bool write(std::int64_t location, std::uint16_t value, Protocol protocol);
   std::vector<std::uint8_t> with_garbage(std::vector<std::uint8_t> bytes);

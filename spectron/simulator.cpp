@@ -126,9 +126,10 @@ void DynaSimulator::on_nine_bit_bytes(std::span<const std::uint8_t> bytes) {
       continue;
     }
     ++counters_.requests_seen;
+    const AsciiCommand command = counterpart(parse_nine_bit_body(request.body)->command);
     for (auto& sensor : sensors_) {
       if (auto reply = sensor.respond_nine_bit(request.address, request.body, at)) {
-        queue_reply(std::move(*reply));
+        queue_reply(std::move(*reply), sensor.reply_delay(command));
       }
     }
   }
@@ -144,13 +145,17 @@ void DynaSimulator::on_ascii_bytes(std::span<const std::uint8_t> bytes) {
   while (auto request = parser.next()) {
     ++counters_.requests_seen;
     for (auto& sensor : sensors_) {
-      if (auto reply = sensor.respond_ascii(*request, at)) queue_reply(std::move(*reply));
+      if (auto reply = sensor.respond_ascii(*request, at)) {
+        queue_reply(std::move(*reply),
+                    sensor.reply_delay(static_cast<AsciiCommand>(request->command)));
+      }
     }
   }
 }
 
-void DynaSimulator::queue_reply(std::vector<std::uint8_t> bytes) {
-  server_.send_after(options_.reply_latency, std::move(bytes));
+void DynaSimulator::queue_reply(std::vector<std::uint8_t> bytes,
+                                std::chrono::milliseconds extra_delay) {
+  server_.send_after(options_.reply_latency + extra_delay, std::move(bytes));
 }
 
 SimTime DynaSimulator::now() const { return Clock::now() - started_; }

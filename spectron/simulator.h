@@ -96,7 +96,9 @@ class DynaSimulator {
   void on_bytes(std::span<const std::uint8_t> bytes);
   void on_nine_bit_bytes(std::span<const std::uint8_t> bytes);
   void on_ascii_bytes(std::span<const std::uint8_t> bytes);
-  void queue_reply(std::vector<std::uint8_t> bytes);
+  // A late module's reply waits `extra_delay` more; later replies queue behind it.
+  void queue_reply(std::vector<std::uint8_t> bytes,
+                   std::chrono::milliseconds extra_delay = std::chrono::milliseconds{0});
   SimTime now() const;
 
   DynaSimulatorOptions options_;

@@ -56,6 +56,7 @@ RiekerDriverOptions driver_for(std::uint16_t address, Model model = Model::h6) {
   options.model = model;
   options.address = address;
   options.busy_wait = 5ms;
+  options.reply_timeouts = test::kBenchReplyTimeouts;
   return options;
 }
 

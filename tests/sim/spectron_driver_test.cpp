@@ -75,6 +75,7 @@ DynaDriverOptions driver_for(Protocol protocol, int address = kAddress) {
   options.counts_per_degree = 100.0;
   options.zero_counts = 1.0;
   options.reset_settle = 20ms;
+  options.reply_timeouts = test::kBenchReplyTimeouts;
   return options;
 }
 

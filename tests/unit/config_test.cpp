@@ -125,6 +125,8 @@ TEST_CASE("config: keys left out take their defaults") {
   CHECK(bus.baud == 125000);
   CHECK(bus.timeout == 50ms);
   CHECK(bus.retries == 2);
+  CHECK(bus.max_timeout == 500ms);
+  CHECK(bus.late_guard == 450ms);  // replies up to max_timeout land in the guard
   CHECK(bus.gap == 1000us);
   CHECK(bus.master_address == 0);
   CHECK(bus.line == 1);
@@ -379,4 +381,21 @@ TEST_CASE("config: a file that cannot be opened says why") {
   REQUIRE(loaded.error().size() == 1);
   CHECK(loaded.error()[0].to_string() ==
         "/nonexistent/tiltgate.toml: cannot open: No such file or directory");
+}
+
+TEST_CASE("config: max_timeout_ms below timeout_ms is an error that says what is expected") {
+  expect_error(with_bus_keys("timeout_ms = 100\nmax_timeout_ms = 80\n"), 5,
+               "bus[0].max_timeout_ms", "80 is less than timeout_ms 100, expected at least 100");
+}
+
+TEST_CASE("config: the late guard's default follows the time-outs, and can be set") {
+  const Config longer = loads(with_bus_keys("timeout_ms = 100\nmax_timeout_ms = 1000\n"));
+  CHECK(longer.buses.at(0).max_timeout == 1000ms);
+  CHECK(longer.buses.at(0).late_guard == 900ms);
+  // A time-out above the default maximum raises the maximum with it; the guard keeps its floor.
+  const Config slow = loads(with_bus_keys("timeout_ms = 800\n"));
+  CHECK(slow.buses.at(0).max_timeout == 800ms);
+  CHECK(slow.buses.at(0).late_guard == kMinDefaultLateGuard);
+  const Config set = loads(with_bus_keys("late_guard_ms = 250\n"));
+  CHECK(set.buses.at(0).late_guard == 250ms);
 }

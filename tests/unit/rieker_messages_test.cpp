@@ -2,6 +2,7 @@
 // checks, and the reply parsers.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -163,4 +164,13 @@ TEST_CASE("a reply belongs to a request when it comes back from the addressed se
   CHECK_FALSE(is_reply_to(make_ack(0, 101), request));
   const Frame broadcast = *get_address_request({kBroadcastAddress, 7});
   CHECK(is_reply_to(make_address_reply(7, 223), broadcast));
+}
+
+TEST_CASE("a reply belongs to a request only with the request's function, ACK or NAK") {
+  const Frame request = *get_serial_request({101, 7});
+  CHECK(is_reply_to(make_serial_reply(7, 101, "962285"), request));
+  CHECK(is_reply_to(make_nak(7, 101, NakCode::busy), request));
+  // From the right sensor, but the answer to another query (a late one, say).
+  CHECK_FALSE(is_reply_to(make_firmware_reply(7, 101, "Rev A.8"), request));
+  CHECK_FALSE(is_reply_to(make_angle_reply(7, 101, std::array{1.0f}), request));
 }

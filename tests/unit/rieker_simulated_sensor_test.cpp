@@ -207,6 +207,27 @@ TEST_CASE("an injected silence swallows the next N requests") {
   CHECK(sensor.handle(r, kT0).has_value());
 }
 
+TEST_CASE("faults of one function leave the other functions alone") {
+  using namespace std::chrono_literals;
+  SimulatedSensor sensor = sensor_101();
+  unlock(sensor);
+  FunctionFaults& set_filter = sensor.faults().by_function[Function::set_filter];
+  set_filter.nak = 1;
+  set_filter.silent = 1;
+  set_filter.delay = 70ms;
+  sensor.faults().reply_delay = 30ms;
+  const Frame filter = request(set_filter_request(k101, 2));
+  CHECK_FALSE(sensor.handle(filter, kT0).has_value());  // silence first, then the NAK
+  CHECK(nak_code(sensor, filter) == 3);
+  CHECK(sensor.filter() == kDefaultFilter);  // a NAKed setting has no effect
+  CHECK(reply(sensor, filter) == make_ack(0, 101));
+  CHECK(sensor.filter() == 2);
+  CHECK(sensor.requests_of(Function::set_filter) == 3);
+  CHECK(sensor.reply_delay(std::uint16_t(Function::set_filter)) == 100ms);
+  CHECK(sensor.reply_delay(std::uint16_t(Function::get_angle)) == 30ms);
+  CHECK(parse_serial_reply(reply(sensor, request(get_serial_request(k101)))).value() == "962285");
+}
+
 TEST_CASE("injected CRC corruption and garbage change only the bytes on the wire") {
   SimulatedSensor sensor = sensor_101();
   const Frame r = request(check_address_request(k101));

@@ -135,6 +135,20 @@ TEST_CASE("Modbus-ASCII: unknown commands and wrong data lengths get silence") {
   CHECK(sensor.requests_handled() == 1);  // only the well-formed read of location 3
 }
 
+TEST_CASE("faults of one command apply to it in both protocols, and to no other") {
+  using namespace std::chrono_literals;
+  SimulatedDyna sensor = dyna(1);
+  CommandFaults& read_sensor = sensor.faults().by_command[AsciiCommand::read_sensor];
+  read_sensor.silent = 2;
+  read_sensor.delay = 120ms;
+  CHECK_FALSE(ascii(sensor, ascii_read_sensor_request(1)).has_value());
+  CHECK_FALSE(sensor.respond_nine_bit(1, "A", kT0).has_value());  // "A" is read sensor
+  CHECK(sensor.respond_nine_bit(1, "C", kT0).has_value());
+  CHECK(ascii(sensor, ascii_read_sensor_request(1)).has_value());
+  CHECK(sensor.reply_delay(AsciiCommand::read_sensor) == 120ms);
+  CHECK(sensor.reply_delay(AsciiCommand::read_temperature) == 0ms);
+}
+
 TEST_CASE("injected faults: silence, a corrupted LRC, garbage before the reply") {
   SimulatedDyna sensor = dyna(1);
   auto& faults = sensor.faults();

@@ -5,16 +5,22 @@
 
 #include <boost/asio/io_context.hpp>
 #include <chrono>
+#include <functional>
 #include <doctest/doctest.h>
 #include <memory>
 #include <optional>
 
+#include "driver/adaptive_reply_timeout.h"
 #include "driver/sensor_driver.h"
 #include "serial/serial_line.h"
 #include "sim/support/raw_tty_client.h"
 #include "sim/support/run_coroutine.h"
 
 namespace tiltgate::test {
+
+// The reply time-outs drivers under test get: generous, since the machine may be busy.
+inline constexpr ReplyTimeouts kBenchReplyTimeouts{std::chrono::milliseconds(100),
+                                                   std::chrono::milliseconds(1000)};
 
 template <class Simulator>
 struct DriverBench {
@@ -23,18 +29,22 @@ struct DriverBench {
   std::optional<Simulator> sim;
   std::unique_ptr<SerialLine> line;
 
-  // Starts the simulator at dir/ttyRS485 and a line on it. The line's port and reopen
-  // back-off are set here; `line_options` brings the rest (framing, baud, retries).
+  // Starts the simulator at dir/ttyRS485 and a line on it. The line's port, time-out, late
+  // guard and reopen back-off are set here; `line_options` brings the rest (framing, baud,
+  // retries), and `adjust` may change any of them last.
   template <class SimulatorOptions>
-  DriverBench(SimulatorOptions sim_options, SerialLineOptions line_options) {
+  DriverBench(SimulatorOptions sim_options, SerialLineOptions line_options,
+              const std::function<void(SerialLineOptions&)>& adjust = {}) {
     sim_options.link_path = dir.path("ttyRS485");
     sim.emplace(io, std::move(sim_options));
     const auto started = sim->start();
     REQUIRE_MESSAGE(started.has_value(), started.error());
     line_options.port = sim->link_path();
-    line_options.timeout = std::chrono::milliseconds(100);  // generous: the machine may be busy
+    line_options.timeout = kBenchReplyTimeouts.base;
+    line_options.late_guard = std::chrono::milliseconds(100);
     line_options.reopen_min = std::chrono::milliseconds(20);
     line_options.reopen_max = std::chrono::milliseconds(100);
+    if (adjust) adjust(line_options);
     line = std::make_unique<SerialLine>(io.get_executor(), line_options);
     REQUIRE(line->start());
   }

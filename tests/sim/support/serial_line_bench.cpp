@@ -59,6 +59,7 @@ SerialLineOptions options_for(const std::string& port) {
   o.baud = 125000;
   o.timeout = 2000ms;  // generous: only the silent-device tests wait it out, with their own
   o.retries = 0;
+  o.late_guard = 50ms;  // short: only the late-reply tests wait it out, with their own
   o.gap = 1000us;
   o.reopen_min = 10ms;
   o.reopen_max = 40ms;
