@@ -37,11 +37,13 @@ class FakeLine : public Line {
   bool is_open() const override { return true; }
   const std::string& name() const override { return name_; }
   const LineStats& stats() const override { return stats_; }
+  const LineTiming& last_timing() const override { return timing_; }
 
  private:
   boost::asio::any_io_executor executor_;
   std::string name_ = "fake";
   LineStats stats_;
+  LineTiming timing_;
 };
 
 // Events as "<sensor> poll", "<sensor> poll end", "<sensor> write", "<sensor> write end".
