@@ -31,6 +31,7 @@ std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusC
     options.address = int(sensor.address);
     options.counts_per_degree = sensor.counts_per_degree;
     options.zero_counts = sensor.zero_counts;
+    options.reserved_writes = sensor.eeprom_reserved_writes;
     return std::make_unique<spectron::DynaDriver>(options);
   }
   return nullptr;

@@ -44,15 +44,18 @@ const char* location_name(std::int64_t location) {
 
 bool is_documented(std::int64_t location) { return location_name(location) != nullptr; }
 
-bool writable(std::int64_t location) {
+bool writable(std::int64_t location, ReservedWrites reserved) {
   switch (location) {
     case kSensorOffset:
     case kTemperatureOffset:
     case kModuleAddress:
     case kPwmOffset:
     case kBaudCode: return true;
-    default: return false;
+    default: break;
   }
+  // The application note's own example writes 355 to location 100 (":0268006401639C").
+  return reserved == ReservedWrites::allowed && location >= kReservedFirst &&
+         location <= kReservedLast && location % 2 == 0;
 }
 
 Expected<Done, std::string> check_location(std::int64_t location) {
@@ -68,9 +71,9 @@ Expected<Done, std::string> check_location(std::int64_t location) {
 }
 
 Expected<Done, std::string> check_value(std::int64_t location, std::int64_t value,
-                                        Protocol protocol) {
+                                        Protocol protocol, ReservedWrites reserved) {
   if (auto known = check_location(location); !known) return known;
-  if (!writable(location)) return Unexpected(named(location) + " is read-only");
+  if (!writable(location, reserved)) return Unexpected(named(location) + " is read-only");
   const std::string what = "value " + std::to_string(value) + " for " + named(location);
   if (location == kModuleAddress) {
     if (value < min_address(protocol) || value > max_address(protocol)) {
