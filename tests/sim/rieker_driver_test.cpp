@@ -102,7 +102,7 @@ TEST_CASE("NAK 2 when a dual-axis type code is sent to an H4360") {
   CHECK(driver.state().counters.last_nak == std::optional<std::uint8_t>(2));
 }
 
-TEST_CASE("acknowledged settings are published; a refused one and a zero command are not") {
+TEST_CASE("acknowledged settings are published, but not a refused one or a zeroed offset") {
   Bench bench({h6(223)});
   RiekerDriver driver(driver_for(223));
   const KnownSettings& settings = driver.state().settings;
