@@ -36,21 +36,21 @@ asio::awaitable<Expected<DynaAnswer, ExchangeError>> DynaDriver::exchange(
   auto transaction =
       DynaTransaction::make(options_.protocol, address.value_or(options_.address), request);
   if (!transaction) {
-    co_return Unexpected(
-        ExchangeError{ExchangeError::Kind::bad_request, LineError::timeout, transaction.error()});
+    co_return Unexpected{
+        ExchangeError{ExchangeError::Kind::bad_request, LineError::timeout, transaction.error()}};
   }
   auto sent = co_await transact_counted(line, transaction->line_request(), options);
   state_.counters.checksum_errors += std::uint32_t(transaction->checksum_errors());
   if (!sent) {
-    co_return Unexpected(ExchangeError{ExchangeError::Kind::line, sent.error(),
+    co_return Unexpected{ExchangeError{ExchangeError::Kind::line, sent.error(),
                                        fmt::format("{}: {}", request_name(request.kind),
-                                                   to_string(sent.error()))});
+                                                   to_string(sent.error()))}};
   }
   auto answer = transaction->answer();
   if (!answer) {
-    co_return Unexpected(ExchangeError{ExchangeError::Kind::bad_reply, LineError::timeout,
+    co_return Unexpected{ExchangeError{ExchangeError::Kind::bad_reply, LineError::timeout,
                                        fmt::format("{}: {}", request_name(request.kind),
-                                                   describe(answer.error()))});
+                                                   describe(answer.error()))}};
   }
   co_return std::move(*answer);
 }

@@ -28,7 +28,7 @@ asio::awaitable<Expected<std::uint16_t, ExchangeError>> DynaDriver::read_back(
     spdlog::debug("{}: could not read EEPROM {} back: {}", options_.name, location,
                   reply.error().detail);
     publish(location, std::nullopt);
-    co_return Unexpected(reply.error());
+    co_return Unexpected{reply.error()};
   }
   // A word on the wire: 9-bit replies are decimal text, Modbus-ASCII ones 4 hex digits.
   const auto word = std::uint16_t(reply->number);

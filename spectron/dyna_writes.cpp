@@ -26,7 +26,7 @@ bool is_whole(double value) {
 }
 
 WriteResult bad_value(std::string detail) {
-  return Unexpected(WriteError{WriteErrorKind::bad_value, std::move(detail)});
+  return Unexpected{WriteError{WriteErrorKind::bad_value, std::move(detail)}};
 }
 
 // The only command: the "0" / 0x65 reset of the processor.
@@ -63,7 +63,7 @@ WriteResult DynaDriver::check_write(WriteTarget target, double value) const {
     }
     case WriteTarget::eeprom_value: return check_window_value(eeprom_location(), value);
     default:
-      return Unexpected(WriteError{WriteErrorKind::not_supported, "not a Dyna setting"});
+      return Unexpected{WriteError{WriteErrorKind::not_supported, "not a Dyna setting"}};
   }
 }
 
@@ -117,7 +117,7 @@ asio::awaitable<WriteResult> DynaDriver::write(Line& line, WriteTarget target, d
 asio::awaitable<WriteResult> DynaDriver::select_location(Line& line, std::uint16_t location) {
   // Read as part of the selection, so eeprom_value shows what the module holds there.
   auto reply = co_await exchange(line, {Kind::read_eeprom, location});
-  if (!reply) co_return Unexpected(to_write_error(reply.error(), "read EEPROM"));
+  if (!reply) co_return Unexpected{to_write_error(reply.error(), "read EEPROM")};
   KnownSettings& settings = state_.settings;
   selection_before_ = {settings.get(WriteTarget::eeprom_location),
                        settings.get(WriteTarget::eeprom_value)};
@@ -134,7 +134,7 @@ asio::awaitable<WriteResult> DynaDriver::write_location(Line& line, std::uint16_
     co_return moved;
   }
   auto reply = co_await exchange(line, {Kind::write_eeprom, location, value});
-  if (!reply) co_return Unexpected(to_write_error(reply.error(), "write EEPROM"));
+  if (!reply) co_return Unexpected{to_write_error(reply.error(), "write EEPROM")};
   // What the module holds now, not what was sent (unknown if the read goes unanswered).
   co_await read_back(line, location);
   if (location == eeprom::kBaudCode) {
@@ -151,16 +151,16 @@ asio::awaitable<WriteResult> DynaDriver::set_address(Line& line, int new_address
   auto reply = co_await exchange(line, {Kind::write_eeprom, eeprom::kModuleAddress, new_address},
                                  ExchangeOptions{0, {}});
   if (!reply && reply.error().kind != ExchangeError::Kind::line) {
-    co_return Unexpected(to_write_error(reply.error(), "set address"));
+    co_return Unexpected{to_write_error(reply.error(), "set address")};
   }
   if (!reply) {
     // No acknowledgement: did the change happen anyway? Ask the new address before giving up.
     auto there = co_await exchange(line, {Kind::read_eeprom, eeprom::kModuleAddress}, {},
                                    new_address);
     if (!there || there->number != new_address) {
-      co_return Unexpected(WriteError{
+      co_return Unexpected{WriteError{
           WriteErrorKind::no_response,
-          fmt::format("set address: no acknowledgement, and no module answers at {}", new_address)});
+          fmt::format("set address: no acknowledgement, and no module answers at {}", new_address)}};
     }
   }
   spdlog::info("{}: Dyna moved from address {} to {}", options_.name, options_.address,
@@ -172,7 +172,7 @@ asio::awaitable<WriteResult> DynaDriver::set_address(Line& line, int new_address
 
 asio::awaitable<WriteResult> DynaDriver::reset(Line& line) {
   auto reply = co_await exchange(line, {Kind::reset}, ExchangeOptions{-1, options_.reset_settle});
-  if (!reply) co_return Unexpected(to_write_error(reply.error(), "reset"));
+  if (!reply) co_return Unexpected{to_write_error(reply.error(), "reset")};
   // A reset may bring another firmware (or module) back: read the identity again, like after a
   // reconnect.
   forget_identity();

@@ -1,6 +1,6 @@
-// build/tiltgate run with a mixed plant in one process: a Rieker H6 on a Rieker bus, a Dyna on
-// a Modbus-ASCII bus and a Dyna on a 9-bit bus, each bus a simulator on its own pseudo-terminal,
-// read and written with the real libmodbus client.
+// build/tiltgate run with a mixed plant in one process (tests/e2e/support/mixed_plant.h): Rieker
+// sensors on a Rieker bus, a Dyna on a Modbus-ASCII bus and a Dyna on a 9-bit bus, each bus a
+// simulator on its own pseudo-terminal, read and written with the real libmodbus client.
 #include <doctest/doctest.h>
 
 #include <chrono>

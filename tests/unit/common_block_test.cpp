@@ -88,10 +88,11 @@ TEST_CASE("every model's map has the identical common block") {
 TEST_CASE("register 37 tells the model") {
   const auto now = SteadyClock::now();
   const SensorState state = online_state(now, 1, 2);
-  for (auto [model, code] : {std::pair("h6", 1), std::pair("h4360", 2), std::pair("dyna", 3)}) {
+  for (const auto& expected : {std::pair("h6", 1), std::pair("h4360", 2), std::pair("dyna", 3)}) {
+    const std::string_view model = expected.first;
     CAPTURE(model);
     CHECK(read(default_map(model), view_of(state, now, model), RegisterTable::input, 37, 1)[0] ==
-          code);
+          expected.second);
   }
 }
 
