@@ -81,6 +81,8 @@ struct SensorConfig {
   // Dyna only: raw counts -> degrees (the document gives no conversion).
   double counts_per_degree = 100.0;
   double zero_counts = 0.0;
+  // Dyna only: the EEPROM window may write the reserved locations 100..280.
+  bool eeprom_reserved_writes = false;
   MountingConfig mounting;
   AlarmConfig alarms;
   OfflineRead offline = OfflineRead::exception;

@@ -111,7 +111,7 @@ void read_reopen_backoff(TableReader& in, BusConfig& bus) {
   }
 }
 
-// Raw-count conversion: only the Dyna reports counts.
+// Raw-count conversion and the EEPROM window: only the Dyna has them.
 void read_dyna_scaling(TableReader& in, SensorConfig& sensor) {
   if (auto v = in.number("counts_per_degree")) {
     if (*v == 0.0)
@@ -120,8 +120,10 @@ void read_dyna_scaling(TableReader& in, SensorConfig& sensor) {
       sensor.counts_per_degree = *v;
   }
   if (auto v = in.number("zero_counts")) sensor.zero_counts = *v;
+  // The application note's own example writes a reserved location; allowed on request only.
+  if (auto v = in.boolean("eeprom_reserved_writes")) sensor.eeprom_reserved_writes = *v;
   if (!in.located().valid("model") || sensor.model == "dyna") return;
-  for (std::string_view key : {"counts_per_degree", "zero_counts"})
+  for (std::string_view key : {"counts_per_degree", "zero_counts", "eeprom_reserved_writes"})
     if (in.has(key))
       in.error(key, fmt::format("applies to model \"dyna\" only, not \"{}\"", sensor.model));
 }

@@ -6,29 +6,16 @@
 #include <boost/asio/awaitable.hpp>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include "driver/expected.h"
 #include "driver/line.h"
 #include "driver/sensor_state.h"
+#include "driver/write_target.h"
 
 namespace tiltgate {
-
-// Settings a Modbus client can change. Each driver accepts the ones its sensors have.
-enum class WriteTarget : std::uint8_t {
-  filter,          // filter response / damping code
-  zero_x,          // zero offset, axis 1 (degrees)
-  zero_y,          // zero offset, axis 2 (degrees)
-  command,         // one-shot commands; codes below
-  baud_code,       // sensor baud code (takes effect after restart)
-  bus_address,     // the sensor's bus address; the driver follows the sensor to it
-  eeprom_location, // EEPROM window: which location the next value write goes to
-  eeprom_value,    // EEPROM window: value written to the selected location
-  sensor_offset,   // named EEPROM settings (Dyna)
-  temperature_offset,
-  pwm_offset,
-};
 
 // Values of WriteTarget::command.
 enum class SensorCommand : std::uint16_t {
@@ -53,6 +40,12 @@ struct WriteError {
 
 using WriteResult = Expected<Done, WriteError>;
 
+// One setting of a Modbus request that writes several in address order.
+struct SettingWrite {
+  WriteTarget target;
+  double value;
+};
+
 class SensorDriver {
  public:
   virtual ~SensorDriver() = default;
@@ -62,6 +55,19 @@ class SensorDriver {
 
   // Whether a value may be written, checked before the write is queued.
   virtual WriteResult check_write(WriteTarget target, double value) const = 0;
+  // Whether the settings of one request may be written, in this order, checked before any of
+  // them is queued. A driver whose settings depend on each other (an EEPROM window: a value
+  // goes to the location selected before it) checks each against those before it.
+  virtual WriteResult check_writes(std::span<const SettingWrite> writes) const {
+    for (const SettingWrite& w : writes) {
+      auto checked = check_write(w.target, w.value);
+      if (!checked) return checked;
+    }
+    return Done{};
+  }
+  // A request failed after `done`, its first settings, were carried out: take back what only
+  // prepared a later one (the EEPROM window's selection). Settings the sensor took stay.
+  virtual void abandon(std::span<const SettingWrite> done) { (void)done; }
 
   // The bus address this write would move the sensor to, if it moves it. The bus refuses one
   // that another of its sensors has, before the write is queued and again when it starts (an

@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "driver/write_target.h"
+
 namespace tiltgate {
 
 using SteadyClock = std::chrono::steady_clock;
@@ -53,6 +55,8 @@ struct SensorState {
   std::string firmware;
   std::optional<std::uint16_t> lock_level;
   std::uint32_t bus_address = 0;    // the sensor's address on its bus (follows Set Address)
+  // Settings as the sensor holds them (read back or acknowledged): what holding registers show.
+  KnownSettings settings;
   SensorCounters counters;
 };
 

@@ -87,7 +87,7 @@ void print_demo_help(const Config& config, const Gateway& gateway) {
       "  mbpoll -m tcp -p {} -a 3 -t 3 -r 7 -c 10 -1 {}           # unit 3 status block\n"
       "  mbpoll -m tcp -p {} -a 1 -t 4 -r 1 -1 {} 2               # unit 1 filter := 2\n"
       "  mbpoll -m tcp -p {} -a 4 -t 3:float -B -r 1 -c 1 -1 {}   # unit 4 (Dyna) angle\n"
-      "  mbpoll -m tcp -p {} -a 4 -t 3 -r 6 -c 1 -1 {}            # unit 4 raw temperature\n"
+      "  mbpoll -m tcp -p {} -a 4 -t 3 -r 103 -c 1 -1 {}          # unit 4 raw temperature\n"
       "Ctrl-C stops.\n",
       config.sensors.size(), host, port, port, host, port, host, port, host, port, host, port,
       host);

@@ -35,6 +35,7 @@ std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusC
     options.counts_per_degree = sensor.counts_per_degree;
     options.zero_counts = sensor.zero_counts;
     options.reply_timeouts = reply_timeouts_of(bus);
+    options.reserved_writes = sensor.eeprom_reserved_writes;
     return std::make_unique<spectron::DynaDriver>(options);
   }
   return nullptr;

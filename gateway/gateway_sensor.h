@@ -35,6 +35,7 @@ struct GatewaySensor {
     view.derived = &processing.derived();
     view.offline = config.offline;
     view.substitute = config.substitute;
+    view.model = driver->model();
     return view;
   }
 };

@@ -2,7 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <span>
 #include <string_view>
+#include <vector>
 
 #include "gateway/bus_scheduler.h"
 #include "gateway/device_identification.h"
@@ -130,23 +132,30 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
   auto plan = plan_register_write(sensor.map, options_.word_order, request.address,
                                   request.registers);
   if (!plan) co_return failure(exception_for(plan.error()));
+  // Checked together, before anything is queued: a value may depend on a setting written
+  // before it in the same request (the Dyna's EEPROM window location).
+  std::vector<SettingWrite> settings;
+  for (const PlannedWrite& step : *plan) settings.push_back({*step.point->write, step.value});
+  auto checked = sensor.driver->check_writes(settings);
   for (const PlannedWrite& step : *plan) {
-    auto checked = sensor.driver->check_write(*step.point->write, step.value);
-    if (checked && sensor.bus != nullptr) {
+    if (!checked) break;
+    // Checked again when the write starts: an earlier write may move a sensor meanwhile.
+    if (sensor.bus != nullptr) {
       checked = sensor.bus->check_address_free(sensor, *step.point->write, step.value);
     }
-    if (!checked) {
-      spdlog::warn("{}: write {} = {} refused: {}", sensor.config.name, step.point->name,
-                   step.value, checked.error().detail);
-      co_return failure(exception_for(checked.error().kind));
-    }
+  }
+  if (!checked) {
+    spdlog::warn("{}: write refused: {}", sensor.config.name, checked.error().detail);
+    co_return failure(exception_for(checked.error().kind));
   }
   const auto deadline = SteadyClock::now() + options_.write_timeout;
-  for (const PlannedWrite& step : *plan) {
+  for (std::size_t i = 0; i < plan->size(); ++i) {
+    const PlannedWrite& step = (*plan)[i];
     auto done = co_await sensor.bus->write(sensor, *step.point->write, step.value, deadline);
     if (!done) {
       spdlog::warn("{}: write {} = {} failed: {}", sensor.config.name, step.point->name,
                    step.value, done.error().detail);
+      sensor.driver->abandon(std::span(settings).first(i));
       co_return failure(exception_for(done.error().kind));
     }
     spdlog::info("{}: wrote {} = {}", sensor.config.name, step.point->name, step.value);

@@ -5,11 +5,10 @@
 
 namespace tiltgate {
 
-// Input registers 0..5: the angle (float32 and hundredths, where the Rieker maps have X) with
-// the raw counts and raw temperature in the places a Rieker map gives to Y; 6..27 and the
-// discrete inputs: the status block of every model, at the same addresses. Holding registers:
-// the three EEPROM offsets, an EEPROM window (location, value), and command, baud code and
-// module address at the Rieker map's addresses of the same settings.
+// The common block of every model (mapping/common_block.h): the angle as X, Y not available,
+// filter and zero offsets not available, command 1 = reset, baud code and module address as
+// EEPROM 22 and 16. From input register 100 the raw counts and raw temperature; from holding
+// register 100 the three EEPROM offsets and the EEPROM window (location, value).
 RegisterMap dyna_default_map();
 
 }  // namespace tiltgate

@@ -113,9 +113,10 @@ class PointChecker {
                "a write = \"...\" setting");
       return;
     }
-    if (p_.source != S::written)
-      report("write", fmt::format("a writable point shows the value written to it, but its "
-                                  "source is the read-only {}; leave source out",
+    if (p_.source != S::written && p_.source != S::setting)
+      report("write", fmt::format("a writable point shows the value written to it (written) or "
+                                  "the sensor's (setting), but its source is the read-only {}; "
+                                  "leave source out",
                                   to_string(p_.source)));
     if (p_.table != RegisterTable::holding)
       report("write", fmt::format("writes are served on holding registers only, not in the {} "

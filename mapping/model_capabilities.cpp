@@ -9,6 +9,7 @@ namespace {
 
 struct ModelCapabilities {
   std::string_view model;
+  std::uint16_t code;  // input register 37, model_code: what a PLC program branches on
   int axes;
   // Sources only some drivers fill; every other source is common to all models.
   std::vector<ValueSource> extra_sources;
@@ -22,9 +23,9 @@ using W = WriteTarget;
 // Dyna: raw counts and temperature; EEPROM writes (offsets 6, 10, 20, module address 16, baud
 // code 22, the EEPROM window) and the reset command; one axis.
 const std::array<ModelCapabilities, 3> kModels{{
-    {"h6", 2, {}, {W::filter, W::zero_x, W::zero_y, W::command, W::baud_code, W::bus_address}},
-    {"h4360", 1, {}, {W::filter, W::zero_x, W::command, W::baud_code, W::bus_address}},
-    {"dyna", 1, {ValueSource::raw_counts, ValueSource::raw_temperature},
+    {"h6", 1, 2, {}, {W::filter, W::zero_x, W::zero_y, W::command, W::baud_code, W::bus_address}},
+    {"h4360", 2, 1, {}, {W::filter, W::zero_x, W::command, W::baud_code, W::bus_address}},
+    {"dyna", 3, 1, {ValueSource::raw_counts, ValueSource::raw_temperature},
      {W::sensor_offset, W::temperature_offset, W::pwm_offset, W::eeprom_location,
       W::eeprom_value, W::command, W::baud_code, W::bus_address}},
 }};
@@ -56,6 +57,11 @@ bool model_offers(std::string_view model, ValueSource source) {
 bool model_accepts(std::string_view model, WriteTarget target) {
   const ModelCapabilities* m = find(model);
   return m != nullptr && contains(m->writes, target);
+}
+
+std::uint16_t model_code(std::string_view model) {
+  const ModelCapabilities* m = find(model);
+  return m == nullptr ? 0 : m->code;
 }
 
 int model_axes(std::string_view model) {

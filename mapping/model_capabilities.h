@@ -3,6 +3,7 @@
 // (model_capabilities.cpp) that each new sensor family extends with a row.
 #pragma once
 
+#include <cstdint>
 #include <string_view>
 
 #include "driver/sensor_driver.h"
@@ -11,11 +12,13 @@
 namespace tiltgate {
 
 // Whether a map for `model` may show `source`. A model without a row offers the common
-// sources only. angle_y of a single-axis model is offered (it reads NaN, or 0 as an integer),
-// like the default map's.
+// sources only. angle_y of a single-axis model is offered (it reads NaN, or the point's
+// nan_value as an integer), like the default map's.
 bool model_offers(std::string_view model, ValueSource source);
 // Whether `model` accepts writes of `target`; a model without a row accepts none.
 bool model_accepts(std::string_view model, WriteTarget target);
+// The number input register 37 shows: 1 H6, 2 H4360, 3 Dyna; 0 for a model without a row.
+std::uint16_t model_code(std::string_view model);
 // 1 or 2; 2 for a model without a row (nothing to check against).
 int model_axes(std::string_view model);
 

@@ -46,11 +46,19 @@ Point input_point(std::string name, std::uint16_t address, PointType type, Value
 
 Point holding_point(std::string name, std::uint16_t address, PointType type, WriteTarget target,
                     double min, double max, std::string units, std::string description) {
-  Point p = make_point(std::move(name), RegisterTable::holding, address, type,
-                       ValueSource::written, std::move(units), std::move(description));
+  Point p = unavailable_holding_point(std::move(name), address, type, std::move(description));
+  p.units = std::move(units);
   p.write = target;
   p.min = min;
   p.max = max;
+  return p;
+}
+
+Point unavailable_holding_point(std::string name, std::uint16_t address, PointType type,
+                                std::string description) {
+  Point p = make_point(std::move(name), RegisterTable::holding, address, type,
+                       ValueSource::setting, "", std::move(description));
+  p.nan_value = kUnknownSetting;
   return p;
 }
 

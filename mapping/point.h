@@ -49,9 +49,16 @@ Point make_point(std::string name, RegisterTable table, std::uint16_t address, P
 // The built-in maps' three kinds of point.
 Point input_point(std::string name, std::uint16_t address, PointType type, ValueSource source,
                   std::string units, std::string description, std::uint16_t chars = 0);
-// A holding register that triggers `target`, accepting min..max; reads back what was written.
+// What a built-in integer holding register reads while its setting is unknown (floats: NaN).
+inline constexpr double kUnknownSetting = 0xFFFF;
+// A holding register that triggers `target`, accepting min..max; reads the setting as the
+// sensor holds it (SensorState::settings), kUnknownSetting until known.
 Point holding_point(std::string name, std::uint16_t address, PointType type, WriteTarget target,
                     double min, double max, std::string units, std::string description);
+// A holding register of the common block that this model has no setting for: reads
+// kUnknownSetting (NaN as a float), and a write is an illegal address like any read-only point.
+Point unavailable_holding_point(std::string name, std::uint16_t address, PointType type,
+                                std::string description);
 Point discrete_point(std::string name, std::uint16_t address, ValueSource source,
                      std::string description);
 

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "driver/sensor_state.h"
 #include "mapping/derived_state.h"
@@ -23,6 +24,7 @@ struct SensorView {
   const DerivedState* derived = nullptr;
   OfflineRead offline = OfflineRead::exception;
   double substitute = 0.0;  // offline == substitute: what numeric measurement points show
+  std::string_view model{};  // the driver's model ("h6"), for model_code
 
   bool stale() const;
   std::uint16_t age_ms() const;  // 65535 when there never was a reading

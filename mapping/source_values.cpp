@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mapping/model_capabilities.h"
 #include "mapping/tilt.h"
 
 namespace tiltgate {
@@ -30,6 +31,13 @@ double optional_int(const std::optional<std::int32_t>& value) {
 }
 
 double bit_of(std::uint16_t flags, std::uint16_t bit) { return (flags & bit) != 0 ? 1 : 0; }
+
+// NaN (the point's nan_value) while the driver does not know the setting, and on a point that
+// names none.
+double setting_value(const Point& p, const SensorView& v) {
+  if (!p.write) return NAN;
+  return v.state.settings.get(*p.write).value_or(NAN);
+}
 
 }  // namespace
 
@@ -105,9 +113,12 @@ double source_value(ValueSource source, const SensorView& v) {
       return s.bus_address;
     case S::sample_seq:
       return s.sample_seq;
+    case S::model_code:
+      return model_code(v.model);
     case S::serial:
     case S::firmware:
     case S::written:
+    case S::setting:
     case S::bits:
       return NAN;
   }
@@ -121,7 +132,7 @@ double point_value(const Point& p, const SensorView& v) {
       if (p.bits[i] && source_value(*p.bits[i], v) != 0) packed |= std::uint32_t(1) << i;
     return packed;
   }
-  const double value = source_value(p.source, v);
+  const double value = p.source == S::setting ? setting_value(p, v) : source_value(p.source, v);
   if (p.bit) {
     if (std::isnan(value)) return 0;
     // Integer sources only (checked when the map is loaded); signed ones in two's complement.

@@ -9,7 +9,7 @@
 namespace tiltgate {
 
 // A numeric source's value (NaN when there is none, e.g. angle_y of a single-axis sensor).
-// Strings and `written` have no single number: NaN.
+// Strings, `written` and `setting` (which need the point) have no single number: NaN.
 double source_value(ValueSource source, const SensorView& view);
 
 // The point's value before scale and offset.

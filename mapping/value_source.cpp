@@ -11,7 +11,7 @@ namespace {
 
 using S = ValueSource;
 
-constexpr std::array<Named<ValueSource>, 37> kSources{{
+constexpr std::array<Named<ValueSource>, 39> kSources{{
     {"angle_x", S::angle_x},
     {"angle_y", S::angle_y},
     {"angle_x_cdeg", S::angle_x_cdeg},
@@ -48,7 +48,9 @@ constexpr std::array<Named<ValueSource>, 37> kSources{{
     {"sample_seq", S::sample_seq},
     {"serial", S::serial},
     {"firmware", S::firmware},
+    {"model_code", S::model_code},
     {"written", S::written},
+    {"setting", S::setting},
 }};
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -126,6 +128,7 @@ bool is_integer_source(ValueSource source) {
     case S::lock_level:
     case S::bus_address:
     case S::sample_seq:
+    case S::model_code:
     case S::bits:
       return true;
     default:
@@ -185,6 +188,7 @@ ValueRange source_range(ValueSource source, AngleUnit unit) {
     case S::lock_level:
     case S::bus_address:
     case S::sample_seq:
+    case S::model_code:
       return range(0, 65535);
     default:
       return ValueRange{};

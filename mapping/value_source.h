@@ -47,7 +47,12 @@ enum class ValueSource : std::uint8_t {
   sample_seq,
   serial,
   firmware,
+  model_code,  // 1 H6, 2 H4360, 3 Dyna (mapping/model_capabilities.h)
   written,  // holding registers: the last value written through the gateway
+  // The setting named by the point's `write` as the sensor holds it (read back, or
+  // acknowledged); NaN while unknown, and always on a point without `write` (a setting the
+  // model does not have).
+  setting,
   bits,     // an integer made of one-bit sources (Point::bits), not named in files
 };
 
@@ -67,7 +72,8 @@ bool is_integer_source(ValueSource source);
 bool is_angle_source(ValueSource source);
 
 // The documented range of a source's value, in `unit` for angle sources; infinite bounds where
-// the value has none (percent grade). Strings and `written` have no numeric range: empty.
+// the value has none (percent grade). Strings, `written` and `setting` have no numeric range:
+// empty.
 struct ValueRange {
   double min = 0;
   double max = 0;

@@ -21,6 +21,21 @@ WriteResult bad_value(std::string detail) {
   return Unexpected(WriteError{WriteErrorKind::bad_value, std::move(detail)});
 }
 
+// The Rieker protocol reads no setting back: a holding register shows what the sensor
+// acknowledged. A zero to the current angle replaces any zero value set before, to a value
+// the gateway does not learn.
+void record_acknowledged(KnownSettings& settings, WriteTarget target, double value) {
+  if (target != WriteTarget::command) {
+    settings.set(target, value);
+    return;
+  }
+  const auto command = SensorCommand(int(value));
+  if (command == SensorCommand::zero_temporary || command == SensorCommand::zero_permanent) {
+    settings.forget(WriteTarget::zero_x);
+    settings.forget(WriteTarget::zero_y);
+  }
+}
+
 }  // namespace
 
 WriteError to_write_error(const ExchangeError& error, std::string_view step) {
@@ -39,6 +54,7 @@ WriteError to_write_error(const ExchangeError& error, std::string_view step) {
 RiekerDriver::RiekerDriver(RiekerDriverOptions options)
     : PolledSensorDriver(options.reply_timeouts), options_(std::move(options)) {
   state_.bus_address = options_.address;
+  state_.settings.set(WriteTarget::bus_address, options_.address);
 }
 
 std::string_view RiekerDriver::model() const {
@@ -187,6 +203,7 @@ asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target,
     co_await lock_again(line);
   }
   state_.last_write_failed = !result;
+  if (result) record_acknowledged(state_.settings, target, value);
   co_return result;
 }
 

@@ -33,7 +33,8 @@
 //  A10. Locations are even: 2..22 as listed, and 100..280 ("reserved"). Nothing else is read
 //       or written. Writable through the gateway: 6, 10, 20 (offsets: a raw 16-bit word,
 //       0..65535), 16 (module address: 0..255 on the 9-bit bus, 1..250 on Modbus-ASCII) and 22
-//       (baud: only the five listed codes).
+//       (baud: only the five listed codes); the reserved 100..280 only when the sensor's
+//       eeprom_reserved_writes says so (the note's own example writes 355 to location 100).
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,5 @@
 #include "spectron/dyna_driver.h"
 
-
 #include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -14,32 +13,6 @@ namespace asio = boost::asio;
 namespace {
 
 using Kind = DynaRequest::Kind;
-
-// Far beyond any value a setting takes, so the conversion to an integer below is exact.
-constexpr double kLargestChecked = 1e9;
-
-bool is_whole(double value) {
-  return std::isfinite(value) && value == std::floor(value) && std::fabs(value) <= kLargestChecked;
-}
-
-WriteResult bad_value(std::string detail) {
-  return Unexpected(WriteError{WriteErrorKind::bad_value, std::move(detail)});
-}
-
-// The EEPROM location behind each named setting ("Memory Map").
-std::uint16_t location_of(WriteTarget target) {
-  switch (target) {
-    case WriteTarget::sensor_offset: return eeprom::kSensorOffset;
-    case WriteTarget::temperature_offset: return eeprom::kTemperatureOffset;
-    case WriteTarget::pwm_offset: return eeprom::kPwmOffset;
-    case WriteTarget::bus_address: return eeprom::kModuleAddress;
-    case WriteTarget::baud_code: return eeprom::kBaudCode;
-    default: return 0;
-  }
-}
-
-// The only command: the "0" / 0x65 reset of the processor.
-constexpr double kResetCommand = 1;
 
 }  // namespace
 
@@ -59,66 +32,26 @@ DynaDriver::DynaDriver(DynaDriverOptions options)
   state_.bus_address = std::uint32_t(options_.address);
 }
 
-WriteResult DynaDriver::check_location_value(std::int64_t location, double value) const {
-  if (!is_whole(value)) return bad_value(fmt::format("{} is not a whole number", value));
-  auto allowed = eeprom::check_value(location, std::int64_t(value), options_.protocol);
-  if (!allowed) return bad_value(allowed.error());
-  return Done{};
-}
-
-WriteResult DynaDriver::check_write(WriteTarget target, double value) const {
-  switch (target) {
-    case WriteTarget::sensor_offset:
-    case WriteTarget::temperature_offset:
-    case WriteTarget::pwm_offset:
-    case WriteTarget::bus_address:
-    case WriteTarget::baud_code: return check_location_value(location_of(target), value);
-    case WriteTarget::command:
-      if (value != kResetCommand) return bad_value("command must be 1 (reset)");
-      return Done{};
-    case WriteTarget::eeprom_location: {
-      if (!is_whole(value)) return bad_value(fmt::format("{} is not a whole number", value));
-      auto known = eeprom::check_location(std::int64_t(value));
-      if (!known) return bad_value(known.error());
-      return Done{};
-    }
-    case WriteTarget::eeprom_value:
-      if (!is_whole(value) || value < 0 || value > eeprom::kMaxValue) {
-        return bad_value("an EEPROM value must be 0..65535");
-      }
-      return Done{};
-    default:
-      return Unexpected(WriteError{WriteErrorKind::not_supported, "not a Dyna setting"});
-  }
-}
-
-std::optional<std::uint32_t> DynaDriver::address_after(WriteTarget target, double value) const {
-  if (target == WriteTarget::eeprom_value && eeprom_location_ == eeprom::kModuleAddress) {
-    target = WriteTarget::bus_address;
-  }
-  return SensorDriver::address_after(target, value);
-}
-
 asio::awaitable<Expected<DynaAnswer, ExchangeError>> DynaDriver::exchange(
     Line& line, DynaRequest request, ExchangeOptions options, std::optional<int> address) {
   auto transaction =
       DynaTransaction::make(options_.protocol, address.value_or(options_.address), request);
   if (!transaction) {
-    co_return Unexpected(
-        ExchangeError{ExchangeError::Kind::bad_request, LineError::timeout, transaction.error()});
+    co_return Unexpected{
+        ExchangeError{ExchangeError::Kind::bad_request, LineError::timeout, transaction.error()}};
   }
   auto sent = co_await transact_counted(line, transaction->line_request(), options);
   state_.counters.checksum_errors += std::uint32_t(transaction->checksum_errors());
   if (!sent) {
-    co_return Unexpected(ExchangeError{ExchangeError::Kind::line, sent.error(),
+    co_return Unexpected{ExchangeError{ExchangeError::Kind::line, sent.error(),
                                        fmt::format("{}: {}", request_name(request.kind),
-                                                   to_string(sent.error()))});
+                                                   to_string(sent.error()))}};
   }
   auto answer = transaction->answer();
   if (!answer) {
-    co_return Unexpected(ExchangeError{ExchangeError::Kind::bad_reply, LineError::timeout,
+    co_return Unexpected{ExchangeError{ExchangeError::Kind::bad_reply, LineError::timeout,
                                        fmt::format("{}: {}", request_name(request.kind),
-                                                   describe(answer.error()))});
+                                                   describe(answer.error()))}};
   }
   co_return std::move(*answer);
 }
@@ -132,6 +65,7 @@ asio::awaitable<bool> DynaDriver::read_identity(Line& line) {
 
   // A module that answers identity requests with nonsense still measures: carry on without it
   // rather than asking again every poll (status bit 3 stays set until the next reconnect).
+  if (!co_await read_settings(line)) co_return false;
   identity_read_on(generation);
   if (firmware) state_.firmware = firmware->text;
   if (serial) state_.serial = std::to_string(serial->number);  // EEPROM 4, a decimal number
@@ -174,77 +108,6 @@ void DynaDriver::failed_measurement(const ExchangeError& error) {
   if (error.kind != ExchangeError::Kind::line) {
     spdlog::debug("{}: unusable reply: {}", options_.name, error.detail);
   }
-}
-
-asio::awaitable<WriteResult> DynaDriver::write(Line& line, WriteTarget target, double value) {
-  auto checked = check_write(target, value);
-  if (!checked) co_return checked;
-  WriteResult result = Done{};
-  switch (target) {
-    case WriteTarget::eeprom_location:
-      // Only remembered: it says where the next eeprom_value write goes.
-      eeprom_location_ = std::uint16_t(value);
-      co_return Done{};
-    case WriteTarget::eeprom_value: {
-      if (!eeprom_location_) co_return bad_value("no EEPROM location selected");
-      auto allowed = check_location_value(*eeprom_location_, value);
-      if (!allowed) co_return allowed;
-      result = co_await write_location(line, *eeprom_location_, std::uint16_t(value));
-      break;
-    }
-    case WriteTarget::command: result = co_await reset(line); break;
-    default: result = co_await write_location(line, location_of(target), std::uint16_t(value));
-  }
-  state_.last_write_failed = !result;
-  co_return result;
-}
-
-asio::awaitable<WriteResult> DynaDriver::write_location(Line& line, std::uint16_t location,
-                                                        std::uint16_t value) {
-  if (location == eeprom::kModuleAddress) co_return co_await set_address(line, value);
-  auto reply = co_await exchange(line, {Kind::write_eeprom, location, value});
-  if (!reply) co_return Unexpected(to_write_error(reply.error(), "write EEPROM"));
-  if (location == eeprom::kBaudCode) {
-    spdlog::warn("{}: Dyna {} stores baud code {} ({} baud), in force after its next reset; the "
-                 "bus's baud must then be changed to match",
-                 options_.name, options_.address, value, *eeprom::baud_for_code(value));
-  }
-  co_return Done{};
-}
-
-asio::awaitable<WriteResult> DynaDriver::set_address(Line& line, int new_address) {
-  // Not retried: after a lost acknowledgement the module may already answer only at the new
-  // address, so a retry would go to nobody.
-  auto reply = co_await exchange(line, {Kind::write_eeprom, eeprom::kModuleAddress, new_address},
-                                 ExchangeOptions{0, {}});
-  if (!reply && reply.error().kind != ExchangeError::Kind::line) {
-    co_return Unexpected(to_write_error(reply.error(), "set address"));
-  }
-  if (!reply) {
-    // No acknowledgement: did the change happen anyway? Ask the new address before giving up.
-    auto there = co_await exchange(line, {Kind::read_eeprom, eeprom::kModuleAddress}, {},
-                                   new_address);
-    if (!there || there->number != new_address) {
-      co_return Unexpected(WriteError{
-          WriteErrorKind::no_response,
-          fmt::format("set address: no acknowledgement, and no module answers at {}", new_address)});
-    }
-  }
-  spdlog::info("{}: Dyna moved from address {} to {}", options_.name, options_.address,
-               new_address);
-  options_.address = new_address;
-  state_.bus_address = std::uint32_t(new_address);
-  co_return Done{};
-}
-
-asio::awaitable<WriteResult> DynaDriver::reset(Line& line) {
-  auto reply = co_await exchange(line, {Kind::reset}, ExchangeOptions{-1, options_.reset_settle});
-  if (!reply) co_return Unexpected(to_write_error(reply.error(), "reset"));
-  // A reset may bring another firmware (or module) back: read the identity again, like after a
-  // reconnect.
-  forget_identity();
-  spdlog::info("{}: Dyna {} reset", options_.name, options_.address);
-  co_return Done{};
 }
 
 }  // namespace tiltgate::spectron

@@ -8,12 +8,17 @@
 // module address (16; the driver follows the module), the baud code (22; in force after the
 // next reset, so the bus's baud must follow), and any other writable location through an
 // EEPROM window (select a location, then write its value). The Dyna has no NAKs and no locks.
+//
+// The settings are read back from the EEPROM ("3" / 0x69) with the identity and after every
+// write, and published in SensorState::settings, so a holding register shows what the module
+// holds; selecting a window location reads that location.
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "driver/polled_sensor_driver.h"
@@ -33,6 +38,9 @@ struct DynaDriverOptions {
   // processor takes to restart; a module that takes longer only costs one timed-out poll.
   std::chrono::milliseconds reset_settle{200};
   ReplyTimeouts reply_timeouts;  // the bus's timeout_ms and max_timeout_ms
+  // [[sensor]] eeprom_reserved_writes: the EEPROM window may write the reserved block 100..280
+  // (the note's own example writes there); off by default.
+  bool reserved_writes = false;
 };
 
 // Why one exchange produced no usable reply.
@@ -51,18 +59,20 @@ class DynaDriver : public PolledSensorDriver {
   explicit DynaDriver(DynaDriverOptions options);
 
   std::string_view model() const override { return "dyna"; }
-  // Checks every value against the memory map, except that an eeprom_value is only checked as
-  // a 16-bit word here: it goes to the location selected when the write runs (a request that
-  // writes the location and value registers together is checked before either runs), so
-  // write() checks it against that location, before anything is sent.
+  // Checks every value against the memory map; an eeprom_value against the location selected
+  // now (write() checks it again against the one selected when it runs).
   WriteResult check_write(WriteTarget target, double value) const override;
   // Also an EEPROM window write while the module address location is selected.
   std::optional<std::uint32_t> address_after(WriteTarget target, double value) const override;
+  // As check_write, but an eeprom_value against the location the request selects before it.
+  WriteResult check_writes(std::span<const SettingWrite> writes) const override;
+  // A location selected by the failed request is unselected again.
+  void abandon(std::span<const SettingWrite> done) override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
 
   int address() const { return options_.address; }
   // The EEPROM window's location (WriteTarget::eeprom_location), none until one is written.
-  std::optional<std::uint16_t> eeprom_location() const { return eeprom_location_; }
+  std::optional<std::uint16_t> eeprom_location() const;
 
  protected:
   boost::asio::awaitable<bool> read_identity(Line& line) override;
@@ -82,10 +92,28 @@ class DynaDriver : public PolledSensorDriver {
                                                      std::uint16_t value);
   boost::asio::awaitable<WriteResult> set_address(Line& line, int new_address);
   boost::asio::awaitable<WriteResult> reset(Line& line);
+  // Selects the window's location, reading it from the module; the selection stays as it was
+  // when the module does not answer.
+  boost::asio::awaitable<WriteResult> select_location(Line& line, std::uint16_t location);
   WriteResult check_location_value(std::int64_t location, double value) const;
+  WriteResult check_window_value(std::optional<std::uint16_t> location, double value) const;
+
+  // EEPROM read-back (dyna_settings.cpp): every named setting and the window's location, with
+  // the identity; false when the module stopped answering.
+  boost::asio::awaitable<bool> read_settings(Line& line);
+  // Reads one location and publishes it in state_.settings (unknown if unreadable).
+  boost::asio::awaitable<Expected<std::uint16_t, ExchangeError>> read_back(Line& line,
+                                                                           std::uint16_t location);
+  void publish(std::uint16_t location, std::optional<std::uint16_t> value);
+
+  // The window's selection before the last location write, for abandon().
+  struct WindowSelection {
+    std::optional<double> location;
+    std::optional<double> value;
+  };
 
   DynaDriverOptions options_;
-  std::optional<std::uint16_t> eeprom_location_;
+  WindowSelection selection_before_;
 };
 
 // An ExchangeError as the write error the gateway maps to a Modbus exception: no reply is

@@ -44,47 +44,50 @@ const char* location_name(std::int64_t location) {
 
 bool is_documented(std::int64_t location) { return location_name(location) != nullptr; }
 
-bool writable(std::int64_t location) {
+bool writable(std::int64_t location, ReservedWrites reserved) {
   switch (location) {
     case kSensorOffset:
     case kTemperatureOffset:
     case kModuleAddress:
     case kPwmOffset:
     case kBaudCode: return true;
-    default: return false;
+    default: break;
   }
+  // The application note's own example writes 355 to location 100 (":0268006401639C").
+  return reserved == ReservedWrites::allowed && location >= kReservedFirst &&
+         location <= kReservedLast && location % 2 == 0;
 }
 
 Expected<Done, std::string> check_location(std::int64_t location) {
   if (location % 2 != 0) {
-    return Unexpected("EEPROM location " + std::to_string(location) +
-                      " is odd; locations are even");
+    return Unexpected{"EEPROM location " + std::to_string(location) +
+                      " is odd; locations are even"};
   }
   if (!is_documented(location)) {
-    return Unexpected("EEPROM location " + std::to_string(location) +
-                      " is not in the memory map (2..22, 100..280)");
+    return Unexpected{"EEPROM location " + std::to_string(location) +
+                      " is not in the memory map (2..22, 100..280)"};
   }
   return Done{};
 }
 
 Expected<Done, std::string> check_value(std::int64_t location, std::int64_t value,
-                                        Protocol protocol) {
+                                        Protocol protocol, ReservedWrites reserved) {
   if (auto known = check_location(location); !known) return known;
-  if (!writable(location)) return Unexpected(named(location) + " is read-only");
+  if (!writable(location, reserved)) return Unexpected{named(location) + " is read-only"};
   const std::string what = "value " + std::to_string(value) + " for " + named(location);
   if (location == kModuleAddress) {
     if (value < min_address(protocol) || value > max_address(protocol)) {
-      return Unexpected(what + " is out of range " + std::to_string(min_address(protocol)) +
+      return Unexpected{what + " is out of range " + std::to_string(min_address(protocol)) +
                         ".." + std::to_string(max_address(protocol)) + " on a " +
-                        protocol_name(protocol) + " bus");
+                        protocol_name(protocol) + " bus"};
     }
     return Done{};
   }
   if (location == kBaudCode) {
-    if (!baud_for_code(value)) return Unexpected(what + " is not one of 7, 10, 15, 32, 64");
+    if (!baud_for_code(value)) return Unexpected{what + " is not one of 7, 10, 15, 32, 64"};
     return Done{};
   }
-  if (value < 0 || value > kMaxValue) return Unexpected(what + " is out of range 0..65535");
+  if (value < 0 || value > kMaxValue) return Unexpected{what + " is out of range 0..65535"};
   return Done{};
 }
 

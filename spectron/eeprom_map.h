@@ -33,8 +33,10 @@ inline constexpr int kMaxModbusAddress = 250;
 const char* location_name(std::int64_t location);
 // Even, and listed (2..22) or in the reserved block 100..280.
 bool is_documented(std::int64_t location);
-// The locations the gateway may write: 6, 10, 16, 20, 22.
-bool writable(std::int64_t location);
+// What the gateway may write: the named settings 6, 10, 16, 20, 22, and with
+// `reserved_writes` (the sensor's eeprom_reserved_writes) the reserved block 100..280 too.
+enum class ReservedWrites { refused, allowed };
+bool writable(std::int64_t location, ReservedWrites reserved = ReservedWrites::refused);
 
 // Whether `location` may be read or written at all (is_documented), with the reason if not.
 Expected<Done, std::string> check_location(std::int64_t location);
@@ -42,7 +44,8 @@ Expected<Done, std::string> check_location(std::int64_t location);
 // error says why not ("location 4 (serial number) is read-only", "baud code 8 is not one of
 // 7, 10, 15, 32, 64").
 Expected<Done, std::string> check_value(std::int64_t location, std::int64_t value,
-                                        Protocol protocol);
+                                        Protocol protocol,
+                                        ReservedWrites reserved = ReservedWrites::refused);
 
 // Module address range of a protocol.
 int min_address(Protocol protocol);

@@ -143,6 +143,12 @@ std::optional<std::uint16_t> SimulatedDyna::eeprom(std::int64_t location) const 
   return eeprom_[static_cast<std::size_t>(location / 2)];
 }
 
+bool SimulatedDyna::set_eeprom(std::int64_t location, std::uint16_t value) {
+  if (!eeprom(location)) return false;
+  eeprom_[static_cast<std::size_t>(location / 2)] = value;
+  return true;
+}
+
 bool SimulatedDyna::accept_request(AsciiCommand command) {
   ++requests_handled_;
   if (faults_.silent > 0) {

@@ -98,8 +98,12 @@ class SimulatedDyna {
 
   std::uint8_t address() const { return address_; }  // the address it answers at
   int baud_code() const { return baud_code_; }        // the code in effect
-  // The word at `location`, or nullopt outside the EEPROM (odd, or past 280).
+  // The word at `location`, or nullopt outside the EEPROM (odd, or past 280). Every word it
+  // holds is answered to a read, reserved ones included.
   std::optional<std::uint16_t> eeprom(std::int64_t location) const;
+  // Stores a word as a service tool on another port would, behind the gateway's back (no
+  // checks, no move to a new address); false outside the EEPROM.
+  bool set_eeprom(std::int64_t location, std::uint16_t value);
   const std::string& firmware() const { return options_.firmware; }
   std::uint16_t revision() const { return options_.revision; }
   std::uint64_t requests_handled() const { return requests_handled_; }

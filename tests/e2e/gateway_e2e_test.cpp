@@ -77,13 +77,20 @@ TEST_CASE("a PLC reads every input register and the online bit of each sensor") 
   REQUIRE(single.size() == 6);
   CHECK(float_at(single, 0) == -30.5f);
   CHECK(std::isnan(float_at(single, 2)));
-  CHECK(std::int16_t(single[5]) == 0);
+  CHECK(std::int16_t(single[5]) == -32768);  // no Y: the documented "not available"
 }
 
 TEST_CASE("holding register writes reach the sensor and read back") {
   Plant plant;
   REQUIRE(plant.wait_online(1));
   ModbusClient client(plant.port, 1);
+  // Before any write: unknown (the protocol reads no setting back), the address known.
+  const auto before = client.holding(0, 8);
+  REQUIRE(before.size() == 8);
+  CHECK(before[0] == 0xFFFF);
+  CHECK(std::isnan(float_at(before, 1)));
+  CHECK(before[5] == 0);  // no command
+  CHECK(before[7] == 223);
 
   CHECK(client.write(0, 2));
   CHECK(plant.sim->call([](RiekerSimulator& s) { return s.sensor(0).filter(); }) == 2);
@@ -123,7 +130,7 @@ TEST_CASE("exceptions: unknown unit, unmapped, split, out of range, unsupported 
   client.unit(1);
   CHECK(client.input(1, 2).empty());  // splits angle_x and angle_y
   CHECK(client.exception() == 0x02);
-  CHECK(client.input(20, 5).empty());  // past the end
+  CHECK(client.input(36, 5).empty());  // past the end of the common block
   CHECK(client.exception() == 0x02);
   CHECK(client.coils(0, 1).empty());
   CHECK(client.exception() == 0x01);

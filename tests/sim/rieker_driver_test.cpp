@@ -103,6 +103,26 @@ TEST_CASE("NAK 2 when a dual-axis type code is sent to an H4360") {
   CHECK(driver.state().counters.last_nak == std::optional<std::uint8_t>(2));
 }
 
+TEST_CASE("acknowledged settings are published, but not a refused one or a zeroed offset") {
+  Bench bench({h6(223)});
+  RiekerDriver driver(driver_for(223));
+  const KnownSettings& settings = driver.state().settings;
+  CHECK(settings.get(WriteTarget::bus_address) == 223);  // known from the start
+  CHECK_FALSE(settings.get(WriteTarget::filter).has_value());  // the protocol reads none back
+  CHECK(bench.write(driver, WriteTarget::filter, 2).has_value());
+  CHECK(bench.write(driver, WriteTarget::zero_x, 0.5).has_value());
+  CHECK(settings.get(WriteTarget::filter) == 2);
+  CHECK(settings.get(WriteTarget::zero_x) == 0.5);
+  bench.sim->sensor(0).faults().busy = 1000;
+  CHECK_FALSE(bench.write(driver, WriteTarget::filter, 5).has_value());
+  bench.sim->sensor(0).faults().busy = 0;
+  CHECK(settings.get(WriteTarget::filter) == 2);
+  CHECK(bench.write(driver, WriteTarget::command, 1).has_value());  // zero here
+  CHECK_FALSE(settings.get(WriteTarget::zero_x).has_value());  // no longer 0.5, value unknown
+  CHECK(bench.write(driver, WriteTarget::bus_address, 300).has_value());
+  CHECK(settings.get(WriteTarget::bus_address) == 300);
+}
+
 TEST_CASE("every setting is written with the lock dance and the sensor ends locked") {
   Bench bench({h6(223)});
   RiekerDriver driver(driver_for(223));

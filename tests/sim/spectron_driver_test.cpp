@@ -9,7 +9,7 @@
 
 #include "serial/serial_line.h"
 #include "sim/support/raw_tty_client.h"
-#include "sim/support/driver_bench.h"
+#include "sim/support/dyna_bench.h"
 #include "sim/support/run_coroutine.h"
 #include "spectron/ascii_codec.h"
 #include "spectron/dyna_driver.h"
@@ -22,62 +22,12 @@ using test::run_coroutine;
 
 namespace {
 
-// The protocols every behaviour is checked in, with what each reports as firmware.
-struct NineBit {
-  static constexpr Protocol protocol = Protocol::nine_bit;
-  static constexpr const char* firmware = "DYNA 1.07";  // the "F" reply, free text
-};
-struct ModbusAscii {
-  static constexpr Protocol protocol = Protocol::modbus_ascii;
-  static constexpr const char* firmware = "01.07";  // the 0x6A word 0x0107 (A7)
-};
-
-constexpr std::uint8_t kAddress = 7;  // valid on both buses
-
-// One Dyna bus at 28800 baud in `protocol`'s framing with these modules.
-struct Bench : test::DriverBench<DynaSimulator> {
-  Bench(Protocol protocol, std::vector<SimulatedDynaOptions> sensors, int retries = 1)
-      : DriverBench(simulator_options(protocol, std::move(sensors)),
-                    line_options(protocol, retries)) {}
-
-  static DynaSimulatorOptions simulator_options(Protocol protocol,
-                                                std::vector<SimulatedDynaOptions> sensors) {
-    DynaSimulatorOptions options;
-    options.protocol = protocol;
-    options.sensors = std::move(sensors);
-    return options;
-  }
-  static SerialLineOptions line_options(Protocol protocol, int retries) {
-    SerialLineOptions options;
-    options.name = "dyna-line";
-    options.baud = 28800;
-    options.framing =
-        protocol == Protocol::nine_bit ? Framing::nine_bit : Framing::eight_even_one;
-    options.retries = retries;
-    return options;
-  }
-  SimulatedDyna& module() { return sim->sensor(0); }
-};
-
-SimulatedDynaOptions dyna(std::uint8_t address = kAddress, std::int16_t counts = 1001) {
-  SimulatedDynaOptions options;
-  options.address = address;
-  options.counts = counts;
-  options.temperature = -40;
-  return options;
-}
-
-DynaDriverOptions driver_for(Protocol protocol, int address = kAddress) {
-  DynaDriverOptions options;
-  options.name = "dyna";
-  options.protocol = protocol;
-  options.address = address;
-  options.counts_per_degree = 100.0;
-  options.zero_counts = 1.0;
-  options.reset_settle = 20ms;
-  options.reply_timeouts = test::kBenchReplyTimeouts;
-  return options;
-}
+using test::Bench;
+using test::driver_for;
+using test::dyna;
+using test::kAddress;
+using test::ModbusAscii;
+using test::NineBit;
 
 WriteErrorKind kind_of(const WriteResult& result) {
   REQUIRE_FALSE(result.has_value());
@@ -103,9 +53,10 @@ TEST_CASE_TEMPLATE("a first poll reads the identity, then counts and temperature
   CHECK(s.reading->angle_x == doctest::Approx(10.0));  // (1001 - 1) / 100
   CHECK(std::isnan(s.reading->angle_y));
   CHECK(s.sample_seq == 1);
-  CHECK(s.counters.transactions == 4);  // firmware, serial, sensor, temperature
+  // firmware, serial, the five EEPROM settings, sensor, temperature
+  CHECK(s.counters.transactions == 9);
   bench.poll(driver);
-  CHECK(s.counters.transactions == 6);  // identity is not read again
+  CHECK(s.counters.transactions == 11);  // identity is not read again
   CHECK(s.counters.polls_ok == 2);
   CHECK(s.sample_seq == 2);
 }
@@ -154,20 +105,27 @@ TEST_CASE_TEMPLATE("every named EEPROM setting and the EEPROM window reach the m
 TEST_CASE_TEMPLATE("the EEPROM window refuses before sending anything", P, NineBit, ModbusAscii) {
   Bench bench(P::protocol, {dyna()});
   DynaDriver driver(driver_for(P::protocol));
-  const auto handled = bench.module().requests_handled();
+  const auto& module = bench.module();
+  auto handled = module.requests_handled();
   CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 1)) == WriteErrorKind::bad_value);
+  CHECK(module.requests_handled() == handled);
+  // Selecting reads the location (one request); the refused values send nothing.
   CHECK(bench.write(driver, WriteTarget::eeprom_location, 4).has_value());  // documented ...
+  handled = module.requests_handled();
   CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 1)) ==
         WriteErrorKind::bad_value);  // ... but the serial number is read-only
   CHECK(bench.write(driver, WriteTarget::eeprom_location, 100).has_value());
+  CHECK(module.requests_handled() == handled + 1);
+  handled = module.requests_handled();
   CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 355)) ==
-        WriteErrorKind::bad_value);  // reserved: read-only through the gateway (A10)
+        WriteErrorKind::bad_value);  // reserved: read-only without eeprom_reserved_writes
   CHECK(bench.write(driver, WriteTarget::eeprom_location, 22).has_value());
+  handled = module.requests_handled();
   CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 8)) == WriteErrorKind::bad_value);
   CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_location, 24)) ==
         WriteErrorKind::bad_value);  // not in the memory map
   CHECK(driver.eeprom_location() == std::optional<std::uint16_t>(22));
-  CHECK(bench.module().requests_handled() == handled);
+  CHECK(module.requests_handled() == handled);
   CHECK(bench.module().eeprom(4) == std::optional<std::uint16_t>(12345));
   CHECK(bench.module().eeprom(100) == std::optional<std::uint16_t>(0));
 }
@@ -230,7 +188,7 @@ TEST_CASE_TEMPLATE("a reset is sent, and the identity is read again afterwards",
   const auto transactions = driver.state().counters.transactions;
   bench.poll(driver);
   CHECK(driver.state().identity_known);
-  CHECK(driver.state().counters.transactions == transactions + 4);
+  CHECK(driver.state().counters.transactions == transactions + 9);  // identity, settings, reading
 }
 
 TEST_CASE("values a Dyna cannot take are refused before anything is sent") {
@@ -365,5 +323,5 @@ TEST_CASE_TEMPLATE("an unplugged adapter fails polls, and after the replug ident
   bench.poll(driver);
   CHECK(driver.state().online);
   CHECK(driver.state().identity_known);
-  CHECK(driver.state().counters.transactions == transactions + 4);  // identity again + reading
+  CHECK(driver.state().counters.transactions == transactions + 9);  // identity again + reading
 }

@@ -170,7 +170,8 @@ TEST_CASE("config: an unknown key with nothing close lists the known keys") {
   expect_error(
       valid_plus("colour = \"red\"\n"), 10, "sensor[0].colour",
       "unknown key; expected one of: name, bus, model, address, unit_id, poll_ms, stale_ms, "
-      "counts_per_degree, zero_counts, mounting, alarms, offline, substitute, map");
+      "counts_per_degree, zero_counts, eeprom_reserved_writes, mounting, alarms, offline, "
+      "substitute, map");
 }
 
 TEST_CASE("config: an unknown table is rejected, with a suggestion when one is close") {
@@ -344,6 +345,14 @@ TEST_CASE("config: Dyna scaling takes integers or floats, and only on a Dyna") {
                "must not be 0 (raw counts are divided by it)");
   expect_error(valid_plus("zero_counts = 3\n"), 10, "sensor[0].zero_counts",
                "applies to model \"dyna\" only, not \"h6\"");
+}
+
+TEST_CASE("config: eeprom_reserved_writes is off by default, a boolean, and Dyna only") {
+  const std::string dyna = dyna_bus("spectron-modbus", "baud = 9600\n") + dyna_sensor(1);
+  CHECK_FALSE(loads(dyna).sensors[0].eeprom_reserved_writes);
+  CHECK(loads(dyna + "eeprom_reserved_writes = true\n").sensors[0].eeprom_reserved_writes);
+  expect_error(valid_plus("eeprom_reserved_writes = true\n"), 10,
+               "sensor[0].eeprom_reserved_writes", "applies to model \"dyna\" only, not \"h6\"");
 }
 
 TEST_CASE("config: stale_ms shorter than poll_ms is an error") {

@@ -113,13 +113,16 @@ TEST_CASE("percent grade has no bounds, so an integer point must saturate") {
   CHECK(problems_of({grade}, "h6").empty());
 }
 
-TEST_CASE("a writable point must show what was written, in a holding register") {
+TEST_CASE("a writable point must show what was written or the setting, in a holding register") {
   Point on_angle = writable(WriteTarget::filter);
   on_angle.source = ValueSource::angle_x;
   on_angle.type = PointType::float32;
   expect({on_angle}, "write",
-         "a writable point shows the value written to it, but its source is the read-only "
-         "angle_x; leave source out");
+         "a writable point shows the value written to it (written) or the sensor's (setting), "
+         "but its source is the read-only angle_x; leave source out");
+  Point read_back = writable(WriteTarget::filter);
+  read_back.source = ValueSource::setting;
+  CHECK(problems_of({read_back}, "h6").empty());
   Point in_input = writable(WriteTarget::filter);
   in_input.table = RegisterTable::input;
   expect({in_input}, "write",

@@ -45,6 +45,19 @@ TEST_CASE("only the offsets, the module address and the baud code are writable")
         "EEPROM location 40 is not in the memory map (2..22, 100..280)");
 }
 
+TEST_CASE("with reserved writes allowed, the even reserved block 100..280 is writable too") {
+  for (std::int64_t location = 0; location <= 300; ++location) {
+    const bool expected = writable(location) || (location >= 100 && location <= 280 &&
+                                                 location % 2 == 0);
+    CAPTURE(location);
+    CHECK(writable(location, ReservedWrites::allowed) == expected);
+  }
+  CHECK(check_value(100, 355, Protocol::modbus_ascii, ReservedWrites::allowed).has_value());
+  CHECK_FALSE(check_value(101, 355, Protocol::modbus_ascii, ReservedWrites::allowed).has_value());
+  CHECK_FALSE(check_value(8, 1, Protocol::modbus_ascii, ReservedWrites::allowed).has_value());
+  CHECK_FALSE(check_value(4, 1, Protocol::modbus_ascii, ReservedWrites::allowed).has_value());
+}
+
 TEST_CASE("the module address range depends on the protocol") {
   CHECK(check_value(16, 0, Protocol::nine_bit).has_value());
   CHECK(check_value(16, 255, Protocol::nine_bit).has_value());

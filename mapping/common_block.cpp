@@ -1,0 +1,131 @@
+#include "mapping/common_block.h"
+
+namespace tiltgate {
+namespace {
+
+using T = PointType;
+using S = ValueSource;
+using W = WriteTarget;
+
+// What an integer angle reads when there is no angle (the Y axis of a single-axis model).
+constexpr double kNoAngleCdeg = -32768;
+
+Point cdeg_point(std::string name, std::uint16_t address, ValueSource source,
+                 std::string description) {
+  Point p = input_point(std::move(name), address, T::int16, source, "0.01 deg",
+                        std::move(description));
+  p.nan_value = kNoAngleCdeg;
+  return p;
+}
+
+void add_angles(std::vector<Point>& points, const CommonBlockModel& m) {
+  const bool two = m.dual_axis;
+  points.push_back(input_point("angle_x", 0, T::float32, S::angle_x, "deg", m.angle_x_description));
+  points.push_back(input_point("angle_y", 2, T::float32, S::angle_y, "deg",
+                               two ? "Y angle after the zero offset and the mounting"
+                                   : "NaN (single axis)"));
+  points.push_back(cdeg_point("angle_x_cdeg", 4, S::angle_x_cdeg,
+                              "X angle in hundredths of a degree, saturating"));
+  points.push_back(cdeg_point("angle_y_cdeg", 5, S::angle_y_cdeg,
+                              two ? "Y angle in hundredths of a degree, saturating"
+                                  : "-32768 (single axis)"));
+}
+
+void add_status(std::vector<Point>& points) {
+  points.push_back(input_point("status", 6, T::uint16, S::status, "",
+                               "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity "
+                               "unknown, bit 4 an alarm is active, bit 5 answers late"));
+  points.push_back(input_point("age_ms", 7, T::uint16, S::age_ms, "ms",
+                               "time since the last good reading, saturating at 65535"));
+  points.push_back(
+      input_point("polls_ok", 8, T::uint32, S::polls_ok, "", "measurement polls answered"));
+  points.push_back(input_point("polls_failed", 10, T::uint32, S::polls_failed, "",
+                               "measurement polls not answered"));
+  points.push_back(input_point("last_nak", 12, T::uint16, S::last_nak, "",
+                               "last NAK code from the sensor, 65535 if none (or no NAKs)"));
+  points.push_back(input_point("lock_level", 13, T::uint16, S::lock_level, "",
+                               "sensor lock level, 65535 if unknown (or no locks)"));
+  points.push_back(input_point("rs485_address", 14, T::uint16, S::bus_address, "",
+                               "the sensor's address on its bus"));
+  points.push_back(input_point("sample_seq", 15, T::uint16, S::sample_seq, "",
+                               "increments with every new reading"));
+}
+
+// Registers 16..37: identity, tilt, alarms, the line's counters and the model.
+void add_identity_and_counters(std::vector<Point>& points) {
+  points.push_back(input_point("serial", 16, T::string, S::serial, "",
+                               "serial number, 2 characters per register, first in the high byte",
+                               10));
+  // 8 characters: a Rieker firmware text has 7, a Dyna's is free text (9-bit "F") or "HH.LL"
+  // (Modbus-ASCII); function 43 reports it in full.
+  points.push_back(input_point("firmware", 21, T::string, S::firmware, "",
+                               "firmware revision, first 8 characters, space padded", 8));
+  points.push_back(input_point("tilt", 25, T::float32, S::tilt, "deg",
+                               "tilt from vertical, tan^2 = tan^2 x + tan^2 y; |x| on one axis"));
+  points.push_back(input_point("alarms", 27, T::uint16, S::alarms, "",
+                               "bit 0 x high, 1 x low, 2 y high, 3 y low, 4 tilt high, 5 rate; "
+                               "0 without [sensor] alarms"));
+  points.push_back(input_point("timeouts", 28, T::uint32, S::timeouts, "",
+                               "exchanges that got no valid reply in time"));
+  points.push_back(input_point("checksum_errors", 30, T::uint32, S::checksum_errors, "",
+                               "replies dropped for a bad CRC or LRC"));
+  points.push_back(input_point("late_replies", 32, T::uint32, S::late_replies, "",
+                               "replies that came after the reply time-out"));
+  points.push_back(input_point("io_errors", 34, T::uint32, S::io_errors, "",
+                               "exchanges lost to a port failure"));
+  points.push_back(input_point("reply_timeout_ms", 36, T::uint16, S::reply_timeout_ms, "ms",
+                               "the reply time-out in use for this sensor"));
+  points.push_back(
+      input_point("model_code", 37, T::uint16, S::model_code, "", "1 H6, 2 H4360, 3 Dyna"));
+}
+
+// Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit
+// order), 0 unless the sensor's [sensor] alarms configure them.
+void add_discrete_inputs(std::vector<Point>& points) {
+  points.push_back(discrete_point("online", 0, S::online, "the sensor answers"));
+  points.push_back(discrete_point("alarm_x_high", 1, S::alarm_x_high, "X above alarms.x_high"));
+  points.push_back(discrete_point("alarm_x_low", 2, S::alarm_x_low, "X below alarms.x_low"));
+  points.push_back(discrete_point("alarm_y_high", 3, S::alarm_y_high, "Y above alarms.y_high"));
+  points.push_back(discrete_point("alarm_y_low", 4, S::alarm_y_low, "Y below alarms.y_low"));
+  points.push_back(discrete_point("alarm_tilt", 5, S::alarm_tilt, "tilt above alarms.tilt_high"));
+  points.push_back(discrete_point("alarm_rate", 6, S::alarm_rate,
+                                  "an angle changes faster than alarms.rate_limit_deg_s"));
+}
+
+Point setting_point(std::string name, std::uint16_t address, PointType type, WriteTarget target,
+                    const std::optional<CommonSetting>& setting, std::string units) {
+  if (!setting) {
+    Point p = unavailable_holding_point(
+        std::move(name), address, type, "not available on this model: reads 65535 (NaN as a float)");
+    p.units = std::move(units);
+    return p;
+  }
+  return holding_point(std::move(name), address, type, target, setting->min, setting->max,
+                       std::move(units), setting->description);
+}
+
+void add_settings(std::vector<Point>& points, const CommonBlockModel& m) {
+  points.push_back(setting_point("filter", 0, T::uint16, W::filter, m.filter, ""));
+  points.push_back(setting_point("zero_x", 1, T::float32, W::zero_x, m.zero_x, "deg"));
+  points.push_back(setting_point("zero_y", 3, T::float32, W::zero_y, m.zero_y, "deg"));
+  Point command = setting_point("command", 5, T::uint16, W::command, m.command, "");
+  command.nan_value = 0;  // a command is no setting: the register reads 0, "no command"
+  points.push_back(std::move(command));
+  points.push_back(setting_point("baud_code", 6, T::uint16, W::baud_code, m.baud_code, ""));
+  points.push_back(
+      setting_point("rs485_address", 7, T::uint16, W::bus_address, m.rs485_address, ""));
+}
+
+}  // namespace
+
+std::vector<Point> common_block(const CommonBlockModel& model) {
+  std::vector<Point> points;
+  add_discrete_inputs(points);
+  add_angles(points, model);
+  add_status(points);
+  add_identity_and_counters(points);
+  add_settings(points, model);
+  return points;
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,38 @@
+// The register block every built-in map starts with, at the same addresses on every model, so
+// one PLC function block reads any inclinometer: input registers 0..37, holding registers
+// 0..7 and discrete inputs 0..6. A quantity a model does not have reads its "not available"
+// value (NaN, or the integer point's nan_value); a setting it does not have reads 0xFFFF (NaN
+// as a float) and refuses writes. Model-specific points start at address 100.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapping/point.h"
+
+namespace tiltgate {
+
+// First address of the model-specific points, in the input and the holding table.
+inline constexpr std::uint16_t kModelSpecificStart = 100;
+
+// A common setting the model has: the range a write must be in, and what it does there.
+struct CommonSetting {
+  double min = 0;
+  double max = 0;
+  std::string description;
+};
+
+// What the common block says about one model.
+struct CommonBlockModel {
+  bool dual_axis = false;
+  std::string angle_x_description;  // how the model's angle comes about
+  // Holding registers 0..7; none: not available on this model.
+  std::optional<CommonSetting> filter, zero_x, zero_y;
+  CommonSetting command, baud_code, rs485_address;
+};
+
+// The common block's points for one model, in table and address order.
+std::vector<Point> common_block(const CommonBlockModel& model);
+
+}  // namespace tiltgate

@@ -1,0 +1,31 @@
+// The Dyna's settings as EEPROM locations ("Memory Map", spectron/eeprom_map.h), shared by the
+// driver's writes and its read-back.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "driver/write_target.h"
+#include "spectron/eeprom_map.h"
+
+namespace tiltgate::spectron {
+
+// The settings that are one EEPROM word each, read back with the identity.
+inline constexpr std::array<WriteTarget, 5> kEepromSettings{
+    WriteTarget::sensor_offset, WriteTarget::temperature_offset, WriteTarget::pwm_offset,
+    WriteTarget::baud_code, WriteTarget::bus_address};
+
+// The EEPROM location behind a named setting; none for the window and the command.
+constexpr std::optional<std::uint16_t> location_of(WriteTarget target) {
+  switch (target) {
+    case WriteTarget::sensor_offset: return eeprom::kSensorOffset;
+    case WriteTarget::temperature_offset: return eeprom::kTemperatureOffset;
+    case WriteTarget::pwm_offset: return eeprom::kPwmOffset;
+    case WriteTarget::bus_address: return eeprom::kModuleAddress;
+    case WriteTarget::baud_code: return eeprom::kBaudCode;
+    default: return std::nullopt;
+  }
+}
+
+}  // namespace tiltgate::spectron
