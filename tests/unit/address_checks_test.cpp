@@ -37,6 +37,11 @@ TEST_CASE("a write to bus_address moves the sensor; other settings do not") {
 TEST_CASE("a Dyna EEPROM window write moves the module when the address location is selected") {
   boost::asio::io_context io;
   test::FakeLine line(io.get_executor());
+  // Selecting a location reads it from the module: a 9-bit module answers a decimal line.
+  line.reply = [](const LineRequest&) {
+    const std::string text = "7\r\n";
+    return std::vector<std::uint8_t>(text.begin(), text.end());
+  };
   spectron::DynaDriver driver(spectron::DynaDriverOptions{});
   CHECK(driver.address_after(WriteTarget::bus_address, 7) == 7u);
   CHECK(driver.address_after(WriteTarget::eeprom_value, 7) == std::nullopt);  // none selected
@@ -48,5 +53,5 @@ TEST_CASE("a Dyna EEPROM window write moves the module when the address location
       io, driver.write(line, WriteTarget::eeprom_location, spectron::eeprom::kSensorOffset));
   REQUIRE(selected.has_value());
   CHECK(driver.address_after(WriteTarget::eeprom_value, 7) == std::nullopt);
-  CHECK(line.stats().attempts == 0);  // selecting a location sends nothing
+  CHECK(line.stats().attempts == 2);  // each selection read its location from the module
 }

@@ -22,7 +22,8 @@
 namespace tiltgate::test {
 
 // Every transaction holds the line for its request's `timeout` (zero: just yields to the
-// event loop), then succeeds. Counts attempts.
+// event loop), then succeeds; with `reply` set, the request's framer is fed what it returns
+// and the transaction times out unless the framer takes it as a whole reply. Counts attempts.
 class FakeLine : public Line {
  public:
   explicit FakeLine(boost::asio::any_io_executor executor) : executor_(executor) {}
@@ -31,8 +32,14 @@ class FakeLine : public Line {
     ++stats_.attempts;
     boost::asio::steady_timer busy(executor_, request.timeout);
     co_await busy.async_wait(boost::asio::use_awaitable);
+    if (!reply || request.framer == nullptr) co_return Done{};
+    request.framer->reset();
+    const std::vector<std::uint8_t> bytes = reply(request);
+    if (!request.framer->feed(bytes)) co_return Unexpected{LineError::timeout};
     co_return Done{};
   }
+
+  std::function<std::vector<std::uint8_t>(const LineRequest&)> reply;
   std::uint64_t generation() const override { return 1; }
   bool is_open() const override { return true; }
   const std::string& name() const override { return name_; }
