@@ -1,0 +1,72 @@
+#include "modbus_rtu/device_profile.h"
+
+#include <limits>
+
+#include "mapping/value_codec.h"
+
+namespace tiltgate::modbus_rtu {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The value's registers inside `block`'s, or an empty span when it is not inside it.
+std::span<const std::uint16_t> registers_of(const ProfileValue& value, const ReadBlock& block,
+                                            const std::vector<std::uint16_t>& registers) {
+  if (block.bank != value.bank || value.address < block.address) return {};
+  const std::size_t at = value.address - block.address;
+  if (at + value.words() > registers.size() || at + value.words() > block.count) return {};
+  return std::span<const std::uint16_t>(registers).subspan(at, value.words());
+}
+
+double decode(const ProfileValue& value, const DeviceProfile& profile, const PolledBlocks& blocks) {
+  for (std::size_t i = 0; i < profile.reads.size() && i < blocks.size(); ++i) {
+    if (!blocks[i]) continue;
+    const auto words = registers_of(value, profile.reads[i], *blocks[i]);
+    if (!words.empty())
+      return decode_number(words, value.type, value.order) * value.scale + value.offset;
+  }
+  return kNaN;
+}
+
+}  // namespace
+
+std::uint16_t words_of(PointType type) {
+  switch (type) {
+    case PointType::uint16:
+    case PointType::int16:
+      return 1;
+    case PointType::uint32:
+    case PointType::int32:
+    case PointType::float32:
+      return 2;
+    case PointType::float64:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+std::uint16_t ProfileValue::words() const { return words_of(type); }
+
+const ProfileValue* DeviceProfile::find(std::string_view name) const {
+  for (const ProfileValue& value : values)
+    if (value.name == name) return &value;
+  return nullptr;
+}
+
+std::vector<NamedValue> decode_values(const DeviceProfile& profile, const PolledBlocks& blocks) {
+  std::vector<NamedValue> decoded;
+  decoded.reserve(profile.values.size());
+  for (const ProfileValue& value : profile.values)
+    decoded.push_back(NamedValue{value.name, decode(value, profile, blocks)});
+  return decoded;
+}
+
+std::vector<std::uint16_t> encode_value(const ProfileValue& target, double value) {
+  std::vector<std::uint16_t> registers(target.words());
+  const double raw = (value - target.offset) / target.scale;
+  encode_number(registers, target.type, raw, target.order, Rounding::nearest, 0.0);
+  return registers;
+}
+
+}  // namespace tiltgate::modbus_rtu
