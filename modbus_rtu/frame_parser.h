@@ -36,7 +36,8 @@ struct Expectation {
 struct ParserCounters {
   std::uint64_t frames_ok = 0;
   // Complete frames that failed their CRC where a frame was due (after reset() or a good
-  // frame): a corrupted frame counts once, not again for each false start inside it.
+  // frame): a corrupted frame counts once, not again for each false start inside it. Noise
+  // that looks like a frame's start (an address and a function code) counts too.
   std::uint64_t crc_errors = 0;
   std::uint64_t bytes_discarded = 0;  // dropped while resynchronising, or by reset()
 };
