@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "mapping/point.h"
 #include "mapping/value_codec.h"
 
 namespace tiltgate::modbus_rtu {
@@ -31,19 +32,10 @@ double decode(const ProfileValue& value, const DeviceProfile& profile, const Pol
 }  // namespace
 
 std::uint16_t words_of(PointType type) {
-  switch (type) {
-    case PointType::uint16:
-    case PointType::int16:
-      return 1;
-    case PointType::uint32:
-    case PointType::int32:
-    case PointType::float32:
-      return 2;
-    case PointType::float64:
-      return 4;
-    default:
-      return 0;
-  }
+  if (type == PointType::boolean || type == PointType::string) return 0;
+  Point point;  // a map point's register count, for the number types a profile offers
+  point.type = type;
+  return point.words();
 }
 
 std::uint16_t ProfileValue::words() const { return words_of(type); }
