@@ -61,4 +61,11 @@ std::vector<std::uint16_t> encode_value(const ProfileValue& target, double value
   return registers;
 }
 
+Expected<Request, CodecError> write_request(std::uint8_t slave, const ProfileValue& target,
+                                            double value) {
+  const std::vector<std::uint16_t> registers = encode_value(target, value);
+  if (registers.size() == 1) return write_single_request(slave, target.address, registers[0]);
+  return write_multiple_request(slave, target.address, registers);
+}
+
 }  // namespace tiltgate::modbus_rtu

@@ -69,4 +69,10 @@ std::vector<NamedValue> decode_values(const DeviceProfile& profile, const Polled
 // nearest and saturated) to `target`.
 std::vector<std::uint16_t> encode_value(const ProfileValue& target, double value);
 
+// The request that writes `value` to `target` on `slave`: FC 6 for a one-register value, FC 16
+// for a wider one (a device may refuse FC 6 on half of a 32-bit value). The caller checks
+// writable and min/max first.
+Expected<Request, CodecError> write_request(std::uint8_t slave, const ProfileValue& target,
+                                            double value);
+
 }  // namespace tiltgate::modbus_rtu

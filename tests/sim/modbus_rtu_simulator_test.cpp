@@ -168,6 +168,15 @@ TEST_CASE("the RTU simulator skips garbage before a request and ignores a reques
   CHECK(client.reply_to(read_request(1, RegisterBank::holding, 0, 1)).registers.size() == 1);
 }
 
+TEST_CASE("the RTU simulator frames a request of a function it does not know by its CRC") {
+  Bus bus;
+  RtuClient client(bus.io, bus.sim->slave_path());
+  // Read device identification (0x2B/0x0E), which the preset does not implement: exception 01.
+  const Reply reply = client.reply_to(raw_request(1, Bytes{0x2B, 0x0E, 0x01, 0x00}));
+  CHECK(reply.exception == std::optional<std::uint8_t>(0x01));
+  CHECK(reply.pdu == Bytes{0xAB, 0x01});
+}
+
 TEST_CASE("the RTU simulator's faults: a silent slave, a corrupted reply, a late reply") {
   Bus bus;
   RtuClient client(bus.io, bus.sim->slave_path());

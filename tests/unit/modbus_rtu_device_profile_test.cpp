@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -160,6 +161,20 @@ TEST_CASE("RTU profile writes undo scale and offset and round") {
   target.offset = 0;
   target.order = RegisterOrder::cdab;
   CHECK(encode_value(target, 0x12345678) == std::vector<std::uint16_t>{0x5678, 0x1234});
+}
+
+TEST_CASE("RTU profile writes use FC 6 for one register and FC 16 for more") {
+  const auto loaded = load_device_profile(kExample);
+  REQUIRE(loaded.has_value());
+  const auto filter = write_request(1, *loaded->find("filter"), 6);
+  REQUIRE(filter.has_value());
+  CHECK(filter->function == kWriteSingleRegister);
+  CHECK(filter->frame == write_single_request(1, 0, 6)->frame);
+  const auto serial = write_request(1, *loaded->find("serial_number"), 0x00010002);
+  REQUIRE(serial.has_value());
+  CHECK(serial->function == kWriteMultipleRegisters);
+  const std::array<std::uint16_t, 2> cdab{0x0002, 0x0001};
+  CHECK(serial->frame == write_multiple_request(1, 1, cdab)->frame);
 }
 
 TEST_CASE("an RTU profile value outside every read block is an error at its line") {

@@ -168,3 +168,18 @@ TEST_CASE("RTU reply framer: an exception ends the wait, and so does a reply tha
   short_reply.reset();
   CHECK_FALSE(short_reply.reply().has_value());
 }
+
+TEST_CASE("RTU parser and reply checks survive random bytes") {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (FrameKind kind : {FrameKind::request, FrameKind::reply}) {
+    RtuFrameParser parser(kind);
+    Bytes noise(20000);
+    for (auto& b : noise) b = static_cast<std::uint8_t>(byte(rng));
+    for (const Bytes& frame : parse(parser, noise, rng, 40)) {
+      CHECK(frame.size() >= 4);
+      CHECK(frame.size() <= kMaxFrameSize);
+      (void)parse_reply(kRead17, frame);  // whatever it says, it must not read out of bounds
+    }
+  }
+}
