@@ -1,0 +1,143 @@
+#include "modbus_rtu/codec.h"
+
+#include <algorithm>
+
+#include "modbus_rtu/crc.h"
+
+namespace tiltgate::modbus_rtu {
+namespace {
+
+void put_u16(Bytes& out, std::uint16_t v) {
+  out.push_back(static_cast<std::uint8_t>(v >> 8));
+  out.push_back(static_cast<std::uint8_t>(v));
+}
+
+std::uint16_t get_u16(std::span<const std::uint8_t> bytes, std::size_t at) {
+  return static_cast<std::uint16_t>((bytes[at] << 8) | bytes[at + 1]);
+}
+
+bool is_slave(std::uint8_t slave) { return slave >= 1 && slave <= kMaxSlaveAddress; }
+bool is_slave_or_broadcast(std::uint8_t slave) { return slave <= kMaxSlaveAddress; }
+
+bool fits(std::uint16_t address, std::size_t count) { return address + count <= 0x10000; }
+
+Request finish(std::uint8_t slave, Bytes frame) {
+  const std::uint8_t function = frame[1];
+  append_crc(frame);
+  return Request{slave, function, std::move(frame)};
+}
+
+// The reply's data once slave, function and CRC are known good.
+Expected<Done, CodecError> check_data(const Request& request, std::span<const std::uint8_t> frame) {
+  const std::span<const std::uint8_t> sent = request.frame;
+  switch (request.function) {
+    case kReadHoldingRegisters:
+    case kReadInputRegisters: {
+      if (frame.size() < 5) return Unexpected{CodecError::too_short};
+      if (frame[2] != 2 * get_u16(sent, 4)) return Unexpected{CodecError::bad_byte_count};
+      if (frame.size() != 5u + frame[2]) return Unexpected{CodecError::bad_length};
+      return Done{};
+    }
+    case kWriteSingleRegister:
+    case kWriteMultipleRegisters:
+      // FC 6 echoes address and value, FC 16 address and count: the request's bytes 2..5.
+      if (frame.size() != 8) return Unexpected{CodecError::bad_length};
+      for (std::size_t i = 2; i < 6; ++i)
+        if (frame[i] != sent[i]) return Unexpected{CodecError::echo_mismatch};
+      return Done{};
+    default:
+      return Done{};  // a pass-through: framing checked, the data is the client's business
+  }
+}
+
+}  // namespace
+
+const char* to_string(CodecError error) {
+  switch (error) {
+    case CodecError::bad_slave: return "slave address out of range";
+    case CodecError::bad_count: return "register count out of range";
+    case CodecError::bad_range: return "registers past address 65535";
+    case CodecError::bad_pdu: return "PDU empty or longer than 253 bytes";
+    case CodecError::too_short: return "reply too short";
+    case CodecError::crc_mismatch: return "CRC mismatch";
+    case CodecError::wrong_slave: return "reply from another slave";
+    case CodecError::wrong_function: return "reply to another function";
+    case CodecError::bad_byte_count: return "byte count does not match the registers asked for";
+    case CodecError::bad_length: return "reply length does not match its function";
+    case CodecError::echo_mismatch: return "write reply does not echo the request";
+  }
+  return "?";
+}
+
+Expected<Request, CodecError> read_request(std::uint8_t slave, RegisterBank bank,
+                                           std::uint16_t address, std::uint16_t count) {
+  if (!is_slave(slave)) return Unexpected{CodecError::bad_slave};
+  if (count < 1 || count > kMaxReadCount) return Unexpected{CodecError::bad_count};
+  if (!fits(address, count)) return Unexpected{CodecError::bad_range};
+  Bytes frame{slave, static_cast<std::uint8_t>(bank)};
+  put_u16(frame, address);
+  put_u16(frame, count);
+  return finish(slave, std::move(frame));
+}
+
+Expected<Request, CodecError> write_single_request(std::uint8_t slave, std::uint16_t address,
+                                                   std::uint16_t value) {
+  if (!is_slave_or_broadcast(slave)) return Unexpected{CodecError::bad_slave};
+  Bytes frame{slave, kWriteSingleRegister};
+  put_u16(frame, address);
+  put_u16(frame, value);
+  return finish(slave, std::move(frame));
+}
+
+Expected<Request, CodecError> write_multiple_request(std::uint8_t slave, std::uint16_t address,
+                                                     std::span<const std::uint16_t> values) {
+  if (!is_slave_or_broadcast(slave)) return Unexpected{CodecError::bad_slave};
+  if (values.empty() || values.size() > kMaxWriteCount) return Unexpected{CodecError::bad_count};
+  if (!fits(address, values.size())) return Unexpected{CodecError::bad_range};
+  Bytes frame{slave, kWriteMultipleRegisters};
+  put_u16(frame, address);
+  put_u16(frame, static_cast<std::uint16_t>(values.size()));
+  frame.push_back(static_cast<std::uint8_t>(2 * values.size()));
+  for (std::uint16_t v : values) put_u16(frame, v);
+  return finish(slave, std::move(frame));
+}
+
+Expected<Request, CodecError> raw_request(std::uint8_t slave, std::span<const std::uint8_t> pdu) {
+  if (!is_slave_or_broadcast(slave)) return Unexpected{CodecError::bad_slave};
+  if (pdu.empty() || pdu.size() > kMaxPduSize) return Unexpected{CodecError::bad_pdu};
+  Bytes frame(pdu.size() + 1);
+  frame[0] = slave;
+  std::copy(pdu.begin(), pdu.end(), frame.begin() + 1);
+  return finish(slave, std::move(frame));
+}
+
+Expected<Reply, CodecError> parse_reply(const Request& request,
+                                        std::span<const std::uint8_t> frame) {
+  if (frame.size() < 5) return Unexpected{CodecError::too_short};  // the shortest: an exception
+  if (!crc_ok(frame)) return Unexpected{CodecError::crc_mismatch};
+  if (frame[0] != request.slave) return Unexpected{CodecError::wrong_slave};
+  const std::uint8_t function = frame[1];
+  if ((function & ~kExceptionBit) != request.function)
+    return Unexpected{CodecError::wrong_function};
+  const std::span<const std::uint8_t> pdu = frame.subspan(1, frame.size() - 3);
+  Reply reply{request.slave, request.function, std::nullopt, {}, Bytes(pdu.begin(), pdu.end())};
+  if (function & kExceptionBit) {
+    if (frame.size() != 5) return Unexpected{CodecError::bad_length};
+    reply.exception = frame[2];
+    return reply;
+  }
+  if (auto checked = check_data(request, frame); !checked) return Unexpected{checked.error()};
+  if (function == kReadHoldingRegisters || function == kReadInputRegisters)
+    for (std::size_t at = 3; at + 2 <= frame.size() - 2; at += 2)
+      reply.registers.push_back(get_u16(frame, at));
+  return reply;
+}
+
+Bytes exception_frame(std::uint8_t slave, std::uint8_t function, ExceptionCode code) {
+  Bytes frame{slave, static_cast<std::uint8_t>(function | kExceptionBit),
+              static_cast<std::uint8_t>(code)};
+  append_crc(frame);
+  return frame;
+}
+
+}  // namespace tiltgate::modbus_rtu

@@ -1,0 +1,71 @@
+#include "modbus_rtu/device_profile.h"
+
+#include <limits>
+
+#include "mapping/point.h"
+#include "mapping/value_codec.h"
+
+namespace tiltgate::modbus_rtu {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The value's registers inside `block`'s, or an empty span when it is not inside it.
+std::span<const std::uint16_t> registers_of(const ProfileValue& value, const ReadBlock& block,
+                                            const std::vector<std::uint16_t>& registers) {
+  if (block.bank != value.bank || value.address < block.address) return {};
+  const std::size_t at = value.address - block.address;
+  if (at + value.words() > registers.size() || at + value.words() > block.count) return {};
+  return std::span<const std::uint16_t>(registers).subspan(at, value.words());
+}
+
+double decode(const ProfileValue& value, const DeviceProfile& profile, const PolledBlocks& blocks) {
+  for (std::size_t i = 0; i < profile.reads.size() && i < blocks.size(); ++i) {
+    if (!blocks[i]) continue;
+    const auto words = registers_of(value, profile.reads[i], *blocks[i]);
+    if (!words.empty())
+      return decode_number(words, value.type, value.order) * value.scale + value.offset;
+  }
+  return kNaN;
+}
+
+}  // namespace
+
+std::uint16_t words_of(PointType type) {
+  if (type == PointType::boolean || type == PointType::string) return 0;
+  Point point;  // a map point's register count, for the number types a profile offers
+  point.type = type;
+  return point.words();
+}
+
+std::uint16_t ProfileValue::words() const { return words_of(type); }
+
+const ProfileValue* DeviceProfile::find(std::string_view name) const {
+  for (const ProfileValue& value : values)
+    if (value.name == name) return &value;
+  return nullptr;
+}
+
+std::vector<NamedValue> decode_values(const DeviceProfile& profile, const PolledBlocks& blocks) {
+  std::vector<NamedValue> decoded;
+  decoded.reserve(profile.values.size());
+  for (const ProfileValue& value : profile.values)
+    decoded.push_back(NamedValue{value.name, decode(value, profile, blocks)});
+  return decoded;
+}
+
+std::vector<std::uint16_t> encode_value(const ProfileValue& target, double value) {
+  std::vector<std::uint16_t> registers(target.words());
+  const double raw = (value - target.offset) / target.scale;
+  encode_number(registers, target.type, raw, target.order, Rounding::nearest, 0.0);
+  return registers;
+}
+
+Expected<Request, CodecError> write_request(std::uint8_t slave, const ProfileValue& target,
+                                            double value) {
+  const std::vector<std::uint16_t> registers = encode_value(target, value);
+  if (registers.size() == 1) return write_single_request(slave, target.address, registers[0]);
+  return write_multiple_request(slave, target.address, registers);
+}
+
+}  // namespace tiltgate::modbus_rtu

@@ -1,0 +1,78 @@
+// A Modbus RTU device profile: what to poll from one kind of device ([[read]] blocks, each one
+// FC 3/4 request) and what the registers mean ([[value]] entries). Values named angle_x and
+// angle_y are the inclination in degrees; any other value is a source a register-map point can
+// show, and a writable one a setting it can write. Loaded from TOML by profile_reader.h;
+// decoded here with mapping's value codec, the same one map points use.
+//
+// Scaling reads from the device's registers to the value: value = raw * scale + offset (the
+// opposite direction from a map point's, whose registers are the gateway's own).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mapping/point_types.h"
+#include "modbus_rtu/codec.h"
+
+namespace tiltgate::modbus_rtu {
+
+struct ReadBlock {
+  RegisterBank bank = RegisterBank::input;
+  std::uint16_t address = 0;
+  std::uint16_t count = 1;
+};
+
+struct ProfileValue {
+  std::string name;
+  RegisterBank bank = RegisterBank::input;
+  std::uint16_t address = 0;
+  PointType type = PointType::uint16;  // a number type: int16 .. float64
+  RegisterOrder order = RegisterOrder::abcd;
+  double scale = 1.0;
+  double offset = 0.0;
+  bool writable = false;  // holding registers only
+  // The range a written value must be in (after scaling, as the value reads); none: the type's.
+  std::optional<double> min;
+  std::optional<double> max;
+
+  std::uint16_t words() const;  // registers the value takes: 1, 2 or 4
+};
+
+struct DeviceProfile {
+  std::string path;  // where it was loaded from, for messages
+  std::vector<ReadBlock> reads;
+  std::vector<ProfileValue> values;
+
+  const ProfileValue* find(std::string_view name) const;
+};
+
+// Registers a number type takes; 0 for bool and string, which a profile does not offer.
+std::uint16_t words_of(PointType type);
+
+// One poll's registers: for each read block in profile order, what it returned, or nullopt when
+// its request failed.
+using PolledBlocks = std::vector<std::optional<std::vector<std::uint16_t>>>;
+
+struct NamedValue {
+  std::string name;
+  double value = 0.0;  // NaN when it could not be decoded (its block failed or came back short)
+};
+
+// Every value of the profile, in profile order, decoded from one poll.
+std::vector<NamedValue> decode_values(const DeviceProfile& profile, const PolledBlocks& blocks);
+
+// The registers that write `value` (as it reads, scale and offset undone; integers rounded to
+// nearest and saturated) to `target`.
+std::vector<std::uint16_t> encode_value(const ProfileValue& target, double value);
+
+// The request that writes `value` to `target` on `slave`: FC 6 for a one-register value, FC 16
+// for a wider one (a device may refuse FC 6 on half of a 32-bit value). The caller checks
+// writable and min/max first.
+Expected<Request, CodecError> write_request(std::uint8_t slave, const ProfileValue& target,
+                                            double value);
+
+}  // namespace tiltgate::modbus_rtu

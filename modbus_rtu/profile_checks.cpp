@@ -1,0 +1,95 @@
+#include "modbus_rtu/profile_checks.h"
+
+#include <fmt/format.h>
+
+namespace tiltgate::modbus_rtu {
+namespace {
+
+const char* bank_name(RegisterBank bank) { return bank == RegisterBank::holding ? "holding" : "input"; }
+
+// Registers [first, end) of one bank.
+struct Span {
+  RegisterBank bank;
+  std::size_t first;
+  std::size_t end;
+
+  bool overlaps(const Span& other) const {
+    return bank == other.bank && first < other.end && other.first < end;
+  }
+  bool inside(const Span& other) const {
+    return bank == other.bank && first >= other.first && end <= other.end;
+  }
+  std::string describe() const {
+    return end - first == 1 ? fmt::format("{} register {}", bank_name(bank), first)
+                            : fmt::format("{} registers {}..{}", bank_name(bank), first, end - 1);
+  }
+};
+
+Span span_of(const ReadBlock& b) { return Span{b.bank, b.address, std::size_t{b.address} + b.count}; }
+Span span_of(const ProfileValue& v) {
+  return Span{v.bank, v.address, std::size_t{v.address} + v.words()};
+}
+
+void check_blocks(const std::vector<LocatedBlock>& blocks, config::ErrorList& errors) {
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    if (!blocks[i].read_ok) continue;
+    const Span span = span_of(blocks[i].block);
+    if (span.end > 0x10000) {
+      blocks[i].where.report(errors, "count", "the block runs past register 65535");
+      continue;
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (blocks[j].read_ok && span.overlaps(span_of(blocks[j].block)))
+        blocks[i].where.report(errors, "address",
+                               fmt::format("shares registers with read[{}] ({}); read each "
+                                           "register once", j,
+                                           span_of(blocks[j].block).describe()));
+    }
+  }
+}
+
+bool inside_a_block(const Span& span, const std::vector<LocatedBlock>& blocks) {
+  for (const LocatedBlock& b : blocks)
+    if (span.inside(span_of(b.block))) return true;
+  return false;
+}
+
+void check_value(const std::vector<LocatedValue>& values, std::size_t i,
+                 const std::vector<LocatedBlock>& blocks, bool blocks_read,
+                 config::ErrorList& errors) {
+  const LocatedValue& v = values[i];
+  const Span span = span_of(v.value);
+  for (std::size_t j = 0; j < i; ++j) {
+    if (!values[j].read_ok) continue;
+    if (values[j].value.name == v.value.name)
+      v.where.report(errors, "name", fmt::format("duplicate name \"{}\" (also value[{}])",
+                                                 v.value.name, j));
+    if (span.overlaps(span_of(values[j].value)))
+      v.where.report(errors, "address",
+                     fmt::format("shares registers with value[{}] \"{}\" ({})", j,
+                                 values[j].value.name, span_of(values[j].value).describe()));
+  }
+  if (blocks_read && !inside_a_block(span, blocks))
+    v.where.report(errors, "address",
+                   fmt::format("{}: not inside one [[read]] block; add or widen a block so "
+                               "that one holds the whole value", span.describe()));
+  if (v.value.writable && v.value.bank == RegisterBank::input)
+    v.where.report(errors, "writable", "input registers are read-only; only holding values can "
+                                       "be written");
+  if (v.value.min && v.value.max && *v.value.min > *v.value.max)
+    v.where.report(errors, "max", fmt::format("{} is below min = {}", *v.value.max, *v.value.min));
+}
+
+}  // namespace
+
+void check_profile(const std::vector<LocatedBlock>& blocks, const std::vector<LocatedValue>& values,
+                   config::ErrorList& errors) {
+  check_blocks(blocks, errors);
+  // A block with a wrong key holds defaults: "outside every block" would then be a guess.
+  bool blocks_read = !blocks.empty();
+  for (const LocatedBlock& b : blocks) blocks_read = blocks_read && b.read_ok;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (values[i].read_ok) check_value(values, i, blocks, blocks_read, errors);
+}
+
+}  // namespace tiltgate::modbus_rtu

@@ -1,0 +1,161 @@
+#include "modbus_rtu/profile_reader.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <toml++/toml.h>
+
+#include "config/error_list.h"
+#include "config/text_file.h"
+#include "config/toml_reader.h"
+#include "modbus_rtu/profile_checks.h"
+
+namespace tiltgate::modbus_rtu {
+namespace {
+
+using config::ErrorList;
+using config::Located;
+using config::Presence;
+using config::TableReader;
+
+std::optional<RegisterBank> read_bank(TableReader& in) {
+  const auto table = in.choice("table", {"holding", "input"}, Presence::required);
+  if (!table) return std::nullopt;
+  return *table == "holding" ? RegisterBank::holding : RegisterBank::input;
+}
+
+LocatedBlock read_block(const toml::table& table, std::string path, ErrorList& errors) {
+  TableReader in(table, std::move(path), errors);
+  ReadBlock block;
+  if (auto bank = read_bank(in)) block.bank = *bank;
+  if (auto v = in.integer("address", 0, 65535, Presence::required))
+    block.address = static_cast<std::uint16_t>(*v);
+  if (auto v = in.integer("count", 1, 65535, Presence::required)) {
+    block.count = static_cast<std::uint16_t>(*v);
+    if (*v > kMaxReadCount)
+      in.error("count", fmt::format("{} registers is over the {} one FC 3/4 request can read; "
+                                    "split the block", *v, kMaxReadCount));
+  }
+  in.reject_unknown_keys();
+  return LocatedBlock{block, in.located(), true};
+}
+
+void read_type(TableReader& in, ProfileValue& value) {
+  const auto name = in.string("type", Presence::required);
+  if (!name) return;
+  const auto type = from_name(type_names(), *name);
+  if (!type || words_of(*type) == 0)
+    return in.error("type", fmt::format("\"{}\" is not valid, expected one of: int16, uint16, "
+                                        "int32, uint32, float32, float64", *name));
+  value.type = *type;
+}
+
+void read_scaling(TableReader& in, ProfileValue& value) {
+  if (auto order = in.string("word_order")) {
+    if (auto known = from_name(order_names(), *order))
+      value.order = *known;
+    else
+      in.error("word_order",
+               fmt::format("\"{}\" is not valid, expected one of: ABCD, CDAB, BADC, DCBA", *order));
+  }
+  if (auto v = in.number("scale")) {
+    if (*v == 0.0) in.error("scale", "must not be 0");
+    else value.scale = *v;
+  }
+  if (auto v = in.number("offset")) value.offset = *v;
+}
+
+void read_writable(TableReader& in, ProfileValue& value) {
+  if (auto v = in.boolean("writable")) value.writable = *v;
+  for (std::string_view key : {"min", "max"}) {
+    const auto limit = in.number(key);
+    if (!limit) continue;
+    if (!value.writable) in.error(key, "applies to writable values (writable = true) only");
+    else (key == "min" ? value.min : value.max) = *limit;
+  }
+}
+
+LocatedValue read_value(const toml::table& table, std::string path, ErrorList& errors) {
+  TableReader in(table, std::move(path), errors);
+  ProfileValue value;
+  if (auto name = in.string("name", Presence::required)) {
+    if (name->empty()) in.error("name", "empty, expected the value's name");
+    value.name = *name;
+  }
+  if (auto bank = read_bank(in)) value.bank = *bank;
+  if (auto v = in.integer("address", 0, 65535, Presence::required))
+    value.address = static_cast<std::uint16_t>(*v);
+  read_type(in, value);
+  read_scaling(in, value);
+  read_writable(in, value);
+  in.reject_unknown_keys();
+  return LocatedValue{value, in.located(), true};
+}
+
+// Each table of the array of tables `key` ([[read]], [[value]]), read by `read_one`.
+template <class Located, class ReadOne>
+std::vector<Located> read_array(TableReader& root, std::string_view key, ErrorList& errors,
+                                ReadOne read_one) {
+  std::vector<Located> items;
+  const toml::node* node = root.node(key);
+  if (node == nullptr) {
+    root.error(key, fmt::format("required; add at least one [[{}]] table", key));
+    return items;
+  }
+  const toml::array* array = node->as_array();
+  if (array == nullptr || !array->is_array_of_tables()) {
+    root.error(key, fmt::format("expected an array of tables ([[{}]])", key));
+    return items;
+  }
+  root.accept(key);
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const std::size_t errors_before = errors.size();
+    items.push_back(read_one(*array->get(i)->as_table(), fmt::format("{}[{}]", key, i), errors));
+    items.back().read_ok = errors.size() == errors_before;
+  }
+  return items;
+}
+
+}  // namespace
+
+Expected<DeviceProfile, ConfigErrors> parse_device_profile(std::string_view text,
+                                                           std::string_view source_name) {
+  ErrorList errors{std::string(source_name)};
+  toml::table root;
+  try {
+    root = toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    errors.add(config::place_of(e.source()), "", std::string(e.description()));
+    return Unexpected{errors.take()};
+  }
+  TableReader in(root, "", errors);
+  in.string("description");  // for the reader of the file only
+  const auto blocks = read_array<LocatedBlock>(in, "read", errors, read_block);
+  const auto values = read_array<LocatedValue>(in, "value", errors, read_value);
+  in.reject_unknown_keys();
+  check_profile(blocks, values, errors);
+  if (!errors.empty()) return Unexpected{errors.take()};
+  DeviceProfile profile{std::string(source_name), {}, {}};
+  for (const LocatedBlock& b : blocks) profile.reads.push_back(b.block);
+  for (const LocatedValue& v : values) profile.values.push_back(v.value);
+  return profile;
+}
+
+Expected<DeviceProfile, ConfigErrors> load_device_profile(const std::string& path) {
+  auto fail = [&](std::string message) -> Expected<DeviceProfile, ConfigErrors> {
+    return Unexpected{ConfigErrors{ConfigError{path, 0, 0, "", std::move(message)}}};
+  };
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (error) return fail("cannot open: " + error.message());
+  if (!std::filesystem::is_regular_file(status)) return fail("not a regular file");
+  const auto size = std::filesystem::file_size(path, error);
+  if (error) return fail("cannot read the size: " + error.message());
+  if (size > kMaxProfileBytes)
+    return fail(fmt::format("{} bytes is more than a profile's limit of {}", size, kMaxProfileBytes));
+  auto text = config::read_text_file(path);
+  if (!text) return fail(text.error());
+  return parse_device_profile(*text, path);
+}
+
+}  // namespace tiltgate::modbus_rtu

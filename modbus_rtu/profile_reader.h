@@ -1,0 +1,39 @@
+// Loading a Modbus RTU device profile (modbus_rtu/device_profile.h) from a TOML file, checked
+// the way config/ checks a map file: every problem in one pass, each reported as
+// "FILE:LINE:COL: KEY: message" at the line it is about.
+//
+//   [[read]]                 # polled together, each block one FC 3/4 request
+//   table = "input"          # "holding" or "input"
+//   address = 0              # first register, 0-based (PDU addressing)
+//   count = 8                # 1..125
+//
+//   [[value]]
+//   name = "angle_x"         # angle_x and angle_y (degrees) feed the inclinometer pipeline
+//   table = "input"
+//   address = 0
+//   type = "float32"         # int16, uint16, int32, uint32, float32, float64
+//   word_order = "ABCD"      # ABCD (default), CDAB, BADC, DCBA
+//   scale = 1.0              # value = raw * scale + offset
+//   offset = 0.0
+//   writable = false         # holding registers only; then optional min and max
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "config/config_loader.h"
+#include "driver/expected.h"
+#include "modbus_rtu/device_profile.h"
+
+namespace tiltgate::modbus_rtu {
+
+// Profiles are small; a bigger file is a mistake (a log, a binary), not a profile.
+inline constexpr std::uintmax_t kMaxProfileBytes = 1024 * 1024;
+
+// Reads only a regular file of at most kMaxProfileBytes.
+Expected<DeviceProfile, ConfigErrors> load_device_profile(const std::string& path);
+// The same from text in memory; `source_name` stands for the file name in errors.
+Expected<DeviceProfile, ConfigErrors> parse_device_profile(std::string_view text,
+                                                           std::string_view source_name);
+
+}  // namespace tiltgate::modbus_rtu
