@@ -48,16 +48,11 @@
 #include <string>
 
 #include "config/config.h"
+#include "driver/framing.h"
 #include "driver/line.h"
 #include "serial/termios_settings.h"
 
 namespace tiltgate {
-
-enum class Framing {
-  eight_none_one,  // Rieker Flex
-  eight_even_one,  // Spectron Dyna, Modbus-ASCII-style protocol
-  nine_bit,        // Spectron Dyna, 9-bit addressing: address bytes mark parity, data space
-};
 
 struct SerialLineOptions {
   std::string name;  // for log lines, e.g. "line1"

@@ -1,0 +1,95 @@
+// A sensor family as one descriptor: what the core asks a family instead of knowing a vendor.
+// Each family folder fills in one FamilyDescriptor and families/family_list.cpp lists it; the
+// config loader, the register maps, the gateway and the serial transport read only these.
+// The shape follows a plug-in table (name, what it accepts, factories), with no optional
+// members left null: every family answers every question.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "driver/adaptive_reply_timeout.h"
+#include "driver/family_options.h"
+#include "driver/framing.h"
+#include "driver/sensor_driver.h"
+
+namespace tiltgate {
+
+struct AddressRange {
+  std::int64_t min = 0;
+  std::int64_t max = 0;
+};
+
+// One protocol a bus of the family can speak ([[bus]] protocol = "...").
+struct ProtocolDescriptor {
+  std::string_view name;  // as written in the config
+  Framing framing = Framing::eight_none_one;
+  // The rates its sensors can be set to; a [[bus]] baud must be one of them.
+  std::span<const std::int64_t> bauds;
+  // The rate sensors ship at, used when a bus does not say; none: `baud` is required.
+  std::optional<std::uint32_t> default_baud;
+  AddressRange addresses;  // a sensor's bus address
+  // Where the master has a bus address of its own ([[bus]] master_address): its range. No
+  // sensor may use the master's address. None: the protocol has no master address.
+  std::optional<AddressRange> master_addresses;
+  // The shortest quiet time between master packets the sensors accept ([[bus]] gap_us).
+  std::chrono::microseconds min_gap{0};
+};
+
+// What Read Device Identification (FC 43) reports for a model.
+struct ProductIdentity {
+  std::string_view vendor;        // VendorName
+  std::string_view product_code;  // ProductCode and ModelName
+  std::string_view product_name;  // ProductName
+};
+
+// One sensor model ([[sensor]] model = "...").
+struct ModelDescriptor {
+  std::string_view name;     // as written in the config; SensorDriver::model()
+  std::uint16_t model_code;  // what input register 37 shows
+  ProductIdentity identity;
+};
+
+// What a driver factory gets: one configured sensor on its bus.
+struct DriverSetup {
+  std::string name;               // the sensor's name, for log lines
+  std::string_view protocol;      // the bus's ProtocolDescriptor::name
+  std::string_view model;         // a ModelDescriptor::name of the family
+  std::uint32_t address = 0;      // checked against the protocol's range
+  std::uint32_t master_address = 0;  // the bus's master_address (protocols that have one)
+  ReplyTimeouts reply_timeouts;   // the bus's timeout_ms and max_timeout_ms
+  FamilyOptions options;          // the family's own [[sensor]] keys
+};
+
+struct FamilyDescriptor {
+  std::string_view name;  // for messages, e.g. "too short for NAME sensors"
+  std::span<const ProtocolDescriptor> protocols;
+  std::span<const ModelDescriptor> models;
+  // A driver for one sensor of the family; the setup has been validated by the config loader.
+  std::unique_ptr<SensorDriver> (*make_driver)(const DriverSetup& setup);
+};
+
+using FamilyList = std::span<const FamilyDescriptor* const>;
+
+// The families this build serves: the one list in families/family_list.cpp.
+FamilyList registered_families();
+
+struct ProtocolEntry {
+  const FamilyDescriptor* family = nullptr;
+  const ProtocolDescriptor* protocol = nullptr;
+};
+struct ModelEntry {
+  const FamilyDescriptor* family = nullptr;
+  const ModelDescriptor* model = nullptr;
+};
+
+// Null members when no family has it.
+ProtocolEntry find_protocol(FamilyList families, std::string_view name);
+ModelEntry find_model(FamilyList families, std::string_view name);
+
+}  // namespace tiltgate

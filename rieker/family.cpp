@@ -1,0 +1,51 @@
+#include "rieker/family.h"
+
+#include <array>
+
+#include "rieker/rieker_driver.h"
+
+namespace tiltgate::rieker {
+
+namespace {
+
+// The rates a Rieker sensor can be set to (PROTOCOL-NOTES, Rieker: baud codes 1..8).
+constexpr std::array<std::int64_t, 8> kBauds{9600,   19200,  38400,  62500,
+                                             115200, 125000, 128000, 250000};
+
+const ProtocolDescriptor kProtocols[] = {{
+    .name = "rieker",
+    .framing = Framing::eight_none_one,
+    .bauds = kBauds,
+    .default_baud = 125000,                 // the factory rate
+    .addresses = {1, 65000},                // PROTOCOL-NOTES, Rieker
+    .master_addresses = AddressRange{0, 65500},  // the master's own address, never a sensor's
+    .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
+}};
+
+const ModelDescriptor kModels[] = {
+    {"h6", 1, {"Rieker Inc.", "H6", "H6 dual-axis inclinometer"}},
+    {"h4360", 2, {"Rieker Inc.", "H4360", "H4360 single-axis inclinometer"}},
+};
+
+std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
+  const std::optional<Model> model = model_from_name(setup.model);
+  if (!model) return nullptr;
+  RiekerDriverOptions options;
+  options.name = setup.name;
+  options.model = *model;
+  options.address = std::uint16_t(setup.address);
+  options.master_address = std::uint16_t(setup.master_address);
+  options.reply_timeouts = setup.reply_timeouts;
+  return std::make_unique<RiekerDriver>(options);
+}
+
+}  // namespace
+
+const FamilyDescriptor kFamily{
+    .name = "rieker",
+    .protocols = kProtocols,
+    .models = kModels,
+    .make_driver = make_driver,
+};
+
+}  // namespace tiltgate::rieker

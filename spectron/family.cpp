@@ -1,0 +1,61 @@
+#include "spectron/family.h"
+
+#include <array>
+
+#include "spectron/dyna_driver.h"
+
+namespace tiltgate::spectron {
+
+namespace {
+
+// The rates a Dyna can be set to (PROTOCOL-NOTES, Dyna EEPROM location 22 baud codes). The
+// factory rate is not documented, so a bus must say which rate its sensors were set to.
+constexpr std::array<std::int64_t, 5> kBauds{4800, 9600, 19200, 28800, 38400};
+
+const ProtocolDescriptor kProtocols[] = {
+    {
+        .name = "spectron-9bit",
+        .framing = Framing::nine_bit,
+        .bauds = kBauds,
+        .default_baud = std::nullopt,
+        .addresses = {0, 255},  // one address byte, factory 0
+        .master_addresses = std::nullopt,
+        .min_gap = std::chrono::microseconds{0},
+    },
+    {
+        .name = "spectron-modbus",
+        .framing = Framing::eight_even_one,
+        .bauds = kBauds,
+        .default_baud = std::nullopt,
+        .addresses = {1, 250},  // PROTOCOL-NOTES, Dyna protocol 2
+        .master_addresses = std::nullopt,
+        .min_gap = std::chrono::microseconds{0},
+    },
+};
+
+const ModelDescriptor kModels[] = {
+    {"dyna", 3, {"Spectron Systems Technology", "Dyna", "SPECTROTILT Dyna inclinometer"}},
+};
+
+std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
+  DynaDriverOptions options;
+  options.name = setup.name;
+  options.protocol = setup.protocol == "spectron-9bit" ? Protocol::nine_bit : Protocol::modbus_ascii;
+  options.address = int(setup.address);
+  options.counts_per_degree = setup.options.get("counts_per_degree", options.counts_per_degree);
+  options.zero_counts = setup.options.get("zero_counts", options.zero_counts);
+  options.reply_timeouts = setup.reply_timeouts;
+  options.reserved_writes = setup.options.get("eeprom_reserved_writes", 0.0) != 0.0;
+  return std::make_unique<DynaDriver>(options);
+}
+
+}  // namespace
+
+const FamilyDescriptor kFamily{
+    .name = "spectron",
+    .protocols = kProtocols,
+    .models = kModels,
+    .make_driver = make_driver,
+};
+
+}  // namespace tiltgate::spectron
