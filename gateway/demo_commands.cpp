@@ -47,12 +47,13 @@ Config demo_config(const DemoOptions& options, const std::string& rieker_tty,
   BusConfig rieker_bus;
   rieker_bus.name = "demo-bus";
   rieker_bus.port = rieker_tty;
+  rieker_bus.protocol = "rieker";
   rieker_bus.baud = 125000;
   config.buses.push_back(rieker_bus);
   BusConfig dyna_bus;
   dyna_bus.name = "demo-dyna-bus";
   dyna_bus.port = dyna_tty;
-  dyna_bus.protocol = BusProtocol::spectron_modbus;
+  dyna_bus.protocol = "spectron-modbus";
   dyna_bus.baud = kDemoDynaBaud;
   config.buses.push_back(dyna_bus);
   const struct {

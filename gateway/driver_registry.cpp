@@ -1,13 +1,11 @@
 #include "gateway/driver_registry.h"
 
-#include "config/sections.h"
-
 namespace tiltgate {
 
 DriverSetup driver_setup(const SensorConfig& sensor, const BusConfig& bus) {
   DriverSetup setup;
   setup.name = sensor.name;
-  setup.protocol = config::protocol_name(bus.protocol);
+  setup.protocol = bus.protocol;
   setup.model = sensor.model;
   setup.address = sensor.address;
   setup.master_address = bus.master_address;

@@ -100,7 +100,7 @@ TEST_CASE("config: the example file loads") {
   CHECK_FALSE(config.server.writes);
   REQUIRE(config.buses.size() == 1);
   CHECK(config.buses[0].name == "line1");
-  CHECK(config.buses[0].protocol == BusProtocol::rieker);
+  CHECK(config.buses[0].protocol == "rieker");
   CHECK(config.buses[0].baud == 125000);
   REQUIRE(config.sensors.size() == 3);
   CHECK(config.sensors[0].model == "h6");
@@ -121,7 +121,7 @@ TEST_CASE("config: keys left out take their defaults") {
   CHECK_FALSE(config.server.writes);
   CHECK(config.server.idle_timeout == 60000ms);
   const BusConfig& bus = config.buses.at(0);
-  CHECK(bus.protocol == BusProtocol::rieker);
+  CHECK(bus.protocol == "rieker");
   CHECK(bus.baud == 125000);
   CHECK(bus.timeout == 50ms);
   CHECK(bus.retries == 2);
