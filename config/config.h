@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "driver/family_options.h"
 #include "mapping/map_definition.h"
 #include "mapping/point_types.h"  // WordOrder, OfflineRead
 
@@ -73,16 +74,13 @@ struct AlarmConfig {
 struct SensorConfig {
   std::string name;
   std::string bus;
-  std::string model;                // "h6" | "h4360" | "dyna"
+  std::string model;                // a ModelDescriptor name (driver/family.h)
   std::uint32_t address = 0;        // bus address
   std::uint8_t unit_id = 1;         // Modbus unit id 1..247
   std::chrono::milliseconds poll{100};
   std::optional<std::chrono::milliseconds> stale_after;  // default: max(3 x poll, 1 s)
-  // Dyna only: raw counts -> degrees (the document gives no conversion).
-  double counts_per_degree = 100.0;
-  double zero_counts = 0.0;
-  // Dyna only: the EEPROM window may write the reserved locations 100..280.
-  bool eeprom_reserved_writes = false;
+  // The keys of the model's own family (FamilyDescriptor::sensor_keys), as it read them.
+  FamilyOptions family_options;
   MountingConfig mounting;
   AlarmConfig alarms;
   OfflineRead offline = OfflineRead::exception;

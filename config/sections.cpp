@@ -151,21 +151,45 @@ void read_reopen_backoff(TableReader& in, BusConfig& bus) {
   }
 }
 
-// Raw-count conversion and the EEPROM window: only the Dyna has them.
-void read_dyna_scaling(TableReader& in, SensorConfig& sensor) {
-  if (auto v = in.number("counts_per_degree")) {
-    if (*v == 0.0)
-      in.error("counts_per_degree", "must not be 0 (raw counts are divided by it)");
-    else
-      sensor.counts_per_degree = *v;
+// A family's keys through the TableReader, so errors carry the file, line and key.
+class TableKeyReader final : public SensorKeyReader {
+ public:
+  explicit TableKeyReader(TableReader& in) : in_(in) {}
+  std::optional<double> number(std::string_view key) override { return in_.number(key); }
+  std::optional<bool> boolean(std::string_view key) override { return in_.boolean(key); }
+  void error(std::string_view key, std::string message) override {
+    in_.error(key, std::move(message));
   }
-  if (auto v = in.number("zero_counts")) sensor.zero_counts = *v;
-  // The application note's own example writes a reserved location; allowed on request only.
-  if (auto v = in.boolean("eeprom_reserved_writes")) sensor.eeprom_reserved_writes = *v;
-  if (!in.located().valid("model") || sensor.model == "dyna") return;
-  for (std::string_view key : {"counts_per_degree", "zero_counts", "eeprom_reserved_writes"})
-    if (in.has(key))
-      in.error(key, fmt::format("applies to model \"dyna\" only, not \"{}\"", sensor.model));
+
+ private:
+  TableReader& in_;
+};
+
+std::string quoted_models(const FamilyDescriptor& family) {
+  std::vector<std::string> names;
+  for (const ModelDescriptor& model : family.models) names.push_back(fmt::format("\"{}\"", model.name));
+  return fmt::format("{}", fmt::join(names, " or "));
+}
+
+// Every family reads its keys (so each is type-checked and accepted); the sensor keeps its own
+// family's, and a key of another family is refused once the model is known.
+void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families) {
+  const ModelEntry model =
+      in.located().valid("model") ? find_model(families, sensor.model) : ModelEntry{};
+  for (const FamilyDescriptor* family : families) {
+    TableKeyReader reader(in);
+    FamilyOptions options;
+    family->read_sensor_keys(reader, options);
+    if (family == model.family) sensor.family_options = std::move(options);
+  }
+  if (model.family == nullptr) return;
+  for (const FamilyDescriptor* family : families) {
+    if (family == model.family) continue;
+    for (std::string_view key : family->sensor_keys)
+      if (in.has(key))
+        in.error(key, fmt::format("applies to model {} only, not \"{}\"", quoted_models(*family),
+                                  sensor.model));
+  }
 }
 
 // map = "FILE" (loaded once every sensor is read) or an inline map table.
@@ -273,7 +297,7 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
     else
       sensor.stale_after = milliseconds(*ms);
   }
-  read_dyna_scaling(in, sensor);
+  read_family_keys(in, sensor, families);
   read_mounting(in, sensor, errors);
   read_alarms(in, sensor, errors);
   read_offline(in, sensor);

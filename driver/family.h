@@ -55,6 +55,16 @@ struct ModelDescriptor {
   ProductIdentity identity;
 };
 
+// How a family reads its own [[sensor]] keys: the config loader's reader, which checks types
+// and reports errors with the file, line and key.
+class SensorKeyReader {
+ public:
+  virtual ~SensorKeyReader() = default;
+  virtual std::optional<double> number(std::string_view key) = 0;
+  virtual std::optional<bool> boolean(std::string_view key) = 0;
+  virtual void error(std::string_view key, std::string message) = 0;
+};
+
 // What a driver factory gets: one configured sensor on its bus.
 struct DriverSetup {
   std::string name;               // the sensor's name, for log lines
@@ -70,6 +80,12 @@ struct FamilyDescriptor {
   std::string_view name;  // for messages, e.g. "too short for NAME sensors"
   std::span<const ProtocolDescriptor> protocols;
   std::span<const ModelDescriptor> models;
+  // The family's own [[sensor]] keys: every name read_sensor_keys asks for. A sensor of
+  // another family that has one is refused ("applies to model ... only").
+  std::span<const std::string_view> sensor_keys;
+  // Reads them into `options`, with defaults for those not given, which the driver factory
+  // then finds in DriverSetup::options.
+  void (*read_sensor_keys)(SensorKeyReader& in, FamilyOptions& options);
   // A driver for one sensor of the family; the setup has been validated by the config loader.
   std::unique_ptr<SensorDriver> (*make_driver)(const DriverSetup& setup);
 };

@@ -26,6 +26,8 @@ class FamilyOptions {
       if (k == key) return v;
     return fallback;
   }
+  // A boolean key: whether it is set and true.
+  bool flag(std::string_view key) const { return get(key, 0.0) != 0.0; }
   bool has(std::string_view key) const {
     for (const auto& entry : values_)
       if (entry.first == key) return true;

@@ -10,9 +10,7 @@ DriverSetup driver_setup(const SensorConfig& sensor, const BusConfig& bus) {
   setup.address = sensor.address;
   setup.master_address = bus.master_address;
   setup.reply_timeouts = {bus.timeout, bus.max_timeout};
-  setup.options.set("counts_per_degree", sensor.counts_per_degree);
-  setup.options.set("zero_counts", sensor.zero_counts);
-  setup.options.set("eeprom_reserved_writes", sensor.eeprom_reserved_writes ? 1.0 : 0.0);
+  setup.options = sensor.family_options;
   return setup;
 }
 

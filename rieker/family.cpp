@@ -27,6 +27,9 @@ const ModelDescriptor kModels[] = {
     {"h4360", 2, {"Rieker Inc.", "H4360", "H4360 single-axis inclinometer"}},
 };
 
+// The Rieker models have no [[sensor]] keys of their own.
+void read_sensor_keys(SensorKeyReader&, FamilyOptions&) {}
+
 std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   const std::optional<Model> model = model_from_name(setup.model);
   if (!model) return nullptr;
@@ -45,6 +48,8 @@ const FamilyDescriptor kFamily{
     .name = "rieker",
     .protocols = kProtocols,
     .models = kModels,
+    .sensor_keys = {},
+    .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
 };
 

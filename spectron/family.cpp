@@ -37,6 +37,25 @@ const ModelDescriptor kModels[] = {
     {"dyna", 3, {"Spectron Systems Technology", "Dyna", "SPECTROTILT Dyna inclinometer"}},
 };
 
+constexpr std::string_view kSensorKeys[] = {"counts_per_degree", "zero_counts",
+                                            "eeprom_reserved_writes"};
+
+// Raw-count conversion and the EEPROM window: [[sensor]] keys only the Dyna has.
+void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
+  const DynaDriverOptions defaults;
+  options.set("counts_per_degree", defaults.counts_per_degree);
+  if (auto v = in.number("counts_per_degree")) {
+    if (*v == 0.0)
+      in.error("counts_per_degree", "must not be 0 (raw counts are divided by it)");
+    else
+      options.set("counts_per_degree", *v);
+  }
+  options.set("zero_counts", in.number("zero_counts").value_or(defaults.zero_counts));
+  // The application note's own example writes a reserved location; allowed on request only.
+  options.set("eeprom_reserved_writes",
+              in.boolean("eeprom_reserved_writes").value_or(defaults.reserved_writes) ? 1.0 : 0.0);
+}
+
 std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   DynaDriverOptions options;
   options.name = setup.name;
@@ -45,7 +64,7 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   options.counts_per_degree = setup.options.get("counts_per_degree", options.counts_per_degree);
   options.zero_counts = setup.options.get("zero_counts", options.zero_counts);
   options.reply_timeouts = setup.reply_timeouts;
-  options.reserved_writes = setup.options.get("eeprom_reserved_writes", 0.0) != 0.0;
+  options.reserved_writes = setup.options.flag("eeprom_reserved_writes");
   return std::make_unique<DynaDriver>(options);
 }
 
@@ -55,6 +74,8 @@ const FamilyDescriptor kFamily{
     .name = "spectron",
     .protocols = kProtocols,
     .models = kModels,
+    .sensor_keys = kSensorKeys,
+    .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
 };
 
