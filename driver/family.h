@@ -20,6 +20,11 @@
 
 namespace tiltgate {
 
+// Register maps and their sources are mapping/'s (mapping/register_map.h,
+// mapping/value_source.h); a family builds its models' maps there from the common block.
+class RegisterMap;
+enum class ValueSource : std::uint8_t;
+
 struct AddressRange {
   std::int64_t min = 0;
   std::int64_t max = 0;
@@ -53,6 +58,14 @@ struct ModelDescriptor {
   std::string_view name;     // as written in the config; SensorDriver::model()
   std::uint16_t model_code;  // what input register 37 shows
   ProductIdentity identity;
+  int axes = 2;              // 1 or 2
+  // The built-in register map: the common block (mapping/common_block.h) and the model's own
+  // points. What a PLC sees without a map file, and what a map file may extend.
+  RegisterMap (*default_map)();
+  // Sources only some drivers fill (raw counts, ...); every other source is common to all.
+  std::span<const ValueSource> sources;
+  // The settings the driver accepts writes of.
+  std::span<const WriteTarget> settings;
 };
 
 // How a family reads its own [[sensor]] keys: the config loader's reader, which checks types

@@ -1,4 +1,5 @@
 #include "mapping/common_block.h"
+#include "mapping/model_capabilities.h"
 
 namespace tiltgate {
 namespace {
@@ -76,7 +77,7 @@ void add_identity_and_counters(std::vector<Point>& points) {
   points.push_back(input_point("reply_timeout_ms", 36, T::uint16, S::reply_timeout_ms, "ms",
                                "the reply time-out in use for this sensor"));
   points.push_back(
-      input_point("model_code", 37, T::uint16, S::model_code, "", "1 H6, 2 H4360, 3 Dyna"));
+      input_point("model_code", 37, T::uint16, S::model_code, "", model_code_description()));
 }
 
 // Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit

@@ -2,6 +2,9 @@
 
 #include <array>
 
+#include "mapping/register_map.h"
+#include "mapping/value_source.h"
+#include "rieker/default_maps.h"
 #include "rieker/rieker_driver.h"
 
 namespace tiltgate::rieker {
@@ -22,9 +25,34 @@ const ProtocolDescriptor kProtocols[] = {{
     .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
 }};
 
+using W = WriteTarget;
+
+// Set Filter Response (41), Set Zero To Value (16, per axis), the zero/restart commands, Set
+// Baud (38) and Set Address (2); the H4360 has one axis.
+constexpr WriteTarget kH6Settings[] = {W::filter,    W::zero_x,    W::zero_y,
+                                       W::command,   W::baud_code, W::bus_address};
+constexpr WriteTarget kH4360Settings[] = {W::filter, W::zero_x, W::command, W::baud_code,
+                                          W::bus_address};
+
 const ModelDescriptor kModels[] = {
-    {"h6", 1, {"Rieker Inc.", "H6", "H6 dual-axis inclinometer"}},
-    {"h4360", 2, {"Rieker Inc.", "H4360", "H4360 single-axis inclinometer"}},
+    {
+        .name = "h6",
+        .model_code = 1,
+        .identity = {"Rieker Inc.", "H6", "H6 dual-axis inclinometer"},
+        .axes = 2,
+        .default_map = h6_default_map,
+        .sources = {},
+        .settings = kH6Settings,
+    },
+    {
+        .name = "h4360",
+        .model_code = 2,
+        .identity = {"Rieker Inc.", "H4360", "H4360 single-axis inclinometer"},
+        .axes = 1,
+        .default_map = h4360_default_map,
+        .sources = {},
+        .settings = kH4360Settings,
+    },
 };
 
 // The Rieker models have no [[sensor]] keys of their own.

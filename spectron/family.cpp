@@ -2,6 +2,9 @@
 
 #include <array>
 
+#include "mapping/register_map.h"
+#include "mapping/value_source.h"
+#include "spectron/default_map.h"
 #include "spectron/dyna_driver.h"
 
 namespace tiltgate::spectron {
@@ -33,9 +36,25 @@ const ProtocolDescriptor kProtocols[] = {
     },
 };
 
-const ModelDescriptor kModels[] = {
-    {"dyna", 3, {"Spectron Systems Technology", "Dyna", "SPECTROTILT Dyna inclinometer"}},
-};
+using W = WriteTarget;
+
+// Raw counts and temperature; EEPROM writes (offsets 6, 10, 20, module address 16, baud code
+// 22, the EEPROM window) and the reset command; one axis.
+constexpr ValueSource kDynaSources[] = {ValueSource::raw_counts, ValueSource::raw_temperature};
+constexpr WriteTarget kDynaSettings[] = {W::sensor_offset,   W::temperature_offset,
+                                         W::pwm_offset,      W::eeprom_location,
+                                         W::eeprom_value,    W::command,
+                                         W::baud_code,       W::bus_address};
+
+const ModelDescriptor kModels[] = {{
+    .name = "dyna",
+    .model_code = 3,
+    .identity = {"Spectron Systems Technology", "Dyna", "SPECTROTILT Dyna inclinometer"},
+    .axes = 1,
+    .default_map = dyna_default_map,
+    .sources = kDynaSources,
+    .settings = kDynaSettings,
+}};
 
 constexpr std::string_view kSensorKeys[] = {"counts_per_degree", "zero_counts",
                                             "eeprom_reserved_writes"};

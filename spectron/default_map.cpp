@@ -1,10 +1,10 @@
-#include "mapping/dyna_map.h"
+#include "spectron/default_map.h"
 
 #include <vector>
 
 #include "mapping/common_block.h"
 
-namespace tiltgate {
+namespace tiltgate::spectron {
 namespace {
 
 using T = PointType;
@@ -63,4 +63,4 @@ RegisterMap dyna_default_map() {
   return RegisterMap(std::move(points));
 }
 
-}  // namespace tiltgate
+}  // namespace tiltgate::spectron
