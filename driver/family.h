@@ -17,6 +17,7 @@
 #include "driver/family_options.h"
 #include "driver/framing.h"
 #include "driver/sensor_driver.h"
+#include "driver/simulator.h"
 
 namespace tiltgate {
 
@@ -90,7 +91,8 @@ struct DriverSetup {
 };
 
 struct FamilyDescriptor {
-  std::string_view name;  // for messages, e.g. "too short for NAME sensors"
+  std::string_view name;   // for messages, e.g. "too short for NAME sensors"
+  std::string_view title;  // for the command line's help: "Vendor Product"
   std::span<const ProtocolDescriptor> protocols;
   std::span<const ModelDescriptor> models;
   // The family's own [[sensor]] keys: every name read_sensor_keys asks for. A sensor of
@@ -101,6 +103,9 @@ struct FamilyDescriptor {
   void (*read_sensor_keys)(SensorKeyReader& in, FamilyOptions& options);
   // A driver for one sensor of the family; the setup has been validated by the config loader.
   std::unique_ptr<SensorDriver> (*make_driver)(const DriverSetup& setup);
+  // `tiltgate sim`, and the family's bus in `tiltgate demo`.
+  SimulatorDescriptor simulator;
+  DemoBus demo;
 };
 
 using FamilyList = std::span<const FamilyDescriptor* const>;

@@ -6,6 +6,8 @@
 #include "mapping/value_source.h"
 #include "rieker/default_maps.h"
 #include "rieker/rieker_driver.h"
+#include "rieker/sensor_spec.h"
+#include "rieker/simulator.h"
 
 namespace tiltgate::rieker {
 
@@ -70,15 +72,72 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   return std::make_unique<RiekerDriver>(options);
 }
 
+class Simulator final : public BusSimulator {
+ public:
+  Simulator(boost::asio::io_context& io, RiekerSimulatorOptions options)
+      : simulator_(io, std::move(options)) {}
+  Expected<Done, std::string> start() override { return simulator_.start(); }
+  void stop() override { simulator_.stop(); }
+  const std::string& slave_path() const override { return simulator_.slave_path(); }
+  std::size_t sensor_count() const override { return simulator_.sensor_count(); }
+  std::string what() const override { return "Rieker sensor(s)"; }
+
+ private:
+  RiekerSimulator simulator_;
+};
+
+Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
+                                                                    const SimulatorSetup& setup) {
+  auto sensors = parse_sensor_spec(setup.sensors);
+  if (!sensors) return Unexpected{sensors.error()};
+  RiekerSimulatorOptions options;
+  options.sensors = std::move(*sensors);
+  options.link_path = setup.link;
+  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
+  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+}
+
+// The demo plant's Rieker bus: two H6 on a boom and one H4360 on the mast, at the factory baud.
+const DemoSensor kDemoSensors[] = {
+    {"boom-left", "h6", 223}, {"boom-right", "h6", 224}, {"mast", "h4360", 101}};
+constexpr std::string_view kDemoExamples[] = {
+    "  mbpoll -m tcp -p {port} -a {unit} -t 3:float -B -r 1 -c 2 -1 {host}   # unit {unit} "
+    "angle_x, angle_y",
+    "  mbpoll -m tcp -p {port} -a {last_unit} -t 3 -r 7 -c 10 -1 {host}           # unit "
+    "{last_unit} status block",
+    "  mbpoll -m tcp -p {port} -a {unit} -t 4 -r 1 -1 {host} 2               # unit {unit} "
+    "filter := 2",
+};
+
 }  // namespace
 
 const FamilyDescriptor kFamily{
     .name = "rieker",
+    .title = "Rieker Flex",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = {},
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+    .simulator =
+        {
+            .command = "rieker",
+            .help = "Rieker Flex H6 / H4360 sensors",
+            .default_sensors = "h6:223",
+            .sensors_help = "model:address[,model:address...]",
+            .protocols = {},
+            .protocols_help = "",
+            .make = make_simulator,
+        },
+    .demo =
+        {
+            .bus_name = "demo-bus",
+            .protocol = "rieker",
+            .baud = 125000,
+            .simulator = {.sensors = "h6:223,h6:224,h4360:101", .protocol = "", .link = "", .pace_baud = 0},
+            .sensors = kDemoSensors,
+            .examples = kDemoExamples,
+        },
 };
 
 }  // namespace tiltgate::rieker

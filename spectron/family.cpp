@@ -6,6 +6,8 @@
 #include "mapping/value_source.h"
 #include "spectron/default_map.h"
 #include "spectron/dyna_driver.h"
+#include "spectron/sensor_spec.h"
+#include "spectron/simulator.h"
 
 namespace tiltgate::spectron {
 
@@ -87,15 +89,78 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   return std::make_unique<DynaDriver>(options);
 }
 
+class Simulator final : public BusSimulator {
+ public:
+  Simulator(boost::asio::io_context& io, DynaSimulatorOptions options)
+      : protocol_(options.protocol), simulator_(io, std::move(options)) {}
+  Expected<Done, std::string> start() override { return simulator_.start(); }
+  void stop() override { simulator_.stop(); }
+  const std::string& slave_path() const override { return simulator_.slave_path(); }
+  std::size_t sensor_count() const override { return simulator_.sensor_count(); }
+  std::string what() const override {
+    return std::string(protocol_name(protocol_)) + " Dyna module(s)";
+  }
+
+ private:
+  Protocol protocol_;
+  DynaSimulator simulator_;
+};
+
+// `tiltgate sim spectron --protocol`: "9bit" (the default) or "modbus" (Modbus-ASCII).
+constexpr std::string_view kSimulatorProtocols[] = {"9bit", "modbus"};
+
+Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
+                                                                    const SimulatorSetup& setup) {
+  const Protocol protocol = setup.protocol == "modbus" ? Protocol::modbus_ascii : Protocol::nine_bit;
+  auto sensors = parse_sensor_spec(setup.sensors, protocol);
+  if (!sensors) return Unexpected{sensors.error()};
+  DynaSimulatorOptions options;
+  options.protocol = protocol;
+  options.sensors = std::move(*sensors);
+  options.link_path = setup.link;
+  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
+  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+}
+
+// The demo plant's Dyna on the slewing ring, on a Modbus-ASCII bus at the rate of the note's
+// example.
+const DemoSensor kDemoSensors[] = {{"slewing-ring", "dyna", 1}};
+constexpr std::string_view kDemoExamples[] = {
+    "  mbpoll -m tcp -p {port} -a {unit} -t 3:float -B -r 1 -c 1 -1 {host}   # unit {unit} "
+    "(Dyna) angle",
+    "  mbpoll -m tcp -p {port} -a {unit} -t 3 -r 103 -c 1 -1 {host}          # unit {unit} raw "
+    "temperature",
+};
+
 }  // namespace
 
 const FamilyDescriptor kFamily{
     .name = "spectron",
+    .title = "Spectron Dyna",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = kSensorKeys,
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+    .simulator =
+        {
+            .command = "spectron",
+            .help = "Spectron SPECTROTILT Dyna modules",
+            .default_sensors = "dyna:1",
+            .sensors_help = "dyna:address[,dyna:address...]",
+            .protocols = kSimulatorProtocols,
+            .protocols_help = "9bit or modbus (Modbus-ASCII)",
+            .make = make_simulator,
+        },
+    .demo =
+        {
+            .bus_name = "demo-dyna-bus",
+            .protocol = "spectron-modbus",
+            .baud = 28800,
+            .simulator = {.sensors = "dyna:1", .protocol = "modbus", .link = "", .pace_baud = 0},
+            .sensors = kDemoSensors,
+            .examples = kDemoExamples,
+        },
 };
 
 }  // namespace tiltgate::spectron
