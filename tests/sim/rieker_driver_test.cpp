@@ -71,7 +71,7 @@ TEST_CASE("a first poll reads the identity, then both angles of an H6") {
   CHECK(s.identity_known);
   CHECK(s.serial == "962285");
   CHECK(s.firmware == "Rev A.8");
-  CHECK(s.lock_level == std::optional<std::uint16_t>(0));
+  CHECK(s.protection_level == std::optional<std::uint16_t>(0));
   REQUIRE(s.reading.has_value());
   CHECK(s.reading->angle_x == 1.5);
   CHECK(s.reading->angle_y == -2.25);
@@ -99,8 +99,8 @@ TEST_CASE("NAK 2 when a dual-axis type code is sent to an H4360") {
   CHECK(driver.state().online);  // it answers, so it is there
   CHECK_FALSE(driver.state().reading.has_value());
   CHECK(driver.state().counters.polls_failed == 1);
-  CHECK(driver.state().counters.naks[2] == 1);
-  CHECK(driver.state().counters.last_nak == std::optional<std::uint8_t>(2));
+  CHECK(driver.state().counters.refusals[2] == 1);
+  CHECK(driver.state().counters.last_refusal == std::optional<std::uint8_t>(2));
 }
 
 TEST_CASE("acknowledged settings are published, but not a refused one or a zeroed offset") {
@@ -131,7 +131,7 @@ TEST_CASE("every setting is written with the lock dance and the sensor ends lock
   CHECK(bench.write(driver, WriteTarget::filter, 2).has_value());
   CHECK(sensor.filter() == 2);
   CHECK(sensor.lock_level() == LockLevel::locked);
-  CHECK(driver.state().lock_level == std::optional<std::uint16_t>(0));
+  CHECK(driver.state().protection_level == std::optional<std::uint16_t>(0));
 
   CHECK(bench.write(driver, WriteTarget::zero_x, 0.5).has_value());
   CHECK(sensor.zero_offset(Axis::x) == 0.5);
@@ -190,7 +190,7 @@ TEST_CASE("NAK 5 busy is retried, and reported as busy when it lasts") {
   RiekerDriver driver(driver_for(223));
   bench.sim->sensor(0).faults().busy = 2;
   CHECK(bench.write(driver, WriteTarget::filter, 3).has_value());
-  CHECK(driver.state().counters.naks[5] == 2);
+  CHECK(driver.state().counters.refusals[5] == 2);
   bench.sim->sensor(0).faults().busy = 100;
   auto result = bench.write(driver, WriteTarget::filter, 5);
   REQUIRE_FALSE(result.has_value());

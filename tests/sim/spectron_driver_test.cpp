@@ -46,7 +46,7 @@ TEST_CASE_TEMPLATE("a first poll reads the identity, then counts and temperature
   CHECK(s.identity_known);
   CHECK(s.serial == "12345");  // EEPROM 4, as decimal text
   CHECK(s.firmware == P::firmware);
-  CHECK_FALSE(s.lock_level.has_value());  // the Dyna has no locks
+  CHECK_FALSE(s.protection_level.has_value());  // the Dyna has no locks
   REQUIRE(s.reading.has_value());
   CHECK(s.reading->raw_counts == std::optional<std::int32_t>(1001));
   CHECK(s.reading->raw_temperature == std::optional<std::int32_t>(-40));
