@@ -18,7 +18,7 @@ enum class WriteTarget : std::uint8_t {
   bus_address,     // the sensor's bus address; the driver follows the sensor to it
   eeprom_location, // EEPROM window: which location the next value write goes to
   eeprom_value,    // EEPROM window: value written to the selected location
-  sensor_offset,   // named EEPROM settings (Dyna)
+  sensor_offset,   // named EEPROM settings
   temperature_offset,
   pwm_offset,
 };

@@ -120,7 +120,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
                                   request.registers);
   if (!plan) co_return failure(exception_for(plan.error()));
   // Checked together, before anything is queued: a value may depend on a setting written
-  // before it in the same request (the Dyna's EEPROM window location).
+  // before it in the same request (an EEPROM window's location).
   std::vector<SettingWrite> settings;
   for (const PlannedWrite& step : *plan) settings.push_back({*step.point->write, step.value});
   auto checked = sensor.driver->check_writes(settings);

@@ -57,8 +57,8 @@ void add_identity_and_counters(std::vector<Point>& points) {
   points.push_back(input_point("serial", 16, T::string, S::serial, "",
                                "serial number, 2 characters per register, first in the high byte",
                                10));
-  // 8 characters: a Rieker firmware text has 7, a Dyna's is free text (9-bit "F") or "HH.LL"
-  // (Modbus-ASCII); function 43 reports it in full.
+  // 8 characters: the firmware texts of the sensors served have 7 or fewer, or are free text;
+  // function 43 reports it in full.
   points.push_back(input_point("firmware", 21, T::string, S::firmware, "",
                                "firmware revision, first 8 characters, space padded", 8));
   points.push_back(input_point("tilt", 25, T::float32, S::tilt, "deg",

@@ -318,7 +318,8 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   error_code ec;
   bool stalled = false;
   {
-    // One write for the whole packet: Rieker bytes must follow each other within 125 us.
+    // One write for the whole packet: some protocols need a packet's bytes within 125 us of
+    // each other (PROTOCOL-NOTES).
     PortDeadline deadline(port_, Clock::now() + wire + kStalledWrite);
     co_await asio::async_write(port_, asio::buffer(bytes.data(), bytes.size()),
                                asio::redirect_error(asio::use_awaitable, ec));
