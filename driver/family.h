@@ -54,6 +54,27 @@ struct ProductIdentity {
   std::string_view product_name;  // ProductName
 };
 
+// A setting a model accepts writes of: the name a map file's `write = "NAME"` gives it, and
+// its id (driver/write_target.h: the common block's, or one the family owns).
+struct SettingDescriptor {
+  std::string_view name;
+  WriteTarget id;
+};
+
+// The common block's settings under their map-file names; a family lists those its models
+// accept among their settings.
+namespace common_setting {
+inline constexpr SettingDescriptor filter{"filter", WriteTarget::filter};
+inline constexpr SettingDescriptor zero_x{"zero_x", WriteTarget::zero_x};
+inline constexpr SettingDescriptor zero_y{"zero_y", WriteTarget::zero_y};
+inline constexpr SettingDescriptor command{"command", WriteTarget::command};
+inline constexpr SettingDescriptor baud_code{"baud_code", WriteTarget::baud_code};
+inline constexpr SettingDescriptor bus_address{"bus_address", WriteTarget::bus_address};
+}  // namespace common_setting
+inline constexpr SettingDescriptor kCommonSettings[] = {
+    common_setting::filter,  common_setting::zero_x,    common_setting::zero_y,
+    common_setting::command, common_setting::baud_code, common_setting::bus_address};
+
 // One sensor model ([[sensor]] model = "...").
 struct ModelDescriptor {
   std::string_view name;     // as written in the config; SensorDriver::model()
@@ -66,7 +87,7 @@ struct ModelDescriptor {
   // Sources only some drivers fill (raw counts, ...); every other source is common to all.
   std::span<const ValueSource> sources;
   // The settings the driver accepts writes of.
-  std::span<const WriteTarget> settings;
+  std::span<const SettingDescriptor> settings;
 };
 
 // How a family reads its own [[sensor]] keys: the config loader's reader, which checks types

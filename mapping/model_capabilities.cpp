@@ -36,7 +36,9 @@ bool model_offers(std::string_view model, ValueSource source) {
 
 bool model_accepts(std::string_view model, WriteTarget target) {
   const ModelDescriptor* m = find(model);
-  return m != nullptr && contains(m->settings, target);
+  if (m == nullptr) return false;
+  return std::any_of(m->settings.begin(), m->settings.end(),
+                     [&](const SettingDescriptor& s) { return s.id == target; });
 }
 
 std::uint16_t model_code(std::string_view model) {

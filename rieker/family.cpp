@@ -27,14 +27,13 @@ const ProtocolDescriptor kProtocols[] = {{
     .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
 }};
 
-using W = WriteTarget;
-
 // Set Filter Response (41), Set Zero To Value (16, per axis), the zero/restart commands, Set
-// Baud (38) and Set Address (2); the H4360 has one axis.
-constexpr WriteTarget kH6Settings[] = {W::filter,    W::zero_x,    W::zero_y,
-                                       W::command,   W::baud_code, W::bus_address};
-constexpr WriteTarget kH4360Settings[] = {W::filter, W::zero_x, W::command, W::baud_code,
-                                          W::bus_address};
+// Baud (38) and Set Address (2): the common block's settings; the H4360 has one axis.
+namespace common = common_setting;
+constexpr SettingDescriptor kH6Settings[] = {common::filter,  common::zero_x,    common::zero_y,
+                                             common::command, common::baud_code, common::bus_address};
+constexpr SettingDescriptor kH4360Settings[] = {common::filter, common::zero_x, common::command,
+                                                common::baud_code, common::bus_address};
 
 const ModelDescriptor kModels[] = {
     {

@@ -8,6 +8,7 @@
 #include "spectron/dyna_driver.h"
 #include "spectron/sensor_spec.h"
 #include "spectron/simulator.h"
+#include "spectron/setting_ids.h"
 
 namespace tiltgate::spectron {
 
@@ -38,15 +39,20 @@ const ProtocolDescriptor kProtocols[] = {
     },
 };
 
-using W = WriteTarget;
 
 // Raw counts and temperature; EEPROM writes (offsets 6, 10, 20, module address 16, baud code
 // 22, the EEPROM window) and the reset command; one axis.
 constexpr ValueSource kDynaSources[] = {ValueSource::raw_counts, ValueSource::raw_temperature};
-constexpr WriteTarget kDynaSettings[] = {W::sensor_offset,   W::temperature_offset,
-                                         W::pwm_offset,      W::eeprom_location,
-                                         W::eeprom_value,    W::command,
-                                         W::baud_code,       W::bus_address};
+constexpr SettingDescriptor kDynaSettings[] = {
+    {"sensor_offset", setting::sensor_offset},
+    {"temperature_offset", setting::temperature_offset},
+    {"pwm_offset", setting::pwm_offset},
+    {"eeprom_location", setting::eeprom_location},
+    {"eeprom_value", setting::eeprom_value},
+    common_setting::command,
+    common_setting::baud_code,
+    common_setting::bus_address,
+};
 
 const ModelDescriptor kModels[] = {{
     .name = "dyna",

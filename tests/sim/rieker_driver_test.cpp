@@ -8,6 +8,7 @@
 #include "rieker/simulator.h"
 #include "serial/serial_line.h"
 #include "sim/support/driver_bench.h"
+#include "spectron/setting_ids.h"
 
 using namespace tiltgate;
 using namespace tiltgate::rieker;
@@ -178,7 +179,7 @@ TEST_CASE("values a Rieker sensor cannot take are refused before anything is sen
   CHECK(h6_driver.check_write(WriteTarget::baud_code, 0).error().kind == WriteErrorKind::bad_value);
   CHECK(h6_driver.check_write(WriteTarget::bus_address, 0).error().kind == WriteErrorKind::bad_value);
   CHECK(h6_driver.check_write(WriteTarget::zero_x, NAN).error().kind == WriteErrorKind::bad_value);
-  CHECK(h6_driver.check_write(WriteTarget::eeprom_value, 1).error().kind ==
+  CHECK(h6_driver.check_write(spectron::setting::eeprom_value, 1).error().kind ==
         WriteErrorKind::not_supported);
   RiekerDriver h4360_driver(driver_for(101, Model::h4360));
   CHECK(h4360_driver.check_write(WriteTarget::zero_y, 0).error().kind ==

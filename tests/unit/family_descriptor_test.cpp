@@ -56,7 +56,7 @@ RegisterMap fake_map() {
   return RegisterMap(common_block(m));
 }
 
-constexpr WriteTarget kSettings[] = {WriteTarget::filter};
+constexpr SettingDescriptor kSettings[] = {common_setting::filter};
 
 const ModelDescriptor kModels[] = {{
     .name = "tilt-x1",
