@@ -1,5 +1,6 @@
 #include "config/accepted_keys.h"
 
+#include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include "config/sections.h"
@@ -7,34 +8,21 @@
 namespace tiltgate::config {
 namespace {
 
-// One table of each kind, and each protocol and model, as some keys are asked for only there.
-// Values are left out: a reader asks for every key it knows whether or not it is given.
-constexpr std::string_view kEveryTable = R"(
-[server]
-
-[[bus]]
-protocol = "rieker"
-[[bus]]
-protocol = "spectron-9bit"
-[[bus]]
-protocol = "spectron-modbus"
-
-[[sensor]]
-model = "h6"
-mounting = {}
-alarms = {}
-map = { point = [{}] }
-[[sensor]]
-model = "h4360"
-mounting = {}
-alarms = {}
-map = { point = [{}] }
-[[sensor]]
-model = "dyna"
-mounting = {}
-alarms = {}
-map = { point = [{}] }
-)";
+// One table of each kind, and each protocol and model of every family, as some keys are asked
+// for only there. Values are left out: a reader asks for every key it knows whether or not it
+// is given.
+std::string every_table(FamilyList families) {
+  std::string text = "[server]\n";
+  for (const FamilyDescriptor* family : families)
+    for (const ProtocolDescriptor& protocol : family->protocols)
+      text += fmt::format("[[bus]]\nprotocol = \"{}\"\n", protocol.name);
+  for (const FamilyDescriptor* family : families)
+    for (const ModelDescriptor& model : family->models)
+      text += fmt::format("[[sensor]]\nmodel = \"{}\"\nmounting = {{}}\nalarms = {{}}\n"
+                          "map = {{ point = [{{}}] }}\n",
+                          model.name);
+  return text;
+}
 
 template <class Read>
 void read_each(const toml::table& root, std::string_view name, Read read) {
@@ -46,17 +34,17 @@ void read_each(const toml::table& root, std::string_view name, Read read) {
 
 }  // namespace
 
-AcceptedKeys accepted_keys() {
+AcceptedKeys accepted_keys(FamilyList families) {
   AcceptedKeys keys;
   ErrorList ignored{"accepted keys"};  // the probe lacks required values: errors are expected
   ignored.record_accepted_keys(&keys);
-  const toml::table root = toml::parse(kEveryTable);
+  const toml::table root = toml::parse(every_table(families));
   read_server(*root["server"].as_table(), ignored);
   read_each(root, "bus", [&](const toml::table& table, std::size_t i) {
-    read_bus(table, "bus[" + std::to_string(i) + "]", ignored);
+    read_bus(table, "bus[" + std::to_string(i) + "]", ignored, families);
   });
   read_each(root, "sensor", [&](const toml::table& table, std::size_t i) {
-    read_sensor(table, "sensor[" + std::to_string(i) + "]", ignored);
+    read_sensor(table, "sensor[" + std::to_string(i) + "]", ignored, families);
   });
   return keys;
 }

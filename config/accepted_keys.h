@@ -4,11 +4,12 @@
 #pragma once
 
 #include "config/error_list.h"
+#include "driver/family.h"
 
 namespace tiltgate::config {
 
 // Kinds of table: "server", "bus", "sensor", "sensor.mounting", "sensor.alarms", "sensor.map"
 // (also a map file's top level) and "sensor.map.point" (also a map file's [[point]]).
-AcceptedKeys accepted_keys();
+AcceptedKeys accepted_keys(FamilyList families = registered_families());
 
 }  // namespace tiltgate::config

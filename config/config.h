@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "driver/family_options.h"
 #include "mapping/map_definition.h"
 #include "mapping/point_types.h"  // WordOrder, OfflineRead
 
@@ -24,8 +25,6 @@ struct ServerConfig {
   std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
 };
 
-enum class BusProtocol { rieker, spectron_9bit, spectron_modbus };
-
 // The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to
 // 16 ms each way) on top of a sensor's own slowness.
 inline constexpr std::chrono::milliseconds kMinDefaultLateGuard{100};
@@ -33,8 +32,10 @@ inline constexpr std::chrono::milliseconds kMinDefaultLateGuard{100};
 struct BusConfig {
   std::string name;
   std::string port;                 // tty path, e.g. /dev/ttyUSB0
-  BusProtocol protocol = BusProtocol::rieker;
-  std::uint32_t baud = 125000;
+  // A ProtocolDescriptor name (driver/family.h). A file that names none gets the first
+  // protocol of the family list.
+  std::string protocol;
+  std::uint32_t baud = 125000;               // the protocol's default_baud when not given
   std::chrono::milliseconds timeout{50};     // reply timeout per attempt
   int retries = 2;                            // extra attempts after a time-out (reads)
   // The most a sensor's own reply time-out may adapt up to after late replies (>= timeout).
@@ -46,7 +47,7 @@ struct BusConfig {
   std::chrono::microseconds gap{1000};        // quiet time between master packets
   bool rs485_kernel = false;                  // TIOCSRS485 on on-board UARTs
   bool echo = false;                          // the adapter hears its own transmission
-  std::uint16_t master_address = 0;           // Rieker: the gateway's own address
+  std::uint16_t master_address = 0;           // protocols where the master has an address
   std::chrono::milliseconds reopen_min{500};  // back-off when the tty disappears
   std::chrono::milliseconds reopen_max{10000};
   int line = 0;                               // where it was declared, for messages
@@ -73,16 +74,13 @@ struct AlarmConfig {
 struct SensorConfig {
   std::string name;
   std::string bus;
-  std::string model;                // "h6" | "h4360" | "dyna"
+  std::string model;                // a ModelDescriptor name (driver/family.h)
   std::uint32_t address = 0;        // bus address
   std::uint8_t unit_id = 1;         // Modbus unit id 1..247
   std::chrono::milliseconds poll{100};
   std::optional<std::chrono::milliseconds> stale_after;  // default: max(3 x poll, 1 s)
-  // Dyna only: raw counts -> degrees (the document gives no conversion).
-  double counts_per_degree = 100.0;
-  double zero_counts = 0.0;
-  // Dyna only: the EEPROM window may write the reserved locations 100..280.
-  bool eeprom_reserved_writes = false;
+  // The keys of the model's own family (FamilyDescriptor::sensor_keys), as it read them.
+  FamilyOptions family_options;
   MountingConfig mounting;
   AlarmConfig alarms;
   OfflineRead offline = OfflineRead::exception;

@@ -85,7 +85,8 @@ Config assemble(std::string path, ServerConfig server, std::vector<ParsedBus> bu
 }  // namespace config
 
 Expected<Config, ConfigErrors> load_config_string(std::string_view text,
-                                                  std::string_view source_name) {
+                                                  std::string_view source_name,
+                                                  FamilyList families) {
   using namespace config;
   toml::table root;
   try {
@@ -108,12 +109,12 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
                    fmt::format("expected a table ([server]), got {}", type_name(node.type())));
     } else if (key == "bus") {
       read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
-        buses.push_back(read_bus(table, std::move(path), errors));
+        buses.push_back(read_bus(table, std::move(path), errors, families));
       });
     } else if (key == "sensor") {
       read_table_array("sensor", key, node, errors,
                        [&](const toml::table& table, std::string path) {
-                         sensors.push_back(read_sensor(table, std::move(path), errors));
+                         sensors.push_back(read_sensor(table, std::move(path), errors, families));
                        });
     } else {
       report_unknown_top_level(key, node, errors);
@@ -122,7 +123,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   if (sensors_missing(root))
     errors.add(Place{}, "sensor", "no [[sensor]] defined, expected at least one");
   check_buses(buses, errors);
-  check_sensors(sensors, buses, errors);
+  check_sensors(sensors, buses, errors, families);
   ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors);
   if (!errors.empty() || !map_file_errors.empty()) {
     ConfigErrors all = errors.take();
@@ -132,10 +133,10 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   return assemble(std::string(source_name), server, std::move(buses), std::move(sensors));
 }
 
-Expected<Config, ConfigErrors> load_config_file(const std::string& path) {
+Expected<Config, ConfigErrors> load_config_file(const std::string& path, FamilyList families) {
   auto text = config::read_text_file(path);
   if (!text) return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", text.error()}});
-  return load_config_string(*text, path);
+  return load_config_string(*text, path, families);
 }
 
 }  // namespace tiltgate

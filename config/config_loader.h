@@ -9,6 +9,7 @@
 
 #include "config/config.h"
 #include "driver/expected.h"
+#include "driver/family.h"
 
 namespace tiltgate {
 
@@ -26,10 +27,13 @@ struct ConfigError {
 using ConfigErrors = std::vector<ConfigError>;
 
 // Every problem in the file, ordered by line; a TOML syntax error is reported alone.
-Expected<Config, ConfigErrors> load_config_file(const std::string& path);
+// Protocols, models and their keys are those of `families`.
+Expected<Config, ConfigErrors> load_config_file(const std::string& path,
+                                                FamilyList families = registered_families());
 // The same from text in memory; `source_name` stands for the file name in errors and in
 // Config::path.
 Expected<Config, ConfigErrors> load_config_string(std::string_view text,
-                                                  std::string_view source_name);
+                                                  std::string_view source_name,
+                                                  FamilyList families = registered_families());
 
 }  // namespace tiltgate

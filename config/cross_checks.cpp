@@ -75,25 +75,15 @@ const ParsedBus* find_bus(const std::vector<ParsedBus>& buses, const std::string
   return nullptr;
 }
 
-struct AddressRange {
-  std::int64_t min;
-  std::int64_t max;
-};
-
-AddressRange address_range(BusProtocol protocol) {
-  switch (protocol) {
-    case BusProtocol::rieker:
-      return {1, 65000};  // PROTOCOL-NOTES, Rieker
-    case BusProtocol::spectron_9bit:
-      return {0, 255};  // one address byte, factory 0
-    case BusProtocol::spectron_modbus:
-      return {1, 250};  // PROTOCOL-NOTES, Dyna protocol 2
-  }
-  return {0, 0};
+// A model fits a bus whose protocol is one of its own family's.
+bool model_fits(const ModelEntry& model, const ProtocolEntry& protocol) {
+  return model.family == nullptr || model.family == protocol.family;
 }
 
-bool model_fits(const std::string& model, BusProtocol protocol) {
-  return (model == "dyna") == (protocol != BusProtocol::rieker);
+std::string protocols_of(const FamilyDescriptor& family) {
+  std::vector<std::string_view> names;
+  for (const ProtocolDescriptor& protocol : family.protocols) names.push_back(protocol.name);
+  return or_list(names);
 }
 
 void report_unknown_bus(const ParsedSensor& sensor, const std::vector<ParsedBus>& buses,
@@ -111,17 +101,17 @@ void report_unknown_bus(const ParsedSensor& sensor, const std::vector<ParsedBus>
 // The address against its bus: the protocol's range, the master, and the sensors declared
 // before it (`earlier`).
 void check_address(const ParsedSensor& sensor, const ParsedBus& bus,
-                   std::span<const ParsedSensor> earlier, ErrorList& errors) {
+                   const ProtocolDescriptor& protocol, std::span<const ParsedSensor> earlier,
+                   ErrorList& errors) {
   if (!sensor.where.valid("address")) return;
-  const BusProtocol protocol = bus.config.protocol;
-  const auto [min, max] = address_range(protocol);
+  const auto [min, max] = protocol.addresses;
   if (sensor.address < min || sensor.address > max) {
     return sensor.where.report(errors, "address",
                                fmt::format("{} is out of range for a {} bus, expected {}..{}",
-                                           sensor.address, protocol_name(protocol), min, max));
+                                           sensor.address, protocol.name, min, max));
   }
-  // PROTOCOL-NOTES, Rieker: the master's address must differ from every sensor's.
-  if (protocol == BusProtocol::rieker && bus.where.usable("master_address") &&
+  // Where the master has an address, it is reserved for it.
+  if (protocol.master_addresses && bus.where.usable("master_address") &&
       sensor.address == bus.config.master_address) {
     return sensor.where.report(errors, "address",
                                fmt::format("{} is the master_address of bus \"{}\"; a sensor "
@@ -140,20 +130,22 @@ void check_address(const ParsedSensor& sensor, const ParsedBus& bus,
 }
 
 void check_against_bus(const ParsedSensor& sensor, std::span<const ParsedSensor> earlier,
-                       const std::vector<ParsedBus>& buses, ErrorList& errors) {
+                       const std::vector<ParsedBus>& buses, ErrorList& errors,
+                       FamilyList families) {
   if (!sensor.where.valid("bus")) return;
   const ParsedBus* bus = find_bus(buses, sensor.config.bus);
   if (bus == nullptr) return report_unknown_bus(sensor, buses, errors);
   if (!bus->where.usable("protocol")) return;
-  const BusProtocol protocol = bus->config.protocol;
-  if (sensor.where.valid("model") && !model_fits(sensor.config.model, protocol)) {
+  const ProtocolEntry protocol = find_protocol(families, bus->config.protocol);
+  if (protocol.protocol == nullptr) return;
+  const ModelEntry model = find_model(families, sensor.config.model);
+  if (sensor.where.valid("model") && !model_fits(model, protocol)) {
     sensor.where.report(
         errors, "model",
         fmt::format("model \"{}\" needs a {} bus, but bus \"{}\" is {}", sensor.config.model,
-                    sensor.config.model == "dyna" ? "spectron-9bit or spectron-modbus" : "rieker",
-                    bus->config.name, protocol_name(protocol)));
+                    protocols_of(*model.family), bus->config.name, bus->config.protocol));
   }
-  check_address(sensor, *bus, earlier, errors);
+  check_address(sensor, *bus, *protocol.protocol, earlier, errors);
 }
 
 void reject_duplicate_unit_ids(const std::vector<ParsedSensor>& sensors, ErrorList& errors) {
@@ -180,12 +172,12 @@ void check_buses(const std::vector<ParsedBus>& buses, ErrorList& errors) {
 }
 
 void check_sensors(const std::vector<ParsedSensor>& sensors, const std::vector<ParsedBus>& buses,
-                   ErrorList& errors) {
+                   ErrorList& errors, FamilyList families) {
   reject_duplicate_names(sensors, "sensor", errors);
   reject_duplicate_unit_ids(sensors, errors);
   const std::span<const ParsedSensor> all(sensors);
   for (std::size_t i = 0; i < sensors.size(); ++i)
-    check_against_bus(sensors[i], all.first(i), buses, errors);
+    check_against_bus(sensors[i], all.first(i), buses, errors, families);
 }
 
 }  // namespace tiltgate::config

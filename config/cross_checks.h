@@ -11,6 +11,6 @@ namespace tiltgate::config {
 
 void check_buses(const std::vector<ParsedBus>& buses, ErrorList& errors);
 void check_sensors(const std::vector<ParsedSensor>& sensors, const std::vector<ParsedBus>& buses,
-                   ErrorList& errors);
+                   ErrorList& errors, FamilyList families);
 
 }  // namespace tiltgate::config

@@ -21,17 +21,6 @@ using std::chrono::milliseconds;
 constexpr auto kAnyInteger = std::numeric_limits<std::int64_t>::min();
 constexpr auto kAnyIntegerMax = std::numeric_limits<std::int64_t>::max();
 
-// The rates a Rieker sensor can be set to (PROTOCOL-NOTES, Rieker: baud codes 1..8).
-constexpr std::array<std::int64_t, 8> kRiekerBauds{9600,   19200,  38400,  62500,
-                                                   115200, 125000, 128000, 250000};
-// The rates a Dyna can be set to (PROTOCOL-NOTES, Dyna EEPROM location 22 baud codes).
-constexpr std::array<std::int64_t, 5> kSpectronBauds{4800, 9600, 19200, 28800, 38400};
-
-std::span<const std::int64_t> baud_rates(BusProtocol protocol) {
-  if (protocol == BusProtocol::rieker) return kRiekerBauds;
-  return kSpectronBauds;
-}
-
 // Names appear in logs, metrics and on the command line: keep them to a safe alphabet.
 void check_name(TableReader& in, std::string_view key, const std::string& name) {
   const bool safe = std::all_of(name.begin(), name.end(), [](char c) {
@@ -50,32 +39,83 @@ bool is_ip_address(const std::string& text) {
          inet_pton(AF_INET6, text.c_str(), buffer) == 1;
 }
 
-BusProtocol protocol_from_name(std::string_view name) {
-  if (name == "spectron-9bit") return BusProtocol::spectron_9bit;
-  if (name == "spectron-modbus") return BusProtocol::spectron_modbus;
-  return BusProtocol::rieker;
+std::vector<std::string_view> protocol_names(FamilyList families) {
+  std::vector<std::string_view> names;
+  for (const FamilyDescriptor* family : families)
+    for (const ProtocolDescriptor& protocol : family->protocols) names.push_back(protocol.name);
+  return names;
 }
 
-void read_baud(TableReader& in, BusConfig& bus, bool protocol_known) {
+std::vector<std::string_view> model_names(FamilyList families) {
+  std::vector<std::string_view> names;
+  for (const FamilyDescriptor* family : families)
+    for (const ModelDescriptor& model : family->models) names.push_back(model.name);
+  return names;
+}
+
+// The protocols whose master has an address of its own, and the first one's range (for a bus
+// whose protocol is in error).
+std::vector<std::string_view> protocols_with_master_address(FamilyList families,
+                                                            AddressRange* first_range) {
+  std::vector<std::string_view> names;
+  for (const FamilyDescriptor* family : families) {
+    for (const ProtocolDescriptor& protocol : family->protocols) {
+      if (!protocol.master_addresses) continue;
+      if (names.empty()) *first_range = *protocol.master_addresses;
+      names.push_back(protocol.name);
+    }
+  }
+  return names;
+}
+
+void read_baud(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protocol) {
   const auto baud = in.integer("baud", kAnyInteger, kAnyIntegerMax);
-  if (!protocol_known) return;
-  const bool rieker = bus.protocol == BusProtocol::rieker;
-  const std::span<const std::int64_t> rates = baud_rates(bus.protocol);
+  if (protocol == nullptr) return;
+  const std::span<const std::int64_t> rates = protocol->bauds;
   const std::string expected = fmt::format("expected one of {}", fmt::join(rates, ", "));
   if (!baud) {
-    // Rieker sensors ship at 125000 (the BusConfig default); the Dyna's factory rate is
-    // not documented, so a Spectron bus must say which rate its sensors were set to.
-    if (!rieker && !in.has("baud"))
-      in.error("baud", fmt::format("required key is missing on {} buses; {}",
-                                   protocol_name(bus.protocol), expected));
+    // A protocol whose sensors ship at a documented rate has it as the default; otherwise a
+    // bus must say which rate its sensors were set to.
+    if (protocol->default_baud)
+      bus.baud = *protocol->default_baud;
+    else if (!in.has("baud"))
+      in.error("baud", fmt::format("required key is missing on {} buses; {}", bus.protocol,
+                                   expected));
     return;
   }
   if (std::find(rates.begin(), rates.end(), *baud) == rates.end()) {
-    in.error("baud", fmt::format("{} is not a {} baud rate, {}", *baud, protocol_name(bus.protocol),
-                                 expected));
+    in.error("baud", fmt::format("{} is not a {} baud rate, {}", *baud, bus.protocol, expected));
     return;
   }
   bus.baud = std::uint32_t(*baud);
+}
+
+// gap_us: the protocol's sensors may need a minimum quiet time between master packets.
+void read_gap(TableReader& in, BusConfig& bus, ProtocolEntry protocol) {
+  constexpr std::int64_t kMaxGap = 1'000'000;
+  auto us = in.integer("gap_us", 0, kMaxGap);
+  if (!us) return;
+  if (protocol.protocol != nullptr && *us < protocol.protocol->min_gap.count()) {
+    in.error("gap_us", fmt::format("{} is too short for {} sensors, expected {}..{}", *us,
+                                   protocol.family->name, protocol.protocol->min_gap.count(),
+                                   kMaxGap));
+    return;
+  }
+  bus.gap = microseconds(*us);
+}
+
+// master_address: only where the protocol gives the master an address of its own.
+void read_master_address(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protocol,
+                         FamilyList families) {
+  AddressRange range;
+  const std::vector<std::string_view> with_master = protocols_with_master_address(families, &range);
+  if (protocol != nullptr && protocol->master_addresses) range = *protocol->master_addresses;
+  auto address = in.integer("master_address", range.min, range.max);
+  if (!address) return;
+  if (protocol != nullptr && !protocol->master_addresses)
+    in.error("master_address", fmt::format("applies to {} buses only, not {}",
+                                           or_list(with_master), bus.protocol));
+  bus.master_address = std::uint16_t(*address);
 }
 
 // timeout_ms, the cap of the adaptive per-sensor time-out, and the quiet guard after a
@@ -111,21 +151,45 @@ void read_reopen_backoff(TableReader& in, BusConfig& bus) {
   }
 }
 
-// Raw-count conversion and the EEPROM window: only the Dyna has them.
-void read_dyna_scaling(TableReader& in, SensorConfig& sensor) {
-  if (auto v = in.number("counts_per_degree")) {
-    if (*v == 0.0)
-      in.error("counts_per_degree", "must not be 0 (raw counts are divided by it)");
-    else
-      sensor.counts_per_degree = *v;
+// A family's keys through the TableReader, so errors carry the file, line and key.
+class TableKeyReader final : public SensorKeyReader {
+ public:
+  explicit TableKeyReader(TableReader& in) : in_(in) {}
+  std::optional<double> number(std::string_view key) override { return in_.number(key); }
+  std::optional<bool> boolean(std::string_view key) override { return in_.boolean(key); }
+  void error(std::string_view key, std::string message) override {
+    in_.error(key, std::move(message));
   }
-  if (auto v = in.number("zero_counts")) sensor.zero_counts = *v;
-  // The application note's own example writes a reserved location; allowed on request only.
-  if (auto v = in.boolean("eeprom_reserved_writes")) sensor.eeprom_reserved_writes = *v;
-  if (!in.located().valid("model") || sensor.model == "dyna") return;
-  for (std::string_view key : {"counts_per_degree", "zero_counts", "eeprom_reserved_writes"})
-    if (in.has(key))
-      in.error(key, fmt::format("applies to model \"dyna\" only, not \"{}\"", sensor.model));
+
+ private:
+  TableReader& in_;
+};
+
+std::string quoted_models(const FamilyDescriptor& family) {
+  std::vector<std::string> names;
+  for (const ModelDescriptor& model : family.models) names.push_back(fmt::format("\"{}\"", model.name));
+  return fmt::format("{}", fmt::join(names, " or "));
+}
+
+// Every family reads its keys (so each is type-checked and accepted); the sensor keeps its own
+// family's, and a key of another family is refused once the model is known.
+void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families) {
+  const ModelEntry model =
+      in.located().valid("model") ? find_model(families, sensor.model) : ModelEntry{};
+  for (const FamilyDescriptor* family : families) {
+    TableKeyReader reader(in);
+    FamilyOptions options;
+    family->read_sensor_keys(reader, options);
+    if (family == model.family) sensor.family_options = std::move(options);
+  }
+  if (model.family == nullptr) return;
+  for (const FamilyDescriptor* family : families) {
+    if (family == model.family) continue;
+    for (std::string_view key : family->sensor_keys)
+      if (in.has(key))
+        in.error(key, fmt::format("applies to model {} only, not \"{}\"", quoted_models(*family),
+                                  sensor.model));
+  }
 }
 
 // map = "FILE" (loaded once every sensor is read) or an inline map table.
@@ -148,16 +212,8 @@ void read_map_key(TableReader& in, ParsedSensor& parsed, ErrorList& errors) {
 
 }  // namespace
 
-std::string_view protocol_name(BusProtocol protocol) {
-  switch (protocol) {
-    case BusProtocol::rieker:
-      return "rieker";
-    case BusProtocol::spectron_9bit:
-      return "spectron-9bit";
-    case BusProtocol::spectron_modbus:
-      return "spectron-modbus";
-  }
-  return "?";
+std::string or_list(std::span<const std::string_view> names) {
+  return fmt::format("{}", fmt::join(names, " or "));
 }
 
 ServerConfig read_server(const toml::table& table, ErrorList& errors) {
@@ -186,7 +242,8 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
   return server;
 }
 
-ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors) {
+ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors,
+                   FamilyList families) {
   TableReader in(table, std::move(path), errors);
   BusConfig bus;
   bus.line = in.located().header().line;
@@ -198,35 +255,26 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
     if (port->empty()) in.error("port", "empty, expected a tty path such as \"/dev/ttyUSB0\"");
     bus.port = *port;
   }
-  auto protocol = in.choice("protocol", {"rieker", "spectron-9bit", "spectron-modbus"});
-  if (protocol) bus.protocol = protocol_from_name(*protocol);
-  const bool protocol_known = in.located().usable("protocol");
-  read_baud(in, bus, protocol_known);
+  const std::vector<std::string_view> protocols = protocol_names(families);
+  bus.protocol = protocols.empty() ? "" : std::string(protocols.front());
+  if (auto protocol = in.choice("protocol", protocols)) bus.protocol = *protocol;
+  const ProtocolEntry protocol = in.located().usable("protocol")
+                                     ? find_protocol(families, bus.protocol)
+                                     : ProtocolEntry{};
+  read_baud(in, bus, protocol.protocol);
   read_reply_timeouts(in, bus);
   if (auto n = in.integer("retries", 0, 10)) bus.retries = int(*n);
-  if (auto us = in.integer("gap_us", 0, 1'000'000)) {
-    // PROTOCOL-NOTES, Rieker: packets from the master at least 1 ms apart.
-    if (protocol_known && bus.protocol == BusProtocol::rieker && *us < 1000)
-      in.error("gap_us",
-               fmt::format("{} is too short for rieker sensors, expected 1000..1000000", *us));
-    else
-      bus.gap = microseconds(*us);
-  }
+  read_gap(in, bus, protocol);
   if (auto rs485 = in.boolean("rs485")) bus.rs485_kernel = *rs485;
   if (auto echo = in.boolean("echo")) bus.echo = *echo;
-  // PROTOCOL-NOTES, Rieker: the master's own address is 0..65500.
-  if (auto address = in.integer("master_address", 0, 65'500)) {
-    if (protocol_known && bus.protocol != BusProtocol::rieker)
-      in.error("master_address",
-               fmt::format("applies to rieker buses only, not {}", protocol_name(bus.protocol)));
-    bus.master_address = std::uint16_t(*address);
-  }
+  read_master_address(in, bus, protocol.protocol, families);
   read_reopen_backoff(in, bus);
   in.reject_unknown_keys();
   return ParsedBus{std::move(bus), in.located()};
 }
 
-ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& errors) {
+ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& errors,
+                         FamilyList families) {
   TableReader in(table, std::move(path), errors);
   SensorConfig sensor;
   sensor.line = in.located().header().line;
@@ -235,7 +283,7 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
     sensor.name = *name;
   }
   if (auto bus = in.string("bus", Presence::required)) sensor.bus = *bus;
-  if (auto model = in.choice("model", {"h6", "h4360", "dyna"}, Presence::required))
+  if (auto model = in.choice("model", model_names(families), Presence::required))
     sensor.model = *model;
   const auto address = in.integer("address", kAnyInteger, kAnyIntegerMax, Presence::required);
   if (auto id = in.integer("unit_id", 1, 247, Presence::required))
@@ -249,7 +297,7 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
     else
       sensor.stale_after = milliseconds(*ms);
   }
-  read_dyna_scaling(in, sensor);
+  read_family_keys(in, sensor, families);
   read_mounting(in, sensor, errors);
   read_alarms(in, sensor, errors);
   read_offline(in, sensor);

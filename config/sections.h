@@ -12,6 +12,7 @@
 #include "config/config.h"
 #include "config/error_list.h"
 #include "config/map_reader.h"
+#include "driver/family.h"
 
 namespace tiltgate::config {
 
@@ -30,10 +31,13 @@ struct ParsedSensor {
 };
 
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
-ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors);
-ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& errors);
+// Protocols, bauds, addresses and models come from the families' descriptors.
+ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors,
+                   FamilyList families);
+ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& errors,
+                         FamilyList families);
 
-// As written in the file: "rieker", "spectron-9bit", "spectron-modbus".
-std::string_view protocol_name(BusProtocol protocol);
+// "a or b or c": for messages that list what would do.
+std::string or_list(std::span<const std::string_view> names);
 
 }  // namespace tiltgate::config

@@ -49,8 +49,8 @@ struct LineRequest {
   // Extra attempts after a time-out. -1 means the bus's configured retries. A driver sets 0
   // for commands that must not run twice (set address).
   int retries = -1;
-  // Quiet time the Line keeps after this transaction before the next one (Rieker: 50 ms after
-  // Set Address).
+  // Quiet time the Line keeps after this transaction before the next one (e.g. a sensor that
+  // needs 50 ms after it was given a new address).
   std::chrono::milliseconds settle{0};
 };
 

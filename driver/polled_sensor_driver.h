@@ -37,7 +37,7 @@ class PolledSensorDriver : public SensorDriver {
   virtual boost::asio::awaitable<bool> read_identity(Line& line) = 0;
   // One measurement: a new Reading and polls_ok, or polls_failed.
   virtual boost::asio::awaitable<void> read_measurement(Line& line) = 0;
-  // For log lines: the configured sensor name and what it is ("sensor", "Dyna").
+  // For log lines: the configured sensor name and what it is ("sensor", "module").
   virtual const std::string& log_name() const = 0;
   virtual const char* kind() const = 0;
 

@@ -27,7 +27,7 @@ enum class SensorCommand : std::uint16_t {
 enum class WriteErrorKind {
   not_supported,   // the sensor has no such setting (Modbus 0x02/0x01)
   bad_value,       // rejected before anything was sent (Modbus 0x03)
-  rejected,        // the sensor refused the data (Rieker NAK 3; Modbus 0x03)
+  rejected,        // the sensor refused the data (a NAK for bad data; Modbus 0x03)
   refused,         // the sensor refused for another reason (other NAKs; Modbus 0x04)
   busy,            // still busy after the retries (Modbus 0x06)
   no_response,     // time-out or port failure (Modbus 0x0B)
@@ -50,7 +50,7 @@ class SensorDriver {
  public:
   virtual ~SensorDriver() = default;
 
-  // "h6", "h4360", "dyna": selects the default register map.
+  // A ModelDescriptor name of its family (driver/family.h): selects the default register map.
   virtual std::string_view model() const = 0;
 
   // Whether a value may be written, checked before the write is queued.

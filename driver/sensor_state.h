@@ -19,7 +19,7 @@ using SteadyClock = std::chrono::steady_clock;
 struct Reading {
   double angle_x = NAN;                 // degrees (single-axis sensors: their one axis)
   double angle_y = NAN;                 // degrees, NaN on single-axis sensors
-  std::optional<std::int32_t> raw_counts;       // sensors that report counts (Dyna)
+  std::optional<std::int32_t> raw_counts;       // sensors that report raw counts
   std::optional<std::int32_t> raw_temperature; // sensors that report a temperature
   SteadyClock::time_point taken{};     // when the reply arrived
 };
@@ -35,8 +35,10 @@ struct SensorCounters {
   // Replies (or stray bytes) that arrived after the reply time-out: discarded, never taken as
   // the answer to a later request.
   std::uint32_t late_replies = 0;
-  std::array<std::uint32_t, 8> naks{};  // by NAK code (Rieker 0..5; the rest spare)
-  std::optional<std::uint8_t> last_nak;
+  // Requests the sensor refused, by the refusal code its protocol gives (a negative
+  // acknowledgement's code; codes past the end are not counted), and the last such code.
+  std::array<std::uint32_t, 8> refusals{};
+  std::optional<std::uint8_t> last_refusal;
 };
 
 struct SensorState {
@@ -53,7 +55,9 @@ struct SensorState {
   std::chrono::milliseconds reply_timeout{0};
   std::string serial;               // as the sensor reports it, trailing spaces trimmed
   std::string firmware;
-  std::optional<std::uint16_t> lock_level;
+  // How far the sensor's settings are protected right now, on sensors whose protocol has such
+  // a level (0 = locked); none where it has none or it is not known yet.
+  std::optional<std::uint16_t> protection_level;
   std::uint32_t bus_address = 0;    // the sensor's address on its bus (follows Set Address)
   // Settings as the sensor holds them (read back or acknowledged): what holding registers show.
   KnownSettings settings;

@@ -1,5 +1,5 @@
 // The short comma-separated lists of the command line, such as the simulators' sensor lists
-// (`tiltgate sim rieker --sensors h6:223,h4360:101`).
+// (`tiltgate sim FAMILY --sensors model:address,model:address`).
 #pragma once
 
 #include <algorithm>

@@ -1,4 +1,9 @@
 // The settings a Modbus client can change, and what the gateway knows of their values.
+//
+// A setting is a small id. The settings of the common register block (mapping/common_block.h)
+// have the ids below, the same on every model; a sensor family numbers its own settings from
+// kFirstFamilySetting and names them in its descriptor (SettingDescriptor, driver/family.h),
+// which is where a map file's `write = "NAME"` finds them.
 #pragma once
 
 #include <array>
@@ -8,34 +13,43 @@
 
 namespace tiltgate {
 
-// Settings a Modbus client can change. Each driver accepts the ones its sensors have.
-enum class WriteTarget : std::uint8_t {
-  filter,          // filter response / damping code
-  zero_x,          // zero offset, axis 1 (degrees)
-  zero_y,          // zero offset, axis 2 (degrees)
-  command,         // one-shot commands; codes in driver/sensor_driver.h
-  baud_code,       // sensor baud code (takes effect after restart)
-  bus_address,     // the sensor's bus address; the driver follows the sensor to it
-  eeprom_location, // EEPROM window: which location the next value write goes to
-  eeprom_value,    // EEPROM window: value written to the selected location
-  sensor_offset,   // named EEPROM settings (Dyna)
-  temperature_offset,
-  pwm_offset,
+struct WriteTarget {
+  std::uint8_t id = 0;
+
+  // The common block's settings.
+  static const WriteTarget filter;       // filter response / damping code
+  static const WriteTarget zero_x;       // zero offset, axis 1 (degrees)
+  static const WriteTarget zero_y;       // zero offset, axis 2 (degrees)
+  static const WriteTarget command;      // one-shot commands; codes in driver/sensor_driver.h
+  static const WriteTarget baud_code;    // sensor baud code (takes effect after restart)
+  static const WriteTarget bus_address;  // the sensor's bus address; the driver follows it
+
+  // An id, so that drivers can switch on settings.
+  constexpr operator std::uint8_t() const { return id; }
 };
-inline constexpr std::size_t kWriteTargetCount = std::size_t(WriteTarget::pwm_offset) + 1;
+
+inline constexpr WriteTarget WriteTarget::filter{0};
+inline constexpr WriteTarget WriteTarget::zero_x{1};
+inline constexpr WriteTarget WriteTarget::zero_y{2};
+inline constexpr WriteTarget WriteTarget::command{3};
+inline constexpr WriteTarget WriteTarget::baud_code{4};
+inline constexpr WriteTarget WriteTarget::bus_address{5};
+
+// The first id a family gives its own settings, and the number of ids there are.
+inline constexpr std::uint8_t kFirstFamilySetting = 16;
+inline constexpr std::size_t kSettingIdCount = 32;
 
 // The value of each setting as the sensor holds it: read back from the sensor where its
 // protocol can, else the value it acknowledged for a write through the gateway. Empty while
 // not known (no read-back yet, nothing written, or a setting the sensor does not have).
 class KnownSettings {
  public:
-  std::optional<double> get(WriteTarget target) const { return values_[index(target)]; }
-  void set(WriteTarget target, double value) { values_[index(target)] = value; }
-  void forget(WriteTarget target) { values_[index(target)].reset(); }
+  std::optional<double> get(WriteTarget target) const { return values_.at(target.id); }
+  void set(WriteTarget target, double value) { values_.at(target.id) = value; }
+  void forget(WriteTarget target) { values_.at(target.id).reset(); }
 
  private:
-  static std::size_t index(WriteTarget target) { return std::size_t(target); }
-  std::array<std::optional<double>, kWriteTargetCount> values_{};
+  std::array<std::optional<double>, kSettingIdCount> values_{};
 };
 
 }  // namespace tiltgate

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "driver/family.h"
+
 namespace tiltgate {
 
 int check_command(const std::string& config_path);
@@ -16,19 +18,7 @@ struct DemoOptions {
 };
 int demo_command(const DemoOptions& options);
 
-struct RiekerSimOptions {
-  std::string sensors = "h6:223";  // model:address[,model:address...]
-  std::string link;                // optional stable symlink to the pty
-  std::uint32_t pace_baud = 0;     // 0: answer at once; else pace replies at this baud rate
-};
-int sim_rieker_command(const RiekerSimOptions& options);
-
-struct SpectronSimOptions {
-  std::string protocol = "9bit";   // "9bit" (9-bit addressing) or "modbus" (Modbus-ASCII)
-  std::string sensors = "dyna:1";  // dyna:address[,dyna:address...]
-  std::string link;                // optional stable symlink to the pty
-  std::uint32_t pace_baud = 0;     // 0: answer at once; else pace replies at this baud rate
-};
-int sim_spectron_command(const SpectronSimOptions& options);
+// `tiltgate sim FAMILY`: the family's simulator on a pseudo-terminal until SIGINT/SIGTERM.
+int sim_command(const FamilyDescriptor& family, const SimulatorSetup& setup);
 
 }  // namespace tiltgate

@@ -1,5 +1,5 @@
-// `demo`, `sim rieker` and `sim spectron`: the gateway on simulated sensors, and the
-// simulators on their own.
+// `demo` and `sim FAMILY`: the gateway on simulated sensors (each family's demo bus), and a
+// family's simulator on its own.
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
@@ -9,10 +9,8 @@
 
 #include "gateway/commands.h"
 #include "gateway/gateway.h"
-#include "rieker/sensor_spec.h"
-#include "rieker/simulator.h"
-#include "spectron/sensor_spec.h"
-#include "spectron/simulator.h"
+#include <memory>
+#include <vector>
 
 namespace tiltgate {
 
@@ -31,154 +29,112 @@ void run_until_signal(boost::asio::io_context& io, Stop stop) {
   io.run();
 }
 
-// The demo plant: two H6 on a boom and one H4360 on the mast, on one bus at the factory baud;
-// and a Dyna on the slewing ring, on a Modbus-ASCII bus at the rate of the note's example.
-constexpr const char* kDemoSensors = "h6:223,h6:224,h4360:101";
-constexpr const char* kDemoDynas = "dyna:1";
-constexpr std::uint32_t kDemoDynaBaud = 28800;
-
-Config demo_config(const DemoOptions& options, const std::string& rieker_tty,
-                   const std::string& dyna_tty) {
+// Every family's demo bus, its sensors numbered from unit id 1 in family order.
+Config demo_config(const DemoOptions& options, FamilyList families,
+                   const std::vector<std::string>& ttys) {
   Config config;
   config.path = "(demo)";
   config.server.listen = options.listen;
   config.server.port = options.port;
   config.server.writes = true;
-  BusConfig rieker_bus;
-  rieker_bus.name = "demo-bus";
-  rieker_bus.port = rieker_tty;
-  rieker_bus.baud = 125000;
-  config.buses.push_back(rieker_bus);
-  BusConfig dyna_bus;
-  dyna_bus.name = "demo-dyna-bus";
-  dyna_bus.port = dyna_tty;
-  dyna_bus.protocol = BusProtocol::spectron_modbus;
-  dyna_bus.baud = kDemoDynaBaud;
-  config.buses.push_back(dyna_bus);
-  const struct {
-    const char* name;
-    const char* bus;
-    const char* model;
-    std::uint32_t address;
-  } sensors[] = {{"boom-left", "demo-bus", "h6", 223},
-                 {"boom-right", "demo-bus", "h6", 224},
-                 {"mast", "demo-bus", "h4360", 101},
-                 {"slewing-ring", "demo-dyna-bus", "dyna", 1}};
   std::uint8_t unit = 1;
-  for (const auto& s : sensors) {
-    SensorConfig sensor;
-    sensor.name = s.name;
-    sensor.bus = s.bus;
-    sensor.model = s.model;
-    sensor.address = s.address;
-    sensor.unit_id = unit++;
-    config.sensors.push_back(sensor);
+  for (std::size_t i = 0; i < families.size(); ++i) {
+    const DemoBus& demo = families[i]->demo;
+    BusConfig bus;
+    bus.name = demo.bus_name;
+    bus.port = ttys[i];
+    bus.protocol = demo.protocol;
+    bus.baud = demo.baud;
+    config.buses.push_back(bus);
+    for (const DemoSensor& s : demo.sensors) {
+      SensorConfig sensor;
+      sensor.name = s.name;
+      sensor.bus = demo.bus_name;
+      sensor.model = s.model;
+      sensor.address = s.address;
+      sensor.unit_id = unit++;
+      config.sensors.push_back(sensor);
+    }
   }
   return config;
 }
 
-void print_demo_help(const Config& config, const Gateway& gateway) {
+void print_demo_help(const Config& config, const Gateway& gateway, FamilyList families) {
   std::cout << export_markdown(gateway.unit_maps());
   const auto port = gateway.port();
   const auto host = config.server.listen == "0.0.0.0" ? std::string("127.0.0.1") : config.server.listen;
   std::cout << fmt::format(
-      "tiltgate demo: {} simulated sensors served on {}:{} (writes enabled). Try:\n"
-      "  mbpoll -m tcp -p {} -a 1 -t 3:float -B -r 1 -c 2 -1 {}   # unit 1 angle_x, angle_y\n"
-      "  mbpoll -m tcp -p {} -a 3 -t 3 -r 7 -c 10 -1 {}           # unit 3 status block\n"
-      "  mbpoll -m tcp -p {} -a 1 -t 4 -r 1 -1 {} 2               # unit 1 filter := 2\n"
-      "  mbpoll -m tcp -p {} -a 4 -t 3:float -B -r 1 -c 1 -1 {}   # unit 4 (Dyna) angle\n"
-      "  mbpoll -m tcp -p {} -a 4 -t 3 -r 103 -c 1 -1 {}          # unit 4 raw temperature\n"
-      "Ctrl-C stops.\n",
-      config.sensors.size(), host, port, port, host, port, host, port, host, port, host, port,
-      host);
-  std::cout.flush();
-}
-
-// `tiltgate sim FAMILY`: serves a simulator's bus until SIGINT/SIGTERM. The path goes to
-// stdout, alone on its line, so a script can read it.
-template <class Simulator, class Options>
-int serve_simulator(const char* family, const std::string& what, Options options) {
-  boost::asio::io_context io;
-  const std::string link = options.link_path;
-  Simulator simulator(io, std::move(options));
-  if (auto started = simulator.start(); !started) {
-    std::cerr << "tiltgate sim " << family << ": " << started.error() << "\n";
-    return 1;
+      "tiltgate demo: {} simulated sensors served on {}:{} (writes enabled). Try:\n",
+      config.sensors.size(), host, port);
+  int first_unit = 1;
+  for (const FamilyDescriptor* family : families) {
+    const int last_unit = first_unit + int(family->demo.sensors.size()) - 1;
+    for (std::string_view example : family->demo.examples)
+      std::cout << fmt::format(fmt::runtime(example), fmt::arg("port", port),
+                               fmt::arg("host", host), fmt::arg("unit", first_unit),
+                               fmt::arg("last_unit", last_unit))
+                << "\n";
+    first_unit = last_unit + 1;
   }
-  std::cout << (link.empty() ? simulator.slave_path() : link) << std::endl;
-  spdlog::info("simulating {} {} on {}", simulator.sensor_count(), what, simulator.slave_path());
-  run_until_signal(io, [&] { simulator.stop(); });
-  return 0;
+  std::cout << "Ctrl-C stops.\n";
+  std::cout.flush();
 }
 
 }  // namespace
 
 int demo_command(const DemoOptions& options) {
   boost::asio::io_context io;
-  auto sensors = rieker::parse_sensor_spec(kDemoSensors);
-  auto dynas = spectron::parse_sensor_spec(kDemoDynas, spectron::Protocol::modbus_ascii);
-  if (!sensors || !dynas) {
-    spdlog::critical("demo: {}", sensors ? dynas.error() : sensors.error());
-    return 1;
-  }
-  rieker::RiekerSimulatorOptions sim_options;
-  sim_options.sensors = std::move(*sensors);
-  sim_options.pace_baud = 125000;  // real wire time, so the demo behaves like a plant
-  rieker::RiekerSimulator simulator(io, sim_options);
-  spectron::DynaSimulatorOptions dyna_options;
-  dyna_options.protocol = spectron::Protocol::modbus_ascii;
-  dyna_options.sensors = std::move(*dynas);
-  dyna_options.pace_baud = kDemoDynaBaud;
-  spectron::DynaSimulator dyna_simulator(io, dyna_options);
-  for (auto started : {simulator.start(), dyna_simulator.start()}) {
-    if (!started) {
+  const FamilyList families = registered_families();
+  std::vector<std::unique_ptr<BusSimulator>> simulators;
+  std::vector<std::string> ttys;
+  for (const FamilyDescriptor* family : families) {
+    SimulatorSetup setup = family->demo.simulator;
+    setup.pace_baud = family->demo.baud;  // real wire time, so the demo behaves like a plant
+    auto simulator = family->simulator.make(io, setup);
+    if (!simulator) {
+      spdlog::critical("demo: {}", simulator.error());
+      return 1;
+    }
+    if (auto started = (*simulator)->start(); !started) {
       spdlog::critical("demo: simulator: {}", started.error());
       return 1;
     }
+    ttys.push_back((*simulator)->slave_path());
+    simulators.push_back(std::move(*simulator));
   }
-  const Config config = demo_config(options, simulator.slave_path(), dyna_simulator.slave_path());
+  const Config config = demo_config(options, families, ttys);
   Gateway gateway(io, config);
   if (auto started = gateway.start(); !started) {
     spdlog::critical("demo: {}", started.error());
     return 1;
   }
-  print_demo_help(config, gateway);
+  print_demo_help(config, gateway, families);
   run_until_signal(io, [&] {
     gateway.stop();
-    simulator.stop();
-    dyna_simulator.stop();
+    for (auto& simulator : simulators) simulator->stop();
   });
   return 0;
 }
 
-int sim_rieker_command(const RiekerSimOptions& options) {
-  auto sensors = rieker::parse_sensor_spec(options.sensors);
-  if (!sensors) {
-    std::cerr << "tiltgate sim rieker: --sensors: " << sensors.error() << "\n";
+int sim_command(const FamilyDescriptor& family, const SimulatorSetup& setup) {
+  const std::string command(family.simulator.command);
+  boost::asio::io_context io;
+  auto simulator = family.simulator.make(io, setup);
+  if (!simulator) {
+    std::cerr << "tiltgate sim " << command << ": --sensors: " << simulator.error() << "\n";
     return 1;
   }
-  rieker::RiekerSimulatorOptions sim_options;
-  sim_options.sensors = std::move(*sensors);
-  sim_options.link_path = options.link;
-  if (options.pace_baud > 0) sim_options.pace_baud = options.pace_baud;
-  return serve_simulator<rieker::RiekerSimulator>("rieker", "Rieker sensor(s)", sim_options);
-}
-
-int sim_spectron_command(const SpectronSimOptions& options) {
-  const auto protocol =
-      options.protocol == "modbus" ? spectron::Protocol::modbus_ascii : spectron::Protocol::nine_bit;
-  auto sensors = spectron::parse_sensor_spec(options.sensors, protocol);
-  if (!sensors) {
-    std::cerr << "tiltgate sim spectron: --sensors: " << sensors.error() << "\n";
+  BusSimulator& running = **simulator;
+  if (auto started = running.start(); !started) {
+    std::cerr << "tiltgate sim " << command << ": " << started.error() << "\n";
     return 1;
   }
-  spectron::DynaSimulatorOptions sim_options;
-  sim_options.protocol = protocol;
-  sim_options.sensors = std::move(*sensors);
-  sim_options.link_path = options.link;
-  if (options.pace_baud > 0) sim_options.pace_baud = options.pace_baud;
-  const std::string what = std::string(spectron::protocol_name(protocol)) + " Dyna module(s)";
-  return serve_simulator<spectron::DynaSimulator>("spectron", what, sim_options);
+  // The path goes to stdout, alone on its line, so a script can read it.
+  std::cout << (setup.link.empty() ? running.slave_path() : setup.link) << std::endl;
+  spdlog::info("simulating {} {} on {}", running.sensor_count(), running.what(),
+               running.slave_path());
+  run_until_signal(io, [&] { running.stop(); });
+  return 0;
 }
 
 }  // namespace tiltgate

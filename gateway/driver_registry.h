@@ -1,15 +1,21 @@
-// The one place that knows which vendor driver serves which model: the rest of the core only
-// sees SensorDriver.
+// Makes the driver of a configured sensor through its family's descriptor: the rest of the
+// core only sees SensorDriver.
 #pragma once
 
 #include <memory>
 
 #include "config/config.h"
+#include "driver/family.h"
 #include "driver/sensor_driver.h"
 
 namespace tiltgate {
 
-// Null for a model no driver serves (the config loader has rejected those already).
-std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusConfig& bus);
+// What the family's driver factory gets for this sensor on this bus.
+DriverSetup driver_setup(const SensorConfig& sensor, const BusConfig& bus);
+
+// Null for a model no family serves on the bus's protocol (the config loader has rejected
+// those already).
+std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusConfig& bus,
+                                          FamilyList families = registered_families());
 
 }  // namespace tiltgate

@@ -13,6 +13,7 @@
 #include "gateway/modbus_tcp_server.h"
 #include "gateway/request_router.h"
 #include "mapping/map_export.h"
+#include "gateway/serial_options.h"
 #include "serial/serial_line.h"
 
 namespace tiltgate {

@@ -3,6 +3,9 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <string>
+#include <vector>
+
 #include "gateway/commands.h"
 
 namespace {
@@ -14,10 +17,21 @@ void set_up_logging(const std::string& level) {
   spdlog::set_level(spdlog::level::from_str(level));
 }
 
+// "A, B and C": the families' titles.
+std::string family_titles() {
+  const tiltgate::FamilyList families = tiltgate::registered_families();
+  std::string titles;
+  for (std::size_t i = 0; i < families.size(); ++i) {
+    if (i > 0) titles += i + 1 == families.size() ? " and " : ", ";
+    titles += families[i]->title;
+  }
+  return titles;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tiltgate: Modbus/TCP gateway for Rieker Flex and Spectron Dyna inclinometers"};
+  CLI::App app{"tiltgate: Modbus/TCP gateway for " + family_titles() + " inclinometers"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tiltgate ") + TILTGATE_VERSION);
   std::string log_level = "info";
@@ -44,24 +58,29 @@ int main(int argc, char** argv) {
 
   auto* sim = app.add_subcommand("sim", "run a simulated sensor bus on a pseudo-terminal");
   sim->require_subcommand(1);
-  tiltgate::RiekerSimOptions rieker_options;
-  auto* rieker = sim->add_subcommand("rieker", "Rieker Flex H6 / H4360 sensors");
-  rieker->add_option("--sensors", rieker_options.sensors, "model:address[,model:address...]")
-      ->capture_default_str();
-  rieker->add_option("--link", rieker_options.link, "also make this symlink to the pty");
-  rieker->add_option("--pace-baud", rieker_options.pace_baud,
-                     "pace replies at this baud rate (0: no pacing)");
-
-  tiltgate::SpectronSimOptions spectron_options;
-  auto* spectron = sim->add_subcommand("spectron", "Spectron SPECTROTILT Dyna modules");
-  spectron->add_option("--protocol", spectron_options.protocol, "9bit or modbus (Modbus-ASCII)")
-      ->check(CLI::IsMember({"9bit", "modbus"}))
-      ->capture_default_str();
-  spectron->add_option("--sensors", spectron_options.sensors, "dyna:address[,dyna:address...]")
-      ->capture_default_str();
-  spectron->add_option("--link", spectron_options.link, "also make this symlink to the pty");
-  spectron->add_option("--pace-baud", spectron_options.pace_baud,
-                       "pace replies at this baud rate (0: no pacing)");
+  // One `sim` subcommand per family.
+  const tiltgate::FamilyList families = tiltgate::registered_families();
+  std::vector<tiltgate::SimulatorSetup> sim_setups(families.size());
+  std::vector<CLI::App*> sim_commands;
+  for (std::size_t i = 0; i < families.size(); ++i) {
+    const tiltgate::SimulatorDescriptor& simulator = families[i]->simulator;
+    tiltgate::SimulatorSetup& setup = sim_setups[i];
+    auto* command = sim->add_subcommand(std::string(simulator.command), std::string(simulator.help));
+    if (!simulator.protocols.empty()) {
+      setup.protocol = simulator.protocols.front();
+      const std::vector<std::string> choices(simulator.protocols.begin(), simulator.protocols.end());
+      command->add_option("--protocol", setup.protocol, std::string(simulator.protocols_help))
+          ->check(CLI::IsMember(choices))
+          ->capture_default_str();
+    }
+    setup.sensors = simulator.default_sensors;
+    command->add_option("--sensors", setup.sensors, std::string(simulator.sensors_help))
+        ->capture_default_str();
+    command->add_option("--link", setup.link, "also make this symlink to the pty");
+    command->add_option("--pace-baud", setup.pace_baud,
+                        "pace replies at this baud rate (0: no pacing)");
+    sim_commands.push_back(command);
+  }
 
   CLI11_PARSE(app, argc, argv);
   set_up_logging(log_level);
@@ -70,7 +89,7 @@ int main(int argc, char** argv) {
   if (*check) return tiltgate::check_command(config_path);
   if (*map) return tiltgate::map_command(config_path, format);
   if (*demo) return tiltgate::demo_command(demo_options);
-  if (*rieker) return tiltgate::sim_rieker_command(rieker_options);
-  if (*spectron) return tiltgate::sim_spectron_command(spectron_options);
+  for (std::size_t i = 0; i < families.size(); ++i)
+    if (*sim_commands[i]) return tiltgate::sim_command(*families[i], sim_setups[i]);
   return 2;
 }

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "driver/family.h"
 #include "gateway/bus_scheduler.h"
 #include "gateway/device_identification.h"
 #include "gateway/modbus_request.h"
@@ -32,26 +33,12 @@ RegisterTable table_of(ModbusTable table) {
 
 ModbusException exception_for(MapFault fault) { return ModbusException(std::uint8_t(fault)); }
 
-// What Read Device Identification says about each model the drivers serve.
-struct Product {
-  std::string_view model;         // SensorDriver::model()
-  std::string_view vendor;        // VendorName
-  std::string_view product_code;  // ProductCode and ModelName
-  std::string_view product_name;  // ProductName
-};
-
-constexpr Product products[] = {
-    {"h6", "Rieker Inc.", "H6", "H6 dual-axis inclinometer"},
-    {"h4360", "Rieker Inc.", "H4360", "H4360 single-axis inclinometer"},
-    {"dyna", "Spectron Systems Technology", "Dyna", "SPECTROTILT Dyna inclinometer"},
-};
-
-Product product_of(std::string_view model) {
-  for (const Product& product : products) {
-    if (product.model == model) return product;
-  }
-  // A model added to the drivers but not here still answers, with what the driver calls it.
-  return {model, "", model, model};
+// What Read Device Identification says about a model: its family's identity strings.
+ProductIdentity product_of(std::string_view model) {
+  const ModelEntry entry = find_model(registered_families(), model);
+  if (entry.model != nullptr) return entry.model->identity;
+  // A model no family lists still answers, with what the driver calls it.
+  return {"", model, model};
 }
 
 }  // namespace
@@ -70,7 +57,7 @@ ModbusException exception_for(WriteErrorKind kind) {
 
 std::vector<DeviceObject> device_objects(const GatewaySensor& sensor) {
   const SensorState& state = sensor.driver->state();
-  const Product product = product_of(sensor.driver->model());
+  const ProductIdentity product = product_of(sensor.driver->model());
   return {
       {device_object::vendor_name, std::string(product.vendor)},
       {device_object::product_code, std::string(product.product_code)},
@@ -133,7 +120,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
                                   request.registers);
   if (!plan) co_return failure(exception_for(plan.error()));
   // Checked together, before anything is queued: a value may depend on a setting written
-  // before it in the same request (the Dyna's EEPROM window location).
+  // before it in the same request (an EEPROM window's location).
   std::vector<SettingWrite> settings;
   for (const PlannedWrite& step : *plan) settings.push_back({*step.point->write, step.value});
   auto checked = sensor.driver->check_writes(settings);

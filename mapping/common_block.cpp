@@ -1,4 +1,5 @@
 #include "mapping/common_block.h"
+#include "mapping/model_capabilities.h"
 
 namespace tiltgate {
 namespace {
@@ -56,8 +57,8 @@ void add_identity_and_counters(std::vector<Point>& points) {
   points.push_back(input_point("serial", 16, T::string, S::serial, "",
                                "serial number, 2 characters per register, first in the high byte",
                                10));
-  // 8 characters: a Rieker firmware text has 7, a Dyna's is free text (9-bit "F") or "HH.LL"
-  // (Modbus-ASCII); function 43 reports it in full.
+  // 8 characters: the firmware texts of the sensors served have 7 or fewer, or are free text;
+  // function 43 reports it in full.
   points.push_back(input_point("firmware", 21, T::string, S::firmware, "",
                                "firmware revision, first 8 characters, space padded", 8));
   points.push_back(input_point("tilt", 25, T::float32, S::tilt, "deg",
@@ -76,7 +77,7 @@ void add_identity_and_counters(std::vector<Point>& points) {
   points.push_back(input_point("reply_timeout_ms", 36, T::uint16, S::reply_timeout_ms, "ms",
                                "the reply time-out in use for this sensor"));
   points.push_back(
-      input_point("model_code", 37, T::uint16, S::model_code, "", "1 H6, 2 H4360, 3 Dyna"));
+      input_point("model_code", 37, T::uint16, S::model_code, "", model_code_description()));
 }
 
 // Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit

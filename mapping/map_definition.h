@@ -18,7 +18,7 @@ namespace tiltgate {
 inline constexpr std::string_view kDefaultProfile = "default";
 
 struct MapDefinition {
-  std::string extends;              // "": start empty; "default"; or a model name ("h6")
+  std::string extends;              // "": start empty; "default"; or a model name
   std::vector<std::string> remove;  // built-in points left out, by name (in every table)
   std::vector<Point> points;        // added; one with a built-in point's name and table
                                     // takes that point's place

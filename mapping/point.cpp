@@ -1,25 +1,27 @@
 #include "mapping/point.h"
 
-#include <array>
+#include <vector>
+
+#include "driver/family.h"
 
 namespace tiltgate {
 namespace {
 
-using W = WriteTarget;
-
-constexpr std::array<Named<WriteTarget>, 11> kWriteTargets{{
-    {"filter", W::filter},
-    {"zero_x", W::zero_x},
-    {"zero_y", W::zero_y},
-    {"command", W::command},
-    {"baud_code", W::baud_code},
-    {"bus_address", W::bus_address},
-    {"eeprom_location", W::eeprom_location},
-    {"eeprom_value", W::eeprom_value},
-    {"sensor_offset", W::sensor_offset},
-    {"temperature_offset", W::temperature_offset},
-    {"pwm_offset", W::pwm_offset},
-}};
+// The common block's settings, then every family's own, each name once: what a map file's
+// `write = "NAME"` may say.
+std::vector<Named<WriteTarget>> all_setting_names() {
+  std::vector<Named<WriteTarget>> names;
+  const auto add = [&](const SettingDescriptor& setting) {
+    for (const Named<WriteTarget>& known : names)
+      if (known.name == setting.name) return;
+    names.push_back({setting.name, setting.id});
+  };
+  for (const SettingDescriptor& setting : kCommonSettings) add(setting);
+  for (const FamilyDescriptor* family : registered_families())
+    for (const ModelDescriptor& model : family->models)
+      for (const SettingDescriptor& setting : model.settings) add(setting);
+  return names;
+}
 
 }  // namespace
 
@@ -68,7 +70,10 @@ Point discrete_point(std::string name, std::uint16_t address, ValueSource source
                     "", std::move(description));
 }
 
-std::span<const Named<WriteTarget>> write_target_names() { return kWriteTargets; }
+std::span<const Named<WriteTarget>> write_target_names() {
+  static const std::vector<Named<WriteTarget>> names = all_setting_names();
+  return names;
+}
 
 const char* to_string(WriteTarget target) { return name_of(write_target_names(), target).data(); }
 

@@ -24,7 +24,7 @@ struct SensorView {
   const DerivedState* derived = nullptr;
   OfflineRead offline = OfflineRead::exception;
   double substitute = 0.0;  // offline == substitute: what numeric measurement points show
-  std::string_view model{};  // the driver's model ("h6"), for model_code
+  std::string_view model{};  // the driver's model (a ModelDescriptor name), for model_code
 
   bool stale() const;
   std::uint16_t age_ms() const;  // 65535 when there never was a reading

@@ -106,9 +106,9 @@ double source_value(ValueSource source, const SensorView& v) {
     case S::reply_timeout_ms:
       return double(std::min<long long>(s.reply_timeout.count(), 65535));
     case S::last_nak:
-      return c.last_nak ? *c.last_nak : 65535;
+      return c.last_refusal ? *c.last_refusal : 65535;
     case S::lock_level:
-      return s.lock_level ? *s.lock_level : 65535;
+      return s.protection_level ? *s.protection_level : 65535;
     case S::bus_address:
       return s.bus_address;
     case S::sample_seq:

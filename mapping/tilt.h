@@ -1,7 +1,7 @@
 // The tilt of a sensor: the angle between its vertical axis and the vertical, from its axis
 // angles. The one place this is computed (the mounting processing and a map read without it).
 //
-// The H6 measures each axis from a MEMS accelerometer as the angle of the gravity vector's
+// A dual-axis sensor measures each axis from a MEMS accelerometer as the angle of the gravity vector's
 // projection onto that axis' vertical plane, +-180 degrees: x = atan2(g_x, g_z) and
 // y = atan2(g_y, g_z). So tan x = g_x / g_z and tan y = g_y / g_z, hence
 //     tan^2(tilt) = tan^2(x) + tan^2(y),

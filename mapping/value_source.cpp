@@ -181,7 +181,7 @@ ValueRange source_range(ValueSource source, AngleUnit unit) {
     case S::io_errors:
     case S::late_replies:
       return range(0, kUint32Max);
-    // Saturating or 16-bit by nature; bus addresses: Rieker 1..65000, Spectron 0..255.
+    // Saturating or 16-bit by nature; bus addresses fit 16 bits on every protocol (driver/family.h).
     case S::age_ms:
     case S::reply_timeout_ms:
     case S::last_nak:

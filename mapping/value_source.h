@@ -47,7 +47,7 @@ enum class ValueSource : std::uint8_t {
   sample_seq,
   serial,
   firmware,
-  model_code,  // 1 H6, 2 H4360, 3 Dyna (mapping/model_capabilities.h)
+  model_code,  // ModelDescriptor::model_code (mapping/model_capabilities.h)
   written,  // holding registers: the last value written through the gateway
   // The setting named by the point's `write` as the sensor holds it (read back, or
   // acknowledged); NaN while unknown, and always on a point without `write` (a setting the

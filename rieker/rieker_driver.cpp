@@ -117,8 +117,8 @@ asio::awaitable<Expected<Frame, ExchangeError>> RiekerDriver::exchange(Line& lin
     if (reply.function != std::uint16_t(Function::nak)) co_return reply;
 
     const std::uint8_t code = reply.data.size() == 1 ? reply.data[0] : 0xFF;
-    if (code < state_.counters.naks.size()) ++state_.counters.naks[code];
-    state_.counters.last_nak = code;
+    if (code < state_.counters.refusals.size()) ++state_.counters.refusals[code];
+    state_.counters.last_refusal = code;
     if (code == std::uint8_t(NakCode::busy) && busy_tries < options_.busy_retries) {
       asio::steady_timer pause(co_await asio::this_coro::executor, options_.busy_wait);
       co_await pause.async_wait(asio::use_awaitable);
@@ -146,7 +146,7 @@ asio::awaitable<bool> RiekerDriver::read_identity(Line& line) {
   auto lock_level = lock ? parse_lock_level_reply(*lock) : Unexpected(ReplyError{});
   if (serial_text) state_.serial = *serial_text;
   if (firmware_text) state_.firmware = *firmware_text;
-  if (lock_level) state_.lock_level = std::uint16_t(*lock_level);
+  if (lock_level) state_.protection_level = std::uint16_t(*lock_level);
   state_.identity_known = serial_text.has_value() && firmware_text.has_value();
   if (state_.identity_known) {
     spdlog::info("{}: Rieker {} at {} is serial '{}', firmware '{}'", options_.name, model(),
@@ -189,14 +189,14 @@ asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target,
     result = Unexpected(unlocked ? WriteError{WriteErrorKind::refused, "unlock: no ACK"}
                                  : to_write_error(unlocked.error(), "unlock"));
   } else {
-    state_.lock_level = 1;
+    state_.protection_level = 1;
     result = co_await apply(line, target, value);
   }
 
   const bool restarted = result && target == WriteTarget::command &&
                          SensorCommand(int(value)) == SensorCommand::restart;
   if (restarted) {
-    state_.lock_level = 0;  // a restart always comes back locked
+    state_.protection_level = 0;  // a restart always comes back locked
   } else {
     // Also after a failed unlock: the sensor may have unlocked and its ACK been lost, and an
     // unlocked sensor accepts any stray setting. Best effort; the write keeps its own error.
@@ -210,7 +210,7 @@ asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target,
 asio::awaitable<void> RiekerDriver::lock_again(Line& line) {
   auto locked = co_await exchange(line, change_lock_request(route(), LockLevel::locked));
   if (locked && parse_ack(*locked)) {
-    state_.lock_level = 0;
+    state_.protection_level = 0;
   } else {
     spdlog::warn("{}: could not lock the sensor again after a write", options_.name);
   }

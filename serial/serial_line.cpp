@@ -72,27 +72,6 @@ std::string errno_text(int error) {
 
 }  // namespace
 
-SerialLineOptions from_config(const BusConfig& bus) {
-  SerialLineOptions o;
-  o.name = bus.name;
-  o.port = bus.port;
-  o.baud = bus.baud;
-  o.timeout = bus.timeout;
-  o.retries = bus.retries;
-  o.late_guard = bus.late_guard;
-  o.gap = bus.gap;
-  o.rs485_kernel = bus.rs485_kernel;
-  o.echo = bus.echo;
-  o.reopen_min = bus.reopen_min;
-  o.reopen_max = bus.reopen_max;
-  switch (bus.protocol) {
-    case BusProtocol::rieker: o.framing = Framing::eight_none_one; break;
-    case BusProtocol::spectron_9bit: o.framing = Framing::nine_bit; break;
-    case BusProtocol::spectron_modbus: o.framing = Framing::eight_even_one; break;
-  }
-  return o;
-}
-
 SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options)
     : options_(std::move(options)),
       port_(executor),
@@ -339,7 +318,8 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   error_code ec;
   bool stalled = false;
   {
-    // One write for the whole packet: Rieker bytes must follow each other within 125 us.
+    // One write for the whole packet: some protocols need a packet's bytes within 125 us of
+    // each other (PROTOCOL-NOTES).
     PortDeadline deadline(port_, Clock::now() + wire + kStalledWrite);
     co_await asio::async_write(port_, asio::buffer(bytes.data(), bytes.size()),
                                asio::redirect_error(asio::use_awaitable, ec));

@@ -47,18 +47,14 @@
 #include <span>
 #include <string>
 
-#include "config/config.h"
+#include "driver/framing.h"
 #include "driver/line.h"
 #include "serial/termios_settings.h"
 
 namespace tiltgate {
 
-enum class Framing {
-  eight_none_one,  // Rieker Flex
-  eight_even_one,  // Spectron Dyna, Modbus-ASCII-style protocol
-  nine_bit,        // Spectron Dyna, 9-bit addressing: address bytes mark parity, data space
-};
-
+// A line's framing and timing: what the gateway makes of a [[bus]] and its protocol's
+// descriptor (gateway/serial_options.h).
 struct SerialLineOptions {
   std::string name;  // for log lines, e.g. "line1"
   std::string port;  // tty path, e.g. /dev/ttyUSB0 (a symlink is followed at every open)
@@ -74,10 +70,6 @@ struct SerialLineOptions {
   std::chrono::milliseconds reopen_max{10000};
   Framing framing = Framing::eight_none_one;
 };
-
-SerialLineOptions from_config(const BusConfig& bus);
-// The name gateway/gateway.cpp uses.
-inline SerialLineOptions serial_options_from(const BusConfig& bus) { return from_config(bus); }
 
 class SerialLine final : public Line {
  public:

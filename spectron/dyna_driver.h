@@ -24,6 +24,7 @@
 #include "driver/polled_sensor_driver.h"
 #include "spectron/dyna_transactions.h"
 #include "spectron/protocol.h"
+#include "spectron/setting_ids.h"
 
 namespace tiltgate::spectron {
 
@@ -71,7 +72,7 @@ class DynaDriver : public PolledSensorDriver {
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
 
   int address() const { return options_.address; }
-  // The EEPROM window's location (WriteTarget::eeprom_location), none until one is written.
+  // The EEPROM window's location (setting::eeprom_location), none until one is written.
   std::optional<std::uint16_t> eeprom_location() const;
 
  protected:

@@ -46,11 +46,11 @@ void DynaDriver::publish(std::uint16_t location, std::optional<std::uint16_t> va
   };
   for (WriteTarget target : kEepromSettings)
     if (location_of(target) == location) set(target);
-  if (eeprom_location() == location) set(WriteTarget::eeprom_value);
+  if (eeprom_location() == location) set(setting::eeprom_value);
 }
 
 std::optional<std::uint16_t> DynaDriver::eeprom_location() const {
-  const auto selected = state_.settings.get(WriteTarget::eeprom_location);
+  const auto selected = state_.settings.get(setting::eeprom_location);
   if (!selected) return std::nullopt;
   return std::uint16_t(*selected);
 }

@@ -55,13 +55,13 @@ WriteResult DynaDriver::check_write(WriteTarget target, double value) const {
     case WriteTarget::command:
       if (value != kResetCommand) return bad_value("command must be 1 (reset)");
       return Done{};
-    case WriteTarget::eeprom_location: {
+    case setting::eeprom_location: {
       if (!is_whole(value)) return bad_value(fmt::format("{} is not a whole number", value));
       auto known = eeprom::check_location(std::int64_t(value));
       if (!known) return bad_value(known.error());
       return Done{};
     }
-    case WriteTarget::eeprom_value: return check_window_value(eeprom_location(), value);
+    case setting::eeprom_value: return check_window_value(eeprom_location(), value);
     default:
       return Unexpected{WriteError{WriteErrorKind::not_supported, "not a Dyna setting"}};
   }
@@ -72,16 +72,16 @@ WriteResult DynaDriver::check_writes(std::span<const SettingWrite> writes) const
   // checked against that one, before the location is selected.
   std::optional<std::uint16_t> location = eeprom_location();
   for (const SettingWrite& w : writes) {
-    auto checked = w.target == WriteTarget::eeprom_value ? check_window_value(location, w.value)
+    auto checked = w.target == setting::eeprom_value ? check_window_value(location, w.value)
                                                          : check_write(w.target, w.value);
     if (!checked) return checked;
-    if (w.target == WriteTarget::eeprom_location) location = std::uint16_t(w.value);
+    if (w.target == setting::eeprom_location) location = std::uint16_t(w.value);
   }
   return Done{};
 }
 
 std::optional<std::uint32_t> DynaDriver::address_after(WriteTarget target, double value) const {
-  if (target == WriteTarget::eeprom_value && eeprom_location() == eeprom::kModuleAddress) {
+  if (target == setting::eeprom_value && eeprom_location() == eeprom::kModuleAddress) {
     target = WriteTarget::bus_address;
   }
   return SensorDriver::address_after(target, value);
@@ -89,13 +89,13 @@ std::optional<std::uint32_t> DynaDriver::address_after(WriteTarget target, doubl
 
 void DynaDriver::abandon(std::span<const SettingWrite> done) {
   const bool selected = std::any_of(done.begin(), done.end(), [](const SettingWrite& w) {
-    return w.target == WriteTarget::eeprom_location;
+    return w.target == setting::eeprom_location;
   });
   if (!selected) return;
   // The request's value was refused: its location selection goes with it.
   KnownSettings& settings = state_.settings;
-  for (auto [target, before] : {std::pair(WriteTarget::eeprom_location, selection_before_.location),
-                                std::pair(WriteTarget::eeprom_value, selection_before_.value)}) {
+  for (auto [target, before] : {std::pair(setting::eeprom_location, selection_before_.location),
+                                std::pair(setting::eeprom_value, selection_before_.value)}) {
     if (before)
       settings.set(target, *before);
     else
@@ -108,10 +108,10 @@ asio::awaitable<WriteResult> DynaDriver::write(Line& line, WriteTarget target, d
   if (!checked) co_return checked;
   WriteResult result = Done{};
   switch (target) {
-    case WriteTarget::eeprom_location:
+    case setting::eeprom_location:
       result = co_await select_location(line, std::uint16_t(value));
       break;
-    case WriteTarget::eeprom_value:
+    case setting::eeprom_value:
       result = co_await write_location(line, *eeprom_location(), std::uint16_t(value));
       break;
     case WriteTarget::command: result = co_await reset(line); break;
@@ -126,9 +126,9 @@ asio::awaitable<WriteResult> DynaDriver::select_location(Line& line, std::uint16
   auto reply = co_await exchange(line, {Kind::read_eeprom, location});
   if (!reply) co_return Unexpected{to_write_error(reply.error(), "read EEPROM")};
   KnownSettings& settings = state_.settings;
-  selection_before_ = {settings.get(WriteTarget::eeprom_location),
-                       settings.get(WriteTarget::eeprom_value)};
-  settings.set(WriteTarget::eeprom_location, location);
+  selection_before_ = {settings.get(setting::eeprom_location),
+                       settings.get(setting::eeprom_value)};
+  settings.set(setting::eeprom_location, location);
   publish(location, std::uint16_t(reply->number));
   co_return Done{};
 }

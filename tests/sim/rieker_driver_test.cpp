@@ -8,6 +8,7 @@
 #include "rieker/simulator.h"
 #include "serial/serial_line.h"
 #include "sim/support/driver_bench.h"
+#include "spectron/setting_ids.h"
 
 using namespace tiltgate;
 using namespace tiltgate::rieker;
@@ -71,7 +72,7 @@ TEST_CASE("a first poll reads the identity, then both angles of an H6") {
   CHECK(s.identity_known);
   CHECK(s.serial == "962285");
   CHECK(s.firmware == "Rev A.8");
-  CHECK(s.lock_level == std::optional<std::uint16_t>(0));
+  CHECK(s.protection_level == std::optional<std::uint16_t>(0));
   REQUIRE(s.reading.has_value());
   CHECK(s.reading->angle_x == 1.5);
   CHECK(s.reading->angle_y == -2.25);
@@ -99,8 +100,8 @@ TEST_CASE("NAK 2 when a dual-axis type code is sent to an H4360") {
   CHECK(driver.state().online);  // it answers, so it is there
   CHECK_FALSE(driver.state().reading.has_value());
   CHECK(driver.state().counters.polls_failed == 1);
-  CHECK(driver.state().counters.naks[2] == 1);
-  CHECK(driver.state().counters.last_nak == std::optional<std::uint8_t>(2));
+  CHECK(driver.state().counters.refusals[2] == 1);
+  CHECK(driver.state().counters.last_refusal == std::optional<std::uint8_t>(2));
 }
 
 TEST_CASE("acknowledged settings are published, but not a refused one or a zeroed offset") {
@@ -131,7 +132,7 @@ TEST_CASE("every setting is written with the lock dance and the sensor ends lock
   CHECK(bench.write(driver, WriteTarget::filter, 2).has_value());
   CHECK(sensor.filter() == 2);
   CHECK(sensor.lock_level() == LockLevel::locked);
-  CHECK(driver.state().lock_level == std::optional<std::uint16_t>(0));
+  CHECK(driver.state().protection_level == std::optional<std::uint16_t>(0));
 
   CHECK(bench.write(driver, WriteTarget::zero_x, 0.5).has_value());
   CHECK(sensor.zero_offset(Axis::x) == 0.5);
@@ -178,7 +179,7 @@ TEST_CASE("values a Rieker sensor cannot take are refused before anything is sen
   CHECK(h6_driver.check_write(WriteTarget::baud_code, 0).error().kind == WriteErrorKind::bad_value);
   CHECK(h6_driver.check_write(WriteTarget::bus_address, 0).error().kind == WriteErrorKind::bad_value);
   CHECK(h6_driver.check_write(WriteTarget::zero_x, NAN).error().kind == WriteErrorKind::bad_value);
-  CHECK(h6_driver.check_write(WriteTarget::eeprom_value, 1).error().kind ==
+  CHECK(h6_driver.check_write(spectron::setting::eeprom_value, 1).error().kind ==
         WriteErrorKind::not_supported);
   RiekerDriver h4360_driver(driver_for(101, Model::h4360));
   CHECK(h4360_driver.check_write(WriteTarget::zero_y, 0).error().kind ==
@@ -190,7 +191,7 @@ TEST_CASE("NAK 5 busy is retried, and reported as busy when it lasts") {
   RiekerDriver driver(driver_for(223));
   bench.sim->sensor(0).faults().busy = 2;
   CHECK(bench.write(driver, WriteTarget::filter, 3).has_value());
-  CHECK(driver.state().counters.naks[5] == 2);
+  CHECK(driver.state().counters.refusals[5] == 2);
   bench.sim->sensor(0).faults().busy = 100;
   auto result = bench.write(driver, WriteTarget::filter, 5);
   REQUIRE_FALSE(result.has_value());

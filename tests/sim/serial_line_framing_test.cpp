@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "gateway/serial_options.h"
 #include "sim/support/serial_line_bench.h"
 
 namespace asio = boost::asio;
@@ -105,13 +106,13 @@ TEST_CASE("the bus configuration maps onto line options and framing") {
   tiltgate::BusConfig bus;
   bus.name = "east";
   bus.port = "/dev/ttyUSB3";
-  bus.protocol = tiltgate::BusProtocol::spectron_9bit;
+  bus.protocol = "spectron-9bit";
   bus.baud = 28800;
   bus.timeout = 80ms;
   bus.retries = 4;
   bus.gap = 1500us;
   bus.echo = true;
-  const SerialLineOptions o = tiltgate::from_config(bus);
+  const SerialLineOptions o = tiltgate::serial_options_from(bus);
   CHECK(o.name == "east");
   CHECK(o.port == "/dev/ttyUSB3");
   CHECK(o.baud == 28800);
@@ -120,8 +121,8 @@ TEST_CASE("the bus configuration maps onto line options and framing") {
   CHECK(o.gap == 1500us);
   CHECK(o.echo);
   CHECK(o.framing == tiltgate::Framing::nine_bit);
-  bus.protocol = tiltgate::BusProtocol::spectron_modbus;
-  CHECK(tiltgate::from_config(bus).framing == tiltgate::Framing::eight_even_one);
-  bus.protocol = tiltgate::BusProtocol::rieker;
-  CHECK(tiltgate::from_config(bus).framing == tiltgate::Framing::eight_none_one);
+  bus.protocol = "spectron-modbus";
+  CHECK(tiltgate::serial_options_from(bus).framing == tiltgate::Framing::eight_even_one);
+  bus.protocol = "rieker";
+  CHECK(tiltgate::serial_options_from(bus).framing == tiltgate::Framing::eight_none_one);
 }

@@ -14,6 +14,7 @@
 #include "spectron/ascii_codec.h"
 #include "spectron/dyna_driver.h"
 #include "spectron/simulator.h"
+#include "spectron/setting_ids.h"
 
 using namespace tiltgate;
 using namespace tiltgate::spectron;
@@ -46,7 +47,7 @@ TEST_CASE_TEMPLATE("a first poll reads the identity, then counts and temperature
   CHECK(s.identity_known);
   CHECK(s.serial == "12345");  // EEPROM 4, as decimal text
   CHECK(s.firmware == P::firmware);
-  CHECK_FALSE(s.lock_level.has_value());  // the Dyna has no locks
+  CHECK_FALSE(s.protection_level.has_value());  // the Dyna has no locks
   REQUIRE(s.reading.has_value());
   CHECK(s.reading->raw_counts == std::optional<std::int32_t>(1001));
   CHECK(s.reading->raw_temperature == std::optional<std::int32_t>(-40));
@@ -76,13 +77,13 @@ TEST_CASE_TEMPLATE("every named EEPROM setting and the EEPROM window reach the m
   DynaDriver driver(driver_for(P::protocol));
   SimulatedDyna& module = bench.module();
 
-  CHECK(bench.write(driver, WriteTarget::sensor_offset, 1).has_value());
+  CHECK(bench.write(driver, spectron::setting::sensor_offset, 1).has_value());
   CHECK(module.eeprom(6) == std::optional<std::uint16_t>(1));
   bench.poll(driver);
   CHECK(driver.state().reading->raw_counts == std::optional<std::int32_t>(1000));
-  CHECK(bench.write(driver, WriteTarget::temperature_offset, 65535).has_value());  // -1 as a word
+  CHECK(bench.write(driver, spectron::setting::temperature_offset, 65535).has_value());  // -1 as a word
   CHECK(module.eeprom(10) == std::optional<std::uint16_t>(65535));
-  CHECK(bench.write(driver, WriteTarget::pwm_offset, 2501).has_value());  // the note's example value
+  CHECK(bench.write(driver, spectron::setting::pwm_offset, 2501).has_value());  // the note's example value
   CHECK(module.eeprom(20) == std::optional<std::uint16_t>(2501));
   bench.poll(driver);
   CHECK(driver.state().reading->raw_temperature == std::optional<std::int32_t>(-39));
@@ -92,12 +93,12 @@ TEST_CASE_TEMPLATE("every named EEPROM setting and the EEPROM window reach the m
   CHECK(module.baud_code() == 10);  // in force only after a reset
 
   // The window: select, then write.
-  CHECK(bench.write(driver, WriteTarget::eeprom_location, 20).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_location, 20).has_value());
   CHECK(driver.eeprom_location() == std::optional<std::uint16_t>(20));
-  CHECK(bench.write(driver, WriteTarget::eeprom_value, 355).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_value, 355).has_value());
   CHECK(module.eeprom(20) == std::optional<std::uint16_t>(355));
-  CHECK(bench.write(driver, WriteTarget::eeprom_location, 6).has_value());
-  CHECK(bench.write(driver, WriteTarget::eeprom_value, 0).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_location, 6).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_value, 0).has_value());
   CHECK(module.eeprom(6) == std::optional<std::uint16_t>(0));
   CHECK_FALSE(driver.state().last_write_failed);
 }
@@ -107,22 +108,22 @@ TEST_CASE_TEMPLATE("the EEPROM window refuses before sending anything", P, NineB
   DynaDriver driver(driver_for(P::protocol));
   const auto& module = bench.module();
   auto handled = module.requests_handled();
-  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 1)) == WriteErrorKind::bad_value);
+  CHECK(kind_of(bench.write(driver, spectron::setting::eeprom_value, 1)) == WriteErrorKind::bad_value);
   CHECK(module.requests_handled() == handled);
   // Selecting reads the location (one request); the refused values send nothing.
-  CHECK(bench.write(driver, WriteTarget::eeprom_location, 4).has_value());  // documented ...
+  CHECK(bench.write(driver, spectron::setting::eeprom_location, 4).has_value());  // documented ...
   handled = module.requests_handled();
-  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 1)) ==
+  CHECK(kind_of(bench.write(driver, spectron::setting::eeprom_value, 1)) ==
         WriteErrorKind::bad_value);  // ... but the serial number is read-only
-  CHECK(bench.write(driver, WriteTarget::eeprom_location, 100).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_location, 100).has_value());
   CHECK(module.requests_handled() == handled + 1);
   handled = module.requests_handled();
-  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 355)) ==
+  CHECK(kind_of(bench.write(driver, spectron::setting::eeprom_value, 355)) ==
         WriteErrorKind::bad_value);  // reserved: read-only without eeprom_reserved_writes
-  CHECK(bench.write(driver, WriteTarget::eeprom_location, 22).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_location, 22).has_value());
   handled = module.requests_handled();
-  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_value, 8)) == WriteErrorKind::bad_value);
-  CHECK(kind_of(bench.write(driver, WriteTarget::eeprom_location, 24)) ==
+  CHECK(kind_of(bench.write(driver, spectron::setting::eeprom_value, 8)) == WriteErrorKind::bad_value);
+  CHECK(kind_of(bench.write(driver, spectron::setting::eeprom_location, 24)) ==
         WriteErrorKind::bad_value);  // not in the memory map
   CHECK(driver.eeprom_location() == std::optional<std::uint16_t>(22));
   CHECK(module.requests_handled() == handled);
@@ -142,8 +143,8 @@ TEST_CASE_TEMPLATE("a module address change is followed to the new address", P, 
   CHECK(driver.state().online);
   CHECK(driver.state().counters.polls_ok == 1);
   // Through the window too, and back.
-  CHECK(bench.write(driver, WriteTarget::eeprom_location, 16).has_value());
-  CHECK(bench.write(driver, WriteTarget::eeprom_value, kAddress).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_location, 16).has_value());
+  CHECK(bench.write(driver, spectron::setting::eeprom_value, kAddress).has_value());
   CHECK(driver.address() == kAddress);
   bench.poll(driver);
   CHECK(driver.state().counters.polls_ok == 2);
@@ -201,7 +202,7 @@ TEST_CASE("values a Dyna cannot take are refused before anything is sent") {
   const auto bad = std::optional<WriteErrorKind>(WriteErrorKind::bad_value);
   const auto ok = std::optional<WriteErrorKind>();
   for (auto target :
-       {WriteTarget::sensor_offset, WriteTarget::temperature_offset, WriteTarget::pwm_offset}) {
+       {spectron::setting::sensor_offset, spectron::setting::temperature_offset, spectron::setting::pwm_offset}) {
     CHECK(refused(modbus, target, 0) == ok);
     CHECK(refused(modbus, target, 65535) == ok);
     CHECK(refused(modbus, target, 65536) == bad);
@@ -219,12 +220,12 @@ TEST_CASE("values a Dyna cannot take are refused before anything is sent") {
   CHECK(refused(nine_bit, WriteTarget::bus_address, 256) == bad);
   CHECK(refused(modbus, WriteTarget::command, 1) == ok);
   CHECK(refused(modbus, WriteTarget::command, 3) == bad);
-  CHECK(refused(modbus, WriteTarget::eeprom_location, 4) == ok);    // documented, read-only
-  CHECK(refused(modbus, WriteTarget::eeprom_location, 280) == ok);  // reserved block
-  CHECK(refused(modbus, WriteTarget::eeprom_location, 5) == bad);   // odd
-  CHECK(refused(modbus, WriteTarget::eeprom_location, 24) == bad);  // not in the map
-  CHECK(refused(modbus, WriteTarget::eeprom_location, 282) == bad);
-  CHECK(refused(modbus, WriteTarget::eeprom_value, 65536) == bad);
+  CHECK(refused(modbus, spectron::setting::eeprom_location, 4) == ok);    // documented, read-only
+  CHECK(refused(modbus, spectron::setting::eeprom_location, 280) == ok);  // reserved block
+  CHECK(refused(modbus, spectron::setting::eeprom_location, 5) == bad);   // odd
+  CHECK(refused(modbus, spectron::setting::eeprom_location, 24) == bad);  // not in the map
+  CHECK(refused(modbus, spectron::setting::eeprom_location, 282) == bad);
+  CHECK(refused(modbus, spectron::setting::eeprom_value, 65536) == bad);
   CHECK(refused(modbus, WriteTarget::filter, 1) ==
         std::optional<WriteErrorKind>(WriteErrorKind::not_supported));
   CHECK(refused(modbus, WriteTarget::zero_x, 0) ==
@@ -276,7 +277,7 @@ TEST_CASE("Modbus-ASCII: a reply that is not the acknowledgement refuses the wri
   const auto wrong = encode(make_ascii_word_reply(kAddress, AsciiCommand::write_eeprom, 1));
   bench.module().faults().garbage_bytes.assign(wrong.begin(), wrong.end());
   bench.module().faults().garbage = 1;
-  CHECK(kind_of(bench.write(driver, WriteTarget::sensor_offset, 5)) == WriteErrorKind::refused);
+  CHECK(kind_of(bench.write(driver, spectron::setting::sensor_offset, 5)) == WriteErrorKind::refused);
   CHECK(driver.state().last_write_failed);
   CHECK(driver.state().online);  // it answered
 }

@@ -11,6 +11,7 @@
 #include "spectron/dyna_driver.h"
 #include "spectron/eeprom_map.h"
 #include "unit/support/fake_bus.h"
+#include "spectron/setting_ids.h"
 
 using namespace tiltgate;
 
@@ -44,14 +45,14 @@ TEST_CASE("a Dyna EEPROM window write moves the module when the address location
   };
   spectron::DynaDriver driver(spectron::DynaDriverOptions{});
   CHECK(driver.address_after(WriteTarget::bus_address, 7) == 7u);
-  CHECK(driver.address_after(WriteTarget::eeprom_value, 7) == std::nullopt);  // none selected
+  CHECK(driver.address_after(spectron::setting::eeprom_value, 7) == std::nullopt);  // none selected
   auto selected = test::run_coroutine(
-      io, driver.write(line, WriteTarget::eeprom_location, spectron::eeprom::kModuleAddress));
+      io, driver.write(line, spectron::setting::eeprom_location, spectron::eeprom::kModuleAddress));
   REQUIRE(selected.has_value());
-  CHECK(driver.address_after(WriteTarget::eeprom_value, 7) == 7u);
+  CHECK(driver.address_after(spectron::setting::eeprom_value, 7) == 7u);
   selected = test::run_coroutine(
-      io, driver.write(line, WriteTarget::eeprom_location, spectron::eeprom::kSensorOffset));
+      io, driver.write(line, spectron::setting::eeprom_location, spectron::eeprom::kSensorOffset));
   REQUIRE(selected.has_value());
-  CHECK(driver.address_after(WriteTarget::eeprom_value, 7) == std::nullopt);
+  CHECK(driver.address_after(spectron::setting::eeprom_value, 7) == std::nullopt);
   CHECK(line.stats().attempts == 2);  // each selection read its location from the module
 }

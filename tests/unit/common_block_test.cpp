@@ -11,6 +11,7 @@
 #include "mapping/default_maps.h"
 #include "mapping/map_access.h"
 #include "mapping/value_codec.h"
+#include "spectron/setting_ids.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;
@@ -142,9 +143,9 @@ TEST_CASE("holding registers show the settings the driver knows") {
   CHECK(h6[6] == 3);
   CHECK(h6[7] == 223);
 
-  state.settings.set(WriteTarget::sensor_offset, 7);
-  state.settings.set(WriteTarget::eeprom_location, 20);
-  state.settings.set(WriteTarget::eeprom_value, 355);
+  state.settings.set(spectron::setting::sensor_offset, 7);
+  state.settings.set(spectron::setting::eeprom_location, 20);
+  state.settings.set(spectron::setting::eeprom_value, 355);
   const RegisterMap dyna = default_map("dyna");
   const Words d = read(dyna, view_of(state, now, "dyna"), RegisterTable::holding, 0, 8);
   CHECK(d[0] == 0xFFFF);  // a Dyna has no filter, whatever the state says

@@ -100,7 +100,7 @@ TEST_CASE("config: the example file loads") {
   CHECK_FALSE(config.server.writes);
   REQUIRE(config.buses.size() == 1);
   CHECK(config.buses[0].name == "line1");
-  CHECK(config.buses[0].protocol == BusProtocol::rieker);
+  CHECK(config.buses[0].protocol == "rieker");
   CHECK(config.buses[0].baud == 125000);
   REQUIRE(config.sensors.size() == 3);
   CHECK(config.sensors[0].model == "h6");
@@ -121,7 +121,7 @@ TEST_CASE("config: keys left out take their defaults") {
   CHECK_FALSE(config.server.writes);
   CHECK(config.server.idle_timeout == 60000ms);
   const BusConfig& bus = config.buses.at(0);
-  CHECK(bus.protocol == BusProtocol::rieker);
+  CHECK(bus.protocol == "rieker");
   CHECK(bus.baud == 125000);
   CHECK(bus.timeout == 50ms);
   CHECK(bus.retries == 2);
@@ -338,9 +338,11 @@ TEST_CASE("config: a configuration without sensors is an error") {
 TEST_CASE("config: Dyna scaling takes integers or floats, and only on a Dyna") {
   const std::string dyna = dyna_bus("spectron-modbus", "baud = 9600\n") + dyna_sensor(1);
   const Config as_int = loads(dyna + "counts_per_degree = 200\nzero_counts = -5\n");
-  CHECK(as_int.sensors[0].counts_per_degree == 200.0);
-  CHECK(as_int.sensors[0].zero_counts == -5.0);
-  CHECK(loads(dyna + "counts_per_degree = 12.5\n").sensors[0].counts_per_degree == 12.5);
+  CHECK(as_int.sensors[0].family_options.get("counts_per_degree", 0) == 200.0);
+  CHECK(as_int.sensors[0].family_options.get("zero_counts", 0) == -5.0);
+  CHECK(loads(dyna + "counts_per_degree = 12.5\n")
+            .sensors[0]
+            .family_options.get("counts_per_degree", 0) == 12.5);
   expect_error(dyna + "counts_per_degree = 0\n", 12, "sensor[0].counts_per_degree",
                "must not be 0 (raw counts are divided by it)");
   expect_error(valid_plus("zero_counts = 3\n"), 10, "sensor[0].zero_counts",
@@ -349,8 +351,10 @@ TEST_CASE("config: Dyna scaling takes integers or floats, and only on a Dyna") {
 
 TEST_CASE("config: eeprom_reserved_writes is off by default, a boolean, and Dyna only") {
   const std::string dyna = dyna_bus("spectron-modbus", "baud = 9600\n") + dyna_sensor(1);
-  CHECK_FALSE(loads(dyna).sensors[0].eeprom_reserved_writes);
-  CHECK(loads(dyna + "eeprom_reserved_writes = true\n").sensors[0].eeprom_reserved_writes);
+  CHECK_FALSE(loads(dyna).sensors[0].family_options.flag("eeprom_reserved_writes"));
+  CHECK(loads(dyna + "eeprom_reserved_writes = true\n")
+            .sensors[0]
+            .family_options.flag("eeprom_reserved_writes"));
   expect_error(valid_plus("eeprom_reserved_writes = true\n"), 10,
                "sensor[0].eeprom_reserved_writes", "applies to model \"dyna\" only, not \"h6\"");
 }

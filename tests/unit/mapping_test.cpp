@@ -19,7 +19,7 @@ SensorState online_sensor(SteadyClock::time_point now) {
   s.serial = "962285";
   s.firmware = "Rev A.8";
   s.bus_address = 223;
-  s.lock_level = 0;
+  s.protection_level = 0;
   s.sample_seq = 7;
   s.counters.polls_ok = 70000;
   Reading r;

@@ -1,10 +1,11 @@
-#include "mapping/dyna_map.h"
+#include "spectron/default_map.h"
 
 #include <vector>
 
 #include "mapping/common_block.h"
+#include "spectron/setting_ids.h"
 
-namespace tiltgate {
+namespace tiltgate::spectron {
 namespace {
 
 using T = PointType;
@@ -39,17 +40,17 @@ void add_inputs(std::vector<Point>& points) {
 }
 
 void add_settings(std::vector<Point>& points) {
-  points.push_back(holding_point("sensor_offset", kFirst, T::uint16, W::sensor_offset, 0, 65535,
+  points.push_back(holding_point("sensor_offset", kFirst, T::uint16, setting::sensor_offset, 0, 65535,
                                  "", "EEPROM 6, offset for the sensor (subtracted by the module)"));
   points.push_back(holding_point("temperature_offset", kFirst + 1, T::uint16,
-                                 W::temperature_offset, 0, 65535, "",
+                                 setting::temperature_offset, 0, 65535, "",
                                  "EEPROM 10, offset for the temperature sensor"));
-  points.push_back(holding_point("pwm_offset", kFirst + 2, T::uint16, W::pwm_offset, 0, 65535,
+  points.push_back(holding_point("pwm_offset", kFirst + 2, T::uint16, setting::pwm_offset, 0, 65535,
                                  "", "EEPROM 20, offset for the PWM output"));
-  points.push_back(holding_point("eeprom_location", kFirst + 3, T::uint16, W::eeprom_location, 2,
+  points.push_back(holding_point("eeprom_location", kFirst + 3, T::uint16, setting::eeprom_location, 2,
                                  280, "",
                                  "EEPROM window: selects a location and reads it from the module"));
-  points.push_back(holding_point("eeprom_value", kFirst + 4, T::uint16, W::eeprom_value, 0, 65535,
+  points.push_back(holding_point("eeprom_value", kFirst + 4, T::uint16, setting::eeprom_value, 0, 65535,
                                  "", "EEPROM window: the selected location as read back; a "
                                      "write writes it"));
 }
@@ -63,4 +64,4 @@ RegisterMap dyna_default_map() {
   return RegisterMap(std::move(points));
 }
 
-}  // namespace tiltgate
+}  // namespace tiltgate::spectron

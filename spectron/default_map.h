@@ -3,7 +3,7 @@
 
 #include "mapping/register_map.h"
 
-namespace tiltgate {
+namespace tiltgate::spectron {
 
 // The common block of every model (mapping/common_block.h): the angle as X, Y not available,
 // filter and zero offsets not available, command 1 = reset, baud code and module address as
@@ -11,4 +11,4 @@ namespace tiltgate {
 // register 100 the three EEPROM offsets and the EEPROM window (location, value).
 RegisterMap dyna_default_map();
 
-}  // namespace tiltgate
+}  // namespace tiltgate::spectron

@@ -1,0 +1,150 @@
+// A sensor family as one descriptor: what the core asks a family instead of knowing a vendor.
+// Each family folder fills in one FamilyDescriptor and families/family_list.cpp lists it; the
+// config loader, the register maps, the gateway and the serial transport read only these.
+// The shape follows a plug-in table (name, what it accepts, factories), with no optional
+// members left null: every family answers every question.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "driver/adaptive_reply_timeout.h"
+#include "driver/family_options.h"
+#include "driver/framing.h"
+#include "driver/sensor_driver.h"
+#include "driver/simulator.h"
+
+namespace tiltgate {
+
+// Register maps and their sources are mapping/'s (mapping/register_map.h,
+// mapping/value_source.h); a family builds its models' maps there from the common block.
+class RegisterMap;
+enum class ValueSource : std::uint8_t;
+
+struct AddressRange {
+  std::int64_t min = 0;
+  std::int64_t max = 0;
+};
+
+// One protocol a bus of the family can speak ([[bus]] protocol = "...").
+struct ProtocolDescriptor {
+  std::string_view name;  // as written in the config
+  Framing framing = Framing::eight_none_one;
+  // The rates its sensors can be set to; a [[bus]] baud must be one of them.
+  std::span<const std::int64_t> bauds;
+  // The rate sensors ship at, used when a bus does not say; none: `baud` is required.
+  std::optional<std::uint32_t> default_baud;
+  AddressRange addresses;  // a sensor's bus address
+  // Where the master has a bus address of its own ([[bus]] master_address): its range. No
+  // sensor may use the master's address. None: the protocol has no master address.
+  std::optional<AddressRange> master_addresses;
+  // The shortest quiet time between master packets the sensors accept ([[bus]] gap_us).
+  std::chrono::microseconds min_gap{0};
+};
+
+// What Read Device Identification (FC 43) reports for a model.
+struct ProductIdentity {
+  std::string_view vendor;        // VendorName
+  std::string_view product_code;  // ProductCode and ModelName
+  std::string_view product_name;  // ProductName
+};
+
+// A setting a model accepts writes of: the name a map file's `write = "NAME"` gives it, and
+// its id (driver/write_target.h: the common block's, or one the family owns).
+struct SettingDescriptor {
+  std::string_view name;
+  WriteTarget id;
+};
+
+// The common block's settings under their map-file names; a family lists those its models
+// accept among their settings.
+namespace common_setting {
+inline constexpr SettingDescriptor filter{"filter", WriteTarget::filter};
+inline constexpr SettingDescriptor zero_x{"zero_x", WriteTarget::zero_x};
+inline constexpr SettingDescriptor zero_y{"zero_y", WriteTarget::zero_y};
+inline constexpr SettingDescriptor command{"command", WriteTarget::command};
+inline constexpr SettingDescriptor baud_code{"baud_code", WriteTarget::baud_code};
+inline constexpr SettingDescriptor bus_address{"bus_address", WriteTarget::bus_address};
+}  // namespace common_setting
+inline constexpr SettingDescriptor kCommonSettings[] = {
+    common_setting::filter,  common_setting::zero_x,    common_setting::zero_y,
+    common_setting::command, common_setting::baud_code, common_setting::bus_address};
+
+// One sensor model ([[sensor]] model = "...").
+struct ModelDescriptor {
+  std::string_view name;     // as written in the config; SensorDriver::model()
+  std::uint16_t model_code;  // what input register 37 shows
+  ProductIdentity identity;
+  int axes = 2;              // 1 or 2
+  // The built-in register map: the common block (mapping/common_block.h) and the model's own
+  // points. What a PLC sees without a map file, and what a map file may extend.
+  RegisterMap (*default_map)();
+  // Sources only some drivers fill (raw counts, ...); every other source is common to all.
+  std::span<const ValueSource> sources;
+  // The settings the driver accepts writes of.
+  std::span<const SettingDescriptor> settings;
+};
+
+// How a family reads its own [[sensor]] keys: the config loader's reader, which checks types
+// and reports errors with the file, line and key.
+class SensorKeyReader {
+ public:
+  virtual ~SensorKeyReader() = default;
+  virtual std::optional<double> number(std::string_view key) = 0;
+  virtual std::optional<bool> boolean(std::string_view key) = 0;
+  virtual void error(std::string_view key, std::string message) = 0;
+};
+
+// What a driver factory gets: one configured sensor on its bus.
+struct DriverSetup {
+  std::string name;               // the sensor's name, for log lines
+  std::string_view protocol;      // the bus's ProtocolDescriptor::name
+  std::string_view model;         // a ModelDescriptor::name of the family
+  std::uint32_t address = 0;      // checked against the protocol's range
+  std::uint32_t master_address = 0;  // the bus's master_address (protocols that have one)
+  ReplyTimeouts reply_timeouts;   // the bus's timeout_ms and max_timeout_ms
+  FamilyOptions options;          // the family's own [[sensor]] keys
+};
+
+struct FamilyDescriptor {
+  std::string_view name;   // for messages, e.g. "too short for NAME sensors"
+  std::string_view title;  // for the command line's help: "Vendor Product"
+  std::span<const ProtocolDescriptor> protocols;
+  std::span<const ModelDescriptor> models;
+  // The family's own [[sensor]] keys: every name read_sensor_keys asks for. A sensor of
+  // another family that has one is refused ("applies to model ... only").
+  std::span<const std::string_view> sensor_keys;
+  // Reads them into `options`, with defaults for those not given, which the driver factory
+  // then finds in DriverSetup::options.
+  void (*read_sensor_keys)(SensorKeyReader& in, FamilyOptions& options);
+  // A driver for one sensor of the family; the setup has been validated by the config loader.
+  std::unique_ptr<SensorDriver> (*make_driver)(const DriverSetup& setup);
+  // `tiltgate sim`, and the family's bus in `tiltgate demo`.
+  SimulatorDescriptor simulator;
+  DemoBus demo;
+};
+
+using FamilyList = std::span<const FamilyDescriptor* const>;
+
+// The families this build serves: the one list in families/family_list.cpp.
+FamilyList registered_families();
+
+struct ProtocolEntry {
+  const FamilyDescriptor* family = nullptr;
+  const ProtocolDescriptor* protocol = nullptr;
+};
+struct ModelEntry {
+  const FamilyDescriptor* family = nullptr;
+  const ModelDescriptor* model = nullptr;
+};
+
+// Null members when no family has it.
+ProtocolEntry find_protocol(FamilyList families, std::string_view name);
+ModelEntry find_model(FamilyList families, std::string_view name);
+
+}  // namespace tiltgate

@@ -1,0 +1,41 @@
+// A sensor family's own [[sensor]] keys, as values: the core carries them from the config to
+// the family's driver factory without knowing what they mean (driver/family.h).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace tiltgate {
+
+class FamilyOptions {
+ public:
+  // Booleans are stored as 0 and 1.
+  void set(std::string_view key, double value) {
+    for (auto& [k, v] : values_) {
+      if (k == key) {
+        v = value;
+        return;
+      }
+    }
+    values_.emplace_back(std::string(key), value);
+  }
+  double get(std::string_view key, double fallback) const {
+    for (const auto& [k, v] : values_)
+      if (k == key) return v;
+    return fallback;
+  }
+  // A boolean key: whether it is set and true.
+  bool flag(std::string_view key) const { return get(key, 0.0) != 0.0; }
+  bool has(std::string_view key) const {
+    for (const auto& entry : values_)
+      if (entry.first == key) return true;
+    return false;
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>> values_;
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,24 @@
+#include "gateway/serial_options.h"
+
+namespace tiltgate {
+
+SerialLineOptions serial_options_from(const BusConfig& bus, FamilyList families) {
+  SerialLineOptions o;
+  o.name = bus.name;
+  o.port = bus.port;
+  o.baud = bus.baud;
+  o.timeout = bus.timeout;
+  o.retries = bus.retries;
+  o.late_guard = bus.late_guard;
+  o.gap = bus.gap;
+  o.rs485_kernel = bus.rs485_kernel;
+  o.echo = bus.echo;
+  o.reopen_min = bus.reopen_min;
+  o.reopen_max = bus.reopen_max;
+  // The loader accepts only the families' protocols; 8N1 is the transport's own default.
+  if (const ProtocolEntry protocol = find_protocol(families, bus.protocol); protocol.protocol)
+    o.framing = protocol.protocol->framing;
+  return o;
+}
+
+}  // namespace tiltgate

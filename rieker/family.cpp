@@ -1,0 +1,142 @@
+#include "rieker/family.h"
+
+#include <array>
+
+#include "mapping/register_map.h"
+#include "mapping/value_source.h"
+#include "rieker/default_maps.h"
+#include "rieker/rieker_driver.h"
+#include "rieker/sensor_spec.h"
+#include "rieker/simulator.h"
+
+namespace tiltgate::rieker {
+
+namespace {
+
+// The rates a Rieker sensor can be set to (PROTOCOL-NOTES, Rieker: baud codes 1..8).
+constexpr std::array<std::int64_t, 8> kBauds{9600,   19200,  38400,  62500,
+                                             115200, 125000, 128000, 250000};
+
+const ProtocolDescriptor kProtocols[] = {{
+    .name = "rieker",
+    .framing = Framing::eight_none_one,
+    .bauds = kBauds,
+    .default_baud = 125000,                 // the factory rate
+    .addresses = {1, 65000},                // PROTOCOL-NOTES, Rieker
+    .master_addresses = AddressRange{0, 65500},  // the master's own address, never a sensor's
+    .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
+}};
+
+// Set Filter Response (41), Set Zero To Value (16, per axis), the zero/restart commands, Set
+// Baud (38) and Set Address (2): the common block's settings; the H4360 has one axis.
+namespace common = common_setting;
+constexpr SettingDescriptor kH6Settings[] = {common::filter,  common::zero_x,    common::zero_y,
+                                             common::command, common::baud_code, common::bus_address};
+constexpr SettingDescriptor kH4360Settings[] = {common::filter, common::zero_x, common::command,
+                                                common::baud_code, common::bus_address};
+
+const ModelDescriptor kModels[] = {
+    {
+        .name = "h6",
+        .model_code = 1,
+        .identity = {"Rieker Inc.", "H6", "H6 dual-axis inclinometer"},
+        .axes = 2,
+        .default_map = h6_default_map,
+        .sources = {},
+        .settings = kH6Settings,
+    },
+    {
+        .name = "h4360",
+        .model_code = 2,
+        .identity = {"Rieker Inc.", "H4360", "H4360 single-axis inclinometer"},
+        .axes = 1,
+        .default_map = h4360_default_map,
+        .sources = {},
+        .settings = kH4360Settings,
+    },
+};
+
+// The Rieker models have no [[sensor]] keys of their own.
+void read_sensor_keys(SensorKeyReader&, FamilyOptions&) {}
+
+std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
+  const std::optional<Model> model = model_from_name(setup.model);
+  if (!model) return nullptr;
+  RiekerDriverOptions options;
+  options.name = setup.name;
+  options.model = *model;
+  options.address = std::uint16_t(setup.address);
+  options.master_address = std::uint16_t(setup.master_address);
+  options.reply_timeouts = setup.reply_timeouts;
+  return std::make_unique<RiekerDriver>(options);
+}
+
+class Simulator final : public BusSimulator {
+ public:
+  Simulator(boost::asio::io_context& io, RiekerSimulatorOptions options)
+      : simulator_(io, std::move(options)) {}
+  Expected<Done, std::string> start() override { return simulator_.start(); }
+  void stop() override { simulator_.stop(); }
+  const std::string& slave_path() const override { return simulator_.slave_path(); }
+  std::size_t sensor_count() const override { return simulator_.sensor_count(); }
+  std::string what() const override { return "Rieker sensor(s)"; }
+
+ private:
+  RiekerSimulator simulator_;
+};
+
+Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
+                                                                    const SimulatorSetup& setup) {
+  auto sensors = parse_sensor_spec(setup.sensors);
+  if (!sensors) return Unexpected{sensors.error()};
+  RiekerSimulatorOptions options;
+  options.sensors = std::move(*sensors);
+  options.link_path = setup.link;
+  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
+  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+}
+
+// The demo plant's Rieker bus: two H6 on a boom and one H4360 on the mast, at the factory baud.
+const DemoSensor kDemoSensors[] = {
+    {"boom-left", "h6", 223}, {"boom-right", "h6", 224}, {"mast", "h4360", 101}};
+constexpr std::string_view kDemoExamples[] = {
+    "  mbpoll -m tcp -p {port} -a {unit} -t 3:float -B -r 1 -c 2 -1 {host}   # unit {unit} "
+    "angle_x, angle_y",
+    "  mbpoll -m tcp -p {port} -a {last_unit} -t 3 -r 7 -c 10 -1 {host}           # unit "
+    "{last_unit} status block",
+    "  mbpoll -m tcp -p {port} -a {unit} -t 4 -r 1 -1 {host} 2               # unit {unit} "
+    "filter := 2",
+};
+
+}  // namespace
+
+const FamilyDescriptor kFamily{
+    .name = "rieker",
+    .title = "Rieker Flex",
+    .protocols = kProtocols,
+    .models = kModels,
+    .sensor_keys = {},
+    .read_sensor_keys = read_sensor_keys,
+    .make_driver = make_driver,
+    .simulator =
+        {
+            .command = "rieker",
+            .help = "Rieker Flex H6 / H4360 sensors",
+            .default_sensors = "h6:223",
+            .sensors_help = "model:address[,model:address...]",
+            .protocols = {},
+            .protocols_help = "",
+            .make = make_simulator,
+        },
+    .demo =
+        {
+            .bus_name = "demo-bus",
+            .protocol = "rieker",
+            .baud = 125000,
+            .simulator = {.sensors = "h6:223,h6:224,h4360:101", .protocol = "", .link = "", .pace_baud = 0},
+            .sensors = kDemoSensors,
+            .examples = kDemoExamples,
+        },
+};
+
+}  // namespace tiltgate::rieker

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The core folders name no sensor family: config/, mapping/, gateway/, serial/ and driver/ ask
+# the family descriptors (driver/family.h) instead, so a new family is its own folder plus one
+# line in families/family_list.cpp. Checks the sources (C++ and CMake), comments included.
+# Allowed: config/CONFIG-REFERENCE.md, a document for the engineer that lists the protocol and
+# model values a config file takes (it is not a source, so the pattern is not applied to it).
+# Usage: core_names_no_family.sh SOURCE_DIR
+set -u
+root=${1:?usage: $0 SOURCE_DIR}
+cd "$root" || exit 2
+pattern='rieker|spectron|dyna|h6|h4360'
+sources=(--include='*.h' --include='*.cpp' --include='CMakeLists.txt' --include='*.cmake')
+
+# The pattern must find the families themselves, or this check proves nothing.
+if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron; then
+  echo "the pattern '$pattern' finds nothing in the family folders: the check is broken"
+  exit 2
+fi
+
+hits=$(grep -rniE "$pattern" "${sources[@]}" config mapping gateway serial driver)
+if [ -n "$hits" ]; then
+  echo "core sources name a sensor family (move it into the family's descriptor):"
+  echo "$hits"
+  exit 1
+fi
+echo "config/ mapping/ gateway/ serial/ driver/ name no sensor family"

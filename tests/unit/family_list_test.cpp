@@ -1,0 +1,51 @@
+// The registered families fit together: the config, the map files and the driver registry find
+// protocols, models and settings by name across every family, so no name may mean two things.
+#include <doctest/doctest.h>
+
+#include <map>
+#include <string>
+#include <string_view>
+
+#include "driver/family.h"
+
+using namespace tiltgate;
+
+TEST_CASE("no two families use one protocol or model name") {
+  std::map<std::string_view, std::string_view> protocol_family;
+  std::map<std::string_view, std::string_view> model_family;
+  for (const FamilyDescriptor* family : registered_families()) {
+    for (const ProtocolDescriptor& protocol : family->protocols) {
+      INFO("protocol ", std::string(protocol.name), " of ", std::string(family->name));
+      CHECK(protocol_family.emplace(protocol.name, family->name).second);
+    }
+    for (const ModelDescriptor& model : family->models) {
+      INFO("model ", std::string(model.name), " of ", std::string(family->name));
+      CHECK(model_family.emplace(model.name, family->name).second);
+    }
+  }
+  CHECK_FALSE(protocol_family.empty());
+}
+
+TEST_CASE("a setting name means one id and an id one name, in every family") {
+  std::map<std::string_view, unsigned> id_of;
+  std::map<unsigned, std::string_view> name_of;
+  for (const SettingDescriptor& setting : kCommonSettings) {
+    id_of[setting.name] = setting.id.id;
+    name_of[setting.id.id] = setting.name;
+    CHECK(setting.id.id < kFirstFamilySetting);
+  }
+  for (const FamilyDescriptor* family : registered_families()) {
+    for (const ModelDescriptor& model : family->models) {
+      for (const SettingDescriptor& setting : model.settings) {
+        INFO("setting ", std::string(setting.name), " of model ", std::string(model.name));
+        CHECK(setting.id.id < kSettingIdCount);
+        const auto [by_name, new_name] = id_of.emplace(setting.name, setting.id.id);
+        CHECK(by_name->second == setting.id.id);
+        const auto [by_id, new_id] = name_of.emplace(setting.id.id, setting.name);
+        CHECK(by_id->second == setting.name);
+        // A family's own setting takes an id above the common block's.
+        if (new_id) CHECK(setting.id.id >= kFirstFamilySetting);
+      }
+    }
+  }
+}
