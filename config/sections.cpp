@@ -90,11 +90,58 @@ void read_baud(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protoc
   bus.baud = std::uint32_t(*baud);
 }
 
-// gap_us: the protocol's sensors may need a minimum quiet time between master packets.
+std::vector<std::string_view> protocols_choosing_framing(FamilyList families) {
+  std::vector<std::string_view> names;
+  for (const FamilyDescriptor* family : families)
+    for (const ProtocolDescriptor& protocol : family->protocols)
+      if (protocol.bus_chooses_framing) names.push_back(protocol.name);
+  return names;
+}
+
+// parity and stop_bits: only where the protocol lets a bus choose its framing. Without parity
+// the default is two stop bits, so a character keeps its length (Modbus over Serial Line
+// V1.02, 2.5.1); parity with two stop bits is not a framing the transport offers.
+void read_framing(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protocol,
+                  FamilyList families) {
+  const auto parity = in.choice("parity", {"even", "odd", "none"});
+  const auto stop_bits = in.integer("stop_bits", 1, 2);
+  if (protocol == nullptr) return;
+  if (!protocol->bus_chooses_framing) {
+    const std::vector<std::string_view> choosing = protocols_choosing_framing(families);
+    for (std::string_view key : {"parity", "stop_bits"}) {
+      if (!in.has(key)) continue;
+      in.error(key, choosing.empty()
+                        ? fmt::format("is not accepted on {} buses (their framing is fixed)",
+                                      bus.protocol)
+                        : fmt::format("applies to {} buses only, not {}", or_list(choosing),
+                                      bus.protocol));
+    }
+    return;
+  }
+  const Framing fallback = protocol->framing;
+  const bool odd = parity ? *parity == "odd" : fallback == Framing::eight_odd_one;
+  const bool none = parity ? *parity == "none"
+                           : fallback == Framing::eight_none_one || fallback == Framing::eight_none_two;
+  const int stops = stop_bits ? int(*stop_bits) : (none ? 2 : 1);
+  if (!none && stops == 2) {
+    in.error("stop_bits", "2 with parity is not supported, expected 1 (or parity = \"none\")");
+    return;
+  }
+  bus.framing = none ? (stops == 2 ? Framing::eight_none_two : Framing::eight_none_one)
+                     : (odd ? Framing::eight_odd_one : Framing::eight_even_one);
+}
+
+// gap_us: the protocol's sensors may need a minimum quiet time between master packets; some
+// protocols derive the default from the baud and framing.
 void read_gap(TableReader& in, BusConfig& bus, ProtocolEntry protocol) {
   constexpr std::int64_t kMaxGap = 1'000'000;
   auto us = in.integer("gap_us", 0, kMaxGap);
-  if (!us) return;
+  if (!us) {
+    if (!in.has("gap_us") && protocol.protocol != nullptr && protocol.protocol->default_gap)
+      bus.gap = protocol.protocol->default_gap(bus.baud,
+                                               bus.framing.value_or(protocol.protocol->framing));
+    return;
+  }
   if (protocol.protocol != nullptr && *us < protocol.protocol->min_gap.count()) {
     in.error("gap_us", fmt::format("{} is too short for {} sensors, expected {}..{}", *us,
                                    protocol.family->name, protocol.protocol->min_gap.count(),
@@ -264,6 +311,7 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   read_baud(in, bus, protocol.protocol);
   read_reply_timeouts(in, bus);
   if (auto n = in.integer("retries", 0, 10)) bus.retries = int(*n);
+  read_framing(in, bus, protocol.protocol, families);
   read_gap(in, bus, protocol);
   if (auto rs485 = in.boolean("rs485")) bus.rs485_kernel = *rs485;
   if (auto echo = in.boolean("echo")) bus.echo = *echo;
