@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
 #include <limits>
 #include <span>
 
@@ -201,15 +202,32 @@ void read_reopen_backoff(TableReader& in, BusConfig& bus) {
 // A family's keys through the TableReader, so errors carry the file, line and key.
 class TableKeyReader final : public SensorKeyReader {
  public:
-  explicit TableKeyReader(TableReader& in) : in_(in) {}
+  TableKeyReader(TableReader& in, ErrorList& errors) : in_(in), errors_(errors) {}
   std::optional<double> number(std::string_view key) override { return in_.number(key); }
   std::optional<bool> boolean(std::string_view key) override { return in_.boolean(key); }
+  std::optional<std::string> file_path(std::string_view key) override {
+    auto name = in_.string(key);
+    if (!name) return std::nullopt;
+    if (name->empty()) {
+      in_.error(key, "empty, expected a file name");
+      return std::nullopt;
+    }
+    std::filesystem::path path(*name);
+    if (path.is_relative()) path = std::filesystem::path(errors_.file()).parent_path() / path;
+    return path.string();
+  }
   void error(std::string_view key, std::string message) override {
     in_.error(key, std::move(message));
+  }
+  void file_errors(std::vector<FileError> errors) override {
+    for (FileError& e : errors)
+      errors_.add_elsewhere(ConfigError{std::move(e.file), e.line, e.column, std::move(e.key),
+                                        std::move(e.message)});
   }
 
  private:
   TableReader& in_;
+  ErrorList& errors_;
 };
 
 std::string quoted_models(const FamilyDescriptor& family) {
@@ -220,16 +238,20 @@ std::string quoted_models(const FamilyDescriptor& family) {
 
 // Every family reads its keys (so each is type-checked and accepted); the sensor keeps its own
 // family's, and a key of another family is refused once the model is known.
-void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families) {
+void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families,
+                      ErrorList& errors) {
   const ModelEntry model =
       in.located().valid("model") ? find_model(families, sensor.model) : ModelEntry{};
   for (const FamilyDescriptor* family : families) {
-    TableKeyReader reader(in);
+    TableKeyReader reader(in, errors);
     FamilyOptions options;
     family->read_sensor_keys(reader, options);
     if (family == model.family) sensor.family_options = std::move(options);
   }
   if (model.family == nullptr) return;
+  for (std::string_view key : model.family->required_sensor_keys)
+    if (!in.has(key))
+      in.error(key, fmt::format("required key is missing on {} sensors", model.family->name));
   for (const FamilyDescriptor* family : families) {
     if (family == model.family) continue;
     for (std::string_view key : family->sensor_keys)
@@ -345,7 +367,7 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
     else
       sensor.stale_after = milliseconds(*ms);
   }
-  read_family_keys(in, sensor, families);
+  read_family_keys(in, sensor, families, errors);
   read_mounting(in, sensor, errors);
   read_alarms(in, sensor, errors);
   read_offline(in, sensor);

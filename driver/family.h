@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "driver/adaptive_reply_timeout.h"
 #include "driver/family_options.h"
@@ -97,6 +98,15 @@ struct ModelDescriptor {
   std::span<const SettingDescriptor> settings;
 };
 
+// A problem found in a file a [[sensor]] key names (a device profile), at its own place.
+struct FileError {
+  std::string file;
+  int line = 0;    // 1-based; 0 when the problem has no one place
+  int column = 0;
+  std::string key;
+  std::string message;
+};
+
 // How a family reads its own [[sensor]] keys: the config loader's reader, which checks types
 // and reports errors with the file, line and key.
 class SensorKeyReader {
@@ -104,7 +114,11 @@ class SensorKeyReader {
   virtual ~SensorKeyReader() = default;
   virtual std::optional<double> number(std::string_view key) = 0;
   virtual std::optional<bool> boolean(std::string_view key) = 0;
+  // A string naming a file, resolved against the configuration file's folder (as map files).
+  virtual std::optional<std::string> file_path(std::string_view key) = 0;
   virtual void error(std::string_view key, std::string message) = 0;
+  // The problems found in the file `key` names, reported along with the configuration's.
+  virtual void file_errors(std::vector<FileError> errors) = 0;
 };
 
 // What a driver factory gets: one configured sensor on its bus.
@@ -126,6 +140,8 @@ struct FamilyDescriptor {
   // The family's own [[sensor]] keys: every name read_sensor_keys asks for. A sensor of
   // another family that has one is refused ("applies to model ... only").
   std::span<const std::string_view> sensor_keys;
+  // Those of them a sensor of the family must give.
+  std::span<const std::string_view> required_sensor_keys = {};
   // Reads them into `options`, with defaults for those not given, which the driver factory
   // then finds in DriverSetup::options.
   void (*read_sensor_keys)(SensorKeyReader& in, FamilyOptions& options);

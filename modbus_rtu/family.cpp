@@ -7,6 +7,8 @@
 #include "mapping/common_block.h"
 #include "mapping/register_map.h"
 #include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/profile_reader.h"
+#include "modbus_rtu/rtu_driver.h"
 #include "modbus_rtu/simulator.h"
 #include "modbus_rtu/timing.h"
 
@@ -44,7 +46,7 @@ const ProtocolDescriptor kProtocols[] = {{
     .default_gap = frame_gap,
 }};
 
-// The common block only, read-only for now: profile values as settings come with the driver.
+// The common block only, read-only for now: profile values as settings come next.
 RegisterMap rtu_default_map() {
   CommonBlockModel m;
   m.dual_axis = true;
@@ -55,6 +57,10 @@ RegisterMap rtu_default_map() {
   return RegisterMap(common_block(m));
 }
 
+// The common block's writable points; the driver refuses each as not supported for now.
+constexpr SettingDescriptor kSettings[] = {common_setting::command, common_setting::baud_code,
+                                           common_setting::bus_address};
+
 const ModelDescriptor kModels[] = {{
     .name = "modbus-rtu",
     .model_code = 4,
@@ -62,13 +68,39 @@ const ModelDescriptor kModels[] = {{
     .axes = 2,
     .default_map = rtu_default_map,
     .sources = {},
-    .settings = {},
+    .settings = kSettings,
 }};
 
-void read_sensor_keys(SensorKeyReader&, FamilyOptions&) {}
+constexpr std::string_view kSensorKeys[] = {"device"};
 
-// No driver yet: the descriptor is not in the family list, so no configuration reaches this.
-std::unique_ptr<SensorDriver> make_driver(const DriverSetup&) { return nullptr; }
+// device = "FILE": the device profile, loaded and checked with the configuration so that
+// `tiltgate check` reports its problems at their own file:line.
+void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
+  const std::optional<std::string> path = in.file_path("device");
+  if (!path) return;
+  auto profile = load_device_profile(*path);
+  if (!profile) {
+    std::vector<FileError> errors;
+    for (const ConfigError& e : profile.error())
+      errors.push_back(FileError{e.file, e.line, e.column, e.key, e.message});
+    in.file_errors(std::move(errors));
+    return;
+  }
+  options.set_text("device", *path);
+}
+
+// The profile was checked when the configuration was loaded; it is read again here, and a
+// file changed meanwhile into a bad one leaves the sensor without a driver.
+std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
+  auto profile = load_device_profile(setup.options.text("device"));
+  if (!profile) return nullptr;
+  RtuDriverOptions options;
+  options.name = setup.name;
+  options.slave = std::uint8_t(setup.address);
+  options.profile = std::move(*profile);
+  options.reply_timeouts = setup.reply_timeouts;
+  return std::make_unique<RtuDriver>(std::move(options));
+}
 
 struct SimulatedSlave {
   std::uint8_t address = 1;
@@ -131,7 +163,8 @@ const FamilyDescriptor kFamily{
     .title = "Modbus RTU",
     .protocols = kProtocols,
     .models = kModels,
-    .sensor_keys = {},
+    .sensor_keys = kSensorKeys,
+    .required_sensor_keys = kSensorKeys,
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
     .simulator =

@@ -21,7 +21,8 @@ const FamilyDescriptor* const kList[] = {&modbus_rtu::kFamily};
 std::string rtu_config(std::string_view bus_keys, int address = 1) {
   return "[[bus]]\nname = \"rtu\"\nport = \"/dev/ttyUSB0\"\nprotocol = \"modbus-rtu\"\n" +
          std::string(bus_keys) + "\n[[sensor]]\nname = \"tilt\"\nbus = \"rtu\"\nmodel = " +
-         "\"modbus-rtu\"\naddress = " + std::to_string(address) + "\nunit_id = 1\n";
+         "\"modbus-rtu\"\naddress = " + std::to_string(address) + "\nunit_id = 1\ndevice = \"" +
+         std::string(TILTGATE_SOURCE_DIR) + "/examples/devices/rtu-inclinometer.toml\"\n";
 }
 
 BusConfig load_bus(std::string_view bus_keys) {
