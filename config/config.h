@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "driver/family_options.h"
+#include "driver/framing.h"
 #include "mapping/map_definition.h"
 #include "mapping/point_types.h"  // WordOrder, OfflineRead
 
@@ -44,7 +45,11 @@ struct BusConfig {
   // taken for the next one. Default: max_timeout - timeout (so any reply within max_timeout
   // lands in it), at least kMinDefaultLateGuard.
   std::chrono::milliseconds late_guard{450};
-  std::chrono::microseconds gap{1000};        // quiet time between master packets
+  // Quiet time between master packets: gap_us, else the protocol's default_gap, else 1 ms.
+  std::chrono::microseconds gap{1000};
+  // The bus's own framing ([[bus]] parity, stop_bits) where its protocol lets the bus choose
+  // (ProtocolDescriptor::bus_chooses_framing); none: the protocol's framing.
+  std::optional<Framing> framing;
   bool rs485_kernel = false;                  // TIOCSRS485 on on-board UARTs
   bool echo = false;                          // the adapter hears its own transmission
   std::uint16_t master_address = 0;           // protocols where the master has an address

@@ -21,6 +21,14 @@ ConfigErrors ErrorList::take() {
     return a.line == b.line && a.column == b.column && a.key == b.key && a.message == b.message;
   };
   errors_.erase(std::unique(errors_.begin(), errors_.end(), same), errors_.end());
+  // A profile named by two sensors reports its problems twice.
+  for (ConfigError& error : elsewhere_) {
+    const bool seen = std::any_of(errors_.begin(), errors_.end(), [&](const ConfigError& e) {
+      return e.file == error.file && same(e, error);
+    });
+    if (!seen) errors_.push_back(std::move(error));
+  }
+  elsewhere_.clear();
   return std::move(errors_);
 }
 

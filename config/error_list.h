@@ -31,14 +31,18 @@ class ErrorList {
   AcceptedKeys* accepted_keys() const { return accepted_keys_; }
 
   void add(Place where, std::string key, std::string message);
-  bool empty() const { return errors_.empty(); }
-  std::size_t size() const { return errors_.size(); }
+  // An error in another file (a device profile): kept after this file's own, in given order.
+  void add_elsewhere(ConfigError error) { elsewhere_.push_back(std::move(error)); }
+  const std::string& file() const { return file_; }
+  bool empty() const { return errors_.empty() && elsewhere_.empty(); }
+  std::size_t size() const { return errors_.size() + elsewhere_.size(); }
   // The errors ordered by place; those without a line come last.
   ConfigErrors take();
 
  private:
   std::string file_;
   ConfigErrors errors_;
+  ConfigErrors elsewhere_;
   AcceptedKeys* accepted_keys_ = nullptr;
 };
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
 #include <limits>
 #include <span>
 
@@ -90,11 +91,58 @@ void read_baud(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protoc
   bus.baud = std::uint32_t(*baud);
 }
 
-// gap_us: the protocol's sensors may need a minimum quiet time between master packets.
+std::vector<std::string_view> protocols_choosing_framing(FamilyList families) {
+  std::vector<std::string_view> names;
+  for (const FamilyDescriptor* family : families)
+    for (const ProtocolDescriptor& protocol : family->protocols)
+      if (protocol.bus_chooses_framing) names.push_back(protocol.name);
+  return names;
+}
+
+// parity and stop_bits: only where the protocol lets a bus choose its framing. Without parity
+// the default is two stop bits, so a character keeps its length (Modbus over Serial Line
+// V1.02, 2.5.1); parity with two stop bits is not a framing the transport offers.
+void read_framing(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protocol,
+                  FamilyList families) {
+  const auto parity = in.choice("parity", {"even", "odd", "none"});
+  const auto stop_bits = in.integer("stop_bits", 1, 2);
+  if (protocol == nullptr) return;
+  if (!protocol->bus_chooses_framing) {
+    const std::vector<std::string_view> choosing = protocols_choosing_framing(families);
+    for (std::string_view key : {"parity", "stop_bits"}) {
+      if (!in.has(key)) continue;
+      in.error(key, choosing.empty()
+                        ? fmt::format("is not accepted on {} buses (their framing is fixed)",
+                                      bus.protocol)
+                        : fmt::format("applies to {} buses only, not {}", or_list(choosing),
+                                      bus.protocol));
+    }
+    return;
+  }
+  const Framing fallback = protocol->framing;
+  const bool odd = parity ? *parity == "odd" : fallback == Framing::eight_odd_one;
+  const bool none = parity ? *parity == "none"
+                           : fallback == Framing::eight_none_one || fallback == Framing::eight_none_two;
+  const int stops = stop_bits ? int(*stop_bits) : (none ? 2 : 1);
+  if (!none && stops == 2) {
+    in.error("stop_bits", "2 with parity is not supported, expected 1 (or parity = \"none\")");
+    return;
+  }
+  bus.framing = none ? (stops == 2 ? Framing::eight_none_two : Framing::eight_none_one)
+                     : (odd ? Framing::eight_odd_one : Framing::eight_even_one);
+}
+
+// gap_us: the protocol's sensors may need a minimum quiet time between master packets; some
+// protocols derive the default from the baud and framing.
 void read_gap(TableReader& in, BusConfig& bus, ProtocolEntry protocol) {
   constexpr std::int64_t kMaxGap = 1'000'000;
   auto us = in.integer("gap_us", 0, kMaxGap);
-  if (!us) return;
+  if (!us) {
+    if (!in.has("gap_us") && protocol.protocol != nullptr && protocol.protocol->default_gap)
+      bus.gap = protocol.protocol->default_gap(bus.baud,
+                                               bus.framing.value_or(protocol.protocol->framing));
+    return;
+  }
   if (protocol.protocol != nullptr && *us < protocol.protocol->min_gap.count()) {
     in.error("gap_us", fmt::format("{} is too short for {} sensors, expected {}..{}", *us,
                                    protocol.family->name, protocol.protocol->min_gap.count(),
@@ -154,15 +202,32 @@ void read_reopen_backoff(TableReader& in, BusConfig& bus) {
 // A family's keys through the TableReader, so errors carry the file, line and key.
 class TableKeyReader final : public SensorKeyReader {
  public:
-  explicit TableKeyReader(TableReader& in) : in_(in) {}
+  TableKeyReader(TableReader& in, ErrorList& errors) : in_(in), errors_(errors) {}
   std::optional<double> number(std::string_view key) override { return in_.number(key); }
   std::optional<bool> boolean(std::string_view key) override { return in_.boolean(key); }
+  std::optional<std::string> file_path(std::string_view key) override {
+    auto name = in_.string(key);
+    if (!name) return std::nullopt;
+    if (name->empty()) {
+      in_.error(key, "empty, expected a file name");
+      return std::nullopt;
+    }
+    std::filesystem::path path(*name);
+    if (path.is_relative()) path = std::filesystem::path(errors_.file()).parent_path() / path;
+    return path.string();
+  }
   void error(std::string_view key, std::string message) override {
     in_.error(key, std::move(message));
+  }
+  void file_errors(std::vector<FileError> errors) override {
+    for (FileError& e : errors)
+      errors_.add_elsewhere(ConfigError{std::move(e.file), e.line, e.column, std::move(e.key),
+                                        std::move(e.message)});
   }
 
  private:
   TableReader& in_;
+  ErrorList& errors_;
 };
 
 std::string quoted_models(const FamilyDescriptor& family) {
@@ -173,16 +238,20 @@ std::string quoted_models(const FamilyDescriptor& family) {
 
 // Every family reads its keys (so each is type-checked and accepted); the sensor keeps its own
 // family's, and a key of another family is refused once the model is known.
-void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families) {
+void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families,
+                      ErrorList& errors) {
   const ModelEntry model =
       in.located().valid("model") ? find_model(families, sensor.model) : ModelEntry{};
   for (const FamilyDescriptor* family : families) {
-    TableKeyReader reader(in);
+    TableKeyReader reader(in, errors);
     FamilyOptions options;
     family->read_sensor_keys(reader, options);
     if (family == model.family) sensor.family_options = std::move(options);
   }
   if (model.family == nullptr) return;
+  for (std::string_view key : model.family->required_sensor_keys)
+    if (!in.has(key))
+      in.error(key, fmt::format("required key is missing on {} sensors", model.family->name));
   for (const FamilyDescriptor* family : families) {
     if (family == model.family) continue;
     for (std::string_view key : family->sensor_keys)
@@ -264,6 +333,7 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   read_baud(in, bus, protocol.protocol);
   read_reply_timeouts(in, bus);
   if (auto n = in.integer("retries", 0, 10)) bus.retries = int(*n);
+  read_framing(in, bus, protocol.protocol, families);
   read_gap(in, bus, protocol);
   if (auto rs485 = in.boolean("rs485")) bus.rs485_kernel = *rs485;
   if (auto echo = in.boolean("echo")) bus.echo = *echo;
@@ -297,7 +367,7 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
     else
       sensor.stale_after = milliseconds(*ms);
   }
-  read_family_keys(in, sensor, families);
+  read_family_keys(in, sensor, families, errors);
   read_mounting(in, sensor, errors);
   read_alarms(in, sensor, errors);
   read_offline(in, sensor);

@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "driver/adaptive_reply_timeout.h"
 #include "driver/family_options.h"
@@ -45,6 +46,13 @@ struct ProtocolDescriptor {
   std::optional<AddressRange> master_addresses;
   // The shortest quiet time between master packets the sensors accept ([[bus]] gap_us).
   std::chrono::microseconds min_gap{0};
+  // Whether a bus chooses its character framing ([[bus]] parity and stop_bits, as Modbus RTU
+  // lets it); `framing` above is then the default. False: the framing is fixed and a bus that
+  // gives either key is refused.
+  bool bus_chooses_framing = false;
+  // The quiet time between master packets when a bus does not give gap_us, for protocols that
+  // measure it in characters at the bus's baud and framing (Modbus RTU's t3.5). Null: 1 ms.
+  std::chrono::microseconds (*default_gap)(std::uint32_t baud, Framing framing) = nullptr;
 };
 
 // What Read Device Identification (FC 43) reports for a model.
@@ -90,6 +98,15 @@ struct ModelDescriptor {
   std::span<const SettingDescriptor> settings;
 };
 
+// A problem found in a file a [[sensor]] key names (a device profile), at its own place.
+struct FileError {
+  std::string file;
+  int line = 0;    // 1-based; 0 when the problem has no one place
+  int column = 0;
+  std::string key;
+  std::string message;
+};
+
 // How a family reads its own [[sensor]] keys: the config loader's reader, which checks types
 // and reports errors with the file, line and key.
 class SensorKeyReader {
@@ -97,7 +114,11 @@ class SensorKeyReader {
   virtual ~SensorKeyReader() = default;
   virtual std::optional<double> number(std::string_view key) = 0;
   virtual std::optional<bool> boolean(std::string_view key) = 0;
+  // A string naming a file, resolved against the configuration file's folder (as map files).
+  virtual std::optional<std::string> file_path(std::string_view key) = 0;
   virtual void error(std::string_view key, std::string message) = 0;
+  // The problems found in the file `key` names, reported along with the configuration's.
+  virtual void file_errors(std::vector<FileError> errors) = 0;
 };
 
 // What a driver factory gets: one configured sensor on its bus.
@@ -119,6 +140,8 @@ struct FamilyDescriptor {
   // The family's own [[sensor]] keys: every name read_sensor_keys asks for. A sensor of
   // another family that has one is refused ("applies to model ... only").
   std::span<const std::string_view> sensor_keys;
+  // Those of them a sensor of the family must give.
+  std::span<const std::string_view> required_sensor_keys = {};
   // Reads them into `options`, with defaults for those not given, which the driver factory
   // then finds in DriverSetup::options.
   void (*read_sensor_keys)(SensorKeyReader& in, FamilyOptions& options);

@@ -31,11 +31,30 @@ class FamilyOptions {
   bool has(std::string_view key) const {
     for (const auto& entry : values_)
       if (entry.first == key) return true;
+    for (const auto& entry : texts_)
+      if (entry.first == key) return true;
     return false;
+  }
+  // A text key (a file path, ...).
+  void set_text(std::string_view key, std::string value) {
+    for (auto& [k, v] : texts_) {
+      if (k == key) {
+        v = std::move(value);
+        return;
+      }
+    }
+    texts_.emplace_back(std::string(key), std::move(value));
+  }
+  // Empty when not set.
+  std::string text(std::string_view key) const {
+    for (const auto& [k, v] : texts_)
+      if (k == key) return v;
+    return {};
   }
 
  private:
   std::vector<std::pair<std::string, double>> values_;
+  std::vector<std::pair<std::string, std::string>> texts_;
 };
 
 }  // namespace tiltgate

@@ -117,6 +117,8 @@ Parity SerialLine::idle_parity() const {
   switch (options_.framing) {
     case Framing::eight_none_one: return Parity::none;
     case Framing::eight_even_one: return Parity::even;
+    case Framing::eight_odd_one: return Parity::odd;
+    case Framing::eight_none_two: return Parity::none;
     case Framing::nine_bit: return Parity::space;  // data bytes; address bytes switch to mark
   }
   return Parity::none;
@@ -126,7 +128,8 @@ Expected<Done, std::string> SerialLine::open_port() {
   // O_NONBLOCK: do not wait for a carrier, and let Asio drive the reads and writes.
   const int fd = ::open(options_.port.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return Unexpected(errno_text(errno));
-  auto configured = apply_raw_settings(fd, options_.baud, idle_parity());
+  auto configured =
+      apply_raw_settings(fd, options_.baud, idle_parity(), stop_bits_of(options_.framing));
   if (!configured) {
     ::close(fd);
     return Unexpected("cannot configure: " + configured.error().message());
@@ -314,7 +317,8 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::send(const LineR
 
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
     std::span<const std::uint8_t> bytes, Parity parity) {
-  const auto wire = wire_time(bytes.size(), options_.baud, parity);
+  const auto wire =
+      wire_time(bytes.size(), options_.baud, parity, stop_bits_of(options_.framing));
   error_code ec;
   bool stalled = false;
   {

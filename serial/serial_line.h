@@ -8,7 +8,7 @@
 // LineError::closed at once. Nothing here throws or ends the process.
 //
 // Timing: a packet ends when its write completes plus its wire time at the baud rate (10 bits
-// a byte, 11 with parity). The next packet starts no earlier than that end + the request's
+// a byte, 11 with parity or two stop bits). The next packet starts no earlier than that end + the request's
 // settle + the bus gap; the reply timeout also runs from that end. Input received before a
 // packet is discarded (TCIFLUSH), for line noise.
 //

@@ -87,13 +87,15 @@ Parity TtySettings::parity() const {
   return odd_parity ? Parity::odd : Parity::even;
 }
 
-Expected<Done, std::error_code> apply_raw_settings(int fd, std::uint32_t baud, Parity parity) {
+Expected<Done, std::error_code> apply_raw_settings(int fd, std::uint32_t baud, Parity parity,
+                                                   int stop_bits) {
   if (baud == 0) return Unexpected(std::make_error_code(std::errc::invalid_argument));
   auto t = get(fd);
   if (!t) return Unexpected(t.error());
   make_raw(*t);
   set_baud(*t, baud);
   set_parity_bits(*t, parity);
+  if (stop_bits == 2) t->c_cflag |= CSTOPB;  // make_raw cleared it
   return set(fd, *t);
 }
 
@@ -142,11 +144,14 @@ Expected<Done, std::error_code> discard_input(int fd) {
   return Done{};
 }
 
-int bits_per_byte(Parity parity) { return parity == Parity::none ? 10 : 11; }
+int bits_per_byte(Parity parity, int stop_bits) {
+  return 9 + (parity == Parity::none ? 0 : 1) + stop_bits;
+}
 
-std::chrono::microseconds wire_time(std::size_t bytes, std::uint32_t baud, Parity parity) {
+std::chrono::microseconds wire_time(std::size_t bytes, std::uint32_t baud, Parity parity,
+                                    int stop_bits) {
   if (baud == 0) return std::chrono::microseconds{0};
-  const std::uint64_t bits = std::uint64_t(bytes) * std::uint64_t(bits_per_byte(parity));
+  const std::uint64_t bits = std::uint64_t(bytes) * std::uint64_t(bits_per_byte(parity, stop_bits));
   return std::chrono::microseconds{(bits * 1'000'000 + baud - 1) / baud};
 }
 

@@ -42,11 +42,12 @@ struct TtySettings {
   Parity parity() const;
 };
 
-// Raw 8-bit mode at `baud` with the given parity and one stop bit; receiver on, no modem
+// Raw 8-bit mode at `baud` with the given parity and stop bits (1 or 2); receiver on, no modem
 // control, no flow control. Input parity is never checked (IGNPAR, no INPCK): a reply's own
 // checksum decides whether it is good, and on a 9-bit bus the received ninth bit means nothing.
 // EINVAL for baud 0 (which would mean "hang up").
-Expected<Done, std::error_code> apply_raw_settings(int fd, std::uint32_t baud, Parity parity);
+Expected<Done, std::error_code> apply_raw_settings(int fd, std::uint32_t baud, Parity parity,
+                                                   int stop_bits = 1);
 
 // Changes only the parity, at once (TCSETS2, not the draining variant): the caller waits for
 // earlier bytes to leave first (wait_until_sent) when that matters.
@@ -66,10 +67,11 @@ Expected<Done, std::error_code> wait_until_sent(int fd);
 // tcflush(TCIFLUSH): drops whatever has been received and not read yet.
 Expected<Done, std::error_code> discard_input(int fd);
 
-// Bits on the wire per byte: start + 8 data + (parity) + 1 stop.
-int bits_per_byte(Parity parity);
+// Bits on the wire per byte: start + 8 data + (parity) + stop bits.
+int bits_per_byte(Parity parity, int stop_bits = 1);
 
 // How long `bytes` bytes take to send at `baud`, rounded up to the microsecond.
-std::chrono::microseconds wire_time(std::size_t bytes, std::uint32_t baud, Parity parity);
+std::chrono::microseconds wire_time(std::size_t bytes, std::uint32_t baud, Parity parity,
+                                    int stop_bits = 1);
 
 }  // namespace tiltgate

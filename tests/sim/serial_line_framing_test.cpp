@@ -126,3 +126,46 @@ TEST_CASE("the bus configuration maps onto line options and framing") {
   bus.protocol = "rieker";
   CHECK(tiltgate::serial_options_from(bus).framing == tiltgate::Framing::eight_none_one);
 }
+
+TEST_CASE("Modbus RTU framings set their parity and stop bits on the port") {
+  // A pty clears PARENB (see termios_settings_test.cpp), so the parity shows as PARODD only.
+  struct Case {
+    tiltgate::Framing framing;
+    bool odd;
+    int stop_bits;
+    Parity written;
+  };
+  const Bytes request = {0x01, 0x03};
+  for (Case e : {Case{tiltgate::Framing::eight_even_one, false, 1, Parity::even},
+                 Case{tiltgate::Framing::eight_odd_one, true, 1, Parity::odd},
+                 Case{tiltgate::Framing::eight_none_two, false, 2, Parity::none},
+                 Case{tiltgate::Framing::eight_none_one, false, 1, Parity::none}}) {
+    CAPTURE(int(e.framing));
+    Bench bench([&](SerialLineOptions& o) {
+      o.baud = 19200;
+      o.framing = e.framing;
+    });
+    const auto in_force = bench.line->termios_in_force();
+    REQUIRE(in_force.has_value());
+    CHECK(in_force->data_bits == 8);
+    CHECK(in_force->stop_bits == e.stop_bits);
+    CHECK(in_force->odd_parity == e.odd);
+    CHECK_FALSE(in_force->stick_parity);
+    std::vector<Parity> applied;
+    bench.line->observe_writes([&](std::span<const std::uint8_t>, Parity parity,
+                                   const tiltgate::TtySettings&) { applied.push_back(parity); });
+    auto device = [&]() -> asio::awaitable<void> {
+      CHECK(co_await bench.far.receive(2) == request);
+    };
+    CHECK(bench.exchange(request_of(request, nullptr), device()).has_value());
+    CHECK(run_until(bench.io, [&] { return bench.far.arrivals.size() == 1; }));
+    CHECK(applied == std::vector<Parity>{e.written});
+  }
+}
+
+TEST_CASE("a bus's own framing overrides its protocol's") {
+  tiltgate::BusConfig bus;
+  bus.protocol = "spectron-modbus";
+  bus.framing = tiltgate::Framing::eight_none_two;
+  CHECK(tiltgate::serial_options_from(bus).framing == tiltgate::Framing::eight_none_two);
+}

@@ -84,6 +84,16 @@ TEST_CASE("raw settings give 8 data bits, 1 stop bit, no flow control and unchec
   CHECK(s.parity() == Parity::none);
 }
 
+TEST_CASE("two stop bits are set and read back, and one again after") {
+  PseudoTerminal pty = open_pty();
+  SlaveFd fd(pty.slave_path());
+  REQUIRE(tiltgate::apply_raw_settings(fd.get(), 9600, Parity::none, 2).has_value());
+  CHECK(settings_of(fd.get()).stop_bits == 2);
+  CHECK(settings_of(fd.get()).data_bits == 8);
+  REQUIRE(tiltgate::apply_raw_settings(fd.get(), 9600, Parity::even).has_value());
+  CHECK(settings_of(fd.get()).stop_bits == 1);
+}
+
 TEST_CASE("each parity sets its stick and odd bits and keeps the rest") {
   PseudoTerminal pty = open_pty();
   SlaveFd fd(pty.slave_path());
@@ -171,6 +181,8 @@ TEST_CASE("wire time counts 10 bits a byte without parity and 11 with, rounded u
   using tiltgate::wire_time;
   CHECK(tiltgate::bits_per_byte(Parity::none) == 10);
   CHECK(tiltgate::bits_per_byte(Parity::mark) == 11);
+  CHECK(tiltgate::bits_per_byte(Parity::none, 2) == 11);  // Modbus RTU 8N2
+  CHECK(wire_time(3, 9600, Parity::none, 2) == 3438us);
   CHECK(wire_time(10, 125000, Parity::none) == 800us);  // Rieker: 8 us a byte
   CHECK(wire_time(1, 9600, Parity::mark) == 1146us);    // 1145.83 us
   CHECK(wire_time(3, 9600, Parity::even) == 3438us);    // 3437.5 us

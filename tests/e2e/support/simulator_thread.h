@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "modbus_rtu/simulator.h"
 #include "rieker/simulator.h"
 #include "spectron/simulator.h"
 
@@ -53,5 +54,6 @@ class BusSimulatorThread {
 
 using SimulatorThread = BusSimulatorThread<rieker::RiekerSimulator>;
 using DynaSimulatorThread = BusSimulatorThread<spectron::DynaSimulator>;
+using RtuSimulatorThread = BusSimulatorThread<modbus_rtu::RtuSimulator>;
 
 }  // namespace tiltgate::test

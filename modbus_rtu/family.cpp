@@ -1,0 +1,191 @@
+#include "modbus_rtu/family.h"
+
+#include <array>
+#include <charconv>
+
+#include "driver/text_list.h"
+#include "mapping/common_block.h"
+#include "mapping/register_map.h"
+#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/profile_reader.h"
+#include "modbus_rtu/rtu_driver.h"
+#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/timing.h"
+
+namespace tiltgate::modbus_rtu {
+
+namespace {
+
+// The standard rates up to 115200 (Serial Line 2.5.1 asks for 9600 and 19200, 19200 being the
+// default) and 230400, which fast RTU devices offer.
+constexpr std::array<std::int64_t, 9> kBauds{1200,  2400,  4800,   9600,  19200,
+                                             38400, 57600, 115200, 230400};
+
+Parity parity_of(Framing framing) {
+  switch (framing) {
+    case Framing::eight_even_one: return Parity::even;
+    case Framing::eight_odd_one: return Parity::odd;
+    default: return Parity::none;
+  }
+}
+
+// t3.5 at the bus's baud and framing (Serial Line 2.5.1.1).
+std::chrono::microseconds frame_gap(std::uint32_t baud, Framing framing) {
+  return rtu_timing(baud, bits_per_character(parity_of(framing), stop_bits_of(framing))).frame_gap;
+}
+
+const ProtocolDescriptor kProtocols[] = {{
+    .name = "modbus-rtu",
+    .framing = Framing::eight_even_one,  // Serial Line 2.5.1: even parity is the default
+    .bauds = kBauds,
+    .default_baud = 19200,               // Serial Line 2.5.1: the default rate
+    .addresses = {1, 247},               // Serial Line 2.2: slave addresses
+    .master_addresses = std::nullopt,
+    .min_gap = std::chrono::microseconds{0},
+    .bus_chooses_framing = true,
+    .default_gap = frame_gap,
+}};
+
+// The common block only, read-only for now: profile values as settings come next.
+RegisterMap rtu_default_map() {
+  CommonBlockModel m;
+  m.dual_axis = true;
+  m.angle_x_description = "the device profile's angle_x after the mounting";
+  m.command = {0, 0, "not supported on Modbus RTU devices yet"};
+  m.baud_code = {0, 0, "not supported on Modbus RTU devices yet"};
+  m.rs485_address = {1, 247, "not supported on Modbus RTU devices yet"};
+  return RegisterMap(common_block(m));
+}
+
+// The common block's writable points; the driver refuses each as not supported for now.
+constexpr SettingDescriptor kSettings[] = {common_setting::command, common_setting::baud_code,
+                                           common_setting::bus_address};
+
+const ModelDescriptor kModels[] = {{
+    .name = "modbus-rtu",
+    .model_code = 4,
+    .identity = {"generic", "Modbus RTU device", "Modbus RTU device"},
+    .axes = 2,
+    .default_map = rtu_default_map,
+    .sources = {},
+    .settings = kSettings,
+}};
+
+constexpr std::string_view kSensorKeys[] = {"device"};
+
+// device = "FILE": the device profile, loaded and checked with the configuration so that
+// `tiltgate check` reports its problems at their own file:line.
+void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
+  const std::optional<std::string> path = in.file_path("device");
+  if (!path) return;
+  auto profile = load_device_profile(*path);
+  if (!profile) {
+    std::vector<FileError> errors;
+    for (const ConfigError& e : profile.error())
+      errors.push_back(FileError{e.file, e.line, e.column, e.key, e.message});
+    in.file_errors(std::move(errors));
+    return;
+  }
+  options.set_text("device", *path);
+}
+
+// The profile was checked when the configuration was loaded; it is read again here, and a
+// file changed meanwhile into a bad one leaves the sensor without a driver.
+std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
+  auto profile = load_device_profile(setup.options.text("device"));
+  if (!profile) return nullptr;
+  RtuDriverOptions options;
+  options.name = setup.name;
+  options.slave = std::uint8_t(setup.address);
+  options.profile = std::move(*profile);
+  options.reply_timeouts = setup.reply_timeouts;
+  return std::make_unique<RtuDriver>(std::move(options));
+}
+
+struct SimulatedSlave {
+  std::uint8_t address = 1;
+  double angle_x = 0.0;
+  double angle_y = 0.0;
+};
+
+Expected<SimulatedSlave, std::string> parse_slave(std::string_view item, std::size_t index) {
+  const std::size_t colon = item.find(':');
+  if (trim_whitespace(item.substr(0, colon)) != "modbus-rtu")
+    return Unexpected("sensor '" + std::string(item) + "': model must be modbus-rtu");
+  SimulatedSlave slave;
+  slave.angle_x = 1.0 + double(index);
+  slave.angle_y = -slave.angle_x;
+  if (colon == std::string_view::npos) return slave;
+  const std::string_view text = trim_whitespace(item.substr(colon + 1));
+  unsigned address = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), address);
+  if (ec != std::errc() || end != text.data() + text.size() || address < 1 || address > 247)
+    return Unexpected("sensor '" + std::string(item) + "': slave address must be 1..247");
+  slave.address = std::uint8_t(address);
+  return slave;
+}
+
+class Simulator final : public BusSimulator {
+ public:
+  Simulator(boost::asio::io_context& io, RtuSimulatorOptions options)
+      : count_(options.devices.size()), simulator_(io, std::move(options)) {}
+  Expected<Done, std::string> start() override { return simulator_.start(); }
+  void stop() override { simulator_.stop(); }
+  const std::string& slave_path() const override { return simulator_.slave_path(); }
+  std::size_t sensor_count() const override { return count_; }
+  std::string what() const override { return "Modbus RTU inclinometer(s)"; }
+
+ private:
+  std::size_t count_;
+  RtuSimulator simulator_;
+};
+
+// Inclinometers matching examples/devices/rtu-inclinometer.toml, 8E1 like the protocol's
+// default framing.
+Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
+                                                                    const SimulatorSetup& setup) {
+  auto slaves = parse_sensor_list(setup.sensors, parse_slave);
+  if (!slaves) return Unexpected{slaves.error()};
+  RtuSimulatorOptions options;
+  for (const SimulatedSlave& slave : *slaves) {
+    options.devices.push_back(rtu_inclinometer(slave.address));
+    set_inclinometer_angles(options.devices.back(), slave.angle_x, slave.angle_y);
+  }
+  options.link_path = setup.link;
+  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
+  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+}
+
+}  // namespace
+
+const FamilyDescriptor kFamily{
+    .name = "modbus-rtu",
+    .title = "Modbus RTU",
+    .protocols = kProtocols,
+    .models = kModels,
+    .sensor_keys = kSensorKeys,
+    .required_sensor_keys = kSensorKeys,
+    .read_sensor_keys = read_sensor_keys,
+    .make_driver = make_driver,
+    .simulator =
+        {
+            .command = "modbus-rtu",
+            .help = "Modbus RTU inclinometers (examples/devices/rtu-inclinometer.toml)",
+            .default_sensors = "modbus-rtu:1",
+            .sensors_help = "modbus-rtu:slave[,modbus-rtu:slave...]",
+            .protocols = {},
+            .protocols_help = "",
+            .make = make_simulator,
+        },
+    .demo =
+        {
+            .bus_name = "demo-rtu-bus",
+            .protocol = "modbus-rtu",
+            .baud = 19200,
+            .simulator = {.sensors = "modbus-rtu:1", .protocol = "", .link = "", .pace_baud = 0},
+            .sensors = {},
+            .examples = {},
+        },
+};
+
+}  // namespace tiltgate::modbus_rtu
