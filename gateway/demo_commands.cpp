@@ -84,7 +84,13 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyList fa
 
 int demo_command(const DemoOptions& options) {
   boost::asio::io_context io;
-  const FamilyList families = registered_families();
+  // A family whose demo has no sensor yet (one that needs a device profile) gets no bus: an
+  // empty simulated bus would only be noise in the demo.
+  std::vector<const FamilyDescriptor*> demo_families;
+  for (const FamilyDescriptor* family : registered_families()) {
+    if (!family->demo.sensors.empty()) demo_families.push_back(family);
+  }
+  const FamilyList families = demo_families;
   std::vector<std::unique_ptr<BusSimulator>> simulators;
   std::vector<std::string> ttys;
   for (const FamilyDescriptor* family : families) {
