@@ -3,93 +3,13 @@
 #include <doctest/doctest.h>
 
 #include <string>
-#include <string_view>
 
 #include "config/config_loader.h"
+#include "unit/support/config_text.h"
 
 using namespace tiltgate;
+using namespace tiltgate::test;
 using namespace std::chrono_literals;
-
-namespace {
-
-std::string joined(const ConfigErrors& errors) {
-  std::string out;
-  for (const ConfigError& e : errors) out += e.to_string() + "\n";
-  return out;
-}
-
-ConfigErrors errors_of(std::string_view text) {
-  auto loaded = load_config_string(text, "test.toml");
-  REQUIRE_FALSE(loaded.has_value());
-  return loaded.error();
-}
-
-// The one error `text` holds.
-ConfigError only_error(std::string_view text) {
-  const ConfigErrors errors = errors_of(text);
-  INFO(joined(errors));
-  REQUIRE(errors.size() == 1);
-  return errors[0];
-}
-
-Config loads(std::string_view text) {
-  auto loaded = load_config_string(text, "test.toml");
-  INFO((loaded ? std::string() : joined(loaded.error())));
-  REQUIRE(loaded.has_value());
-  return *loaded;
-}
-
-// Lines 1..8: one Rieker bus and one sensor, valid. Tests append from line 9 on.
-constexpr std::string_view kValid = R"([[bus]]
-name = "line1"
-port = "/dev/ttyUSB0"
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-)";
-
-std::string valid_plus(std::string_view rest) {
-  return std::string(kValid) + "unit_id = 1\n" + std::string(rest);
-}
-
-// A [[sensor]] table of 6 lines: header, name, bus, model "h6", address, unit_id.
-std::string sensor_text(std::string_view name, std::string_view bus, int address, int unit_id) {
-  return "[[sensor]]\nname = \"" + std::string(name) + "\"\nbus = \"" + std::string(bus) +
-         "\"\nmodel = \"h6\"\naddress = " + std::to_string(address) +
-         "\nunit_id = " + std::to_string(unit_id) + "\n";
-}
-
-// Lines 1..4 and then `more`: a Spectron bus "s".
-std::string dyna_bus(std::string_view protocol, std::string_view more) {
-  return "[[bus]]\nname = \"s\"\nport = \"/dev/ttyS1\"\nprotocol = \"" + std::string(protocol) +
-         "\"\n" + std::string(more);
-}
-
-// A Dyna on bus "s", unit 1; its address is the 5th line.
-std::string dyna_sensor(int address) {
-  return "[[sensor]]\nname = \"d\"\nbus = \"s\"\nmodel = \"dyna\"\naddress = " +
-         std::to_string(address) + "\nunit_id = 1\n";
-}
-
-// `text` holds exactly one error: at `line`, under `key`, saying `message`.
-void expect_error(const std::string& text, int line, std::string_view key,
-                  std::string_view message) {
-  CAPTURE(text);
-  const ConfigError e = only_error(text);
-  CHECK(e.line == line);
-  CHECK(e.key == key);
-  CHECK(e.message == message);
-}
-
-// The valid text with `keys` added to its bus from line 4 on.
-std::string with_bus_keys(std::string_view keys) {
-  std::string text = valid_plus("");
-  return text.insert(text.find("[[sensor]]"), keys);
-}
-
-}  // namespace
 
 TEST_CASE("config: the example file loads") {
   auto loaded = load_config_file(TILTGATE_SOURCE_DIR "/examples/tiltgate.toml");
@@ -228,87 +148,6 @@ TEST_CASE("config: missing required keys are reported at the table header") {
   CHECK(errors[2].message == "required key is missing; expected an integer in 1..247");
 }
 
-TEST_CASE("config: bus and sensor names must be unique") {
-  expect_error(valid_plus("[[bus]]\nname = \"line1\"\nport = \"/dev/ttyUSB1\"\n"), 11,
-               "bus[1].name", "duplicate bus name \"line1\", first declared at line 1");
-  expect_error(valid_plus(sensor_text("boom", "line1", 224, 2)), 11, "sensor[1].name",
-               "duplicate sensor name \"boom\", first declared at line 4");
-}
-
-TEST_CASE("config: two sensors cannot share a unit id") {
-  expect_error(valid_plus(sensor_text("jib", "line1", 224, 1)), 15, "sensor[1].unit_id",
-               "unit id 1 is already used by sensor \"boom\" (line 4)");
-}
-
-TEST_CASE("config: two sensors cannot share an address on one bus, but may on two") {
-  expect_error(valid_plus(sensor_text("jib", "line1", 223, 2)), 14, "sensor[1].address",
-               "223 is already used on bus \"line1\" by sensor \"boom\" (line 4)");
-  loads(valid_plus(sensor_text("jib", "line2", 223, 2) +
-                   "[[bus]]\nname = \"line2\"\nport = \"/dev/ttyUSB1\"\n"));
-}
-
-TEST_CASE("config: a sensor on an unknown bus lists the buses there are") {
-  expect_error(valid_plus(sensor_text("jib", "line9", 224, 2)), 12, "sensor[1].bus",
-               "unknown bus \"line9\", expected one of: line1");
-  expect_error(sensor_text("a", "x", 1, 1), 3, "sensor[0].bus",
-               "unknown bus \"x\": no [[bus]] is defined");
-}
-
-TEST_CASE("config: two buses cannot open one tty") {
-  expect_error(valid_plus("[[bus]]\nname = \"line2\"\nport = \"/dev/ttyUSB0\"\n"), 12,
-               "bus[1].port", "\"/dev/ttyUSB0\" is already used by bus \"line1\" (line 1)");
-  // Two spellings of one existing device compare by their canonical path.
-  std::string text = valid_plus("[[bus]]\nname = \"line2\"\nport = \"/dev/../dev/null\"\n");
-  text.replace(text.find("/dev/ttyUSB0"), 12, "/dev/null");
-  expect_error(text, 12, "bus[1].port",
-               "\"/dev/../dev/null\" is /dev/null, the same device as the port \"/dev/null\" of "
-               "bus \"line1\" (line 1)");
-}
-
-TEST_CASE("config: a model must suit its bus protocol") {
-  std::string dyna_on_rieker = valid_plus("");
-  dyna_on_rieker.replace(dyna_on_rieker.find("\"h6\""), 4, "\"dyna\"");
-  expect_error(dyna_on_rieker, 7, "sensor[0].model",
-               "model \"dyna\" needs a spectron-9bit or spectron-modbus bus, but bus \"line1\" is "
-               "rieker");
-  expect_error(with_bus_keys("protocol = \"spectron-modbus\"\nbaud = 28800\n"), 9,
-               "sensor[0].model",
-               "model \"h6\" needs a rieker bus, but bus \"line1\" is spectron-modbus");
-}
-
-TEST_CASE("config: the baud rate must be one the protocol's sensors support") {
-  expect_error(with_bus_keys("baud = 57600\n"), 4, "bus[0].baud",
-               "57600 is not a rieker baud rate, expected one of 9600, 19200, 38400, 62500, "
-               "115200, 125000, 128000, 250000");
-  expect_error(dyna_bus("spectron-9bit", "baud = 125000\n") + dyna_sensor(1), 5, "bus[0].baud",
-               "125000 is not a spectron-9bit baud rate, expected one of 4800, 9600, 19200, "
-               "28800, 38400");
-  expect_error(dyna_bus("spectron-9bit", "") + dyna_sensor(1), 1, "bus[0].baud",
-               "required key is missing on spectron-9bit buses; expected one of 4800, 9600, "
-               "19200, 28800, 38400");
-}
-
-TEST_CASE("config: sensor addresses follow the bus protocol's range") {
-  const auto rieker_with = [](std::string_view address) {
-    std::string text = valid_plus("");
-    return text.replace(text.find("address = 223"), 13, "address = " + std::string(address));
-  };
-  expect_error(rieker_with("0"), 8, "sensor[0].address",
-               "0 is out of range for a rieker bus, expected 1..65000");
-  expect_error(rieker_with("65001"), 8, "sensor[0].address",
-               "65001 is out of range for a rieker bus, expected 1..65000");
-  expect_error(with_bus_keys("master_address = 223\n"), 9, "sensor[0].address",
-               "223 is the master_address of bus \"line1\"; a sensor needs an address of its own");
-  const std::string baud = "baud = 28800\n";
-  loads(dyna_bus("spectron-9bit", baud) + dyna_sensor(0));
-  loads(dyna_bus("spectron-modbus", baud) + dyna_sensor(250));
-  expect_error(dyna_bus("spectron-9bit", baud) + dyna_sensor(256), 10, "sensor[0].address",
-               "256 is out of range for a spectron-9bit bus, expected 0..255");
-  expect_error(dyna_bus("spectron-modbus", baud) + dyna_sensor(0), 10, "sensor[0].address",
-               "0 is out of range for a spectron-modbus bus, expected 1..250");
-  expect_error(dyna_bus("spectron-modbus", baud) + dyna_sensor(251), 10, "sensor[0].address",
-               "251 is out of range for a spectron-modbus bus, expected 1..250");
-}
 
 TEST_CASE("config: listen must be an IPv4 or IPv6 address") {
   CHECK(loads("[server]\nlisten = \"::1\"\n" + valid_plus("")).server.listen == "::1");
@@ -335,43 +174,6 @@ TEST_CASE("config: a configuration without sensors is an error") {
   CHECK(e.to_string() == "test.toml: sensor: no [[sensor]] defined, expected at least one");
 }
 
-TEST_CASE("config: Dyna scaling takes integers or floats, and only on a Dyna") {
-  const std::string dyna = dyna_bus("spectron-modbus", "baud = 9600\n") + dyna_sensor(1);
-  const Config as_int = loads(dyna + "counts_per_degree = 200\nzero_counts = -5\n");
-  CHECK(as_int.sensors[0].family_options.get("counts_per_degree", 0) == 200.0);
-  CHECK(as_int.sensors[0].family_options.get("zero_counts", 0) == -5.0);
-  CHECK(loads(dyna + "counts_per_degree = 12.5\n")
-            .sensors[0]
-            .family_options.get("counts_per_degree", 0) == 12.5);
-  expect_error(dyna + "counts_per_degree = 0\n", 12, "sensor[0].counts_per_degree",
-               "must not be 0 (raw counts are divided by it)");
-  expect_error(valid_plus("zero_counts = 3\n"), 10, "sensor[0].zero_counts",
-               "applies to model \"dyna\" only, not \"h6\"");
-}
-
-TEST_CASE("config: eeprom_reserved_writes is off by default, a boolean, and Dyna only") {
-  const std::string dyna = dyna_bus("spectron-modbus", "baud = 9600\n") + dyna_sensor(1);
-  CHECK_FALSE(loads(dyna).sensors[0].family_options.flag("eeprom_reserved_writes"));
-  CHECK(loads(dyna + "eeprom_reserved_writes = true\n")
-            .sensors[0]
-            .family_options.flag("eeprom_reserved_writes"));
-  expect_error(valid_plus("eeprom_reserved_writes = true\n"), 10,
-               "sensor[0].eeprom_reserved_writes", "applies to model \"dyna\" only, not \"h6\"");
-}
-
-TEST_CASE("config: stale_ms shorter than poll_ms is an error") {
-  expect_error(valid_plus("poll_ms = 500\nstale_ms = 200\n"), 11, "sensor[0].stale_ms",
-               "200 is less than poll_ms 500: every reading would be stale before the next poll");
-}
-
-TEST_CASE("config: bus settings that contradict each other or the protocol") {
-  expect_error(with_bus_keys("reopen_min_ms = 5000\nreopen_max_ms = 1000\n"), 5,
-               "bus[0].reopen_max_ms", "reopen_max_ms 1000 is less than reopen_min_ms 5000");
-  expect_error(with_bus_keys("gap_us = 200\n"), 4, "bus[0].gap_us",
-               "200 is too short for rieker sensors, expected 1000..1000000");
-  expect_error(dyna_bus("spectron-9bit", "baud = 9600\nmaster_address = 5\n") + dyna_sensor(1), 6,
-               "bus[0].master_address", "applies to rieker buses only, not spectron-9bit");
-}
 
 TEST_CASE("config: every error in a file is reported, in line order") {
   const ConfigErrors errors = errors_of(
@@ -394,21 +196,4 @@ TEST_CASE("config: a file that cannot be opened says why") {
   REQUIRE(loaded.error().size() == 1);
   CHECK(loaded.error()[0].to_string() ==
         "/nonexistent/tiltgate.toml: cannot open: No such file or directory");
-}
-
-TEST_CASE("config: max_timeout_ms below timeout_ms is an error that says what is expected") {
-  expect_error(with_bus_keys("timeout_ms = 100\nmax_timeout_ms = 80\n"), 5,
-               "bus[0].max_timeout_ms", "80 is less than timeout_ms 100, expected at least 100");
-}
-
-TEST_CASE("config: the late guard's default follows the time-outs, and can be set") {
-  const Config longer = loads(with_bus_keys("timeout_ms = 100\nmax_timeout_ms = 1000\n"));
-  CHECK(longer.buses.at(0).max_timeout == 1000ms);
-  CHECK(longer.buses.at(0).late_guard == 900ms);
-  // A time-out above the default maximum raises the maximum with it; the guard keeps its floor.
-  const Config slow = loads(with_bus_keys("timeout_ms = 800\n"));
-  CHECK(slow.buses.at(0).max_timeout == 800ms);
-  CHECK(slow.buses.at(0).late_guard == kMinDefaultLateGuard);
-  const Config set = loads(with_bus_keys("late_guard_ms = 250\n"));
-  CHECK(set.buses.at(0).late_guard == 250ms);
 }
