@@ -1,36 +1,15 @@
 #include "modbus_rtu/crc.h"
 
-#include <array>
+#include "driver/crc16_a001.h"
 
 namespace tiltgate::modbus_rtu {
-namespace {
-
-constexpr std::uint16_t kReflectedPolynomial = 0xA001;  // 0x8005 bit-reversed
-
-constexpr std::array<std::uint16_t, 256> make_table() {
-  std::array<std::uint16_t, 256> table{};
-  for (unsigned byte = 0; byte < 256; ++byte) {
-    auto crc = static_cast<std::uint16_t>(byte);
-    for (int bit = 0; bit < 8; ++bit)
-      crc = (crc & 1u) ? static_cast<std::uint16_t>((crc >> 1) ^ kReflectedPolynomial)
-                       : static_cast<std::uint16_t>(crc >> 1);
-    table[byte] = crc;
-  }
-  return table;
-}
-
-constexpr std::array<std::uint16_t, 256> kTable = make_table();
-
-}  // namespace
 
 std::uint16_t crc16_update(std::uint16_t crc, std::uint8_t byte) {
-  return static_cast<std::uint16_t>((crc >> 8) ^ kTable[(crc ^ byte) & 0xFFu]);
+  return crc16_a001::update(crc, byte);
 }
 
 std::uint16_t crc16(std::span<const std::uint8_t> bytes) {
-  std::uint16_t crc = kCrcInitial;
-  for (std::uint8_t b : bytes) crc = crc16_update(crc, b);
-  return crc;
+  return crc16_a001::compute(kCrcInitial, bytes);
 }
 
 void append_crc(std::vector<std::uint8_t>& frame) {
