@@ -13,6 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "driver/closest_name.h"
+
 #include "config/error_list.h"
 
 namespace tiltgate::config {
@@ -75,8 +77,9 @@ class TableReader {
 Place place_of(const toml::source_region& region);
 // "an integer", "a string": for "expected X, got Y".
 std::string_view type_name(toml::node_type type);
-// The known key a misspelt one most likely meant: within edit distance 2, or a prefix either
-// way ("baudrate" -> "baud", "timeout" -> "timeout_ms"). Empty when nothing is close.
-std::string closest_key(std::string_view unknown, std::span<const std::string> known);
+// The known key a misspelt one most likely meant (driver/closest_name.h).
+inline std::string closest_key(std::string_view unknown, std::span<const std::string> known) {
+  return closest_name(unknown, known);
+}
 
 }  // namespace tiltgate::config
