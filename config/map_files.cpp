@@ -21,7 +21,8 @@ struct MapFile {
   std::string open_error;        // why it could not be read; empty when it was
   std::optional<ParsedMap> map;  // when it was read and parsed
   ErrorList errors;
-  std::set<std::string, std::less<>> checked_models;  // each model's checks reported once
+  // Each sensor kind's checks reported once: its model and its own values' names.
+  std::set<std::string, std::less<>> checked_kinds;
 };
 
 std::string resolve(std::string_view config_path, const std::string& map_file) {
@@ -76,6 +77,18 @@ std::string checked_model(const ParsedSensor& sensor) {
   return sensor.where.valid("model") ? sensor.config.model : std::string();
 }
 
+const std::vector<DeviceValue>& device_values(const ParsedSensor& sensor) {
+  return sensor.config.family_options.device_values();
+}
+
+// What the checks of a map depend on: the model and the sensor's own values.
+std::string sensor_kind(const ParsedSensor& sensor) {
+  std::string kind = checked_model(sensor);
+  for (const DeviceValue& value : device_values(sensor))
+    kind += fmt::format("\n{}{}", value.name, value.writable ? " (writable)" : "");
+  return kind;
+}
+
 void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& files,
               ErrorList& errors) {
   const std::string path = resolve(config_path, sensor.map_file);
@@ -84,8 +97,8 @@ void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& file
     return sensor.where.report(
         errors, "map", fmt::format("\"{}\" ({}) {}", sensor.map_file, path, file.open_error));
   if (!file.map) return;  // its syntax error is reported in the file
-  const std::string model = checked_model(sensor);
-  if (file.checked_models.insert(model).second) check_map(*file.map, model, file.errors);
+  if (file.checked_kinds.insert(sensor_kind(sensor)).second)
+    check_map(*file.map, checked_model(sensor), device_values(sensor), file.errors);
   sensor.config.map = file.map->definition;
   sensor.config.map_file = path;
 }
@@ -97,7 +110,7 @@ ConfigErrors load_sensor_maps(std::vector<ParsedSensor>& sensors, std::string_vi
   MapFiles files;
   for (ParsedSensor& sensor : sensors) {
     if (sensor.inline_map) {
-      check_map(*sensor.inline_map, checked_model(sensor), errors);
+      check_map(*sensor.inline_map, checked_model(sensor), device_values(sensor), errors);
       sensor.config.map = sensor.inline_map->definition;
     } else if (!sensor.map_file.empty()) {
       use_file(sensor, config_path, files, errors);

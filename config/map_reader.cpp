@@ -7,6 +7,7 @@
 #include "config/point_reader.h"
 #include "config/toml_reader.h"
 #include "mapping/default_maps.h"
+#include "mapping/device_values.h"
 #include "mapping/map_validation.h"
 
 namespace tiltgate::config {
@@ -90,6 +91,20 @@ ParsedMap readable_part(const ParsedMap& map, bool base_known) {
   return part;
 }
 
+// A source or setting name that is not built in is matched with the sensor's own values only
+// when the map is checked; a point left out of the checks for another key's error still has
+// that name checked, so that one run reports both.
+void check_unread_names(const ParsedMap& map, std::span<const DeviceValue> device_values,
+                        ErrorList& errors) {
+  for (std::size_t i = 0; i < map.points.size(); ++i) {
+    if (map.points_read[i]) continue;
+    Point point = map.definition.points[i];
+    resolve_device_values(std::span(&point, 1), device_values);
+    for (const DeviceNameProblem& problem : device_name_problems(point, device_values))
+      map.points[i].report(errors, problem.key, problem.message);
+  }
+}
+
 }  // namespace
 
 ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors) {
@@ -110,7 +125,8 @@ ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors
   return map;
 }
 
-void check_map(const ParsedMap& map, std::string_view model, ErrorList& errors) {
+void check_map(const ParsedMap& map, std::string_view model,
+               std::span<const DeviceValue> device_values, ErrorList& errors) {
   const bool base_known =
       map.header_read && !(model.empty() && map.definition.extends == kDefaultProfile);
   const ParsedMap part = readable_part(map, base_known);
@@ -120,7 +136,9 @@ void check_map(const ParsedMap& map, std::string_view model, ErrorList& errors) 
     return map.where.report(errors, "extends",
                             fmt::format("model \"{}\" has no built-in map to extend", model));
   if (base_known) check_removals(part, base, errors);
-  const std::vector<ResolvedPoint> resolved = resolve_points(part.definition, model);
+  if (!model.empty()) check_unread_names(map, device_values, errors);
+  const std::vector<ResolvedPoint> resolved =
+      resolve_points(part.definition, model, device_values);
   if (resolved.empty()) {
     if (whole)
       map.where.report(errors, "point",
@@ -129,7 +147,7 @@ void check_map(const ParsedMap& map, std::string_view model, ErrorList& errors) 
   }
   std::vector<Point> points;
   for (const ResolvedPoint& r : resolved) points.push_back(r.point);
-  for (const MapProblem& problem : check_points(points, model))
+  for (const MapProblem& problem : check_points(points, model, device_values))
     report(part, resolved, problem, errors);
 }
 

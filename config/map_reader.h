@@ -6,10 +6,12 @@
 #include <toml++/toml.h>
 
 #include <string>
+#include <span>
 #include <string_view>
 #include <vector>
 
 #include "config/error_list.h"
+#include "driver/device_value.h"
 #include "mapping/map_definition.h"
 
 namespace tiltgate::config {
@@ -25,11 +27,12 @@ struct ParsedMap {
 // `path` names the table in messages: "" for a map file's top level, "sensor[0].map" inline.
 ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors);
 
-// Checks `map` as the map of a sensor of `model` (mapping/map_validation.h); model "" when the
-// sensor's model is itself in error. Only what read without errors is checked, so that a key
+// Checks `map` as the map of a sensor of `model` whose own values are `device_values`
+// (mapping/map_validation.h); model "" when the sensor's model is itself in error. Only what read without errors is checked, so that a key
 // error elsewhere hides no map problem in the same run and adds no false one: a point with a
 // wrong key (it holds defaults) is left out, and so are the built-in points when `extends`,
 // `remove` or the model could not be read.
-void check_map(const ParsedMap& map, std::string_view model, ErrorList& errors);
+void check_map(const ParsedMap& map, std::string_view model,
+               std::span<const DeviceValue> device_values, ErrorList& errors);
 
 }  // namespace tiltgate::config

@@ -62,16 +62,24 @@ void read_packed_bits(TableReader& in, Point& p, const std::vector<std::string>&
   }
 }
 
-// `source`, or `bits`, or neither on a writable point (which shows what was written).
+// `source`, or `bits`, or neither on a writable point (which shows what was written). A name
+// that is no built-in source may be one of the sensor's own values (a device profile's): it is
+// kept, and matched when the map is checked for each sensor that uses it.
 void read_source(TableReader& in, Point& p) {
   const auto bits = in.strings("bits");
   const bool writable = in.has("write");
   const Presence presence = bits || writable ? Presence::optional : Presence::required;
-  if (auto source = read_named(in, "source", source_names(), presence)) {
-    if (bits)
+  if (auto name = in.string("source", presence)) {
+    if (bits) {
       in.error("source", "give either source or bits, not both");
-    else
+    } else if (auto source = from_name(source_names(), *name)) {
       p.source = *source;
+    } else if (name->empty()) {
+      in.error("source", unknown_name(*name, source_names()));
+    } else {
+      p.source = ValueSource::device_value;
+      p.device_value = *name;
+    }
   } else if (bits) {
     read_packed_bits(in, p, *bits);
   }
@@ -88,9 +96,21 @@ void read_scaling(TableReader& in, Point& p) {
   if (auto v = in.number("nan_value")) p.nan_value = *v;
 }
 
-// `write` and the range a written value must be in (before scaling), both ends required.
+// `write` and the range a written value must be in (before scaling), both ends required. A
+// name that is no built-in setting may be one of the sensor's own writable values, like a
+// source; such a point shows the value as the device holds it unless it names a source.
 void read_write(TableReader& in, Point& p) {
-  p.write = read_named(in, "write", write_target_names());
+  if (auto name = in.string("write")) {
+    if (auto target = from_name(write_target_names(), *name)) {
+      p.write = *target;
+    } else if (name->empty()) {
+      in.error("write", unknown_name(*name, write_target_names()));
+    } else {
+      p.write = kUnresolvedDeviceValue;
+      p.device_setting = *name;
+      if (!in.has("source")) p.source = ValueSource::setting;
+    }
+  }
   const bool writable = in.has("write");
   const Presence presence = writable ? Presence::required : Presence::optional;
   for (std::string_view key : {"min", "max"}) {

@@ -1,11 +1,15 @@
 // A sensor family's own [[sensor]] keys, as values: the core carries them from the config to
-// the family's driver factory without knowing what they mean (driver/family.h).
+// the family's driver factory without knowing what they mean (driver/family.h). With them, the
+// sensor's own named values that those keys describe (a device profile's), which register-map
+// points may show and write.
 #pragma once
 
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include "driver/device_value.h"
 
 namespace tiltgate {
 
@@ -52,7 +56,12 @@ class FamilyOptions {
     return {};
   }
 
+  // The sensor's own values (driver/device_value.h); none for most sensors.
+  void set_device_values(std::vector<DeviceValue> values) { device_values_ = std::move(values); }
+  const std::vector<DeviceValue>& device_values() const { return device_values_; }
+
  private:
+  std::vector<DeviceValue> device_values_;
   std::vector<std::pair<std::string, double>> values_;
   std::vector<std::pair<std::string, std::string>> texts_;
 };

@@ -31,11 +31,14 @@ enum class WriteErrorKind {
   refused,         // the sensor refused for another reason (other NAKs; Modbus 0x04)
   busy,            // still busy after the retries (Modbus 0x06)
   no_response,     // time-out or port failure (Modbus 0x0B)
+  // A device that speaks Modbus itself refused with an exception: relayed with its own code.
+  device_exception,
 };
 
 struct WriteError {
   WriteErrorKind kind;
   std::string detail;  // for the log: which step failed and why
+  std::uint8_t device_exception = 0;  // kind device_exception: the device's exception code
 };
 
 using WriteResult = Expected<Done, WriteError>;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "driver/write_target.h"
 
@@ -22,6 +23,9 @@ struct Reading {
   std::optional<std::int32_t> raw_counts;       // sensors that report raw counts
   std::optional<std::int32_t> raw_temperature; // sensors that report a temperature
   SteadyClock::time_point taken{};     // when the reply arrived
+  // The sensor's own values (driver/device_value.h), in its list's order; NaN for one that
+  // could not be read in this poll.
+  std::vector<double> device_values;
 };
 
 // Counters a field engineer reads when a bus misbehaves.

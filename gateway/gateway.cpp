@@ -9,7 +9,9 @@
 
 namespace tiltgate {
 
-RegisterMap map_for(const SensorConfig& sensor) { return build_map(sensor.map, sensor.model); }
+RegisterMap map_for(const SensorConfig& sensor) {
+  return build_map(sensor.map, sensor.model, sensor.family_options.device_values());
+}
 
 Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     : io_(io),

@@ -51,8 +51,15 @@ ModbusException exception_for(WriteErrorKind kind) {
     case WriteErrorKind::refused: return ModbusException::device_failure;
     case WriteErrorKind::busy: return ModbusException::busy;
     case WriteErrorKind::no_response: return ModbusException::gateway_target_failed;
+    case WriteErrorKind::device_exception: return ModbusException::device_failure;
   }
   return ModbusException::device_failure;
+}
+
+ModbusException exception_for(const WriteError& error) {
+  if (error.kind == WriteErrorKind::device_exception && error.device_exception != 0)
+    return ModbusException(error.device_exception);
+  return exception_for(error.kind);
 }
 
 std::vector<DeviceObject> device_objects(const GatewaySensor& sensor) {
@@ -133,7 +140,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
   }
   if (!checked) {
     spdlog::warn("{}: write refused: {}", sensor.config.name, checked.error().detail);
-    co_return failure(exception_for(checked.error().kind));
+    co_return failure(exception_for(checked.error()));
   }
   const auto deadline = SteadyClock::now() + options_.write_timeout;
   for (std::size_t i = 0; i < plan->size(); ++i) {
@@ -143,7 +150,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
       spdlog::warn("{}: write {} = {} failed: {}", sensor.config.name, step.point->name,
                    step.value, done.error().detail);
       sensor.driver->abandon(std::span(settings).first(i));
-      co_return failure(exception_for(done.error().kind));
+      co_return failure(exception_for(done.error()));
     }
     spdlog::info("{}: wrote {} = {}", sensor.config.name, step.point->name, step.value);
     std::copy(step.words.begin(), step.words.end(),

@@ -38,6 +38,8 @@ class RequestRouter : public ModbusRequestHandler {
 };
 
 ModbusException exception_for(WriteErrorKind kind);
+// The same, but a device's own Modbus exception is relayed with its code.
+ModbusException exception_for(const WriteError& error);
 
 // Every Read Device Identification object of a sensor (gateway/device_identification.h for
 // the ids): vendor and product from its model, firmware and serial as the sensor reported

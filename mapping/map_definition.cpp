@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "mapping/default_maps.h"
+#include "mapping/device_values.h"
 
 namespace tiltgate {
 
@@ -11,7 +12,8 @@ std::string base_profile(const MapDefinition& definition, std::string_view model
   return definition.extends;
 }
 
-std::vector<ResolvedPoint> resolve_points(const MapDefinition& definition, std::string_view model) {
+std::vector<ResolvedPoint> resolve_points(const MapDefinition& definition, std::string_view model,
+                                          std::span<const DeviceValue> device_values) {
   std::vector<ResolvedPoint> resolved;
   const std::string base = base_profile(definition, model);
   if (!base.empty()) {
@@ -25,15 +27,19 @@ std::vector<ResolvedPoint> resolve_points(const MapDefinition& definition, std::
       if (!replaced) resolved.push_back({p, kBuiltIn});
     }
   }
-  for (std::size_t i = 0; i < definition.points.size(); ++i)
+  for (std::size_t i = 0; i < definition.points.size(); ++i) {
     resolved.push_back({definition.points[i], i});
+    resolve_device_values(std::span(&resolved.back().point, 1), device_values);
+  }
   return resolved;
 }
 
-RegisterMap build_map(const std::optional<MapDefinition>& definition, std::string_view model) {
+RegisterMap build_map(const std::optional<MapDefinition>& definition, std::string_view model,
+                      std::span<const DeviceValue> device_values) {
   if (!definition) return default_map(model);
   std::vector<Point> points;
-  for (ResolvedPoint& r : resolve_points(*definition, model)) points.push_back(std::move(r.point));
+  for (ResolvedPoint& r : resolve_points(*definition, model, device_values))
+    points.push_back(std::move(r.point));
   return RegisterMap(std::move(points));
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "mapping/device_values.h"
 #include "mapping/model_capabilities.h"
 #include "mapping/value_codec.h"
 
@@ -32,8 +33,8 @@ bool is_text_source(ValueSource source) { return source == S::serial || source =
 class PointChecker {
  public:
   PointChecker(const Point& point, std::size_t index, std::string_view model,
-               std::vector<MapProblem>& problems)
-      : p_(point), index_(index), model_(model), problems_(problems) {}
+               std::span<const DeviceValue> device_values, std::vector<MapProblem>& problems)
+      : p_(point), index_(index), model_(model), values_(device_values), problems_(problems) {}
 
   void run() {
     check_place();
@@ -186,14 +187,21 @@ class PointChecker {
     for (const auto& bit : p_.bits)
       if (bit && !offered(*bit))
         report("bits", fmt::format("model \"{}\" does not offer {}", model_, to_string(*bit)));
-    if (p_.write && !model_accepts(model_, *p_.write))
+    if (p_.write && !p_.write->is_device_value() && !model_accepts(model_, *p_.write))
       report("write", fmt::format("model \"{}\" does not accept writes of {}", model_,
                                   to_string(*p_.write)));
+    check_device_values();
+  }
+
+  void check_device_values() {
+    for (DeviceNameProblem& problem : device_name_problems(p_, values_))
+      report(std::move(problem.key), std::move(problem.message));
   }
 
   const Point& p_;
   std::size_t index_;
   std::string_view model_;
+  std::span<const DeviceValue> values_;
   std::vector<MapProblem>& problems_;
 };
 
@@ -230,9 +238,11 @@ void check_layout(std::span<const Point> points, std::vector<MapProblem>& proble
 
 }  // namespace
 
-std::vector<MapProblem> check_points(std::span<const Point> points, std::string_view model) {
+std::vector<MapProblem> check_points(std::span<const Point> points, std::string_view model,
+                                     std::span<const DeviceValue> device_values) {
   std::vector<MapProblem> problems;
-  for (std::size_t i = 0; i < points.size(); ++i) PointChecker(points[i], i, model, problems).run();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    PointChecker(points[i], i, model, device_values, problems).run();
   check_layout(points, problems);
   return problems;
 }

@@ -75,7 +75,10 @@ std::span<const Named<WriteTarget>> write_target_names() {
   return names;
 }
 
-const char* to_string(WriteTarget target) { return name_of(write_target_names(), target).data(); }
+const char* to_string(WriteTarget target) {
+  if (target.is_device_value()) return "the device's value";
+  return name_of(write_target_names(), target).data();
+}
 
 std::uint16_t Point::words() const {
   switch (type) {

@@ -14,6 +14,9 @@
 
 namespace tiltgate {
 
+// Point::device_index before (or without) a match with the sensor's values.
+inline constexpr std::uint16_t kNoDeviceValue = 0xFFFF;
+
 struct Point {
   std::string name;
   RegisterTable table = RegisterTable::input;
@@ -34,6 +37,13 @@ struct Point {
   std::optional<std::uint8_t> bit;  // this bit (0 = least significant) of an integer source
   std::vector<std::optional<ValueSource>> bits;  // source `bits`: bit i shows bits[i]; none: 0
   std::optional<WriteTarget> write;              // holding points that trigger a sensor write
+  // The sensor's own value (driver/device_value.h) that source device_value shows, and the
+  // one a write of kUnresolvedDeviceValue writes, by name as the map file gives them; matched
+  // with one sensor's values by resolve_device_values() (mapping/device_values.h), which sets
+  // device_index and the write's WriteTarget::device_value.
+  std::string device_value;
+  std::string device_setting;
+  std::uint16_t device_index = kNoDeviceValue;
   double min = 0, max = 0;  // writable points: allowed range (inclusive, before scaling)
   std::string units;
   std::string description;

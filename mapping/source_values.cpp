@@ -32,10 +32,17 @@ double optional_int(const std::optional<std::int32_t>& value) {
 
 double bit_of(std::uint16_t flags, std::uint16_t bit) { return (flags & bit) != 0 ? 1 : 0; }
 
+// The sensor's own value `index` from its last reading; NaN before one, or unmatched.
+double device_value(const SensorView& v, std::size_t index) {
+  if (!v.state.reading || index >= v.state.reading->device_values.size()) return NAN;
+  return v.state.reading->device_values[index];
+}
+
 // NaN (the point's nan_value) while the driver does not know the setting, and on a point that
-// names none.
+// names none. A sensor's own writable value is known from every poll.
 double setting_value(const Point& p, const SensorView& v) {
   if (!p.write) return NAN;
+  if (p.write->is_device_value()) return device_value(v, p.write->device_index());
   return v.state.settings.get(*p.write).value_or(NAN);
 }
 
@@ -119,6 +126,7 @@ double source_value(ValueSource source, const SensorView& v) {
     case S::firmware:
     case S::written:
     case S::setting:
+    case S::device_value:
     case S::bits:
       return NAN;
   }
@@ -132,7 +140,9 @@ double point_value(const Point& p, const SensorView& v) {
       if (p.bits[i] && source_value(*p.bits[i], v) != 0) packed |= std::uint32_t(1) << i;
     return packed;
   }
-  const double value = p.source == S::setting ? setting_value(p, v) : source_value(p.source, v);
+  const double value = p.source == S::setting        ? setting_value(p, v)
+                       : p.source == S::device_value ? device_value(v, p.device_index)
+                                                     : source_value(p.source, v);
   if (p.bit) {
     if (std::isnan(value)) return 0;
     // Integer sources only (checked when the map is loaded); signed ones in two's complement.

@@ -70,6 +70,7 @@ std::span<const Named<ValueSource>> source_names() { return kSources; }
 
 const char* to_string(ValueSource source) {
   if (source == S::bits) return "bits";
+  if (source == S::device_value) return "the device's value";
   return name_of(source_names(), source).data();
 }
 
@@ -82,6 +83,7 @@ bool is_measurement(ValueSource source) {
     case S::tilt:
     case S::raw_counts:
     case S::raw_temperature:
+    case S::device_value:  // polled with the measurement, stale with it
       return true;
     default:
       return false;

@@ -53,10 +53,14 @@ enum class ValueSource : std::uint8_t {
   // acknowledged); NaN while unknown, and always on a point without `write` (a setting the
   // model does not have).
   setting,
+  // One of the sensor's own values (driver/device_value.h): Point::device_value names it. A
+  // map file names it by that name, not by this source's.
+  device_value,
   bits,     // an integer made of one-bit sources (Point::bits), not named in files
 };
 
-// Every source a map file may name (all but `bits`, which is spelt as a key of its own).
+// Every built-in source a map file may name (not `bits`, which is spelt as a key of its own,
+// nor `device_value`, which a file spells as the value's own name).
 std::span<const Named<ValueSource>> source_names();
 const char* to_string(ValueSource source);
 
@@ -73,7 +77,7 @@ bool is_angle_source(ValueSource source);
 
 // The documented range of a source's value, in `unit` for angle sources; infinite bounds where
 // the value has none (percent grade). Strings, `written` and `setting` have no numeric range:
-// empty.
+// empty, and so have a sensor's own values (their range is the device's).
 struct ValueRange {
   double min = 0;
   double max = 0;

@@ -86,7 +86,7 @@ class FakeDriver : public SensorDriver {
     co_await line.transact(LineRequest{{}, 0, nullptr, poll_time});
     state_.online = answers;
     if (answers) {
-      state_.reading = Reading{1.0, 2.0, {}, {}, SteadyClock::now()};
+      state_.reading = Reading{1.0, 2.0, {}, {}, SteadyClock::now(), {}};
       ++state_.sample_seq;
     }
     events_.push_back(name_ + " poll end");
