@@ -1,5 +1,6 @@
 #include "modbus_rtu/device_profile.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "mapping/point.h"
@@ -52,6 +53,25 @@ std::vector<NamedValue> decode_values(const DeviceProfile& profile, const Polled
   for (const ProfileValue& value : profile.values)
     decoded.push_back(NamedValue{value.name, decode(value, profile, blocks)});
   return decoded;
+}
+
+std::vector<DeviceValue> device_values_of(const DeviceProfile& profile) {
+  std::vector<DeviceValue> values;
+  for (const ProfileValue& v : profile.values) {
+    DeviceValue value;
+    value.name = v.name;
+    value.writable = v.writable;
+    std::int64_t low = 0, high = 0;
+    if (integer_limits(v.type, low, high)) {
+      value.min = double(low) * v.scale + v.offset;
+      value.max = double(high) * v.scale + v.offset;
+      if (value.min > value.max) std::swap(value.min, value.max);
+    }
+    if (v.min) value.min = std::max(value.min, *v.min);
+    if (v.max) value.max = std::min(value.max, *v.max);
+    values.push_back(std::move(value));
+  }
+  return values;
 }
 
 std::vector<std::uint16_t> encode_value(const ProfileValue& target, double value) {

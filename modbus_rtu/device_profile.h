@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "driver/device_value.h"
 #include "mapping/point_types.h"
 #include "modbus_rtu/codec.h"
 
@@ -49,6 +50,11 @@ struct DeviceProfile {
 
   const ProfileValue* find(std::string_view name) const;
 };
+
+// The profile's values as the sensor's own values (driver/device_value.h), in profile order:
+// what register-map points may show and write. A writable value's range is its min and max,
+// else what its register type holds once scaled.
+std::vector<DeviceValue> device_values_of(const DeviceProfile& profile);
 
 // Registers a number type takes; 0 for bool and string, which a profile does not offer.
 std::uint16_t words_of(PointType type);

@@ -87,6 +87,7 @@ void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
     return;
   }
   options.set_text("device", *path);
+  options.set_device_values(device_values_of(*profile));
 }
 
 // The profile was checked when the configuration was loaded; it is read again here, and a

@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include "driver/write_target.h"
+#include "mapping/point.h"
+#include "mapping/value_source.h"
+
 namespace tiltgate::modbus_rtu {
 namespace {
 
@@ -54,11 +58,29 @@ bool inside_a_block(const Span& span, const std::vector<LocatedBlock>& blocks) {
   return false;
 }
 
+// A map file names a value by its name, as it names a built-in source or setting, so a value
+// may not take a built-in's name: the map could not reach it. angle_x and angle_y are the two
+// that mean the built-in angles.
+void check_name(const LocatedValue& v, config::ErrorList& errors) {
+  const std::string& name = v.value.name;
+  if (name == "angle_x" || name == "angle_y") return;
+  if (from_name(source_names(), name))
+    v.where.report(errors, "name", fmt::format("\"{}\" is a built-in source of every sensor; "
+                                               "give the value another name", name));
+  else if (from_name(write_target_names(), name))
+    v.where.report(errors, "name", fmt::format("\"{}\" is a built-in setting; give the value "
+                                               "another name", name));
+}
+
 void check_value(const std::vector<LocatedValue>& values, std::size_t i,
                  const std::vector<LocatedBlock>& blocks, bool blocks_read,
                  config::ErrorList& errors) {
   const LocatedValue& v = values[i];
   const Span span = span_of(v.value);
+  check_name(v, errors);
+  if (i == kMaxDeviceValues)
+    v.where.report(errors, "name", fmt::format("a profile has at most {} values",
+                                               kMaxDeviceValues));
   for (std::size_t j = 0; j < i; ++j) {
     if (!values[j].read_ok) continue;
     if (values[j].value.name == v.value.name)

@@ -2,7 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <limits>
 
 #include "modbus_rtu/reply_framer.h"
 
@@ -25,13 +28,67 @@ RtuDriver::RtuDriver(RtuDriverOptions options)
   state_.bus_address = options_.slave;
 }
 
-WriteResult RtuDriver::check_write(WriteTarget, double) const {
-  return Unexpected(
-      WriteError{WriteErrorKind::not_supported, "Modbus RTU devices take no writes yet"});
+WriteResult RtuDriver::check_write(WriteTarget target, double value) const {
+  const auto& values = options_.profile.values;
+  if (!target.is_device_value() || target.device_index() >= values.size() ||
+      !values[target.device_index()].writable)
+    return Unexpected{WriteError{WriteErrorKind::not_supported,
+                                 "a Modbus RTU device takes writes of its profile's writable "
+                                 "values only"}};
+  const ProfileValue& v = values[target.device_index()];
+  const DeviceValue range = device_values_of(options_.profile)[target.device_index()];
+  if (!std::isfinite(value) || value < range.min || value > range.max)
+    return Unexpected{WriteError{
+        WriteErrorKind::bad_value,
+        fmt::format("{} = {} is outside {}..{}", v.name, value, range.min, range.max)}};
+  const double raw = (value - v.offset) / v.scale;
+  if (v.type == PointType::float32 && std::fabs(raw) > std::numeric_limits<float>::max())
+    return Unexpected{WriteError{WriteErrorKind::bad_value,
+                                 fmt::format("{} = {} does not fit a float32", v.name, value)}};
+  return Done{};
 }
 
-asio::awaitable<WriteResult> RtuDriver::write(Line&, WriteTarget target, double value) {
-  co_return check_write(target, value);
+void RtuDriver::count_refusal(std::uint8_t code) {
+  if (code < state_.counters.refusals.size()) ++state_.counters.refusals[code];
+  state_.counters.last_refusal = code;
+}
+
+asio::awaitable<Expected<Reply, WriteError>> RtuDriver::exchange(Line& line,
+                                                                  const Request& request) {
+  RtuReplyFramer framer(request);
+  LineRequest line_request;
+  line_request.bytes = request.frame;
+  line_request.framer = &framer;
+  auto sent = co_await transact_counted(line, std::move(line_request), ExchangeOptions{});
+  state_.counters.checksum_errors += std::uint32_t(framer.crc_errors());
+  if (!sent)
+    co_return Unexpected{WriteError{WriteErrorKind::no_response, to_string(sent.error())}};
+  const auto& reply = *framer.reply();
+  if (!reply) co_return Unexpected{WriteError{WriteErrorKind::refused, to_string(reply.error())}};
+  if (reply->exception) {
+    count_refusal(*reply->exception);
+    co_return Unexpected{WriteError{WriteErrorKind::device_exception,
+                                    fmt::format("the device answered exception {:02X}",
+                                                *reply->exception),
+                                    *reply->exception}};
+  }
+  co_return *reply;
+}
+
+asio::awaitable<WriteResult> RtuDriver::write(Line& line, WriteTarget target, double value) {
+  auto checked = check_write(target, value);
+  if (!checked) co_return checked;
+  const ProfileValue& v = options_.profile.values[target.device_index()];
+  auto request = write_request(options_.slave, v, value);
+  if (!request)
+    co_return Unexpected{WriteError{WriteErrorKind::bad_value, to_string(request.error())}};
+  auto reply = co_await exchange(line, *request);
+  state_.last_write_failed = !reply;
+  if (!reply) co_return Unexpected{reply.error()};
+  // What the device now holds, until the next poll reads it back.
+  if (state_.reading && target.device_index() < state_.reading->device_values.size())
+    state_.reading->device_values[target.device_index()] = value;
+  co_return Done{};
 }
 
 // A Modbus slave has no identity the profile describes: known as soon as the line is open.
@@ -45,25 +102,13 @@ asio::awaitable<std::optional<std::vector<std::uint16_t>>> RtuDriver::read_block
     Line& line, const ReadBlock& block) {
   auto request = read_request(options_.slave, block.bank, block.address, block.count);
   if (!request) co_return std::nullopt;  // the profile's checks keep blocks valid
-  RtuReplyFramer framer(*request);
-  LineRequest line_request;
-  line_request.bytes = request->frame;
-  line_request.framer = &framer;
-  auto sent = co_await transact_counted(line, std::move(line_request), ExchangeOptions{});
-  state_.counters.checksum_errors += std::uint32_t(framer.crc_errors());
-  if (!sent) co_return std::nullopt;
-  const auto& reply = *framer.reply();
+  auto reply = co_await exchange(line, *request);
   if (!reply) {
-    spdlog::warn("{}: slave {}: {}", options_.name, options_.slave, to_string(reply.error()));
+    if (reply.error().kind == WriteErrorKind::refused)
+      spdlog::warn("{}: slave {}: {}", options_.name, options_.slave, reply.error().detail);
     co_return std::nullopt;
   }
-  if (reply->exception) {
-    const std::uint8_t code = *reply->exception;
-    if (code < state_.counters.refusals.size()) ++state_.counters.refusals[code];
-    state_.counters.last_refusal = code;
-    co_return std::nullopt;
-  }
-  co_return reply->registers;
+  co_return std::move(reply->registers);
 }
 
 asio::awaitable<void> RtuDriver::read_measurement(Line& line) {
@@ -80,6 +125,7 @@ asio::awaitable<void> RtuDriver::read_measurement(Line& line) {
   Reading reading;
   reading.angle_x = value_named(values, "angle_x");
   reading.angle_y = value_named(values, "angle_y");
+  for (const NamedValue& value : values) reading.device_values.push_back(value.value);
   reading.taken = SteadyClock::now();
   state_.reading = reading;
   ++state_.sample_seq;

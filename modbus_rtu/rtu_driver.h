@@ -1,9 +1,13 @@
 // A Modbus RTU slave described by a device profile (modbus_rtu/device_profile.h), as a sensor:
 // each poll reads every [[read]] block (FC 3/4), decodes the profile's values and publishes a
 // Reading with angle_x and angle_y (NaN when the profile has none). There is no identity to
-// read. An exception reply is the device refusing the request: it is counted by its code
-// (refusals[], last_refusal) and fails the poll. Writes are refused as not supported: writable
-// profile values as settings are the next step.
+// read. Every profile value is published too (Reading::device_values, in profile order), for
+// map points to show. An exception reply is the device refusing the request: it is counted by
+// its code (refusals[], last_refusal) and fails the poll.
+//
+// The profile's writable values are the driver's settings (WriteTarget::device_value(index)):
+// a write is checked against the value's range, sent with FC 6 (one register) or FC 16, and
+// answered once the device has replied; the device's exception is relayed with its own code.
 #pragma once
 
 #include <cstdint>
@@ -39,6 +43,9 @@ class RtuDriver final : public PolledSensorDriver {
   // One read block's registers, or nullopt when the exchange failed or the device refused it.
   boost::asio::awaitable<std::optional<std::vector<std::uint16_t>>> read_block(
       Line& line, const ReadBlock& block);
+  // One exchange with the device, counted; the checked reply, or why there is none.
+  boost::asio::awaitable<Expected<Reply, WriteError>> exchange(Line& line, const Request& request);
+  void count_refusal(std::uint8_t code);
 
   RtuDriverOptions options_;
 };

@@ -10,26 +10,12 @@
 #include <string>
 
 #include "config/config_loader.h"
+#include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
+using tiltgate::test::ScratchDir;
 
 namespace {
-
-// A directory of its own under /tmp, removed afterwards.
-struct ScratchDir {
-  std::filesystem::path dir;
-  ScratchDir() {
-    static int counter = 0;
-    dir = std::filesystem::temp_directory_path() /
-          ("tiltgate-device-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    std::filesystem::create_directories(dir);
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir, ignored);
-  }
-  std::string path(const std::string& name) const { return (dir / name).string(); }
-};
 
 std::string rtu_config(std::string_view sensor_keys) {
   return "[[bus]]\nname = \"rtu\"\nport = \"/dev/ttyUSB0\"\nprotocol = \"modbus-rtu\"\n\n"

@@ -88,10 +88,10 @@ TEST_CASE("the example RTU device profile decodes the simulator preset's registe
   CHECK(value_of(values, "angle_x") == -1.25);
   CHECK(value_of(values, "angle_y") == 12.5);
   CHECK(value_of(values, "temperature") == doctest::Approx(-3.7));
-  CHECK(value_of(values, "status") == 0);
-  CHECK(value_of(values, "filter") == 6);
+  CHECK(value_of(values, "device_status") == 0);
+  CHECK(value_of(values, "filter_level") == 6);
   CHECK(value_of(values, "serial_number") == 20240917);
-  const ProfileValue* filter = loaded->find("filter");
+  const ProfileValue* filter = loaded->find("filter_level");
   REQUIRE(filter != nullptr);
   CHECK(filter->writable);
   CHECK(filter->min == std::optional<double>(1));
@@ -166,7 +166,7 @@ TEST_CASE("RTU profile writes undo scale and offset and round") {
 TEST_CASE("RTU profile writes use FC 6 for one register and FC 16 for more") {
   const auto loaded = load_device_profile(kExample);
   REQUIRE(loaded.has_value());
-  const auto filter = write_request(1, *loaded->find("filter"), 6);
+  const auto filter = write_request(1, *loaded->find("filter_level"), 6);
   REQUIRE(filter.has_value());
   CHECK(filter->function == kWriteSingleRegister);
   CHECK(filter->frame == write_single_request(1, 0, 6)->frame);
