@@ -55,6 +55,9 @@ struct BusConfig {
   std::uint16_t master_address = 0;           // protocols where the master has an address
   std::chrono::milliseconds reopen_min{500};  // back-off when the tty disappears
   std::chrono::milliseconds reopen_max{10000};
+  // Modbus unit ids whose requests are forwarded unchanged to the device with that address on
+  // this bus, and its reply relayed (protocols that can: ProtocolDescriptor::forward).
+  std::vector<std::uint8_t> pass_through;
   int line = 0;                               // where it was declared, for messages
 };
 

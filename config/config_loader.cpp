@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "config/cross_checks.h"
 #include "config/map_files.h"
+#include "config/pass_through_checks.h"
 #include "config/sections.h"
 #include "config/text_file.h"
 #include "config/toml_reader.h"
@@ -62,8 +65,20 @@ void report_unknown_top_level(const toml::key& key, const toml::node& node, Erro
   errors.add(place_of(key.source()), std::string(key.str()), std::move(message));
 }
 
-// A gateway with nothing to serve is a commissioning mistake, not a configuration.
-bool sensors_missing(const toml::table& root) {
+// Whether a [[bus]] lists unit ids to pass through, as written (whether or not they are
+// valid: a bad list has its own error, and is still meant to be served).
+bool lists_pass_through(const toml::node& bus) {
+  const toml::table* table = bus.as_table();
+  const toml::node* ids = table ? table->get("pass_through") : nullptr;
+  return ids != nullptr && !(ids->is_array() && ids->as_array()->empty());
+}
+
+// A gateway with nothing to serve is a commissioning mistake, not a configuration. Unit ids
+// passed through to a bus are something to serve.
+bool nothing_served(const toml::table& root) {
+  if (const toml::array* buses = root["bus"].as_array()) {
+    if (std::any_of(buses->begin(), buses->end(), lists_pass_through)) return false;
+  }
   const toml::node* node = root.get("sensor");
   return node == nullptr || (node->is_array() && node->as_array()->empty());
 }
@@ -120,10 +135,11 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
       report_unknown_top_level(key, node, errors);
     }
   }
-  if (sensors_missing(root))
+  if (nothing_served(root))
     errors.add(Place{}, "sensor", "no [[sensor]] defined, expected at least one");
   check_buses(buses, errors);
   check_sensors(sensors, buses, errors, families);
+  check_pass_through(buses, sensors, errors);
   ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors);
   if (!errors.empty() || !map_file_errors.empty()) {
     ConfigErrors all = errors.take();

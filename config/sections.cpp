@@ -199,6 +199,28 @@ void read_reopen_backoff(TableReader& in, BusConfig& bus) {
   }
 }
 
+// pass_through: unit ids forwarded to the device with that address, where the protocol can
+// forward Modbus requests. Checks across buses and sensors are in pass_through_checks.cpp.
+void read_pass_through(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protocol) {
+  // Modbus unit ids and slave addresses share 1..247 (0 broadcasts, 248..255 are reserved).
+  const auto ids = in.integers("pass_through", 1, 247);
+  if (!ids) return;
+  if (protocol != nullptr && protocol->forward == nullptr) {
+    in.error("pass_through",
+             fmt::format("protocol {} cannot forward Modbus requests", bus.protocol));
+    return;
+  }
+  for (std::size_t i = 0; i < ids->size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if ((*ids)[j] != (*ids)[i]) continue;
+      in.error("pass_through", fmt::format("unit id {} is listed twice", (*ids)[i]));
+      bus.pass_through.clear();
+      return;
+    }
+    bus.pass_through.push_back(std::uint8_t((*ids)[i]));
+  }
+}
+
 // A family's keys through the TableReader, so errors carry the file, line and key.
 class TableKeyReader final : public SensorKeyReader {
  public:
@@ -339,6 +361,7 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   if (auto echo = in.boolean("echo")) bus.echo = *echo;
   read_master_address(in, bus, protocol.protocol, families);
   read_reopen_backoff(in, bus);
+  read_pass_through(in, bus, protocol.protocol);
   in.reject_unknown_keys();
   return ParsedBus{std::move(bus), in.located()};
 }

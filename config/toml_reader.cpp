@@ -183,6 +183,29 @@ std::optional<std::vector<std::string>> TableReader::strings(std::string_view ke
   return values;
 }
 
+std::optional<std::vector<std::int64_t>> TableReader::integers(std::string_view key,
+                                                               std::int64_t min, std::int64_t max,
+                                                               Presence presence) {
+  const auto expected = fmt::format("an array of integers in {}..{}", min, max);
+  const toml::node* node = find(key, toml::node_type::array, presence, expected);
+  if (node == nullptr) return std::nullopt;
+  std::vector<std::int64_t> values;
+  for (const toml::node& element : *node->as_array()) {
+    if (!element.is_integer()) {
+      error(key, fmt::format("expected {}, found {}", expected, type_name(element.type())));
+      return std::nullopt;
+    }
+    const std::int64_t value = element.as_integer()->get();
+    if (value < min || value > max) {
+      error(key, fmt::format("{} is out of range, expected {}", value, expected));
+      return std::nullopt;
+    }
+    values.push_back(value);
+  }
+  located_.mark_valid(key);
+  return values;
+}
+
 const toml::table* TableReader::table(std::string_view key, Presence presence) {
   const toml::node* node = find(key, toml::node_type::table, presence, "a table");
   if (node == nullptr) return nullptr;

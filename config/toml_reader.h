@@ -45,6 +45,10 @@ class TableReader {
   // An array of strings.
   std::optional<std::vector<std::string>> strings(std::string_view key,
                                                   Presence presence = Presence::optional);
+  // An array of integers, each in min..max.
+  std::optional<std::vector<std::int64_t>> integers(std::string_view key, std::int64_t min,
+                                                    std::int64_t max,
+                                                    Presence presence = Presence::optional);
   // A table: an inline table or a [parent.key] sub-table, which toml++ gives alike.
   const toml::table* table(std::string_view key, Presence presence = Presence::optional);
   // Any node, for a key whose type selects its meaning; the caller checks it and calls

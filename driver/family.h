@@ -17,6 +17,7 @@
 #include "driver/adaptive_reply_timeout.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
+#include "driver/forwarding.h"
 #include "driver/sensor_driver.h"
 #include "driver/simulator.h"
 
@@ -53,6 +54,10 @@ struct ProtocolDescriptor {
   // The quiet time between master packets when a bus does not give gap_us, for protocols that
   // measure it in characters at the bus's baud and framing (Modbus RTU's t3.5). Null: 1 ms.
   std::chrono::microseconds (*default_gap)(std::uint32_t baud, Framing framing) = nullptr;
+  // For a protocol that carries Modbus PDUs: wraps a Modbus TCP request's PDU for one device
+  // on the bus and finds its reply, so a [[bus]] may pass unit ids through to its devices
+  // (driver/forwarding.h). Null: the protocol cannot forward Modbus requests.
+  ForwardFactory forward = nullptr;
 };
 
 // What Read Device Identification (FC 43) reports for a model.

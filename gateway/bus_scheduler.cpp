@@ -21,6 +21,16 @@ void BusScheduler::add(GatewaySensor& sensor) {
   sensors_.push_back({&sensor, PollSchedule{SteadyClock::now()}});
 }
 
+const char* to_string(ForwardFailure failure) {
+  switch (failure) {
+    case ForwardFailure::busy: return "bus too busy: forward queue full";
+    case ForwardFailure::expired: return "bus too busy: not sent in time";
+    case ForwardFailure::no_response: return "no reply";
+    case ForwardFailure::unframed: return "cannot be forwarded on this bus";
+  }
+  return "unknown";
+}
+
 void BusScheduler::stop() {
   stopping_ = true;
   wake_.cancel();
@@ -29,6 +39,16 @@ void BusScheduler::stop() {
     pending->done.cancel();
   }
   writes_.clear();
+  for (auto& pending : forwards_) {
+    pending->result = Unexpected{ForwardFailure::no_response};
+    pending->done.cancel();
+  }
+  forwards_.clear();
+}
+
+void BusScheduler::enable_forwarding(ForwardFactory make, std::size_t max_queued) {
+  make_forward_ = make;
+  max_queued_forwards_ = max_queued;
 }
 
 BusScheduler::Polled* BusScheduler::next_due() {
@@ -64,7 +84,17 @@ asio::awaitable<void> BusScheduler::run() {
     }
     Polled* polled = next_due();
     auto now = SteadyClock::now();
-    if (polled == nullptr || polled->schedule.due > now) {
+    const bool poll_due = polled != nullptr && polled->schedule.due <= now;
+    // Forwarded requests and due polls take turns: a client hammering a passed-through device
+    // cannot starve the cached sensors, and a busy poll schedule cannot starve the client.
+    if (!forwards_.empty() && (!poll_due || !forwarded_last_)) {
+      auto pending = forwards_.front();
+      forwards_.pop_front();
+      co_await run_forward(pending);
+      forwarded_last_ = true;
+      continue;
+    }
+    if (!poll_due) {
       wake_.expires_at(polled ? polled->schedule.due : now + std::chrono::hours(1));
       boost::system::error_code ec;
       co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
@@ -72,6 +102,7 @@ asio::awaitable<void> BusScheduler::run() {
     }
     co_await polled->sensor->driver->poll(line_);
     ++stats_.polls;
+    forwarded_last_ = false;
     process_new_reading(*polled->sensor);
     polled->schedule = after_poll(polled->schedule, polled->sensor->driver->state().online,
                                   polled->sensor->config.poll, max_backoff, SteadyClock::now());
@@ -119,6 +150,77 @@ asio::awaitable<WriteResult> BusScheduler::write(GatewaySensor& sensor, WriteTar
         co_return Unexpected(WriteError{WriteErrorKind::busy, "bus too busy: write not started in time"});
       }
       // On the wire already: its own time-outs bound it, so wait for the end.
+      pending->done.expires_at(SteadyClock::time_point::max());
+    }
+  }
+  co_return std::move(*pending->result);
+}
+
+asio::awaitable<ForwardResult> BusScheduler::exchange(const PendingForward& pending) {
+  if (make_forward_ == nullptr) {
+    ++stats_.forwards_unframed;
+    co_return Unexpected{ForwardFailure::unframed};
+  }
+  auto made = make_forward_(pending.slave, pending.pdu);
+  if (!made) {
+    ++stats_.forwards_unframed;
+    spdlog::warn("{}: request for slave {} not forwarded: {}", name_, pending.slave, made.error());
+    co_return Unexpected{ForwardFailure::unframed};
+  }
+  ForwardedExchange& forwarded = **made;
+  LineRequest request;
+  request.bytes = forwarded.request_bytes();
+  request.framer = &forwarded.framer();
+  request.timeout = std::chrono::milliseconds(0);  // the bus's reply time-out
+  request.retries = 0;  // the client retries; a forwarded write must never run twice
+  auto done = co_await line_.transact(std::move(request));
+  if (!done) {
+    ++stats_.forward_timeouts;
+    spdlog::debug("{}: forwarded request to slave {}: {}", name_, pending.slave,
+                  to_string(done.error()));
+    co_return Unexpected{ForwardFailure::no_response};
+  }
+  auto reply = forwarded.reply_pdu();
+  if (!reply) {
+    ++stats_.forward_timeouts;
+    spdlog::debug("{}: forwarded request to slave {}: {}", name_, pending.slave, reply.error());
+    co_return Unexpected{ForwardFailure::no_response};
+  }
+  ++stats_.forwarded;
+  co_return std::move(*reply);
+}
+
+asio::awaitable<void> BusScheduler::run_forward(std::shared_ptr<PendingForward> pending) {
+  pending->started = true;
+  pending->result = co_await exchange(*pending);
+  pending->done.cancel();
+}
+
+asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
+                                                     std::vector<std::uint8_t> pdu,
+                                                     SteadyClock::time_point deadline) {
+  if (stopping_) co_return Unexpected{ForwardFailure::no_response};
+  if (forwards_.size() >= max_queued_forwards_) {
+    ++stats_.forwards_busy;
+    co_return Unexpected{ForwardFailure::busy};
+  }
+  auto pending = std::make_shared<PendingForward>(PendingForward{
+      slave, std::move(pdu), false, std::nullopt, asio::steady_timer(executor_)});
+  forwards_.push_back(pending);
+  wake_.cancel();
+
+  pending->done.expires_at(deadline);
+  while (!pending->result) {
+    boost::system::error_code ec;
+    co_await pending->done.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+    if (pending->result) break;
+    if (ec != asio::error::operation_aborted) {  // the deadline passed
+      if (!pending->started) {
+        std::erase(forwards_, pending);
+        ++stats_.forwards_expired;
+        co_return Unexpected{ForwardFailure::expired};
+      }
+      // On the wire already: the bus's reply time-out bounds it, so wait for the end.
       pending->done.expires_at(SteadyClock::time_point::max());
     }
   }

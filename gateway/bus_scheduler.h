@@ -1,6 +1,7 @@
 // One serial bus: the only owner of its Line. Polls each sensor at its poll period, runs queued
 // writes ahead of polls, and backs off from sensors that do not answer so they cannot starve
-// the others. Everything runs on the event loop thread; nothing here blocks.
+// the others. Requests forwarded to devices passed through ([[bus]] pass_through) take turns
+// with the polls. Everything runs on the event loop thread; nothing here blocks.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "driver/forwarding.h"
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
 #include "gateway/gateway_sensor.h"
@@ -22,7 +24,25 @@ struct BusSchedulerStats {
   std::uint64_t polls = 0;
   std::uint64_t writes = 0;
   std::uint64_t writes_expired = 0;  // still queued at their deadline
+  // Requests forwarded to devices passed through.
+  std::uint64_t forwarded = 0;         // answered by the device (exception replies included)
+  std::uint64_t forward_timeouts = 0;  // no reply: time-out, port closed or failed
+  std::uint64_t forwards_expired = 0;  // still queued at their deadline
+  std::uint64_t forwards_busy = 0;     // refused at once: the queue was full
+  std::uint64_t forwards_unframed = 0; // the protocol had no frame for the PDU
 };
+
+// Why a forwarded request got no reply PDU to relay.
+enum class ForwardFailure {
+  busy,         // the bus's forward queue was full (Modbus 0x06)
+  expired,      // still queued at its deadline (0x0B)
+  no_response,  // sent, but no reply: time-out, port closed or failed; or stopping (0x0B)
+  unframed,     // the bus's protocol cannot frame it, or cannot forward at all (0x04)
+};
+const char* to_string(ForwardFailure failure);
+
+// The reply PDU (function code and data, exception replies included) or why there is none.
+using ForwardResult = Expected<std::vector<std::uint8_t>, ForwardFailure>;
 
 class BusScheduler {
  public:
@@ -45,12 +65,28 @@ class BusScheduler {
   WriteResult check_address_free(const GatewaySensor& sensor, WriteTarget target,
                                  double value) const;
 
+  // Lets forward() frame requests with the bus protocol's factory (driver/forwarding.h), with
+  // at most `max_queued` of them waiting at once.
+  void enable_forwarding(ForwardFactory make, std::size_t max_queued = kMaxQueuedForwards);
+
+  // Queues `pdu` for the device at `slave` and waits for its reply PDU. When forwarded
+  // requests and polls are both due they alternate, one exchange each, so neither side can
+  // starve the other; writes of the cached sensors stay ahead of both. Each exchange is sent
+  // once (retries = 0: the client retries, and a forwarded write must never run twice) with
+  // the bus's reply time-out. A request still queued at `deadline` is dropped (expired); one
+  // already on the wire is always waited for.
+  boost::asio::awaitable<ForwardResult> forward(std::uint8_t slave, std::vector<std::uint8_t> pdu,
+                                                SteadyClock::time_point deadline);
+
   const std::string& name() const { return name_; }
   const BusSchedulerStats& stats() const { return stats_; }
   Line& line() { return line_; }
 
   // Longest wait between polls of an offline sensor (gateway/poll_schedule.h).
   static constexpr std::chrono::milliseconds max_backoff{5000};
+  // Forwarded requests waiting per bus; more are answered busy at once. A Modbus client waits
+  // for each reply, so this many means as many clients (or connections) at once.
+  static constexpr std::size_t kMaxQueuedForwards = 32;
 
  private:
   struct Polled {
@@ -66,16 +102,30 @@ class BusScheduler {
     boost::asio::steady_timer done;  // cancelled when result is set
   };
 
+  struct PendingForward {
+    std::uint8_t slave;
+    std::vector<std::uint8_t> pdu;
+    bool started = false;
+    std::optional<ForwardResult> result;
+    boost::asio::steady_timer done;  // cancelled when result is set
+  };
+
   Polled* next_due();
   // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
   static void process_new_reading(GatewaySensor& sensor);
   boost::asio::awaitable<void> run_write(std::shared_ptr<PendingWrite> pending);
+  boost::asio::awaitable<void> run_forward(std::shared_ptr<PendingForward> pending);
+  boost::asio::awaitable<ForwardResult> exchange(const PendingForward& pending);
 
   boost::asio::any_io_executor executor_;
   Line& line_;
   std::string name_;
   std::vector<Polled> sensors_;
   std::deque<std::shared_ptr<PendingWrite>> writes_;
+  std::deque<std::shared_ptr<PendingForward>> forwards_;
+  ForwardFactory make_forward_ = nullptr;
+  std::size_t max_queued_forwards_ = kMaxQueuedForwards;
+  bool forwarded_last_ = false;  // the last exchange was a forwarded one: a due poll goes next
   boost::asio::steady_timer wake_;
   bool stopping_ = false;
   BusSchedulerStats stats_;

@@ -2,8 +2,10 @@
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "driver/family.h"
 #include "gateway/driver_registry.h"
 #include "mapping/map_definition.h"
 
@@ -22,6 +24,7 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     Bus b;
     b.line = std::make_unique<SerialLine>(io_.get_executor(), serial_options_from(bus));
     b.scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *b.line, bus.name);
+    pass_through(bus, *b.scheduler);
     buses_.push_back(std::move(b));
   }
   for (const SensorConfig& sc : config_.sensors) {
@@ -49,6 +52,16 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
 }
 
 Gateway::~Gateway() = default;
+
+void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler) {
+  if (bus.pass_through.empty()) return;
+  const ProtocolEntry protocol = find_protocol(registered_families(), bus.protocol);
+  if (protocol.protocol == nullptr || protocol.protocol->forward == nullptr) return;  // refused
+  scheduler.enable_forwarding(protocol.protocol->forward);
+  for (std::uint8_t unit_id : bus.pass_through) router_.pass_through(unit_id, scheduler);
+  spdlog::info("bus {}: unit id(s) {} passed through", bus.name,
+               fmt::join(bus.pass_through, ", "));
+}
 
 Expected<Done, std::string> Gateway::start() {
   auto listening = server_->start();

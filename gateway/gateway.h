@@ -38,6 +38,9 @@ class Gateway {
     std::unique_ptr<BusScheduler> scheduler;
   };
 
+  // Routes the bus's pass_through unit ids to its scheduler.
+  void pass_through(const BusConfig& bus, BusScheduler& scheduler);
+
   boost::asio::io_context& io_;
   Config config_;
   std::vector<Bus> buses_;

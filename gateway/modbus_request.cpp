@@ -216,6 +216,19 @@ std::vector<std::uint8_t> exception_reply(std::span<const std::uint8_t> adu,
           std::uint8_t(code)};
 }
 
+std::vector<std::uint8_t> relayed_reply(std::span<const std::uint8_t> adu,
+                                        std::span<const std::uint8_t> pdu) {
+  // The length field counts the unit id and the PDU (Implementation Guide section 3.1.3).
+  const std::size_t length = 1 + pdu.size();
+  std::vector<std::uint8_t> reply(mbap_header_size + pdu.size());
+  std::copy(adu.begin(), adu.begin() + 4, reply.begin());  // transaction and protocol id
+  reply[4] = std::uint8_t(length >> 8);
+  reply[5] = std::uint8_t(length & 0xFF);
+  reply[6] = adu[6];
+  std::copy(pdu.begin(), pdu.end(), reply.begin() + mbap_header_size);
+  return reply;
+}
+
 ModbusFrameAssembler::Next ModbusFrameAssembler::next() const {
   if (size_ < mbap_header_size) return NeedMore{};
   auto size = adu_size(std::span(buffer_).first<mbap_header_size>());

@@ -61,6 +61,11 @@ ParsedAdu parse_adu(std::span<const std::uint8_t> adu);
 // The exception reply to an ADU (at least its MBAP header and function code).
 std::vector<std::uint8_t> exception_reply(std::span<const std::uint8_t> adu, ModbusException code);
 
+// The reply to a request passed through to a device: the request's MBAP header (transaction
+// id, protocol id, unit id) with the device's reply PDU and the length that fits it.
+std::vector<std::uint8_t> relayed_reply(std::span<const std::uint8_t> adu,
+                                        std::span<const std::uint8_t> pdu);
+
 // Cuts a TCP byte stream into ADUs by the MBAP length field. Resumable and I/O-free: the
 // connection reads into space(), commits what arrived, and takes whole frames from next().
 class ModbusFrameAssembler {

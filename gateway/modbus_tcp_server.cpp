@@ -230,6 +230,14 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
 }
 
 asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std::uint8_t> adu) {
+  // The assembler hands out whole ADUs with a valid MBAP header only, so a unit passed
+  // through gets any function, unchecked: the device judges it.
+  if (adu.size() > mbap_header_size && handler_.passes_through(adu[6])) {
+    ++stats_.forwarded;
+    c.expect(Wait::handler, Clock::time_point::max());
+    const std::vector<std::uint8_t> reply = co_await forward({adu.begin(), adu.end()});
+    co_return co_await send(c, reply);
+  }
   ParsedAdu parsed = parse_adu(adu);
   std::vector<std::uint8_t> reply;
   if (auto* rejected = std::get_if<RejectedRequest>(&parsed)) {
@@ -245,12 +253,29 @@ asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std
   } else {
     co_return false;  // unreachable: the assembler only hands out framed ADUs
   }
+  co_return co_await send(c, reply);
+}
+
+asio::awaitable<bool> ModbusTcpServer::send(Connection& c, const std::vector<std::uint8_t>& reply) {
   if (c.closed) co_return false;  // stop() while the handler worked
   c.expect(Wait::reply, Clock::now() + options_.request_timeout);
   boost::system::error_code ec;
   co_await asio::async_write(c.socket, asio::buffer(reply),
                              asio::redirect_error(asio::use_awaitable, ec));
   co_return !ec;
+}
+
+asio::awaitable<std::vector<std::uint8_t>> ModbusTcpServer::forward(std::vector<std::uint8_t> adu) {
+  const std::uint8_t unit_id = adu[6];
+  ForwardedReply relayed = Unexpected{ModbusException::device_failure};
+  // As ask_handler(): a throwing handler costs one 04 reply, not the connection.
+  try {
+    relayed = co_await handler_.forward(unit_id, {adu.begin() + mbap_header_size, adu.end()});
+  } catch (const std::exception& e) {
+    spdlog::warn("Modbus pass-through to unit {} failed: {}", unit_id, e.what());
+  }
+  if (!relayed) co_return exception_reply(adu, relayed.error());
+  co_return relayed_reply(adu, *relayed);
 }
 
 asio::awaitable<ModbusResponse> ModbusTcpServer::ask_handler(const ModbusRequest& request) {

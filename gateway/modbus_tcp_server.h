@@ -38,6 +38,7 @@ struct ModbusServerStats {
   std::uint64_t accepted = 0;          // connections served
   std::uint64_t refused = 0;           // connections closed at once: max_clients reached
   std::uint64_t requests = 0;          // checked requests passed to the handler
+  std::uint64_t forwarded = 0;         // requests for units passed through to a device
   std::uint64_t rejected = 0;          // malformed or unsupported: answered by the parser
   std::uint64_t framing_errors = 0;    // connections closed for a bad MBAP header
   std::uint64_t request_timeouts = 0;  // connections closed with a request or reply stuck
@@ -75,7 +76,9 @@ class ModbusTcpServer {
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
   boost::asio::awaitable<void> watch(std::shared_ptr<Connection> connection);
   boost::asio::awaitable<bool> answer(Connection& connection, std::span<const std::uint8_t> adu);
+  boost::asio::awaitable<bool> send(Connection& connection, const std::vector<std::uint8_t>& reply);
   boost::asio::awaitable<ModbusResponse> ask_handler(const ModbusRequest& request);
+  boost::asio::awaitable<std::vector<std::uint8_t>> forward(std::vector<std::uint8_t> adu);
   std::vector<std::uint8_t> encode(const ModbusRequest& request, const ModbusResponse& response);
   void expire(Connection& connection);
   void finish(const std::shared_ptr<Connection>& connection);

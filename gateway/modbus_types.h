@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "driver/expected.h"
+
 namespace tiltgate {
 
 enum class ModbusTable { coil, discrete, input, holding };
@@ -60,12 +62,26 @@ struct ModbusResponse {
   std::vector<DeviceObject> device_objects;
 };
 
+// A request passed through to a device: the reply PDU (function code and data) the device
+// sent, to relay unchanged, or the exception the gateway answers instead.
+using ForwardedReply = Expected<std::vector<std::uint8_t>, ModbusException>;
+
 // Answers checked requests. Runs on the server's event loop: a read should return at once; a
 // write may take as long as the sensor needs (other connections are served meanwhile).
 class ModbusRequestHandler {
  public:
   virtual ~ModbusRequestHandler() = default;
   virtual boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) = 0;
+
+  // Whether requests for `unit_id` are forwarded to a device ([[bus]] pass_through) instead
+  // of answered by handle(). The server then skips its own function and PDU checks (any
+  // function passes through) once the MBAP framing is valid.
+  virtual bool passes_through(std::uint8_t /*unit_id*/) const { return false; }
+  // Forwards the request PDU (function code and data) of a unit that passes through.
+  virtual boost::asio::awaitable<ForwardedReply> forward(std::uint8_t /*unit_id*/,
+                                                         std::vector<std::uint8_t> /*pdu*/) {
+    co_return Unexpected{ModbusException::gateway_path_unavailable};
+  }
 };
 
 }  // namespace tiltgate

@@ -5,12 +5,16 @@
 
 #include <array>
 #include <chrono>
+#include <span>
 
 #include "config/config.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/modbus_types.h"
 
 namespace tiltgate {
+
+class BusScheduler;
+enum class ForwardFailure;
 
 struct RouterOptions {
   bool writes = false;
@@ -27,6 +31,15 @@ class RequestRouter : public ModbusRequestHandler {
 
   boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) override;
 
+  // Pass-through (gateway/request_forwarding.cpp): requests for `unit_id` go to the device
+  // with that address on `bus`. The unit id must be no sensor's.
+  void pass_through(std::uint8_t unit_id, BusScheduler& bus) { forwarded_[unit_id] = &bus; }
+  bool passes_through(std::uint8_t unit_id) const override {
+    return forwarded_[unit_id] != nullptr;
+  }
+  boost::asio::awaitable<ForwardedReply> forward(std::uint8_t unit_id,
+                                                 std::vector<std::uint8_t> pdu) override;
+
  private:
   ModbusResponse read(const GatewaySensor& sensor, const ModbusRequest& request) const;
   static ModbusResponse identify(const GatewaySensor& sensor);
@@ -35,7 +48,17 @@ class RequestRouter : public ModbusRequestHandler {
 
   RouterOptions options_;
   std::array<GatewaySensor*, 256> units_{};
+  std::array<BusScheduler*, 256> forwarded_{};
 };
+
+// Whether a request PDU only reads, so that it may pass through while [server] writes is
+// false: 01, 02, 03, 04 (reads), 07 (read exception status), 0B and 0C (communication event
+// counter and log), 11 (report server id), 14 (read file record), 18 (read FIFO queue) and
+// 2B/0E (read device identification). Everything else may change the device (08 diagnostics
+// can restart it or clear its counters) and is refused with 0x01.
+bool reads_only(std::span<const std::uint8_t> pdu);
+
+ModbusException exception_for(ForwardFailure failure);
 
 ModbusException exception_for(WriteErrorKind kind);
 // The same, but a device's own Modbus exception is relayed with its code.

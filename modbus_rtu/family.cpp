@@ -6,6 +6,7 @@
 #include "driver/text_list.h"
 #include "mapping/common_block.h"
 #include "mapping/register_map.h"
+#include "modbus_rtu/forwarding.h"
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 #include "modbus_rtu/rtu_driver.h"
@@ -44,6 +45,7 @@ const ProtocolDescriptor kProtocols[] = {{
     .min_gap = std::chrono::microseconds{0},
     .bus_chooses_framing = true,
     .default_gap = frame_gap,
+    .forward = forward_request,  // [[bus]] pass_through
 }};
 
 // The common block only, read-only for now: profile values as settings come next.

@@ -34,6 +34,14 @@ class FakeHandler : public ModbusRequestHandler {
  public:
   boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) override;
 
+  // Unit kPassedUnit passes through to a device that answers every PDU with itself.
+  static constexpr std::uint8_t kPassedUnit = 9;
+  bool passes_through(std::uint8_t unit_id) const override { return unit_id == kPassedUnit; }
+  boost::asio::awaitable<ForwardedReply> forward(std::uint8_t,
+                                                 std::vector<std::uint8_t> pdu) override {
+    co_return pdu;
+  }
+
   // On the server's thread: lets every waiting slow write finish.
   void release();
 

@@ -1,0 +1,66 @@
+// RequestRouter's pass-through: requests for unit ids a [[bus]] passes through are forwarded
+// to the device with that address on the bus, under the same write rule as the cached sensors.
+#include <spdlog/spdlog.h>
+
+#include "gateway/bus_scheduler.h"
+#include "gateway/modbus_request.h"
+#include "gateway/request_router.h"
+
+namespace tiltgate {
+
+namespace {
+
+// Application Protocol V1.1b3 section 6.21: MEI type 14 reads the device identification.
+constexpr std::uint8_t kMeiReadDeviceIdentification = 0x0E;
+
+}  // namespace
+
+bool reads_only(std::span<const std::uint8_t> pdu) {
+  if (pdu.empty()) return false;
+  switch (pdu[0]) {
+    case modbus_function::read_coils:
+    case modbus_function::read_discrete_inputs:
+    case modbus_function::read_holding_registers:
+    case modbus_function::read_input_registers:
+    case 0x07:  // read exception status
+    case 0x0B:  // get comm event counter
+    case 0x0C:  // get comm event log
+    case 0x11:  // report server id
+    case 0x14:  // read file record
+    case 0x18:  // read FIFO queue
+      return true;
+    case modbus_function::encapsulated_interface:
+      return pdu.size() >= 2 && pdu[1] == kMeiReadDeviceIdentification;
+    default:
+      return false;
+  }
+}
+
+ModbusException exception_for(ForwardFailure failure) {
+  switch (failure) {
+    case ForwardFailure::busy: return ModbusException::busy;
+    case ForwardFailure::expired:
+    case ForwardFailure::no_response: return ModbusException::gateway_target_failed;
+    case ForwardFailure::unframed: return ModbusException::device_failure;
+  }
+  return ModbusException::device_failure;
+}
+
+boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_id,
+                                                              std::vector<std::uint8_t> pdu) {
+  BusScheduler* bus = forwarded_[unit_id];
+  if (bus == nullptr) co_return Unexpected{ModbusException::gateway_path_unavailable};
+  // As for the cached sensors: nobody on the plant network changes a device by default.
+  if (!options_.writes && !reads_only(pdu)) {
+    spdlog::debug("unit {}: function {:02X} not passed through: [server] writes is false",
+                  unit_id, pdu.empty() ? 0 : pdu[0]);
+    co_return Unexpected{ModbusException::illegal_function};
+  }
+  // The server's write_timeout bounds the wait for the bus, as it does for writes.
+  auto reply = co_await bus->forward(unit_id, std::move(pdu),
+                                     SteadyClock::now() + options_.write_timeout);
+  if (!reply) co_return Unexpected{exception_for(reply.error())};
+  co_return std::move(*reply);
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,38 @@
+#include "modbus_rtu/forwarding.h"
+
+namespace tiltgate::modbus_rtu {
+
+RtuForwardedExchange::RtuForwardedExchange(Request request)
+    : request_(std::move(request)),
+      parser_(FrameKind::reply, Expectation{request_.slave, request_.function}) {}
+
+void RtuForwardedExchange::reset() {
+  parser_.reset();
+  reply_frame_.reset();
+}
+
+bool RtuForwardedExchange::feed(std::span<const std::uint8_t> bytes) {
+  if (reply_frame_) return true;  // bytes after the reply are ignored
+  parser_.feed(bytes);
+  reply_frame_ = parser_.next();
+  return reply_frame_.has_value();
+}
+
+Expected<std::vector<std::uint8_t>, std::string> RtuForwardedExchange::reply_pdu() const {
+  if (!reply_frame_) return Unexpected{std::string("no reply frame")};
+  // The parser took it whole, from this slave, with a good CRC: drop the address and the CRC.
+  const Bytes& frame = *reply_frame_;
+  return std::vector<std::uint8_t>(frame.begin() + 1, frame.end() - 2);
+}
+
+Expected<std::unique_ptr<ForwardedExchange>, std::string> forward_request(
+    std::uint8_t slave, std::span<const std::uint8_t> pdu) {
+  // Broadcasts get no reply to relay: pass-through is for one slave at a time.
+  if (slave == kBroadcastAddress) return Unexpected{std::string("cannot forward to slave 0")};
+  auto request = raw_request(slave, pdu);
+  if (!request) return Unexpected{std::string(to_string(request.error()))};
+  return std::unique_ptr<ForwardedExchange>(
+      std::make_unique<RtuForwardedExchange>(std::move(*request)));
+}
+
+}  // namespace tiltgate::modbus_rtu
