@@ -3,12 +3,47 @@
 #include <doctest/doctest.h>
 
 #include <map>
+#include <set>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "driver/family.h"
 
 using namespace tiltgate;
+
+namespace {
+
+// The folders families/families.cmake names, as the build passes them: "a,b,c".
+std::vector<std::string> family_folders() {
+  std::vector<std::string> folders;
+  std::string_view list = TILTGATE_FAMILY_FOLDERS;
+  while (!list.empty()) {
+    const std::size_t comma = list.find(',');
+    folders.emplace_back(list.substr(0, comma));
+    list = comma == std::string_view::npos ? std::string_view{} : list.substr(comma + 1);
+  }
+  return folders;
+}
+
+}  // namespace
+
+TEST_CASE("the registered families are every family the build names, each once") {
+  const std::vector<std::string> folders = family_folders();
+  REQUIRE_FALSE(folders.empty());
+  const FamilyList families = registered_families();
+  CHECK(families.size() == folders.size());
+  std::set<const FamilyDescriptor*> descriptors;
+  std::set<std::string_view> names;
+  std::set<std::string_view> sim_commands;
+  for (const FamilyDescriptor* family : families) {
+    REQUIRE(family != nullptr);
+    INFO("family ", std::string(family->name));
+    CHECK(descriptors.insert(family).second);
+    CHECK(names.insert(family->name).second);
+    CHECK(sim_commands.insert(family->simulator.command).second);
+  }
+}
 
 TEST_CASE("no two families use one protocol or model name") {
   std::map<std::string_view, std::string_view> protocol_family;
