@@ -2,6 +2,7 @@
 // protocols, models and settings by name across every family, so no name may mean two things.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 #include <string>
@@ -81,6 +82,31 @@ TEST_CASE("a setting name means one id and an id one name, in every family") {
         // A family's own setting takes an id above the common block's.
         if (new_id) CHECK(setting.id.id >= kFirstFamilySetting);
       }
+    }
+  }
+}
+
+TEST_CASE("each family's demo sensors are its own models, with files only for its own keys") {
+  for (const FamilyDescriptor* family : registered_families()) {
+    INFO("family ", std::string(family->name));
+    const DemoBus& demo = family->demo;
+    if (demo.sensors.empty()) continue;  // the demo gives such a family no bus
+    const ProtocolEntry protocol = find_protocol(registered_families(), demo.protocol);
+    CHECK(protocol.family == family);
+    CHECK_FALSE(demo.examples.empty());
+    for (const DemoSensor& sensor : demo.sensors) {
+      INFO("demo sensor ", std::string(sensor.name));
+      CHECK(find_model(registered_families(), sensor.model).family == family);
+      std::set<std::string_view> keys;
+      for (const DemoFile& file : sensor.files) {
+        CHECK(std::find(family->sensor_keys.begin(), family->sensor_keys.end(), file.key) !=
+              family->sensor_keys.end());
+        CHECK(keys.insert(file.key).second);
+        CHECK_FALSE(file.contents.empty());
+      }
+      // A key the family requires has nothing else to come from in the demo.
+      for (std::string_view required : family->required_sensor_keys)
+        CHECK(keys.count(required) == 1);
     }
   }
 }
