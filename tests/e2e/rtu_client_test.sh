@@ -92,7 +92,9 @@ address = 5
 type = "int16"
 scale = 0.01
 TOML
-port=$((20000 + RANDOM % 20000))
+# A port nothing listens on now (the system picks it), or a random one without python3.
+free_port='import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
+port=$(/usr/bin/python3 -c "$free_port" 2>/dev/null) || port=$((20000 + RANDOM % 20000))
 cat >"$dir/plant.toml" <<TOML
 [server]
 listen = "127.0.0.1"
