@@ -1,6 +1,7 @@
 // A sensor family as one descriptor: what the core asks a family instead of knowing a vendor.
-// Each family folder fills in one FamilyDescriptor and families/family_list.cpp lists it; the
-// config loader, the register maps, the gateway and the serial transport read only these.
+// Each family folder fills in one FamilyDescriptor and families/families.cmake names the
+// folder; the config loader, the register maps, the gateway and the serial transport read
+// only these.
 // The shape follows a plug-in table (name, what it accepts, factories), with no optional
 // members left null: every family answers every question.
 #pragma once
@@ -159,7 +160,7 @@ struct FamilyDescriptor {
 
 using FamilyList = std::span<const FamilyDescriptor* const>;
 
-// The families this build serves: the one list in families/family_list.cpp.
+// The families this build serves, generated from the folders families/families.cmake names.
 FamilyList registered_families();
 
 struct ProtocolEntry {

@@ -46,11 +46,22 @@ struct SimulatorDescriptor {
                                                                const SimulatorSetup& setup);
 };
 
-// One sensor of the family's part of `tiltgate demo`.
+// A file one of the family's own [[sensor]] keys names (a device profile, ...), for a demo
+// sensor: the demo writes `contents` into a private folder it removes at exit, and the family
+// reads `key` as naming that file, as it would from a configuration.
+struct DemoFile {
+  std::string_view key;        // one of FamilyDescriptor::sensor_keys
+  std::string_view file_name;  // a plain file name
+  std::string_view contents;
+};
+
+// One sensor of the family's part of `tiltgate demo`. Its family's keys other than `files`
+// take their defaults.
 struct DemoSensor {
   std::string_view name;
   std::string_view model;
   std::uint32_t address = 0;
+  std::span<const DemoFile> files = {};
 };
 
 // The family's part of `tiltgate demo`: one bus of simulated sensors.

@@ -7,10 +7,12 @@
 #include <iostream>
 #include <spdlog/spdlog.h>
 
-#include "gateway/commands.h"
-#include "gateway/gateway.h"
 #include <memory>
 #include <vector>
+
+#include "gateway/commands.h"
+#include "gateway/demo_sensor_keys.h"
+#include "gateway/gateway.h"
 
 namespace tiltgate {
 
@@ -29,9 +31,11 @@ void run_until_signal(boost::asio::io_context& io, Stop stop) {
   io.run();
 }
 
-// Every family's demo bus, its sensors numbered from unit id 1 in family order.
-Config demo_config(const DemoOptions& options, FamilyList families,
-                   const std::vector<std::string>& ttys) {
+// Every family's demo bus, its sensors numbered from unit id 1 in family order. The files
+// the sensors' own keys name are written into `folder`.
+Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList families,
+                                          const std::vector<std::string>& ttys,
+                                          const std::filesystem::path& folder) {
   Config config;
   config.path = "(demo)";
   config.server.listen = options.listen;
@@ -53,6 +57,9 @@ Config demo_config(const DemoOptions& options, FamilyList families,
       sensor.model = s.model;
       sensor.address = s.address;
       sensor.unit_id = unit++;
+      auto family_options = demo_sensor_options(*families[i], s, folder);
+      if (!family_options) return Unexpected{family_options.error()};
+      sensor.family_options = std::move(*family_options);
       config.sensors.push_back(sensor);
     }
   }
@@ -84,8 +91,14 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyList fa
 
 int demo_command(const DemoOptions& options) {
   boost::asio::io_context io;
-  // A family whose demo has no sensor yet (one that needs a device profile) gets no bus: an
-  // empty simulated bus would only be noise in the demo.
+  // Declared first, so it goes last: the sensors' drivers read their files while they run.
+  auto folder = DemoFolder::create();
+  if (!folder) {
+    spdlog::critical("demo: {}", folder.error());
+    return 1;
+  }
+  // A family whose demo has no sensor gets no bus: an empty simulated bus would only be noise
+  // in the demo.
   std::vector<const FamilyDescriptor*> demo_families;
   for (const FamilyDescriptor* family : registered_families()) {
     if (!family->demo.sensors.empty()) demo_families.push_back(family);
@@ -108,7 +121,12 @@ int demo_command(const DemoOptions& options) {
     ttys.push_back((*simulator)->slave_path());
     simulators.push_back(std::move(*simulator));
   }
-  const Config config = demo_config(options, families, ttys);
+  const auto demo = demo_config(options, families, ttys, folder->path());
+  if (!demo) {
+    spdlog::critical("demo: {}", demo.error());
+    return 1;
+  }
+  const Config& config = *demo;
   Gateway gateway(io, config);
   if (auto started = gateway.start(); !started) {
     spdlog::critical("demo: {}", started.error());

@@ -6,6 +6,7 @@
 #include "driver/text_list.h"
 #include "mapping/common_block.h"
 #include "mapping/register_map.h"
+#include "modbus_rtu/example_profile.h"
 #include "modbus_rtu/forwarding.h"
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
@@ -159,6 +160,18 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
   return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
 }
 
+// The demo's RTU inclinometer: slave 1 of the simulator's preset, read through the example
+// device profile that describes it (compiled in, modbus_rtu/example_profile.h).
+constexpr DemoFile kDemoFiles[] = {
+    {"device", kExampleInclinometerProfileName, kExampleInclinometerProfile}};
+const DemoSensor kDemoSensors[] = {{"rtu-inclinometer", "modbus-rtu", 1, kDemoFiles}};
+constexpr std::string_view kDemoExamples[] = {
+    "  mbpoll -m tcp -p {port} -a {unit} -t 3:float -B -r 1 -c 2 -1 {host}   # unit {unit} "
+    "(Modbus RTU device) angle_x, angle_y",
+    "  mbpoll -m tcp -p {port} -a {unit} -t 3 -r 5 -c 2 -1 {host}           # unit {unit} "
+    "angles in 0.01 degree",
+};
+
 }  // namespace
 
 const FamilyDescriptor kFamily{
@@ -186,8 +199,8 @@ const FamilyDescriptor kFamily{
             .protocol = "modbus-rtu",
             .baud = 19200,
             .simulator = {.sensors = "modbus-rtu:1", .protocol = "", .link = "", .pace_baud = 0},
-            .sensors = {},
-            .examples = {},
+            .sensors = kDemoSensors,
+            .examples = kDemoExamples,
         },
 };
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The core folders name no sensor family: config/, mapping/, gateway/, serial/ and driver/ ask
 # the family descriptors (driver/family.h) instead, so a new family is its own folder plus one
-# line in families/family_list.cpp. Checks the sources (C++ and CMake), comments included.
+# line in families/families.cmake. Checks the sources (C++ and CMake), comments included.
 # Allowed: config/CONFIG-REFERENCE.md, a document for the engineer that lists the protocol and
 # model values a config file takes (it is not a source, so the pattern is not applied to it).
 # Usage: core_names_no_family.sh SOURCE_DIR

@@ -1,6 +1,6 @@
 // A sensor family defined only here, in the test: the config loader, the register map, the
 // driver registry and the serial options take it from its descriptor alone, which is what lets
-// a new family be one folder plus one line in families/family_list.cpp.
+// a new family be one folder plus one line in families/families.cmake.
 #include <doctest/doctest.h>
 
 #include <array>

@@ -2,13 +2,49 @@
 // protocols, models and settings by name across every family, so no name may mean two things.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <map>
+#include <set>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "driver/family.h"
 
 using namespace tiltgate;
+
+namespace {
+
+// The folders families/families.cmake names, as the build passes them: "a,b,c".
+std::vector<std::string> family_folders() {
+  std::vector<std::string> folders;
+  std::string_view list = TILTGATE_FAMILY_FOLDERS;
+  while (!list.empty()) {
+    const std::size_t comma = list.find(',');
+    folders.emplace_back(list.substr(0, comma));
+    list = comma == std::string_view::npos ? std::string_view{} : list.substr(comma + 1);
+  }
+  return folders;
+}
+
+}  // namespace
+
+TEST_CASE("the registered families are every family the build names, each once") {
+  const std::vector<std::string> folders = family_folders();
+  REQUIRE_FALSE(folders.empty());
+  const FamilyList families = registered_families();
+  CHECK(families.size() == folders.size());
+  std::set<const FamilyDescriptor*> descriptors;
+  std::set<std::string_view> names;
+  std::set<std::string_view> sim_commands;
+  for (const FamilyDescriptor* family : families) {
+    REQUIRE(family != nullptr);
+    INFO("family ", std::string(family->name));
+    CHECK(descriptors.insert(family).second);
+    CHECK(names.insert(family->name).second);
+    CHECK(sim_commands.insert(family->simulator.command).second);
+  }
+}
 
 TEST_CASE("no two families use one protocol or model name") {
   std::map<std::string_view, std::string_view> protocol_family;
@@ -46,6 +82,31 @@ TEST_CASE("a setting name means one id and an id one name, in every family") {
         // A family's own setting takes an id above the common block's.
         if (new_id) CHECK(setting.id.id >= kFirstFamilySetting);
       }
+    }
+  }
+}
+
+TEST_CASE("each family's demo sensors are its own models, with files only for its own keys") {
+  for (const FamilyDescriptor* family : registered_families()) {
+    INFO("family ", std::string(family->name));
+    const DemoBus& demo = family->demo;
+    if (demo.sensors.empty()) continue;  // the demo gives such a family no bus
+    const ProtocolEntry protocol = find_protocol(registered_families(), demo.protocol);
+    CHECK(protocol.family == family);
+    CHECK_FALSE(demo.examples.empty());
+    for (const DemoSensor& sensor : demo.sensors) {
+      INFO("demo sensor ", std::string(sensor.name));
+      CHECK(find_model(registered_families(), sensor.model).family == family);
+      std::set<std::string_view> keys;
+      for (const DemoFile& file : sensor.files) {
+        CHECK(std::find(family->sensor_keys.begin(), family->sensor_keys.end(), file.key) !=
+              family->sensor_keys.end());
+        CHECK(keys.insert(file.key).second);
+        CHECK_FALSE(file.contents.empty());
+      }
+      // A key the family requires has nothing else to come from in the demo.
+      for (std::string_view required : family->required_sensor_keys)
+        CHECK(keys.count(required) == 1);
     }
   }
 }

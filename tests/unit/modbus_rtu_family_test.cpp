@@ -4,12 +4,16 @@
 #include <doctest/doctest.h>
 
 #include <boost/asio/io_context.hpp>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <string_view>
 
 #include "config/config_loader.h"
 #include "gateway/serial_options.h"
+#include "modbus_rtu/example_profile.h"
 #include "modbus_rtu/family.h"
+#include "modbus_rtu/profile_reader.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;
@@ -70,4 +74,23 @@ TEST_CASE("the Modbus RTU simulator factory takes a list of slave ids") {
   CHECK_FALSE(sim.make(io, SimulatorSetup{"modbus-rtu:248", "", "", 0}).has_value());
   CHECK_FALSE(sim.make(io, SimulatorSetup{"h6:1", "", "", 0}).has_value());
   CHECK_FALSE(sim.make(io, SimulatorSetup{"modbus-rtu:3,modbus-rtu:3", "", "", 0}).has_value());
+}
+
+TEST_CASE("the Modbus RTU demo reads slave 1 of its simulator through the example profile") {
+  const DemoBus& demo = modbus_rtu::kFamily.demo;
+  REQUIRE(demo.sensors.size() == 1);
+  const DemoSensor& sensor = demo.sensors[0];
+  CHECK(sensor.address == 1);
+  CHECK(demo.simulator.sensors == "modbus-rtu:1");
+  REQUIRE(sensor.files.size() == 1);
+  CHECK(sensor.files[0].key == "device");
+  // Compiled in from the example at build time: the demo serves the example itself.
+  const std::string example_path =
+      std::string(TILTGATE_SOURCE_DIR) + "/examples/devices/rtu-inclinometer.toml";
+  std::ifstream example(example_path, std::ios::binary);
+  std::ostringstream text;
+  text << example.rdbuf();
+  CHECK(sensor.files[0].contents == text.str());
+  CHECK(sensor.files[0].contents == modbus_rtu::kExampleInclinometerProfile);
+  CHECK(modbus_rtu::parse_device_profile(sensor.files[0].contents, "demo").has_value());
 }

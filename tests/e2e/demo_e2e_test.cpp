@@ -1,0 +1,112 @@
+// `tiltgate demo` as a controls engineer runs it: every family's demo bus, the Modbus RTU one
+// included (its inclinometer described by the example device profile the demo writes into a
+// private folder and removes at exit), and the mbpoll examples for each unit.
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "e2e/support/mixed_plant.h"
+#include "modbus_rtu/family.h"
+
+using namespace tiltgate;
+using namespace tiltgate::test;
+using namespace std::chrono_literals;
+
+namespace {
+
+// TMPDIR for the children started meanwhile, restored after.
+class TmpdirFor {
+ public:
+  explicit TmpdirFor(const std::filesystem::path& path) {
+    if (const char* old = std::getenv("TMPDIR")) old_ = old;
+    ::setenv("TMPDIR", path.c_str(), 1);
+  }
+  ~TmpdirFor() {
+    if (old_) ::setenv("TMPDIR", old_->c_str(), 1);
+    else ::unsetenv("TMPDIR");
+  }
+
+ private:
+  std::optional<std::string> old_;
+};
+
+// The demo numbers its sensors from unit 1 in family order, skipping families without any.
+int first_demo_unit_of(const FamilyDescriptor& wanted) {
+  int unit = 1;
+  for (const FamilyDescriptor* family : registered_families()) {
+    if (family == &wanted) return unit;
+    unit += int(family->demo.sensors.size());
+  }
+  return 0;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::vector<std::filesystem::path> files_under(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) files.push_back(entry.path());
+  return files;
+}
+
+}  // namespace
+
+TEST_CASE("tiltgate demo serves the RTU inclinometer through the example profile and cleans up") {
+  TempDir dir;
+  const std::filesystem::path tmp = dir.path() / "tmp";
+  std::filesystem::create_directory(tmp);
+  const std::uint16_t port = free_tcp_port();
+  const int unit = first_demo_unit_of(modbus_rtu::kFamily);
+  REQUIRE(unit > 1);  // after the other families' sensors
+  std::optional<GatewayProcess> demo;
+  {
+    TmpdirFor tmpdir(tmp);
+    demo.emplace(std::vector<std::string>{"demo", "--port", std::to_string(port)}, dir.path());
+  }
+  REQUIRE_MESSAGE(demo->wait_listening(port), demo->log());
+
+  ModbusClient client(port, unit);
+  std::vector<std::uint16_t> words;
+  const auto deadline = std::chrono::steady_clock::now() + 15s;
+  while (std::chrono::steady_clock::now() < deadline) {
+    words = client.input(0, 38);
+    if (words.size() == 38 && (words[6] & 0x01) == 0x01) break;  // online
+    std::this_thread::sleep_for(50ms);
+  }
+  REQUIRE_MESSAGE(words.size() == 38, demo->log());
+  CHECK((words[6] & 0x01) == 0x01);
+  CHECK(words[37] == modbus_rtu::kFamily.models[0].model_code);
+  // The simulator's first slave: X = 1, Y = -1 degrees.
+  CHECK(float_at(words, 0) == 1.0f);
+  CHECK(float_at(words, 2) == -1.0f);
+  CHECK(std::int16_t(words[4]) == 100);
+  CHECK(std::int16_t(words[5]) == -100);
+
+  // The profile it reads is the example, byte for byte, in the demo's own folder.
+  const std::vector<std::filesystem::path> written = files_under(tmp);
+  REQUIRE(written.size() == 1);
+  CHECK(written[0].filename() == "rtu-inclinometer.toml");
+  CHECK(read_text(written[0]) ==
+        read_text(std::filesystem::path(TILTGATE_SOURCE_DIR) /
+                  "examples/devices/rtu-inclinometer.toml"));
+
+  // The help names the RTU unit in its mbpoll examples.
+  const std::string help = demo->output();
+  CHECK(help.find("-a " + std::to_string(unit) + " -t 3:float -B -r 1 -c 2") != std::string::npos);
+
+  CHECK(demo->terminate() == 0);
+  CHECK(std::filesystem::is_empty(tmp));
+}
