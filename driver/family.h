@@ -68,15 +68,31 @@ struct ProductIdentity {
   std::string_view product_name;  // ProductName
 };
 
-// A setting a model accepts writes of: the name a map file's `write = "NAME"` gives it, and
-// its id (driver/write_target.h: the common block's, or one the family owns).
+// What a setting's value is: a whole number (a code, an address, a count) or a real number.
+enum class SettingType : std::uint8_t { integer, real };
+
+// A setting a model accepts writes of: the name a map file's `write = "NAME"` gives it, its id
+// (driver/write_target.h: the common block's, or one the family owns), and what a write must
+// be. The model's built-in map takes its holding registers' ranges and descriptions from here,
+// and the driver refuses values outside the range before anything is sent.
 struct SettingDescriptor {
   std::string_view name;
   WriteTarget id;
+  SettingType type = SettingType::integer;
+  double min = 0;  // the range a written value must be in, inclusive
+  double max = 0;
+  std::string_view unit{};         // "deg"; empty for codes, addresses and raw words
+  std::string_view description{};  // what a write does, for the register map's documentation
+
+  // This setting as one model has it: its type, range, unit and meaning there.
+  constexpr SettingDescriptor accepting(SettingType t, double low, double high,
+                                        std::string_view u, std::string_view what) const {
+    return SettingDescriptor{name, id, t, low, high, u, what};
+  }
 };
 
 // The common block's settings under their map-file names; a family lists those its models
-// accept among their settings.
+// accept among their settings, each with its range there (SettingDescriptor::accepting).
 namespace common_setting {
 inline constexpr SettingDescriptor filter{"filter", WriteTarget::filter};
 inline constexpr SettingDescriptor zero_x{"zero_x", WriteTarget::zero_x};

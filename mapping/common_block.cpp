@@ -93,8 +93,9 @@ void add_discrete_inputs(std::vector<Point>& points) {
                                   "an angle changes faster than alarms.rate_limit_deg_s"));
 }
 
+// `units` for a model without the setting; a model's own come from its descriptor.
 Point setting_point(std::string name, std::uint16_t address, PointType type, WriteTarget target,
-                    const std::optional<CommonSetting>& setting, std::string units) {
+                    const std::optional<SettingDescriptor>& setting, std::string units) {
   if (!setting) {
     Point p = unavailable_holding_point(
         std::move(name), address, type, "not available on this model: reads 65535 (NaN as a float)");
@@ -102,7 +103,7 @@ Point setting_point(std::string name, std::uint16_t address, PointType type, Wri
     return p;
   }
   return holding_point(std::move(name), address, type, target, setting->min, setting->max,
-                       std::move(units), setting->description);
+                       std::string(setting->unit), std::string(setting->description));
 }
 
 void add_settings(std::vector<Point>& points, const CommonBlockModel& m) {
@@ -110,7 +111,7 @@ void add_settings(std::vector<Point>& points, const CommonBlockModel& m) {
   points.push_back(setting_point("zero_x", 1, T::float32, W::zero_x, m.zero_x, "deg"));
   points.push_back(setting_point("zero_y", 3, T::float32, W::zero_y, m.zero_y, "deg"));
   Point command = setting_point("command", 5, T::uint16, W::command, m.command, "");
-  command.nan_value = 0;  // a command is no setting: the register reads 0, "no command"
+  if (m.command) command.nan_value = 0;  // a command is no setting: reads 0, "no command"
   points.push_back(std::move(command));
   points.push_back(setting_point("baud_code", 6, T::uint16, W::baud_code, m.baud_code, ""));
   points.push_back(

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "driver/family.h"
 #include "mapping/point.h"
 
 namespace tiltgate {
@@ -16,20 +17,13 @@ namespace tiltgate {
 // First address of the model-specific points, in the input and the holding table.
 inline constexpr std::uint16_t kModelSpecificStart = 100;
 
-// A common setting the model has: the range a write must be in, and what it does there.
-struct CommonSetting {
-  double min = 0;
-  double max = 0;
-  std::string description;
-};
-
 // What the common block says about one model.
 struct CommonBlockModel {
   bool dual_axis = false;
   std::string angle_x_description;  // how the model's angle comes about
-  // Holding registers 0..7; none: not available on this model.
-  std::optional<CommonSetting> filter, zero_x, zero_y;
-  CommonSetting command, baud_code, rs485_address;
+  // Holding registers 0..7, as the model's family describes its settings (range, unit,
+  // meaning: driver/family.h); none: not available on this model.
+  std::optional<SettingDescriptor> filter, zero_x, zero_y, command, baud_code, rs485_address;
 };
 
 // The common block's points for one model, in table and address order.

@@ -56,6 +56,11 @@ Point holding_point(std::string name, std::uint16_t address, PointType type, Wri
   return p;
 }
 
+Point holding_point(std::uint16_t address, PointType type, const SettingDescriptor& setting) {
+  return holding_point(std::string(setting.name), address, type, setting.id, setting.min,
+                       setting.max, std::string(setting.unit), std::string(setting.description));
+}
+
 Point unavailable_holding_point(std::string name, std::uint16_t address, PointType type,
                                 std::string description) {
   Point p = make_point(std::move(name), RegisterTable::holding, address, type,

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "driver/family.h"
 #include "driver/sensor_driver.h"
 #include "mapping/point_types.h"
 #include "mapping/value_source.h"
@@ -65,6 +66,8 @@ inline constexpr double kUnknownSetting = 0xFFFF;
 // sensor holds it (SensorState::settings), kUnknownSetting until known.
 Point holding_point(std::string name, std::uint16_t address, PointType type, WriteTarget target,
                     double min, double max, std::string units, std::string description);
+// The same for a setting as its family describes it: its name, range, unit and meaning.
+Point holding_point(std::uint16_t address, PointType type, const SettingDescriptor& setting);
 // A holding register of the common block that this model has no setting for: reads
 // kUnknownSetting (NaN as a float), and a write is an illegal address like any read-only point.
 Point unavailable_holding_point(std::string name, std::uint16_t address, PointType type,

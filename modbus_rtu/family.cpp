@@ -49,20 +49,15 @@ const ProtocolDescriptor kProtocols[] = {{
     .forward = forward_request,  // [[bus]] pass_through
 }};
 
-// The common block only, read-only for now: profile values as settings come next.
+// The common block, whose settings (filter, zero, commands, baud, address) a generic device
+// does not have: its settings are the device profile's writable values, which a map file
+// names (driver/device_value.h).
 RegisterMap rtu_default_map() {
   CommonBlockModel m;
   m.dual_axis = true;
   m.angle_x_description = "the device profile's angle_x after the mounting";
-  m.command = {0, 0, "not supported on Modbus RTU devices yet"};
-  m.baud_code = {0, 0, "not supported on Modbus RTU devices yet"};
-  m.rs485_address = {1, 247, "not supported on Modbus RTU devices yet"};
   return RegisterMap(common_block(m));
 }
-
-// The common block's writable points; the driver refuses each as not supported for now.
-constexpr SettingDescriptor kSettings[] = {common_setting::command, common_setting::baud_code,
-                                           common_setting::bus_address};
 
 const ModelDescriptor kModels[] = {{
     .name = "modbus-rtu",
@@ -71,7 +66,7 @@ const ModelDescriptor kModels[] = {{
     .axes = 2,
     .default_map = rtu_default_map,
     .sources = {},
-    .settings = kSettings,
+    .settings = {},
 }};
 
 constexpr std::string_view kSensorKeys[] = {"device"};

@@ -7,6 +7,7 @@
 #include "rieker/default_maps.h"
 #include "rieker/rieker_driver.h"
 #include "rieker/sensor_spec.h"
+#include "rieker/settings.h"
 #include "rieker/simulator.h"
 
 namespace tiltgate::rieker {
@@ -28,12 +29,14 @@ const ProtocolDescriptor kProtocols[] = {{
 }};
 
 // Set Filter Response (41), Set Zero To Value (16, per axis), the zero/restart commands, Set
-// Baud (38) and Set Address (2): the common block's settings; the H4360 has one axis.
-namespace common = common_setting;
-constexpr SettingDescriptor kH6Settings[] = {common::filter,  common::zero_x,    common::zero_y,
-                                             common::command, common::baud_code, common::bus_address};
-constexpr SettingDescriptor kH4360Settings[] = {common::filter, common::zero_x, common::command,
-                                                common::baud_code, common::bus_address};
+// Baud (38) and Set Address (2): the common block's settings (rieker/settings.h); the H4360
+// has one axis.
+constexpr SettingDescriptor kH6Settings[] = {settings::filter,  settings::zero_x,
+                                             settings::zero_y,  settings::command,
+                                             settings::baud_code, settings::bus_address};
+constexpr SettingDescriptor kH4360Settings[] = {settings::filter, settings::zero_x,
+                                                settings::command, settings::baud_code,
+                                                settings::bus_address};
 
 const ModelDescriptor kModels[] = {
     {

@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "mapping/common_block.h"
-#include "spectron/setting_ids.h"
+#include "spectron/settings.h"
 
 namespace tiltgate::spectron {
 namespace {
@@ -14,19 +14,15 @@ using W = WriteTarget;
 
 constexpr std::uint16_t kFirst = kModelSpecificStart;
 
-// EEPROM words ("Memory Map", spectron/eeprom_map.h): offsets are raw 16-bit words; module
-// addresses 0..255 on a 9-bit bus and 1..250 on Modbus-ASCII, baud codes 7, 10, 15, 32, 64
-// only, and EEPROM locations the even 2..22 and 100..280 (the driver checks those exactly).
+// The settings' ranges and meanings are spectron/settings.h's.
 CommonBlockModel dyna_common_block() {
   CommonBlockModel m;
   m.dual_axis = false;
   m.angle_x_description =
       "the angle: (raw_counts - zero_counts) / counts_per_degree, after the mounting";
-  m.command = {1, 1, "1 resets the module"};
-  m.baud_code = {7, 64,
-                 "EEPROM 22: 7 38400, 10 28800, 15 19200, 32 9600, 64 4800; takes effect after "
-                 "a reset"};
-  m.rs485_address = {0, 255, "EEPROM 16, module address; the gateway follows the module"};
+  m.command = settings::command;
+  m.baud_code = settings::baud_code;
+  m.rs485_address = settings::bus_address;
   return m;
 }
 
@@ -40,19 +36,12 @@ void add_inputs(std::vector<Point>& points) {
 }
 
 void add_settings(std::vector<Point>& points) {
-  points.push_back(holding_point("sensor_offset", kFirst, T::uint16, setting::sensor_offset, 0, 65535,
-                                 "", "EEPROM 6, offset for the sensor (subtracted by the module)"));
-  points.push_back(holding_point("temperature_offset", kFirst + 1, T::uint16,
-                                 setting::temperature_offset, 0, 65535, "",
-                                 "EEPROM 10, offset for the temperature sensor"));
-  points.push_back(holding_point("pwm_offset", kFirst + 2, T::uint16, setting::pwm_offset, 0, 65535,
-                                 "", "EEPROM 20, offset for the PWM output"));
-  points.push_back(holding_point("eeprom_location", kFirst + 3, T::uint16, setting::eeprom_location, 2,
-                                 280, "",
-                                 "EEPROM window: selects a location and reads it from the module"));
-  points.push_back(holding_point("eeprom_value", kFirst + 4, T::uint16, setting::eeprom_value, 0, 65535,
-                                 "", "EEPROM window: the selected location as read back; a "
-                                     "write writes it"));
+  const SettingDescriptor own[] = {settings::sensor_offset, settings::temperature_offset,
+                                   settings::pwm_offset, settings::eeprom_location,
+                                   settings::eeprom_value};
+  std::uint16_t address = kFirst;
+  for (const SettingDescriptor& setting : own)
+    points.push_back(holding_point(address++, T::uint16, setting));
 }
 
 }  // namespace

@@ -7,8 +7,8 @@
 #include "spectron/default_map.h"
 #include "spectron/dyna_driver.h"
 #include "spectron/sensor_spec.h"
+#include "spectron/settings.h"
 #include "spectron/simulator.h"
-#include "spectron/setting_ids.h"
 
 namespace tiltgate::spectron {
 
@@ -44,14 +44,9 @@ const ProtocolDescriptor kProtocols[] = {
 // 22, the EEPROM window) and the reset command; one axis.
 constexpr ValueSource kDynaSources[] = {ValueSource::raw_counts, ValueSource::raw_temperature};
 constexpr SettingDescriptor kDynaSettings[] = {
-    {"sensor_offset", setting::sensor_offset},
-    {"temperature_offset", setting::temperature_offset},
-    {"pwm_offset", setting::pwm_offset},
-    {"eeprom_location", setting::eeprom_location},
-    {"eeprom_value", setting::eeprom_value},
-    common_setting::command,
-    common_setting::baud_code,
-    common_setting::bus_address,
+    settings::sensor_offset,   settings::temperature_offset, settings::pwm_offset,
+    settings::eeprom_location, settings::eeprom_value,       settings::command,
+    settings::baud_code,       settings::bus_address,
 };
 
 const ModelDescriptor kModels[] = {{

@@ -161,8 +161,9 @@ TEST_CASE("writes of cached sensors go ahead of queued forwarded requests") {
 }
 
 TEST_CASE("a full forward queue answers busy at once") {
-  Bus bus;  // not started: nothing leaves the queue
+  // Declared before the bus: its destructor ends the queued requests, which then set these.
   std::vector<std::optional<ForwardResult>> queued(BusScheduler::kMaxQueuedForwards);
+  Bus bus;  // not started: nothing leaves the queue
   for (auto& result : queued) bus.forward(1, SteadyClock::now() + 10s, result);
   std::optional<ForwardResult> one_more;
   bus.forward(2, SteadyClock::now() + 10s, one_more);

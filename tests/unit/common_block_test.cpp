@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mapping/common_block.h"
+#include "mapping/model_capabilities.h"
 #include "mapping/default_maps.h"
 #include "mapping/map_access.h"
 #include "mapping/value_codec.h"
@@ -120,7 +121,8 @@ TEST_CASE("holding registers read the unknown value before any write") {
     CHECK(w[0] == 0xFFFF);                                    // filter
     CHECK(std::isnan(float_at(w, 1)));  // zero_x
     CHECK(std::isnan(float_at(w, 3)));  // zero_y
-    CHECK(w[5] == 0);                                         // command: "no command"
+    // command: "no command" where the model takes commands, else not available
+    CHECK(w[5] == (model_accepts(model, WriteTarget::command) ? 0 : 0xFFFF));
     CHECK(w[6] == 0xFFFF);                                    // baud_code
     CHECK(w[7] == 0xFFFF);                                    // rs485_address: not published
   }

@@ -48,15 +48,18 @@ const ProtocolDescriptor kProtocols[] = {{
     .min_gap = std::chrono::microseconds{0},
 }};
 
+constexpr SettingDescriptor kFilter =
+    common_setting::filter.accepting(SettingType::integer, 0, 9, "", "smoothing 0..9");
+
 RegisterMap fake_map() {
   CommonBlockModel m;
   m.dual_axis = false;
   m.angle_x_description = "the one axis";
-  m.filter = CommonSetting{0, 9, "smoothing 0..9"};
+  m.filter = kFilter;
   return RegisterMap(common_block(m));
 }
 
-constexpr SettingDescriptor kSettings[] = {common_setting::filter};
+constexpr SettingDescriptor kSettings[] = {kFilter};
 
 const ModelDescriptor kModels[] = {{
     .name = "tilt-x1",

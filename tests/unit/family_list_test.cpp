@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <string>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "driver/family.h"
+#include "mapping/register_map.h"
 
 using namespace tiltgate;
 
@@ -107,6 +109,41 @@ TEST_CASE("each family's demo sensors are its own models, with files only for it
       // A key the family requires has nothing else to come from in the demo.
       for (std::string_view required : family->required_sensor_keys)
         CHECK(keys.count(required) == 1);
+    }
+  }
+}
+
+// The settings' ranges live in one place, the family's descriptor: every model's built-in map
+// serves each setting it accepts on a holding register with exactly that range and unit, and
+// every holding register that writes names a setting the model lists.
+TEST_CASE("each model's built-in map serves its settings with the descriptor's range") {
+  for (const FamilyDescriptor* family : registered_families()) {
+    for (const ModelDescriptor& model : family->models) {
+      INFO(model.name);
+      const RegisterMap map = model.default_map();
+      for (const SettingDescriptor& setting : model.settings) {
+        INFO(setting.name);
+        CHECK(setting.min <= setting.max);
+        if (setting.type == SettingType::integer) {
+          CHECK(setting.min == std::trunc(setting.min));
+          CHECK(setting.max == std::trunc(setting.max));
+        }
+        const Point* served = nullptr;
+        for (const Point& p : map.points())
+          if (p.write == setting.id) served = &p;
+        REQUIRE(served != nullptr);
+        CHECK(served->min == setting.min);
+        CHECK(served->max == setting.max);
+        CHECK(served->units == setting.unit);
+        CHECK_FALSE(setting.description.empty());
+      }
+      for (const Point& p : map.points()) {
+        if (!p.write) continue;
+        INFO(p.name);
+        const bool listed = std::any_of(model.settings.begin(), model.settings.end(),
+                                        [&](const SettingDescriptor& s) { return s.id == *p.write; });
+        CHECK(listed);
+      }
     }
   }
 }

@@ -1,0 +1,26 @@
+// The settings the Rieker models accept, with their ranges from the manual: Set Filter Response
+// (41) takes 1..6, Set Baud (38) codes 1..8, Set Address (2) 1..65000, and a zero offset beyond
+// the +-180 deg measuring range makes no sense. The descriptor lists them (rieker/family.cpp)
+// and the built-in maps take their holding registers from them (rieker/default_maps.cpp).
+#pragma once
+
+#include "driver/family.h"
+
+namespace tiltgate::rieker::settings {
+
+using T = SettingType;
+
+inline constexpr SettingDescriptor filter = common_setting::filter.accepting(
+    T::integer, 1, 6, "", "Set Filter Response 1 (fast, noisy) .. 6 (slow, quiet)");
+inline constexpr SettingDescriptor zero_x =
+    common_setting::zero_x.accepting(T::real, -180, 180, "deg", "Set Zero To Value, axis 1");
+inline constexpr SettingDescriptor zero_y =
+    common_setting::zero_y.accepting(T::real, -180, 180, "deg", "Set Zero To Value, axis 2");
+inline constexpr SettingDescriptor command = common_setting::command.accepting(
+    T::integer, 1, 3, "", "1 zero to current angle (temporary), 2 (permanent), 3 restart");
+inline constexpr SettingDescriptor baud_code = common_setting::baud_code.accepting(
+    T::integer, 1, 8, "", "Set Baud 1..8, takes effect after restart");
+inline constexpr SettingDescriptor bus_address = common_setting::bus_address.accepting(
+    T::integer, 1, 65000, "", "Set Address; the gateway follows the sensor");
+
+}  // namespace tiltgate::rieker::settings

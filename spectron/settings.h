@@ -1,0 +1,39 @@
+// The settings the Dyna accepts, with their ranges: EEPROM words ("Memory Map",
+// spectron/eeprom_map.h) are raw 16-bit words; module addresses 0..255 on a 9-bit bus and
+// 1..250 on Modbus-ASCII, baud codes 7, 10, 15, 32 and 64 only, and EEPROM locations the even
+// 2..22 and 100..280 (the driver checks those exactly). The descriptor lists them
+// (spectron/family.cpp) and the built-in map takes its holding registers from them
+// (spectron/default_map.cpp).
+#pragma once
+
+#include "driver/family.h"
+#include "spectron/setting_ids.h"
+
+namespace tiltgate::spectron::settings {
+
+using T = SettingType;
+
+inline constexpr SettingDescriptor command =
+    common_setting::command.accepting(T::integer, 1, 1, "", "1 resets the module");
+inline constexpr SettingDescriptor baud_code = common_setting::baud_code.accepting(
+    T::integer, 7, 64,  "",
+    "EEPROM 22: 7 38400, 10 28800, 15 19200, 32 9600, 64 4800; takes effect after a reset");
+inline constexpr SettingDescriptor bus_address = common_setting::bus_address.accepting(
+    T::integer, 0, 255, "", "EEPROM 16, module address; the gateway follows the module");
+
+inline constexpr SettingDescriptor sensor_offset{
+    "sensor_offset", setting::sensor_offset, T::integer, 0, 65535, "",
+    "EEPROM 6, offset for the sensor (subtracted by the module)"};
+inline constexpr SettingDescriptor temperature_offset{
+    "temperature_offset", setting::temperature_offset, T::integer, 0, 65535, "",
+    "EEPROM 10, offset for the temperature sensor"};
+inline constexpr SettingDescriptor pwm_offset{"pwm_offset", setting::pwm_offset, T::integer, 0,
+                                              65535, "", "EEPROM 20, offset for the PWM output"};
+inline constexpr SettingDescriptor eeprom_location{
+    "eeprom_location", setting::eeprom_location, T::integer, 2, 280, "",
+    "EEPROM window: selects a location and reads it from the module"};
+inline constexpr SettingDescriptor eeprom_value{
+    "eeprom_value", setting::eeprom_value, T::integer, 0, 65535, "",
+    "EEPROM window: the selected location as read back; a write writes it"};
+
+}  // namespace tiltgate::spectron::settings
