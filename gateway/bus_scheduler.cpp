@@ -8,6 +8,35 @@
 
 namespace tiltgate {
 
+namespace {
+
+// Waits until the bus has carried out `pending` (a queued write or forwarded request): true
+// once its result is set. False when `deadline` passed before it started: it is taken out of
+// `queue` and never sent. One already on the wire is always waited for, since the bus's own
+// time-outs bound it.
+template <class Pending>
+boost::asio::awaitable<bool> wait_for_result(std::deque<std::shared_ptr<Pending>>& queue,
+                                             std::shared_ptr<Pending> pending,
+                                             SteadyClock::time_point deadline) {
+  pending->done.expires_at(deadline);
+  while (!pending->result) {
+    boost::system::error_code ec;
+    co_await pending->done.async_wait(
+        boost::asio::redirect_error(boost::asio::use_awaitable, ec));
+    if (pending->result) break;
+    if (ec != boost::asio::error::operation_aborted) {  // the deadline passed
+      if (!pending->started) {
+        std::erase(queue, pending);
+        co_return false;
+      }
+      pending->done.expires_at(SteadyClock::time_point::max());
+    }
+  }
+  co_return true;
+}
+
+}  // namespace
+
 namespace asio = boost::asio;
 
 BusScheduler::BusScheduler(asio::any_io_executor executor, Line& line, std::string name)
@@ -138,20 +167,9 @@ asio::awaitable<WriteResult> BusScheduler::write(GatewaySensor& sensor, WriteTar
   writes_.push_back(pending);
   wake_.cancel();
 
-  pending->done.expires_at(deadline);
-  while (!pending->result) {
-    boost::system::error_code ec;
-    co_await pending->done.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-    if (pending->result) break;
-    if (ec != asio::error::operation_aborted) {  // the deadline passed
-      if (!pending->started) {
-        std::erase(writes_, pending);
-        ++stats_.writes_expired;
-        co_return Unexpected(WriteError{WriteErrorKind::busy, "bus too busy: write not started in time"});
-      }
-      // On the wire already: its own time-outs bound it, so wait for the end.
-      pending->done.expires_at(SteadyClock::time_point::max());
-    }
+  if (!co_await wait_for_result(writes_, pending, deadline)) {
+    ++stats_.writes_expired;
+    co_return Unexpected(WriteError{WriteErrorKind::busy, "bus too busy: write not started in time"});
   }
   co_return std::move(*pending->result);
 }
@@ -209,20 +227,9 @@ asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
   forwards_.push_back(pending);
   wake_.cancel();
 
-  pending->done.expires_at(deadline);
-  while (!pending->result) {
-    boost::system::error_code ec;
-    co_await pending->done.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-    if (pending->result) break;
-    if (ec != asio::error::operation_aborted) {  // the deadline passed
-      if (!pending->started) {
-        std::erase(forwards_, pending);
-        ++stats_.forwards_expired;
-        co_return Unexpected{ForwardFailure::expired};
-      }
-      // On the wire already: the bus's reply time-out bounds it, so wait for the end.
-      pending->done.expires_at(SteadyClock::time_point::max());
-    }
+  if (!co_await wait_for_result(forwards_, pending, deadline)) {
+    ++stats_.forwards_expired;
+    co_return Unexpected{ForwardFailure::expired};
   }
   co_return std::move(*pending->result);
 }

@@ -13,52 +13,13 @@
 
 #include "e2e/support/mixed_plant.h"
 #include "modbus_rtu/inclinometer_preset.h"
+#include "unit/support/rtu_test_profile.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
 
 namespace {
-
-// The simulator preset's layout; filter_level has no max here, so the device itself refuses
-// values above its 8 with exception 03.
-constexpr const char* kProfile = R"(
-[[read]]
-table = "input"
-address = 0
-count = 8
-
-[[read]]
-table = "holding"
-address = 0
-count = 1
-
-[[value]]
-name = "angle_x"
-table = "input"
-address = 0
-type = "float32"
-
-[[value]]
-name = "angle_y"
-table = "input"
-address = 2
-type = "float32"
-
-[[value]]
-name = "temperature"
-table = "input"
-address = 6
-type = "int16"
-scale = 0.1
-
-[[value]]
-name = "filter_level"
-table = "holding"
-address = 0
-type = "uint16"
-writable = true
-)";
 
 constexpr const char* kMap = R"(
 extends = "default"
@@ -93,7 +54,7 @@ TEST_CASE("a device profile's values are shown and written through a map file") 
   options.devices.push_back(modbus_rtu::rtu_inclinometer(9));
   options.link_path = (dir.path() / "ttyRtu").string();
   RtuSimulatorThread sim(options);
-  dir.write("device.toml", kProfile);
+  dir.write("device.toml", kRtuTestProfile);
   dir.write("map.toml", kMap);
   const auto config = dir.write("rtu.toml", fmt::format(R"(
 [server]
@@ -141,7 +102,8 @@ map = "map.toml"
   CHECK(client.exception() == 0x03);
   CHECK(client.input(kLastNak, 1) == std::vector<std::uint16_t>{65535});
 
-  // Inside the map's range but not the device's: the device's 03, relayed; its code counted.
+  // Inside the map's and the profile's range but not the device's 1..8: the device's 03,
+  // relayed; its code counted.
   CHECK_FALSE(client.write(100, 12));
   CHECK(client.exception() == 0x03);
   CHECK(client.input(kLastNak, 1) == std::vector<std::uint16_t>{3});

@@ -13,60 +13,16 @@
 #include "modbus_rtu/rtu_driver.h"
 #include "modbus_rtu/simulator.h"
 #include "sim/support/driver_bench.h"
+#include "unit/support/rtu_test_profile.h"
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;
 
 namespace {
 
-// The preset's layout (modbus_rtu/inclinometer_preset.h): filter at holding 0 (the device
-// refuses values outside 1..8 with exception 03), the serial number at holding 1..2, which
-// the device refuses to have written at all.
-constexpr const char* kProfile = R"(
-[[read]]
-table = "input"
-address = 0
-count = 8
-
-[[read]]
-table = "holding"
-address = 0
-count = 3
-
-[[value]]
-name = "angle_x"
-table = "input"
-address = 0
-type = "float32"
-
-[[value]]
-name = "temperature"
-table = "input"
-address = 6
-type = "int16"
-scale = 0.1
-
-[[value]]
-name = "filter_level"
-table = "holding"
-address = 0
-type = "uint16"
-writable = true
-max = 20
-
-[[value]]
-name = "serial_number"
-table = "holding"
-address = 1
-type = "uint32"
-word_order = "CDAB"
-writable = true
-)";
-
-// Indices in the profile's value order.
-constexpr std::size_t kTemperature = 1;
-constexpr std::size_t kFilterLevel = 2;
-constexpr std::size_t kSerialNumber = 3;
+constexpr std::size_t kTemperature = test::rtu_test_value::temperature;
+constexpr std::size_t kFilterLevel = test::rtu_test_value::filter_level;
+constexpr std::size_t kSerialNumber = test::rtu_test_value::serial_number;
 
 struct Bench : test::DriverBench<RtuSimulator> {
   Bench() : DriverBench(simulator_options(), line_options()) {}
@@ -88,7 +44,7 @@ struct Bench : test::DriverBench<RtuSimulator> {
 };
 
 RtuDriver driver() {
-  auto profile = parse_device_profile(kProfile, "writes.toml");
+  auto profile = parse_device_profile(test::kRtuTestProfile, "writes.toml");
   REQUIRE(profile.has_value());
   RtuDriverOptions options;
   options.name = "tilt";
@@ -106,7 +62,7 @@ TEST_CASE("the RTU driver publishes every profile value with each reading") {
   bench.poll(rtu);
   REQUIRE(rtu.state().reading.has_value());
   const auto& values = rtu.state().reading->device_values;
-  REQUIRE(values.size() == 4);
+  REQUIRE(values.size() == 5);
   CHECK(values[kTemperature] == doctest::Approx(21.5));
   CHECK(values[kFilterLevel] == 4);
   CHECK(values[kSerialNumber] == 20240917);

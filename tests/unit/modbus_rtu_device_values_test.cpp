@@ -9,6 +9,7 @@
 #include "config/config_loader.h"
 #include "gateway/gateway.h"
 #include "mapping/map_access.h"
+#include "unit/support/rtu_test_profile.h"
 #include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
@@ -16,38 +17,8 @@ using tiltgate::test::ScratchDir;
 
 namespace {
 
-constexpr std::string_view kProfile = R"([[read]]
-table = "input"
-address = 0
-count = 8
-
-[[read]]
-table = "holding"
-address = 0
-count = 1
-
-[[value]]
-name = "angle_x"
-table = "input"
-address = 0
-type = "float32"
-
-[[value]]
-name = "temperature"
-table = "input"
-address = 6
-type = "int16"
-scale = 0.1
-
-[[value]]
-name = "filter_level"
-table = "holding"
-address = 0
-type = "uint16"
-writable = true
-min = 1
-max = 8
-)";
+using test::kRtuTestProfile;
+namespace value = test::rtu_test_value;
 
 // A bus and one sensor of `model` with `keys`.
 std::string config(std::string_view model, std::string_view keys) {
@@ -67,7 +38,7 @@ struct Plant {
   ScratchDir dir{"tiltgate-device-values"};
   std::string map_path;
   Expected<Config, ConfigErrors> load(std::string_view model, std::string_view map) {
-    dir.write("device.toml", kProfile);
+    dir.write("device.toml", kRtuTestProfile);
     map_path = dir.write("map.toml", map);
     const std::string keys = model == "modbus-rtu"
                                  ? "device = \"device.toml\"\nmap = \"map.toml\"\n"
@@ -94,15 +65,15 @@ TEST_CASE("a map shows and writes a device profile's values by their names") {
   const Point* temperature = map.find("temperature");
   REQUIRE(temperature != nullptr);
   CHECK(temperature->source == ValueSource::device_value);
-  CHECK(temperature->device_index == 1);
+  CHECK(temperature->device_index == value::temperature);
   const Point* filter = map.find("filter");
   REQUIRE(filter != nullptr);
-  CHECK(filter->write == WriteTarget::device_value(2));
+  CHECK(filter->write == WriteTarget::device_value(value::filter_level));
   CHECK(filter->source == ValueSource::setting);  // shows the device's value
 
   SensorState state;
   state.reading = Reading{};
-  state.reading->device_values = {1.0, 21.5, 4.0};
+  state.reading->device_values = {1.0, 2.0, 21.5, 4.0, 7.0};
   state.reading->taken = SteadyClock::now();
   state.online = true;
   const SensorView view{state, SteadyClock::now(), std::chrono::milliseconds(1000), {},
@@ -133,7 +104,8 @@ TEST_CASE("an unknown device value name is reported at the map's line with a gue
                          "\"filter_level\"?");
   CHECK(errors[2].to_string() ==
         plant.map_path + ":23:1: point[2].source: \"humidity\" is neither a built-in source nor "
-                         "one of the sensor's own: angle_x, temperature, filter_level");
+                         "one of the sensor's own: angle_x, angle_y, temperature, "
+                         "filter_level, serial_number");
 }
 
 TEST_CASE("a write of a read-only device value is refused at the map's line") {
@@ -162,7 +134,7 @@ TEST_CASE("a sensor without a device profile has no values of its own to name") 
 
 TEST_CASE("a device profile value may not take a built-in source's or setting's name") {
   ScratchDir dir{"tiltgate-device-values"};
-  std::string profile(kProfile);
+  std::string profile(kRtuTestProfile);
   profile += "\n[[value]]\nname = \"status\"\ntable = \"input\"\naddress = 7\ntype = \"uint16\"\n";
   profile += "\n[[value]]\nname = \"zero_x\"\ntable = \"input\"\naddress = 5\ntype = \"int16\"\n";
   const std::string device = dir.write("device.toml", profile);
@@ -172,8 +144,8 @@ TEST_CASE("a device profile value may not take a built-in source's or setting's 
   INFO(joined(loaded.error()));
   REQUIRE(loaded.error().size() == 2);
   CHECK(loaded.error()[0].file == device);
-  CHECK(loaded.error()[0].key == "value[3].name");
+  CHECK(loaded.error()[0].key == "value[5].name");
   CHECK(loaded.error()[0].message.find("\"status\" is a built-in source") == 0);
-  CHECK(loaded.error()[1].key == "value[4].name");
+  CHECK(loaded.error()[1].key == "value[6].name");
   CHECK(loaded.error()[1].message.find("\"zero_x\" is a built-in setting") == 0);
 }
