@@ -6,23 +6,11 @@
 set -u
 tiltgate=${1:?usage: pass_through_mbpoll_test.sh path/to/tiltgate}
 source_dir=$(cd "$(dirname "$0")/../.." && pwd)
-command -v mbpoll >/dev/null || { echo "FAIL: mbpoll not found (Debian package mbpoll)"; exit 1; }
-dir=$(mktemp -d /tmp/tiltgate-pass-XXXXXX)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null; done
-  wait 2>/dev/null
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-
-"$tiltgate" sim modbus-rtu --sensors modbus-rtu:17,modbus-rtu:30 --link "$dir/ttyRtu" \
-  >"$dir/sim.out" 2>"$dir/sim.err" &
-pids+=($!)
-for _ in $(seq 100); do [ -e "$dir/ttyRtu" ] && break; sleep 0.05; done
-[ -e "$dir/ttyRtu" ] || { echo "simulator did not start"; cat "$dir/sim.err"; exit 1; }
-
-port=$((20000 + RANDOM % 20000))
+source "$(dirname "$0")/support/script_lib.sh"
+require_mbpoll
+script_setup tiltgate-pass
+start_sim "$tiltgate" modbus-rtu modbus-rtu:17,modbus-rtu:30 "$dir/ttyRtu"
+port=$(free_port)
 cat >"$dir/pass.toml" <<TOML
 [server]
 listen = "127.0.0.1"

@@ -5,7 +5,8 @@
 # skip: scripts/setup installs both.
 set -u
 tiltgate=${1:?usage: real_clients_test.sh path/to/tiltgate}
-dir=$(mktemp -d /tmp/tiltgate-clients-XXXXXX)
+source "$(dirname "$0")/support/script_lib.sh"
+script_setup tiltgate-clients
 # Python runs in the scratch directory: from the source tree, the serial/ folder would shadow
 # the serial module pymodbus imports.
 py() { (cd "$dir" && /usr/bin/python3 - "$@"); }
@@ -32,34 +33,12 @@ then
 fi
 if [ -n "$clients_missing" ]; then
   echo "FAIL: the real clients are not installed: ${clients_missing}Run scripts/setup."
-  rm -rf "$dir"
   echo "0 passed, 1 failed"
   exit 1
 fi
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null; done
-  wait 2>/dev/null
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-failures=0
-passes=0
-check() {  # check NAME COMMAND...: passes when the command succeeds
-  local name=$1; shift
-  if "$@" >>"$dir/checks.log" 2>&1; then
-    passes=$((passes + 1))
-  else
-    failures=$((failures + 1)); echo "FAIL: $name"; tail -5 "$dir/checks.log"
-  fi
-}
 
-"$tiltgate" sim rieker --sensors h6:223,h4360:101,h6:224 --link "$dir/ttyUSB0" >"$dir/sim.out" 2>"$dir/sim.err" &
-pids+=($!)
-for _ in $(seq 100); do [ -e "$dir/ttyUSB0" ] && break; sleep 0.05; done
-[ -e "$dir/ttyUSB0" ] || { echo "simulator did not start"; cat "$dir/sim.err"; exit 1; }
-
-port=$((20000 + RANDOM % 20000))
+start_sim "$tiltgate" rieker h6:223,h4360:101,h6:224 "$dir/ttyUSB0"
+port=$(free_port)
 cp "$(dirname "$0")/../../examples/maps/cdab-floats.toml" "$dir/cdab-floats.toml"
 cat >"$dir/plant.toml" <<TOML
 [server]

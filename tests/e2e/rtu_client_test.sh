@@ -6,31 +6,10 @@
 # scale. A missing mbpoll is a failure, never a skip: scripts/setup installs it.
 set -u
 tiltgate=${1:?usage: rtu_client_test.sh path/to/tiltgate}
-if ! command -v mbpoll >/dev/null; then
-  echo "FAIL: mbpoll not found (Debian package mbpoll). Run scripts/setup."
-  echo "0 passed, 1 failed"
-  exit 1
-fi
 source_dir=$(cd "$(dirname "$0")/../.." && pwd)
-dir=$(mktemp -d /tmp/tiltgate-rtu-client-XXXXXX)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null; done
-  wait 2>/dev/null
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-failures=0
-passes=0
-check() {  # check NAME COMMAND...: passes when the command succeeds
-  local name=$1; shift
-  if "$@" >>"$dir/checks.log" 2>&1; then
-    passes=$((passes + 1))
-  else
-    failures=$((failures + 1)); echo "FAIL: $name"; tail -8 "$dir/checks.log"
-  fi
-}
+source "$(dirname "$0")/support/script_lib.sh"
+require_mbpoll
+script_setup tiltgate-rtu-client
 # The values mbpoll prints, one per line: a 16-bit register's signed value where it shows one
 # ("[6]: 65436 (-100)"), else the value ("[1]: 2.5").
 values() {
@@ -42,11 +21,7 @@ mb_tcp() { timeout 20 mbpoll -m tcp -p "$port" -1 -o 2 "$@" 127.0.0.1; }
 
 # Two inclinometers of the simulator's preset (examples/devices/rtu-inclinometer.toml): the
 # --sensors parser gives slave i the angles X = 1 + i, Y = -(1 + i).
-"$tiltgate" sim modbus-rtu --sensors modbus-rtu:1,modbus-rtu:7 --link "$dir/ttyRtu" \
-  >"$dir/sim.out" 2>"$dir/sim.err" &
-pids+=($!)
-for _ in $(seq 100); do [ -e "$dir/ttyRtu" ] && break; sleep 0.05; done
-[ -e "$dir/ttyRtu" ] || { echo "FAIL: the simulator did not start"; cat "$dir/sim.err"; exit 1; }
+start_sim "$tiltgate" modbus-rtu modbus-rtu:1,modbus-rtu:7 "$dir/ttyRtu"
 
 # 1. mbpoll on the wire. mbpoll's -r is 1-based: the profiles' address 0 is -r 1.
 # Slave 1 as the example profile reads it: angle_x, angle_y at input 0 and 2, float32 ABCD
@@ -93,8 +68,7 @@ type = "int16"
 scale = 0.01
 TOML
 # A port nothing listens on now (the system picks it), or a random one without python3.
-free_port='import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-port=$(/usr/bin/python3 -c "$free_port" 2>/dev/null) || port=$((20000 + RANDOM % 20000))
+port=$(free_port)
 cat >"$dir/plant.toml" <<TOML
 [server]
 listen = "127.0.0.1"

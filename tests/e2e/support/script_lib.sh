@@ -1,0 +1,55 @@
+# Shared by the tests/e2e/*.sh scripts that run build/tiltgate with Debian's Modbus clients:
+# a scratch folder removed on exit with every process started, a free TCP port, a simulator on a
+# pseudo-terminal, mbpoll required (a missing client fails, never skips), and pass/fail counts.
+# Source it after `set -u`; it sets $dir, $pids, $passes and $failures.
+
+# script_setup PREFIX: the scratch folder /tmp/PREFIX-XXXXXX and the exit trap.
+script_setup() {
+  dir=$(mktemp -d "/tmp/$1-XXXXXX")
+  pids=()
+  passes=0
+  failures=0
+  trap script_cleanup EXIT
+  trap 'exit 1' INT TERM
+}
+
+script_cleanup() {
+  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null; done
+  wait 2>/dev/null
+  rm -rf "$dir"
+}
+
+# require_mbpoll: fails the script when Debian's mbpoll is missing.
+require_mbpoll() {
+  command -v mbpoll >/dev/null && return 0
+  echo "FAIL: mbpoll not found (Debian package mbpoll). Run scripts/setup."
+  echo "0 passed, 1 failed"
+  exit 1
+}
+
+# free_port: a TCP port nothing listens on now (the kernel's choice), or a random high one.
+free_port() {
+  /usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' \
+    2>/dev/null || echo $((20000 + RANDOM % 20000))
+}
+
+# start_sim TILTGATE FAMILY SENSORS LINK: `tiltgate sim FAMILY` in the background, waiting
+# (at most 5 s) for its pseudo-terminal's link.
+start_sim() {
+  "$1" sim "$2" --sensors "$3" --link "$4" >"$dir/sim.out" 2>"$dir/sim.err" &
+  pids+=($!)
+  for _ in $(seq 100); do [ -e "$4" ] && return 0; sleep 0.05; done
+  echo "FAIL: the simulator did not start"
+  cat "$dir/sim.err"
+  exit 1
+}
+
+# check NAME COMMAND...: counts a pass when the command succeeds, else a failure with its log.
+check() {
+  local name=$1; shift
+  if "$@" >>"$dir/checks.log" 2>&1; then
+    passes=$((passes + 1))
+  else
+    failures=$((failures + 1)); echo "FAIL: $name"; tail -8 "$dir/checks.log"
+  fi
+}
