@@ -48,12 +48,13 @@ struct ProtocolDescriptor {
   std::optional<AddressRange> master_addresses;
   // The shortest quiet time between master packets the sensors accept ([[bus]] gap_us).
   std::chrono::microseconds min_gap{0};
-  // Whether a bus chooses its character framing ([[bus]] parity and stop_bits, as Modbus RTU
-  // lets it); `framing` above is then the default. False: the framing is fixed and a bus that
+  // Whether a bus chooses its character framing ([[bus]] parity and stop_bits, as the Modbus
+  // serial line spec lets it); `framing` above is then the default. False: the framing is fixed and a bus that
   // gives either key is refused.
   bool bus_chooses_framing = false;
   // The quiet time between master packets when a bus does not give gap_us, for protocols that
-  // measure it in characters at the bus's baud and framing (Modbus RTU's t3.5). Null: 1 ms.
+  // measure it in characters at the bus's baud and framing (the Modbus serial line's t3.5).
+  // Null: 1 ms.
   std::chrono::microseconds (*default_gap)(std::uint32_t baud, Framing framing) = nullptr;
   // For a protocol that carries Modbus PDUs: wraps a Modbus TCP request's PDU for one device
   // on the bus and finds its reply, so a [[bus]] may pass unit ids through to its devices

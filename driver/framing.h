@@ -7,7 +7,7 @@ enum class Framing {
   eight_none_one,  // 8 data bits, no parity, 1 stop bit
   eight_even_one,  // 8 data bits, even parity, 1 stop bit
   eight_odd_one,   // 8 data bits, odd parity, 1 stop bit
-  eight_none_two,  // 8 data bits, no parity, 2 stop bits (Modbus RTU without parity)
+  eight_none_two,  // 8 data bits, no parity, 2 stop bits (the Modbus serial line without parity)
   nine_bit,        // 9-bit addressing: address bytes with mark parity, data bytes with space
 };
 

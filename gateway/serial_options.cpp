@@ -18,7 +18,7 @@ SerialLineOptions serial_options_from(const BusConfig& bus, FamilyList families)
   // The loader accepts only the families' protocols; 8N1 is the transport's own default.
   if (const ProtocolEntry protocol = find_protocol(families, bus.protocol); protocol.protocol)
     o.framing = protocol.protocol->framing;
-  // A bus that chose its own framing (Modbus RTU's parity and stop_bits) overrides it.
+  // A bus that chose its own framing (its parity and stop_bits keys) overrides it.
   if (bus.framing) o.framing = *bus.framing;
   return o;
 }

@@ -8,11 +8,11 @@
 set -u
 root=${1:?usage: $0 SOURCE_DIR}
 cd "$root" || exit 2
-pattern='rieker|spectron|dyna|h6|h4360'
+pattern='rieker|spectron|dyna|h6|h4360|modbus[ _-]rtu|\brtu\b'
 sources=(--include='*.h' --include='*.cpp' --include='CMakeLists.txt' --include='*.cmake')
 
 # The pattern must find the families themselves, or this check proves nothing.
-if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron; then
+if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron modbus_rtu; then
   echo "the pattern '$pattern' finds nothing in the family folders: the check is broken"
   exit 2
 fi
