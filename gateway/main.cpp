@@ -102,6 +102,9 @@ int main(int argc, char** argv) {
     command->add_option("--link", setup.link, "also make this symlink to the pty");
     command->add_option("--pace-baud", setup.pace_baud,
                         "pace replies at this baud rate (0: no pacing)");
+    command->add_option("--baud", setup.listen_baud,
+                        "answer only requests sent at this baud rate, as sensors set to it do "
+                        "(0: any rate)");
     sim_commands.push_back(command);
   }
 
