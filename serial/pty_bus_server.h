@@ -36,7 +36,7 @@ struct PtyBusServerOptions {
   // Hear only what is sent while the tty is set to this baud rate: a device set to one rate
   // makes nothing of bytes sent at another, so a master at the wrong rate gets no reply. The
   // rate is read from the pseudo-terminal, which shares its settings with the slave side.
-  std::optional<std::uint32_t> listen_baud;
+  std::optional<std::uint32_t> listen_baud = std::nullopt;
 };
 
 struct PtyBusCounters {
