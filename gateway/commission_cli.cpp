@@ -22,14 +22,18 @@ std::string protocol_names(FamilyList families) {
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
-// "--port /dev/ttyUSB0 --protocol P --address A" for each family's demo bus, with the keys
-// its sensors must give.
+// "--port /dev/ttyUSB0 --protocol P [--baud B] --address A" for each family's demo bus, with
+// the keys its sensors must give.
 std::vector<std::string> example_buses(FamilyList families) {
   std::vector<std::string> examples;
   for (const FamilyDescriptor* family : families) {
     if (family->demo.sensors.empty()) continue;
-    std::string example = fmt::format("--port /dev/ttyUSB0 --protocol {} --address {}",
-                                      family->demo.protocol, family->demo.sensors.front().address);
+    std::string example = fmt::format("--port /dev/ttyUSB0 --protocol {}", family->demo.protocol);
+    // A protocol without a factory rate needs the one its sensors were set to.
+    const ProtocolEntry protocol = find_protocol(families, family->demo.protocol);
+    if (protocol.protocol && !protocol.protocol->default_baud)
+      example += fmt::format(" --baud {}", family->demo.baud);
+    example += fmt::format(" --address {}", family->demo.sensors.front().address);
     for (std::string_view key : family->required_sensor_keys)
       if (key == "device") example += " --device profile.toml";
     examples.push_back(std::move(example));
