@@ -31,6 +31,8 @@ struct SimulatorSetup {
   std::string protocol;         // one of SimulatorDescriptor::protocols, when it has any
   std::string link;             // optional stable symlink to the pty
   std::uint32_t pace_baud = 0;  // 0: answer at once; else pace replies at this baud rate
+  // 0: hear requests at any rate; else only those sent at this baud rate (PtyBusServerOptions).
+  std::uint32_t listen_baud = 0;
 };
 
 struct SimulatorDescriptor {

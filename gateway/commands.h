@@ -5,6 +5,7 @@
 #include <string>
 
 #include "driver/family.h"
+#include "gateway/commission_options.h"
 
 namespace tiltgate {
 
@@ -20,5 +21,18 @@ int demo_command(const DemoOptions& options);
 
 // `tiltgate sim FAMILY`: the family's simulator on a pseudo-terminal until SIGINT/SIGTERM.
 int sim_command(const FamilyDescriptor& family, const SimulatorSetup& setup);
+
+// Commissioning (README, "Commissioning"): exit 0 on success, 1 when a sensor does not answer
+// or the tty cannot be used, 2 on a usage error.
+// `tiltgate info`: each sensor's identity, lock level and angles.
+int info_command(const BusOptions& bus);
+
+struct WatchOptions {
+  int count = 0;  // rounds before stopping; 0: until SIGINT/SIGTERM
+  int interval_ms = 500;
+  std::string log;  // CSV file every reading is appended to; empty: none
+};
+// `tiltgate watch`: every sensor polled in turn, one row each, until stopped or `count` rounds.
+int watch_command(const BusOptions& bus, const WatchOptions& options);
 
 }  // namespace tiltgate

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gateway/commands.h"
+#include "gateway/commission_cli.h"
 
 namespace {
 
@@ -56,6 +57,28 @@ int main(int argc, char** argv) {
   demo->add_option("--listen", demo_options.listen, "address to bind")->capture_default_str();
   demo->add_option("--port", demo_options.port, "Modbus TCP port")->capture_default_str();
 
+  // Commissioning: the vendor's Windows apps, from an SSH session.
+  tiltgate::BusOptions info_bus;
+  auto* info = app.add_subcommand("info", "show a sensor's address, model, serial, firmware, "
+                                          "lock level and angles (the User App's Sensor Info)");
+  tiltgate::add_bus_options(*info, info_bus);
+  info->footer(tiltgate::info_help_footer());
+
+  tiltgate::BusOptions watch_bus;
+  tiltgate::WatchOptions watch_options;
+  auto* watch = app.add_subcommand("watch", "poll sensors in turn and show their angles, one "
+                                            "row each (the Multi-Unit Angle Display)");
+  tiltgate::add_bus_options(*watch, watch_bus);
+  watch->add_option("--count", watch_options.count, "stop after this many rounds (plain lines)")
+      ->check(CLI::Range(1, 100'000'000));
+  watch->add_option("--interval", watch_options.interval_ms, "ms from one round to the next")
+      ->check(CLI::Range(10, 3'600'000))
+      ->capture_default_str();
+  watch->add_option("--log", watch_options.log,
+                    "append every reading to this CSV file (time, address, serial, x_deg, "
+                    "y_deg, tilt_deg, status)");
+  watch->footer(tiltgate::watch_help_footer());
+
   auto* sim = app.add_subcommand("sim", "run a simulated sensor bus on a pseudo-terminal");
   sim->require_subcommand(1);
   // One `sim` subcommand per family.
@@ -79,16 +102,30 @@ int main(int argc, char** argv) {
     command->add_option("--link", setup.link, "also make this symlink to the pty");
     command->add_option("--pace-baud", setup.pace_baud,
                         "pace replies at this baud rate (0: no pacing)");
+    command->add_option("--baud", setup.listen_baud,
+                        "answer only requests sent at this baud rate, as sensors set to it do "
+                        "(0: any rate)");
     sim_commands.push_back(command);
   }
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; every other parse error is a usage error, exit 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  // A commissioning command's own output is the point: the drivers' warnings about a silent
+  // sensor would only repeat it (and break the redrawn table), unless asked for.
+  const bool commissioning = *info || *watch;
+  if (commissioning && app.get_option("--log-level")->count() == 0) log_level = "error";
   set_up_logging(log_level);
 
   if (*run) return tiltgate::run_command(config_path);
   if (*check) return tiltgate::check_command(config_path);
   if (*map) return tiltgate::map_command(config_path, format);
   if (*demo) return tiltgate::demo_command(demo_options);
+  if (*info) return tiltgate::info_command(info_bus);
+  if (*watch) return tiltgate::watch_command(watch_bus, watch_options);
   for (std::size_t i = 0; i < families.size(); ++i)
     if (*sim_commands[i]) return tiltgate::sim_command(*families[i], sim_setups[i]);
   return 2;

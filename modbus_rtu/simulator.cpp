@@ -5,7 +5,8 @@ namespace tiltgate::modbus_rtu {
 RtuSimulator::RtuSimulator(boost::asio::io_context& io, RtuSimulatorOptions options)
     : options_(std::move(options)),
       server_(io,
-              PtyBusServerOptions{options_.link_path, options_.pace_baud, options_.bits_per_byte},
+              PtyBusServerOptions{options_.link_path, options_.pace_baud, options_.bits_per_byte,
+                                  options_.listen_baud},
               [this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
               [this] { ++counters_.replies_sent; }) {}
 

@@ -26,6 +26,8 @@ struct RtuSimulatorOptions {
   std::vector<SimulatedDevice> devices;
   // Pace replies as a real line at this baud would. Off by default so tests run fast.
   std::optional<std::uint32_t> pace_baud;
+  // Answer only requests sent at this baud rate (PtyBusServerOptions::listen_baud).
+  std::optional<std::uint32_t> listen_baud;
   unsigned bits_per_byte = 11;  // 8E1, the Modbus default (modbus_rtu/timing.h)
   // Time a slave takes to start answering.
   std::chrono::microseconds reply_latency{200};

@@ -10,7 +10,8 @@ constexpr unsigned kBitsPerByte = 10;  // 8N1: start + 8 data + stop
 RiekerSimulator::RiekerSimulator(boost::asio::io_context& io, RiekerSimulatorOptions options)
     : options_(std::move(options)),
       started_(std::chrono::steady_clock::now()),
-      server_(io, PtyBusServerOptions{options_.link_path, options_.pace_baud, kBitsPerByte},
+      server_(io, PtyBusServerOptions{options_.link_path, options_.pace_baud, kBitsPerByte,
+                                              options_.listen_baud},
               [this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
               [this] { ++counters_.replies_sent; }) {
   sensors_.reserve(options_.sensors.size());

@@ -27,6 +27,8 @@ struct RiekerSimulatorOptions {
   // Pace replies as a real line at this baud would: each waits bytes * 10 / baud seconds
   // (8N1: 10 bits a byte). Off by default so tests run fast.
   std::optional<std::uint32_t> pace_baud;
+  // Answer only requests sent at this baud rate (PtyBusServerOptions::listen_baud).
+  std::optional<std::uint32_t> listen_baud;
   // Time a sensor takes to start answering ("as fast as possible").
   std::chrono::microseconds reply_latency{200};
   // A stable path re-pointed (atomically) at the current slave on every (re)open and removed

@@ -1,5 +1,7 @@
 #include "serial/pty_bus_server.h"
 
+#include "serial/termios_settings.h"
+
 #include <algorithm>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -82,6 +84,12 @@ void PtyBusServer::send_after(Clock::duration delay, std::vector<std::uint8_t> b
   if (!port_->writing) write_next(port_);
 }
 
+bool PtyBusServer::hears(int master_fd) const {
+  if (!options_.listen_baud) return true;
+  const auto settings = read_settings(master_fd);
+  return settings && settings->input_baud == *options_.listen_baud;
+}
+
 void PtyBusServer::read_more(const std::shared_ptr<Port>& port) {
   port->stream.async_read_some(
       boost::asio::buffer(port->read_buffer),
@@ -90,6 +98,11 @@ void PtyBusServer::read_more(const std::shared_ptr<Port>& port) {
         // replug(), as an adapter would.
         if (!port->owner || ec) return;
         port->owner->counters_.bytes_received += count;
+        if (!port->owner->hears(port->stream.native_handle())) {
+          port->owner->counters_.bytes_unheard += count;
+          port->owner->read_more(port);
+          return;
+        }
         port->owner->receiving_until_ = std::max(port->owner->receiving_until_, Clock::now()) +
                                         port->owner->transmission_time(count);
         port->owner->on_received_(std::span(port->read_buffer.data(), count));

@@ -33,10 +33,15 @@ struct PtyBusServerOptions {
   std::optional<std::uint32_t> pace_baud;
   // Bits on the wire per byte: 10 for 8N1; 11 for 8E1 and 9-bit framing.
   unsigned bits_per_byte = 10;
+  // Hear only what is sent while the tty is set to this baud rate: a device set to one rate
+  // makes nothing of bytes sent at another, so a master at the wrong rate gets no reply. The
+  // rate is read from the pseudo-terminal, which shares its settings with the slave side.
+  std::optional<std::uint32_t> listen_baud = std::nullopt;
 };
 
 struct PtyBusCounters {
   std::uint64_t bytes_received = 0;
+  std::uint64_t bytes_unheard = 0;  // received at another rate than listen_baud, dropped
   std::uint64_t bytes_sent = 0;
   std::uint64_t sends_completed = 0;  // send() / send_after() calls whose bytes were all written
 };
@@ -78,6 +83,8 @@ class PtyBusServer {
   const PtyBusCounters& counters() const { return counters_; }
 
  private:
+  // Whether bytes received now are at listen_baud (always, without one).
+  bool hears(int master_fd) const;
   struct Port;
 
   void read_more(const std::shared_ptr<Port>& port);

@@ -85,7 +85,8 @@ DynaSimulator::DynaSimulator(boost::asio::io_context& io, DynaSimulatorOptions o
     : options_(std::move(options)),
       started_(Clock::now()),
       framing_(std::make_unique<Framing>()),
-      server_(io, PtyBusServerOptions{options_.link_path, options_.pace_baud, kBitsPerByte},
+      server_(io, PtyBusServerOptions{options_.link_path, options_.pace_baud, kBitsPerByte,
+                                              options_.listen_baud},
               [this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
               [this] { ++counters_.replies_sent; }) {
   sensors_.reserve(options_.sensors.size());

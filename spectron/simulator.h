@@ -45,6 +45,8 @@ struct DynaSimulatorOptions {
   // Pace replies as a real line at this baud would: each waits bytes * 11 / baud seconds
   // (8E1 and 9-bit framing both take 11 bits a byte). Off by default so tests run fast.
   std::optional<std::uint32_t> pace_baud;
+  // Answer only requests sent at this baud rate (PtyBusServerOptions::listen_baud).
+  std::optional<std::uint32_t> listen_baud;
   // Time a module takes to start answering.
   std::chrono::microseconds reply_latency{200};
   // A stable path re-pointed (atomically) at the current slave on every (re)open and removed

@@ -7,11 +7,14 @@
 
 #include <boost/asio/io_context.hpp>
 #include <cerrno>
+#include <fcntl.h>
+#include <unistd.h>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 
+#include "serial/termios_settings.h"
 #include "sim/support/raw_tty_client.h"
 
 using namespace tiltgate;
@@ -174,4 +177,25 @@ TEST_CASE("a receiver may unplug the bus from inside its callback") {
   CHECK_FALSE(server->plugged());
   run_until(io, [] { return false; }, 50ms);
   CHECK(calls == 1);
+}
+
+TEST_CASE("a server that listens at one baud rate hears nothing sent at another") {
+  PtyBusServerOptions options;
+  options.listen_baud = 19200;
+  EchoBus bus(options);
+  // The slave's settings are the pseudo-terminal's: any descriptor on it sets the rate.
+  const int settings_fd = ::open(bus.server->slave_path().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
+  REQUIRE(settings_fd >= 0);
+  RawTtyClient client(bus.io, bus.server->slave_path());
+
+  REQUIRE(apply_raw_settings(settings_fd, 9600, Parity::none, 1).has_value());
+  client.send(Bytes{1, 2, 3});
+  CHECK(run_until(bus.io, [&] { return bus.server->counters().bytes_unheard == 3; }));
+  CHECK(bus.received.empty());
+
+  REQUIRE(apply_raw_settings(settings_fd, 19200, Parity::none, 1).has_value());
+  client.send(Bytes{4, 5});
+  CHECK(receive(client, 2) == Bytes{4, 5});
+  CHECK(bus.received == Bytes{4, 5});
+  ::close(settings_fd);
 }

@@ -1,0 +1,56 @@
+// One bus opened for a commissioning command: its tty, held with an advisory lock for as long
+// as the command runs, and a driver for each sensor the command talks to. The command polls
+// the sensors through their drivers, as the gateway's bus scheduler does, one at a time.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "driver/expected.h"
+#include "driver/sensor_driver.h"
+#include "gateway/commission_options.h"
+#include "serial/serial_line.h"
+
+namespace tiltgate {
+
+struct CommissionedSensor {
+  SensorConfig config;
+  std::unique_ptr<SensorDriver> driver;
+};
+
+class CommissionBus {
+ public:
+  // Why the bus cannot be used, for the user; 2 when the options were wrong (no driver for a
+  // sensor), 1 when the tty was (missing, not openable, in use).
+  struct OpenError {
+    int exit_code;
+    std::string message;
+  };
+
+  static Expected<std::unique_ptr<CommissionBus>, OpenError> open(
+      boost::asio::any_io_executor executor, const CommissionTarget& target);
+  ~CommissionBus();
+  CommissionBus(const CommissionBus&) = delete;
+  CommissionBus& operator=(const CommissionBus&) = delete;
+
+  const BusConfig& config() const { return config_; }
+  SerialLine& line() { return *line_; }
+  std::vector<CommissionedSensor>& sensors() { return sensors_; }
+  // Cancels what is on the line; a suspended poll returns at once.
+  void stop() { line_->stop(); }
+
+  // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.
+  std::string no_reply_message(const CommissionedSensor& sensor) const;
+
+ private:
+  CommissionBus(BusConfig config, int lock_fd);
+
+  BusConfig config_;
+  int lock_fd_;
+  std::unique_ptr<SerialLine> line_;
+  std::vector<CommissionedSensor> sensors_;
+};
+
+}  // namespace tiltgate

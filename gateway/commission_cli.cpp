@@ -1,0 +1,114 @@
+#include "gateway/commission_cli.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace tiltgate {
+
+namespace {
+
+// An option whose absence matters (the configuration's default applies then).
+template <class T>
+CLI::Option* add_optional(CLI::App& command, const std::string& name, std::optional<T>& target,
+                          const std::string& help) {
+  return command.add_option_function<T>(
+      name, [&target](const T& value) { target = value; }, help);
+}
+
+std::string protocol_names(FamilyList families) {
+  std::vector<std::string> names;
+  for (const FamilyDescriptor* family : families)
+    for (const ProtocolDescriptor& protocol : family->protocols) names.emplace_back(protocol.name);
+  return fmt::format("{}", fmt::join(names, ", "));
+}
+
+// "--port /dev/ttyUSB0 --protocol P [--baud B] --address A" for each family's demo bus, with
+// the keys its sensors must give.
+std::vector<std::string> example_buses(FamilyList families) {
+  std::vector<std::string> examples;
+  for (const FamilyDescriptor* family : families) {
+    if (family->demo.sensors.empty()) continue;
+    std::string example = fmt::format("--port /dev/ttyUSB0 --protocol {}", family->demo.protocol);
+    // A protocol without a factory rate needs the one its sensors were set to.
+    const ProtocolEntry protocol = find_protocol(families, family->demo.protocol);
+    if (protocol.protocol && !protocol.protocol->default_baud)
+      example += fmt::format(" --baud {}", family->demo.baud);
+    example += fmt::format(" --address {}", family->demo.sensors.front().address);
+    for (std::string_view key : family->required_sensor_keys)
+      if (key == "device") example += " --device profile.toml";
+    examples.push_back(std::move(example));
+  }
+  return examples;
+}
+
+}  // namespace
+
+std::string info_help_footer() {
+  std::string text = "Examples:\n";
+  for (const std::string& bus : example_buses(registered_families()))
+    text += fmt::format("  tiltgate info {}\n", bus);
+  text += "  tiltgate info --config /etc/tiltgate/tiltgate.toml --sensor boom\n";
+  text += "  tiltgate info --config /etc/tiltgate/tiltgate.toml --bus line1 --address 5,6\n";
+  text +=
+      "Exit status: 0 every sensor answered; 1 one did not, or the tty cannot be used;\n"
+      "2 usage error.";
+  return text;
+}
+
+std::string watch_help_footer() {
+  std::string text = "Examples:\n";
+  for (const std::string& bus : example_buses(registered_families()))
+    text += fmt::format("  tiltgate watch {}\n", bus);
+  text += "  tiltgate watch --config /etc/tiltgate/tiltgate.toml --bus line1 --log angles.csv\n";
+  text += "  tiltgate watch --config /etc/tiltgate/tiltgate.toml --sensor boom --count 10 "
+          "--interval 200\n";
+  text +=
+      "On a terminal the table is redrawn in place until Ctrl-C; otherwise, or with --count,\n"
+      "one line per sensor per round. Columns: address, serial, angles and tilt in degrees,\n"
+      "ok/no-reply, age of the last reading (ms), readings per second.\n"
+      "Exit status: 0 (Ctrl-C and SIGTERM too); 1 the tty cannot be used; 2 usage error.";
+  return text;
+}
+
+void add_bus_options(CLI::App& command, BusOptions& options) {
+  const FamilyList families = registered_families();
+  command.add_option("--port", options.port, "the bus's tty, e.g. /dev/ttyUSB0")
+      ->group("Bus on the command line");
+  command
+      .add_option("--protocol", options.protocol,
+                  fmt::format("{} (default: {})", protocol_names(families),
+                              families.front()->protocols.front().name))
+      ->group("Bus on the command line");
+  add_optional(command, "--baud", options.baud,
+               "the rate the sensors are set to (default: the protocol's factory rate)")
+      ->group("Bus on the command line");
+  command.add_option("--parity", options.parity, "even, odd or none, where the protocol lets "
+                                                 "the bus choose (default: the protocol's)")
+      ->group("Bus on the command line");
+  add_optional(command, "--stop-bits", options.stop_bits, "1 or 2, where the protocol lets the "
+                                                          "bus choose")
+      ->group("Bus on the command line");
+  add_optional(command, "--master-address", options.master_address,
+               "the master's own address, where the protocol has one")
+      ->group("Bus on the command line");
+  command.add_option("--model", options.model,
+                     "the sensors' model, which decides the driver (default: the protocol's "
+                     "first model)")
+      ->group("Bus on the command line");
+  command.add_option("--device", options.device,
+                     "a device profile, for sensors whose family takes one (device = FILE)")
+      ->group("Bus on the command line");
+  command.add_option("-c,--config", options.config, "take the bus from this configuration file")
+      ->group("Bus from a configuration");
+  command.add_option("--sensor", options.sensor, "with --config: this sensor, on its bus")
+      ->group("Bus from a configuration");
+  command.add_option("--bus", options.bus, "with --config: this bus, all its sensors")
+      ->group("Bus from a configuration");
+  command
+      .add_option("--address", options.addresses,
+                  "the sensors' bus addresses, A[,B...] (with --bus: some of its sensors)")
+      ->delimiter(',')
+      ->group("Sensors");
+}
+
+}  // namespace tiltgate

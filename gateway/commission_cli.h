@@ -1,0 +1,19 @@
+// The command-line side of the commissioning commands: the bus and sensor options they share
+// (gateway/commission_options.h) and their help.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "gateway/commission_options.h"
+
+namespace tiltgate {
+
+// --port, --protocol, --baud, --parity, --stop-bits, --master-address, --model, --device,
+// --config, --sensor, --bus and --address, filling `options`.
+void add_bus_options(CLI::App& command, BusOptions& options);
+
+// The commands' --help footers: examples for each family's bus, and the exit status.
+std::string info_help_footer();
+std::string watch_help_footer();
+
+}  // namespace tiltgate

@@ -1,0 +1,54 @@
+// The bus and sensor options the commissioning commands share (`info`, `watch`; later `scan`,
+// `set`, `raw`): a tty and protocol on the command line, or a bus and sensors taken from a
+// configuration file. Command-line values go through the configuration loader itself, so a
+// bad protocol, baud, framing or address is refused exactly as it would be in a [[bus]] or
+// [[sensor]], reported under the option's name instead of the key's.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "config/config.h"
+#include "driver/expected.h"
+#include "driver/family.h"
+
+namespace tiltgate {
+
+// As the command line gives them; empty / none for an option not given.
+struct BusOptions {
+  // Either a bus on the command line...
+  std::string port;
+  std::string protocol;  // none: the loader's default, the first family's first protocol
+  std::optional<std::int64_t> baud;
+  std::string parity;
+  std::optional<std::int64_t> stop_bits;
+  std::optional<std::int64_t> master_address;
+  std::string model;   // none: the protocol's family's first model
+  std::string device;  // a file for the family's `device` key, where its sensors take one
+  // ... or one from a configuration: a sensor and its bus, or a whole bus.
+  std::string config;
+  std::string sensor;
+  std::string bus;
+  // Sensors by bus address: with --port, the sensors to talk to; with --bus, a choice among
+  // the bus's configured sensors.
+  std::vector<std::int64_t> addresses;
+};
+
+// The bus to open and the sensors on it to talk to, validated as a configuration is.
+struct CommissionTarget {
+  BusConfig bus;
+  std::vector<SensorConfig> sensors;
+};
+
+// Each message names the option (or the configuration file's place) it is about.
+using UsageErrors = std::vector<std::string>;
+
+Expected<CommissionTarget, UsageErrors> resolve_bus_options(
+    const BusOptions& options, FamilyList families = registered_families());
+
+// The configuration text that stands for a command-line bus (exposed for tests).
+std::string command_line_config(const BusOptions& options, FamilyList families);
+
+}  // namespace tiltgate

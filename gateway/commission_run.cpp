@@ -1,0 +1,46 @@
+#include "gateway/commission_run.h"
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <csignal>
+#include <iostream>
+
+namespace tiltgate {
+
+int run_commissioning(std::string_view command, const BusOptions& options, CommissionWork work) {
+  const auto target = resolve_bus_options(options);
+  if (!target) {
+    for (const std::string& error : target.error())
+      std::cerr << "tiltgate " << command << ": " << error << "\n";
+    std::cerr << "Run with --help for more information.\n";
+    return 2;
+  }
+  boost::asio::io_context io;
+  auto bus = CommissionBus::open(io.get_executor(), *target);
+  if (!bus) {
+    std::cerr << "tiltgate " << command << ": " << bus.error().message << "\n";
+    return bus.error().exit_code;
+  }
+  bool stopping = false;
+  int exit_code = 0;
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& ec, int) {
+    if (ec) return;
+    stopping = true;
+    (*bus)->stop();
+  });
+  boost::asio::co_spawn(
+      io,
+      [&]() -> boost::asio::awaitable<void> {
+        exit_code = co_await work(**bus, stopping);
+        signals.cancel();
+        (*bus)->stop();
+      },
+      boost::asio::detached);
+  io.run();
+  return stopping ? 0 : exit_code;
+}
+
+}  // namespace tiltgate

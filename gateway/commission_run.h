@@ -1,0 +1,23 @@
+// What the commissioning commands do alike around their own work: resolve the options, open
+// the bus, run a coroutine on it until it ends or SIGINT/SIGTERM arrives.
+#pragma once
+
+#include <boost/asio/awaitable.hpp>
+#include <functional>
+#include <string_view>
+
+#include "gateway/commission_bus.h"
+#include "gateway/commission_options.h"
+
+namespace tiltgate {
+
+// The command's work on the open bus; returns the exit code. `stopping` turns true on a
+// signal, after which the line is stopped and every poll returns at once.
+using CommissionWork =
+    std::function<boost::asio::awaitable<int>(CommissionBus& bus, const bool& stopping)>;
+
+// Prints usage errors ("tiltgate COMMAND: --baud: ...") and returns 2, or a bus that cannot be
+// opened and returns 1; else the work's exit code (0 when stopped by a signal).
+int run_commissioning(std::string_view command, const BusOptions& options, CommissionWork work);
+
+}  // namespace tiltgate

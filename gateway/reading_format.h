@@ -1,0 +1,67 @@
+// How the commissioning commands show a sensor: `info`'s lines, `watch`'s table rows and its
+// CSV log. Pure: the caller passes the clock's readings in.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "driver/sensor_state.h"
+
+namespace tiltgate {
+
+// One sensor as `watch` shows it at one moment.
+struct SensorSnapshot {
+  std::uint32_t address = 0;
+  std::string serial;                  // empty until the sensor has told it
+  std::optional<double> angle_x;       // the last reading's; none before the first
+  std::optional<double> angle_y;       // none on single-axis sensors too
+  bool responding = false;             // the last exchange got a valid reply
+  std::optional<std::chrono::milliseconds> age;  // of the last reading
+  std::optional<double> polls_per_second;  // readings per second; none before the second
+};
+
+// How often a sensor's readings arrive: readings after the first over the time since it.
+class ReadingRate {
+ public:
+  // Call after each poll: counts the reading if it is a new one.
+  void update(const SensorState& state);
+  std::optional<double> per_second() const;
+
+ private:
+  std::uint16_t last_seq_ = 0;
+  bool seen_ = false;
+  std::uint64_t readings_ = 0;
+  SteadyClock::time_point first_{};
+  SteadyClock::time_point last_{};
+};
+
+SensorSnapshot snapshot_of(std::uint32_t address, const SensorState& state,
+                           SteadyClock::time_point now, std::optional<double> polls_per_second);
+
+// The tilt from vertical of a reading's angles (mapping/tilt.h); none without an X angle.
+std::optional<double> tilt_of(const SensorSnapshot& snapshot);
+
+// "ok" or "no-reply": one word, so that plain lines split on blanks.
+std::string_view status_word(bool responding);
+
+// `watch`'s table: a header and one row per sensor, in fixed-width columns.
+std::string watch_header();
+std::string watch_row(const SensorSnapshot& snapshot);
+
+// 2026-12-01T20:40:01.123Z
+std::string iso8601_utc_ms(std::chrono::system_clock::time_point time);
+
+// `watch --log`: the header, and one line per poll. A poll that got no reading leaves the
+// angles empty.
+std::string csv_header();
+std::string csv_line(std::chrono::system_clock::time_point time, const SensorSnapshot& snapshot);
+
+// `info`: one "name: value" line each for the address, model, serial, firmware, lock level,
+// angles and tilt; "-" for what the sensor has not told or its protocol does not have.
+std::string sensor_info_text(std::uint32_t address, std::string_view model,
+                             const SensorState& state);
+
+}  // namespace tiltgate

@@ -1,0 +1,114 @@
+// `tiltgate watch`: the vendor's Multi-Unit Angle Display. Polls each sensor in turn through
+// its driver and shows one row per sensor: redrawn in place on a terminal, else plain lines.
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/this_coro.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <iostream>
+#include <unistd.h>
+
+#include "gateway/commands.h"
+#include "gateway/commission_run.h"
+#include "gateway/reading_format.h"
+
+namespace tiltgate {
+
+namespace {
+
+namespace asio = boost::asio;
+
+// The pause between rounds is waited out in slices, so a signal ends it promptly.
+constexpr std::chrono::milliseconds kWaitSlice{50};
+
+class Display {
+ public:
+  explicit Display(bool redraw) : redraw_(redraw) {}
+
+  void show(const std::vector<SensorSnapshot>& rows) {
+    if (redraw_) {
+      // Back to the header drawn last time (ANSI cursor up), each line cleared as it is redrawn.
+      if (drawn_ > 0) std::cout << fmt::format("\x1b[{}A", drawn_);
+      std::cout << "\r\x1b[2K" << watch_header() << "\n";
+      for (const SensorSnapshot& row : rows) std::cout << "\r\x1b[2K" << watch_row(row) << "\n";
+      drawn_ = int(rows.size()) + 1;
+    } else {
+      if (drawn_ == 0) std::cout << watch_header() << "\n";
+      for (const SensorSnapshot& row : rows) std::cout << watch_row(row) << "\n";
+      drawn_ = 1;
+    }
+    std::cout.flush();
+  }
+
+ private:
+  bool redraw_;
+  int drawn_ = 0;
+};
+
+// Appends to `path`, with the header when the file is new or empty.
+Expected<std::ofstream, std::string> open_log(const std::string& path) {
+  std::error_code ec;
+  const bool is_new = !std::filesystem::exists(path, ec) || std::filesystem::file_size(path, ec) == 0;
+  std::ofstream log(path, std::ios::app);
+  if (!log) return Unexpected{fmt::format("--log: cannot open {}: {}", path, std::strerror(errno))};
+  if (is_new) log << csv_header();
+  log.flush();
+  return log;
+}
+
+asio::awaitable<void> pause_until(SteadyClock::time_point until, const bool& stopping) {
+  asio::steady_timer timer(co_await asio::this_coro::executor);
+  while (!stopping && SteadyClock::now() < until) {
+    timer.expires_after(std::min<SteadyClock::duration>(kWaitSlice, until - SteadyClock::now()));
+    boost::system::error_code ec;
+    co_await timer.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+  }
+}
+
+}  // namespace
+
+int watch_command(const BusOptions& bus_options, const WatchOptions& options) {
+  std::ofstream log;
+  if (!options.log.empty()) {
+    auto opened = open_log(options.log);
+    if (!opened) {
+      std::cerr << "tiltgate watch: " << opened.error() << "\n";
+      return 2;
+    }
+    log = std::move(*opened);
+  }
+  const bool redraw = options.count == 0 && ::isatty(STDOUT_FILENO) == 1;
+  return run_commissioning(
+      "watch", bus_options,
+      [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
+        Display display(redraw);
+        std::vector<ReadingRate> rates(bus.sensors().size());
+        const std::chrono::milliseconds interval(options.interval_ms);
+        for (int round = 1; !stopping; ++round) {
+          const SteadyClock::time_point round_start = SteadyClock::now();
+          std::vector<SensorSnapshot> rows;
+          for (std::size_t i = 0; i < bus.sensors().size() && !stopping; ++i) {
+            CommissionedSensor& sensor = bus.sensors()[i];
+            co_await sensor.driver->poll(bus.line());
+            rates[i].update(sensor.driver->state());
+            rows.push_back(snapshot_of(sensor.config.address, sensor.driver->state(),
+                                       SteadyClock::now(), rates[i].per_second()));
+            if (log.is_open() && !stopping) {
+              log << csv_line(std::chrono::system_clock::now(), rows.back());
+              log.flush();
+            }
+          }
+          if (stopping) break;
+          display.show(rows);
+          if (options.count > 0 && round >= options.count) break;
+          co_await pause_until(round_start + interval, stopping);
+        }
+        co_return 0;
+      });
+}
+
+}  // namespace tiltgate
