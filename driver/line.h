@@ -24,6 +24,19 @@ enum class LineError {
 
 const char* to_string(LineError e);
 
+// A framer's account of one attempt's bytes, for `--log-level trace` (serial/frame_trace.h).
+// The family words the verdicts with its own checksum's name.
+struct FramerReport {
+  // The accepted reply as it was on the wire, checksum included; empty before feed() returned
+  // true.
+  std::vector<std::uint8_t> reply;
+  // The checksum's verdict on the reply, e.g. "CRC ok".
+  std::string reply_verdict;
+  // What became of the bytes that were not the reply when a frame among them failed its
+  // checks, e.g. "bad CRC"; empty when they were only skipped (noise, another device's frame).
+  std::string rejected_verdict;
+};
+
 // Decides when the bytes received so far hold a whole reply. Pure: fed by the Line, owned by
 // the driver, which reads the decoded reply out of it afterwards.
 class ReplyFramer {
@@ -34,6 +47,9 @@ class ReplyFramer {
   // Consume received bytes. Returns true once a complete, valid reply is held; bytes after it
   // are ignored. Bytes that cannot be part of a valid reply are dropped by the framer itself.
   virtual bool feed(std::span<const std::uint8_t> bytes) = 0;
+  // What the framer made of the bytes fed since reset(), for the trace log. The Line asks only
+  // when trace logging is on. The default knows no checksum: the Line then shows what it read.
+  virtual FramerReport report() const { return {}; }
 };
 
 struct LineRequest {

@@ -9,6 +9,7 @@ RtuForwardedExchange::RtuForwardedExchange(Request request)
 void RtuForwardedExchange::reset() {
   parser_.reset();
   reply_frame_.reset();
+  crc_errors_before_ = parser_.counters().crc_errors;
 }
 
 bool RtuForwardedExchange::feed(std::span<const std::uint8_t> bytes) {
@@ -16,6 +17,14 @@ bool RtuForwardedExchange::feed(std::span<const std::uint8_t> bytes) {
   parser_.feed(bytes);
   reply_frame_ = parser_.next();
   return reply_frame_.has_value();
+}
+
+FramerReport RtuForwardedExchange::report() const {
+  FramerReport report;
+  if (reply_frame_) report.reply = *reply_frame_;
+  report.reply_verdict = "CRC ok";
+  if (parser_.counters().crc_errors > crc_errors_before_) report.rejected_verdict = "bad CRC";
+  return report;
 }
 
 Expected<std::vector<std::uint8_t>, std::string> RtuForwardedExchange::reply_pdu() const {

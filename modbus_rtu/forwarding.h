@@ -26,10 +26,12 @@ class RtuForwardedExchange final : public ForwardedExchange, private ReplyFramer
  private:
   void reset() override;
   bool feed(std::span<const std::uint8_t> bytes) override;
+  FramerReport report() const override;
 
   Request request_;
   RtuFrameParser parser_;
   std::optional<Bytes> reply_frame_;
+  std::uint64_t crc_errors_before_ = 0;  // the parser's count at reset()
 };
 
 // ProtocolDescriptor::forward of the modbus-rtu protocol: slave 1..247, a PDU of 1..253 bytes.

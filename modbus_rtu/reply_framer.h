@@ -23,13 +23,29 @@ class RtuReplyFramer : public ReplyFramer {
   void reset() override {
     parser_.reset();
     reply_.reset();
+    reply_frame_.clear();
+    crc_errors_before_ = parser_.counters().crc_errors;
   }
 
   bool feed(std::span<const std::uint8_t> bytes) override {
     if (reply_) return true;  // bytes after the reply are ignored
     parser_.feed(bytes);
-    if (auto frame = parser_.next()) reply_.emplace(parse_reply(request_, *frame));
+    if (auto frame = parser_.next()) {
+      reply_.emplace(parse_reply(request_, *frame));
+      reply_frame_ = std::move(*frame);
+    }
     return reply_.has_value();
+  }
+
+  FramerReport report() const override {
+    FramerReport report;
+    report.reply = reply_frame_;
+    report.reply_verdict = "CRC ok";
+    if (reply_ && !*reply_) {
+      report.reply_verdict += std::string(", but ") + to_string(reply_->error());
+    }
+    if (parser_.counters().crc_errors > crc_errors_before_) report.rejected_verdict = "bad CRC";
+    return report;
   }
 
   // The checked reply once feed() returned true.
@@ -41,6 +57,8 @@ class RtuReplyFramer : public ReplyFramer {
   Request request_;
   RtuFrameParser parser_;
   std::optional<Expected<Reply, CodecError>> reply_;
+  Bytes reply_frame_;                    // the reply as received, for report()
+  std::uint64_t crc_errors_before_ = 0;  // the parser's count at reset()
 };
 
 }  // namespace tiltgate::modbus_rtu

@@ -1,6 +1,8 @@
 // Tells the Line when the reply to one Rieker request has arrived: the first good frame that
 // answers that request. Frames from other sensors (a collision, a late reply to an earlier
-// request) are skipped; bad CRCs are counted.
+// request) are skipped; bad CRCs are counted. For the trace log, a stretch of bytes that formed
+// no frame with a good CRC is "bad CRC": without a start marker, noise and a corrupted frame
+// look alike.
 #pragma once
 
 #include <optional>
@@ -17,6 +19,7 @@ class RiekerReplyFramer : public ReplyFramer {
   void reset() override {
     parser_.reset();
     reply_.reset();
+    crc_errors_before_ = parser_.counters().crc_errors;
   }
 
   bool feed(std::span<const std::uint8_t> bytes) override {
@@ -29,6 +32,15 @@ class RiekerReplyFramer : public ReplyFramer {
     return reply_.has_value();
   }
 
+  FramerReport report() const override {
+    FramerReport report;
+    // A frame with a good CRC encodes back to the very bytes received.
+    if (reply_) report.reply = encode(*reply_);
+    report.reply_verdict = "CRC ok";
+    if (parser_.counters().crc_errors > crc_errors_before_) report.rejected_verdict = "bad CRC";
+    return report;
+  }
+
   const std::optional<Frame>& reply() const { return reply_; }
   std::uint64_t crc_errors() const { return parser_.counters().crc_errors; }
 
@@ -36,6 +48,7 @@ class RiekerReplyFramer : public ReplyFramer {
   Frame request_;
   RiekerFrameParser parser_;
   std::optional<Frame> reply_;
+  std::uint64_t crc_errors_before_ = 0;  // the parser's count at reset()
 };
 
 }  // namespace tiltgate::rieker

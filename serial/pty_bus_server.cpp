@@ -14,6 +14,10 @@
 #include <cstring>
 #include <deque>
 
+#include <spdlog/spdlog.h>
+
+#include "driver/hex.h"
+
 namespace tiltgate {
 namespace {
 
@@ -105,7 +109,13 @@ void PtyBusServer::read_more(const std::shared_ptr<Port>& port) {
         }
         port->owner->receiving_until_ = std::max(port->owner->receiving_until_, Clock::now()) +
                                         port->owner->transmission_time(count);
-        port->owner->on_received_(std::span(port->read_buffer.data(), count));
+        const std::span<const std::uint8_t> received(port->read_buffer.data(), count);
+        // The simulator's side of --log-level trace: what it read, one line per read (it
+        // knows no protocol, so a request may show in pieces).
+        if (spdlog::should_log(spdlog::level::trace)) {
+          spdlog::trace("sim {} <- {}", port->owner->slave_path_, hex_bytes(received));
+        }
+        port->owner->on_received_(received);
         if (port->owner) port->owner->read_more(port);  // the receiver may have unplugged
       });
 }
@@ -122,6 +132,9 @@ void PtyBusServer::write_next(const std::shared_ptr<Port>& port) {
         [port](const boost::system::error_code& write_error, std::size_t written) {
           if (!port->owner || write_error) return;
           PtyBusServer& owner = *port->owner;
+          if (spdlog::should_log(spdlog::level::trace)) {
+            spdlog::trace("sim {} -> {}", owner.slave_path_, hex_bytes(port->sends.front().bytes));
+          }
           owner.counters_.bytes_sent += written;
           ++owner.counters_.sends_completed;
           port->sends.pop_front();

@@ -2,7 +2,8 @@
 // test) opens as if it were a USB-RS485 adapter. It knows no protocol: bytes read from the
 // master side go to a callback, and whatever the simulated devices answer goes back out, one
 // send at a time, each after its delay (and, when pacing, its transmission time at a baud rate).
-// Each sensor family's simulator is a protocol layer on top of it.
+// Each sensor family's simulator is a protocol layer on top of it. At trace level it logs the
+// bytes it reads and each send it writes, in hex, named by its pty ("sim /dev/pts/4 <- ...").
 //
 // Threading: the server runs on the caller's io_context, which must outlive it. Call its
 // methods from the thread running that io_context (or through post()), or while it is not

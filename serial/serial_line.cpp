@@ -11,6 +11,8 @@
 #include <boost/asio/write.hpp>
 #include <cerrno>
 
+#include "serial/frame_trace.h"
+
 namespace tiltgate {
 
 namespace asio = boost::asio;
@@ -200,6 +202,8 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
   const int retries = request.retries < 0 ? options_.retries : request.retries;
   const auto timeout = request.timeout.count() > 0 ? request.timeout : options_.timeout;
   timing_ = LineTiming{};
+  // Decided once per transaction: with trace off, nothing below is kept or formatted.
+  tracing_ = spdlog::should_log(spdlog::level::trace);
   std::optional<Clock::time_point> timed_out_request_end;
   for (int attempts_left = retries + 1;; --attempts_left) {
     if (stopped_) co_return Unexpected(LineError::cancelled);
@@ -208,6 +212,10 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
     if (outcome == Attempt::timed_out) {
       ++stats_.timeouts;
       spdlog::debug("{}: no reply within {} ms", options_.name, timeout.count());
+      if (tracing_ && request.framer) {
+        spdlog::trace("{} {}", options_.name,
+                      traced_timeout(traced_received_, request.framer->report(), timeout));
+      }
       // From the deadline: an echo mismatch ends the attempt before it.
       timed_out_request_end = packet_end_;
       const auto guarded = co_await discard_late_replies(
@@ -236,6 +244,7 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
   const Clock::time_point give_up = from + std::max<Clock::duration>(kLongestGuardWait, 4 * guard);
   Clock::time_point quiet_until = std::max(from, last_byte_at_) + guard;
   bool in_burst = false;
+  std::vector<std::uint8_t> discarded;  // kept for the trace log only
   std::array<std::uint8_t, 256> buffer{};
   for (;;) {
     const Clock::time_point until = std::min(quiet_until, give_up);
@@ -244,6 +253,7 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
     if (!received && received.error() == Attempt::timed_out) break;  // quiet
     if (!received) co_return received.error();
     if (*received == 0) continue;
+    if (tracing_) discarded.insert(discarded.end(), buffer.begin(), buffer.begin() + *received);
     quiet_until = last_byte_at_ + guard;
     if (!in_burst) {
       in_burst = true;
@@ -260,6 +270,9 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
   if (in_burst) {
     spdlog::debug("{}: discarded a reply {} ms after the request, past its time-out",
                   options_.name, timing_.late_delay->count());
+    if (tracing_) {
+      spdlog::trace("{} {}", options_.name, traced_late(discarded, *timing_.late_delay));
+    }
   }
   // The guard itself is the quiet time before the next packet; the bus gap still applies.
   quiet_until_ = std::max(quiet_until_, Clock::now() + options_.gap);
@@ -278,6 +291,12 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
   ++stats_.attempts;
   const std::optional<Attempt> send_failure = co_await send(request);
   if (send_failure) co_return *send_failure;
+  if (tracing_) {
+    const std::size_t address_bytes =
+        options_.framing == Framing::nine_bit ? request.address_bytes : 0;
+    spdlog::trace("{} {}", options_.name, traced_request(request.bytes, address_bytes));
+    traced_received_.clear();
+  }
   quiet_until_ = packet_end_ + request.settle + options_.gap;
   if (!request.framer) co_return Attempt::replied;  // nothing to wait for: written is done
   co_return co_await receive(request, packet_end_ + timeout);
@@ -360,8 +379,15 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
       echo = echo.subspan(n);
       chunk = chunk.subspan(n);
     }
+    if (tracing_) traced_received_.insert(traced_received_.end(), chunk.begin(), chunk.end());
     if (!chunk.empty() && request.framer->feed(chunk)) {
       timing_.reply_delay = whole_ms(last_byte_at_ - packet_end_);
+      if (tracing_) {
+        for (const std::string& line :
+             traced_reply(traced_received_, request.framer->report(), *timing_.reply_delay)) {
+          spdlog::trace("{} {}", options_.name, line);
+        }
+      }
       co_return Attempt::replied;
     }
   }

@@ -46,6 +46,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "driver/framing.h"
 #include "driver/line.h"
@@ -150,6 +151,10 @@ class SerialLine final : public Line {
   LineStats stats_;
   LineTiming timing_;
   WriteObserver write_observer_;
+  // --log-level trace (serial/frame_trace.h): set per transaction; the bytes read in the
+  // current attempt, kept only while tracing.
+  bool tracing_ = false;
+  std::vector<std::uint8_t> traced_received_;
   // Lets timer handlers that outlive the line see that it is gone.
   std::shared_ptr<int> alive_ = std::make_shared<int>(0);
 };

@@ -20,6 +20,8 @@ std::optional<AsciiFrame> AsciiFrameParser::next() {
   if (ready_.empty()) return std::nullopt;
   AsciiFrame frame = std::move(ready_.front());
   ready_.pop_front();
+  last_text_ = std::move(ready_text_.front());
+  ready_text_.pop_front();
   return frame;
 }
 
@@ -27,6 +29,7 @@ void AsciiFrameParser::reset() {
   counters_.bytes_discarded += size_;
   size_ = 0;
   ready_.clear();
+  ready_text_.clear();
 }
 
 void AsciiFrameParser::take(char c) {
@@ -51,9 +54,11 @@ void AsciiFrameParser::take(char c) {
 }
 
 void AsciiFrameParser::complete() {
-  auto frame = decode(std::string_view(buffer_.data(), size_));
+  const std::string_view text(buffer_.data(), size_);
+  auto frame = decode(text);
   if (frame) {
     ready_.push_back(std::move(*frame));
+    ready_text_.emplace_back(text);
     ++counters_.frames_ok;
   } else {
     if (frame.error() == AsciiDecodeError::bad_lrc) {

@@ -14,6 +14,7 @@
 #include <deque>
 #include <optional>
 #include <span>
+#include <string>
 
 #include "spectron/ascii_codec.h"
 #include "spectron/assumptions.h"
@@ -33,6 +34,9 @@ class AsciiFrameParser {
   std::size_t feed(std::span<const std::uint8_t> bytes);
   // The oldest good frame not yet taken.
   std::optional<AsciiFrame> next();
+  // The characters of the frame next() returned last, as received (':' to CR LF): the LRC is
+  // over them in their letter case, which a re-encoded frame would not keep.
+  const std::string& last_text() const { return last_text_; }
   // Drops the partial frame and waiting frames: the start of a new exchange.
   void reset();
 
@@ -47,6 +51,8 @@ class AsciiFrameParser {
   std::array<char, kMaxFrameLength> buffer_{};
   std::size_t size_ = 0;  // 0: outside a frame
   std::deque<AsciiFrame> ready_;
+  std::deque<std::string> ready_text_;  // each ready frame's characters
+  std::string last_text_;
   AsciiParserCounters counters_;
 };
 

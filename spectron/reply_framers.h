@@ -21,6 +21,7 @@ class NineBitReplyFramer : public ReplyFramer {
   void reset() override {
     parser_.reset();
     reply_.reset();
+    overlong_before_ = parser_.counters().overlong_lines;
   }
 
   bool feed(std::span<const std::uint8_t> bytes) override {
@@ -35,9 +36,25 @@ class NineBitReplyFramer : public ReplyFramer {
   const std::optional<std::string>& reply() const { return reply_; }
   const LineParserCounters& counters() const { return parser_.counters(); }
 
+  // The protocol has no checksum: a reply is whole when its CR LF arrives.
+  FramerReport report() const override {
+    FramerReport report;
+    if (reply_) {
+      report.reply.assign(reply_->begin(), reply_->end());
+      report.reply.push_back('\r');
+      report.reply.push_back('\n');
+    }
+    report.reply_verdict = "CR LF, no checksum";
+    if (parser_.counters().overlong_lines > overlong_before_) {
+      report.rejected_verdict = "overlong line";
+    }
+    return report;
+  }
+
  private:
   NineBitLineParser parser_;
   std::optional<std::string> reply_;
+  std::uint64_t overlong_before_ = 0;  // the parser's count at reset()
 };
 
 // Modbus-ASCII: the first good frame from the addressed module answering the request's
@@ -50,6 +67,8 @@ class AsciiReplyFramer : public ReplyFramer {
   void reset() override {
     parser_.reset();
     reply_.reset();
+    reply_text_.clear();
+    counters_before_ = parser_.counters();
   }
 
   bool feed(std::span<const std::uint8_t> bytes) override {
@@ -58,6 +77,7 @@ class AsciiReplyFramer : public ReplyFramer {
     while (auto frame = parser_.next()) {
       if (is_reply_to(*frame, request_)) {
         reply_ = std::move(*frame);
+        reply_text_ = parser_.last_text();
         break;
       }
     }
@@ -68,10 +88,25 @@ class AsciiReplyFramer : public ReplyFramer {
   std::uint64_t lrc_errors() const { return parser_.counters().lrc_errors; }
   const AsciiParserCounters& counters() const { return parser_.counters(); }
 
+  FramerReport report() const override {
+    FramerReport report;
+    report.reply.assign(reply_text_.begin(), reply_text_.end());
+    report.reply_verdict = "LRC ok";
+    const AsciiParserCounters& now = parser_.counters();
+    if (now.lrc_errors > counters_before_.lrc_errors) {
+      report.rejected_verdict = "bad LRC";
+    } else if (now.malformed > counters_before_.malformed) {
+      report.rejected_verdict = "malformed frame";
+    }
+    return report;
+  }
+
  private:
   AsciiFrame request_;
   AsciiFrameParser parser_;
   std::optional<AsciiFrame> reply_;
+  std::string reply_text_;              // the reply's characters as received
+  AsciiParserCounters counters_before_;  // the parser's counts at reset()
 };
 
 }  // namespace tiltgate::spectron
