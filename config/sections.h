@@ -1,6 +1,6 @@
-// Reading the three kinds of table: [server], [[bus]] and [[sensor]]. Each is checked on its
-// own here (types, ranges, keys that depend on another key of the same table); checks across
-// tables are in config/cross_checks.h.
+// Reading the three kinds of table: [server] and [[sensor]] (sections.cpp), [[bus]]
+// (bus_section.cpp). Each is checked on its own (types, ranges, keys that depend on another key
+// of the same table); checks across tables are in config/cross_checks.h.
 #pragma once
 
 #include <toml++/toml.h>

@@ -245,4 +245,15 @@ void TableReader::reject_unknown_keys() {
   }
 }
 
+void check_name(TableReader& in, std::string_view key, const std::string& name) {
+  const bool safe = std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '.' || c == '-';
+  });
+  if (name.empty() || !safe)
+    in.error(key, fmt::format("\"{}\" is not a valid name, expected one or more of the "
+                              "letters A-Z a-z, digits 0-9, '_', '.' and '-'",
+                              name));
+}
+
 }  // namespace tiltgate::config

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -85,5 +86,14 @@ std::string_view type_name(toml::node_type type);
 inline std::string closest_key(std::string_view unknown, std::span<const std::string> known) {
   return closest_name(unknown, known);
 }
+
+// Bounds for TableReader::integer() when the range is checked later (it depends on another
+// table, e.g. a sensor's address on its bus's protocol).
+inline constexpr std::int64_t kAnyInteger = std::numeric_limits<std::int64_t>::min();
+inline constexpr std::int64_t kAnyIntegerMax = std::numeric_limits<std::int64_t>::max();
+
+// Names appear in logs, metrics and on the command line: keeps them to a safe alphabet
+// (reported at `key` otherwise).
+void check_name(TableReader& in, std::string_view key, const std::string& name);
 
 }  // namespace tiltgate::config
