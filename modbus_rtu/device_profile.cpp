@@ -55,22 +55,24 @@ std::vector<NamedValue> decode_values(const DeviceProfile& profile, const Polled
   return decoded;
 }
 
+DeviceValue device_value_of(const ProfileValue& v) {
+  DeviceValue value;
+  value.name = v.name;
+  value.writable = v.writable;
+  std::int64_t low = 0, high = 0;
+  if (integer_limits(v.type, low, high)) {
+    value.min = double(low) * v.scale + v.offset;
+    value.max = double(high) * v.scale + v.offset;
+    if (value.min > value.max) std::swap(value.min, value.max);
+  }
+  if (v.min) value.min = std::max(value.min, *v.min);
+  if (v.max) value.max = std::min(value.max, *v.max);
+  return value;
+}
+
 std::vector<DeviceValue> device_values_of(const DeviceProfile& profile) {
   std::vector<DeviceValue> values;
-  for (const ProfileValue& v : profile.values) {
-    DeviceValue value;
-    value.name = v.name;
-    value.writable = v.writable;
-    std::int64_t low = 0, high = 0;
-    if (integer_limits(v.type, low, high)) {
-      value.min = double(low) * v.scale + v.offset;
-      value.max = double(high) * v.scale + v.offset;
-      if (value.min > value.max) std::swap(value.min, value.max);
-    }
-    if (v.min) value.min = std::max(value.min, *v.min);
-    if (v.max) value.max = std::min(value.max, *v.max);
-    values.push_back(std::move(value));
-  }
+  for (const ProfileValue& v : profile.values) values.push_back(device_value_of(v));
   return values;
 }
 

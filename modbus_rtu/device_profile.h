@@ -55,6 +55,7 @@ struct DeviceProfile {
 // what register-map points may show and write. A writable value's range is its min and max,
 // else what its register type holds once scaled.
 std::vector<DeviceValue> device_values_of(const DeviceProfile& profile);
+DeviceValue device_value_of(const ProfileValue& value);
 
 // Registers a number type takes; 0 for bool and string, which a profile does not offer.
 std::uint16_t words_of(PointType type);

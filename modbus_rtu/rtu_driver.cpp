@@ -36,7 +36,7 @@ WriteResult RtuDriver::check_write(WriteTarget target, double value) const {
                                  "a Modbus RTU device takes writes of its profile's writable "
                                  "values only"}};
   const ProfileValue& v = values[target.device_index()];
-  const DeviceValue range = device_values_of(options_.profile)[target.device_index()];
+  const DeviceValue range = device_value_of(v);
   if (!std::isfinite(value) || value < range.min || value > range.max)
     return Unexpected{WriteError{
         WriteErrorKind::bad_value,
