@@ -4,6 +4,7 @@
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,10 +37,16 @@ class CommissionBus {
   CommissionBus& operator=(const CommissionBus&) = delete;
 
   const BusConfig& config() const { return config_; }
-  SerialLine& line() { return *line_; }
+  // The bus's line. Commands talk to sensors only through it (their drivers' transactions or
+  // their own), so that the same command also works through a running gateway.
+  Line& line() { return *line_; }
   std::vector<CommissionedSensor>& sensors() { return sensors_; }
   // Cancels what is on the line; a suspended poll returns at once.
   void stop() { line_->stop(); }
+
+  // A command moved a sensor from one bus address to another (set address): a running gateway
+  // that owns the bus follows it at once. Nothing to do on a tty of our own.
+  void address_changed(std::uint32_t from, std::uint32_t to) { (void)from; (void)to; }
 
   // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.
   std::string no_reply_message(const CommissionedSensor& sensor) const;
