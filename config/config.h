@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "driver/family_options.h"
@@ -14,6 +15,9 @@
 #include "mapping/point_types.h"  // WordOrder, OfflineRead
 
 namespace tiltgate {
+
+// Where `tiltgate run` listens for commissioning commands, and where they look for it.
+inline constexpr std::string_view kDefaultControlSocket = "/run/tiltgate/control.sock";
 
 struct ServerConfig {
   std::string listen = "0.0.0.0";
@@ -24,6 +28,9 @@ struct ServerConfig {
   std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed
   std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
   std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
+  // The Unix socket commissioning commands reach the buses through (gateway/control_server.h),
+  // an absolute path; empty: none.
+  std::string control_socket = std::string(kDefaultControlSocket);
 };
 
 // The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to

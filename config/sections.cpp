@@ -139,6 +139,19 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
     server.request_timeout = milliseconds(*ms);
   if (auto ms = in.integer("write_timeout_ms", 100, 600'000))
     server.write_timeout = milliseconds(*ms);
+  if (auto path = in.string("control_socket")) {
+    // sun_path holds 108 bytes with the terminating NUL.
+    if (!path->empty() && path->front() != '/')
+      in.error("control_socket", fmt::format("\"{}\" is not an absolute path, expected e.g. "
+                                             "\"{}\" (or \"\" for none)",
+                                             *path, kDefaultControlSocket));
+    else if (path->size() > 107)
+      in.error("control_socket", fmt::format("the path is {} characters long; a Unix socket's "
+                                             "may be at most 107",
+                                             path->size()));
+    else
+      server.control_socket = *path;
+  }
   in.reject_unknown_keys();
   return server;
 }

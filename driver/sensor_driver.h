@@ -80,6 +80,11 @@ class SensorDriver {
     return std::uint32_t(value);
   }
 
+  // Someone else moved the sensor to `address` (a commissioning command through the control
+  // socket, gateway/control_server.h): talk to it there from now on. The caller has checked the
+  // address against the protocol's range.
+  virtual void follow_address(std::uint32_t address) = 0;
+
   // One poll cycle: reads identity first when it is unknown (after start and after the line
   // reopened), then one measurement. Updates state(); never throws.
   virtual boost::asio::awaitable<void> poll(Line& line) = 0;

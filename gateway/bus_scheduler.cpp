@@ -35,6 +35,12 @@ boost::asio::awaitable<bool> wait_for_result(std::deque<std::shared_ptr<Pending>
   co_return true;
 }
 
+CommandExchangeResult failed_exchange(LineError error) {
+  CommandExchangeResult result;
+  result.done = Unexpected{error};
+  return result;
+}
+
 }  // namespace
 
 namespace asio = boost::asio;
@@ -73,6 +79,11 @@ void BusScheduler::stop() {
     pending->done.cancel();
   }
   forwards_.clear();
+  for (auto& pending : commands_) {
+    pending->result = failed_exchange(LineError::cancelled);
+    pending->done.cancel();
+  }
+  commands_.clear();
 }
 
 void BusScheduler::enable_forwarding(ForwardFactory make, std::size_t max_queued) {
@@ -116,10 +127,8 @@ asio::awaitable<void> BusScheduler::run() {
     const bool poll_due = polled != nullptr && polled->schedule.due <= now;
     // Forwarded requests and due polls take turns: a client hammering a passed-through device
     // cannot starve the cached sensors, and a busy poll schedule cannot starve the client.
-    if (!forwards_.empty() && (!poll_due || !forwarded_last_)) {
-      auto pending = forwards_.front();
-      forwards_.pop_front();
-      co_await run_forward(pending);
+    if ((!forwards_.empty() || !commands_.empty()) && (!poll_due || !forwarded_last_)) {
+      co_await run_turn();
       forwarded_last_ = true;
       continue;
     }
@@ -206,6 +215,58 @@ asio::awaitable<ForwardResult> BusScheduler::exchange(const PendingForward& pend
   }
   ++stats_.forwarded;
   co_return std::move(*reply);
+}
+
+asio::awaitable<void> BusScheduler::run_turn() {
+  if (!commands_.empty() && (forwards_.empty() || !command_last_)) {
+    auto pending = commands_.front();
+    commands_.pop_front();
+    command_last_ = true;
+    pending->started = true;
+    CommandExchangeResult result;
+    result.done = co_await line_.transact(pending->request);
+    result.timing = line_.last_timing();
+    result.generation = line_.generation();
+    ++stats_.command_exchanges;
+    pending->result = std::move(result);
+    pending->done.cancel();
+    co_return;
+  }
+  auto pending = forwards_.front();
+  forwards_.pop_front();
+  command_last_ = false;
+  co_await run_forward(pending);
+}
+
+asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
+    LineRequest request, SteadyClock::time_point deadline) {
+  if (stopping_) co_return failed_exchange(LineError::cancelled);
+  auto pending = std::make_shared<PendingCommand>(
+      PendingCommand{std::move(request), false, std::nullopt, asio::steady_timer(executor_)});
+  commands_.push_back(pending);
+  wake_.cancel();
+  if (!co_await wait_for_result(commands_, pending, deadline)) {
+    ++stats_.command_exchanges_expired;
+    CommandExchangeResult expired = failed_exchange(LineError::timeout);
+    expired.expired = true;
+    co_return expired;
+  }
+  co_return std::move(*pending->result);
+}
+
+std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std::uint32_t to) {
+  for (Polled& polled : sensors_) {
+    SensorDriver& driver = *polled.sensor->driver;
+    if (driver.state().bus_address != from) continue;
+    driver.follow_address(to);
+    // Poll it at its new address at once: the command's read-back and the PLC agree sooner.
+    polled.schedule = PollSchedule{SteadyClock::now()};
+    wake_.cancel();
+    spdlog::info("{}: sensor \"{}\" moved from address {} to {} by a commissioning command",
+                 name_, polled.sensor->config.name, from, to);
+    return polled.sensor->config.name;
+  }
+  return std::nullopt;
 }
 
 asio::awaitable<void> BusScheduler::run_forward(std::shared_ptr<PendingForward> pending) {

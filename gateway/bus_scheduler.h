@@ -1,7 +1,7 @@
 // One serial bus: the only owner of its Line. Polls each sensor at its poll period, runs queued
 // writes ahead of polls, and backs off from sensors that do not answer so they cannot starve
-// the others. Requests forwarded to devices passed through ([[bus]] pass_through) take turns
-// with the polls. Everything runs on the event loop thread; nothing here blocks.
+// the others. Requests forwarded to devices passed through ([[bus]] pass_through) and the
+// transactions of commissioning commands (the control socket) take turns with the polls. Everything runs on the event loop thread; nothing here blocks.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -10,6 +10,8 @@
 #include <chrono>
 #include <deque>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "driver/forwarding.h"
@@ -30,6 +32,18 @@ struct BusSchedulerStats {
   std::uint64_t forwards_expired = 0;  // still queued at their deadline
   std::uint64_t forwards_busy = 0;     // refused at once: the queue was full
   std::uint64_t forwards_unframed = 0; // the protocol had no frame for the PDU
+  // Transactions of commissioning commands through the control socket.
+  std::uint64_t command_exchanges = 0;  // carried out (whatever the line made of them)
+  std::uint64_t command_exchanges_expired = 0;  // still queued at their deadline
+};
+
+// What a commissioning command's transaction through the control socket came to: the Line's
+// outcome, its timing and generation, as the command's own Line would report them.
+struct CommandExchangeResult {
+  Expected<Done, LineError> done = Done{};
+  bool expired = false;  // never sent: still queued at its deadline
+  LineTiming timing;
+  std::uint64_t generation = 0;
 };
 
 // Why a forwarded request got no reply PDU to relay.
@@ -78,6 +92,18 @@ class BusScheduler {
   boost::asio::awaitable<ForwardResult> forward(std::uint8_t slave, std::vector<std::uint8_t> pdu,
                                                 SteadyClock::time_point deadline);
 
+  // Runs one transaction of a commissioning command (gateway/control_server.h) on the line.
+  // It takes turns with the polls as forwarded requests do, so every sensor keeps being polled
+  // while a command scans or sets. The request is sent as given (its time-out, retries and
+  // settle time); its framer must stay alive until this returns. A request still queued at
+  // `deadline` is dropped (expired).
+  boost::asio::awaitable<CommandExchangeResult> exchange_for_command(
+      LineRequest request, SteadyClock::time_point deadline);
+
+  // A commissioning command moved the sensor at bus address `from` to `to`: the sensor polled
+  // at `from` follows it. Returns its name, or none when no sensor of this bus was at `from`.
+  std::optional<std::string> follow_address(std::uint32_t from, std::uint32_t to);
+
   const std::string& name() const { return name_; }
   const BusSchedulerStats& stats() const { return stats_; }
   Line& line() { return line_; }
@@ -110,7 +136,17 @@ class BusScheduler {
     boost::asio::steady_timer done;  // cancelled when result is set
   };
 
+  struct PendingCommand {
+    LineRequest request;
+    bool started = false;
+    std::optional<CommandExchangeResult> result;
+    boost::asio::steady_timer done;  // cancelled when result is set
+  };
+
   Polled* next_due();
+  // Takes the next forwarded request or command transaction, alternating between the two when
+  // both wait. Called only when one of them waits.
+  boost::asio::awaitable<void> run_turn();
   // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
   static void process_new_reading(GatewaySensor& sensor);
   boost::asio::awaitable<void> run_write(std::shared_ptr<PendingWrite> pending);
@@ -123,9 +159,12 @@ class BusScheduler {
   std::vector<Polled> sensors_;
   std::deque<std::shared_ptr<PendingWrite>> writes_;
   std::deque<std::shared_ptr<PendingForward>> forwards_;
+  std::deque<std::shared_ptr<PendingCommand>> commands_;
+  bool command_last_ = false;  // of the turns given to forwards and commands, the last was a command's
   ForwardFactory make_forward_ = nullptr;
   std::size_t max_queued_forwards_ = kMaxQueuedForwards;
-  bool forwarded_last_ = false;  // the last exchange was a forwarded one: a due poll goes next
+  // The last exchange was a forwarded request or a command's: a due poll goes next.
+  bool forwarded_last_ = false;
   boost::asio::steady_timer wake_;
   bool stopping_ = false;
   BusSchedulerStats stats_;

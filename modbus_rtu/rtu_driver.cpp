@@ -28,6 +28,11 @@ RtuDriver::RtuDriver(RtuDriverOptions options)
   state_.bus_address = options_.slave;
 }
 
+void RtuDriver::follow_address(std::uint32_t address) {
+  options_.slave = std::uint8_t(address);
+  state_.bus_address = address;
+}
+
 WriteResult RtuDriver::check_write(WriteTarget target, double value) const {
   const auto& values = options_.profile.values;
   if (!target.is_device_value() || target.device_index() >= values.size() ||

@@ -32,6 +32,7 @@ class RtuDriver final : public PolledSensorDriver {
   std::string_view model() const override { return "modbus-rtu"; }
   WriteResult check_write(WriteTarget target, double value) const override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
+  void follow_address(std::uint32_t address) override;
 
  protected:
   boost::asio::awaitable<bool> read_identity(Line& line) override;

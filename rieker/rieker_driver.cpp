@@ -265,9 +265,14 @@ asio::awaitable<WriteResult> RiekerDriver::set_address(Line& line, std::uint16_t
     }
   }
   spdlog::info("{}: sensor moved from address {} to {}", options_.name, options_.address, new_address);
-  options_.address = new_address;
-  state_.bus_address = new_address;
+  follow_address(new_address);
   co_return Done{};
+}
+
+void RiekerDriver::follow_address(std::uint32_t address) {
+  options_.address = std::uint16_t(address);
+  state_.bus_address = address;
+  state_.settings.set(WriteTarget::bus_address, address);
 }
 
 }  // namespace tiltgate::rieker

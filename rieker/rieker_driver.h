@@ -37,6 +37,8 @@ class RiekerDriver : public PolledSensorDriver {
   WriteResult check_write(WriteTarget target, double value) const override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
 
+  void follow_address(std::uint32_t address) override;
+
   std::uint16_t address() const { return options_.address; }
 
  protected:

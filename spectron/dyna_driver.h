@@ -71,6 +71,8 @@ class DynaDriver : public PolledSensorDriver {
   void abandon(std::span<const SettingWrite> done) override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
 
+  void follow_address(std::uint32_t address) override;
+
   int address() const { return options_.address; }
   // The EEPROM window's location (setting::eeprom_location), none until one is written.
   std::optional<std::uint16_t> eeprom_location() const;

@@ -172,9 +172,13 @@ asio::awaitable<WriteResult> DynaDriver::set_address(Line& line, int new_address
   }
   spdlog::info("{}: Dyna moved from address {} to {}", options_.name, options_.address,
                new_address);
-  options_.address = new_address;
-  state_.bus_address = std::uint32_t(new_address);
+  follow_address(std::uint32_t(new_address));
   co_return Done{};
+}
+
+void DynaDriver::follow_address(std::uint32_t address) {
+  options_.address = int(address);
+  state_.bus_address = address;
 }
 
 asio::awaitable<WriteResult> DynaDriver::reset(Line& line) {

@@ -232,6 +232,7 @@ class IdentifiedDriver : public SensorDriver {
  public:
   explicit IdentifiedDriver(std::string model) : model_(std::move(model)) {}
   std::string_view model() const override { return model_; }
+  void follow_address(std::uint32_t) override {}
   WriteResult check_write(WriteTarget, double) const override { return Done{}; }
   boost::asio::awaitable<void> poll(Line&) override { co_return; }
   boost::asio::awaitable<WriteResult> write(Line&, WriteTarget, double) override {

@@ -25,6 +25,7 @@ DriverSetup g_last_setup;
 class FakeDriver final : public SensorDriver {
  public:
   std::string_view model() const override { return "tilt-x1"; }
+  void follow_address(std::uint32_t) override {}
   WriteResult check_write(WriteTarget, double) const override { return Done{}; }
   boost::asio::awaitable<void> poll(Line&) override { co_return; }
   boost::asio::awaitable<WriteResult> write(Line&, WriteTarget, double) override {

@@ -75,6 +75,7 @@ class FakeDriver : public SensorDriver {
   std::vector<std::pair<WriteTarget, double>> writes;  // every write that reached the driver
 
   std::string_view model() const override { return "h6"; }
+  void follow_address(std::uint32_t address) override { state_.bus_address = address; }
   WriteResult check_write(WriteTarget, double) const override {
     ++checks;
     return Done{};

@@ -1,0 +1,208 @@
+#include "gateway/control_protocol.h"
+
+#include <charconv>
+#include <fmt/format.h>
+
+namespace tiltgate::control {
+
+namespace {
+
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
+
+// Compact hex, two digits a byte: the control socket's own, not the trace log's spaced form.
+std::string hex(const std::vector<std::uint8_t>& bytes) {
+  static constexpr char kDigits[] = "0123456789ABCDEF";
+  std::string out;
+  out.reserve(bytes.size() * 2);
+  for (const std::uint8_t b : bytes) {
+    out += kDigits[b >> 4];
+    out += kDigits[b & 0x0F];
+  }
+  return out;
+}
+
+std::optional<std::vector<std::uint8_t>> unhex(std::string_view text) {
+  if (text.size() % 2 != 0) return std::nullopt;
+  std::vector<std::uint8_t> bytes(text.size() / 2);
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    const auto [end, ec] = std::from_chars(text.data() + 2 * i, text.data() + 2 * i + 2,
+                                           bytes[i], 16);
+    if (ec != std::errc{} || end != text.data() + 2 * i + 2) return std::nullopt;
+  }
+  return bytes;
+}
+
+// Words separated by single spaces.
+std::vector<std::string_view> words(std::string_view line) {
+  std::vector<std::string_view> out;
+  while (!line.empty()) {
+    const std::size_t space = line.find(' ');
+    out.push_back(line.substr(0, space));
+    if (space == std::string_view::npos) break;
+    line.remove_prefix(space + 1);
+  }
+  return out;
+}
+
+template <class T>
+std::optional<T> number(std::string_view word) {
+  T value{};
+  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
+  if (ec != std::errc{} || end != word.data() + word.size()) return std::nullopt;
+  return value;
+}
+
+std::string milliseconds_or_dash(const std::optional<std::chrono::milliseconds>& ms) {
+  return ms ? std::to_string(ms->count()) : "-";
+}
+
+std::optional<std::optional<std::chrono::milliseconds>> parse_milliseconds_or_dash(
+    std::string_view word) {
+  if (word == "-") return std::optional<std::chrono::milliseconds>{};
+  const auto ms = number<std::int64_t>(word);
+  if (!ms || *ms < 0) return std::nullopt;
+  return std::optional<std::chrono::milliseconds>{std::chrono::milliseconds(*ms)};
+}
+
+constexpr std::pair<LineError, std::string_view> kLineErrors[] = {
+    {LineError::timeout, "timeout"},
+    {LineError::io, "io"},
+    {LineError::closed, "closed"},
+    {LineError::cancelled, "cancelled"}};
+
+std::string_view word_of(LineError error) {
+  for (const auto& [e, word] : kLineErrors)
+    if (e == error) return word;
+  return "io";
+}
+
+// The rest of the line after `count` words, for messages that end in free text.
+std::string_view after_words(std::string_view line, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t space = line.find(' ');
+    if (space == std::string_view::npos) return {};
+    line.remove_prefix(space + 1);
+  }
+  return line;
+}
+
+Unexpected<std::string> malformed(std::string_view line) {
+  return Unexpected{fmt::format("malformed message \"{}\"",
+                                line.substr(0, std::min<std::size_t>(line.size(), 60)))};
+}
+
+}  // namespace
+
+std::string format(const CommandMessage& message) {
+  return std::visit(
+      Overloaded{
+          [](const Hello& m) { return "hello " + m.port; },
+          [](const Transact& m) {
+            return fmt::format("transact {} {} {} {} {} {}", m.address_bytes, m.timeout.count(),
+                               m.retries, m.settle.count(), m.expects_reply ? 1 : 0,
+                               hex(m.bytes));
+          },
+          [](const FramerAnswer& m) { return std::string(m.done ? "done" : "more"); },
+          [](const Follow& m) { return fmt::format("follow {} {}", m.from, m.to); },
+      },
+      message);
+}
+
+std::string format(const GatewayMessage& message) {
+  return std::visit(
+      Overloaded{
+          [](const BusGranted& m) {
+            return fmt::format("bus {} {} {}", m.name, m.protocol, m.baud);
+          },
+          [](const Refused& m) { return "error " + m.reason; },
+          [](const Reset&) { return std::string("reset"); },
+          [](const Received& m) { return "bytes " + hex(m.bytes); },
+          [](const Ended& m) {
+            const std::string_view status =
+                m.busy ? "busy" : (m.error ? word_of(*m.error) : std::string_view("ok"));
+            return fmt::format("end {} {} {} {} {}", status,
+                               milliseconds_or_dash(m.timing.reply_delay), m.timing.late_replies,
+                               milliseconds_or_dash(m.timing.late_delay), m.generation);
+          },
+          [](const Followed& m) { return m.sensor.empty() ? "ok" : "ok " + m.sensor; },
+      },
+      message);
+}
+
+Expected<CommandMessage, std::string> parse_command(std::string_view line) {
+  const std::vector<std::string_view> w = words(line);
+  if (w.empty()) return malformed(line);
+  if (w[0] == "hello" && w.size() >= 2) {
+    const std::string_view port = after_words(line, 1);
+    if (port.empty()) return malformed(line);
+    return CommandMessage{Hello{std::string(port)}};
+  }
+  if (w[0] == "more" && w.size() == 1) return CommandMessage{FramerAnswer{false}};
+  if (w[0] == "done" && w.size() == 1) return CommandMessage{FramerAnswer{true}};
+  if (w[0] == "follow" && w.size() == 3) {
+    const auto from = number<std::uint32_t>(w[1]);
+    const auto to = number<std::uint32_t>(w[2]);
+    if (!from || !to) return malformed(line);
+    return CommandMessage{Follow{*from, *to}};
+  }
+  if (w[0] == "transact" && w.size() == 7) {
+    const auto address_bytes = number<std::size_t>(w[1]);
+    const auto timeout = number<std::int64_t>(w[2]);
+    const auto retries = number<int>(w[3]);
+    const auto settle = number<std::int64_t>(w[4]);
+    const auto bytes = unhex(w[6]);
+    if (!address_bytes || !timeout || !retries || !settle || !bytes || *timeout < 0 ||
+        *settle < 0 || *retries < -1 || (w[5] != "0" && w[5] != "1") || bytes->empty() ||
+        *address_bytes > bytes->size())
+      return malformed(line);
+    return CommandMessage{Transact{*address_bytes, std::chrono::milliseconds(*timeout), *retries,
+                                   std::chrono::milliseconds(*settle), w[5] == "1", *bytes}};
+  }
+  return malformed(line);
+}
+
+Expected<GatewayMessage, std::string> parse_gateway(std::string_view line) {
+  const std::vector<std::string_view> w = words(line);
+  if (w.empty()) return malformed(line);
+  if (w[0] == "bus" && w.size() == 4) {
+    const auto baud = number<std::uint32_t>(w[3]);
+    if (!baud) return malformed(line);
+    return GatewayMessage{BusGranted{std::string(w[1]), std::string(w[2]), *baud}};
+  }
+  if (w[0] == "error") return GatewayMessage{Refused{std::string(after_words(line, 1))}};
+  if (w[0] == "reset" && w.size() == 1) return GatewayMessage{Reset{}};
+  if (w[0] == "bytes" && w.size() == 2) {
+    auto bytes = unhex(w[1]);
+    if (!bytes) return malformed(line);
+    return GatewayMessage{Received{std::move(*bytes)}};
+  }
+  if (w[0] == "ok") return GatewayMessage{Followed{std::string(after_words(line, 1))}};
+  if (w[0] == "end" && w.size() == 6) {
+    Ended ended;
+    if (w[1] == "busy") {
+      ended.busy = true;
+      ended.error = LineError::timeout;
+    } else if (w[1] != "ok") {
+      bool known = false;
+      for (const auto& [e, word] : kLineErrors)
+        if (w[1] == word) ended.error = e, known = true;
+      if (!known) return malformed(line);
+    }
+    const auto delay = parse_milliseconds_or_dash(w[2]);
+    const auto late = number<std::uint32_t>(w[3]);
+    const auto late_delay = parse_milliseconds_or_dash(w[4]);
+    const auto generation = number<std::uint64_t>(w[5]);
+    if (!delay || !late || !late_delay || !generation) return malformed(line);
+    ended.timing = LineTiming{*delay, *late, *late_delay};
+    ended.generation = *generation;
+    return GatewayMessage{ended};
+  }
+  return malformed(line);
+}
+
+}  // namespace tiltgate::control

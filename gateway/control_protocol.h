@@ -1,0 +1,88 @@
+// The control socket's messages: how a commissioning command (`tiltgate info --via-gateway`...)
+// borrows a running gateway's bus for one transaction at a time. Text lines, one message each,
+// so a person can follow a session with socat. Pure formatting and parsing.
+//
+//   command -> gateway                      gateway -> command
+//   hello /dev/ttyUSB0                      bus line1 rieker-binary 125000
+//                                           (or: error the gateway has no bus on /dev/ttyUSB0 ...)
+//   transact 0 50 2 0 1 00DF00000004...     reset                    before each attempt
+//                                           bytes 0000DF00...        what the line received
+//   more | done                             (the command's framer: is the reply whole?)
+//                                           end ok 3 0 - 1           or: end timeout 0 - 1
+//   follow 223 7                            ok line1/boom            (or: ok, none was there)
+//
+// The command keeps the framer, so the gateway needs no knowledge of the protocol: it moves the
+// request's bytes on its line between polls and relays what comes back.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "driver/expected.h"
+#include "driver/line.h"
+
+namespace tiltgate::control {
+
+// The longest line either side sends or accepts: a hex request of a few hundred bytes fits many
+// times over.
+inline constexpr std::size_t kMaxLine = 4096;
+
+struct Hello {
+  std::string port;  // the tty the command wants, or the bus's name
+};
+struct Transact {
+  std::size_t address_bytes = 0;
+  std::chrono::milliseconds timeout{0};
+  int retries = -1;
+  std::chrono::milliseconds settle{0};
+  bool expects_reply = true;
+  std::vector<std::uint8_t> bytes;
+};
+struct FramerAnswer {
+  bool done = false;  // "done": the reply is whole; "more": keep reading
+};
+struct Follow {
+  std::uint32_t from = 0;
+  std::uint32_t to = 0;
+};
+using CommandMessage = std::variant<Hello, Transact, FramerAnswer, Follow>;
+
+struct BusGranted {
+  std::string name;
+  std::string protocol;
+  std::uint32_t baud = 0;
+};
+struct Refused {
+  std::string reason;
+};
+struct Reset {};
+struct Received {
+  std::vector<std::uint8_t> bytes;
+};
+// How the transaction ended: done (the framer accepted a reply, or none was expected), or the
+// Line's error; with the Line's timing and generation.
+struct Ended {
+  std::optional<LineError> error;  // none: done
+  bool busy = false;               // never sent: the bus did not get to it in time
+  LineTiming timing;
+  std::uint64_t generation = 0;
+};
+struct Followed {
+  std::string sensor;  // "bus/sensor" that moved; empty when no configured sensor was there
+};
+using GatewayMessage = std::variant<BusGranted, Refused, Reset, Received, Ended, Followed>;
+
+// Each without its trailing newline.
+std::string format(const CommandMessage& message);
+std::string format(const GatewayMessage& message);
+
+// What is wrong with a line is the error, for the other side's log.
+Expected<CommandMessage, std::string> parse_command(std::string_view line);
+Expected<GatewayMessage, std::string> parse_gateway(std::string_view line);
+
+}  // namespace tiltgate::control

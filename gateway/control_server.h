@@ -1,0 +1,68 @@
+// The control socket ([server] control_socket): a local Unix socket through which commissioning
+// commands (`tiltgate scan|info|set|raw|watch --via-gateway`) use a running gateway's buses, so
+// that commissioning one sensor never stops the PLC seeing the others.
+//
+// A command asks for the bus on its tty, then sends its transactions one at a time
+// (gateway/control_protocol.h). Each is queued on that bus between polls (BusScheduler::
+// exchange_for_command) and carried out by the gateway's own Line; the command keeps its
+// driver and framer and decides, chunk by chunk, when the reply is whole. A command that moved
+// a sensor says so, and the gateway polls that sensor at its new address from then on.
+//
+// Anyone who can connect can talk to the sensors and change their settings, whatever
+// [server] writes says: the socket file is made mode 0660, for its owner and group only.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/local/stream_protocol.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config/config.h"
+#include "driver/expected.h"
+#include "gateway/bus_scheduler.h"
+
+namespace tiltgate {
+
+class ControlServer {
+ public:
+  struct ServedBus {
+    BusConfig config;
+    BusScheduler* scheduler;
+  };
+
+  ControlServer(boost::asio::any_io_executor executor, std::string path,
+                std::vector<ServedBus> buses);
+  ~ControlServer();
+  ControlServer(const ControlServer&) = delete;
+  ControlServer& operator=(const ControlServer&) = delete;
+
+  // Creates the socket's folder if missing, replaces a stale socket file (one nobody listens
+  // on, left by a gateway that was killed) but not a live one, and listens.
+  Expected<Done, std::string> start();
+  // Stops accepting, ends the sessions and removes the socket file.
+  void stop();
+
+  const std::string& path() const { return path_; }
+
+  // Sessions at once; more are told so and closed. Commissioning is one engineer at a time.
+  static constexpr std::size_t kMaxSessions = 8;
+  // How long a command's transaction may wait for its turn on a busy bus.
+  static constexpr std::chrono::seconds kQueueDeadline{10};
+
+ private:
+  boost::asio::awaitable<void> accept_loop();
+  boost::asio::awaitable<void> session(boost::asio::local::stream_protocol::socket socket);
+  ServedBus* find_bus(const std::string& port_or_name);
+  std::string bus_list() const;
+
+  boost::asio::any_io_executor executor_;
+  std::string path_;
+  std::vector<ServedBus> buses_;
+  boost::asio::local::stream_protocol::acceptor acceptor_;
+  std::vector<std::weak_ptr<boost::asio::local::stream_protocol::socket>> sessions_;
+  bool listening_ = false;
+};
+
+}  // namespace tiltgate

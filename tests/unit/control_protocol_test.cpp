@@ -1,0 +1,97 @@
+// The control socket's messages (gateway/control_protocol.h): each formats to the documented
+// line and parses back to itself; anything else is refused with a message, never guessed at.
+#include <doctest/doctest.h>
+
+#include <string>
+#include <vector>
+
+#include "gateway/control_protocol.h"
+
+using namespace tiltgate;
+using namespace tiltgate::control;
+using namespace std::chrono_literals;
+
+TEST_CASE("control: a transaction request formats as documented and parses back") {
+  const Transact request{1, 50ms, 0, 20ms, true, {0x05, 0x41, 0x0D, 0x0A}};
+  const std::string line = format(CommandMessage{request});
+  CHECK(line == "transact 1 50 0 20 1 05410D0A");
+  auto parsed = parse_command(line);
+  REQUIRE(parsed);
+  const auto* back = std::get_if<Transact>(&*parsed);
+  REQUIRE(back != nullptr);
+  CHECK(back->address_bytes == 1);
+  CHECK(back->timeout == 50ms);
+  CHECK(back->retries == 0);
+  CHECK(back->settle == 20ms);
+  CHECK(back->expects_reply);
+  CHECK(back->bytes == request.bytes);
+}
+
+TEST_CASE("control: hello keeps a port path whole, follow carries both addresses") {
+  auto hello = parse_command("hello /dev/serial/by-id/usb-FTDI adapter");
+  REQUIRE(hello);
+  CHECK(std::get<Hello>(*hello).port == "/dev/serial/by-id/usb-FTDI adapter");
+  auto follow = parse_command(format(CommandMessage{Follow{223, 7}}));
+  REQUIRE(follow);
+  CHECK(std::get<Follow>(*follow).from == 223);
+  CHECK(std::get<Follow>(*follow).to == 7);
+  CHECK(std::get<FramerAnswer>(*parse_command("done")).done);
+  CHECK_FALSE(std::get<FramerAnswer>(*parse_command("more")).done);
+}
+
+TEST_CASE("control: the gateway's end of a transaction carries its outcome, timing and generation") {
+  Ended ok;
+  ok.timing.reply_delay = 3ms;
+  ok.generation = 4;
+  CHECK(format(GatewayMessage{ok}) == "end ok 3 0 - 4");
+  auto back = parse_gateway("end ok 3 0 - 4");
+  REQUIRE(back);
+  const Ended& ended = std::get<Ended>(*back);
+  CHECK_FALSE(ended.error);
+  CHECK(ended.timing.reply_delay == 3ms);
+  CHECK(ended.generation == 4);
+
+  Ended late;
+  late.error = LineError::timeout;
+  late.timing.late_replies = 1;
+  late.timing.late_delay = 120ms;
+  auto timed_out = parse_gateway(format(GatewayMessage{late}));
+  REQUIRE(timed_out);
+  CHECK(std::get<Ended>(*timed_out).error == LineError::timeout);
+  CHECK(std::get<Ended>(*timed_out).timing.late_delay == 120ms);
+
+  Ended busy;
+  busy.busy = true;
+  auto never_sent = parse_gateway(format(GatewayMessage{busy}));
+  REQUIRE(never_sent);
+  CHECK(std::get<Ended>(*never_sent).busy);
+  CHECK(std::get<Ended>(*never_sent).error == LineError::timeout);
+}
+
+TEST_CASE("control: received bytes, the bus granted and a refusal parse back") {
+  auto bytes = parse_gateway(format(GatewayMessage{Received{{0x00, 0xDF, 0xAF, 0x11}}}));
+  REQUIRE(bytes);
+  CHECK(std::get<Received>(*bytes).bytes == std::vector<std::uint8_t>{0x00, 0xDF, 0xAF, 0x11});
+  auto bus = parse_gateway(format(GatewayMessage{BusGranted{"line1", "binary", 125000}}));
+  REQUIRE(bus);
+  CHECK(std::get<BusGranted>(*bus).name == "line1");
+  CHECK(std::get<BusGranted>(*bus).baud == 125000);
+  auto refused = parse_gateway("error the gateway has no bus on /dev/ttyS9");
+  REQUIRE(refused);
+  CHECK(std::get<Refused>(*refused).reason == "the gateway has no bus on /dev/ttyS9");
+}
+
+TEST_CASE("control: malformed lines are refused") {
+  for (const char* line :
+       {"", "hello", "transact 0 50 2 0 1", "transact 0 50 2 0 1 0", "transact 0 50 2 0 1 ZZ",
+        "transact 3 50 2 0 1 0102", "transact 0 -5 2 0 1 01", "transact 0 50 -2 0 1 01",
+        "transact 0 50 2 0 7 01", "transact 0 50 2 0 1 ", "follow 1", "follow a b", "more please",
+        "rm -rf /"}) {
+    CAPTURE(line);
+    CHECK_FALSE(parse_command(line));
+  }
+  for (const char* line : {"", "end ok", "end maybe 1 0 - 1", "bytes 0", "bus line1 p x", "hi"}) {
+    CAPTURE(line);
+    CHECK_FALSE(parse_gateway(line));
+  }
+}
