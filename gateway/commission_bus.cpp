@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <iostream>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -30,14 +31,56 @@ Expected<int, std::string> open_and_lock(const std::string& port) {
   return fd;
 }
 
+// The bus through a running gateway's control socket when one there serves the tty; none when
+// no gateway does (the command then opens the tty itself), unless --via-gateway required one.
+Expected<std::unique_ptr<RemoteLine>, CommissionBus::OpenError> bus_through_gateway(
+    boost::asio::any_io_executor executor, const CommissionTarget& target) {
+  if (target.control_socket.empty()) return std::unique_ptr<RemoteLine>{};
+  auto remote = RemoteLine::connect(executor, target.control_socket, target.bus.port);
+  if (!remote) {
+    const bool elsewhere = remote.error().kind != RemoteLine::ConnectError::failed;
+    if (!target.via_gateway && elsewhere) return std::unique_ptr<RemoteLine>{};
+    return Unexpected{CommissionBus::OpenError{1, remote.error().message}};
+  }
+  const control::BusGranted& bus = (*remote)->bus();
+  if (bus.protocol != target.bus.protocol)
+    return Unexpected{CommissionBus::OpenError{
+        2, fmt::format("the running gateway's bus {} on {} speaks {}, not {} (--protocol)",
+                       bus.name, target.bus.port, bus.protocol, target.bus.protocol)}};
+  std::cerr << fmt::format("through the running gateway: bus {} ({} baud), control socket {}\n",
+                           bus.name, bus.baud, target.control_socket);
+  if (bus.baud != target.bus.baud)
+    std::cerr << fmt::format("note: the gateway runs {} at {} baud; that rate is used, not {}\n",
+                             bus.name, bus.baud, target.bus.baud);
+  return std::move(*remote);
+}
+
 }  // namespace
 
 CommissionBus::CommissionBus(BusConfig config, int lock_fd)
     : config_(std::move(config)), lock_fd_(lock_fd) {}
 
 CommissionBus::~CommissionBus() {
-  if (line_) line_->stop();
-  ::close(lock_fd_);
+  stop();
+  if (lock_fd_ >= 0) ::close(lock_fd_);
+}
+
+void CommissionBus::stop() {
+  if (serial_) serial_->stop();
+  if (remote_) remote_->stop();
+}
+
+void CommissionBus::address_changed(std::uint32_t from, std::uint32_t to) {
+  if (!remote_) return;
+  const auto followed = remote_->follow(from, to);
+  if (!followed)
+    std::cerr << fmt::format("warning: the gateway was not told of the move: {}; it follows "
+                             "the sensor after a restart with the new address in its "
+                             "configuration\n",
+                             followed.error());
+  else if (!followed->empty())
+    std::cout << fmt::format("gateway: sensor {} is polled at address {} from now on\n",
+                             *followed, to);
 }
 
 Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus::open(
@@ -51,12 +94,24 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
                          sensor.model, target.bus.protocol)}};
     sensors.push_back({sensor, std::move(driver)});
   }
+  auto remote = bus_through_gateway(executor, target);
+  if (!remote) return Unexpected{remote.error()};
+  if (*remote) {
+    std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, -1));
+    bus->sensors_ = std::move(sensors);
+    bus->config_.baud = (*remote)->bus().baud;
+    bus->remote_ = remote->get();
+    bus->line_ = std::move(*remote);
+    return bus;
+  }
   auto lock = open_and_lock(target.bus.port);
   if (!lock) return Unexpected{OpenError{1, lock.error()}};
   std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, *lock));
   bus->sensors_ = std::move(sensors);
-  bus->line_ = std::make_unique<SerialLine>(executor, serial_options_from(target.bus));
-  if (!bus->line_->start())
+  auto line = std::make_unique<SerialLine>(executor, serial_options_from(target.bus));
+  bus->serial_ = line.get();
+  bus->line_ = std::move(line);
+  if (!bus->serial_->start())
     return Unexpected{OpenError{1, fmt::format("cannot open {} as a serial port", target.bus.port)}};
   return bus;
 }

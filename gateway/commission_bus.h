@@ -1,6 +1,8 @@
 // One bus opened for a commissioning command: its tty, held with an advisory lock for as long
-// as the command runs, and a driver for each sensor the command talks to. The command polls
-// the sensors through their drivers, as the gateway's bus scheduler does, one at a time.
+// as the command runs, or the same bus through the control socket of a running gateway that
+// owns the tty (gateway/remote_line.h); and a driver for each sensor the command talks to. The
+// command polls the sensors through their drivers, as the gateway's bus scheduler does, one at
+// a time.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -12,6 +14,7 @@
 #include "driver/expected.h"
 #include "driver/sensor_driver.h"
 #include "gateway/commission_options.h"
+#include "gateway/remote_line.h"
 #include "serial/serial_line.h"
 
 namespace tiltgate {
@@ -42,11 +45,13 @@ class CommissionBus {
   Line& line() { return *line_; }
   std::vector<CommissionedSensor>& sensors() { return sensors_; }
   // Cancels what is on the line; a suspended poll returns at once.
-  void stop() { line_->stop(); }
+  void stop();
+  // Whether the bus is a running gateway's, reached through its control socket.
+  bool through_gateway() const { return remote_ != nullptr; }
 
   // A command moved a sensor from one bus address to another (set address): a running gateway
-  // that owns the bus follows it at once. Nothing to do on a tty of our own.
-  void address_changed(std::uint32_t from, std::uint32_t to) { (void)from; (void)to; }
+  // that owns the bus follows it at once (said on stdout). Nothing to do on a tty of our own.
+  void address_changed(std::uint32_t from, std::uint32_t to);
 
   // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.
   std::string no_reply_message(const CommissionedSensor& sensor) const;
@@ -55,8 +60,10 @@ class CommissionBus {
   CommissionBus(BusConfig config, int lock_fd);
 
   BusConfig config_;
-  int lock_fd_;
-  std::unique_ptr<SerialLine> line_;
+  int lock_fd_;  // -1 through a gateway
+  std::unique_ptr<Line> line_;
+  SerialLine* serial_ = nullptr;  // line_, on a tty of our own
+  RemoteLine* remote_ = nullptr;  // line_, through a gateway
   std::vector<CommissionedSensor> sensors_;
 };
 

@@ -105,6 +105,18 @@ void add_bus_options(CLI::App& command, BusOptions& options) {
   command.add_option("--bus", options.bus, "with --config: this bus, all its sensors")
       ->group("Bus from a configuration");
   command
+      .add_flag("--via-gateway", options.via_gateway,
+                "only through the running gateway that owns the tty (its control socket), "
+                "which keeps serving every other sensor; without it, a running gateway is used "
+                "when it owns the tty, else the tty is opened directly")
+      ->group("Through a running gateway");
+  command
+      .add_option("--control-socket", options.control_socket,
+                  fmt::format("the gateway's control socket (default: the configuration's "
+                              "[server] control_socket, else {})",
+                              kDefaultControlSocket))
+      ->group("Through a running gateway");
+  command
       .add_option("--address", options.addresses,
                   "the sensors' bus addresses, A[,B...] (with --bus: some of its sensors)")
       ->delimiter(',')

@@ -115,6 +115,7 @@ Expected<CommissionTarget, UsageErrors> from_command_line(const BusOptions& o,
   CommissionTarget target;
   target.bus = loaded->buses.front();
   target.sensors = std::move(loaded->sensors);
+  target.control_socket = std::string(kDefaultControlSocket);
   return target;
 }
 
@@ -124,6 +125,7 @@ Expected<CommissionTarget, UsageErrors> from_config_file(const BusOptions& o,
   if (!loaded) return Unexpected{config_file_errors(loaded.error(), o.config)};
   const Config& config = *loaded;
   CommissionTarget target;
+  target.control_socket = config.server.control_socket;
   std::string bus_name = o.bus;
   if (!o.sensor.empty()) {
     const auto sensor = std::find_if(config.sensors.begin(), config.sensors.end(),
@@ -207,8 +209,16 @@ Expected<CommissionTarget, UsageErrors> resolve_bus_options(const BusOptions& op
                                                             FamilyList families) {
   if (UsageErrors errors = combination_errors(options); !errors.empty())
     return Unexpected{std::move(errors)};
-  return options.config.empty() ? from_command_line(options, families)
-                                : from_config_file(options, families);
+  auto target = options.config.empty() ? from_command_line(options, families)
+                                       : from_config_file(options, families);
+  if (!target) return target;
+  if (!options.control_socket.empty()) target->control_socket = options.control_socket;
+  target->via_gateway = options.via_gateway;
+  if (target->via_gateway && target->control_socket.empty())
+    return Unexpected{UsageErrors{
+        "--via-gateway: the configuration has no control socket ([server] control_socket is "
+        "empty); give --control-socket PATH"}};
+  return target;
 }
 
 }  // namespace tiltgate

@@ -34,12 +34,19 @@ struct BusOptions {
   // Sensors by bus address: with --port, the sensors to talk to; with --bus, a choice among
   // the bus's configured sensors.
   std::vector<std::int64_t> addresses;
+  // Through a running gateway's control socket: required (--via-gateway), or used when a
+  // gateway there serves the tty. The socket: --control-socket, else the configuration's
+  // [server] control_socket, else the default.
+  bool via_gateway = false;
+  std::string control_socket;
 };
 
 // The bus to open and the sensors on it to talk to, validated as a configuration is.
 struct CommissionTarget {
   BusConfig bus;
   std::vector<SensorConfig> sensors;
+  std::string control_socket;  // where a running gateway may serve the bus; empty: none
+  bool via_gateway = false;    // only through that gateway, never the tty directly
 };
 
 // Each message names the option (or the configuration file's place) it is about.

@@ -49,6 +49,13 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
   options.idle_timeout = config_.server.idle_timeout;
   options.request_timeout = config_.server.request_timeout;
   server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_, options);
+  if (!config_.server.control_socket.empty()) {
+    std::vector<ControlServer::ServedBus> served;
+    for (std::size_t i = 0; i < buses_.size(); ++i)
+      served.push_back({config_.buses[i], buses_[i].scheduler.get()});
+    control_ = std::make_unique<ControlServer>(io_.get_executor(), config_.server.control_socket,
+                                               std::move(served));
+  }
 }
 
 Gateway::~Gateway() = default;
@@ -70,6 +77,14 @@ Expected<Done, std::string> Gateway::start() {
     bus.line->start();
     boost::asio::co_spawn(io_, bus.scheduler->run(), boost::asio::detached);
   }
+  if (control_) {
+    if (auto control = control_->start(); !control)
+      spdlog::warn("control socket off: {}; commissioning commands cannot use this gateway's "
+                   "buses",
+                   control.error());
+    else
+      spdlog::info("control socket {}", control_->path());
+  }
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
                buses_.size(), config_.server.listen, server_->local_port(),
                config_.server.writes ? ", writes enabled" : "");
@@ -78,6 +93,7 @@ Expected<Done, std::string> Gateway::start() {
 
 void Gateway::stop() {
   server_->stop();
+  if (control_) control_->stop();
   for (Bus& bus : buses_) {
     bus.scheduler->stop();
     bus.line->stop();

@@ -9,6 +9,7 @@
 #include "config/config.h"
 #include "driver/expected.h"
 #include "gateway/bus_scheduler.h"
+#include "gateway/control_server.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/modbus_tcp_server.h"
 #include "gateway/request_router.h"
@@ -24,7 +25,8 @@ class Gateway {
   ~Gateway();
 
   // Opens the buses (a missing tty is not fatal: it is retried with back-off) and binds the
-  // Modbus server (fatal: the error says why).
+  // Modbus server (fatal: the error says why). A control socket that cannot be had is only
+  // warned about: the PLC's service does not depend on it.
   Expected<Done, std::string> start();
   void stop();
 
@@ -47,6 +49,7 @@ class Gateway {
   std::vector<std::unique_ptr<GatewaySensor>> sensors_;
   RequestRouter router_;
   std::unique_ptr<ModbusTcpServer> server_;
+  std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
 };
 
 // Builds the register map a sensor serves: its model's built-in map, or the map its

@@ -1,0 +1,200 @@
+#include "gateway/control_server.h"
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <boost/asio/read_until.hpp>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/streambuf.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <boost/asio/write.hpp>
+#include <filesystem>
+#include <fmt/format.h>
+#include <istream>
+#include <spdlog/spdlog.h>
+#include <sys/stat.h>
+
+#include "gateway/control_protocol.h"
+#include "gateway/control_relay.h"
+
+namespace tiltgate {
+
+namespace asio = boost::asio;
+using local = asio::local::stream_protocol;
+
+namespace {
+
+// The same tty however it is named: /dev/serial/by-id/... and /dev/ttyUSB0 compare equal.
+std::string canonical_port(const std::string& port) {
+  std::error_code ec;
+  const auto path = std::filesystem::weakly_canonical(port, ec);
+  return ec ? port : path.string();
+}
+
+// Whether a gateway is listening on `path` now.
+bool someone_listens(const std::string& path, asio::any_io_executor executor) {
+  local::socket probe(executor);
+  boost::system::error_code ec;
+  probe.connect(local::endpoint(path), ec);
+  return !ec;
+}
+
+// Takes the message formatted: g++ 12 destroys a temporary in a co_await expression twice, so
+// callers format into a named string first.
+asio::awaitable<bool> send(local::socket& socket, std::string line) {
+  line += '\n';
+  boost::system::error_code ec;
+  co_await asio::async_write(socket, asio::buffer(line),
+                             asio::redirect_error(asio::use_awaitable, ec));
+  co_return !ec;
+}
+
+}  // namespace
+
+ControlServer::ControlServer(asio::any_io_executor executor, std::string path,
+                             std::vector<ServedBus> buses)
+    : executor_(executor), path_(std::move(path)), buses_(std::move(buses)), acceptor_(executor) {}
+
+ControlServer::~ControlServer() { stop(); }
+
+Expected<Done, std::string> ControlServer::start() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path folder = fs::path(path_).parent_path();
+  if (!folder.empty() && !fs::exists(folder, ec)) {
+    fs::create_directories(folder, ec);
+    if (ec) return Unexpected{fmt::format("cannot create {}: {}", folder.string(), ec.message())};
+  }
+  if (fs::exists(fs::symlink_status(path_, ec))) {
+    if (someone_listens(path_, executor_))
+      return Unexpected{fmt::format("{}: another gateway is listening there", path_)};
+    if (!fs::is_socket(fs::symlink_status(path_, ec)))
+      return Unexpected{fmt::format("{}: exists and is not a socket; not replacing it", path_)};
+    fs::remove(path_, ec);  // stale: its gateway was killed
+  }
+  boost::system::error_code error;
+  acceptor_.open(local(), error);
+  if (!error) acceptor_.bind(local::endpoint(path_), error);
+  if (!error) acceptor_.listen(asio::socket_base::max_listen_connections, error);
+  if (error) {
+    acceptor_.close();
+    return Unexpected{fmt::format("cannot listen on {}: {}", path_, error.message())};
+  }
+  // Connecting lets a program move sensors and change their settings: owner and group only.
+  ::chmod(path_.c_str(), 0660);
+  listening_ = true;
+  asio::co_spawn(executor_, accept_loop(), asio::detached);
+  return Done{};
+}
+
+void ControlServer::stop() {
+  if (!listening_) return;
+  listening_ = false;
+  boost::system::error_code ec;
+  acceptor_.close(ec);
+  for (auto& weak : sessions_)
+    if (auto socket = weak.lock()) socket->close(ec);
+  sessions_.clear();
+  std::error_code removed;
+  std::filesystem::remove(path_, removed);
+}
+
+asio::awaitable<void> ControlServer::accept_loop() {
+  while (listening_) {
+    boost::system::error_code ec;
+    local::socket socket = co_await acceptor_.async_accept(asio::redirect_error(asio::use_awaitable, ec));
+    if (ec) {
+      if (!listening_) co_return;
+      continue;
+    }
+    std::erase_if(sessions_, [](const auto& weak) { return weak.expired(); });
+    if (sessions_.size() >= kMaxSessions) {
+      const std::string refusal =
+          control::format(control::GatewayMessage{control::Refused{fmt::format(
+              "the gateway already serves {} commissioning commands; try again later",
+              kMaxSessions)}}) + "\n";
+      asio::write(socket, asio::buffer(refusal), ec);
+      continue;
+    }
+    asio::co_spawn(executor_, session(std::move(socket)), asio::detached);
+  }
+}
+
+ControlServer::ServedBus* ControlServer::find_bus(const std::string& port_or_name) {
+  const std::string wanted = canonical_port(port_or_name);
+  for (ServedBus& bus : buses_)
+    if (bus.config.name == port_or_name || canonical_port(bus.config.port) == wanted) return &bus;
+  return nullptr;
+}
+
+std::string ControlServer::bus_list() const {
+  std::string list;
+  for (const ServedBus& bus : buses_)
+    list += fmt::format("{}{} on {}", list.empty() ? "" : ", ", bus.config.name, bus.config.port);
+  return list.empty() ? "none" : list;
+}
+
+namespace {
+
+std::string formatted(const control::GatewayMessage& message) { return control::format(message); }
+
+}  // namespace
+
+asio::awaitable<void> ControlServer::session(local::socket accepted) {
+  auto socket = std::make_shared<local::socket>(std::move(accepted));
+  sessions_.push_back(socket);
+  asio::streambuf input(control::kMaxLine);
+  ServedBus* bus = nullptr;
+  while (listening_) {
+    boost::system::error_code ec;
+    co_await asio::async_read_until(*socket, input, '\n',
+                                    asio::redirect_error(asio::use_awaitable, ec));
+    if (ec) break;  // gone, closed by stop(), or a line longer than kMaxLine
+    std::string line;
+    std::istream stream(&input);
+    std::getline(stream, line);
+    // Each answer is formatted into `reply` before it is sent (see send()); `done` ends the
+    // session after it.
+    std::string reply;
+    bool done = false;
+    auto message = control::parse_command(line);
+    if (!message) {
+      reply = formatted(control::Refused{message.error()});
+      done = true;
+    } else if (const auto* hello = std::get_if<control::Hello>(&*message)) {
+      bus = find_bus(hello->port);
+      reply = bus ? formatted(control::BusGranted{bus->config.name, bus->config.protocol,
+                                                  bus->config.baud})
+                  : formatted(control::Refused{fmt::format(
+                        "the gateway has no bus on {} (its buses: {})", hello->port, bus_list())});
+    } else if (bus == nullptr) {
+      reply = formatted(control::Refused{"ask for a bus first (hello PORT)"});
+      done = true;
+    } else if (const auto* transact = std::get_if<control::Transact>(&*message)) {
+      ControlRelayFramer relay(socket->native_handle());
+      LineRequest request{transact->bytes, transact->address_bytes,
+                          transact->expects_reply ? &relay : nullptr, transact->timeout,
+                          transact->retries, transact->settle};
+      const SteadyClock::time_point deadline = SteadyClock::now() + kQueueDeadline;
+      CommandExchangeResult result =
+          co_await bus->scheduler->exchange_for_command(std::move(request), deadline);
+      control::Ended ended;
+      if (!result.done) ended.error = result.done.error();
+      ended.busy = result.expired;
+      ended.timing = result.timing;
+      ended.generation = result.generation;
+      reply = formatted(ended);
+      if (relay.broken()) break;  // the command stopped answering mid-transaction
+    } else if (const auto* follow = std::get_if<control::Follow>(&*message)) {
+      const auto moved = bus->scheduler->follow_address(follow->from, follow->to);
+      reply = formatted(control::Followed{moved ? bus->config.name + "/" + *moved : ""});
+    } else {
+      reply = formatted(control::Refused{"a framer's answer outside a transaction"});
+      done = true;
+    }
+    if (!co_await send(*socket, std::move(reply)) || done) break;
+  }
+  boost::system::error_code ignored;
+  socket->close(ignored);
+}
+
+}  // namespace tiltgate

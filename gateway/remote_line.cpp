@@ -1,0 +1,224 @@
+#include "gateway/remote_line.h"
+
+#include <boost/asio/read_until.hpp>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/this_coro.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <boost/asio/write.hpp>
+#include <cerrno>
+#include <cstring>
+#include <fmt/format.h>
+#include <istream>
+#include <poll.h>
+#include <spdlog/spdlog.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include "serial/frame_trace.h"
+
+namespace tiltgate {
+
+namespace asio = boost::asio;
+using local = asio::local::stream_protocol;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// The longest a transaction can take on the gateway's side: its wait for a turn on the bus
+// (the server's queue deadline, 10 s) and every attempt; past it the gateway is taken as hung.
+std::chrono::milliseconds transaction_bound(const LineRequest& request) {
+  const auto per_attempt = std::max(request.timeout, std::chrono::milliseconds(1000));
+  const int attempts = request.retries < 0 ? 4 : request.retries + 1;
+  return std::chrono::seconds(15) + per_attempt * attempts + request.settle;
+}
+
+struct Fd {
+  int fd = -1;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+  int release() { return std::exchange(fd, -1); }
+};
+
+Expected<std::string, std::string> read_reply(int fd, Clock::time_point deadline) {
+  std::string line;
+  while (line.size() < control::kMaxLine) {
+    char c = 0;
+    const ssize_t n = ::recv(fd, &c, 1, 0);
+    if (n == 1) {
+      if (c == '\n') return line;
+      line += c;
+      continue;
+    }
+    if (n == 0) return Unexpected{std::string("the gateway closed the connection")};
+    if (errno == EINTR) continue;
+    if (errno != EAGAIN && errno != EWOULDBLOCK) return Unexpected{std::string(std::strerror(errno))};
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    pollfd p{fd, POLLIN, 0};
+    if (left.count() <= 0 || ::poll(&p, 1, int(left.count())) <= 0)
+      return Unexpected{std::string("the gateway did not answer")};
+  }
+  return Unexpected{std::string("the gateway's answer is too long")};
+}
+
+}  // namespace
+
+RemoteLine::RemoteLine(local::socket socket, control::BusGranted bus)
+    : socket_(std::move(socket)), bus_(std::move(bus)), name_(bus_.name) {}
+
+Expected<std::unique_ptr<RemoteLine>, RemoteLine::ConnectError> RemoteLine::connect(
+    asio::any_io_executor executor, const std::string& socket_path, const std::string& port,
+    std::chrono::milliseconds timeout) {
+  using Kind = ConnectError::Kind;
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  if (socket_path.size() >= sizeof(address.sun_path))
+    return Unexpected{ConnectError{Kind::failed, fmt::format("{}: path too long", socket_path)}};
+  std::memcpy(address.sun_path, socket_path.c_str(), socket_path.size() + 1);
+  Fd socket{::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0)};
+  if (socket.fd < 0)
+    return Unexpected{ConnectError{Kind::failed, fmt::format("socket: {}", std::strerror(errno))}};
+  // A Unix socket connects at once or not at all.
+  if (::connect(socket.fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0) {
+    const int error = errno;
+    if (error == ENOENT || error == ECONNREFUSED || error == ENOTDIR)
+      return Unexpected{ConnectError{
+          Kind::no_gateway, fmt::format("no gateway is listening on {} ({})", socket_path,
+                                        std::strerror(error))}};
+    return Unexpected{ConnectError{
+        Kind::failed,
+        fmt::format("cannot connect to the gateway's control socket {}: {}{}", socket_path,
+                    std::strerror(error),
+                    error == EACCES ? " (is your user in the socket's group?)" : "")}};
+  }
+  const Clock::time_point deadline = Clock::now() + timeout;
+  const std::string hello = control::format(control::CommandMessage{control::Hello{port}}) + "\n";
+  if (::send(socket.fd, hello.data(), hello.size(), MSG_NOSIGNAL) != ssize_t(hello.size()))
+    return Unexpected{ConnectError{
+        Kind::failed, fmt::format("{}: cannot talk to the gateway: {}", socket_path,
+                                  std::strerror(errno))}};
+  auto reply = read_reply(socket.fd, deadline);
+  if (!reply) return Unexpected{ConnectError{Kind::failed, socket_path + ": " + reply.error()}};
+  auto message = control::parse_gateway(*reply);
+  if (message) {
+    if (const auto* refused = std::get_if<control::Refused>(&*message))
+      return Unexpected{ConnectError{Kind::not_served, refused->reason}};
+    if (const auto* granted = std::get_if<control::BusGranted>(&*message)) {
+      local::socket wrapped(executor);
+      boost::system::error_code ec;
+      wrapped.assign(local(), socket.fd, ec);
+      if (ec) return Unexpected{ConnectError{Kind::failed, ec.message()}};
+      socket.release();
+      return std::unique_ptr<RemoteLine>(new RemoteLine(std::move(wrapped), *granted));
+    }
+  }
+  return Unexpected{ConnectError{Kind::failed,
+                                 fmt::format("{}: unexpected answer \"{}\"", socket_path, *reply)}};
+}
+
+void RemoteLine::stop() {
+  stopped_ = true;
+  boost::system::error_code ignored;
+  socket_.close(ignored);
+}
+
+asio::awaitable<bool> RemoteLine::write_line(std::string line) {
+  line += '\n';
+  boost::system::error_code ec;
+  co_await asio::async_write(socket_, asio::buffer(line), asio::redirect_error(asio::use_awaitable, ec));
+  co_return !ec;
+}
+
+asio::awaitable<Expected<Done, LineError>> RemoteLine::transact(LineRequest request) {
+  timing_ = LineTiming{};
+  if (stopped_) co_return Unexpected{LineError::cancelled};
+  if (!socket_.is_open()) co_return Unexpected{LineError::io};
+  const bool tracing = spdlog::should_log(spdlog::level::trace);
+  if (tracing)
+    spdlog::trace("{} {}", name_, traced_request(request.bytes, request.address_bytes));
+  ++stats_.attempts;
+  std::string sent = control::format(control::CommandMessage{control::Transact{
+      request.address_bytes, request.timeout, request.retries, request.settle,
+      request.framer != nullptr, request.bytes}});
+  // A gateway that hangs mid-transaction must not hang the command: close the socket then.
+  asio::steady_timer watchdog(co_await asio::this_coro::executor, transaction_bound(request));
+  watchdog.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    boost::system::error_code ignored;
+    socket_.close(ignored);
+  });
+  const Clock::time_point start = Clock::now();
+  std::vector<std::uint8_t> received;  // for the trace log
+  bool ok = co_await write_line(std::move(sent));
+  while (ok) {
+    boost::system::error_code ec;
+    co_await asio::async_read_until(socket_, input_, '\n', asio::redirect_error(asio::use_awaitable, ec));
+    if (ec) break;
+    std::string line;
+    std::istream stream(&input_);
+    std::getline(stream, line);
+    auto message = control::parse_gateway(line);
+    if (!message) {
+      spdlog::error("{}: {} from the gateway", name_, message.error());
+      break;
+    }
+    if (std::holds_alternative<control::Reset>(*message)) {
+      if (request.framer) request.framer->reset();
+      received.clear();
+    } else if (auto* chunk = std::get_if<control::Received>(&*message)) {
+      const bool whole = request.framer != nullptr && request.framer->feed(chunk->bytes);
+      if (tracing) received.insert(received.end(), chunk->bytes.begin(), chunk->bytes.end());
+      // Formatted before the co_await: g++ 12 destroys a braced temporary there twice.
+      std::string answer = control::format(control::CommandMessage{control::FramerAnswer{whole}});
+      ok = co_await write_line(std::move(answer));
+    } else if (const auto* ended = std::get_if<control::Ended>(&*message)) {
+      watchdog.cancel();
+      timing_ = ended->timing;
+      generation_ = ended->generation;
+      if (ended->busy) spdlog::warn("{}: the gateway's bus was too busy to send it", name_);
+      if (tracing && request.framer) {
+        const auto delay = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
+        if (!ended->error) {
+          for (const std::string& traced : traced_reply(received, request.framer->report(), delay))
+            spdlog::trace("{} {}", name_, traced);
+        } else if (*ended->error == LineError::timeout) {
+          spdlog::trace("{} {}", name_, traced_timeout(received, request.framer->report(), delay));
+        }
+      }
+      if (!ended->error) co_return Done{};
+      if (*ended->error == LineError::timeout) ++stats_.timeouts;
+      co_return Unexpected{*ended->error};
+    } else {
+      spdlog::error("{}: unexpected \"{}\" from the gateway", name_, line);
+      break;
+    }
+  }
+  watchdog.cancel();
+  if (stopped_) co_return Unexpected{LineError::cancelled};
+  // The session is lost (the gateway stopped, or it or we broke the protocol): every later
+  // transaction fails at once.
+  ++stats_.io_errors;
+  stop();
+  stopped_ = false;
+  co_return Unexpected{LineError::io};
+}
+
+Expected<std::string, std::string> RemoteLine::follow(std::uint32_t from, std::uint32_t to) {
+  if (!socket_.is_open()) return Unexpected{std::string("the gateway's connection is closed")};
+  const std::string line = control::format(control::CommandMessage{control::Follow{from, to}}) + "\n";
+  boost::system::error_code ec;
+  asio::write(socket_, asio::buffer(line), ec);
+  if (!ec) asio::read_until(socket_, input_, '\n', ec);
+  if (ec) return Unexpected{ec.message()};
+  std::string reply;
+  std::istream stream(&input_);
+  std::getline(stream, reply);
+  auto message = control::parse_gateway(reply);
+  if (const auto* followed = message ? std::get_if<control::Followed>(&*message) : nullptr)
+    return followed->sensor;
+  return Unexpected{fmt::format("unexpected answer \"{}\"", reply)};
+}
+
+}  // namespace tiltgate

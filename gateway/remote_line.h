@@ -1,0 +1,66 @@
+// A commissioning command's Line through a running gateway's control socket
+// (gateway/control_server.h): each transaction goes to the gateway, which sends it on its own
+// bus between polls and relays what comes back, chunk by chunk, to this line, where the
+// command's framer decides when the reply is whole. Drivers and commands cannot tell it from
+// a tty of their own.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/streambuf.hpp>
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "driver/expected.h"
+#include "driver/line.h"
+#include "gateway/control_protocol.h"
+
+namespace tiltgate {
+
+class RemoteLine final : public Line {
+ public:
+  struct ConnectError {
+    // no_gateway: nothing listens on the socket (or it is not there); not_served: a gateway
+    // listens but has no bus on the port; failed: it listens but the exchange went wrong.
+    enum Kind { no_gateway, not_served, failed } kind;
+    std::string message;
+  };
+
+  // Connects to the control socket at `socket_path` and asks for the bus on `port` (its tty,
+  // or its name). Blocking, bounded by `timeout`: done before the command's event loop runs.
+  static Expected<std::unique_ptr<RemoteLine>, ConnectError> connect(
+      boost::asio::any_io_executor executor, const std::string& socket_path,
+      const std::string& port, std::chrono::milliseconds timeout = std::chrono::seconds(3));
+
+  boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override;
+  std::uint64_t generation() const override { return generation_; }
+  bool is_open() const override { return socket_.is_open(); }
+  const std::string& name() const override { return name_; }
+  const LineStats& stats() const override { return stats_; }
+  const LineTiming& last_timing() const override { return timing_; }
+
+  // The bus the gateway granted: its name, protocol and baud.
+  const control::BusGranted& bus() const { return bus_; }
+  // Tells the gateway that a sensor on the bus moved from `from` to `to`; returns the
+  // "bus/sensor" it followed, empty when it polls no sensor at `from`, or an error.
+  Expected<std::string, std::string> follow(std::uint32_t from, std::uint32_t to);
+  // Closes the socket: a suspended transact() returns cancelled, as every later one does.
+  void stop();
+
+ private:
+  RemoteLine(boost::asio::local::stream_protocol::socket socket, control::BusGranted bus);
+
+  boost::asio::awaitable<bool> write_line(std::string line);
+
+  boost::asio::local::stream_protocol::socket socket_;
+  boost::asio::streambuf input_;
+  control::BusGranted bus_;
+  std::string name_;
+  std::uint64_t generation_ = 1;
+  bool stopped_ = false;
+  LineStats stats_;
+  LineTiming timing_;
+};
+
+}  // namespace tiltgate
