@@ -1,0 +1,206 @@
+// The control socket end to end inside one process: a ControlServer on a real Unix socket in
+// front of a BusScheduler with the fake line (its own thread, as the gateway's event loop), and
+// a command's RemoteLine. A transaction reaches the bus as the command sent it and the reply
+// is framed by the command's framer; a sensor the command moved is followed; a tty the gateway
+// does not own, a missing gateway, a stale and a live socket file are each told apart.
+#include <doctest/doctest.h>
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <boost/asio/executor_work_guard.hpp>
+#include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/read_until.hpp>
+#include <boost/asio/streambuf.hpp>
+#include <boost/asio/write.hpp>
+#include <future>
+#include <sys/stat.h>
+#include <thread>
+
+#include "gateway/bus_scheduler.h"
+#include "gateway/control_server.h"
+#include "gateway/remote_line.h"
+#include "unit/support/fake_bus.h"
+#include "unit/support/scratch_dir.h"
+
+using namespace tiltgate;
+using namespace tiltgate::test;
+using namespace std::chrono_literals;
+namespace asio = boost::asio;
+
+namespace {
+
+// Whole once `size` bytes have come, fed in as many pieces as the line likes.
+class FixedLengthReply final : public ReplyFramer {
+ public:
+  explicit FixedLengthReply(std::size_t size) : size_(size) {}
+  void reset() override {
+    received.clear();
+    ++resets;
+  }
+  bool feed(std::span<const std::uint8_t> bytes) override {
+    received.insert(received.end(), bytes.begin(), bytes.end());
+    return received.size() >= size_;
+  }
+  std::vector<std::uint8_t> received;
+  int resets = 0;
+
+ private:
+  std::size_t size_;
+};
+
+BusConfig bus_on(std::string port) {
+  BusConfig bus;
+  bus.name = "line1";
+  bus.port = std::move(port);
+  bus.protocol = "fake";
+  bus.baud = 19200;
+  return bus;
+}
+
+// A gateway's side: one bus with one sensor at address 223, its event loop on its own thread.
+struct Gateway {
+  ScratchDir dir{"tiltgate-control"};
+  std::string socket_path = dir.path("control.sock");
+  asio::io_context io;
+  asio::executor_work_guard<asio::io_context::executor_type> work{io.get_executor()};
+  FakeLine line{io.get_executor()};
+  BusScheduler scheduler{io.get_executor(), line, "line1"};
+  BusEvents events;
+  std::unique_ptr<GatewaySensor> sensor = fake_sensor("boom", 1, 223, events, 10s);
+  std::vector<LineRequest> sent;
+  ControlServer server{io.get_executor(), socket_path, {{bus_on("/dev/ttyFAKE0"), &scheduler}}};
+  std::thread thread;
+
+  Gateway() {
+    line.reply = [this](const LineRequest& request) {
+      sent.push_back(LineRequest{request.bytes, request.address_bytes, nullptr, request.timeout,
+                                 request.retries, request.settle});
+      return std::vector<std::uint8_t>{0xA0, 0xA1, 0xA2};
+    };
+    scheduler.add(*sensor);
+    REQUIRE(server.start());
+    asio::co_spawn(io, scheduler.run(), asio::detached);
+    thread = std::thread([this] { io.run(); });
+  }
+  ~Gateway() {
+    asio::post(io, [this] {
+      server.stop();
+      scheduler.stop();
+      work.reset();
+    });
+    io.stop();
+    thread.join();
+  }
+};
+
+// Runs `line.transact(request)` on a command's own event loop.
+Expected<Done, LineError> transact(RemoteLine& line, asio::io_context& io, LineRequest request) {
+  std::optional<Expected<Done, LineError>> result;
+  asio::co_spawn(
+      io, [&]() -> asio::awaitable<void> { result = co_await line.transact(request); },
+      asio::detached);
+  REQUIRE(run_until(io, [&] { return result.has_value(); }));
+  return *result;
+}
+
+}  // namespace
+
+TEST_CASE("control socket: a command's transaction goes out on the gateway's bus, framed by the command") {
+  Gateway gateway;
+  asio::io_context io;
+  auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
+  REQUIRE(line);
+  CHECK((*line)->bus().name == "line1");
+  CHECK((*line)->bus().baud == 19200);
+
+  FixedLengthReply framer(3);
+  const auto done = transact(**line, io, LineRequest{{0x00, 0xDF, 0x04}, 0, &framer, 40ms, 0, 5ms});
+  CHECK(done.has_value());
+  CHECK(framer.received == std::vector<std::uint8_t>{0xA0, 0xA1, 0xA2});
+  CHECK(framer.resets == 1);
+  REQUIRE(gateway.sent.size() == 1);
+  CHECK(gateway.sent[0].bytes == std::vector<std::uint8_t>{0x00, 0xDF, 0x04});
+  CHECK(gateway.sent[0].timeout == 40ms);
+  CHECK(gateway.sent[0].retries == 0);
+  CHECK(gateway.sent[0].settle == 5ms);
+
+  // A reply the command's framer never takes as whole is the command's time-out.
+  FixedLengthReply wants_more(4);
+  const auto short_reply = transact(**line, io, LineRequest{{0x01}, 0, &wants_more, 40ms, 0, 0ms});
+  CHECK(short_reply.error() == LineError::timeout);
+  CHECK(wants_more.received.size() == 3);
+}
+
+TEST_CASE("control socket: a sensor a command moved is polled at its new address") {
+  Gateway gateway;
+  asio::io_context io;
+  auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "line1");  // by name
+  REQUIRE(line);
+  const auto followed = (*line)->follow(223, 7);
+  REQUIRE(followed);
+  CHECK(*followed == "line1/boom");
+  CHECK(gateway.sensor->driver->state().bus_address == 7);
+  const auto nobody = (*line)->follow(100, 8);
+  REQUIRE(nobody);
+  CHECK(nobody->empty());
+}
+
+TEST_CASE("control socket: a tty the gateway does not own, and no gateway at all, are told apart") {
+  Gateway gateway;
+  asio::io_context io;
+  auto other = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyUSB7");
+  REQUIRE_FALSE(other);
+  CHECK(other.error().kind == RemoteLine::ConnectError::not_served);
+  CHECK(other.error().message.find("line1 on /dev/ttyFAKE0") != std::string::npos);
+
+  auto none = RemoteLine::connect(io.get_executor(), gateway.dir.path("nothing.sock"), "/dev/ttyFAKE0");
+  REQUIRE_FALSE(none);
+  CHECK(none.error().kind == RemoteLine::ConnectError::no_gateway);
+}
+
+TEST_CASE("control socket: the socket file is for owner and group only, and a live one is not taken over") {
+  Gateway gateway;
+  struct stat st {};
+  REQUIRE(::stat(gateway.socket_path.c_str(), &st) == 0);
+  CHECK((st.st_mode & 0777) == 0660);
+
+  asio::io_context io;
+  BusScheduler scheduler{io.get_executor(), gateway.line, "line1"};
+  ControlServer second{io.get_executor(), gateway.socket_path, {{bus_on("/dev/ttyFAKE0"), &scheduler}}};
+  const auto refused = second.start();
+  REQUIRE_FALSE(refused);
+  CHECK(refused.error().find("another gateway is listening") != std::string::npos);
+}
+
+TEST_CASE("control socket: a socket file left by a killed gateway is replaced") {
+  ScratchDir dir{"tiltgate-control"};
+  const std::string path = dir.path("control.sock");
+  asio::io_context io;
+  {
+    // Bound and closed without removing the file, as a SIGKILLed gateway leaves it.
+    asio::local::stream_protocol::acceptor stale(io, asio::local::stream_protocol::endpoint(path));
+  }
+  REQUIRE(std::filesystem::exists(path));
+  FakeLine line{io.get_executor()};
+  BusScheduler scheduler{io.get_executor(), line, "line1"};
+  ControlServer server{io.get_executor(), path, {{bus_on("/dev/ttyFAKE0"), &scheduler}}};
+  CHECK(server.start());
+  server.stop();
+  CHECK_FALSE(std::filesystem::exists(path));  // removed on stop
+}
+
+TEST_CASE("control socket: a garbled message is refused and ends that session only") {
+  Gateway gateway;
+  asio::io_context io;
+  asio::local::stream_protocol::socket raw(io);
+  raw.connect(asio::local::stream_protocol::endpoint(gateway.socket_path));
+  asio::write(raw, asio::buffer(std::string("transact nonsense\n")));
+  asio::streambuf answer;
+  asio::read_until(raw, answer, '\n');
+  std::string line((std::istreambuf_iterator<char>(&answer)), {});
+  CHECK(line.rfind("error malformed message", 0) == 0);
+  // Everyone else is still served.
+  auto fine = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
+  CHECK(fine);
+}
