@@ -68,6 +68,10 @@ struct LineRequest {
   // Quiet time the Line keeps after this transaction before the next one (e.g. a sensor that
   // needs 50 ms after it was given a new address).
   std::chrono::milliseconds settle{0};
+  // After a time-out, how long the line must stay quiet before anything else is sent (see
+  // LineTiming). None: the bus's own guard. A scan's probes of empty addresses give a short
+  // one: nothing is late there, and the bus's guard would cost every probe half a second.
+  std::optional<std::chrono::milliseconds> late_guard{};
 };
 
 struct LineStats {

@@ -101,6 +101,7 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
     bus->sensors_ = std::move(sensors);
     bus->config_.baud = (*remote)->bus().baud;
     bus->remote_ = remote->get();
+    bus->remote_->set_defaults({target.bus.timeout, target.bus.retries, target.bus.late_guard});
     bus->line_ = std::move(*remote);
     return bus;
   }

@@ -103,8 +103,9 @@ std::string format(const CommandMessage& message) {
       Overloaded{
           [](const Hello& m) { return "hello " + m.port; },
           [](const Transact& m) {
-            return fmt::format("transact {} {} {} {} {} {}", m.address_bytes, m.timeout.count(),
-                               m.retries, m.settle.count(), m.expects_reply ? 1 : 0,
+            return fmt::format("transact {} {} {} {} {} {} {}", m.address_bytes,
+                               m.timeout.count(), m.retries, m.settle.count(),
+                               m.expects_reply ? 1 : 0, milliseconds_or_dash(m.late_guard),
                                hex(m.bytes));
           },
           [](const FramerAnswer& m) { return std::string(m.done ? "done" : "more"); },
@@ -150,18 +151,20 @@ Expected<CommandMessage, std::string> parse_command(std::string_view line) {
     if (!from || !to) return malformed(line);
     return CommandMessage{Follow{*from, *to}};
   }
-  if (w[0] == "transact" && w.size() == 7) {
+  if (w[0] == "transact" && w.size() == 8) {
     const auto address_bytes = number<std::size_t>(w[1]);
     const auto timeout = number<std::int64_t>(w[2]);
     const auto retries = number<int>(w[3]);
     const auto settle = number<std::int64_t>(w[4]);
-    const auto bytes = unhex(w[6]);
-    if (!address_bytes || !timeout || !retries || !settle || !bytes || *timeout < 0 ||
-        *settle < 0 || *retries < -1 || (w[5] != "0" && w[5] != "1") || bytes->empty() ||
-        *address_bytes > bytes->size())
+    const auto late_guard = parse_milliseconds_or_dash(w[6]);
+    const auto bytes = unhex(w[7]);
+    if (!address_bytes || !timeout || !retries || !settle || !late_guard || !bytes ||
+        *timeout < 0 || *settle < 0 || *retries < -1 || (w[5] != "0" && w[5] != "1") ||
+        bytes->empty() || *address_bytes > bytes->size())
       return malformed(line);
     return CommandMessage{Transact{*address_bytes, std::chrono::milliseconds(*timeout), *retries,
-                                   std::chrono::milliseconds(*settle), w[5] == "1", *bytes}};
+                                   std::chrono::milliseconds(*settle), w[5] == "1", *late_guard,
+                                   *bytes}};
   }
   return malformed(line);
 }

@@ -5,12 +5,14 @@
 //   command -> gateway                      gateway -> command
 //   hello /dev/ttyUSB0                      bus line1 rieker-binary 125000
 //                                           (or: error the gateway has no bus on /dev/ttyUSB0 ...)
-//   transact 0 50 2 0 1 00DF00000004...     reset                    before each attempt
+//   transact 0 50 2 0 1 - 00DF0000000400..  reset                    before each attempt
 //                                           bytes 0000DF00...        what the line received
 //   more | done                             (the command's framer: is the reply whole?)
 //                                           end ok 3 0 - 1           or: end timeout 0 - 1
 //   follow 223 7                            ok line1/boom            (or: ok, none was there)
 //
+// transact: address bytes, time-out, retries, settle (ms), reply expected, late guard (ms, or -
+// for the bus's own), the request in hex.
 // The command keeps the framer, so the gateway needs no knowledge of the protocol: it moves the
 // request's bytes on its line between polls and relays what comes back.
 #pragma once
@@ -41,6 +43,7 @@ struct Transact {
   int retries = -1;
   std::chrono::milliseconds settle{0};
   bool expects_reply = true;
+  std::optional<std::chrono::milliseconds> late_guard;  // none: the gateway's bus's own
   std::vector<std::uint8_t> bytes;
 };
 struct FramerAnswer {

@@ -171,9 +171,10 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       done = true;
     } else if (const auto* transact = std::get_if<control::Transact>(&*message)) {
       ControlRelayFramer relay(socket->native_handle());
-      LineRequest request{transact->bytes, transact->address_bytes,
-                          transact->expects_reply ? &relay : nullptr, transact->timeout,
-                          transact->retries, transact->settle};
+      LineRequest request{transact->bytes,    transact->address_bytes,
+                          transact->expects_reply ? &relay : nullptr,
+                          transact->timeout,  transact->retries,
+                          transact->settle,   transact->late_guard};
       const SteadyClock::time_point deadline = SteadyClock::now() + kQueueDeadline;
       CommandExchangeResult result =
           co_await bus->scheduler->exchange_for_command(std::move(request), deadline);

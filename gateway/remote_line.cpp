@@ -133,6 +133,9 @@ asio::awaitable<bool> RemoteLine::write_line(std::string line) {
 
 asio::awaitable<Expected<Done, LineError>> RemoteLine::transact(LineRequest request) {
   timing_ = LineTiming{};
+  if (request.timeout.count() <= 0) request.timeout = defaults_.timeout;
+  if (request.retries < 0) request.retries = defaults_.retries;
+  if (!request.late_guard) request.late_guard = defaults_.late_guard;
   if (stopped_) co_return Unexpected{LineError::cancelled};
   if (!socket_.is_open()) co_return Unexpected{LineError::io};
   const bool tracing = spdlog::should_log(spdlog::level::trace);
@@ -141,7 +144,7 @@ asio::awaitable<Expected<Done, LineError>> RemoteLine::transact(LineRequest requ
   ++stats_.attempts;
   std::string sent = control::format(control::CommandMessage{control::Transact{
       request.address_bytes, request.timeout, request.retries, request.settle,
-      request.framer != nullptr, request.bytes}});
+      request.framer != nullptr, request.late_guard, request.bytes}});
   // A gateway that hangs mid-transaction must not hang the command: close the socket then.
   asio::steady_timer watchdog(co_await asio::this_coro::executor, transaction_bound(request));
   watchdog.async_wait([this](const boost::system::error_code& ec) {

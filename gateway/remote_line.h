@@ -40,6 +40,16 @@ class RemoteLine final : public Line {
   const LineStats& stats() const override { return stats_; }
   const LineTiming& last_timing() const override { return timing_; }
 
+  // What a request that leaves them to the bus gets: the command's own bus settings (its
+  // time-out, retries and late guard), not the gateway's, so that a command behaves the same
+  // on its own tty and through a gateway.
+  struct Defaults {
+    std::chrono::milliseconds timeout{50};
+    int retries = 2;
+    std::chrono::milliseconds late_guard{450};
+  };
+  void set_defaults(Defaults defaults) { defaults_ = defaults; }
+
   // The bus the gateway granted: its name, protocol and baud.
   const control::BusGranted& bus() const { return bus_; }
   // Tells the gateway that a sensor on the bus moved from `from` to `to`; returns the
@@ -57,6 +67,7 @@ class RemoteLine final : public Line {
   boost::asio::streambuf input_;
   control::BusGranted bus_;
   std::string name_;
+  Defaults defaults_;
   std::uint64_t generation_ = 1;
   bool stopped_ = false;
   LineStats stats_;

@@ -96,6 +96,7 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
   const int retries = request.retries < 0 ? options_.retries : request.retries;
   const auto timeout = request.timeout.count() > 0 ? request.timeout : options_.timeout;
   timing_ = LineTiming{};
+  request_late_guard_ = request.late_guard.value_or(options_.late_guard);
   // Decided once per transaction: with trace off, nothing below is kept or formatted.
   tracing_ = spdlog::should_log(spdlog::level::trace);
   std::optional<Clock::time_point> timed_out_request_end;
@@ -134,7 +135,7 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
 
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_replies(
     Clock::time_point from, Clock::time_point request_end) {
-  const auto guard = options_.late_guard;
+  const auto guard = request_late_guard_;
   const Clock::time_point give_up = from + std::max<Clock::duration>(kLongestGuardWait, 4 * guard);
   Clock::time_point quiet_until = std::max(from, last_byte_at_) + guard;
   bool in_burst = false;

@@ -137,6 +137,7 @@ class SerialLine final : public Line {
                                                                       Clock::time_point deadline);
 
   SerialLineOptions options_;
+  std::chrono::milliseconds request_late_guard_{0};  // this transaction's (LineRequest::late_guard)
   boost::asio::posix::stream_descriptor port_;
   boost::asio::steady_timer quiet_timer_;
   boost::asio::steady_timer reopen_timer_;

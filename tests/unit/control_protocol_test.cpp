@@ -12,9 +12,9 @@ using namespace tiltgate::control;
 using namespace std::chrono_literals;
 
 TEST_CASE("control: a transaction request formats as documented and parses back") {
-  const Transact request{1, 50ms, 0, 20ms, true, {0x05, 0x41, 0x0D, 0x0A}};
+  const Transact request{1, 50ms, 0, 20ms, true, 30ms, {0x05, 0x41, 0x0D, 0x0A}};
   const std::string line = format(CommandMessage{request});
-  CHECK(line == "transact 1 50 0 20 1 05410D0A");
+  CHECK(line == "transact 1 50 0 20 1 30 05410D0A");
   auto parsed = parse_command(line);
   REQUIRE(parsed);
   const auto* back = std::get_if<Transact>(&*parsed);
@@ -24,7 +24,13 @@ TEST_CASE("control: a transaction request formats as documented and parses back"
   CHECK(back->retries == 0);
   CHECK(back->settle == 20ms);
   CHECK(back->expects_reply);
+  CHECK(back->late_guard == 30ms);
   CHECK(back->bytes == request.bytes);
+  auto bus_guard = parse_command("transact 0 50 -1 0 0 - 01");
+  REQUIRE(bus_guard);
+  CHECK_FALSE(std::get<Transact>(*bus_guard).late_guard.has_value());
+  CHECK(std::get<Transact>(*bus_guard).retries == -1);
+  CHECK_FALSE(std::get<Transact>(*bus_guard).expects_reply);
 }
 
 TEST_CASE("control: hello keeps a port path whole, follow carries both addresses") {
@@ -83,9 +89,10 @@ TEST_CASE("control: received bytes, the bus granted and a refusal parse back") {
 
 TEST_CASE("control: malformed lines are refused") {
   for (const char* line :
-       {"", "hello", "transact 0 50 2 0 1", "transact 0 50 2 0 1 0", "transact 0 50 2 0 1 ZZ",
-        "transact 3 50 2 0 1 0102", "transact 0 -5 2 0 1 01", "transact 0 50 -2 0 1 01",
-        "transact 0 50 2 0 7 01", "transact 0 50 2 0 1 ", "follow 1", "follow a b", "more please",
+       {"", "hello", "transact 0 50 2 0 1 -", "transact 0 50 2 0 1 - 0",
+        "transact 0 50 2 0 1 - ZZ", "transact 3 50 2 0 1 - 0102", "transact 0 -5 2 0 1 - 01",
+        "transact 0 50 -2 0 1 - 01", "transact 0 50 2 0 7 - 01", "transact 0 50 2 0 1 x 01",
+        "transact 0 50 2 0 1 01", "transact 0 50 2 0 1 - ", "follow 1", "follow a b", "more please",
         "rm -rf /"}) {
     CAPTURE(line);
     CHECK_FALSE(parse_command(line));
