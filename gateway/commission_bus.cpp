@@ -55,10 +55,21 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
   if (!lock) return Unexpected{OpenError{1, lock.error()}};
   std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, *lock));
   bus->sensors_ = std::move(sensors);
-  bus->line_ = std::make_unique<SerialLine>(executor, serial_options_from(target.bus));
-  if (!bus->line_->start())
-    return Unexpected{OpenError{1, fmt::format("cannot open {} as a serial port", target.bus.port)}};
+  bus->executor_ = executor;
+  if (auto started = bus->start_line(); !started) return Unexpected{OpenError{1, started.error()}};
   return bus;
+}
+
+Expected<Done, std::string> CommissionBus::start_line() {
+  line_ = std::make_unique<SerialLine>(executor_, serial_options_from(config_));
+  if (!line_->start()) return Unexpected{fmt::format("cannot open {} as a serial port", config_.port)};
+  return Done{};
+}
+
+Expected<Done, std::string> CommissionBus::reopen_at(std::uint32_t baud) {
+  line_->stop();
+  config_.baud = baud;
+  return start_line();
 }
 
 std::string CommissionBus::no_reply_message(const CommissionedSensor& sensor) const {
