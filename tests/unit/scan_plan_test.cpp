@@ -113,8 +113,8 @@ TEST_CASE("the default probe time-out is the protocol's reply time plus the adap
   for (const char* name : {"rieker", "spectron-9bit", "spectron-modbus", "modbus-rtu"}) {
     CAPTURE(name);
     const ProtocolDescriptor& p = protocol_named(name);
-    REQUIRE(p.scan.probe != nullptr);
-    REQUIRE(p.scan.probe_time != nullptr);
+    REQUIRE(bool(p.scan.probe));
+    REQUIRE(bool(p.scan.probe_time));
     const auto slow = default_probe_timeout(p, std::uint32_t(p.bauds.front()));
     const auto fast = default_probe_timeout(p, std::uint32_t(p.bauds.back()));
     CHECK(fast > kProbeAllowance);
