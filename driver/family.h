@@ -18,6 +18,7 @@
 #include "driver/adaptive_reply_timeout.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
+#include "driver/scan.h"
 #include "driver/forwarding.h"
 #include "driver/sensor_driver.h"
 #include "driver/simulator.h"
@@ -60,6 +61,8 @@ struct ProtocolDescriptor {
   // on the bus and finds its reply, so a [[bus]] may pass unit ids through to its devices
   // (driver/forwarding.h). Null: the protocol cannot forward Modbus requests.
   ForwardFactory forward = nullptr;
+  // How `tiltgate scan` finds the protocol's sensors (driver/scan.h).
+  ScanDescriptor scan{};
 };
 
 // What Read Device Identification (FC 43) reports for a model.

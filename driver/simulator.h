@@ -33,6 +33,8 @@ struct SimulatorSetup {
   std::uint32_t pace_baud = 0;  // 0: answer at once; else pace replies at this baud rate
   // 0: hear requests at any rate; else only those sent at this baud rate (PtyBusServerOptions).
   std::uint32_t listen_baud = 0;
+  // Sensors may share an address, as on a bus commissioned by mistake: their replies collide.
+  bool shared_addresses = false;
 };
 
 struct SimulatorDescriptor {

@@ -33,9 +33,10 @@ inline std::vector<std::string_view> split_list(std::string_view list, char sepa
 
 // A simulator's sensor list: `parse_item(item, index)` turns each comma-separated item into
 // sensor options (an Expected with a std::string error); an empty item, or an address (the
-// options' `address` member) used twice, is an error.
+// options' `address` member) used twice, is an error, unless `shared_addresses` allows it
+// (sensors that collide, as on a bus commissioned by mistake).
 template <class ParseItem>
-auto parse_sensor_list(std::string_view list, ParseItem parse_item)
+auto parse_sensor_list(std::string_view list, ParseItem parse_item, bool shared_addresses = false)
     -> Expected<std::vector<std::decay_t<decltype(*parse_item(list, 0))>>, std::string> {
   std::vector<std::decay_t<decltype(*parse_item(list, 0))>> sensors;
   for (const std::string_view item : split_list(list, ',')) {
@@ -45,7 +46,7 @@ auto parse_sensor_list(std::string_view list, ParseItem parse_item)
     const bool taken = std::any_of(sensors.begin(), sensors.end(), [&](const auto& other) {
       return other.address == sensor->address;
     });
-    if (taken) {
+    if (taken && !shared_addresses) {
       return Unexpected("sensor '" + std::string(item) + "': address " +
                         std::to_string(sensor->address) + " is used twice");
     }

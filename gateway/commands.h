@@ -6,6 +6,7 @@
 
 #include "driver/family.h"
 #include "gateway/commission_options.h"
+#include "gateway/scan_plan.h"
 
 namespace tiltgate {
 
@@ -34,5 +35,8 @@ struct WatchOptions {
 };
 // `tiltgate watch`: every sensor polled in turn, one row each, until stopped or `count` rounds.
 int watch_command(const BusOptions& bus, const WatchOptions& options);
+
+// `tiltgate scan`: every address of a range probed, one row per sensor that answered.
+int scan_command(const BusOptions& bus, const ScanOptions& options);
 
 }  // namespace tiltgate

@@ -109,12 +109,29 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
   if (!lock) return Unexpected{OpenError{1, lock.error()}};
   std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, *lock));
   bus->sensors_ = std::move(sensors);
-  auto line = std::make_unique<SerialLine>(executor, serial_options_from(target.bus));
-  bus->serial_ = line.get();
-  bus->line_ = std::move(line);
-  if (!bus->serial_->start())
-    return Unexpected{OpenError{1, fmt::format("cannot open {} as a serial port", target.bus.port)}};
+  bus->executor_ = executor;
+  if (auto started = bus->start_line(); !started) return Unexpected{OpenError{1, started.error()}};
   return bus;
+}
+
+Expected<Done, std::string> CommissionBus::start_line() {
+  auto line = std::make_unique<SerialLine>(executor_, serial_options_from(config_));
+  serial_ = line.get();
+  line_ = std::move(line);
+  if (!serial_->start()) return Unexpected{fmt::format("cannot open {} as a serial port", config_.port)};
+  return Done{};
+}
+
+Expected<Done, std::string> CommissionBus::reopen_at(std::uint32_t baud) {
+  // The running gateway's bus stays at its rate: its other sensors are set to it.
+  if (remote_)
+    return Unexpected{fmt::format("the running gateway keeps bus {} at {} baud; another rate "
+                                  "needs the tty: stop the gateway, or run without "
+                                  "--via-gateway and with its control socket off",
+                                  remote_->bus().name, config_.baud)};
+  serial_->stop();
+  config_.baud = baud;
+  return start_line();
 }
 
 std::string CommissionBus::no_reply_message(const CommissionedSensor& sensor) const {

@@ -53,12 +53,18 @@ class CommissionBus {
   // that owns the bus follows it at once (said on stdout). Nothing to do on a tty of our own.
   void address_changed(std::uint32_t from, std::uint32_t to);
 
+  // Reopens the tty at another baud rate (scan --baud auto), keeping the lock; the bus's
+  // config() follows. An error says why it cannot be done.
+  Expected<Done, std::string> reopen_at(std::uint32_t baud);
+
   // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.
   std::string no_reply_message(const CommissionedSensor& sensor) const;
 
  private:
   CommissionBus(BusConfig config, int lock_fd);
+  Expected<Done, std::string> start_line();
 
+  boost::asio::any_io_executor executor_;
   BusConfig config_;
   int lock_fd_;  // -1 through a gateway
   std::unique_ptr<Line> line_;

@@ -70,7 +70,33 @@ std::string watch_help_footer() {
   return text;
 }
 
-void add_bus_options(CLI::App& command, BusOptions& options) {
+std::string scan_help_footer() {
+  std::string text = "Examples:\n";
+  for (const FamilyDescriptor* family : registered_families()) {
+    if (family->demo.sensors.empty()) continue;
+    std::string example = fmt::format("  tiltgate scan --port /dev/ttyUSB0 --protocol {}",
+                                      family->demo.protocol);
+    const ProtocolEntry protocol = find_protocol(registered_families(), family->demo.protocol);
+    example += protocol.protocol && !protocol.protocol->default_baud
+                   ? std::string(" --baud auto")
+                   : fmt::format(" --config-out {}.toml", family->demo.protocol);
+    for (std::string_view key : family->required_sensor_keys)
+      if (key == "device") example += " --device profile.toml";
+    text += example + "\n";
+  }
+  text += "  tiltgate scan --port /dev/ttyUSB0 --from 1 --to 65000 --baud auto\n";
+  text += "  tiltgate scan --port /dev/ttyUSB0 --broadcast      # one sensor on the bus only\n";
+  text += "  tiltgate scan --config /etc/tiltgate/tiltgate.toml --bus line1\n";
+  text +=
+      "Without --from/--to the protocol's usual addresses and its factory addresses are\n"
+      "probed. One row per address that answered: address, baud, model, serial, firmware,\n"
+      "lock level, and \"probable collision\" where garbled replies suggest two sensors at one\n"
+      "address. --config-out writes a configuration of the sensors found for `tiltgate check`.\n"
+      "Exit status: 0 a sensor answered; 1 none did, or the tty cannot be used; 2 usage error.";
+  return text;
+}
+
+void add_bus_options(CLI::App& command, BusOptions& options, bool* auto_baud) {
   const FamilyList families = registered_families();
   command.add_option("--port", options.port, "the bus's tty, e.g. /dev/ttyUSB0")
       ->group("Bus on the command line");
@@ -79,9 +105,28 @@ void add_bus_options(CLI::App& command, BusOptions& options) {
                   fmt::format("{} (default: {})", protocol_names(families),
                               families.front()->protocols.front().name))
       ->group("Bus on the command line");
-  add_optional(command, "--baud", options.baud,
-               "the rate the sensors are set to (default: the protocol's factory rate)")
-      ->group("Bus on the command line");
+  if (auto_baud) {
+    command
+        .add_option_function<std::string>(
+            "--baud",
+            [&options, auto_baud](const std::string& value) {
+              if (value == "auto") {
+                *auto_baud = true;
+                return;
+              }
+              std::int64_t baud = 0;
+              if (!CLI::detail::lexical_cast(value, baud))
+                throw CLI::ValidationError("--baud", "a rate in baud, or auto: " + value);
+              options.baud = baud;
+            },
+            "the rate the sensors are set to (default: the protocol's factory rate), or auto: "
+            "every rate the protocol allows")
+        ->group("Bus on the command line");
+  } else {
+    add_optional(command, "--baud", options.baud,
+                 "the rate the sensors are set to (default: the protocol's factory rate)")
+        ->group("Bus on the command line");
+  }
   command.add_option("--parity", options.parity, "even, odd or none, where the protocol lets "
                                                  "the bus choose (default: the protocol's)")
       ->group("Bus on the command line");

@@ -10,10 +10,12 @@ namespace tiltgate {
 
 // --port, --protocol, --baud, --parity, --stop-bits, --master-address, --model, --device,
 // --config, --sensor, --bus and --address, filling `options`.
-void add_bus_options(CLI::App& command, BusOptions& options);
+// With `auto_baud`, --baud also takes "auto", which sets it.
+void add_bus_options(CLI::App& command, BusOptions& options, bool* auto_baud = nullptr);
 
 // The commands' --help footers: examples for each family's bus, and the exit status.
 std::string info_help_footer();
 std::string watch_help_footer();
+std::string scan_help_footer();
 
 }  // namespace tiltgate

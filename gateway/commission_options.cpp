@@ -14,22 +14,6 @@ namespace {
 
 constexpr std::string_view kCommandLineBus = "command-line";
 
-// A TOML basic string: quotes, backslashes and control characters escaped.
-std::string toml_string(std::string_view text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
-      out += fmt::format("\\u{:04X}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
 // The option a configuration key stands for: "bus[0].stop_bits" -> "--stop-bits".
 std::string option_for_key(std::string_view key) {
   const std::size_t dot = key.rfind('.');
@@ -87,7 +71,8 @@ UsageErrors combination_errors(const BusOptions& o) {
     errors.push_back("--port: required (the tty of the bus), or --config FILE with --sensor or --bus");
     return errors;
   }
-  if (o.addresses.empty()) errors.push_back("--address: required with --port");
+  if (o.addresses.empty() && !o.sensors_optional)
+    errors.push_back("--address: required with --port");
   // Each sensor gets a unit id in the configuration the options stand for.
   if (o.addresses.size() > 247) errors.push_back("--address: at most 247 sensors at once");
   return errors;
@@ -114,6 +99,7 @@ Expected<CommissionTarget, UsageErrors> from_command_line(const BusOptions& o,
   }
   CommissionTarget target;
   target.bus = loaded->buses.front();
+  if (o.sensors_optional && o.addresses.empty()) target.bus.pass_through.clear();
   target.sensors = std::move(loaded->sensors);
   target.control_socket = std::string(kDefaultControlSocket);
   return target;
@@ -165,13 +151,28 @@ Expected<CommissionTarget, UsageErrors> from_config_file(const BusOptions& o,
       errors.push_back(fmt::format("--address: bus \"{}\" in {} has no sensor at address {}",
                                    bus_name, o.config, address));
   }
-  if (target.sensors.empty() && errors.empty())
+  if (target.sensors.empty() && errors.empty() && !o.sensors_optional)
     errors.push_back(fmt::format("--bus: bus \"{}\" in {} has no sensors", bus_name, o.config));
   if (!errors.empty()) return Unexpected{std::move(errors)};
   return target;
 }
 
 }  // namespace
+
+std::string toml_string(std::string_view text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
+      out += fmt::format("\\u{:04X}", static_cast<unsigned>(static_cast<unsigned char>(c)));
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
 
 std::string command_line_config(const BusOptions& o, FamilyList families) {
   std::string text = fmt::format("[[bus]]\nname = {}\nport = {}\n", toml_string(kCommandLineBus),
@@ -181,6 +182,16 @@ std::string command_line_config(const BusOptions& o, FamilyList families) {
   if (!o.parity.empty()) text += fmt::format("parity = {}\n", toml_string(o.parity));
   if (o.stop_bits) text += fmt::format("stop_bits = {}\n", *o.stop_bits);
   if (o.master_address) text += fmt::format("master_address = {}\n", *o.master_address);
+  if (o.sensors_optional && o.addresses.empty()) {
+    // The loader accepts a bus without sensors only when it passes unit ids through (there is
+    // then something to serve); a bus to be scanned has none yet, so one stands in, on
+    // protocols that can forward (from_command_line drops it again).
+    const std::string_view protocol =
+        o.protocol.empty() ? families.front()->protocols.front().name : o.protocol;
+    if (const ProtocolEntry entry = find_protocol(families, protocol);
+        entry.protocol && entry.protocol->forward)
+      text += "pass_through = [1]\n";
+  }
 
   // The model decides the driver: the one given, else the first of the protocol's family (a
   // file without a protocol gets the first family's first protocol, as the loader does).

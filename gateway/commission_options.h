@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "config/config.h"
@@ -34,6 +35,9 @@ struct BusOptions {
   // Sensors by bus address: with --port, the sensors to talk to; with --bus, a choice among
   // the bus's configured sensors.
   std::vector<std::int64_t> addresses;
+  // Whether the command can do without sensors (scan finds them): no --address is needed
+  // with --port, and a --bus may have none configured.
+  bool sensors_optional = false;
   // Through a running gateway's control socket: required (--via-gateway), or used when a
   // gateway there serves the tty. The socket: --control-socket, else the configuration's
   // [server] control_socket, else the default.
@@ -54,6 +58,9 @@ using UsageErrors = std::vector<std::string>;
 
 Expected<CommissionTarget, UsageErrors> resolve_bus_options(
     const BusOptions& options, FamilyList families = registered_families());
+
+// A TOML basic string: quotes, backslashes and control characters escaped.
+std::string toml_string(std::string_view text);
 
 // The configuration text that stands for a command-line bus (exposed for tests).
 std::string command_line_config(const BusOptions& options, FamilyList families);

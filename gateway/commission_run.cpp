@@ -9,16 +9,23 @@
 
 namespace tiltgate {
 
+int report_usage_errors(std::string_view command, const UsageErrors& errors) {
+  for (const std::string& error : errors)
+    std::cerr << "tiltgate " << command << ": " << error << "\n";
+  std::cerr << "Run with --help for more information.\n";
+  return 2;
+}
+
 int run_commissioning(std::string_view command, const BusOptions& options, CommissionWork work) {
   const auto target = resolve_bus_options(options);
-  if (!target) {
-    for (const std::string& error : target.error())
-      std::cerr << "tiltgate " << command << ": " << error << "\n";
-    std::cerr << "Run with --help for more information.\n";
-    return 2;
-  }
+  if (!target) return report_usage_errors(command, target.error());
+  return run_commissioning_on(command, *target, std::move(work));
+}
+
+int run_commissioning_on(std::string_view command, const CommissionTarget& target,
+                         CommissionWork work) {
   boost::asio::io_context io;
-  auto bus = CommissionBus::open(io.get_executor(), *target);
+  auto bus = CommissionBus::open(io.get_executor(), target);
   if (!bus) {
     std::cerr << "tiltgate " << command << ": " << bus.error().message << "\n";
     return bus.error().exit_code;

@@ -20,4 +20,11 @@ using CommissionWork =
 // opened and returns 1; else the work's exit code (0 when stopped by a signal).
 int run_commissioning(std::string_view command, const BusOptions& options, CommissionWork work);
 
+// The same on a target the command resolved (and adjusted) itself: opens the bus and runs.
+int run_commissioning_on(std::string_view command, const CommissionTarget& target,
+                         CommissionWork work);
+
+// Prints the usage errors as run_commissioning does; returns 2.
+int report_usage_errors(std::string_view command, const UsageErrors& errors);
+
 }  // namespace tiltgate

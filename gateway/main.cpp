@@ -79,6 +79,34 @@ int main(int argc, char** argv) {
                     "y_deg, tilt_deg, status)");
   watch->footer(tiltgate::watch_help_footer());
 
+  tiltgate::BusOptions scan_bus;
+  tiltgate::ScanOptions scan_options;
+  auto* scan = app.add_subcommand("scan", "find the sensors on a bus: one row per address that "
+                                          "answers, and a configuration of them");
+  tiltgate::add_bus_options(*scan, scan_bus, &scan_options.auto_baud);
+  scan->add_option_function<std::int64_t>(
+          "--from", [&](const std::int64_t& v) { scan_options.from = v; },
+          "first address to probe (default: the protocol's usual range)")
+      ->group("Scan");
+  scan->add_option_function<std::int64_t>(
+          "--to", [&](const std::int64_t& v) { scan_options.to = v; }, "last address to probe")
+      ->group("Scan");
+  scan->add_option("--config-out", scan_options.config_out,
+                   "write a configuration of the sensors found to this file")
+      ->group("Scan");
+  scan->add_flag("--force", scan_options.force, "with --config-out: overwrite the file")
+      ->group("Scan");
+  scan->add_flag("--broadcast", scan_options.broadcast,
+                 "ask every sensor at once for its address (one sensor on the bus only)")
+      ->group("Scan");
+  scan->add_option_function<std::int64_t>(
+          "--probe-timeout-ms", [&](const std::int64_t& v) { scan_options.probe_timeout_ms = v; },
+          "how long to wait for each address (default: the protocol's reply time at the baud "
+          "+ 10 ms)")
+      ->check(CLI::Range(1, 10'000))
+      ->group("Scan");
+  scan->footer(tiltgate::scan_help_footer());
+
   auto* sim = app.add_subcommand("sim", "run a simulated sensor bus on a pseudo-terminal");
   sim->require_subcommand(1);
   // One `sim` subcommand per family.
@@ -105,6 +133,9 @@ int main(int argc, char** argv) {
     command->add_option("--baud", setup.listen_baud,
                         "answer only requests sent at this baud rate, as sensors set to it do "
                         "(0: any rate)");
+    command->add_flag("--shared-addresses", setup.shared_addresses,
+                      "let sensors share an address, as on a bus commissioned by mistake: "
+                      "their replies collide and arrive garbled");
     sim_commands.push_back(command);
   }
 
@@ -116,7 +147,7 @@ int main(int argc, char** argv) {
   }
   // A commissioning command's own output is the point: the drivers' warnings about a silent
   // sensor would only repeat it (and break the redrawn table), unless asked for.
-  const bool commissioning = *info || *watch;
+  const bool commissioning = *info || *watch || *scan;
   if (commissioning && app.get_option("--log-level")->count() == 0) log_level = "error";
   set_up_logging(log_level);
 
@@ -126,6 +157,7 @@ int main(int argc, char** argv) {
   if (*demo) return tiltgate::demo_command(demo_options);
   if (*info) return tiltgate::info_command(info_bus);
   if (*watch) return tiltgate::watch_command(watch_bus, watch_options);
+  if (*scan) return tiltgate::scan_command(scan_bus, scan_options);
   for (std::size_t i = 0; i < families.size(); ++i)
     if (*sim_commands[i]) return tiltgate::sim_command(*families[i], sim_setups[i]);
   return 2;

@@ -11,6 +11,7 @@
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 #include "modbus_rtu/rtu_driver.h"
+#include "modbus_rtu/scan_probe.h"
 #include "modbus_rtu/simulator.h"
 #include "modbus_rtu/timing.h"
 
@@ -47,6 +48,14 @@ const ProtocolDescriptor kProtocols[] = {{
     .bus_chooses_framing = true,
     .default_gap = frame_gap,
     .forward = forward_request,  // [[bus]] pass_through
+    // Devices have no common factory address: each vendor ships its own (often 1), which the
+    // whole range covers.
+    .scan = {.first = 1,
+             .last = 247,
+             .factory_addresses = {},
+             .probe_time = probe_time,
+             .probe = device_probe,
+             .ask_address = nullptr},  // broadcasts get no reply (Serial Line 2.2)
 }};
 
 // The common block, whose settings (filter, zero, commands, baud, address) a generic device
@@ -143,7 +152,7 @@ class Simulator final : public BusSimulator {
 // default framing.
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
-  auto slaves = parse_sensor_list(setup.sensors, parse_slave);
+  auto slaves = parse_sensor_list(setup.sensors, parse_slave, setup.shared_addresses);
   if (!slaves) return Unexpected{slaves.error()};
   RtuSimulatorOptions options;
   for (const SimulatedSlave& slave : *slaves) {

@@ -33,10 +33,20 @@ void RtuSimulator::on_bytes(std::span<const std::uint8_t> bytes) {
     ++counters_.requests_seen;
     // A slave that sees a bad CRC stays silent (Serial Line 2.4.1), so only good frames reach
     // the devices.
+    std::optional<DeviceReply> first;
+    std::size_t answering = 0;
     for (SimulatedDevice& device : options_.devices) {
-      if (auto reply = device.respond(*request))
-        server_.send_after(options_.reply_latency + reply->delay, std::move(reply->frame));
+      auto reply = device.respond(*request);
+      if (reply && answering++ == 0) first = std::move(reply);
     }
+    if (!first) continue;
+    // Two devices that answer one request (two at one address) drive the bus at once: the
+    // master receives one frame, garbled. The first reply stands for it, its CRC broken.
+    if (answering > 1) {
+      ++counters_.collisions;
+      first->frame.back() ^= 0xFF;
+    }
+    server_.send_after(options_.reply_latency + first->delay, std::move(first->frame));
   }
 }
 

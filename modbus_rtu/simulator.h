@@ -40,6 +40,7 @@ struct RtuSimulatorCounters {
   std::uint64_t replies_sent = 0;
   std::uint64_t crc_errors = 0;     // as RtuFrameParser counts them, over every (re)open
   std::uint64_t bytes_received = 0;
+  std::uint64_t collisions = 0;     // requests more than one device answered (sent garbled)
 };
 
 class RtuSimulator {

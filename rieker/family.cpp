@@ -6,6 +6,7 @@
 #include "mapping/value_source.h"
 #include "rieker/default_maps.h"
 #include "rieker/rieker_driver.h"
+#include "rieker/scan_probe.h"
 #include "rieker/sensor_spec.h"
 #include "rieker/settings.h"
 #include "rieker/simulator.h"
@@ -18,6 +19,10 @@ namespace {
 constexpr std::array<std::int64_t, 8> kBauds{9600,   19200,  38400,  62500,
                                              115200, 125000, 128000, 250000};
 
+// Sensors ship at 223 ("Digital RS485 Communications"; Flexware's "Reset Unit to Factory
+// Defaults"); the manual names no other factory address.
+constexpr std::uint32_t kFactoryAddresses[] = {kFactoryAddress};
+
 const ProtocolDescriptor kProtocols[] = {{
     .name = "rieker",
     .framing = Framing::eight_none_one,
@@ -26,6 +31,14 @@ const ProtocolDescriptor kProtocols[] = {{
     .addresses = {1, 65000},                // PROTOCOL-NOTES, Rieker
     .master_addresses = AddressRange{0, 65500},  // the master's own address, never a sensor's
     .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
+    // Addresses up to 65000 are allowed, but a bus of up to 60 sensors rarely goes past 255:
+    // a scan checks 1..255 and the factory address unless told a range.
+    .scan = {.first = 1,
+             .last = 255,
+             .factory_addresses = kFactoryAddresses,
+             .probe_time = probe_time,
+             .probe = check_address_probe,
+             .ask_address = broadcast_get_address_probe},
 }};
 
 // Set Filter Response (41), Set Zero To Value (16, per axis), the zero/restart commands, Set
@@ -90,7 +103,7 @@ class Simulator final : public BusSimulator {
 
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
-  auto sensors = parse_sensor_spec(setup.sensors);
+  auto sensors = parse_sensor_spec(setup.sensors, setup.shared_addresses);
   if (!sensors) return Unexpected{sensors.error()};
   RiekerSimulatorOptions options;
   options.sensors = std::move(*sensors);

@@ -46,8 +46,9 @@ Expected<SimulatedSensorOptions, std::string> parse_item(std::string_view item, 
 
 }  // namespace
 
-Expected<std::vector<SimulatedSensorOptions>, std::string> parse_sensor_spec(std::string_view spec) {
-  return parse_sensor_list(spec, parse_item);
+Expected<std::vector<SimulatedSensorOptions>, std::string> parse_sensor_spec(
+    std::string_view spec, bool shared_addresses) {
+  return parse_sensor_list(spec, parse_item, shared_addresses);
 }
 
 }  // namespace tiltgate::rieker

@@ -15,6 +15,8 @@ namespace tiltgate::rieker {
 // serial "96" followed by its address (zero padded to 5 digits) and angles that sway slowly
 // around a different base: X = 1 + i degrees, Y = -(1 + i) (i = position in the list),
 // amplitude 0.25 degrees, period 30 s.
-Expected<std::vector<SimulatedSensorOptions>, std::string> parse_sensor_spec(std::string_view spec);
+// `shared_addresses`: two sensors may have one address (their replies collide).
+Expected<std::vector<SimulatedSensorOptions>, std::string> parse_sensor_spec(
+    std::string_view spec, bool shared_addresses = false);
 
 }  // namespace tiltgate::rieker

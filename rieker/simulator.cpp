@@ -49,11 +49,25 @@ void RiekerSimulator::on_bytes(std::span<const std::uint8_t> bytes) {
 void RiekerSimulator::dispatch(const Frame& request) {
   ++counters_.requests_seen;
   const SimTime at = now();
+  std::optional<std::vector<std::uint8_t>> reply;
+  std::chrono::milliseconds delay{0};
+  std::size_t answering = 0;
   for (auto& sensor : sensors_) {
-    if (auto bytes = sensor.respond(request, at)) {
-      queue_reply(std::move(*bytes), sensor.reply_delay(request.function));
-    }
+    auto bytes = sensor.respond(request, at);
+    if (!bytes) continue;
+    if (++answering > 1) continue;
+    reply = std::move(bytes);
+    delay = sensor.reply_delay(request.function);
   }
+  if (!reply) return;
+  // Two sensors that answer one request (two at one address, or a broadcast query to several)
+  // drive the bus at once: the master receives one frame, garbled. The first reply stands for
+  // it, with its CRC broken.
+  if (answering > 1) {
+    ++counters_.collisions;
+    reply->back() ^= 0xFF;
+  }
+  queue_reply(std::move(*reply), delay);
 }
 
 void RiekerSimulator::queue_reply(std::vector<std::uint8_t> bytes,

@@ -43,6 +43,7 @@ struct SimulatorCounters {
   std::uint64_t replies_sent = 0;
   std::uint64_t crc_errors = 0;      // as RiekerFrameParser counts them, over every (re)open
   std::uint64_t bytes_received = 0;
+  std::uint64_t collisions = 0;      // requests more than one sensor answered (sent garbled)
 };
 
 class RiekerSimulator {

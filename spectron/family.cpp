@@ -6,6 +6,7 @@
 #include "mapping/value_source.h"
 #include "spectron/default_map.h"
 #include "spectron/dyna_driver.h"
+#include "spectron/scan_probe.h"
 #include "spectron/sensor_spec.h"
 #include "spectron/settings.h"
 #include "spectron/simulator.h"
@@ -18,6 +19,10 @@ namespace {
 // factory rate is not documented, so a bus must say which rate its sensors were set to.
 constexpr std::array<std::int64_t, 5> kBauds{4800, 9600, 19200, 28800, 38400};
 
+// Modules ship at address 0 in the 9-bit protocol (PROTOCOL-NOTES, Dyna protocol 1); the
+// Modbus-ASCII protocol's factory address is not documented.
+constexpr std::uint32_t kNineBitFactoryAddresses[] = {0};
+
 const ProtocolDescriptor kProtocols[] = {
     {
         .name = "spectron-9bit",
@@ -27,6 +32,12 @@ const ProtocolDescriptor kProtocols[] = {
         .addresses = {0, 255},  // one address byte, factory 0
         .master_addresses = std::nullopt,
         .min_gap = std::chrono::microseconds{0},
+        .scan = {.first = 0,
+                 .last = 255,
+                 .factory_addresses = kNineBitFactoryAddresses,
+                 .probe_time = probe_time,
+                 .probe = nine_bit_read_sensor_probe,
+                 .ask_address = nullptr},
     },
     {
         .name = "spectron-modbus",
@@ -36,6 +47,12 @@ const ProtocolDescriptor kProtocols[] = {
         .addresses = {1, 250},  // PROTOCOL-NOTES, Dyna protocol 2
         .master_addresses = std::nullopt,
         .min_gap = std::chrono::microseconds{0},
+        .scan = {.first = 1,
+                 .last = 250,
+                 .factory_addresses = {},
+                 .probe_time = probe_time,
+                 .probe = ascii_read_sensor_probe,
+                 .ask_address = nullptr},
     },
 };
 
@@ -113,7 +130,7 @@ constexpr std::string_view kSimulatorProtocols[] = {"9bit", "modbus"};
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
   const Protocol protocol = setup.protocol == "modbus" ? Protocol::modbus_ascii : Protocol::nine_bit;
-  auto sensors = parse_sensor_spec(setup.sensors, protocol);
+  auto sensors = parse_sensor_spec(setup.sensors, protocol, setup.shared_addresses);
   if (!sensors) return Unexpected{sensors.error()};
   DynaSimulatorOptions options;
   options.protocol = protocol;

@@ -49,11 +49,14 @@ Expected<SimulatedDynaOptions, std::string> parse_item(std::string_view item, st
 
 }  // namespace
 
-Expected<std::vector<SimulatedDynaOptions>, std::string> parse_sensor_spec(std::string_view spec,
-                                                                         Protocol protocol) {
-  return parse_sensor_list(spec, [protocol](std::string_view item, std::size_t index) {
-    return parse_item(item, index, protocol);
-  });
+Expected<std::vector<SimulatedDynaOptions>, std::string> parse_sensor_spec(
+    std::string_view spec, Protocol protocol, bool shared_addresses) {
+  return parse_sensor_list(
+      spec,
+      [protocol](std::string_view item, std::size_t index) {
+        return parse_item(item, index, protocol);
+      },
+      shared_addresses);
 }
 
 }  // namespace tiltgate::spectron

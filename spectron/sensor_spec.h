@@ -17,7 +17,8 @@ namespace tiltgate::spectron {
 // So that a demo shows distinct, living modules, each gets serial 10000 + address, counts
 // swaying around 1000 * (i + 1) (amplitude 50, period 30 s; i capped at 29) and a raw
 // temperature of 250 + 10 * i (i = position in the list).
-Expected<std::vector<SimulatedDynaOptions>, std::string> parse_sensor_spec(std::string_view spec,
-                                                                         Protocol protocol);
+// `shared_addresses`: two modules may have one address (their replies collide).
+Expected<std::vector<SimulatedDynaOptions>, std::string> parse_sensor_spec(
+    std::string_view spec, Protocol protocol, bool shared_addresses = false);
 
 }  // namespace tiltgate::spectron

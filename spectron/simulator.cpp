@@ -128,11 +128,12 @@ void DynaSimulator::on_nine_bit_bytes(std::span<const std::uint8_t> bytes) {
     }
     ++counters_.requests_seen;
     const AsciiCommand command = counterpart(parse_nine_bit_body(request.body)->command);
+    Replies replies;
     for (auto& sensor : sensors_) {
-      if (auto reply = sensor.respond_nine_bit(request.address, request.body, at)) {
-        queue_reply(std::move(*reply), sensor.reply_delay(command));
-      }
+      if (auto reply = sensor.respond_nine_bit(request.address, request.body, at))
+        replies.add(std::move(*reply), sensor.reply_delay(command));
     }
+    send(std::move(replies));
   }
 }
 
@@ -145,13 +146,26 @@ void DynaSimulator::on_ascii_bytes(std::span<const std::uint8_t> bytes) {
   const SimTime at = now();
   while (auto request = parser.next()) {
     ++counters_.requests_seen;
+    Replies replies;
     for (auto& sensor : sensors_) {
-      if (auto reply = sensor.respond_ascii(*request, at)) {
-        queue_reply(std::move(*reply),
+      if (auto reply = sensor.respond_ascii(*request, at))
+        replies.add(std::move(*reply),
                     sensor.reply_delay(static_cast<AsciiCommand>(request->command)));
-      }
     }
+    send(std::move(replies));
   }
+}
+
+void DynaSimulator::send(Replies replies) {
+  if (!replies.first) return;
+  // Two modules that answer one request (two at one address) drive the bus at once: the master
+  // receives one reply, garbled. The first stands for it, its second character replaced by one
+  // that neither protocol sends there (a 9-bit number, a Modbus-ASCII hex digit).
+  if (replies.count > 1) {
+    ++counters_.collisions;
+    if (replies.first->size() > 1) (*replies.first)[1] = '#';
+  }
+  queue_reply(std::move(*replies.first), replies.delay);
 }
 
 void DynaSimulator::queue_reply(std::vector<std::uint8_t> bytes,

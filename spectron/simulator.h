@@ -60,6 +60,7 @@ struct DynaSimulatorCounters {
   std::uint64_t lrc_errors = 0;     // Modbus-ASCII frames with a bad LRC (never answered)
   std::uint64_t malformed = 0;      // frames or 9-bit commands that could not be read
   std::uint64_t bytes_received = 0;
+  std::uint64_t collisions = 0;     // requests more than one module answered (sent garbled)
 };
 
 class DynaSimulator {
@@ -98,6 +99,18 @@ class DynaSimulator {
   void on_bytes(std::span<const std::uint8_t> bytes);
   void on_nine_bit_bytes(std::span<const std::uint8_t> bytes);
   void on_ascii_bytes(std::span<const std::uint8_t> bytes);
+  // The modules' replies to one request: the first, and how many answered.
+  struct Replies {
+    std::optional<std::vector<std::uint8_t>> first;
+    std::chrono::milliseconds delay{0};
+    std::size_t count = 0;
+    void add(std::vector<std::uint8_t> bytes, std::chrono::milliseconds extra_delay) {
+      if (count++ > 0) return;
+      first = std::move(bytes);
+      delay = extra_delay;
+    }
+  };
+  void send(Replies replies);
   // A late module's reply waits `extra_delay` more; later replies queue behind it.
   void queue_reply(std::vector<std::uint8_t> bytes,
                    std::chrono::milliseconds extra_delay = std::chrono::milliseconds{0});

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "e2e/support/gateway_process.h"
+#include "e2e/support/simulator_process.h"
 
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
@@ -20,31 +21,6 @@ using namespace std::chrono_literals;
 namespace {
 
 const std::string kRtuProfile = std::string(TILTGATE_SOURCE_DIR) + "/examples/devices/rtu-inclinometer.toml";
-
-// `tiltgate sim ARGS --link DIR/tty` until destroyed (SIGTERM, then SIGKILL).
-class SimulatorProcess {
- public:
-  SimulatorProcess(std::vector<std::string> args) {
-    std::filesystem::create_directory(dir_.path() / "sim");
-    tty_ = (dir_.path() / "tty").string();
-    args.insert(args.begin(), "sim");
-    args.push_back("--link");
-    args.push_back(tty_);
-    process_ = std::make_unique<GatewayProcess>(args, dir_.path() / "sim");
-    const auto deadline = std::chrono::steady_clock::now() + 15s;
-    while (!std::filesystem::exists(tty_) && process_->running() &&
-           std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(20ms);
-    REQUIRE_MESSAGE(std::filesystem::exists(tty_), process_->log());
-  }
-  const std::string& tty() const { return tty_; }
-  const TempDir& dir() const { return dir_; }
-
- private:
-  TempDir dir_;
-  std::string tty_;
-  std::unique_ptr<GatewayProcess> process_;
-};
 
 std::vector<std::string> words(const std::string& line) {
   std::vector<std::string> out;

@@ -1,0 +1,172 @@
+#include "gateway/scan_plan.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "gateway/commission_options.h"
+
+namespace tiltgate {
+
+namespace {
+
+constexpr std::string_view kRowFormat = "{:<8} {:>7} {:<11} {:<12} {:<9} {:<5} {}";
+constexpr std::string_view kCommandLineBus = "command-line";
+
+std::string or_dash(const std::string& text) { return text.empty() ? std::string("-") : text; }
+
+Expected<std::uint32_t, std::string> checked_bound(std::string_view option, std::int64_t value,
+                                                   const ProtocolDescriptor& protocol) {
+  if (value < protocol.addresses.min || value > protocol.addresses.max)
+    return Unexpected{fmt::format("{}: {} is outside the {} protocol's addresses {}..{}", option,
+                                  value, protocol.name, protocol.addresses.min,
+                                  protocol.addresses.max)};
+  return std::uint32_t(value);
+}
+
+std::vector<std::uint32_t> addresses_of(const std::vector<FoundSensor>& found, bool collisions) {
+  std::vector<std::uint32_t> out;
+  for (const FoundSensor& s : found)
+    if (s.collision == collisions) out.push_back(s.address);
+  return out;
+}
+
+const char* parity_name(Framing framing) {
+  switch (framing) {
+    case Framing::eight_even_one: return "even";
+    case Framing::eight_odd_one: return "odd";
+    default: return "none";
+  }
+}
+
+}  // namespace
+
+Expected<std::vector<std::uint32_t>, std::string> scan_addresses(
+    const ProtocolDescriptor& protocol, std::optional<std::int64_t> from,
+    std::optional<std::int64_t> to) {
+  const ScanDescriptor& scan = protocol.scan;
+  auto first = checked_bound("--from", from.value_or(scan.first), protocol);
+  if (!first) return Unexpected{first.error()};
+  auto last = checked_bound("--to", to.value_or(scan.last), protocol);
+  if (!last) return Unexpected{last.error()};
+  if (*first > *last)
+    return Unexpected{fmt::format("--from: {} is past --to {}{}", *first, *last,
+                                  to ? "" : " (the default end: give --to)")};
+  std::vector<std::uint32_t> addresses;
+  addresses.reserve(*last - *first + 1 + scan.factory_addresses.size());
+  for (std::uint32_t a = *first; a <= *last; ++a) addresses.push_back(a);
+  if (!from && !to) {
+    for (const std::uint32_t a : scan.factory_addresses)
+      if (a < *first || a > *last) addresses.push_back(a);
+  }
+  std::sort(addresses.begin(), addresses.end());
+  addresses.erase(std::unique(addresses.begin(), addresses.end()), addresses.end());
+  return addresses;
+}
+
+std::vector<std::uint32_t> scan_bauds(const ProtocolDescriptor& protocol, std::uint32_t bus_baud,
+                                      bool auto_baud) {
+  std::vector<std::uint32_t> bauds{bus_baud};
+  if (!auto_baud) return bauds;
+  for (const std::int64_t b : protocol.bauds)
+    if (std::uint32_t(b) != bus_baud) bauds.push_back(std::uint32_t(b));
+  return bauds;
+}
+
+std::chrono::milliseconds default_probe_timeout(const ProtocolDescriptor& protocol,
+                                                std::uint32_t baud) {
+  const auto wire = protocol.scan.probe_time ? protocol.scan.probe_time(baud)
+                                             : std::chrono::microseconds{0};
+  return std::chrono::ceil<std::chrono::milliseconds>(wire) + kProbeAllowance;
+}
+
+std::string scan_header() {
+  return fmt::format(fmt::runtime(kRowFormat), "ADDRESS", "BAUD", "MODEL", "SERIAL", "FIRMWARE",
+                     "LOCK", "STATUS");
+}
+
+std::string scan_row(const FoundSensor& s) {
+  std::string status = s.collision ? "probable collision (two sensors at this address?)" : "ok";
+  if (!s.detail.empty()) status += fmt::format(": {}", s.detail);
+  return fmt::format(fmt::runtime(kRowFormat), s.address, s.baud, or_dash(s.model),
+                     or_dash(s.serial), or_dash(s.firmware),
+                     s.lock_level ? fmt::format("{}", *s.lock_level) : std::string("-"), status);
+}
+
+std::string scan_summary(const std::vector<FoundSensor>& found, std::size_t probes,
+                         std::chrono::milliseconds took) {
+  const std::vector<std::uint32_t> sensors = addresses_of(found, false);
+  const std::vector<std::uint32_t> collisions = addresses_of(found, true);
+  std::vector<std::uint32_t> bauds;
+  for (const FoundSensor& s : found)
+    if (!s.collision && std::find(bauds.begin(), bauds.end(), s.baud) == bauds.end())
+      bauds.push_back(s.baud);
+  std::string text = fmt::format("{} sensor(s) found", sensors.size());
+  if (!sensors.empty())
+    text += fmt::format(" at {} baud: {}", fmt::join(bauds, "/"), fmt::join(sensors, ", "));
+  if (!collisions.empty())
+    text += fmt::format("; {} probable collision(s) (address {})", collisions.size(),
+                        fmt::join(collisions, ", "));
+  text += fmt::format("; {} probe(s) in {:.1f} s", probes, double(took.count()) / 1000.0);
+  return text;
+}
+
+std::string progress_line(std::size_t done, std::size_t total, std::uint32_t baud,
+                          const std::vector<FoundSensor>& found, std::size_t width) {
+  constexpr std::size_t kBar = 20;
+  const std::size_t filled = total == 0 ? kBar : std::min(kBar, done * kBar / total);
+  std::string line = fmt::format("[{}{}] {}/{} at {} baud, found: ", std::string(filled, '#'),
+                                 std::string(kBar - filled, '.'), done, total, baud);
+  const std::vector<std::uint32_t> sensors = addresses_of(found, false);
+  line += sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(sensors, " "));
+  if (line.size() > width) line = line.substr(0, width - 3) + "...";
+  return line;
+}
+
+std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor>& found,
+                             const std::vector<SensorKeyValue>& sensor_keys) {
+  const auto first = std::find_if(found.begin(), found.end(),
+                                  [](const FoundSensor& s) { return !s.collision; });
+  const std::uint32_t baud = first == found.end() ? bus.baud : first->baud;
+  const std::string bus_name = bus.name == kCommandLineBus ? "line1" : bus.name;
+  std::string text =
+      "# Written by `tiltgate scan`: the sensors that answered on this bus.\n"
+      "# Edit each sensor's name (what it measures, e.g. \"boom\") and its unit_id (the Modbus\n"
+      "# unit id the PLC reads it at), then: tiltgate check --config THIS_FILE\n";
+  text += fmt::format("\n[[bus]]\nname = {}\nport = {}\nprotocol = {}\nbaud = {}\n",
+                      toml_string(bus_name), toml_string(bus.port), toml_string(bus.protocol),
+                      baud);
+  if (bus.framing)
+    text += fmt::format("parity = {}\nstop_bits = {}\n", toml_string(parity_name(*bus.framing)),
+                        stop_bits_of(*bus.framing));
+  if (bus.master_address != 0) text += fmt::format("master_address = {}\n", bus.master_address);
+  int unit_id = 1;
+  for (const FoundSensor& s : found) {
+    if (s.collision || s.baud != baud) continue;
+    text += fmt::format("\n[[sensor]]\nname = {}    # edit: what it measures\n",
+                        toml_string(fmt::format("sensor_{}", s.address)));
+    text += fmt::format("bus = {}\n", toml_string(bus_name));
+    if (!s.model.empty()) text += fmt::format("model = {}\n", toml_string(s.model));
+    text += fmt::format("address = {}\nunit_id = {}    # edit: the PLC's unit id for it\n",
+                        s.address, unit_id++);
+    for (const SensorKeyValue& key : sensor_keys)
+      text += fmt::format("{} = {}\n", key.key, toml_string(key.value));
+    if (!s.serial.empty() || !s.firmware.empty())
+      text += fmt::format("# serial {}, firmware {}\n", or_dash(s.serial), or_dash(s.firmware));
+  }
+  for (const FoundSensor& s : found) {
+    if (s.collision)
+      text += fmt::format(
+          "\n# Address {}: garbled replies, probably two sensors at one address. Power one of\n"
+          "# them at a time, give it a free address (tiltgate set), then scan again.\n",
+          s.address);
+    else if (s.baud != baud)
+      text += fmt::format(
+          "\n# Address {} answered at {} baud, not {}: set it to {} baud (tiltgate set) and\n"
+          "# scan again to add it.\n",
+          s.address, s.baud, baud, baud);
+  }
+  return text;
+}
+
+}  // namespace tiltgate

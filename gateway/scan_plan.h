@@ -1,0 +1,88 @@
+// `tiltgate scan`'s pure parts: which addresses and rates to probe, how long to wait for each
+// probe, and how the sensors found are shown (rows, summary, progress bar) and written out as a
+// configuration. The command (scan_command.cpp) does the probing.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "config/config.h"
+#include "driver/expected.h"
+#include "driver/family.h"
+
+namespace tiltgate {
+
+struct ScanOptions {
+  bool auto_baud = false;  // --baud auto: every rate the protocol allows
+  std::optional<std::int64_t> from;
+  std::optional<std::int64_t> to;
+  std::string config_out;  // write a configuration of the sensors found; empty: none
+  bool force = false;      // overwrite config_out
+  bool broadcast = false;  // ask every sensor at once (one sensor on the bus only)
+  std::optional<std::int64_t> probe_timeout_ms;
+};
+
+// Added to a protocol's probe time for the default probe time-out: a USB RS485 adapter holds
+// short replies back for a few milliseconds (FTDI's latency timer), and the machine may be busy.
+inline constexpr std::chrono::milliseconds kProbeAllowance{10};
+
+// The addresses to probe: --from..--to, each bound defaulting to the protocol's scan range
+// (ScanDescriptor::first, last); without either, that range and the factory addresses. Sorted,
+// each once. An error names the option.
+Expected<std::vector<std::uint32_t>, std::string> scan_addresses(
+    const ProtocolDescriptor& protocol, std::optional<std::int64_t> from,
+    std::optional<std::int64_t> to);
+
+// The rates to try: the bus's own, and with auto every other rate of the protocol after it,
+// in the protocol's order.
+std::vector<std::uint32_t> scan_bauds(const ProtocolDescriptor& protocol, std::uint32_t bus_baud,
+                                      bool auto_baud);
+
+// The probe time at `baud`, rounded up to whole milliseconds, plus kProbeAllowance.
+std::chrono::milliseconds default_probe_timeout(const ProtocolDescriptor& protocol,
+                                                std::uint32_t baud);
+
+// One address as the scan found it.
+struct FoundSensor {
+  std::uint32_t address = 0;
+  std::uint32_t baud = 0;
+  // Bytes that failed their checksum came back: probably two sensors at this address.
+  bool collision = false;
+  std::string detail;  // what the probe or the identity read said, when worth telling
+  // What the family's driver read; empty / none when it could not.
+  std::string model;
+  std::string serial;
+  std::string firmware;
+  std::optional<std::uint16_t> lock_level;
+};
+
+// The table: a header and one row per address (answered, or a probable collision).
+std::string scan_header();
+std::string scan_row(const FoundSensor& sensor);
+
+// "3 sensor(s) found at 125000 baud: 101, 223, 224; 1 probable collision (address 5);
+// 256 address(es) probed in 4.1 s".
+std::string scan_summary(const std::vector<FoundSensor>& found, std::size_t probes,
+                         std::chrono::milliseconds took);
+
+// One line that a terminal redraws in place: a bar, the count and the addresses found so far,
+// cut to `width` characters.
+std::string progress_line(std::size_t done, std::size_t total, std::uint32_t baud,
+                          const std::vector<FoundSensor>& found, std::size_t width = 79);
+
+// The configuration `--config-out` writes: one [[bus]] as scanned (at the rate where the first
+// sensor was found), one [[sensor]] per sensor found at that rate with unit ids 1..n, named
+// sensor_ADDRESS, with comments on what to edit. `sensor_keys` are the family's keys every
+// sensor must give (a device profile), with the values the scan was given. Sensors found at
+// another rate, and collisions, are listed in comments.
+struct SensorKeyValue {
+  std::string key;
+  std::string value;
+};
+std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor>& found,
+                             const std::vector<SensorKeyValue>& sensor_keys);
+
+}  // namespace tiltgate

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# From the box to a configuration: `tiltgate scan --config-out` against `tiltgate sim rieker`
+# writes a configuration of the sensors it found, `tiltgate check` accepts it, and `tiltgate
+# info` reaches each sensor through it. A second scan refuses to overwrite it without --force.
+set -u
+tiltgate=${1:?usage: scan_config_out_test.sh path/to/tiltgate}
+source "$(dirname "$0")/support/script_lib.sh"
+script_setup tiltgate-scan-config-out
+
+start_sim "$tiltgate" rieker h6:223,h4360:101 "$dir/ttyRieker"
+config="$dir/found.toml"
+
+check "scan writes the configuration" \
+  "$tiltgate" scan --port "$dir/ttyRieker" --config-out "$config"
+check "the configuration has one bus and both sensors, numbered from unit id 1" \
+  bash -c "grep -c '^\[\[bus\]\]' '$config' | grep -qx 1 &&
+           grep -q '^name = \"sensor_101\"' '$config' && grep -q '^name = \"sensor_223\"' '$config' &&
+           grep -q '^model = \"h4360\"' '$config' &&
+           grep -q '^unit_id = 1 ' '$config' && grep -q '^unit_id = 2 ' '$config'"
+check "tiltgate check accepts it" "$tiltgate" check --config "$config"
+check "info reaches a sensor through it" \
+  bash -c "'$tiltgate' info --config '$config' --sensor sensor_223 | grep -q '^serial:     9600223$'"
+
+# A second scan keeps the file unless told to overwrite it.
+cp "$config" "$dir/first.toml"
+"$tiltgate" scan --port "$dir/ttyRieker" --config-out "$config" >"$dir/again.out" 2>&1
+check "a second scan without --force exits 2" test $? -eq 2
+check "and leaves the file as it was" cmp -s "$config" "$dir/first.toml"
+check "with --force it writes it again" \
+  "$tiltgate" scan --port "$dir/ttyRieker" --config-out "$config" --force
+
+echo "$passes passed, $failures failed"
+[ "$failures" -eq 0 ]
