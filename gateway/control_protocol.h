@@ -3,7 +3,7 @@
 // so a person can follow a session with socat. Pure formatting and parsing.
 //
 //   command -> gateway                      gateway -> command
-//   hello /dev/ttyUSB0                      bus line1 rieker-binary 125000
+//   hello /dev/ttyUSB0                      bus line1 PROTOCOL 125000
 //                                           (or: error the gateway has no bus on /dev/ttyUSB0 ...)
 //   transact 0 50 2 0 1 - 00DF0000000400..  reset                    before each attempt
 //                                           bytes 0000DF00...        what the line received
