@@ -106,6 +106,26 @@ inline constexpr SettingDescriptor kCommonSettings[] = {
     common_setting::filter,  common_setting::zero_x,    common_setting::zero_y,
     common_setting::command, common_setting::baud_code, common_setting::bus_address};
 
+// A setting `tiltgate set` writes as several of a model's settings in order, one value each:
+// `tiltgate set NAME V1 V2 ...` writes parts[0] := V1, then parts[1] := V2. Offered on the
+// models that have every part among their settings.
+struct CompoundSetting {
+  std::string_view name;
+  std::span<const std::string_view> parts;  // SettingDescriptor names, in write order
+  std::string_view values;                  // the values' names for the usage: "LOCATION VALUE"
+};
+
+// What `tiltgate set` asks a family to turn the engineer's words into its own settings' values.
+struct SetDescriptor {
+  // The value of the models' baud_code setting that sets a sensor to `baud`, one of the
+  // protocol's rates; none when the family's sensors cannot be set to it.
+  std::optional<std::int64_t> (*baud_code)(std::int64_t baud);
+  // The value of the models' command setting that carries out `command`; none when the
+  // family's sensors have no such command.
+  std::optional<double> (*command_value)(SensorCommand command);
+  std::span<const CompoundSetting> compound_settings;
+};
+
 // One sensor model ([[sensor]] model = "...").
 struct ModelDescriptor {
   std::string_view name;     // as written in the config; SensorDriver::model()
@@ -173,6 +193,9 @@ struct FamilyDescriptor {
   // `tiltgate sim`, and the family's bus in `tiltgate demo`.
   SimulatorDescriptor simulator;
   DemoBus demo;
+  // `tiltgate set`: baud codes, commands and the settings written together. Every family fills
+  // it in; a family without it (a test's) offers only its models' plain settings.
+  SetDescriptor set{};
 };
 
 using FamilyList = std::span<const FamilyDescriptor* const>;

@@ -6,6 +6,7 @@
 
 #include "driver/family.h"
 #include "gateway/commission_options.h"
+#include "gateway/set_plan.h"
 
 namespace tiltgate {
 
@@ -34,5 +35,8 @@ struct WatchOptions {
 };
 // `tiltgate watch`: every sensor polled in turn, one row each, until stopped or `count` rounds.
 int watch_command(const BusOptions& bus, const WatchOptions& options);
+
+// `tiltgate set`: one setting of one sensor, then its state read back.
+int set_command(const BusOptions& bus, const SetArguments& arguments);
 
 }  // namespace tiltgate

@@ -55,10 +55,19 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
   if (!lock) return Unexpected{OpenError{1, lock.error()}};
   std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, *lock));
   bus->sensors_ = std::move(sensors);
+  bus->executor_ = executor;
   bus->line_ = std::make_unique<SerialLine>(executor, serial_options_from(target.bus));
   if (!bus->line_->start())
     return Unexpected{OpenError{1, fmt::format("cannot open {} as a serial port", target.bus.port)}};
   return bus;
+}
+
+Expected<Done, std::string> CommissionBus::reopen_at_baud(std::uint32_t baud) {
+  line_->stop();
+  config_.baud = baud;
+  line_ = std::make_unique<SerialLine>(executor_, serial_options_from(config_));
+  if (!line_->start()) return Unexpected{fmt::format("cannot reopen {} at {} baud", config_.port, baud)};
+  return Done{};
 }
 
 std::string CommissionBus::no_reply_message(const CommissionedSensor& sensor) const {

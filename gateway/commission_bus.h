@@ -48,6 +48,10 @@ class CommissionBus {
   // that owns the bus follows it at once. Nothing to do on a tty of our own.
   void address_changed(std::uint32_t from, std::uint32_t to) { (void)from; (void)to; }
 
+  // The line again at another rate, after a sensor was set to it and restarted (set baud). The
+  // tty stays locked; on failure the line stays closed.
+  Expected<Done, std::string> reopen_at_baud(std::uint32_t baud);
+
   // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.
   std::string no_reply_message(const CommissionedSensor& sensor) const;
 
@@ -56,6 +60,7 @@ class CommissionBus {
 
   BusConfig config_;
   int lock_fd_;
+  boost::asio::any_io_executor executor_;
   std::unique_ptr<SerialLine> line_;
   std::vector<CommissionedSensor> sensors_;
 };

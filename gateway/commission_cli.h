@@ -15,5 +15,6 @@ void add_bus_options(CLI::App& command, BusOptions& options);
 // The commands' --help footers: examples for each family's bus, and the exit status.
 std::string info_help_footer();
 std::string watch_help_footer();
+std::string set_help_footer();
 
 }  // namespace tiltgate
