@@ -126,6 +126,39 @@ struct SetDescriptor {
   std::span<const CompoundSetting> compound_settings;
 };
 
+// `tiltgate raw`: one request of a family's protocol built from a function number and data
+// bytes as the engineer gives them (the vendor tools' command section), and its reply decoded as
+// far as the family's codec can.
+struct RawSetup {
+  std::string_view protocol;  // a ProtocolDescriptor name of the family
+  std::uint32_t address = 0;  // the sensor's bus address
+  std::uint32_t master_address = 0;
+  std::int64_t function = 0;  // what it means on each protocol: RawDescriptor::function_help
+  std::vector<std::uint8_t> data;
+};
+
+// What a reply says: `refused` for a NAK or an exception, with its meaning in `text`.
+struct RawReply {
+  bool refused = false;
+  std::string text;  // one or more "name: value" lines, without a trailing newline
+};
+
+class RawExchange {
+ public:
+  virtual ~RawExchange() = default;
+  // The request as the Line sends it; its framer belongs to this exchange.
+  virtual LineRequest request() = 0;
+  // What the reply the framer accepted says.
+  virtual RawReply decode() const = 0;
+};
+
+struct RawDescriptor {
+  // What --function and --data mean on the family's protocols, for the command's help.
+  std::string_view function_help;
+  // The exchange, or why the function or data cannot be sent (a usage error).
+  Expected<std::unique_ptr<RawExchange>, std::string> (*make)(const RawSetup& setup) = nullptr;
+};
+
 // One sensor model ([[sensor]] model = "...").
 struct ModelDescriptor {
   std::string_view name;     // as written in the config; SensorDriver::model()
@@ -196,6 +229,9 @@ struct FamilyDescriptor {
   // `tiltgate set`: baud codes, commands and the settings written together. Every family fills
   // it in; a family without it (a test's) offers only its models' plain settings.
   SetDescriptor set{};
+  // `tiltgate raw`: requests by function number. Every family fills it in; without it (a
+  // test's family) raw refuses the family's buses.
+  RawDescriptor raw{};
 };
 
 using FamilyList = std::span<const FamilyDescriptor* const>;

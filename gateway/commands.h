@@ -39,4 +39,11 @@ int watch_command(const BusOptions& bus, const WatchOptions& options);
 // `tiltgate set`: one setting of one sensor, then its state read back.
 int set_command(const BusOptions& bus, const SetArguments& arguments);
 
+struct RawOptions {
+  std::int64_t function = 0;
+  std::string data;  // hex bytes; empty: none
+};
+// `tiltgate raw`: one request by function number, the bytes each way and the reply decoded.
+int raw_command(const BusOptions& bus, const RawOptions& raw);
+
 }  // namespace tiltgate

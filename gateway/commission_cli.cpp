@@ -110,6 +110,22 @@ std::string set_help_footer() {
   return text;
 }
 
+std::string raw_help_footer() {
+  std::string text = "--function and --data on each protocol:\n";
+  for (const FamilyDescriptor* family : registered_families())
+    if (!family->raw.function_help.empty())
+      text += fmt::format("  {}\n", family->raw.function_help);
+  text += "Examples:\n";
+  const std::vector<std::string> buses = example_buses(registered_families());
+  if (!buses.empty()) text += fmt::format("  tiltgate raw {} --function 37\n", buses.front());
+  text += "  tiltgate raw --config /etc/tiltgate/tiltgate.toml --sensor boom --function 5 --data 04\n";
+  text +=
+      "The request is sent once. Output: the bytes sent and received in hex, the checksum's\n"
+      "verdict, and the reply decoded. Exit status: 0 a reply; 1 a NAK, an exception, no reply,\n"
+      "or the tty cannot be used; 2 usage error.";
+  return text;
+}
+
 void add_bus_options(CLI::App& command, BusOptions& options) {
   const FamilyList families = registered_families();
   command.add_option("--port", options.port, "the bus's tty, e.g. /dev/ttyUSB0")

@@ -16,5 +16,6 @@ void add_bus_options(CLI::App& command, BusOptions& options);
 std::string info_help_footer();
 std::string watch_help_footer();
 std::string set_help_footer();
+std::string raw_help_footer();
 
 }  // namespace tiltgate

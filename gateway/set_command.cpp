@@ -24,7 +24,11 @@ constexpr int kMaxPolls = 3;  // as `info`: the identity may take more than one 
 // time; a poll that times out meanwhile costs only its reply time-out.
 constexpr auto kRestartWait = std::chrono::seconds(10);
 
-bool complete(const SensorState& state) { return state.identity_known && state.reading.has_value(); }
+// Answered the last poll, with its identity and a reading: after a change, a reading from
+// before it does not count.
+bool complete(const SensorState& state) {
+  return state.online && state.identity_known && state.reading.has_value();
+}
 
 std::string meaning(const WriteError& error) {
   switch (error.kind) {
@@ -43,15 +47,13 @@ std::string meaning(const WriteError& error) {
 std::string value_text(double value) { return fmt::format("{}", value); }
 
 // The range a refused value must be in, from the model's descriptor, where it says one.
-std::string descriptor_range(const SetTarget& target, const SensorConfig& sensor,
-                             WriteTarget id) {
+std::string descriptor_range(const SetTarget& target, WriteTarget id) {
   for (const SettingDescriptor& s : target.model->settings)
     if (s.id == id) return fmt::format(" ({} accepts {})", s.name, range_text(s));
   if (id.is_device_value() && id.device_index() < target.device_values.size()) {
     const DeviceValue& v = target.device_values[id.device_index()];
     return fmt::format(" ({} accepts {}..{})", v.name, v.min, v.max);
   }
-  (void)sensor;
   return "";
 }
 
@@ -129,7 +131,7 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
                              checked.error().detail);
     for (const SettingWrite& w : plan->writes)
       if (!sensor.driver->check_write(w.target, w.value))
-        std::cerr << descriptor_range(*target, sensor.config, w.target);
+        std::cerr << descriptor_range(*target, w.target);
     std::cerr << "\n";
     co_return 2;
   }

@@ -10,6 +10,7 @@
 #include "modbus_rtu/forwarding.h"
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
+#include "modbus_rtu/raw.h"
 #include "modbus_rtu/rtu_driver.h"
 #include "modbus_rtu/simulator.h"
 #include "modbus_rtu/timing.h"
@@ -204,6 +205,7 @@ const FamilyDescriptor kFamily{
             .examples = kDemoExamples,
         },
     .set = {.baud_code = set_baud_code, .command_value = set_command_value, .compound_settings = {}},
+    .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},
 };
 
 }  // namespace tiltgate::modbus_rtu

@@ -4,6 +4,7 @@
 
 #include "mapping/register_map.h"
 #include "rieker/codec.h"
+#include "rieker/raw.h"
 #include "mapping/value_source.h"
 #include "rieker/default_maps.h"
 #include "rieker/rieker_driver.h"
@@ -154,6 +155,7 @@ const FamilyDescriptor kFamily{
             .examples = kDemoExamples,
         },
     .set = {.baud_code = set_baud_code, .command_value = set_command_value, .compound_settings = {}},
+    .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},
 };
 
 }  // namespace tiltgate::rieker

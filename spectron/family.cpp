@@ -7,6 +7,7 @@
 #include "spectron/default_map.h"
 #include "spectron/dyna_driver.h"
 #include "spectron/eeprom_map.h"
+#include "spectron/raw.h"
 #include "spectron/sensor_spec.h"
 #include "spectron/settings.h"
 #include "spectron/simulator.h"
@@ -187,6 +188,7 @@ const FamilyDescriptor kFamily{
     .set = {.baud_code = set_baud_code,
             .command_value = set_command_value,
             .compound_settings = kCompoundSettings},
+    .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},
 };
 
 }  // namespace tiltgate::spectron
