@@ -47,7 +47,7 @@ std::vector<std::uint8_t> bytes(std::string_view text) { return {text.begin(), t
 
 }  // namespace
 
-TEST_CASE("raw on a Rieker bus: FUNCT and DATA framed with DEST, SRC and CRC; NAK and serial decoded") {
+TEST_CASE("raw on a Rieker bus: FUNCT and DATA framed with DEST, SRC and CRC, with NAK and serial decoded") {
   auto raw = exchange("rieker", 223, 37, {}, 5);
   const LineRequest request = raw->request();
   CHECK(request.bytes == rieker::encode(rieker::Frame{223, 5, 37, {}}));
@@ -68,7 +68,7 @@ TEST_CASE("raw on a Rieker bus: FUNCT and DATA framed with DEST, SRC and CRC; NA
   CHECK(usage_error("rieker", 70000).find("not a command code") != std::string::npos);
 }
 
-TEST_CASE("raw on a Modbus RTU bus: the PDU framed with slave and CRC; an exception is a refusal") {
+TEST_CASE("raw on a Modbus RTU bus: the PDU framed with slave and CRC, and an exception is a refusal") {
   auto raw = exchange("modbus-rtu", 1, 3, {0x00, 0x00, 0x00, 0x02});
   const LineRequest request = raw->request();
   CHECK(hex_bytes(request.bytes) == "01 03 00 00 00 02 C4 0B");  // Serial Line spec's example CRC
@@ -87,7 +87,7 @@ TEST_CASE("raw on a Modbus RTU bus: the PDU framed with slave and CRC; an except
   CHECK(usage_error("modbus-rtu", 128).find("not a Modbus function code") != std::string::npos);
 }
 
-TEST_CASE("raw on a Dyna bus: Modbus-ASCII command and data with LRC; 9-bit command character after the address byte") {
+TEST_CASE("raw on a Dyna bus: Modbus-ASCII command and data with LRC, and on 9-bit the command character after the address byte") {
   auto ascii = exchange("spectron-modbus", 1, 0x69, {0x00, 0x10});
   const LineRequest request = ascii->request();
   CHECK(request.bytes == bytes(":01690010" "6F" "\r\n"));  // LRC as the module's simulator checks it
@@ -106,7 +106,7 @@ TEST_CASE("raw on a Dyna bus: Modbus-ASCII command and data with LRC; 9-bit comm
   CHECK(usage_error("spectron-9bit", 256).find("not a command code") != std::string::npos);
 }
 
-TEST_CASE("hex bytes as typed: spaces, commas, 0x and runs of digits; odd or foreign digits refused") {
+TEST_CASE("hex bytes as typed: spaces, commas, 0x and runs of digits, with odd or foreign digits refused") {
   CHECK(parse_hex_bytes("01 03 0a FF") == std::vector<std::uint8_t>{0x01, 0x03, 0x0A, 0xFF});
   CHECK(parse_hex_bytes("01030A") == std::vector<std::uint8_t>{0x01, 0x03, 0x0A});
   CHECK(parse_hex_bytes("0x01,0x10") == std::vector<std::uint8_t>{0x01, 0x10});
