@@ -109,6 +109,59 @@ inline constexpr SettingDescriptor kCommonSettings[] = {
     common_setting::filter,  common_setting::zero_x,    common_setting::zero_y,
     common_setting::command, common_setting::baud_code, common_setting::bus_address};
 
+// A setting `tiltgate set` writes as several of a model's settings in order, one value each:
+// `tiltgate set NAME V1 V2 ...` writes parts[0] := V1, then parts[1] := V2. Offered on the
+// models that have every part among their settings.
+struct CompoundSetting {
+  std::string_view name;
+  std::span<const std::string_view> parts;  // SettingDescriptor names, in write order
+  std::string_view values;                  // the values' names for the usage: "LOCATION VALUE"
+};
+
+// What `tiltgate set` asks a family to turn the engineer's words into its own settings' values.
+struct SetDescriptor {
+  // The value of the models' baud_code setting that sets a sensor to `baud`, one of the
+  // protocol's rates; none when the family's sensors cannot be set to it.
+  std::optional<std::int64_t> (*baud_code)(std::int64_t baud);
+  // The value of the models' command setting that carries out `command`; none when the
+  // family's sensors have no such command.
+  std::optional<double> (*command_value)(SensorCommand command);
+  std::span<const CompoundSetting> compound_settings;
+};
+
+// `tiltgate raw`: one request of a family's protocol built from a function number and data
+// bytes as the engineer gives them (the vendor tools' command section), and its reply decoded as
+// far as the family's codec can.
+struct RawSetup {
+  std::string_view protocol;  // a ProtocolDescriptor name of the family
+  std::uint32_t address = 0;  // the sensor's bus address
+  std::uint32_t master_address = 0;
+  std::int64_t function = 0;  // what it means on each protocol: RawDescriptor::function_help
+  std::vector<std::uint8_t> data;
+};
+
+// What a reply says: `refused` for a NAK or an exception, with its meaning in `text`.
+struct RawReply {
+  bool refused = false;
+  std::string text;  // one or more "name: value" lines, without a trailing newline
+};
+
+class RawExchange {
+ public:
+  virtual ~RawExchange() = default;
+  // The request as the Line sends it; its framer belongs to this exchange.
+  virtual LineRequest request() = 0;
+  // What the reply the framer accepted says.
+  virtual RawReply decode() const = 0;
+};
+
+struct RawDescriptor {
+  // What --function and --data mean on the family's protocols, for the command's help.
+  std::string_view function_help;
+  // The exchange, or why the function or data cannot be sent (a usage error).
+  Expected<std::unique_ptr<RawExchange>, std::string> (*make)(const RawSetup& setup) = nullptr;
+};
+
 // One sensor model ([[sensor]] model = "...").
 struct ModelDescriptor {
   std::string_view name;     // as written in the config; SensorDriver::model()
@@ -176,6 +229,12 @@ struct FamilyDescriptor {
   // `tiltgate sim`, and the family's bus in `tiltgate demo`.
   SimulatorDescriptor simulator;
   DemoBus demo;
+  // `tiltgate set`: baud codes, commands and the settings written together. Every family fills
+  // it in; a family without it (a test's) offers only its models' plain settings.
+  SetDescriptor set{};
+  // `tiltgate raw`: requests by function number. Every family fills it in; without it (a
+  // test's family) raw refuses the family's buses.
+  RawDescriptor raw{};
 };
 
 using FamilyList = std::span<const FamilyDescriptor* const>;

@@ -5,10 +5,17 @@
 
 #include <cstdint>
 #include <span>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace tiltgate {
 
 std::string hex_bytes(std::span<const std::uint8_t> bytes);
+
+// The bytes of hex text as an engineer types it: "01 03 00 0A", "01030A", "0x01,0x03"; none when
+// it holds anything else or an odd digit.
+std::optional<std::vector<std::uint8_t>> parse_hex_bytes(std::string_view text);
 
 }  // namespace tiltgate

@@ -7,6 +7,7 @@
 #include "driver/family.h"
 #include "gateway/commission_options.h"
 #include "gateway/scan_plan.h"
+#include "gateway/set_plan.h"
 
 namespace tiltgate {
 
@@ -38,5 +39,14 @@ int watch_command(const BusOptions& bus, const WatchOptions& options);
 
 // `tiltgate scan`: every address of a range probed, one row per sensor that answered.
 int scan_command(const BusOptions& bus, const ScanOptions& options);
+// `tiltgate set`: one setting of one sensor, then its state read back.
+int set_command(const BusOptions& bus, const SetArguments& arguments);
+
+struct RawOptions {
+  std::int64_t function = 0;
+  std::string data;  // hex bytes; empty: none
+};
+// `tiltgate raw`: one request by function number, the bytes each way and the reply decoded.
+int raw_command(const BusOptions& bus, const RawOptions& raw);
 
 }  // namespace tiltgate

@@ -53,8 +53,9 @@ class CommissionBus {
   // that owns the bus follows it at once (said on stdout). Nothing to do on a tty of our own.
   void address_changed(std::uint32_t from, std::uint32_t to);
 
-  // Reopens the tty at another baud rate (scan --baud auto), keeping the lock; the bus's
-  // config() follows. An error says why it cannot be done.
+  // Reopens the tty at another baud rate (scan --baud auto; set baud, after the sensor was set
+  // to it and restarted), keeping the lock; the bus's config() follows. An error says why it
+  // cannot be done (through a running gateway, whose bus keeps its rate).
   Expected<Done, std::string> reopen_at(std::uint32_t baud);
 
   // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.

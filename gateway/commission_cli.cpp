@@ -96,6 +96,62 @@ std::string scan_help_footer() {
   return text;
 }
 
+std::string set_help_footer() {
+  std::string text = "Settings (the sensor's model decides which it has; an unknown one lists them):\n";
+  text +=
+      "  address N            move the sensor to bus address N (refused when one answers there)\n"
+      "  baud RATE            set the sensor's rate, restart it and follow it there\n"
+      "  filter N             filter response / damping\n"
+      "  zero-x DEG, zero-y DEG  zero offsets\n"
+      "  zero-here [--permanent]  zero to the current angle (temporary unless --permanent)\n"
+      "  restart              restart the sensor and wait for it\n"
+      "  NAME VALUE...        the model's own settings by name (an unknown SETTING lists them)\n";
+  for (const FamilyDescriptor* family : registered_families())
+    for (const CompoundSetting& compound : family->set.compound_settings)
+      text += fmt::format("  {:<20} {} sensors: writes {}\n",
+                          fmt::format("{} {}", compound.name, compound.values), family->title,
+                          fmt::join(compound.parts, " then "));
+  text += "Examples:\n";
+  const std::vector<std::string> buses = example_buses(registered_families());
+  if (!buses.empty()) {
+    text += fmt::format("  tiltgate set {} address 7\n", buses.front());
+    text += fmt::format("  tiltgate set {} zero-here --permanent\n", buses.front());
+  }
+  // A family without a restart command has only its sensors' own settings, named by them.
+  std::size_t bus = 1;
+  for (const FamilyDescriptor* family : registered_families()) {
+    if (family->demo.sensors.empty() || family == registered_families().front()) continue;
+    const bool restarts = family->set.command_value &&
+                          family->set.command_value(SensorCommand::restart).has_value();
+    if (bus < buses.size())
+      text += fmt::format("  tiltgate set {} {}\n", buses[bus++], restarts ? "restart" : "NAME VALUE");
+  }
+  text += "  tiltgate set --config /etc/tiltgate/tiltgate.toml --sensor boom address 7\n";
+  text += "  tiltgate set --config /etc/tiltgate/tiltgate.toml --sensor boom zero-x -1.5\n";
+  text +=
+      "With --config FILE --sensor NAME a new address or baud is also written into FILE, in\n"
+      "place. Exit status: 0 done and read back; 1 the sensor refused (the reason is printed),\n"
+      "did not answer, the new address is taken, or the tty cannot be used; 2 usage error or a\n"
+      "value out of range (nothing sent).";
+  return text;
+}
+
+std::string raw_help_footer() {
+  std::string text = "--function and --data on each protocol:\n";
+  for (const FamilyDescriptor* family : registered_families())
+    if (!family->raw.function_help.empty())
+      text += fmt::format("  {}\n", family->raw.function_help);
+  text += "Examples:\n";
+  const std::vector<std::string> buses = example_buses(registered_families());
+  if (!buses.empty()) text += fmt::format("  tiltgate raw {} --function 37\n", buses.front());
+  text += "  tiltgate raw --config /etc/tiltgate/tiltgate.toml --sensor boom --function 5 --data 04\n";
+  text +=
+      "The request is sent once. Output: the bytes sent and received in hex, the checksum's\n"
+      "verdict, and the reply decoded. Exit status: 0 a reply; 1 a NAK, an exception, no reply,\n"
+      "or the tty cannot be used; 2 usage error.";
+  return text;
+}
+
 void add_bus_options(CLI::App& command, BusOptions& options, bool* auto_baud) {
   const FamilyList families = registered_families();
   command.add_option("--port", options.port, "the bus's tty, e.g. /dev/ttyUSB0")

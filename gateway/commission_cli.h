@@ -17,5 +17,7 @@ void add_bus_options(CLI::App& command, BusOptions& options, bool* auto_baud = n
 std::string info_help_footer();
 std::string watch_help_footer();
 std::string scan_help_footer();
+std::string set_help_footer();
+std::string raw_help_footer();
 
 }  // namespace tiltgate

@@ -107,6 +107,28 @@ int main(int argc, char** argv) {
       ->group("Scan");
   scan->footer(tiltgate::scan_help_footer());
 
+  tiltgate::BusOptions set_bus;
+  tiltgate::SetArguments set_arguments;
+  auto* set = app.add_subcommand("set", "change one setting of a sensor (address, baud, filter, "
+                                        "zero, restart, the model's own) and read it back");
+  tiltgate::add_bus_options(*set, set_bus);
+  // One address, so that the SETTING words after it are not taken for more addresses.
+  set->get_option("--address")->allow_extra_args(false);
+  set->add_option("setting", set_arguments.words, "SETTING [VALUE...]")->required();
+  set->add_flag("--permanent", set_arguments.permanent, "zero-here: keep the zero after a restart");
+  set->footer(tiltgate::set_help_footer());
+
+  tiltgate::BusOptions raw_bus;
+  tiltgate::RawOptions raw_options;
+  auto* raw = app.add_subcommand("raw", "send one request by function number and show the bytes "
+                                        "each way and the reply (the User App's command section)");
+  tiltgate::add_bus_options(*raw, raw_bus);
+  raw->get_option("--address")->allow_extra_args(false);
+  raw->add_option("--function", raw_options.function, "the function / command number (see below)")
+      ->required();
+  raw->add_option("--data", raw_options.data, "the request's data bytes in hex, e.g. \"00 10\"");
+  raw->footer(tiltgate::raw_help_footer());
+
   auto* sim = app.add_subcommand("sim", "run a simulated sensor bus on a pseudo-terminal");
   sim->require_subcommand(1);
   // One `sim` subcommand per family.
@@ -147,7 +169,7 @@ int main(int argc, char** argv) {
   }
   // A commissioning command's own output is the point: the drivers' warnings about a silent
   // sensor would only repeat it (and break the redrawn table), unless asked for.
-  const bool commissioning = *info || *watch || *scan;
+  const bool commissioning = *info || *watch || *scan || *set || *raw;
   if (commissioning && app.get_option("--log-level")->count() == 0) log_level = "error";
   set_up_logging(log_level);
 
@@ -158,6 +180,8 @@ int main(int argc, char** argv) {
   if (*info) return tiltgate::info_command(info_bus);
   if (*watch) return tiltgate::watch_command(watch_bus, watch_options);
   if (*scan) return tiltgate::scan_command(scan_bus, scan_options);
+  if (*set) return tiltgate::set_command(set_bus, set_arguments);
+  if (*raw) return tiltgate::raw_command(raw_bus, raw_options);
   for (std::size_t i = 0; i < families.size(); ++i)
     if (*sim_commands[i]) return tiltgate::sim_command(*families[i], sim_setups[i]);
   return 2;

@@ -10,6 +10,7 @@
 #include "modbus_rtu/forwarding.h"
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
+#include "modbus_rtu/raw.h"
 #include "modbus_rtu/rtu_driver.h"
 #include "modbus_rtu/scan_probe.h"
 #include "modbus_rtu/simulator.h"
@@ -165,6 +166,11 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
   return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
 }
 
+// A generic device's baud rate and commands are not known to the family; its settings are the
+// device profile's writable values, which `tiltgate set` writes by name.
+std::optional<std::int64_t> set_baud_code(std::int64_t) { return std::nullopt; }
+std::optional<double> set_command_value(SensorCommand) { return std::nullopt; }
+
 // The demo's RTU inclinometer: slave 1 of the simulator's preset, read through the example
 // device profile that describes it (compiled in, modbus_rtu/example_profile.h).
 constexpr DemoFile kDemoFiles[] = {
@@ -207,6 +213,8 @@ const FamilyDescriptor kFamily{
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },
+    .set = {.baud_code = set_baud_code, .command_value = set_command_value, .compound_settings = {}},
+    .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},
 };
 
 }  // namespace tiltgate::modbus_rtu

@@ -3,6 +3,8 @@
 #include <array>
 
 #include "mapping/register_map.h"
+#include "rieker/codec.h"
+#include "rieker/raw.h"
 #include "mapping/value_source.h"
 #include "rieker/default_maps.h"
 #include "rieker/rieker_driver.h"
@@ -113,6 +115,17 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
   return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
 }
 
+// `tiltgate set baud RATE`: Set Baud's type code for the rate (rieker/codec.h).
+std::optional<std::int64_t> set_baud_code(std::int64_t baud) {
+  if (baud <= 0 || baud > 0xFFFF'FFFF) return std::nullopt;
+  const std::optional<int> code = code_for_baud(std::uint32_t(baud));
+  if (!code) return std::nullopt;
+  return *code;
+}
+
+// The driver's command setting takes the common SensorCommand values as they are.
+std::optional<double> set_command_value(SensorCommand command) { return double(command); }
+
 // The demo plant's Rieker bus: two H6 on a boom and one H4360 on the mast, at the factory baud.
 const DemoSensor kDemoSensors[] = {
     {"boom-left", "h6", 223}, {"boom-right", "h6", 224}, {"mast", "h4360", 101}};
@@ -154,6 +167,8 @@ const FamilyDescriptor kFamily{
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },
+    .set = {.baud_code = set_baud_code, .command_value = set_command_value, .compound_settings = {}},
+    .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},
 };
 
 }  // namespace tiltgate::rieker

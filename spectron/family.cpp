@@ -7,6 +7,8 @@
 #include "spectron/default_map.h"
 #include "spectron/dyna_driver.h"
 #include "spectron/scan_probe.h"
+#include "spectron/eeprom_map.h"
+#include "spectron/raw.h"
 #include "spectron/sensor_spec.h"
 #include "spectron/settings.h"
 #include "spectron/simulator.h"
@@ -141,6 +143,26 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
   return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
 }
 
+// `tiltgate set baud RATE`: the code EEPROM location 22 takes for the rate.
+std::optional<std::int64_t> set_baud_code(std::int64_t baud) {
+  if (baud <= 0 || baud > 0xFFFF'FFFF) return std::nullopt;
+  const std::optional<int> code = eeprom::code_for_baud(std::uint32_t(baud));
+  if (!code) return std::nullopt;
+  return *code;
+}
+
+// The Dyna's one command is the reset (1); it has no zeroing command.
+std::optional<double> set_command_value(SensorCommand command) {
+  if (command == SensorCommand::restart) return 1.0;
+  return std::nullopt;
+}
+
+// `tiltgate set eeprom LOCATION VALUE`: selects the location in the EEPROM window, then
+// writes it (the driver checks the pair as one request).
+constexpr std::string_view kEepromParts[] = {settings::eeprom_location.name,
+                                             settings::eeprom_value.name};
+constexpr CompoundSetting kCompoundSettings[] = {{"eeprom", kEepromParts, "LOCATION VALUE"}};
+
 // The demo plant's Dyna on the slewing ring, on a Modbus-ASCII bus at the rate of the note's
 // example.
 const DemoSensor kDemoSensors[] = {{"slewing-ring", "dyna", 1}};
@@ -180,6 +202,10 @@ const FamilyDescriptor kFamily{
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },
+    .set = {.baud_code = set_baud_code,
+            .command_value = set_command_value,
+            .compound_settings = kCompoundSettings},
+    .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},
 };
 
 }  // namespace tiltgate::spectron

@@ -1,0 +1,79 @@
+// `tiltgate raw`: the vendor User App's command section. One request built by the bus's family
+// from a function number and data (RawDescriptor, driver/family.h), sent once; the exact bytes
+// each way in hex, the checksum's verdict from the family's framer, and the reply decoded.
+#include <fmt/format.h>
+#include <iostream>
+
+#include "driver/hex.h"
+#include "gateway/commands.h"
+#include "gateway/commission_run.h"
+
+namespace tiltgate {
+
+namespace {
+
+namespace asio = boost::asio;
+
+std::string sent_text(const LineRequest& request) {
+  std::string text = "sent:     " + hex_bytes(request.bytes);
+  if (request.address_bytes > 0)
+    text += fmt::format("  (the first {} with the 9th bit set)",
+                        request.address_bytes == 1 ? std::string("byte")
+                                                   : fmt::format("{} bytes", request.address_bytes));
+  return text;
+}
+
+asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const RawOptions& raw) {
+  if (bus.sensors().size() != 1) {
+    std::cerr << "tiltgate raw: give one sensor (--address A, or --config FILE --sensor NAME)\n";
+    co_return 2;
+  }
+  const CommissionedSensor& sensor = bus.sensors().front();
+  const ProtocolEntry protocol = find_protocol(registered_families(), bus.config().protocol);
+  if (!protocol.family || !protocol.family->raw.make) {
+    std::cerr << fmt::format("tiltgate raw: no raw requests on a {} bus\n", bus.config().protocol);
+    co_return 2;
+  }
+  const std::optional<std::vector<std::uint8_t>> data = parse_hex_bytes(raw.data);
+  if (!data) {
+    std::cerr << fmt::format("tiltgate raw: --data: \"{}\" is not hex bytes (e.g. \"01 0A\")\n", raw.data);
+    co_return 2;
+  }
+  const RawSetup setup{bus.config().protocol, sensor.config.address, bus.config().master_address,
+                       raw.function, *data};
+  auto exchange = protocol.family->raw.make(setup);
+  if (!exchange) {
+    std::cerr << "tiltgate raw: " << exchange.error() << "\n";
+    co_return 2;
+  }
+  LineRequest request = (*exchange)->request();
+  // Sent once: a raw request may change the sensor, and a repeat could land twice.
+  request.retries = 0;
+  std::cout << sent_text(request) << "\n" << std::flush;
+  const ReplyFramer& framer = *request.framer;
+  const auto result = co_await bus.line().transact(std::move(request));
+  if (stopping) co_return 0;
+  const FramerReport report = framer.report();
+  if (!result) {
+    std::cout << "received: nothing"
+              << (report.rejected_verdict.empty() ? "" : " valid (" + report.rejected_verdict + ")")
+              << "\n";
+    std::cerr << "tiltgate raw: " << bus.no_reply_message(sensor) << "\n";
+    co_return 1;
+  }
+  std::cout << fmt::format("received: {}  ({})\n", hex_bytes(report.reply), report.reply_verdict);
+  const RawReply reply = (*exchange)->decode();
+  std::cout << reply.text << "\n" << std::flush;
+  co_return reply.refused ? 1 : 0;
+}
+
+}  // namespace
+
+int raw_command(const BusOptions& options, const RawOptions& raw) {
+  return run_commissioning("raw", options,
+                           [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
+                             co_return co_await raw_work(bus, stopping, raw);
+                           });
+}
+
+}  // namespace tiltgate

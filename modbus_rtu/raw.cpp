@@ -1,0 +1,72 @@
+#include "modbus_rtu/raw.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "driver/hex.h"
+#include "modbus_rtu/codec.h"
+#include "modbus_rtu/reply_framer.h"
+
+namespace tiltgate::modbus_rtu {
+
+namespace {
+
+// Application Protocol 7.
+const char* exception_name(std::uint8_t code) {
+  switch (code) {
+    case 0x01: return "illegal function";
+    case 0x02: return "illegal data address";
+    case 0x03: return "illegal data value";
+    case 0x04: return "server device failure";
+    case 0x05: return "acknowledge";
+    case 0x06: return "server device busy";
+    case 0x08: return "memory parity error";
+    case 0x0A: return "gateway path unavailable";
+    case 0x0B: return "gateway target device failed to respond";
+    default: return "not a standard exception code";
+  }
+}
+
+class Exchange final : public RawExchange {
+ public:
+  explicit Exchange(Request request) : request_(request), framer_(std::move(request)) {}
+
+  LineRequest request() override {
+    LineRequest line_request;
+    line_request.bytes = request_.frame;
+    line_request.framer = &framer_;
+    return line_request;
+  }
+
+  RawReply decode() const override {
+    const Expected<Reply, CodecError>& reply = *framer_.reply();
+    if (!reply)
+      return {true, fmt::format("reply:    not a valid reply to the request: {}", to_string(reply.error()))};
+    if (reply->exception)
+      return {true, fmt::format("reply:    exception 0x{:02X} ({})", *reply->exception,
+                                exception_name(*reply->exception))};
+    std::string text = fmt::format("reply:    function 0x{:02X}, PDU {}", reply->function,
+                                   hex_bytes(reply->pdu));
+    if (!reply->registers.empty())
+      text += fmt::format("\nregisters: {}", fmt::join(reply->registers, " "));
+    return {false, text};
+  }
+
+ private:
+  Request request_;
+  RtuReplyFramer framer_;
+};
+
+}  // namespace
+
+Expected<std::unique_ptr<RawExchange>, std::string> make_raw_exchange(const RawSetup& setup) {
+  if (setup.function < 1 || setup.function > 127)
+    return Unexpected{fmt::format("--function: {} is not a Modbus function code 1..127", setup.function)};
+  Bytes pdu{std::uint8_t(setup.function)};
+  pdu.insert(pdu.end(), setup.data.begin(), setup.data.end());
+  auto request = raw_request(std::uint8_t(setup.address), pdu);
+  if (!request) return Unexpected{fmt::format("--data: {}", to_string(request.error()))};
+  return std::unique_ptr<RawExchange>(std::make_unique<Exchange>(std::move(*request)));
+}
+
+}  // namespace tiltgate::modbus_rtu

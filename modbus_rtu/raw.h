@@ -1,0 +1,19 @@
+// `tiltgate raw` on a Modbus RTU bus: --function is the Modbus function code, --data the rest of
+// the PDU; the slave address and CRC are added, and the reply checked and decoded by the codec
+// (modbus_rtu/codec.h).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "driver/family.h"
+
+namespace tiltgate::modbus_rtu {
+
+inline constexpr std::string_view kRawFunctionHelp =
+    "modbus-rtu: the function code (1..127, e.g. 3 Read Holding Registers with data 00 00 00 02), "
+    "--data the rest of the PDU; the slave address and CRC are added";
+
+Expected<std::unique_ptr<RawExchange>, std::string> make_raw_exchange(const RawSetup& setup);
+
+}  // namespace tiltgate::modbus_rtu
