@@ -132,10 +132,21 @@ asio::awaitable<bool> RemoteLine::write_line(std::string line) {
 }
 
 asio::awaitable<Expected<Done, LineError>> RemoteLine::transact(LineRequest request) {
-  timing_ = LineTiming{};
   if (request.timeout.count() <= 0) request.timeout = defaults_.timeout;
-  if (request.retries < 0) request.retries = defaults_.retries;
-  if (!request.late_guard) request.late_guard = defaults_.late_guard;
+  const int retries = request.retries < 0 ? defaults_.retries : request.retries;
+  request.retries = 0;
+  request.late_guard = std::min(request.late_guard.value_or(defaults_.late_guard), kMaxLateGuard);
+  std::uint32_t late_replies = 0;
+  for (int attempt_number = 0;; ++attempt_number) {
+    auto done = co_await attempt(request);
+    late_replies += timing_.late_replies;
+    timing_.late_replies = late_replies;
+    if (done || done.error() != LineError::timeout || attempt_number >= retries) co_return done;
+  }
+}
+
+asio::awaitable<Expected<Done, LineError>> RemoteLine::attempt(const LineRequest& request) {
+  timing_ = LineTiming{};
   if (stopped_) co_return Unexpected{LineError::cancelled};
   if (!socket_.is_open()) co_return Unexpected{LineError::io};
   const bool tracing = spdlog::should_log(spdlog::level::trace);

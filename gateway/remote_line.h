@@ -3,6 +3,12 @@
 // bus between polls and relays what comes back, chunk by chunk, to this line, where the
 // command's framer decides when the reply is whole. Drivers and commands cannot tell it from
 // a tty of their own.
+//
+// The gateway's sensors must keep being polled on time meanwhile, so a command never holds
+// that bus for long: each attempt of a transaction is a turn of its own (retries are made
+// here, with a poll between them), and after a time-out the bus stays quiet for at most
+// kMaxLateGuard before the gateway polls again. A reply later than that reaches the gateway's
+// next poll, whose framer drops it: it comes from another address.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -50,6 +56,8 @@ class RemoteLine final : public Line {
   };
   void set_defaults(Defaults defaults) { defaults_ = defaults; }
 
+  static constexpr std::chrono::milliseconds kMaxLateGuard{20};
+
   // The bus the gateway granted: its name, protocol and baud.
   const control::BusGranted& bus() const { return bus_; }
   // Tells the gateway that a sensor on the bus moved from `from` to `to`; returns the
@@ -62,6 +70,8 @@ class RemoteLine final : public Line {
   RemoteLine(boost::asio::local::stream_protocol::socket socket, control::BusGranted bus);
 
   boost::asio::awaitable<bool> write_line(std::string line);
+  // One attempt as one transaction of the gateway's (retries = 0).
+  boost::asio::awaitable<Expected<Done, LineError>> attempt(const LineRequest& request);
 
   boost::asio::local::stream_protocol::socket socket_;
   boost::asio::streambuf input_;

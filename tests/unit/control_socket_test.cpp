@@ -75,7 +75,7 @@ struct Gateway {
   Gateway() {
     line.reply = [this](const LineRequest& request) {
       sent.push_back(LineRequest{request.bytes, request.address_bytes, nullptr, request.timeout,
-                                 request.retries, request.settle});
+                                 request.retries, request.settle, request.late_guard});
       return std::vector<std::uint8_t>{0xA0, 0xA1, 0xA2};
     };
     scheduler.add(*sensor);
@@ -130,6 +130,28 @@ TEST_CASE("control socket: a command's transaction goes out on the gateway's bus
   const auto short_reply = transact(**line, io, LineRequest{{0x01}, 0, &wants_more, 40ms, 0, 0ms});
   CHECK(short_reply.error() == LineError::timeout);
   CHECK(wants_more.received.size() == 3);
+}
+
+TEST_CASE("control socket: each attempt of a command's transaction is a turn of its own on the gateway's bus") {
+  Gateway gateway;
+  asio::io_context io;
+  auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
+  REQUIRE(line);
+  FixedLengthReply never_whole(10);
+  LineRequest request{{0x01}, 0, &never_whole, 30ms, 2, 0ms};
+  request.late_guard = 450ms;  // a bus's usual guard
+  const auto done = transact(**line, io, request);
+  CHECK(done.error() == LineError::timeout);
+  // Three attempts, each sent once, so the gateway polls its sensors between them; and after a
+  // silence the gateway's bus is held only briefly, whatever the command's own guard.
+  REQUIRE(gateway.sent.size() == 3);
+  for (const LineRequest& sent : gateway.sent) {
+    CHECK(sent.retries == 0);
+    CHECK(sent.timeout == 30ms);
+    REQUIRE(sent.late_guard.has_value());
+    CHECK(*sent.late_guard <= RemoteLine::kMaxLateGuard);
+  }
+  CHECK((*line)->stats().attempts == 3);
 }
 
 TEST_CASE("control socket: a sensor a command moved is polled at its new address") {
