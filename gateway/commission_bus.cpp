@@ -25,7 +25,10 @@ Expected<int, std::string> open_and_lock(const std::string& port) {
     const int error = errno;
     ::close(fd);
     if (error == EWOULDBLOCK)
-      return Unexpected{fmt::format("{} is in use: another tiltgate command holds it", port)};
+      return Unexpected{fmt::format(
+          "{} is in use: a running gateway or another tiltgate command holds it (a gateway "
+          "with a control socket is used through it: see --via-gateway)",
+          port)};
     return Unexpected{fmt::format("cannot lock {}: {}", port, std::strerror(error))};
   }
   return fd;

@@ -22,7 +22,9 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
                             config.server.write_timeout}) {
   for (const BusConfig& bus : config_.buses) {
     Bus b;
-    b.line = std::make_unique<SerialLine>(io_.get_executor(), serial_options_from(bus));
+    SerialLineOptions options = serial_options_from(bus);
+    options.exclusive = true;
+    b.line = std::make_unique<SerialLine>(io_.get_executor(), options);
     b.scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *b.line, bus.name);
     pass_through(bus, *b.scheduler);
     buses_.push_back(std::move(b));

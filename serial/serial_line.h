@@ -70,6 +70,9 @@ struct SerialLineOptions {
   std::chrono::milliseconds reopen_min{500};
   std::chrono::milliseconds reopen_max{10000};
   Framing framing = Framing::eight_none_one;
+  // Take an advisory lock (flock) on the tty while it is open, so that a commissioning command
+  // opening it directly is told it is in use instead of talking over the gateway.
+  bool exclusive = false;
 };
 
 class SerialLine final : public Line {

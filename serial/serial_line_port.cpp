@@ -2,6 +2,7 @@
 // back-off after it was lost (an unplugged adapter) or could not be opened. The exchange of
 // requests and replies over it is serial_line.cpp's.
 #include <fcntl.h>
+#include <sys/file.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -66,6 +67,12 @@ Expected<Done, std::string> SerialLine::open_port() {
   // O_NONBLOCK: do not wait for a carrier, and let Asio drive the reads and writes.
   const int fd = ::open(options_.port.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return Unexpected(errno_text(errno));
+  if (options_.exclusive && ::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    ::close(fd);
+    if (error == EWOULDBLOCK) return Unexpected(std::string("in use: a tiltgate command holds it"));
+    return Unexpected("cannot lock: " + errno_text(error));
+  }
   auto configured =
       apply_raw_settings(fd, options_.baud, idle_parity(), stop_bits_of(options_.framing));
   if (!configured) {

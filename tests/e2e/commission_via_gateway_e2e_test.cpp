@@ -202,6 +202,13 @@ TEST_CASE("through a gateway: none listening, a tty it does not own, and a rate 
   CHECK(has(elsewhere.err, "the gateway has no bus on " + lone.tty()));
   CHECK(has(elsewhere.err, "line1 on " + gateway.sim.tty()));
 
+  // Its tty is locked: a command that does not find its control socket is told it is in use
+  // rather than talking over the gateway's polls.
+  const auto over = run_tiltgate({"info", "--control-socket", nowhere, "--port", gateway.sim.tty(),
+                                  "--address", "223"});
+  CHECK(over.exit_code == 1);
+  CHECK(has(over.err, gateway.sim.tty() + " is in use: a running gateway"));
+
   // A gateway that owns the tty is used without being asked.
   const auto found = run_tiltgate({"info", "--control-socket", gateway.socket, "--port",
                                    gateway.sim.tty(), "--address", "223"});
