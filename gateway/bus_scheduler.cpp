@@ -91,10 +91,21 @@ void BusScheduler::enable_forwarding(ForwardFactory make, std::size_t max_queued
   max_queued_forwards_ = max_queued;
 }
 
+namespace {
+
+// When a sensor is next polled: its schedule, or after a command's hold on it.
+SteadyClock::time_point due_of(const PollSchedule& schedule,
+                               const std::optional<SteadyClock::time_point>& held_until) {
+  return held_until ? std::max(schedule.due, *held_until) : schedule.due;
+}
+
+}  // namespace
+
 BusScheduler::Polled* BusScheduler::next_due() {
   auto it = std::min_element(sensors_.begin(), sensors_.end(),
                              [](const Polled& a, const Polled& b) {
-                               return a.schedule.due < b.schedule.due;
+                               return due_of(a.schedule, a.held_until) <
+                                      due_of(b.schedule, b.held_until);
                              });
   return it == sensors_.end() ? nullptr : &*it;
 }
@@ -124,7 +135,9 @@ asio::awaitable<void> BusScheduler::run() {
     }
     Polled* polled = next_due();
     auto now = SteadyClock::now();
-    const bool poll_due = polled != nullptr && polled->schedule.due <= now;
+    if (polled && polled->held_until && *polled->held_until <= now) polled->held_until.reset();
+    const auto due = polled ? due_of(polled->schedule, polled->held_until) : now;
+    const bool poll_due = polled != nullptr && due <= now;
     // Forwarded requests and due polls take turns: a client hammering a passed-through device
     // cannot starve the cached sensors, and a busy poll schedule cannot starve the client.
     if ((!forwards_.empty() || !commands_.empty()) && (!poll_due || !forwarded_last_)) {
@@ -133,7 +146,7 @@ asio::awaitable<void> BusScheduler::run() {
       continue;
     }
     if (!poll_due) {
-      wake_.expires_at(polled ? polled->schedule.due : now + std::chrono::hours(1));
+      wake_.expires_at(polled ? due : now + std::chrono::hours(1));
       boost::system::error_code ec;
       co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
@@ -261,12 +274,31 @@ std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std:
     driver.follow_address(to);
     // Poll it at its new address at once: the command's read-back and the PLC agree sooner.
     polled.schedule = PollSchedule{SteadyClock::now()};
+    polled.held_until.reset();
     wake_.cancel();
     spdlog::info("{}: sensor \"{}\" moved from address {} to {} by a commissioning command",
                  name_, polled.sensor->config.name, from, to);
     return polled.sensor->config.name;
   }
   return std::nullopt;
+}
+
+std::optional<std::string> BusScheduler::hold(std::uint32_t address,
+                                              SteadyClock::time_point until) {
+  for (Polled& polled : sensors_) {
+    if (polled.sensor->driver->state().bus_address != address) continue;
+    polled.held_until = until;
+    return polled.sensor->config.name;
+  }
+  return std::nullopt;
+}
+
+void BusScheduler::release(std::uint32_t address) {
+  for (Polled& polled : sensors_)
+    if (polled.held_until && polled.sensor->driver->state().bus_address == address) {
+      polled.held_until.reset();
+      wake_.cancel();
+    }
 }
 
 asio::awaitable<void> BusScheduler::run_forward(std::shared_ptr<PendingForward> pending) {

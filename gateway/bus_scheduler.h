@@ -103,6 +103,12 @@ class BusScheduler {
   // A commissioning command moved the sensor at bus address `from` to `to`: the sensor polled
   // at `from` follows it. Returns its name, or none when no sensor of this bus was at `from`.
   std::optional<std::string> follow_address(std::uint32_t from, std::uint32_t to);
+  // A commissioning command is about to move the sensor at `address`: it is not polled until
+  // follow_address() or release(), or until `until` (a poll at its old address while it moves
+  // would fail). A poll already on the wire finishes first: the command's next transaction
+  // waits for its turn. Returns its name, or none when no sensor of this bus is there.
+  std::optional<std::string> hold(std::uint32_t address, SteadyClock::time_point until);
+  void release(std::uint32_t address);
 
   const std::string& name() const { return name_; }
   const BusSchedulerStats& stats() const { return stats_; }
@@ -118,6 +124,7 @@ class BusScheduler {
   struct Polled {
     GatewaySensor* sensor;
     PollSchedule schedule;
+    std::optional<SteadyClock::time_point> held_until{};  // hold(): not polled before then
   };
   struct PendingWrite {
     GatewaySensor* sensor;

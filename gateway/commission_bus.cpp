@@ -73,6 +73,14 @@ void CommissionBus::stop() {
   if (remote_) remote_->stop();
 }
 
+void CommissionBus::address_changing(std::uint32_t from) {
+  if (!remote_) return;
+  if (const auto held = remote_->hold(from); !held)
+    std::cerr << fmt::format("warning: the gateway was not told of the move ({}): its polls of "
+                             "the sensor may fail while it moves\n",
+                             held.error());
+}
+
 void CommissionBus::address_changed(std::uint32_t from, std::uint32_t to) {
   if (!remote_) return;
   const auto followed = remote_->follow(from, to);

@@ -49,6 +49,10 @@ class CommissionBus {
   // Whether the bus is a running gateway's, reached through its control socket.
   bool through_gateway() const { return remote_ != nullptr; }
 
+  // A command is about to move the sensor at `from` (set address): a running gateway that
+  // owns the bus stops polling it, so that no poll at the old address fails while it moves,
+  // until address_changed() or the command's end. Nothing to do on a tty of our own.
+  void address_changing(std::uint32_t from);
   // A command moved a sensor from one bus address to another (set address): a running gateway
   // that owns the bus follows it at once (said on stdout). Nothing to do on a tty of our own.
   void address_changed(std::uint32_t from, std::uint32_t to);

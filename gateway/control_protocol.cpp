@@ -110,6 +110,8 @@ std::string format(const CommandMessage& message) {
           },
           [](const FramerAnswer& m) { return std::string(m.done ? "done" : "more"); },
           [](const Follow& m) { return fmt::format("follow {} {}", m.from, m.to); },
+          [](const Hold& m) { return fmt::format("hold {}", m.address); },
+          [](const Release& m) { return fmt::format("release {}", m.address); },
       },
       message);
 }
@@ -150,6 +152,12 @@ Expected<CommandMessage, std::string> parse_command(std::string_view line) {
     const auto to = number<std::uint32_t>(w[2]);
     if (!from || !to) return malformed(line);
     return CommandMessage{Follow{*from, *to}};
+  }
+  if ((w[0] == "hold" || w[0] == "release") && w.size() == 2) {
+    const auto address = number<std::uint32_t>(w[1]);
+    if (!address) return malformed(line);
+    if (w[0] == "hold") return CommandMessage{Hold{*address}};
+    return CommandMessage{Release{*address}};
   }
   if (w[0] == "transact" && w.size() == 8) {
     const auto address_bytes = number<std::size_t>(w[1]);

@@ -9,7 +9,13 @@
 //                                           bytes 0000DF00...        what the line received
 //   more | done                             (the command's framer: is the reply whole?)
 //                                           end ok 3 0 - 1           or: end timeout 0 - 1
+//   hold 223                                ok line1/boom            (or: ok, none is there)
 //   follow 223 7                            ok line1/boom            (or: ok, none was there)
+//   release 223                             ok
+//
+// hold: the command is about to move the sensor at 223; the gateway stops polling it (a poll
+// at the old address while it moves would fail and mark it offline) until follow or release,
+// the session's end, or kMaxHold.
 //
 // transact: address bytes, time-out, retries, settle (ms), reply expected, late guard (ms, or -
 // for the bus's own), the request in hex.
@@ -53,7 +59,13 @@ struct Follow {
   std::uint32_t from = 0;
   std::uint32_t to = 0;
 };
-using CommandMessage = std::variant<Hello, Transact, FramerAnswer, Follow>;
+struct Hold {
+  std::uint32_t address = 0;
+};
+struct Release {
+  std::uint32_t address = 0;
+};
+using CommandMessage = std::variant<Hello, Transact, FramerAnswer, Follow, Hold, Release>;
 
 struct BusGranted {
   std::string name;

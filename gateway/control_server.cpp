@@ -144,6 +144,7 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
   sessions_.push_back(socket);
   asio::streambuf input(control::kMaxLine);
   ServedBus* bus = nullptr;
+  std::vector<std::uint32_t> held;  // addresses this session holds; released when it ends
   while (listening_) {
     boost::system::error_code ec;
     co_await asio::async_read_until(*socket, input, '\n',
@@ -187,13 +188,25 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       if (relay.broken()) break;  // the command stopped answering mid-transaction
     } else if (const auto* follow = std::get_if<control::Follow>(&*message)) {
       const auto moved = bus->scheduler->follow_address(follow->from, follow->to);
+      std::erase(held, follow->from);
       reply = formatted(control::Followed{moved ? bus->config.name + "/" + *moved : ""});
+    } else if (const auto* hold = std::get_if<control::Hold>(&*message)) {
+      const auto sensor = bus->scheduler->hold(hold->address, SteadyClock::now() + kMaxHold);
+      if (sensor) held.push_back(hold->address);
+      reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
+    } else if (const auto* release = std::get_if<control::Release>(&*message)) {
+      bus->scheduler->release(release->address);
+      std::erase(held, release->address);
+      reply = formatted(control::Followed{});
     } else {
       reply = formatted(control::Refused{"a framer's answer outside a transaction"});
       done = true;
     }
     if (!co_await send(*socket, std::move(reply)) || done) break;
   }
+  // A command that went away mid re-address must not leave a sensor unpolled.
+  if (bus != nullptr && listening_)
+    for (const std::uint32_t address : held) bus->scheduler->release(address);
   boost::system::error_code ignored;
   socket->close(ignored);
 }

@@ -50,6 +50,8 @@ class ControlServer {
   static constexpr std::size_t kMaxSessions = 8;
   // How long a command's transaction may wait for its turn on a busy bus.
   static constexpr std::chrono::seconds kQueueDeadline{10};
+  // The longest a command may keep the gateway from polling a sensor it is re-addressing.
+  static constexpr std::chrono::seconds kMaxHold{10};
 
  private:
   boost::asio::awaitable<void> accept_loop();

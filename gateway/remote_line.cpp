@@ -219,9 +219,9 @@ asio::awaitable<Expected<Done, LineError>> RemoteLine::attempt(const LineRequest
   co_return Unexpected{LineError::io};
 }
 
-Expected<std::string, std::string> RemoteLine::follow(std::uint32_t from, std::uint32_t to) {
+Expected<std::string, std::string> RemoteLine::ask(const control::CommandMessage& message) {
   if (!socket_.is_open()) return Unexpected{std::string("the gateway's connection is closed")};
-  const std::string line = control::format(control::CommandMessage{control::Follow{from, to}}) + "\n";
+  const std::string line = control::format(message) + "\n";
   boost::system::error_code ec;
   asio::write(socket_, asio::buffer(line), ec);
   if (!ec) asio::read_until(socket_, input_, '\n', ec);
@@ -229,10 +229,21 @@ Expected<std::string, std::string> RemoteLine::follow(std::uint32_t from, std::u
   std::string reply;
   std::istream stream(&input_);
   std::getline(stream, reply);
-  auto message = control::parse_gateway(reply);
-  if (const auto* followed = message ? std::get_if<control::Followed>(&*message) : nullptr)
-    return followed->sensor;
+  auto answer = control::parse_gateway(reply);
+  if (const auto* ok = answer ? std::get_if<control::Followed>(&*answer) : nullptr) return ok->sensor;
   return Unexpected{fmt::format("unexpected answer \"{}\"", reply)};
+}
+
+Expected<std::string, std::string> RemoteLine::follow(std::uint32_t from, std::uint32_t to) {
+  return ask(control::Follow{from, to});
+}
+
+Expected<std::string, std::string> RemoteLine::hold(std::uint32_t address) {
+  return ask(control::Hold{address});
+}
+
+Expected<std::string, std::string> RemoteLine::release(std::uint32_t address) {
+  return ask(control::Release{address});
 }
 
 }  // namespace tiltgate

@@ -63,6 +63,10 @@ class RemoteLine final : public Line {
   // Tells the gateway that a sensor on the bus moved from `from` to `to`; returns the
   // "bus/sensor" it followed, empty when it polls no sensor at `from`, or an error.
   Expected<std::string, std::string> follow(std::uint32_t from, std::uint32_t to);
+  // Asks the gateway not to poll the sensor at `address` while the command moves it (see
+  // control_protocol.h), or to poll it again. Returns the "bus/sensor" held, or empty.
+  Expected<std::string, std::string> hold(std::uint32_t address);
+  Expected<std::string, std::string> release(std::uint32_t address);
   // Closes the socket: a suspended transact() returns cancelled, as every later one does.
   void stop();
 
@@ -70,6 +74,8 @@ class RemoteLine final : public Line {
   RemoteLine(boost::asio::local::stream_protocol::socket socket, control::BusGranted bus);
 
   boost::asio::awaitable<bool> write_line(std::string line);
+  // One message and its "ok" answer, synchronously (no transaction is running then).
+  Expected<std::string, std::string> ask(const control::CommandMessage& message);
   // One attempt as one transaction of the gateway's (retries = 0).
   boost::asio::awaitable<Expected<Done, LineError>> attempt(const LineRequest& request);
 

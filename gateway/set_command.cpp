@@ -159,6 +159,8 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
     }
   }
 
+  // A gateway that polls this sensor waits while it moves (released when the command ends).
+  if (plan->new_address) bus.address_changing(old_address);
   for (std::size_t i = 0; i < plan->writes.size() && !stopping; ++i) {
     const SettingWrite& w = plan->writes[i];
     const WriteResult result = co_await sensor.driver->write(bus.line(), w.target, w.value);

@@ -41,7 +41,7 @@ struct RunningGateway {
   std::uint16_t port = free_tcp_port();
   std::unique_ptr<GatewayProcess> process;
 
-  RunningGateway() {
+  explicit RunningGateway(std::chrono::milliseconds poll = kPollPeriod) {
     const auto config = dir.write("gateway.toml", fmt::format(R"([server]
 listen = "127.0.0.1"
 port = {}
@@ -61,7 +61,7 @@ model = "h6"
 poll_ms = {}
 )",
                                                               port, socket, sim.tty(),
-                                                              kPollPeriod.count()));
+                                                              poll.count()));
     process = std::make_unique<GatewayProcess>(
         std::vector<std::string>{"run", "--config", config.string()}, dir.path());
     REQUIRE_MESSAGE(process->wait_listening(port), process->log());
@@ -162,7 +162,8 @@ TEST_CASE("scan, info, raw, watch and set through a running gateway while a PLC 
 }
 
 TEST_CASE("a sensor the gateway polls, re-addressed through it, is followed at once") {
-  RunningGateway gateway;
+  // Polled all the time, so a poll is due the moment the sensor moves.
+  RunningGateway gateway(20ms);
   ModbusClient plc(gateway.port, 1);
   const auto set = gateway.through("set", {"--address", "5", "address", "9"});
   INFO(set.out << set.err << gateway.process->log());
@@ -172,13 +173,15 @@ TEST_CASE("a sensor the gateway polls, re-addressed through it, is followed at o
   // readings keep coming.
   const auto before = plc.input(kSampleSeq, 1);
   REQUIRE_FALSE(before.empty());
-  std::this_thread::sleep_for(3 * kPollPeriod);
+  std::this_thread::sleep_for(300ms);
   const auto after = plc.input(kSampleSeq, 1);
   REQUIRE_FALSE(after.empty());
   CHECK(after[0] != before[0]);
   const auto address = plc.input(kBusAddress, 1);
   REQUIRE_FALSE(address.empty());
   CHECK(address[0] == 9);
+  // The gateway held its polls while the sensor moved: none failed at the old address.
+  CHECK_FALSE(has(gateway.process->log(), "stopped answering"));
 }
 
 TEST_CASE("through a gateway: none listening, a tty it does not own, and a rate it cannot change are refused") {

@@ -166,3 +166,29 @@ TEST_CASE("a sensor a command moved is followed to its new address and polled th
   CHECK_FALSE(bus.scheduler.follow_address(223, 8).has_value());  // nobody is at 223 now
   CHECK(bus.scheduler.follow_address(5, 6) == std::optional<std::string>("b"));
 }
+
+TEST_CASE("a sensor a command is moving is not polled until it is followed, released or the hold ends") {
+  Bus bus;
+  auto& a = fake_driver(bus.add("a", 223, 20ms));
+  bus.start();
+  REQUIRE(run_until(bus.io, [&] { return a.polls >= 1; }));
+  REQUIRE(bus.scheduler.hold(223, SteadyClock::now() + 10s) == std::optional<std::string>("a"));
+  const int held_at = a.polls;
+  bus.io.restart();
+  bus.io.run_for(200ms);  // ten poll periods
+  CHECK(a.polls <= held_at + 1);  // at most the poll already under way
+  CHECK(bus.scheduler.follow_address(223, 7).has_value());
+  REQUIRE(run_until(bus.io, [&] { return a.polls >= held_at + 3; }));
+
+  // Released by the command, or by the hold's own end.
+  REQUIRE(bus.scheduler.hold(7, SteadyClock::now() + 10s).has_value());
+  bus.io.restart();
+  bus.io.run_for(100ms);
+  const int released_at = a.polls;
+  bus.scheduler.release(7);
+  REQUIRE(run_until(bus.io, [&] { return a.polls >= released_at + 2; }));
+  REQUIRE(bus.scheduler.hold(7, SteadyClock::now() + 60ms).has_value());
+  const int expiring_at = a.polls;
+  REQUIRE(run_until(bus.io, [&] { return a.polls >= expiring_at + 3; }));
+  CHECK_FALSE(bus.scheduler.hold(100, SteadyClock::now() + 10s).has_value());  // nobody there
+}

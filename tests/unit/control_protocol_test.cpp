@@ -41,6 +41,8 @@ TEST_CASE("control: hello keeps a port path whole, follow carries both addresses
   REQUIRE(follow);
   CHECK(std::get<Follow>(*follow).from == 223);
   CHECK(std::get<Follow>(*follow).to == 7);
+  CHECK(std::get<Hold>(*parse_command(format(CommandMessage{Hold{223}}))).address == 223);
+  CHECK(std::get<Release>(*parse_command("release 223")).address == 223);
   CHECK(std::get<FramerAnswer>(*parse_command("done")).done);
   CHECK_FALSE(std::get<FramerAnswer>(*parse_command("more")).done);
 }
