@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "e2e/support/gateway_process.h"
+#include "e2e/support/output_checks.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_process.h"
 
@@ -29,9 +30,6 @@ constexpr auto kPollPeriod = 200ms;
 constexpr int kSampleSeq = 15;
 constexpr int kBusAddress = 14;
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // `tiltgate run` with sensor "boom" at address 5 of the simulator's bus, and its control socket.
 struct RunningGateway {

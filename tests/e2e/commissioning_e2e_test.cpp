@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "e2e/support/gateway_process.h"
+#include "e2e/support/output_checks.h"
 #include "e2e/support/simulator_process.h"
 
 using namespace tiltgate::test;
@@ -55,11 +56,6 @@ double info_value(const std::string& out, const std::string& label) {
   return 0;
 }
 
-bool has_line(const std::string& out, const std::string& line) {
-  for (const std::string& l : lines(out))
-    if (l == line) return true;
-  return false;
-}
 
 }  // namespace
 

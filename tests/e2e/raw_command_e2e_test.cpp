@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "e2e/support/gateway_process.h"
+#include "e2e/support/output_checks.h"
 #include "e2e/support/simulator_process.h"
 
 using namespace tiltgate::test;
@@ -17,16 +18,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-bool has_line(const std::string& out, const std::string& line) {
-  std::istringstream in(out);
-  for (std::string l; std::getline(in, l);)
-    if (l == line) return true;
-  return false;
-}
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // `tiltgate COMMAND --port TTY --protocol rieker ARGS...`
 CommandResult rieker(const std::string& command, const SimulatorProcess& sim,
