@@ -30,7 +30,6 @@ constexpr auto kPollPeriod = 200ms;
 constexpr int kSampleSeq = 15;
 constexpr int kBusAddress = 14;
 
-
 // `tiltgate run` with sensor "boom" at address 5 of the simulator's bus, and its control socket.
 struct RunningGateway {
   SimulatorProcess sim{{"rieker", "--sensors", "h6:5,h6:223", "--baud", "125000"}};

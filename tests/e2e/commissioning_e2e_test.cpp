@@ -56,7 +56,6 @@ double info_value(const std::string& out, const std::string& label) {
   return 0;
 }
 
-
 }  // namespace
 
 TEST_CASE("info shows a Rieker sensor's identity, lock level and the simulator's angles") {

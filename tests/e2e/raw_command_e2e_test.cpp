@@ -18,8 +18,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-
-
 // `tiltgate COMMAND --port TTY --protocol rieker ARGS...`
 CommandResult rieker(const std::string& command, const SimulatorProcess& sim,
                      std::vector<std::string> args) {

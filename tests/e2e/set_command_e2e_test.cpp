@@ -19,8 +19,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-
-
 double info_value(const std::string& out, const std::string& label) {
   std::istringstream in(out);
   for (std::string line; std::getline(in, line);)
