@@ -155,7 +155,7 @@ TEST_CASE("9-bit: a module moved by a write to location 16 answers only at its n
   CHECK(number(client.ask(nine_bit_read_eeprom_request(42, 16))) == 42);
 }
 
-TEST_CASE("9-bit: only the addressed module answers; other addresses get silence") {
+TEST_CASE("9-bit: only the addressed module answers, other addresses get silence") {
   Bus bus(Protocol::nine_bit, {dyna(1, 111), dyna(2, 222)});
   BusClient client(bus.io, bus.sim->link_path());
   CHECK(number(client.ask(nine_bit_read_sensor_request(2))) == 222);
