@@ -71,7 +71,7 @@ TEST_CASE("scan of a bus where nothing answers exits 1 with what to check") {
   CHECK(mentions(scan.err, "--baud auto"));
 }
 
-TEST_CASE("scan at the wrong baud finds nothing; --baud auto finds the sensor at its rate") {
+TEST_CASE("scan at the wrong baud finds nothing, but --baud auto finds the sensor at its rate") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:12", "--baud", "38400"});
   const auto wrong = run_tiltgate({"scan", "--port", sim.tty(), "--from", "10", "--to", "14"});
   INFO(wrong.out << wrong.err);

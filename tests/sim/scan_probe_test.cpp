@@ -59,7 +59,7 @@ TEST_CASE("Rieker Check Address finds the sensor there, silence elsewhere, a col
   CHECK(bench.probe(rieker::check_address_probe, 7).outcome == ProbeOutcome::answered);
 }
 
-TEST_CASE("Rieker broadcast Get Address gives the one sensor's address; with two they collide") {
+TEST_CASE("Rieker broadcast Get Address gives the one sensor's address, with two they collide") {
   RiekerBench one({h6_at(4242)});
   const ProbeResult found = one.probe(rieker::broadcast_get_address_probe, 0);
   CHECK(found.outcome == ProbeOutcome::answered);
@@ -83,7 +83,7 @@ TEST_CASE_TEMPLATE("Dyna Read Sensor finds a module, silence elsewhere, a collis
   CHECK(bench.sim->counters().collisions == 1);
 }
 
-TEST_CASE("Modbus RTU FC 17 finds a device by its exception reply; a shared address collides") {
+TEST_CASE("Modbus RTU FC 17 finds a device by its exception reply, a shared address collides") {
   modbus_rtu::RtuSimulatorOptions options;
   for (const std::uint8_t slave : {1, 3, 3})
     options.devices.push_back(modbus_rtu::rtu_inclinometer(slave));

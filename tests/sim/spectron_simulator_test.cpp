@@ -155,7 +155,7 @@ TEST_CASE("9-bit: a module moved by a write to location 16 answers only at its n
   CHECK(number(client.ask(nine_bit_read_eeprom_request(42, 16))) == 42);
 }
 
-TEST_CASE("9-bit: only the addressed module answers; other addresses get silence") {
+TEST_CASE("9-bit: only the addressed module answers, other addresses get silence") {
   Bus bus(Protocol::nine_bit, {dyna(1, 111), dyna(2, 222)});
   BusClient client(bus.io, bus.sim->link_path());
   CHECK(number(client.ask(nine_bit_read_sensor_request(2))) == 222);
@@ -337,7 +337,7 @@ TEST_CASE("unplug removes the link and replug serves a new pty behind it, state 
   CHECK(*parse_ascii_sensor_reply(client.exchange(read), *read) == 1000);  // offset kept
 }
 
-TEST_CASE("replies paced at a baud rate take at least their transmission time") {
+TEST_CASE("Spectron: replies paced at a baud rate take at least their transmission time") {
   // "12345\r\n" is 7 bytes; at 1200 baud, 11 bits a byte: 64 ms. Only the lower bound is
   // checked; a busy machine can only make it longer.
   Bus bus(Protocol::nine_bit, {dyna(0)}, 1200);
@@ -347,7 +347,7 @@ TEST_CASE("replies paced at a baud rate take at least their transmission time") 
   CHECK(std::chrono::steady_clock::now() - sent >= 64ms);
 }
 
-TEST_CASE("stopping the simulator with a reply still pending is safe") {
+TEST_CASE("Spectron: stopping the simulator with a reply still pending is safe") {
   Bus bus(Protocol::nine_bit, {dyna(0)}, 1200);  // the reply waits ~64 ms on its timer
   BusClient client(bus.io, bus.sim->link_path());
   client.send(nine_bit_read_eeprom_request(0, 4));

@@ -26,7 +26,7 @@ TEST_CASE("a Rieker sensor is never given the broadcast address or the bus maste
   CHECK(driver.check_write(WriteTarget::bus_address, 6).has_value());
 }
 
-TEST_CASE("a write to bus_address moves the sensor; other settings do not") {
+TEST_CASE("a write to bus_address moves the sensor, other settings do not") {
   rieker::RiekerDriverOptions options;
   options.address = 223;
   const rieker::RiekerDriver driver(options);

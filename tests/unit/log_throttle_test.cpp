@@ -73,7 +73,7 @@ TEST_CASE("log throttle: a few problems, then quiet, are forgotten without a sum
   CHECK(throttle.tracked_addresses() == 0);
 }
 
-TEST_CASE("log throttle: memory is bounded; an evicted address's count is still summarized") {
+TEST_CASE("log throttle: memory is bounded, and an evicted address's count is still summarized") {
   LogThrottleOptions options;
   options.max_addresses = 3;
   LogThrottle throttle(options);

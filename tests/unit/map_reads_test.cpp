@@ -121,7 +121,7 @@ TEST_CASE("a single-axis sensor's tilt is |x|") {
   CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 30.5f);
 }
 
-TEST_CASE("bit points pick one status bit; a packed register carries several") {
+TEST_CASE("bit points pick one status bit, and a packed register carries several") {
   Point stale = input("stale", 0, PointType::boolean, ValueSource::status);
   stale.table = RegisterTable::discrete;
   stale.bit = 1;

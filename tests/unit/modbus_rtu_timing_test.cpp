@@ -14,7 +14,7 @@ TEST_CASE("RTU characters are 11 bits with parity or two stop bits, 10 for 8N1")
   CHECK(bits_per_character(Parity::none, 1) == 10);
 }
 
-TEST_CASE("RTU parity defaults to even; without parity two stop bits keep 11 bits") {
+TEST_CASE("RTU parity defaults to even, and without parity two stop bits keep 11 bits") {
   CHECK(from_name(parity_names(), "even") == Parity::even);
   CHECK(from_name(parity_names(), "odd") == Parity::odd);
   CHECK(from_name(parity_names(), "none") == Parity::none);

@@ -68,7 +68,7 @@ TEST_CASE("the router passes through only the unit ids a bus lists") {
   CHECK(nobody.error() == ModbusException::gateway_path_unavailable);
 }
 
-TEST_CASE("with writes off only reading functions pass through; the rest is 0x01, never sent") {
+TEST_CASE("with writes off only reading functions pass through, the rest is 0x01 and never sent") {
   Plant plant(false);
   for (const Bytes& pdu : {Bytes{0x03, 0, 0, 0, 1}, Bytes{0x04, 0, 0, 0, 1}, Bytes{0x01, 0, 0, 0, 8},
                            Bytes{0x02, 0, 0, 0, 8}, Bytes{0x07}, Bytes{0x11},

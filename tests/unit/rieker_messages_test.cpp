@@ -87,7 +87,7 @@ TEST_CASE("request builders refuse addresses outside the protocol's ranges") {
   CHECK(error.error().message == "filter response 9 is outside 1..6");
 }
 
-TEST_CASE("an ACK parses; a NAK gives its code") {
+TEST_CASE("an ACK parses and a NAK gives its code") {
   CHECK(parse_ack(*decode(hex("0000 0065 0000 00 CC1E"))).has_value());
   const auto refused = parse_ack(make_nak(0, 101, NakCode::wrong_lock_level));
   REQUIRE_FALSE(refused.has_value());

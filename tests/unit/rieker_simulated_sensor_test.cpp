@@ -246,7 +246,7 @@ TEST_CASE("injected CRC corruption and garbage change only the bytes on the wire
   CHECK(sensor.respond(r, kT0) == encode(make_ack(0, 101)));
 }
 
-TEST_CASE("Change Lock unlocks and locks; restart locks again") {
+TEST_CASE("Change Lock unlocks and locks, and a restart locks again") {
   SimulatedSensor sensor = sensor_101();
   unlock(sensor);
   CHECK(sensor.lock_level() == LockLevel::unlocked);
@@ -277,7 +277,7 @@ TEST_CASE("Set Filter Response changes the filter") {
   CHECK(sensor.filter() == 2);
 }
 
-TEST_CASE("zero offsets are subtracted; a temporary zero is lost on restart") {
+TEST_CASE("zero offsets are subtracted, and a temporary zero is lost on restart") {
   SimulatedSensor sensor = sensor_101();
   sensor.set_angles(10.0, -4.0);
   unlock(sensor);

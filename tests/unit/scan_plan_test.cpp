@@ -72,7 +72,7 @@ TEST_CASE("factory addresses outside the usual range are probed too, once, in or
   CHECK(*addresses == std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 900});
 }
 
-TEST_CASE("a range given probes exactly that range; a missing bound is the usual one") {
+TEST_CASE("a range given probes exactly that range, and a missing bound is the usual one") {
   auto range = scan_addresses(far_factory_protocol(), 3, 4);
   REQUIRE(range.has_value());
   CHECK(*range == std::vector<std::uint32_t>{3, 4});

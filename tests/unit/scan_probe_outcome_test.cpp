@@ -58,7 +58,7 @@ TEST_CASE("Rieker: the ACK with a broken CRC is a probable collision, not silenc
   CHECK_FALSE(result.address.has_value());
 }
 
-TEST_CASE("Rieker: nothing back is silence; a NAK still shows a sensor there") {
+TEST_CASE("Rieker: nothing back is silence, but a NAK still shows a sensor there") {
   auto silent = rieker_check_address(5);
   CHECK(rieker::probe_outcome(silent).outcome == ProbeOutcome::silent);
 
@@ -82,7 +82,7 @@ TEST_CASE("Rieker: the broadcast Get Address reply gives the sensor's own addres
   CHECK(result.address == 223u);
 }
 
-TEST_CASE("Dyna 9-bit: a number is a module; a line that is no number is a probable collision") {
+TEST_CASE("Dyna 9-bit: a number is a module, a line that is no number is a probable collision") {
   auto answered = dyna_read_sensor(spectron::Protocol::nine_bit, 3);
   REQUIRE(feed(*answered.line_request().framer, text_bytes("1234\r\n")));
   const ProbeResult result = spectron::probe_outcome(answered, 3, true);
@@ -97,7 +97,7 @@ TEST_CASE("Dyna 9-bit: a number is a module; a line that is no number is a proba
   CHECK(spectron::probe_outcome(silent, 3, false).outcome == ProbeOutcome::silent);
 }
 
-TEST_CASE("Dyna Modbus-ASCII: the module's reply is a module; a bad LRC is a probable collision") {
+TEST_CASE("Dyna Modbus-ASCII: the module's reply is a module, a bad LRC is a probable collision") {
   const auto reply = spectron::encode_text(
       spectron::make_ascii_word_reply(7, spectron::AsciiCommand::read_sensor, 1234));
   auto answered = dyna_read_sensor(spectron::Protocol::modbus_ascii, 7);
@@ -127,7 +127,7 @@ TEST_CASE("Modbus RTU: FC 17 without a profile, the profile's first block with o
         modbus_rtu::read_request(9, modbus_rtu::RegisterBank::holding, 100, 4)->frame);
 }
 
-TEST_CASE("Modbus RTU: an exception reply is a device there; a bad CRC a probable collision") {
+TEST_CASE("Modbus RTU: an exception reply is a device there, a bad CRC a probable collision") {
   auto request = modbus_rtu::probe_request(9, std::nullopt);
   REQUIRE(request.has_value());
   const auto exception = modbus_rtu::exception_frame(9, modbus_rtu::kReportServerId,

@@ -46,7 +46,7 @@ std::vector<std::uint16_t> alarms_over(const AlarmConfig& alarms, std::vector<do
 
 }  // namespace
 
-TEST_CASE("before the first reading nothing is valid; an unmounted reading passes through") {
+TEST_CASE("before the first reading nothing is valid, and an unmounted reading passes through") {
   SensorProcessing processing(MountingConfig{}, AlarmConfig{});
   CHECK_FALSE(processing.derived().valid);
   CHECK(std::isnan(processing.derived().angle_x));

@@ -66,7 +66,7 @@ void append(Bytes& to, const Bytes& more) { to.insert(to.end(), more.begin(), mo
 
 }  // namespace
 
-TEST_CASE("the parser yields a whole frame fed at once") {
+TEST_CASE("Modbus-ASCII: the parser yields a whole frame fed at once") {
   AsciiFrameParser parser;
   CHECK(parser.feed(bytes(kDocumentFrames[0].wire)) == 1);
   CHECK(parser.next() == AsciiFrame{2, 0x68, {0x00, 0x64, 0x01, 0x63}});

@@ -42,7 +42,7 @@ TEST_CASE("the note's reset example: address 00, 48 ('0'), CR, LF") {
   CHECK(command("0").command == NineBitCommand::reset);
 }
 
-TEST_CASE("the note's read sensor example: address 00, 65 ('A'), CR, LF; the unit returns 1001") {
+TEST_CASE("the note's read sensor example: address 00, 65 ('A'), CR, LF, the unit returns 1001") {
   const NineBitRequest read = nine_bit_read_sensor_request(0);
   CHECK(wire_bytes(read) == Bytes{0x00, 65, 0x0D, 0x0A});
   // "Unit Returns 1001": "10" "01" CR LF.
@@ -83,7 +83,7 @@ TEST_CASE("every delimiter the note allows is accepted both ways") {
         "the delimiter must be a space, ',', ':' or a tab");
 }
 
-TEST_CASE("the other commands are one character and CR LF; read EEPROM adds the location (A2)") {
+TEST_CASE("the other commands are one character and CR LF, read EEPROM adds the location (A2)") {
   CHECK(nine_bit_read_temperature_request(5).body == bytes("C\r\n"));
   CHECK(nine_bit_firmware_request(255).body == bytes("F\r\n"));
   CHECK(wire_bytes(nine_bit_firmware_request(255)).front() == 0xFF);
