@@ -10,19 +10,27 @@ namespace tiltgate {
 
 namespace {
 
+// `value` with `decimals` places; a value that rounds to zero is "0.000", never "-0.000" (what a
+// freshly zeroed sensor shows, and an engineer would take the sign for a reading).
+std::string fixed(double value, int decimals) {
+  std::string text = fmt::format("{:.{}f}", value, decimals);
+  if (text.front() == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
+  return text;
+}
+
 std::string or_dash(std::optional<double> value, int decimals) {
-  return value ? fmt::format("{:.{}f}", *value, decimals) : std::string("-");
+  return value ? fixed(*value, decimals) : std::string("-");
 }
 
 std::string or_dash(const std::string& text) { return text.empty() ? std::string("-") : text; }
 
 // "1.250 deg", or "-".
 std::string degrees_or_dash(std::optional<double> value) {
-  return value ? fmt::format("{:.3f} deg", *value) : std::string("-");
+  return value ? fixed(*value, 3) + " deg" : std::string("-");
 }
 
 std::string or_empty(std::optional<double> value) {
-  return value ? fmt::format("{:.4f}", *value) : std::string();
+  return value ? fixed(*value, 4) : std::string();
 }
 
 // RFC 4180: a field with a comma, quote or line break is quoted, its quotes doubled.

@@ -176,8 +176,8 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
     }
   }
   if (stopping) co_return 0;
-  std::cout << fmt::format("{} at address {}: acknowledged\n", fmt::join(arguments.words, " "),
-                           old_address);
+  std::cout << fmt::format("{}{} at address {}: acknowledged\n", fmt::join(arguments.words, " "),
+                           arguments.permanent ? " --permanent" : "", old_address);
   if (plan->new_address) {
     bus.address_changed(old_address, *plan->new_address);
     sensor.config.address = *plan->new_address;

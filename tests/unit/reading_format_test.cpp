@@ -151,3 +151,19 @@ TEST_CASE("info shows each fact on its own line, with a dash for a lock level th
   state.protection_level = 0;
   CHECK(sensor_info_text(223, "h6", state).find("lock level: 0\n") != std::string::npos);
 }
+
+TEST_CASE("a freshly zeroed sensor shows 0.000, not -0.000, in info, watch rows and the CSV") {
+  const SensorState state = answering(-0.0002, 0.0001, SteadyClock::now());
+  const std::string text = sensor_info_text(7, "h6", state);
+  CHECK(text.find("angle x:    0.000 deg\n") != std::string::npos);
+  CHECK(text.find("-0.000") == std::string::npos);
+  const SensorSnapshot row = snapshot_of(7, state, SteadyClock::now(), 1.0);
+  CHECK(words(watch_row(row)).at(2) == "0.000");
+  CHECK(fields(csv_line(kTime, snapshot_of(7, answering(-0.00004, 0, SteadyClock::now()),
+                                           SteadyClock::now(), 1.0)),
+               ',')
+            .at(3) == "0.0000");
+  // A real negative reading keeps its sign.
+  CHECK(sensor_info_text(7, "h6", answering(-0.0006, 0, SteadyClock::now())).find("angle x:    -0.001 deg") !=
+        std::string::npos);
+}
