@@ -79,6 +79,15 @@ TEST_CASE("set zero-here zeroes the sensor at its current angle") {
   CHECK(std::abs(info_value(set.out, "angle y")) < 0.6);
 }
 
+TEST_CASE("set zero-here --permanent says so when the sensor acknowledges it") {
+  SimulatorProcess sim({"rieker", "--sensors", "h6:223"});
+  const auto set = set_on(sim, {"--address", "223", "zero-here", "--permanent"});
+  INFO(set.out << set.err);
+  CHECK(set.exit_code == 0);
+  CHECK(has_line(set.out, "zero-here --permanent at address 223: acknowledged"));
+  CHECK(std::abs(info_value(set.out, "angle x")) < 0.6);
+}
+
 TEST_CASE("set shows a sensor's NAK with its meaning from the manual and exits 1") {
   // An H4360 told it is an H6: its Set Zero To Value on axis 2 gets NAK 2.
   SimulatorProcess sim({"rieker", "--sensors", "h4360:101"});
