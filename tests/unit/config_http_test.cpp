@@ -34,7 +34,7 @@ TEST_CASE("config: [http] mistakes are reported at their key") {
   expect_error("[http]\nprot = 80\n" + valid_plus(""), 2, "http.prot",
                "unknown key; did you mean \"port\"?");
   expect_error("http = 8080\n" + valid_plus(""), 1, "http",
-               "expected a table ([http]), got integer");
+               "expected a table ([http]), got an integer");
 }
 
 TEST_CASE("config: an unknown table close to [http] suggests it") {
