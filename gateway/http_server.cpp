@@ -46,16 +46,17 @@ HttpServer::HttpServer(asio::any_io_executor executor, StatusSource status,
 HttpServer::~HttpServer() = default;
 
 Expected<Done, std::string> HttpServer::start() {
-  if (acceptor_.is_open()) return Unexpected(std::string("HTTP server already started"));
+  if (acceptor_.is_open()) return Unexpected{std::string("HTTP server already started")};
   boost::system::error_code ec;
   const auto address = asio::ip::make_address(options_.listen, ec);
-  if (ec) return Unexpected(fmt::format("listen address '{}' is not an IP address", options_.listen));
+  if (ec)
+    return Unexpected{fmt::format("listen address '{}' is not an IP address", options_.listen)};
   const tcp::endpoint endpoint(address, options_.port);
   auto failed = [&](const char* step) {
     boost::system::error_code ignored;
     acceptor_.close(ignored);
-    return Unexpected(fmt::format("cannot {} HTTP {}:{}: {}", step, options_.listen,
-                                  options_.port, ec.message()));
+    return Unexpected{fmt::format("cannot {} HTTP {}:{}: {}", step, options_.listen,
+                                  options_.port, ec.message())};
   };
   acceptor_.open(endpoint.protocol(), ec);
   if (ec) return failed("open a socket for");
