@@ -33,6 +33,14 @@ struct ServerConfig {
   std::string control_socket = std::string(kDefaultControlSocket);
 };
 
+// The read-only HTTP status API and Prometheus metrics (gateway/http_server.h). Loopback by
+// default: it shows every sensor's identity and angles to whoever can reach it.
+struct HttpConfig {
+  bool enabled = true;
+  std::string listen = "127.0.0.1";
+  std::uint16_t port = 8080;
+};
+
 // The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to
 // 16 ms each way) on top of a sensor's own slowness.
 inline constexpr std::chrono::milliseconds kMinDefaultLateGuard{100};
@@ -110,6 +118,7 @@ struct SensorConfig {
 struct Config {
   std::string path;                 // the file it came from
   ServerConfig server;
+  HttpConfig http;
   std::vector<BusConfig> buses;
   std::vector<SensorConfig> sensors;
 };

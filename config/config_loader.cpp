@@ -25,10 +25,11 @@ namespace config {
 namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
-constexpr std::string_view kTopLevel = "[server], [[bus]] and [[sensor]]";
+constexpr std::string_view kTopLevel = "[server], [http], [[bus]] and [[sensor]]";
 
 std::string table_header(std::string_view name) {
-  return name == "server" ? "[server]" : fmt::format("[[{}]]", name);
+  return name == "server" || name == "http" ? fmt::format("[{}]", name)
+                                            : fmt::format("[[{}]]", name);
 }
 
 // [[bus]] and [[sensor]]: an array whose every element is a table.
@@ -55,7 +56,7 @@ void read_table_array(std::string_view name, const toml::key& key, const toml::n
 
 void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
   const bool is_table = node.is_table() || node.is_array_of_tables();
-  const std::vector<std::string> known{"server", "bus", "sensor"};
+  const std::vector<std::string> known{"server", "http", "bus", "sensor"};
   const std::string guess = closest_key(key.str(), known);
   std::string message = is_table ? "unknown table" : "unknown key at the top level";
   if (!guess.empty())
@@ -83,11 +84,12 @@ bool nothing_served(const toml::table& root) {
   return node == nullptr || (node->is_array() && node->as_array()->empty());
 }
 
-Config assemble(std::string path, ServerConfig server, std::vector<ParsedBus> buses,
-                std::vector<ParsedSensor> sensors) {
+Config assemble(std::string path, ServerConfig server, HttpConfig http,
+                std::vector<ParsedBus> buses, std::vector<ParsedSensor> sensors) {
   Config config;
   config.path = std::move(path);
   config.server = server;
+  config.http = std::move(http);
   for (ParsedBus& bus : buses) config.buses.push_back(std::move(bus.config));
   for (ParsedSensor& sensor : sensors) {
     sensor.config.address = std::uint32_t(sensor.address);  // range checked against its bus
@@ -113,6 +115,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   }
   ErrorList errors{std::string(source_name)};
   ServerConfig server;
+  HttpConfig http;
   std::vector<ParsedBus> buses;
   std::vector<ParsedSensor> sensors;
   for (auto&& [key, node] : root) {
@@ -122,6 +125,12 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
       else
         errors.add(place_of(key.source()), "server",
                    fmt::format("expected a table ([server]), got {}", type_name(node.type())));
+    } else if (key == "http") {
+      if (const toml::table* table = node.as_table())
+        http = read_http(*table, errors);
+      else
+        errors.add(place_of(key.source()), "http",
+                   fmt::format("expected a table ([http]), got {}", type_name(node.type())));
     } else if (key == "bus") {
       read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
         buses.push_back(read_bus(table, std::move(path), errors, families));
@@ -146,7 +155,8 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
     all.insert(all.end(), map_file_errors.begin(), map_file_errors.end());
     return Unexpected(std::move(all));
   }
-  return assemble(std::string(source_name), server, std::move(buses), std::move(sensors));
+  return assemble(std::string(source_name), server, std::move(http), std::move(buses),
+                  std::move(sensors));
 }
 
 Expected<Config, ConfigErrors> load_config_file(const std::string& path, FamilyList families) {

@@ -156,6 +156,23 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
   return server;
 }
 
+HttpConfig read_http(const toml::table& table, ErrorList& errors) {
+  TableReader in(table, "http", errors);
+  HttpConfig http;
+  if (auto enabled = in.boolean("enabled")) http.enabled = *enabled;
+  if (auto listen = in.string("listen")) {
+    if (is_ip_address(*listen))
+      http.listen = *listen;
+    else
+      in.error("listen", fmt::format("\"{}\" is not an IPv4 or IPv6 address, expected e.g. "
+                                     "\"127.0.0.1\", \"0.0.0.0\" or \"::\"",
+                                     *listen));
+  }
+  if (auto port = in.integer("port", 1, 65535)) http.port = std::uint16_t(*port);
+  in.reject_unknown_keys();
+  return http;
+}
+
 ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& errors,
                          FamilyList families) {
   TableReader in(table, std::move(path), errors);

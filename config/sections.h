@@ -1,4 +1,4 @@
-// Reading the three kinds of table: [server] and [[sensor]] (sections.cpp), [[bus]]
+// Reading the kinds of table: [server], [http] and [[sensor]] (sections.cpp), [[bus]]
 // (bus_section.cpp). Each is checked on its own (types, ranges, keys that depend on another key
 // of the same table); checks across tables are in config/cross_checks.h.
 #pragma once
@@ -31,6 +31,7 @@ struct ParsedSensor {
 };
 
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
+HttpConfig read_http(const toml::table& table, ErrorList& errors);
 // Protocols, bauds, addresses and models come from the families' descriptors.
 ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors,
                    FamilyList families);

@@ -18,6 +18,7 @@ int run_command(const std::string& config_path);
 struct DemoOptions {
   std::string listen = "127.0.0.1";
   std::uint16_t port = 1502;
+  std::uint16_t http_port = 8080;  // the HTTP status API and metrics, on `listen`; 0: off
 };
 int demo_command(const DemoOptions& options);
 

@@ -41,6 +41,9 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   config.server.listen = options.listen;
   config.server.port = options.port;
   config.server.writes = true;
+  config.http.enabled = options.http_port != 0;
+  config.http.listen = options.listen;
+  config.http.port = options.http_port;
   std::uint8_t unit = 1;
   for (std::size_t i = 0; i < families.size(); ++i) {
     const DemoBus& demo = families[i]->demo;

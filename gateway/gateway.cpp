@@ -58,6 +58,15 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     control_ = std::make_unique<ControlServer>(io_.get_executor(), config_.server.control_socket,
                                                std::move(served));
   }
+  start_seconds_ = std::chrono::duration<double>(
+                       std::chrono::system_clock::now().time_since_epoch()).count();
+  if (config_.http.enabled) {
+    HttpServerOptions http;
+    http.listen = config_.http.listen;
+    http.port = config_.http.port;
+    http_ = std::make_unique<HttpServer>(
+        io_.get_executor(), [this] { return status(SteadyClock::now()); }, http);
+  }
 }
 
 Gateway::~Gateway() = default;
@@ -87,6 +96,13 @@ Expected<Done, std::string> Gateway::start() {
     else
       spdlog::info("control socket {}", control_->path());
   }
+  if (http_) {
+    if (auto http = http_->start(); !http)
+      spdlog::warn("HTTP status API off: {}", http.error());
+    else
+      spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.http.listen,
+                   http_->local_port());
+  }
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
                buses_.size(), config_.server.listen, server_->local_port(),
                config_.server.writes ? ", writes enabled" : "");
@@ -96,6 +112,7 @@ Expected<Done, std::string> Gateway::start() {
 void Gateway::stop() {
   server_->stop();
   if (control_) control_->stop();
+  if (http_) http_->stop();
   for (Bus& bus : buses_) {
     bus.scheduler->stop();
     bus.line->stop();
@@ -103,6 +120,8 @@ void Gateway::stop() {
 }
 
 std::uint16_t Gateway::port() const { return server_->local_port(); }
+
+std::uint16_t Gateway::http_port() const { return http_ ? http_->local_port() : 0; }
 
 std::vector<UnitMap> Gateway::unit_maps() const {
   std::vector<UnitMap> units;

@@ -11,6 +11,8 @@
 #include "gateway/bus_scheduler.h"
 #include "gateway/control_server.h"
 #include "gateway/gateway_sensor.h"
+#include "gateway/gateway_status.h"
+#include "gateway/http_server.h"
 #include "gateway/modbus_tcp_server.h"
 #include "gateway/request_router.h"
 #include "mapping/map_export.h"
@@ -25,13 +27,17 @@ class Gateway {
   ~Gateway();
 
   // Opens the buses (a missing tty is not fatal: it is retried with back-off) and binds the
-  // Modbus server (fatal: the error says why). A control socket that cannot be had is only
-  // warned about: the PLC's service does not depend on it.
+  // Modbus server (fatal: the error says why). A control socket or an HTTP port that cannot
+  // be had is only warned about: the PLC's service does not depend on them.
   Expected<Done, std::string> start();
   void stop();
 
   std::uint16_t port() const;
   std::vector<UnitMap> unit_maps() const;
+  // Every sensor's and bus's state now, for the HTTP status API and metrics.
+  GatewayStatus status(SteadyClock::time_point now) const;
+  // The HTTP port bound; 0 when [http] is off or its port could not be bound.
+  std::uint16_t http_port() const;
   const std::vector<std::unique_ptr<GatewaySensor>>& sensors() const { return sensors_; }
 
  private:
@@ -50,6 +56,8 @@ class Gateway {
   RequestRouter router_;
   std::unique_ptr<ModbusTcpServer> server_;
   std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
+  std::unique_ptr<HttpServer> http_;        // none with [http] enabled = false
+  double start_seconds_ = 0;                // Unix time of construction
 };
 
 // Builds the register map a sensor serves: its model's built-in map, or the map its

@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   auto* demo = app.add_subcommand("demo", "serve built-in simulated sensors (writes enabled)");
   demo->add_option("--listen", demo_options.listen, "address to bind")->capture_default_str();
   demo->add_option("--port", demo_options.port, "Modbus TCP port")->capture_default_str();
+  demo->add_option("--http-port", demo_options.http_port,
+                   "HTTP status API and metrics port (0: off)")
+      ->capture_default_str();
 
   // Commissioning: the vendor's Windows apps, from an SSH session.
   tiltgate::BusOptions info_bus;

@@ -33,6 +33,7 @@ std::string section(const std::string& doc, const std::string& heading) {
 // Each kind of table the loader reads, and the heading of its section.
 const std::map<std::string, std::string> kSections{
     {"server", "## `[server]`"},
+    {"http", "## `[http]`"},
     {"bus", "## `[[bus]]`"},
     {"sensor", "## `[[sensor]]`"},
     {"sensor.mounting", "### `mounting`"},

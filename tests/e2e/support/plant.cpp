@@ -27,7 +27,7 @@ rieker::SimulatedSensorOptions sensor(rieker::Model model, std::uint16_t address
 
 }  // namespace
 
-Plant::Plant(bool writes, int max_clients) {
+Plant::Plant(bool writes, int max_clients, const std::string& more_config) {
   rieker::RiekerSimulatorOptions options;
   options.sensors = {sensor(rieker::Model::h6, 223, 1.5, -2.25, "962285"),
                      sensor(rieker::Model::h6, 224, 10.0, 20.0, "962286"),
@@ -77,7 +77,7 @@ address = 101
 unit_id = 3
 poll_ms = 50
 stale_ms = 1000
-)", port, max_clients, writes ? "true" : "false", options.link_path));
+)", port, max_clients, writes ? "true" : "false", options.link_path) + more_config);
   gateway = std::make_unique<GatewayProcess>(
       std::vector<std::string>{"--log-level", "debug", "run", "--config", config.string()}, dir.path());
   REQUIRE_MESSAGE(gateway->wait_listening(port), gateway->log());

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <string>
 
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/simulator_thread.h"
@@ -13,8 +14,9 @@
 namespace tiltgate::test {
 
 struct Plant {
-  // Starts the simulator and the gateway, and waits until the gateway listens.
-  explicit Plant(bool writes = true, int max_clients = 40);
+  // Starts the simulator and the gateway, and waits until the gateway listens. `more_config`
+  // is appended to its config file (e.g. an [http] table).
+  explicit Plant(bool writes = true, int max_clients = 40, const std::string& more_config = "");
 
   // Polls until unit's angles are readable (the first polls take a moment).
   bool wait_online(int unit, std::chrono::seconds limit = std::chrono::seconds(10));

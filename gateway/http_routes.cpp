@@ -1,0 +1,71 @@
+#include "gateway/http_routes.h"
+
+#include "gateway/status_json.h"
+#include "gateway/status_metrics.h"
+
+namespace tiltgate {
+
+namespace {
+
+constexpr std::string_view kJson = "application/json";
+constexpr std::string_view kSensorPrefix = "/api/sensors/";
+
+HttpReply text(unsigned status, std::string body) {
+  return HttpReply{status, "text/plain; charset=utf-8", std::move(body)};
+}
+
+HttpReply json(std::string body) { return HttpReply{200, std::string(kJson), std::move(body)}; }
+
+// %XX escapes decoded, so a sensor name may be asked for as a browser writes it. None when
+// an escape is malformed.
+std::optional<std::string> percent_decoded(std::string_view path) {
+  std::string out;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (path[i] != '%') {
+      out += path[i];
+      continue;
+    }
+    if (i + 2 >= path.size()) return std::nullopt;
+    auto hex = [](char c) -> int {
+      if (c >= '0' && c <= '9') return c - '0';
+      if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+      if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+      return -1;
+    };
+    const int high = hex(path[i + 1]);
+    const int low = hex(path[i + 2]);
+    if (high < 0 || low < 0) return std::nullopt;
+    out += char(high * 16 + low);
+    i += 2;
+  }
+  return out;
+}
+
+}  // namespace
+
+HttpReply route_http(std::string_view method, std::string_view target,
+                     const StatusSource& status) {
+  if (method != "GET" && method != "HEAD") {
+    HttpReply reply = text(405, "only GET: the status API is read-only\n");
+    reply.allow_get = true;
+    return reply;
+  }
+  const std::string_view path = target.substr(0, target.find('?'));
+  if (path == "/healthz") return text(200, "ok\n");
+  if (path == "/metrics")
+    return HttpReply{200, std::string(kMetricsContentType), metrics_text(status())};
+  if (path == "/api/sensors") return json(sensors_json(status().sensors));
+  if (path == "/api/buses") return json(buses_json(status().buses));
+  if (path.starts_with(kSensorPrefix)) {
+    const auto name = percent_decoded(path.substr(kSensorPrefix.size()));
+    if (name) {
+      for (const SensorStatus& sensor : status().sensors)
+        if (sensor.name == *name) return json(sensor_json(sensor));
+    }
+    return text(404, "no such sensor\n");
+  }
+  return text(404, "not found: the endpoints are /healthz, /api/sensors, /api/sensors/NAME, "
+                   "/api/buses and /metrics\n");
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,26 @@
+// What each HTTP request is answered with (README, "HTTP status API and metrics"). Pure: the
+// server (gateway/http_server.h) hands it the method and target, and a way to take the
+// gateway's status, which is taken only for the endpoints that show it.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include "gateway/gateway_status.h"
+
+namespace tiltgate {
+
+struct HttpReply {
+  unsigned status = 200;
+  std::string content_type = "text/plain; charset=utf-8";
+  std::string body;
+  bool allow_get = false;  // 405: the reply names GET as the one method allowed
+};
+
+using StatusSource = std::function<GatewayStatus()>;
+
+// GET (and HEAD) only: nothing can be changed over HTTP. The query string is ignored.
+HttpReply route_http(std::string_view method, std::string_view target, const StatusSource& status);
+
+}  // namespace tiltgate

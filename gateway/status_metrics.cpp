@@ -1,0 +1,103 @@
+#include "gateway/status_metrics.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace tiltgate {
+
+std::string metrics_label_value(std::string_view value) {
+  std::string out;
+  for (const char c : value) {
+    if (c == '\\') out += "\\\\";
+    else if (c == '"') out += "\\\"";
+    else if (c == '\n') out += "\\n";
+    else out += c;
+  }
+  return out;
+}
+
+std::string metrics_value(double value) {
+  if (std::isnan(value)) return "NaN";
+  if (std::isinf(value)) return value > 0 ? "+Inf" : "-Inf";
+  return fmt::format("{}", value);
+}
+
+namespace {
+
+// Builds one metric family at a time: its HELP and TYPE lines, then its samples.
+class Exposition {
+ public:
+  void family(std::string_view name, std::string_view type, std::string_view help) {
+    text_ += fmt::format("# HELP {} {}\n# TYPE {} {}\n", name, help, name, type);
+    name_ = name;
+  }
+  // `labels` as written between the braces, already escaped; empty for none.
+  void sample(const std::string& labels, double value) {
+    text_ += name_;
+    if (!labels.empty()) text_ += "{" + labels + "}";
+    text_ += " " + metrics_value(value) + "\n";
+  }
+  std::string take() { return std::move(text_); }
+
+ private:
+  std::string text_;
+  std::string_view name_;
+};
+
+std::string sensor_labels(const SensorStatus& s) {
+  return fmt::format("sensor=\"{}\",bus=\"{}\",unit=\"{}\"", metrics_label_value(s.name),
+                     metrics_label_value(s.bus), s.unit_id);
+}
+
+std::string bus_labels(const BusStatus& b) {
+  return fmt::format("bus=\"{}\"", metrics_label_value(b.name));
+}
+
+}  // namespace
+
+std::string metrics_text(const GatewayStatus& status) {
+  Exposition out;
+  out.family("tiltgate_angle_degrees", "gauge",
+             "Latest angle per axis in degrees, after mounting, as the register map serves it");
+  for (const SensorStatus& s : status.sensors) {
+    if (s.x) out.sample(sensor_labels(s) + ",axis=\"x\"", *s.x);
+    if (s.y) out.sample(sensor_labels(s) + ",axis=\"y\"", *s.y);
+  }
+  out.family("tiltgate_tilt_degrees", "gauge", "Latest tilt from vertical in degrees");
+  for (const SensorStatus& s : status.sensors)
+    if (s.tilt) out.sample(sensor_labels(s), *s.tilt);
+  out.family("tiltgate_sensor_online", "gauge",
+             "1 when the last exchange with the sensor got a valid reply, else 0");
+  for (const SensorStatus& s : status.sensors) out.sample(sensor_labels(s), s.online ? 1 : 0);
+  out.family("tiltgate_sensor_stale", "gauge",
+             "1 when the sensor has no reading newer than its stale_ms, else 0");
+  for (const SensorStatus& s : status.sensors) out.sample(sensor_labels(s), s.stale ? 1 : 0);
+  out.family("tiltgate_reading_age_seconds", "gauge",
+             "Seconds since the sensor's latest reading arrived");
+  for (const SensorStatus& s : status.sensors)
+    if (s.age_ms) out.sample(sensor_labels(s), double(*s.age_ms) / 1000.0);
+  out.family("tiltgate_alarm_flags", "gauge", "The sensor's alarm bits as the status register shows them");
+  for (const SensorStatus& s : status.sensors) out.sample(sensor_labels(s), s.alarms);
+  out.family("tiltgate_polls_total", "counter",
+             "Measurement polls of the sensor, by result: ok brought a reading, failed did not");
+  for (const SensorStatus& s : status.sensors) {
+    out.sample(sensor_labels(s) + ",result=\"ok\"", double(s.polls_ok));
+    out.sample(sensor_labels(s) + ",result=\"failed\"", double(s.polls_failed));
+  }
+  out.family("tiltgate_bus_polls_total", "counter", "Poll cycles run on the bus");
+  for (const BusStatus& b : status.buses) out.sample(bus_labels(b), double(b.polls));
+  out.family("tiltgate_bus_writes_total", "counter", "Setting writes carried out on the bus");
+  for (const BusStatus& b : status.buses) out.sample(bus_labels(b), double(b.writes));
+  out.family("tiltgate_bus_forwarded_total", "counter",
+             "Modbus requests passed through to a device on the bus and answered by it");
+  for (const BusStatus& b : status.buses) out.sample(bus_labels(b), double(b.forwarded));
+  out.family("tiltgate_modbus_clients", "gauge", "Modbus TCP connections open now");
+  out.sample("", double(status.modbus_clients));
+  out.family("tiltgate_process_start_time_seconds", "gauge",
+             "Start time of the gateway since the Unix epoch in seconds");
+  out.sample("", status.process_start_seconds);
+  return out.take();
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,174 @@
+// The status API's JSON and the /metrics text, built from a fixed GatewayStatus: fields and
+// their order, nulls where a value is missing, and escaping of names that need it.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "gateway/http_routes.h"
+#include "gateway/status_json.h"
+#include "gateway/status_metrics.h"
+
+using namespace tiltgate;
+
+namespace {
+
+SensorStatus boom() {
+  SensorStatus s;
+  s.name = "boom";
+  s.bus = "line1";
+  s.unit_id = 3;
+  s.address = 223;
+  s.model = "m1";
+  s.serial = "962285";
+  s.firmware = "1.2";
+  s.online = true;
+  s.stale = false;
+  s.x = 1.5;
+  s.y = -2.25;
+  s.tilt = 2.7;
+  s.age_ms = 40;
+  s.alarms = 5;
+  s.polls_ok = 10;
+  s.polls_failed = 2;
+  return s;
+}
+
+// A sensor that has never answered: every value it would have read is missing.
+SensorStatus silent(std::string name) {
+  SensorStatus s;
+  s.name = std::move(name);
+  s.bus = "line1";
+  s.unit_id = 4;
+  s.model = "m1";
+  return s;
+}
+
+GatewayStatus plant() {
+  GatewayStatus status;
+  status.sensors = {boom(), silent("mast")};
+  status.buses = {BusStatus{"line1", "/dev/ttyUSB0", 125000, "p1", 12, 1, 0}};
+  status.modbus_clients = 2;
+  status.process_start_seconds = 1700000000.5;
+  return status;
+}
+
+}  // namespace
+
+TEST_CASE("status JSON: a sensor with a reading shows every field") {
+  CHECK(sensor_json(boom()) ==
+        R"({"name":"boom","bus":"line1","unit_id":3,"address":223,"model":"m1",)"
+        R"("serial":"962285","firmware":"1.2","online":true,"stale":false,"x":1.5,"y":-2.25,)"
+        R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2})");
+}
+
+TEST_CASE("status JSON: missing angles and age are null, never NaN") {
+  SensorStatus single = boom();
+  single.y = std::nullopt;
+  CHECK(sensor_json(single).find(R"("x":1.5,"y":null,)") != std::string::npos);
+  const std::string none = sensor_json(silent("mast"));
+  CHECK(none.find(R"("x":null,"y":null,"tilt":null,"age_ms":null,)") != std::string::npos);
+  CHECK(none.find(R"("online":false,"stale":true,)") != std::string::npos);
+  CHECK(json_number(NAN) == "null");
+  CHECK(json_number(INFINITY) == "null");
+}
+
+TEST_CASE("status JSON: names are escaped as JSON strings") {
+  CHECK(json_string("a\"b\\c\nd\te\x01") == R"("a\"b\\c\nd\te\u0001")");
+  CHECK(json_string("Neigung °") == "\"Neigung °\"");
+}
+
+TEST_CASE("status JSON: the sensor and bus lists are arrays") {
+  CHECK(sensors_json({}) == "[]");
+  const std::string two = sensors_json(plant().sensors);
+  CHECK(two.front() == '[');
+  CHECK(two.find("},{\"name\":\"mast\"") != std::string::npos);
+  CHECK(buses_json(plant().buses) ==
+        R"([{"name":"line1","port":"/dev/ttyUSB0","baud":125000,"protocol":"p1","polls":12,)"
+        R"("writes":1,"forwarded":0}])");
+}
+
+TEST_CASE("metrics: label values escape backslash, quote and line feed") {
+  CHECK(metrics_label_value("a\\b\"c\nd") == "a\\\\b\\\"c\\nd");
+  GatewayStatus status = plant();
+  status.sensors[0].name = "odd\"name";
+  const std::string text = metrics_text(status);
+  CHECK(text.find(R"(tiltgate_sensor_online{sensor="odd\"name",bus="line1",unit="3"} 1)") !=
+        std::string::npos);
+}
+
+TEST_CASE("metrics: each sensor's angles, online, age and polls by result") {
+  const std::string text = metrics_text(plant());
+  const std::string labels = R"(sensor="boom",bus="line1",unit="3")";
+  CHECK(text.find("tiltgate_angle_degrees{" + labels + ",axis=\"x\"} 1.5\n") != std::string::npos);
+  CHECK(text.find("tiltgate_angle_degrees{" + labels + ",axis=\"y\"} -2.25\n") != std::string::npos);
+  CHECK(text.find("tiltgate_reading_age_seconds{" + labels + "} 0.04\n") != std::string::npos);
+  CHECK(text.find("tiltgate_polls_total{" + labels + ",result=\"ok\"} 10\n") != std::string::npos);
+  CHECK(text.find("tiltgate_polls_total{" + labels + ",result=\"failed\"} 2\n") != std::string::npos);
+  CHECK(text.find("tiltgate_bus_polls_total{bus=\"line1\"} 12\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_clients 2\n") != std::string::npos);
+  CHECK(text.find("tiltgate_process_start_time_seconds 1700000000.5\n") != std::string::npos);
+  // A sensor without a reading has no angle or age series (not NaN), but is offline.
+  CHECK(text.find("sensor=\"mast\",bus=\"line1\",unit=\"4\",axis") == std::string::npos);
+  CHECK(text.find("tiltgate_reading_age_seconds{sensor=\"mast\"") == std::string::npos);
+  CHECK(text.find("tiltgate_sensor_online{sensor=\"mast\",bus=\"line1\",unit=\"4\"} 0\n") !=
+        std::string::npos);
+}
+
+TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the 0.0.4 format") {
+  const std::regex help(R"(# HELP (tiltgate_[a-z_]+) .+)");
+  const std::regex type(R"(# TYPE (tiltgate_[a-z_]+) (gauge|counter))");
+  const std::regex sample(
+      R"((tiltgate_[a-z_]+)(\{([a-z_]+="([^"\\\n]|\\[\\"n])*")(,[a-z_]+="([^"\\\n]|\\[\\"n])*")*\})? )"
+      R"((-?[0-9.]+(e[-+]?[0-9]+)?|NaN|[+-]Inf))");
+  std::istringstream lines(metrics_text(plant()));
+  std::string line, helped, typed;
+  std::set<std::string> families;
+  int samples = 0;
+  while (std::getline(lines, line)) {
+    INFO(line);
+    std::smatch m;
+    if (std::regex_match(line, m, help)) {
+      helped = m[1];
+      CHECK(families.insert(helped).second);  // each family once
+    } else if (std::regex_match(line, m, type)) {
+      typed = m[1];
+      CHECK(typed == helped);
+      if (m[2] == "counter") CHECK(typed.ends_with("_total"));
+    } else {
+      REQUIRE(std::regex_match(line, m, sample));
+      CHECK(m[1] == typed);
+      ++samples;
+    }
+  }
+  CHECK(samples > 10);
+}
+
+TEST_CASE("HTTP routes: read-only, known endpoints only, unknown sensors 404") {
+  int taken = 0;
+  const StatusSource status = [&] {
+    ++taken;
+    return plant();
+  };
+  CHECK(route_http("GET", "/healthz", status).body == "ok\n");
+  CHECK(taken == 0);  // a health check does not copy the status
+  const HttpReply post = route_http("POST", "/api/sensors", status);
+  CHECK(post.status == 405);
+  CHECK(post.allow_get);
+  CHECK(route_http("PUT", "/healthz", status).status == 405);
+  CHECK(route_http("GET", "/nothing", status).status == 404);
+  CHECK(route_http("GET", "/api/sensors/nobody", status).status == 404);
+  const HttpReply one = route_http("GET", "/api/sensors/boom?x=1", status);
+  CHECK(one.status == 200);
+  CHECK(one.content_type == "application/json");
+  CHECK(one.body == sensor_json(boom()));
+  CHECK(route_http("GET", "/api/sensors/m%61st", status).body == sensor_json(silent("mast")));
+  CHECK(route_http("GET", "/api/sensors/m%6", status).status == 404);
+  CHECK(route_http("GET", "/api/buses", status).body == buses_json(plant().buses));
+  const HttpReply metrics = route_http("GET", "/metrics", status);
+  CHECK(metrics.content_type == kMetricsContentType);
+  CHECK(metrics.body == metrics_text(plant()));
+}
