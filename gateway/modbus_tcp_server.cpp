@@ -1,3 +1,4 @@
+#include "gateway/tcp_listen.h"
 #include "gateway/modbus_tcp_server.h"
 
 #include <boost/asio/co_spawn.hpp>
@@ -95,27 +96,9 @@ Expected<Done, std::string> ModbusTcpServer::start() {
   auto encoder = ModbusReplyEncoder::create();
   if (!encoder) return Unexpected("Modbus reply encoder: " + encoder.error());
 
-  boost::system::error_code ec;
-  const auto address = asio::ip::make_address(options_.listen, ec);
-  if (ec) {
-    return Unexpected(fmt::format("listen address '{}' is not an IP address", options_.listen));
-  }
-  const tcp::endpoint endpoint(address, options_.port);
-  auto failed = [&](const char* step) {
-    boost::system::error_code ignored;
-    acceptor_.close(ignored);
-    return Unexpected(fmt::format("cannot {} Modbus TCP {}:{}: {}", step, options_.listen,
-                                  options_.port, ec.message()));
-  };
-  acceptor_.open(endpoint.protocol(), ec);
-  if (ec) return failed("open a socket for");
-  // Lets a restarted gateway bind while old connections sit in TIME_WAIT.
-  acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
-  if (ec) return failed("configure");
-  acceptor_.bind(endpoint, ec);
-  if (ec) return failed("bind");
-  acceptor_.listen(asio::socket_base::max_listen_connections, ec);
-  if (ec) return failed("listen on");
+  if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP");
+      !listening)
+    return listening;
 
   encoder_ = std::move(*encoder);
   asio::co_spawn(executor_, accept_clients(), asio::detached);

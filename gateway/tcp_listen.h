@@ -1,0 +1,20 @@
+// Opening a TCP listener the way every server of the gateway does (Modbus TCP, HTTP): an IP
+// address literal and a port, SO_REUSEADDR, and one message naming the step that failed.
+#pragma once
+
+#include <boost/asio/ip/tcp.hpp>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "driver/expected.h"
+
+namespace tiltgate {
+
+// Binds and listens `acceptor` on `listen`:`port`; on failure it is left closed and the error
+// reads "cannot bind WHAT 127.0.0.1:502: Address already in use".
+Expected<Done, std::string> listen_on(boost::asio::ip::tcp::acceptor& acceptor,
+                                      const std::string& listen, std::uint16_t port,
+                                      std::string_view what);
+
+}  // namespace tiltgate
