@@ -10,12 +10,12 @@
 #include <cstring>
 #include <fmt/format.h>
 #include <istream>
-#include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include "gateway/control_socket_io.h"
 #include "serial/frame_trace.h"
 
 namespace tiltgate {
@@ -41,27 +41,6 @@ struct Fd {
   }
   int release() { return std::exchange(fd, -1); }
 };
-
-Expected<std::string, std::string> read_reply(int fd, Clock::time_point deadline) {
-  std::string line;
-  while (line.size() < control::kMaxLine) {
-    char c = 0;
-    const ssize_t n = ::recv(fd, &c, 1, 0);
-    if (n == 1) {
-      if (c == '\n') return line;
-      line += c;
-      continue;
-    }
-    if (n == 0) return Unexpected{std::string("the gateway closed the connection")};
-    if (errno == EINTR) continue;
-    if (errno != EAGAIN && errno != EWOULDBLOCK) return Unexpected{std::string(std::strerror(errno))};
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-    pollfd p{fd, POLLIN, 0};
-    if (left.count() <= 0 || ::poll(&p, 1, int(left.count())) <= 0)
-      return Unexpected{std::string("the gateway did not answer")};
-  }
-  return Unexpected{std::string("the gateway's answer is too long")};
-}
 
 }  // namespace
 
@@ -94,13 +73,14 @@ Expected<std::unique_ptr<RemoteLine>, RemoteLine::ConnectError> RemoteLine::conn
                     error == EACCES ? " (is your user in the socket's group?)" : "")}};
   }
   const Clock::time_point deadline = Clock::now() + timeout;
-  const std::string hello = control::format(control::CommandMessage{control::Hello{port}}) + "\n";
-  if (::send(socket.fd, hello.data(), hello.size(), MSG_NOSIGNAL) != ssize_t(hello.size()))
+  const std::string hello = control::format(control::CommandMessage{control::Hello{port}});
+  if (auto sent = control::send_line(socket.fd, hello, deadline); !sent)
     return Unexpected{ConnectError{
-        Kind::failed, fmt::format("{}: cannot talk to the gateway: {}", socket_path,
-                                  std::strerror(errno))}};
-  auto reply = read_reply(socket.fd, deadline);
-  if (!reply) return Unexpected{ConnectError{Kind::failed, socket_path + ": " + reply.error()}};
+        Kind::failed, fmt::format("{}: cannot talk to the gateway: {}", socket_path, sent.error())}};
+  auto reply = control::read_line(socket.fd, deadline);
+  if (!reply)
+    return Unexpected{ConnectError{
+        Kind::failed, fmt::format("{}: the gateway did not answer: {}", socket_path, reply.error())}};
   auto message = control::parse_gateway(*reply);
   if (message) {
     if (const auto* refused = std::get_if<control::Refused>(&*message))
