@@ -99,6 +99,20 @@ SteadyClock::time_point due_of(const PollSchedule& schedule,
   return held_until ? std::max(schedule.due, *held_until) : schedule.due;
 }
 
+// Adds the time from its construction to its destruction to `total`: wrapped around each
+// turn on the line, it sums the time the bus was busy.
+class BusyTime {
+ public:
+  explicit BusyTime(std::chrono::nanoseconds& total) : total_(total) {}
+  ~BusyTime() { total_ += SteadyClock::now() - started_; }
+  BusyTime(const BusyTime&) = delete;
+  BusyTime& operator=(const BusyTime&) = delete;
+
+ private:
+  std::chrono::nanoseconds& total_;
+  SteadyClock::time_point started_ = SteadyClock::now();
+};
+
 }  // namespace
 
 BusScheduler::Polled* BusScheduler::next_due() {
@@ -130,6 +144,7 @@ asio::awaitable<void> BusScheduler::run() {
     if (!writes_.empty()) {
       auto pending = writes_.front();
       writes_.pop_front();
+      const BusyTime busy(stats_.busy);
       co_await run_write(pending);
       continue;
     }
@@ -141,6 +156,7 @@ asio::awaitable<void> BusScheduler::run() {
     // Forwarded requests and due polls take turns: a client hammering a passed-through device
     // cannot starve the cached sensors, and a busy poll schedule cannot starve the client.
     if ((!forwards_.empty() || !commands_.empty()) && (!poll_due || !forwarded_last_)) {
+      const BusyTime busy(stats_.busy);
       co_await run_turn();
       forwarded_last_ = true;
       continue;
@@ -151,7 +167,10 @@ asio::awaitable<void> BusScheduler::run() {
       co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
-    co_await polled->sensor->driver->poll(line_);
+    {
+      const BusyTime busy(stats_.busy);
+      co_await polled->sensor->driver->poll(line_);
+    }
     ++stats_.polls;
     forwarded_last_ = false;
     process_new_reading(*polled->sensor);

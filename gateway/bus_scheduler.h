@@ -35,6 +35,9 @@ struct BusSchedulerStats {
   // Transactions of commissioning commands through the control socket.
   std::uint64_t command_exchanges = 0;  // carried out (whatever the line made of them)
   std::uint64_t command_exchanges_expired = 0;  // still queued at their deadline
+  // Time spent in polls, writes, forwarded requests and commands' transactions, waiting for
+  // replies and time-outs included: the share of the wire's time this bus uses.
+  std::chrono::nanoseconds busy{0};
 };
 
 // What a commissioning command's transaction through the control socket came to: the Line's

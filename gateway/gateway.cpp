@@ -2,6 +2,8 @@
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/use_awaitable.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -11,6 +13,8 @@
 
 namespace tiltgate {
 
+namespace asio = boost::asio;
+
 RegisterMap map_for(const SensorConfig& sensor) {
   return build_map(sensor.map, sensor.model, sensor.family_options.device_values());
 }
@@ -19,7 +23,8 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     : io_(io),
       config_(config),
       router_(RouterOptions{config.server.writes, config.server.word_order,
-                            config.server.write_timeout}) {
+                            config.server.write_timeout}),
+      sample_timer_(io.get_executor()) {
   for (const BusConfig& bus : config_.buses) {
     Bus b;
     SerialLineOptions options = serial_options_from(bus);
@@ -103,6 +108,7 @@ Expected<Done, std::string> Gateway::start() {
       spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.http.listen,
                    http_->local_port());
   }
+  boost::asio::co_spawn(io_, sample_counters(), boost::asio::detached);
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
                buses_.size(), config_.server.listen, server_->local_port(),
                config_.server.writes ? ", writes enabled" : "");
@@ -110,6 +116,8 @@ Expected<Done, std::string> Gateway::start() {
 }
 
 void Gateway::stop() {
+  stopping_ = true;
+  sample_timer_.cancel();
   server_->stop();
   if (control_) control_->stop();
   if (http_) http_->stop();
@@ -117,6 +125,31 @@ void Gateway::stop() {
     bus.scheduler->stop();
     bus.line->stop();
   }
+}
+
+asio::awaitable<void> Gateway::sample_counters() {
+  while (!stopping_) {
+    record_counters(SteadyClock::now());
+    sample_timer_.expires_after(std::chrono::seconds(1));
+    boost::system::error_code ec;
+    co_await sample_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+  }
+}
+
+void Gateway::record_counters(SteadyClock::time_point now) {
+  std::vector<double> polls;
+  for (const auto& sensor : sensors_) {
+    const SensorCounters& counters = sensor->driver->state().counters;
+    polls.push_back(double(counters.polls_ok) + double(counters.polls_failed));
+  }
+  sensor_poll_rates_.record(now, std::move(polls));
+  std::vector<double> buses;
+  for (const Bus& bus : buses_) {
+    const BusSchedulerStats& stats = bus.scheduler->stats();
+    buses.push_back(double(stats.polls));
+    buses.push_back(std::chrono::duration<double>(stats.busy).count());
+  }
+  bus_rates_.record(now, std::move(buses));
 }
 
 std::uint16_t Gateway::port() const { return server_->local_port(); }

@@ -2,7 +2,9 @@
 // validated Config and run on one io_context.
 #pragma once
 
+#include <boost/asio/awaitable.hpp>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <memory>
 #include <vector>
 
@@ -10,6 +12,7 @@
 #include "driver/expected.h"
 #include "gateway/bus_scheduler.h"
 #include "gateway/control_server.h"
+#include "gateway/counter_rates.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/gateway_status.h"
 #include "gateway/http_server.h"
@@ -48,6 +51,9 @@ class Gateway {
 
   // Routes the bus's pass_through unit ids to its scheduler.
   void pass_through(const BusConfig& bus, BusScheduler& scheduler);
+  // Samples the poll and busy counters once a second, for the rates status() shows.
+  boost::asio::awaitable<void> sample_counters();
+  void record_counters(SteadyClock::time_point now);
 
   boost::asio::io_context& io_;
   Config config_;
@@ -58,6 +64,10 @@ class Gateway {
   std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
   std::unique_ptr<HttpServer> http_;        // none with [http] enabled = false
   double start_seconds_ = 0;                // Unix time of construction
+  boost::asio::steady_timer sample_timer_;
+  bool stopping_ = false;
+  CounterRates sensor_poll_rates_;  // each sensor's polls, ok and failed
+  CounterRates bus_rates_;          // each bus's polls then its busy seconds
 };
 
 // Builds the register map a sensor serves: its model's built-in map, or the map its

@@ -1,4 +1,5 @@
 // Gateway::status(): the copy of the running state the HTTP status API shows.
+#include <algorithm>
 #include <cmath>
 
 #include "gateway/gateway.h"
@@ -10,6 +11,13 @@ namespace {
 std::optional<double> present(double value) {
   if (std::isnan(value)) return std::nullopt;
   return value;
+}
+
+// Rates are estimates over a few seconds: more digits than these would only be noise.
+// Division by the scale (not multiplication by a step) gives the double nearest the decimal.
+std::optional<double> rounded(std::optional<double> value, double scale) {
+  if (!value) return std::nullopt;
+  return std::round(*value * scale) / scale;
 }
 
 SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point now) {
@@ -25,6 +33,13 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.online = state.online;
   s.polls_ok = state.counters.polls_ok;
   s.polls_failed = state.counters.polls_failed;
+  s.timeouts = state.counters.timeouts;
+  s.checksum_errors = state.counters.checksum_errors;
+  s.io_errors = state.counters.io_errors;
+  s.late_replies = state.counters.late_replies;
+  for (std::size_t code = 0; code < state.counters.refusals.size(); ++code)
+    if (state.counters.refusals[code] > 0)
+      s.refusals.emplace_back(std::uint8_t(code), state.counters.refusals[code]);
   if (state.reading) {
     const auto age = std::chrono::duration_cast<std::chrono::milliseconds>(now - state.reading->taken);
     s.age_ms = age.count();
@@ -48,14 +63,35 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
 
 GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   GatewayStatus status;
-  for (const auto& sensor : sensors_) status.sensors.push_back(sensor_status(*sensor, now));
+  for (std::size_t i = 0; i < sensors_.size(); ++i) {
+    status.sensors.push_back(sensor_status(*sensors_[i], now));
+    status.sensors.back().polls_per_s = rounded(sensor_poll_rates_.rate(i), 100);
+  }
   for (std::size_t i = 0; i < buses_.size(); ++i) {
     const BusConfig& config = config_.buses[i];
     const BusSchedulerStats& stats = buses_[i].scheduler->stats();
-    status.buses.push_back(BusStatus{config.name, config.port, config.baud, config.protocol,
-                                     stats.polls, stats.writes, stats.forwarded});
+    BusStatus bus;
+    bus.name = config.name;
+    bus.port = config.port;
+    bus.baud = config.baud;
+    bus.protocol = config.protocol;
+    bus.polls = stats.polls;
+    bus.writes = stats.writes;
+    bus.forwarded = stats.forwarded;
+    bus.busy_seconds = std::chrono::duration<double>(stats.busy).count();
+    bus.polls_per_s = rounded(bus_rates_.rate(2 * i), 100);
+    // A turn that ran across the sample instant counts wholly in the later sample, so a busy
+    // share can come out a little over 1 for a moment.
+    if (const auto busy = rounded(bus_rates_.rate(2 * i + 1), 1000))
+      bus.utilisation = std::min(*busy, 1.0);
+    status.buses.push_back(std::move(bus));
   }
+  const ModbusServerStats server = server_->stats();
   status.modbus_clients = server_->client_count();
+  status.modbus_connections = server.accepted;
+  status.modbus_connections_refused = server.refused;
+  status.modbus_requests = server_->request_counts().requests();
+  status.modbus_exceptions = server_->request_counts().exceptions();
   status.process_start_seconds = start_seconds_;
   return status;
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tiltgate {
@@ -29,6 +30,17 @@ struct SensorStatus {
   std::uint16_t alarms = 0;            // mapping/derived_state.h alarm_bit flags
   std::uint64_t polls_ok = 0;
   std::uint64_t polls_failed = 0;
+  // Measurement polls (ok and failed) per second over the last few seconds; none until the
+  // gateway has counted for a while.
+  std::optional<double> polls_per_s;
+  // Why exchanges with the sensor failed (driver/sensor_state.h SensorCounters). A failed poll
+  // can count under several: a time-out after a checksum error, say.
+  std::uint64_t timeouts = 0;         // no valid reply in time
+  std::uint64_t checksum_errors = 0;  // a reply dropped for its CRC or LRC
+  std::uint64_t io_errors = 0;        // the port failed or was closed
+  std::uint64_t late_replies = 0;     // answers after the time-out, discarded
+  // Requests the sensor refused (NAK), by its protocol's refusal code; only codes seen.
+  std::vector<std::pair<std::uint8_t, std::uint64_t>> refusals;
 };
 
 struct BusStatus {
@@ -39,12 +51,35 @@ struct BusStatus {
   std::uint64_t polls = 0;
   std::uint64_t writes = 0;
   std::uint64_t forwarded = 0;
+  // Seconds the bus spent in transactions (polls, writes, forwarded requests, commands),
+  // waiting for replies and time-outs included: the wire's time this bus has used.
+  double busy_seconds = 0;
+  // Over the last few seconds: sensor polls per second, and the share of the time the bus
+  // was busy (0..1; 1 = the bus runs flat out and cannot poll faster). None until counted.
+  std::optional<double> polls_per_s;
+  std::optional<double> utilisation;
+};
+
+// Modbus TCP requests answered, by function code, and those answered with an exception, by
+// function and exception code (gateway/modbus_request_counts.h).
+struct ModbusFunctionCount {
+  std::uint8_t function = 0;
+  std::uint64_t count = 0;
+};
+struct ModbusExceptionCount {
+  std::uint8_t function = 0;
+  std::uint8_t exception = 0;
+  std::uint64_t count = 0;
 };
 
 struct GatewayStatus {
   std::vector<SensorStatus> sensors;
   std::vector<BusStatus> buses;
   std::size_t modbus_clients = 0;      // Modbus TCP connections open now
+  std::uint64_t modbus_connections = 0;          // accepted since start
+  std::uint64_t modbus_connections_refused = 0;  // closed at once: max_clients reached
+  std::vector<ModbusFunctionCount> modbus_requests;
+  std::vector<ModbusExceptionCount> modbus_exceptions;
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
 };
 

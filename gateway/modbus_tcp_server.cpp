@@ -241,6 +241,7 @@ asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std
 
 asio::awaitable<bool> ModbusTcpServer::send(Connection& c, const std::vector<std::uint8_t>& reply) {
   if (c.closed) co_return false;  // stop() while the handler worked
+  request_counts_.note_reply(reply);
   c.expect(Wait::reply, Clock::now() + options_.request_timeout);
   boost::system::error_code ec;
   co_await asio::async_write(c.socket, asio::buffer(reply),

@@ -18,6 +18,7 @@
 
 #include "driver/expected.h"
 #include "gateway/log_throttle.h"
+#include "gateway/modbus_request_counts.h"
 #include "gateway/modbus_types.h"
 
 namespace tiltgate {
@@ -66,6 +67,7 @@ class ModbusTcpServer {
 
   std::size_t client_count() const { return connections_.size(); }
   ModbusServerStats stats() const;
+  const ModbusRequestCounts& request_counts() const { return request_counts_; }
 
  private:
   struct Connection;
@@ -95,6 +97,7 @@ class ModbusTcpServer {
   std::unique_ptr<ModbusReplyEncoder> encoder_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   ModbusServerStats stats_;
+  ModbusRequestCounts request_counts_;
   bool refusing_ = false;  // warn once per burst of refused clients
   LogThrottle problem_log_;
   boost::asio::steady_timer summary_timer_;  // wakes summarize_suppressed()

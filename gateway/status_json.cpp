@@ -47,17 +47,30 @@ std::string json_array(const std::vector<Item>& items, Write write) {
   return out + "]";
 }
 
+// {"3":2,"5":1}: refusals by their protocol's code.
+std::string naks_json(const std::vector<std::pair<std::uint8_t, std::uint64_t>>& refusals) {
+  std::string out = "{";
+  for (std::size_t i = 0; i < refusals.size(); ++i) {
+    if (i > 0) out += ",";
+    out += fmt::format("\"{}\":{}", refusals[i].first, refusals[i].second);
+  }
+  return out + "}";
+}
+
 }  // namespace
 
 std::string sensor_json(const SensorStatus& s) {
   return fmt::format(
       "{{\"name\":{},\"bus\":{},\"unit_id\":{},\"address\":{},\"model\":{},\"serial\":{},"
       "\"firmware\":{},\"online\":{},\"stale\":{},\"x\":{},\"y\":{},\"tilt\":{},\"age_ms\":{},"
-      "\"alarms\":{},\"polls_ok\":{},\"polls_failed\":{}}}",
+      "\"alarms\":{},\"polls_ok\":{},\"polls_failed\":{},\"polls_per_s\":{},"
+      "\"failures\":{{\"timeout\":{},\"checksum\":{},\"io_error\":{},\"late_reply\":{}}},"
+      "\"naks\":{}}}",
       json_string(s.name), json_string(s.bus), s.unit_id, s.address, json_string(s.model),
       json_string(s.serial), json_string(s.firmware), s.online, s.stale, json_number(s.x),
       json_number(s.y), json_number(s.tilt), json_integer(s.age_ms), s.alarms, s.polls_ok,
-      s.polls_failed);
+      s.polls_failed, json_number(s.polls_per_s), s.timeouts, s.checksum_errors, s.io_errors,
+      s.late_replies, naks_json(s.refusals));
 }
 
 std::string sensors_json(const std::vector<SensorStatus>& sensors) {
@@ -68,9 +81,10 @@ std::string buses_json(const std::vector<BusStatus>& buses) {
   return json_array(buses, [](const BusStatus& b) {
     return fmt::format(
         "{{\"name\":{},\"port\":{},\"baud\":{},\"protocol\":{},\"polls\":{},\"writes\":{},"
-        "\"forwarded\":{}}}",
+        "\"forwarded\":{},\"busy_seconds\":{},\"polls_per_s\":{},\"utilisation\":{}}}",
         json_string(b.name), json_string(b.port), b.baud, json_string(b.protocol), b.polls,
-        b.writes, b.forwarded);
+        b.writes, b.forwarded, json_number(b.busy_seconds), json_number(b.polls_per_s),
+        json_number(b.utilisation));
   });
 }
 

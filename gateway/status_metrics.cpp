@@ -85,15 +85,53 @@ std::string metrics_text(const GatewayStatus& status) {
     out.sample(sensor_labels(s) + ",result=\"ok\"", double(s.polls_ok));
     out.sample(sensor_labels(s) + ",result=\"failed\"", double(s.polls_failed));
   }
-  out.family("tiltgate_bus_polls_total", "counter", "Poll cycles run on the bus");
+  out.family("tiltgate_sensor_failures_total", "counter",
+             "Failed exchanges with the sensor by reason: timeout (no valid reply in time), "
+             "checksum (a reply dropped for its CRC or LRC), io_error (the port failed)");
+  for (const SensorStatus& s : status.sensors) {
+    out.sample(sensor_labels(s) + ",reason=\"timeout\"", double(s.timeouts));
+    out.sample(sensor_labels(s) + ",reason=\"checksum\"", double(s.checksum_errors));
+    out.sample(sensor_labels(s) + ",reason=\"io_error\"", double(s.io_errors));
+  }
+  out.family("tiltgate_sensor_late_replies_total", "counter",
+             "Replies that arrived after the reply time-out and were discarded");
+  for (const SensorStatus& s : status.sensors) out.sample(sensor_labels(s), double(s.late_replies));
+  out.family("tiltgate_sensor_naks_total", "counter",
+             "Requests the sensor refused, by the refusal code of its protocol");
+  for (const SensorStatus& s : status.sensors)
+    for (const auto& [code, count] : s.refusals)
+      out.sample(sensor_labels(s) + fmt::format(",code=\"{}\"", code), double(count));
+  out.family("tiltgate_bus_polls_total", "counter", "Sensor polls run on the bus");
   for (const BusStatus& b : status.buses) out.sample(bus_labels(b), double(b.polls));
   out.family("tiltgate_bus_writes_total", "counter", "Setting writes carried out on the bus");
   for (const BusStatus& b : status.buses) out.sample(bus_labels(b), double(b.writes));
   out.family("tiltgate_bus_forwarded_total", "counter",
              "Modbus requests passed through to a device on the bus and answered by it");
   for (const BusStatus& b : status.buses) out.sample(bus_labels(b), double(b.forwarded));
+  out.family("tiltgate_bus_busy_seconds_total", "counter",
+             "Seconds the bus spent in transactions, waiting for replies and time-outs "
+             "included; its rate is the share of the wire's time the bus uses");
+  for (const BusStatus& b : status.buses) out.sample(bus_labels(b), b.busy_seconds);
+  out.family("tiltgate_bus_utilisation_ratio", "gauge",
+             "Share of the last seconds the bus was busy, 0 to 1 (1: it cannot poll faster)");
+  for (const BusStatus& b : status.buses)
+    if (b.utilisation) out.sample(bus_labels(b), *b.utilisation);
   out.family("tiltgate_modbus_clients", "gauge", "Modbus TCP connections open now");
   out.sample("", double(status.modbus_clients));
+  out.family("tiltgate_modbus_connections_total", "counter", "Modbus TCP connections accepted");
+  out.sample("", double(status.modbus_connections));
+  out.family("tiltgate_modbus_connections_refused_total", "counter",
+             "Modbus TCP connections closed at once because max_clients were connected");
+  out.sample("", double(status.modbus_connections_refused));
+  out.family("tiltgate_modbus_requests_total", "counter",
+             "Modbus TCP requests answered, by function code (two hex digits)");
+  for (const ModbusFunctionCount& f : status.modbus_requests)
+    out.sample(fmt::format("function=\"{:02X}\"", f.function), double(f.count));
+  out.family("tiltgate_modbus_exceptions_total", "counter",
+             "Modbus TCP requests answered with an exception, by function and exception code");
+  for (const ModbusExceptionCount& e : status.modbus_exceptions)
+    out.sample(fmt::format("function=\"{:02X}\",code=\"{:02X}\"", e.function, e.exception),
+               double(e.count));
   out.family("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds");
   out.sample("", status.process_start_seconds);

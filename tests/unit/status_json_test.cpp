@@ -34,6 +34,11 @@ SensorStatus boom() {
   s.alarms = 5;
   s.polls_ok = 10;
   s.polls_failed = 2;
+  s.polls_per_s = 4.5;
+  s.timeouts = 3;
+  s.checksum_errors = 1;
+  s.late_replies = 4;
+  s.refusals = {{3, 2}, {5, 1}};
   return s;
 }
 
@@ -47,11 +52,29 @@ SensorStatus silent(std::string name) {
   return s;
 }
 
+BusStatus bus(std::string name, std::string port, std::uint32_t baud) {
+  BusStatus b;
+  b.name = std::move(name);
+  b.port = std::move(port);
+  b.baud = baud;
+  b.protocol = "p1";
+  return b;
+}
+
 GatewayStatus plant() {
   GatewayStatus status;
   status.sensors = {boom(), silent("mast")};
-  status.buses = {BusStatus{"line1", "/dev/ttyUSB0", 125000, "p1", 12, 1, 0}};
+  status.buses = {bus("line1", "/dev/ttyUSB0", 125000)};
+  status.buses[0].polls = 12;
+  status.buses[0].writes = 1;
+  status.buses[0].busy_seconds = 1.25;
+  status.buses[0].polls_per_s = 9.5;
+  status.buses[0].utilisation = 0.5;
   status.modbus_clients = 2;
+  status.modbus_connections = 6;
+  status.modbus_connections_refused = 1;
+  status.modbus_requests = {{0x03, 7}, {0x2B, 1}};
+  status.modbus_exceptions = {{0x03, 0x02, 1}};
   status.process_start_seconds = 1700000000.5;
   return status;
 }
@@ -62,7 +85,9 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
   CHECK(sensor_json(boom()) ==
         R"({"name":"boom","bus":"line1","unit_id":3,"address":223,"model":"m1",)"
         R"("serial":"962285","firmware":"1.2","online":true,"stale":false,"x":1.5,"y":-2.25,)"
-        R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2})");
+        R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
+        R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
+        R"("naks":{"3":2,"5":1}})");
 }
 
 TEST_CASE("status JSON: missing angles and age are null, never NaN") {
@@ -72,6 +97,8 @@ TEST_CASE("status JSON: missing angles and age are null, never NaN") {
   const std::string none = sensor_json(silent("mast"));
   CHECK(none.find(R"("x":null,"y":null,"tilt":null,"age_ms":null,)") != std::string::npos);
   CHECK(none.find(R"("online":false,"stale":true,)") != std::string::npos);
+  CHECK(none.find(R"("polls_per_s":null,)") != std::string::npos);
+  CHECK(none.find(R"("naks":{})") != std::string::npos);
   CHECK(json_number(NAN) == "null");
   CHECK(json_number(INFINITY) == "null");
 }
@@ -88,7 +115,8 @@ TEST_CASE("status JSON: the sensor and bus lists are arrays") {
   CHECK(two.find("},{\"name\":\"mast\"") != std::string::npos);
   CHECK(buses_json(plant().buses) ==
         R"([{"name":"line1","port":"/dev/ttyUSB0","baud":125000,"protocol":"p1","polls":12,)"
-        R"("writes":1,"forwarded":0}])");
+        R"("writes":1,"forwarded":0,"busy_seconds":1.25,"polls_per_s":9.5,"utilisation":0.5}])");
+  CHECK(buses_json({bus("line2", "/dev/ttyUSB1", 9600)}).find(R"("polls_per_s":null,"utilisation":null})") != std::string::npos);
 }
 
 TEST_CASE("metrics: label values escape backslash, quote and line feed") {
@@ -116,6 +144,30 @@ TEST_CASE("metrics: each sensor's angles, online, age and polls by result") {
   CHECK(text.find("tiltgate_reading_age_seconds{sensor=\"mast\"") == std::string::npos);
   CHECK(text.find("tiltgate_sensor_online{sensor=\"mast\",bus=\"line1\",unit=\"4\"} 0\n") !=
         std::string::npos);
+}
+
+TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus requests by function") {
+  const std::string text = metrics_text(plant());
+  const std::string labels = R"(sensor="boom",bus="line1",unit="3")";
+  CHECK(text.find("tiltgate_sensor_failures_total{" + labels + ",reason=\"timeout\"} 3\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_failures_total{" + labels + ",reason=\"checksum\"} 1\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_failures_total{" + labels + ",reason=\"io_error\"} 0\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_late_replies_total{" + labels + "} 4\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sensor_naks_total{" + labels + ",code=\"3\"} 2\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sensor_naks_total{" + labels + ",code=\"5\"} 1\n") != std::string::npos);
+  // Only codes seen: the silent sensor has no NAK series.
+  CHECK(text.find("tiltgate_sensor_naks_total{sensor=\"mast\"") == std::string::npos);
+  CHECK(text.find("tiltgate_bus_busy_seconds_total{bus=\"line1\"} 1.25\n") != std::string::npos);
+  CHECK(text.find("tiltgate_bus_utilisation_ratio{bus=\"line1\"} 0.5\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_requests_total{function=\"03\"} 7\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_requests_total{function=\"2B\"} 1\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_exceptions_total{function=\"03\",code=\"02\"} 1\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_modbus_connections_total 6\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_connections_refused_total 1\n") != std::string::npos);
 }
 
 TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the 0.0.4 format") {

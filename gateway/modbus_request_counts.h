@@ -1,0 +1,31 @@
+// How many Modbus TCP requests the server answered, by function code, and how many of those
+// answers were exceptions, by function and exception code: the /metrics families
+// tiltgate_modbus_requests_total and tiltgate_modbus_exceptions_total. Counted from the reply
+// sent, so requests answered by the parser, the register maps or a passed-through device all
+// count the same way.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <span>
+#include <vector>
+
+#include "gateway/gateway_status.h"
+
+namespace tiltgate {
+
+class ModbusRequestCounts {
+ public:
+  // `reply` is a whole Modbus TCP ADU (MBAP header, function, data); shorter ones are ignored.
+  void note_reply(std::span<const std::uint8_t> reply);
+
+  std::vector<ModbusFunctionCount> requests() const;     // functions seen, in code order
+  std::vector<ModbusExceptionCount> exceptions() const;  // (function, code) seen, in order
+
+ private:
+  std::array<std::uint64_t, 128> by_function_{};
+  std::map<std::pair<std::uint8_t, std::uint8_t>, std::uint64_t> exceptions_;
+};
+
+}  // namespace tiltgate
