@@ -1,13 +1,20 @@
 // Reading a whole text file (a configuration or a map file), with the reason when it cannot be.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "driver/expected.h"
 
 namespace tiltgate::config {
 
-// The file's contents, or why not: "is a directory, expected a file", "cannot open: ...".
+// No configuration, map or profile comes near this; /dev/zero or a log file given by mistake
+// would otherwise be read until memory runs out.
+inline constexpr std::size_t kMaxTextFileBytes = 1024 * 1024;
+
+// The contents of a regular file of at most kMaxTextFileBytes, or why not: "is a directory,
+// expected a regular file", "is a FIFO, ...", "is 2097152 bytes, more than ...", "cannot
+// open: ...". Never blocks: a FIFO is refused, not waited on.
 Expected<std::string, std::string> read_text_file(const std::string& path);
 
 }  // namespace tiltgate::config

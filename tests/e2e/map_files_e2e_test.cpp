@@ -2,6 +2,7 @@
 // word/byte orders, a float64, scaled integers, bits, and a write through a scaled point.
 #include <doctest/doctest.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
 
 #include <bit>
 #include <cstring>
@@ -244,4 +245,25 @@ TEST_CASE("map file: check reports key errors and map problems together, in one 
         std::string::npos);
   CHECK(checked.err.find(map + ":19:1: point[2].scael: unknown key") != std::string::npos);
   CHECK(checked.err.find("3 error(s)") != std::string::npos);
+}
+
+TEST_CASE("bounded input: check and run refuse /dev/zero and a FIFO as config or map at once") {
+  TempDir dir;
+  auto zero = run_tiltgate({"check", "--config", "/dev/zero"});
+  CHECK(zero.exit_code == 1);
+  CHECK(zero.err.find("/dev/zero: is a character device, expected a regular file") !=
+        std::string::npos);
+  const std::string fifo = (dir.path() / "plant.fifo").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  auto waited = run_tiltgate({"run", "--config", fifo});
+  CHECK(waited.exit_code == 1);
+  CHECK(waited.err.find("is a FIFO, expected a regular file") != std::string::npos);
+  const auto config = dir.write("plant.toml",
+                                "[[bus]]\nname = \"line1\"\nport = \"/dev/ttyUSB0\"\n[[sensor]]\n"
+                                "name = \"boom\"\nbus = \"line1\"\nmodel = \"h6\"\naddress = 223\n"
+                                "unit_id = 1\nmap = \"/dev/zero\"\n");
+  auto map = run_tiltgate({"check", "--config", config.string()});
+  CHECK(map.exit_code == 1);
+  INFO(map.err);
+  CHECK(map.err.find("is a character device, expected a regular file") != std::string::npos);
 }
