@@ -7,8 +7,11 @@
 
 namespace tiltgate {
 
+// The constructor makes Unexpected(x) valid for every compiler: without one it is a
+// parenthesised aggregate initialisation, which clang 14 does not implement.
 template <class E>
 struct Unexpected {
+  explicit Unexpected(E e) : error(std::move(e)) {}
   E error;
 };
 template <class E>
