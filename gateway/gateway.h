@@ -2,7 +2,9 @@
 // validated Config and run on one io_context.
 #pragma once
 
+#include <boost/asio/awaitable.hpp>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <memory>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include "gateway/control_server.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/gateway_status.h"
+#include "gateway/history_recorder.h"
 #include "gateway/http_server.h"
 #include "gateway/modbus_tcp_server.h"
 #include "gateway/request_router.h"
@@ -48,6 +51,8 @@ class Gateway {
 
   // Routes the bus's pass_through unit ids to its scheduler.
   void pass_through(const BusConfig& bus, BusScheduler& scheduler);
+  // Every [http] history_interval_ms: each sensor's angles into its history ring.
+  boost::asio::awaitable<void> record_history();
 
   boost::asio::io_context& io_;
   Config config_;
@@ -57,6 +62,9 @@ class Gateway {
   std::unique_ptr<ModbusTcpServer> server_;
   std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
   std::unique_ptr<HttpServer> http_;        // none with [http] enabled = false
+  std::unique_ptr<HistoryRecorder> history_;  // the status page's graphs; none without http_
+  boost::asio::steady_timer history_timer_;
+  bool stopped_ = false;
   double start_seconds_ = 0;                // Unix time of construction
 };
 
