@@ -27,7 +27,7 @@ done
 
 /usr/bin/python3 "$here/support/chromium_page.py" check "http://127.0.0.1:$http_port/" "$demo"
 result=$?
-wait "$demo" 2>/dev/null  # killed by the check
+{ wait "$demo"; } 2>/dev/null  # killed by the check
 if [ $result -eq 0 ]; then
   echo "1 passed, 0 failed"
 else

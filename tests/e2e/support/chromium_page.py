@@ -159,9 +159,9 @@ def check(url, gateway_pid):
             page = all_angles()
             time.sleep(0.2)
         if not page:
-            failures.append("not every sensor shows an angle: %s" % browser.evaluate(PAGE_STATE))
-        else:
-            print("page: %d sensor cards with angles, %d updates" % (len(page["cards"]), page["updates"]))
+            print("FAIL: not every sensor shows an angle: %s" % browser.evaluate(PAGE_STATE))
+            return 1
+        print("page: %d sensor cards with angles, %d updates" % (len(page["cards"]), page["updates"]))
         # ...and they change while the page stays open: every card whose sensor's angles moved
         # in the API meanwhile counted a change of its own (a simulated sensor with a fixed
         # angle cannot), and the page updated itself.
