@@ -39,7 +39,15 @@ struct HttpConfig {
   bool enabled = true;
   std::string listen = "127.0.0.1";
   std::uint16_t port = 8080;
+  // The status page's graph: each sensor's angles sampled every history_interval, kept for
+  // history_seconds (gateway/angle_history.h).
+  std::chrono::seconds history_seconds{600};
+  std::chrono::milliseconds history_interval{1000};
 };
+
+// The most samples a sensor's history ring may hold: 600 x 16 bytes, so even 480 sensors keep
+// their history in under 5 MB.
+inline constexpr std::int64_t kMaxHistorySamples = 600;
 
 // The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to
 // 16 ms each way) on top of a sensor's own slowness.

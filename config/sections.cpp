@@ -169,6 +169,24 @@ HttpConfig read_http(const toml::table& table, ErrorList& errors) {
                                      *listen));
   }
   if (auto port = in.integer("port", 1, 65535)) http.port = std::uint16_t(*port);
+  if (auto seconds = in.integer("history_seconds", 10, 86400))
+    http.history_seconds = std::chrono::seconds(*seconds);
+  if (auto interval = in.integer("history_interval_ms", 100, 60000))
+    http.history_interval = std::chrono::milliseconds(*interval);
+  // The ring's size is fixed memory per sensor: bounded so a large plant stays a few MB.
+  const auto samples = std::chrono::milliseconds(http.history_seconds).count() /
+                       http.history_interval.count();
+  if (samples > kMaxHistorySamples)
+    in.error(in.has("history_seconds") ? "history_seconds" : "history_interval_ms",
+             fmt::format("{} s of history every {} ms is {} samples per sensor, expected at most "
+                         "{} (a longer history_interval_ms or shorter history_seconds)",
+                         http.history_seconds.count(), http.history_interval.count(), samples,
+                         kMaxHistorySamples));
+  else if (samples < 2)
+    in.error(in.has("history_interval_ms") ? "history_interval_ms" : "history_seconds",
+             fmt::format("{} s of history every {} ms is fewer than 2 samples, expected a "
+                         "history_interval_ms of at most half of history_seconds",
+                         http.history_seconds.count(), http.history_interval.count()));
   in.reject_unknown_keys();
   return http;
 }

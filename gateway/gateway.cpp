@@ -24,6 +24,7 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
       config_(config),
       router_(RouterOptions{config.server.writes, config.server.word_order,
                             config.server.write_timeout}),
+      history_timer_(io.get_executor()),
       sample_timer_(io.get_executor()) {
   for (const BusConfig& bus : config_.buses) {
     Bus b;
@@ -69,8 +70,14 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     HttpServerOptions http;
     http.listen = config_.http.listen;
     http.port = config_.http.port;
+    std::vector<std::string> names;
+    for (const auto& sensor : sensors_) names.push_back(sensor->config.name);
+    history_ = std::make_unique<HistoryRecorder>(
+        std::move(names), std::size_t(std::chrono::milliseconds(config_.http.history_seconds) /
+                                      config_.http.history_interval));
     http_ = std::make_unique<HttpServer>(
-        io_.get_executor(), [this] { return status(SteadyClock::now()); }, http);
+        io_.get_executor(), [this] { return status(SteadyClock::now()); }, http,
+        [this](std::string_view sensor) { return history_->history(sensor); });
   }
 }
 
@@ -107,6 +114,7 @@ Expected<Done, std::string> Gateway::start() {
     else
       spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.http.listen,
                    http_->local_port());
+    boost::asio::co_spawn(io_, record_history(), boost::asio::detached);
   }
   boost::asio::co_spawn(io_, sample_counters(), boost::asio::detached);
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
@@ -115,9 +123,30 @@ Expected<Done, std::string> Gateway::start() {
   return Done{};
 }
 
+boost::asio::awaitable<void> Gateway::record_history() {
+  const auto interval = config_.http.history_interval;
+  auto next = SteadyClock::now() + interval;
+  while (!stopping_) {
+    history_timer_.expires_at(next);
+    boost::system::error_code ec;
+    co_await history_timer_.async_wait(
+        boost::asio::redirect_error(boost::asio::use_awaitable, ec));
+    if (ec || stopping_) co_return;
+    const auto now = SteadyClock::now();
+    const auto unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+    history_->record(status(now), unix_ms);
+    // A steady cadence; after a stall (a suspended machine) start over rather than catch up.
+    next += interval;
+    if (next < now) next = now + interval;
+  }
+}
+
 void Gateway::stop() {
   stopping_ = true;
   sample_timer_.cancel();
+  history_timer_.cancel();
   server_->stop();
   if (control_) control_->stop();
   if (http_) http_->stop();

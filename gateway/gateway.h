@@ -15,6 +15,7 @@
 #include "gateway/counter_rates.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/gateway_status.h"
+#include "gateway/history_recorder.h"
 #include "gateway/http_server.h"
 #include "gateway/modbus_tcp_server.h"
 #include "gateway/request_router.h"
@@ -54,6 +55,8 @@ class Gateway {
   // Samples the poll and busy counters once a second, for the rates status() shows.
   boost::asio::awaitable<void> sample_counters();
   void record_counters(SteadyClock::time_point now);
+  // Every [http] history_interval_ms: each sensor's angles into its history ring.
+  boost::asio::awaitable<void> record_history();
 
   boost::asio::io_context& io_;
   Config config_;
@@ -63,6 +66,8 @@ class Gateway {
   std::unique_ptr<ModbusTcpServer> server_;
   std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
   std::unique_ptr<HttpServer> http_;        // none with [http] enabled = false
+  std::unique_ptr<HistoryRecorder> history_;  // the status page's graphs; none without http_
+  boost::asio::steady_timer history_timer_;
   double start_seconds_ = 0;                // Unix time of construction
   boost::asio::steady_timer sample_timer_;
   bool stopping_ = false;

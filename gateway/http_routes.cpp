@@ -1,7 +1,9 @@
 #include "gateway/http_routes.h"
 
+#include "gateway/history_format.h"
 #include "gateway/status_json.h"
 #include "gateway/status_metrics.h"
+#include "gateway/status_page.h"
 
 namespace tiltgate {
 
@@ -9,6 +11,8 @@ namespace {
 
 constexpr std::string_view kJson = "application/json";
 constexpr std::string_view kSensorPrefix = "/api/sensors/";
+constexpr std::string_view kHistoryJsonSuffix = "/history";
+constexpr std::string_view kHistoryCsvSuffix = "/history.csv";
 
 HttpReply text(unsigned status, std::string body) {
   return HttpReply{status, "text/plain; charset=utf-8", std::move(body)};
@@ -41,22 +45,44 @@ std::optional<std::string> percent_decoded(std::string_view path) {
   return out;
 }
 
+// GET /api/sensors/NAME/history and .../history.csv; `encoded_name` is still %-escaped.
+HttpReply history_reply(std::string_view encoded_name, bool csv, const HistorySource& history) {
+  const auto name = percent_decoded(encoded_name);
+  if (!name || name->find('/') != std::string::npos) return text(404, "no such sensor\n");
+  std::optional<std::vector<AngleSample>> samples =
+      history ? history(*name) : std::optional<std::vector<AngleSample>>{};
+  if (!samples) return text(404, "no such sensor\n");
+  if (!csv) return json(history_json(*samples));
+  HttpReply reply{200, "text/csv; charset=utf-8", history_csv(*samples)};
+  reply.content_disposition =
+      "attachment; filename=\"" + history_csv_filename(*name) + "\"";
+  return reply;
+}
+
 }  // namespace
 
 HttpReply route_http(std::string_view method, std::string_view target,
-                     const StatusSource& status) {
+                     const StatusSource& status, const HistorySource& history) {
   if (method != "GET" && method != "HEAD") {
     HttpReply reply = text(405, "only GET: the status API is read-only\n");
     reply.allow_get = true;
     return reply;
   }
   const std::string_view path = target.substr(0, target.find('?'));
+  if (path == "/" || path == "/index.html")
+    return HttpReply{200, "text/html; charset=utf-8", std::string(kStatusPage)};
   if (path == "/healthz") return text(200, "ok\n");
   if (path == "/metrics")
     return HttpReply{200, std::string(kMetricsContentType), metrics_text(status())};
   if (path == "/api/sensors") return json(sensors_json(status().sensors));
   if (path == "/api/buses") return json(buses_json(status().buses));
   if (path.starts_with(kSensorPrefix)) {
+    const std::string_view rest = path.substr(kSensorPrefix.size());
+    if (rest.ends_with(kHistoryCsvSuffix))
+      return history_reply(rest.substr(0, rest.size() - kHistoryCsvSuffix.size()), true, history);
+    if (rest.ends_with(kHistoryJsonSuffix))
+      return history_reply(rest.substr(0, rest.size() - kHistoryJsonSuffix.size()), false,
+                           history);
     const auto name = percent_decoded(path.substr(kSensorPrefix.size()));
     if (name) {
       for (const SensorStatus& sensor : status().sensors)
@@ -64,8 +90,8 @@ HttpReply route_http(std::string_view method, std::string_view target,
     }
     return text(404, "no such sensor\n");
   }
-  return text(404, "not found: the endpoints are /healthz, /api/sensors, /api/sensors/NAME, "
-                   "/api/buses and /metrics\n");
+  return text(404, "not found: the endpoints are /, /healthz, /api/sensors, /api/sensors/NAME, "
+                   "/api/sensors/NAME/history[.csv], /api/buses and /metrics\n");
 }
 
 }  // namespace tiltgate

@@ -4,9 +4,11 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
+#include "gateway/angle_history.h"
 #include "gateway/gateway_status.h"
 
 namespace tiltgate {
@@ -16,11 +18,16 @@ struct HttpReply {
   std::string content_type = "text/plain; charset=utf-8";
   std::string body;
   bool allow_get = false;  // 405: the reply names GET as the one method allowed
+  std::string content_disposition{};  // e.g. a download's file name; empty: no such header
 };
 
 using StatusSource = std::function<GatewayStatus()>;
+// A sensor's recent angles, oldest first; none for a name not configured.
+using HistorySource = std::function<std::optional<std::vector<AngleSample>>(std::string_view)>;
 
-// GET (and HEAD) only: nothing can be changed over HTTP. The query string is ignored.
-HttpReply route_http(std::string_view method, std::string_view target, const StatusSource& status);
+// GET (and HEAD) only: nothing can be changed over HTTP. The query string is ignored. Without
+// a history source every sensor's history is empty.
+HttpReply route_http(std::string_view method, std::string_view target, const StatusSource& status,
+                     const HistorySource& history = {});
 
 }  // namespace tiltgate

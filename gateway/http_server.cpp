@@ -38,10 +38,11 @@ struct HttpServer::Connection {
 };
 
 HttpServer::HttpServer(asio::any_io_executor executor, StatusSource status,
-                       HttpServerOptions options)
+                       HttpServerOptions options, HistorySource history)
     : executor_(executor),
       status_(std::move(status)),
       options_(std::move(options)),
+      history_(std::move(history)),
       acceptor_(executor) {}
 
 HttpServer::~HttpServer() = default;
@@ -122,12 +123,14 @@ asio::awaitable<void> HttpServer::serve(std::shared_ptr<Connection> connection) 
                                                         request.method_string().size()),
                                        std::string_view(request.target().data(),
                                                         request.target().size()),
-                                       status_);
+                                       status_, history_);
     http::response<http::string_body> response{http::status(reply.status), request.version()};
     response.set(http::field::server, "tiltgate");
     response.set(http::field::content_type, reply.content_type);
     response.set(http::field::cache_control, "no-store");
     if (reply.allow_get) response.set(http::field::allow, "GET, HEAD");
+    if (!reply.content_disposition.empty())
+      response.set(http::field::content_disposition, reply.content_disposition);
     response.keep_alive(request.keep_alive());
     response.body() = reply.body;
     response.prepare_payload();

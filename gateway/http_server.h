@@ -40,7 +40,8 @@ struct HttpServerStats {
 // loop finish the connections before destroying the server.
 class HttpServer {
  public:
-  HttpServer(boost::asio::any_io_executor executor, StatusSource status, HttpServerOptions options);
+  HttpServer(boost::asio::any_io_executor executor, StatusSource status, HttpServerOptions options,
+             HistorySource history = {});
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
@@ -60,6 +61,7 @@ class HttpServer {
   boost::asio::any_io_executor executor_;
   StatusSource status_;
   HttpServerOptions options_;
+  HistorySource history_;
   boost::asio::ip::tcp::acceptor acceptor_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   HttpServerStats stats_;

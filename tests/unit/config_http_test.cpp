@@ -40,3 +40,27 @@ TEST_CASE("config: [http] mistakes are reported at their key") {
 TEST_CASE("config: an unknown table close to [http] suggests it") {
   expect_error(valid_plus("[htp]\nport = 1\n"), 10, "htp", "unknown table; did you mean [http]?");
 }
+
+TEST_CASE("config: [http] history keeps 600 s at one sample a second by default") {
+  const Config config = loads(valid_plus(""));
+  CHECK(config.http.history_seconds == std::chrono::seconds(600));
+  CHECK(config.http.history_interval == std::chrono::milliseconds(1000));
+}
+
+TEST_CASE("config: [http] history keys are read and bounded to 600 samples per sensor") {
+  const Config config =
+      loads("[http]\nhistory_seconds = 1200\nhistory_interval_ms = 2000\n" + valid_plus(""));
+  CHECK(config.http.history_seconds == std::chrono::seconds(1200));
+  CHECK(config.http.history_interval == std::chrono::milliseconds(2000));
+  expect_error("[http]\nhistory_seconds = 3600\n" + valid_plus(""), 2, "http.history_seconds",
+               "3600 s of history every 1000 ms is 3600 samples per sensor, expected at most 600 "
+               "(a longer history_interval_ms or shorter history_seconds)");
+  expect_error("[http]\nhistory_interval_ms = 50\n" + valid_plus(""), 2,
+               "http.history_interval_ms", "50 is out of range, expected 100..60000");
+  expect_error("[http]\nhistory_seconds = 5\n" + valid_plus(""), 2, "http.history_seconds",
+               "5 is out of range, expected 10..86400");
+  expect_error("[http]\nhistory_seconds = 10\nhistory_interval_ms = 6000\n" + valid_plus(""), 3,
+               "http.history_interval_ms",
+               "10 s of history every 6000 ms is fewer than 2 samples, expected a "
+               "history_interval_ms of at most half of history_seconds");
+}

@@ -1,0 +1,63 @@
+#include "gateway/history_format.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <optional>
+
+namespace tiltgate {
+
+namespace {
+
+// fmt's shortest form that reads back the same float: 1.25, -0.003, not 1.2500000476837158.
+std::string json_angle(std::optional<float> value) {
+  return value ? fmt::format("{}", *value) : "null";
+}
+
+std::string csv_angle(std::optional<float> value) {
+  return value ? fmt::format("{}", *value) : "";
+}
+
+}  // namespace
+
+std::string iso8601_utc(std::int64_t unix_ms) {
+  using namespace std::chrono;
+  const sys_time<milliseconds> time{milliseconds(unix_ms)};
+  const sys_days day = floor<days>(time);
+  const year_month_day date{day};
+  const hh_mm_ss<milliseconds> clock{time - day};
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", int(date.year()),
+                     unsigned(date.month()), unsigned(date.day()), clock.hours().count(),
+                     clock.minutes().count(), clock.seconds().count(), clock.subseconds().count());
+}
+
+std::string history_json(const std::vector<AngleSample>& samples) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const AngleSample& s = samples[i];
+    if (i > 0) out += ",";
+    out += fmt::format("{{\"t\":{},\"x\":{},\"y\":{}}}", s.unix_ms, json_angle(s.x),
+                       json_angle(s.y));
+  }
+  return out + "]";
+}
+
+std::string history_csv(const std::vector<AngleSample>& samples) {
+  std::string out = "time_utc,unix_ms,x_deg,y_deg\r\n";
+  for (const AngleSample& s : samples)
+    out += fmt::format("{},{},{},{}\r\n", iso8601_utc(s.unix_ms), s.unix_ms, csv_angle(s.x),
+                       csv_angle(s.y));
+  return out;
+}
+
+std::string history_csv_filename(std::string_view sensor) {
+  std::string name;
+  for (const char c : sensor) {
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                       (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '_';
+    name += plain ? c : '_';
+  }
+  return name + "-history.csv";
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,39 @@
+#include "gateway/history_recorder.h"
+
+namespace tiltgate {
+
+namespace {
+
+std::optional<float> angle(const SensorStatus& sensor, const std::optional<double>& value) {
+  if (sensor.stale || !value) return std::nullopt;
+  return float(*value);
+}
+
+}  // namespace
+
+HistoryRecorder::HistoryRecorder(std::vector<std::string> sensor_names,
+                                 std::size_t samples_per_sensor)
+    : names_(std::move(sensor_names)), rings_(names_.size(), AngleRing(samples_per_sensor)) {}
+
+void HistoryRecorder::record(const GatewayStatus& status, std::int64_t unix_ms) {
+  // Snapshots list the sensors in configuration order, as names_ does: match by position,
+  // and by name only when that fails.
+  for (std::size_t i = 0; i < status.sensors.size(); ++i) {
+    const SensorStatus& sensor = status.sensors[i];
+    std::size_t ring = i;
+    if (ring >= names_.size() || names_[ring] != sensor.name) {
+      ring = 0;
+      while (ring < names_.size() && names_[ring] != sensor.name) ++ring;
+      if (ring == names_.size()) continue;
+    }
+    rings_[ring].push(AngleSample{unix_ms, angle(sensor, sensor.x), angle(sensor, sensor.y)});
+  }
+}
+
+std::optional<std::vector<AngleSample>> HistoryRecorder::history(std::string_view sensor) const {
+  for (std::size_t i = 0; i < names_.size(); ++i)
+    if (names_[i] == sensor) return rings_[i].samples();
+  return std::nullopt;
+}
+
+}  // namespace tiltgate
