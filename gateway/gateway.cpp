@@ -67,6 +67,9 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     http_ = std::make_unique<HttpServer>(
         io_.get_executor(), [this] { return status(SteadyClock::now()); }, http);
   }
+  if (config_.mqtt.enabled)
+    mqtt_ = std::make_unique<MqttFeed>(
+        io_.get_executor(), [this] { return status(SteadyClock::now()); }, config_.mqtt);
 }
 
 Gateway::~Gateway() = default;
@@ -103,6 +106,13 @@ Expected<Done, std::string> Gateway::start() {
       spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.http.listen,
                    http_->local_port());
   }
+  if (mqtt_) {
+    if (auto mqtt = mqtt_->start(); !mqtt)
+      spdlog::warn("MQTT feed off: {}", mqtt.error());
+    else
+      spdlog::info("MQTT feed to {}:{} under {}/", config_.mqtt.host, config_.mqtt.port,
+                   config_.mqtt.topic_prefix);
+  }
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
                buses_.size(), config_.server.listen, server_->local_port(),
                config_.server.writes ? ", writes enabled" : "");
@@ -113,6 +123,7 @@ void Gateway::stop() {
   server_->stop();
   if (control_) control_->stop();
   if (http_) http_->stop();
+  if (mqtt_) mqtt_->stop();
   for (Bus& bus : buses_) {
     bus.scheduler->stop();
     bus.line->stop();
@@ -122,6 +133,11 @@ void Gateway::stop() {
 std::uint16_t Gateway::port() const { return server_->local_port(); }
 
 std::uint16_t Gateway::http_port() const { return http_ ? http_->local_port() : 0; }
+
+std::optional<MqttStats> Gateway::mqtt_stats() const {
+  if (!mqtt_) return std::nullopt;
+  return mqtt_->stats();
+}
 
 std::vector<UnitMap> Gateway::unit_maps() const {
   std::vector<UnitMap> units;

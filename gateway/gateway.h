@@ -4,6 +4,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "config/config.h"
@@ -14,6 +15,7 @@
 #include "gateway/gateway_status.h"
 #include "gateway/http_server.h"
 #include "gateway/modbus_tcp_server.h"
+#include "gateway/mqtt_feed.h"
 #include "gateway/request_router.h"
 #include "mapping/map_export.h"
 #include "gateway/serial_options.h"
@@ -38,6 +40,8 @@ class Gateway {
   GatewayStatus status(SteadyClock::time_point now) const;
   // The HTTP port bound; 0 when [http] is off or its port could not be bound.
   std::uint16_t http_port() const;
+  // The MQTT feed's counters; none when [mqtt] is off.
+  std::optional<MqttStats> mqtt_stats() const;
   const std::vector<std::unique_ptr<GatewaySensor>>& sensors() const { return sensors_; }
 
  private:
@@ -57,6 +61,7 @@ class Gateway {
   std::unique_ptr<ModbusTcpServer> server_;
   std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
   std::unique_ptr<HttpServer> http_;        // none with [http] enabled = false
+  std::unique_ptr<MqttFeed> mqtt_;          // none without [mqtt]
   double start_seconds_ = 0;                // Unix time of construction
 };
 
