@@ -4,10 +4,13 @@
 #include <mosquitto.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <mutex>
+#include <optional>
+#include <thread>
 
 #include "gateway/mqtt_payload.h"
 
@@ -59,18 +62,63 @@ Expected<Done, std::string> MqttClient::start() {
     if (rc != MOSQ_ERR_SUCCESS)
       return Unexpected{fmt::format("TLS files: {}", mosquitto_strerror(rc))};
   }
-  mosquitto_reconnect_delay_set(mosq_, unsigned(options_.reconnect_min_s),
-                                unsigned(options_.reconnect_max_s), true);
-  // A broker that is not there yet is not an error: libmosquitto's loop keeps trying.
-  rc = mosquitto_connect_async(mosq_, options_.host.c_str(), options_.port, options_.keepalive_s);
-  if (rc != MOSQ_ERR_SUCCESS)
-    spdlog::warn("MQTT: broker {}:{} not reached yet ({}); retrying", options_.host, options_.port,
-                 rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
-  rc = mosquitto_loop_start(mosq_);
-  if (rc != MOSQ_ERR_SUCCESS)
-    return Unexpected{fmt::format("libmosquitto thread: {}", mosquitto_strerror(rc))};
-  loop_running_ = true;
+  // Publishing from the event loop while run() drives the network on its own thread.
+  mosquitto_threaded_set(mosq_, true);
+  thread_ = std::thread([this] { run(); });
   return Done{};
+}
+
+// Our own network thread rather than mosquitto_loop_start(): libmosquitto's thread ends for
+// good on a failed name lookup (MOSQ_ERR_EAI, e.g. a gateway that boots before its DNS), and
+// waits for ever when the first connect_async failed (eclipse-mosquitto/mosquitto issue 1903).
+// Here every failure is retried after a back-off, and stop() can wake the back-off at once.
+void MqttClient::run() {
+  auto delay = std::chrono::seconds(options_.reconnect_min_s);
+  const auto max_delay = std::chrono::seconds(options_.reconnect_max_s);
+  bool first = true;
+  bool socket_open = false;
+  std::optional<std::chrono::steady_clock::time_point> stop_seen;
+  while (true) {
+    if (stopping_.load()) {
+      // The DISCONNECT stop() queued goes out first, given a second at most.
+      const auto now = std::chrono::steady_clock::now();
+      if (!stop_seen) stop_seen = now;
+      if (!socket_open || now - *stop_seen > std::chrono::seconds(1)) break;
+    }
+    if (!socket_open) {
+      spdlog::debug("MQTT: connecting to {}:{}", options_.host, options_.port);
+      // Non-blocking TCP connect; only the name lookup can wait, and it waits on this thread.
+      const int rc = first ? mosquitto_connect_async(mosq_, options_.host.c_str(), options_.port,
+                                                     options_.keepalive_s)
+                           : mosquitto_reconnect_async(mosq_);
+      if (rc == MOSQ_ERR_SUCCESS) {
+        first = false;
+        socket_open = true;
+        continue;
+      }
+      if (rc != MOSQ_ERR_INVAL) first = false;  // connect_async stored the host: reconnect now
+      spdlog::debug("MQTT: broker {}:{} not reached ({}); next attempt in {} s", options_.host,
+                    options_.port,
+                    rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
+                    delay.count());
+    } else {
+      // 100 ms at most in select(): a publish from the event loop wakes it sooner.
+      const int rc = mosquitto_loop(mosq_, 100, 1);
+      if (rc == MOSQ_ERR_SUCCESS) {
+        if (connected_.load()) delay = std::chrono::seconds(options_.reconnect_min_s);
+        continue;
+      }
+      socket_open = false;
+      if (stopping_.load()) break;
+      spdlog::debug("MQTT: connection to {}:{} ended ({}); next attempt in {} s", options_.host,
+                    options_.port,
+                    rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
+                    delay.count());
+    }
+    std::unique_lock lock(wake_mutex_);
+    wake_.wait_for(lock, delay, [&] { return stopping_.load(); });
+    delay = std::min(delay * 2, max_delay);
+  }
 }
 
 bool MqttClient::publish(const MqttMessage& message) {
@@ -82,8 +130,7 @@ bool MqttClient::publish(const MqttMessage& message) {
 }
 
 void MqttClient::stop() {
-  if (!loop_running_) return;
-  loop_running_ = false;
+  if (!thread_.joinable()) return;
   if (connected_.load()) {
     const std::string_view offline = kMqttOffline;
     int mid = 0;
@@ -96,12 +143,14 @@ void MqttClient::stop() {
       published_changed_.wait_for(lock, std::chrono::seconds(1),
                                   [&] { return last_published_mid_ == mid; });
     }
-    mosquitto_disconnect(mosq_);
-    mosquitto_loop_stop(mosq_, false);
-  } else {
-    mosquitto_disconnect(mosq_);
-    mosquitto_loop_stop(mosq_, true);  // the thread may be waiting out a back-off
+    mosquitto_disconnect(mosq_);  // run() sends it, then its mosquitto_loop() ends
   }
+  {
+    std::lock_guard lock(wake_mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
   connected_ = false;
 }
 
@@ -127,7 +176,7 @@ void MqttClient::on_connect(struct mosquitto* mosq, void* self, int rc) {
 
 void MqttClient::on_disconnect(struct mosquitto*, void* self, int rc) {
   MqttClient& client = client_of(self);
-  if (!client.connected_.exchange(false)) return;  // a failed attempt: libmosquitto's debug log
+  if (!client.connected_.exchange(false)) return;  // a failed attempt: run() logs it
   if (rc == 0)
     spdlog::info("MQTT: disconnected from {}:{}", client.options_.host, client.options_.port);
   else

@@ -1,7 +1,7 @@
-// The MQTT feed's transport: one libmosquitto client on libmosquitto's own thread
-// (mosquitto_loop_start), so no network wait ever happens on the gateway's event loop. It
-// connects asynchronously (a missing broker does not hold up start-up), reconnects with
-// back-off, and keeps <prefix>/status retained "online" while connected with a last will of
+// The MQTT feed's transport: one libmosquitto client whose network side runs on a thread of
+// its own, so no network wait (name lookup, connect, send) ever happens on the gateway's event
+// loop. A missing broker does not hold up start-up; every failure is retried with back-off
+// (reconnect_min_s doubling up to reconnect_max_s). It keeps <prefix>/status retained "online" while connected with a last will of
 // "offline". publish() only hands a message over: it never blocks on the network.
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include "driver/expected.h"
 #include "gateway/mqtt_publisher.h"
@@ -44,11 +45,12 @@ class MqttClient {
   MqttClient(const MqttClient&) = delete;
   MqttClient& operator=(const MqttClient&) = delete;
 
-  // Sets the will, credentials and TLS, starts connecting and libmosquitto's thread. An error
+  // Sets the will, credentials and TLS and starts the network thread, which connects. An error
   // is a setting libmosquitto refused (e.g. an unreadable TLS file); a broker that cannot be
   // reached is not an error: it is retried.
   Expected<Done, std::string> start();
-  // Publishes "offline" (retained) when connected, disconnects and joins the thread.
+  // Publishes "offline" (retained) when connected, disconnects and joins the thread (a name
+  // lookup under way is waited for).
   void stop();
 
   bool connected() const { return connected_.load(); }
@@ -58,6 +60,8 @@ class MqttClient {
   bool publish(const MqttMessage& message);
 
  private:
+  void run();  // the network thread: connect, loop, back off, until stop()
+
   static void on_connect(struct mosquitto*, void* self, int rc);
   static void on_disconnect(struct mosquitto*, void* self, int rc);
   static void on_publish(struct mosquitto*, void* self, int mid);
@@ -65,7 +69,10 @@ class MqttClient {
 
   MqttClientOptions options_;
   struct mosquitto* mosq_ = nullptr;
-  bool loop_running_ = false;
+  std::thread thread_;
+  std::atomic<bool> stopping_{false};
+  std::mutex wake_mutex_;           // wakes run()'s back-off when stop() is called
+  std::condition_variable wake_;
   std::atomic<bool> connected_{false};
   std::atomic<std::uint64_t> connections_{0};
   int last_refusal_ = 0;  // the CONNACK code last logged, so a refusing broker logs once

@@ -15,6 +15,9 @@ constexpr std::chrono::milliseconds kMinSpacing{100};
 constexpr std::size_t kFlushPerTick = 1000;
 // Drops are logged at most this often while the broker is away.
 constexpr std::chrono::seconds kDropLogInterval{30};
+// A broker not reached this long after start-up is warned about (once): libmosquitto only
+// reports failed attempts at debug level.
+constexpr std::chrono::seconds kFirstConnectWarning{10};
 
 MqttPublisherOptions publisher_options(const MqttConfig& config) {
   MqttPublisherOptions options;
@@ -55,13 +58,15 @@ MqttFeed::MqttFeed(boost::asio::any_io_executor executor, StatusSource status,
       status_(std::move(status)),
       publisher_(publisher_options(config)),
       client_(client_options(config)),
-      period_(kMinSpacing) {}
+      period_(kMinSpacing),
+      backlog_capacity_(config.backlog) {}
 
 MqttFeed::~MqttFeed() { stop(); }
 
 Expected<Done, std::string> MqttFeed::start() {
   if (auto started = client_.start(); !started) return started;
   running_ = true;
+  started_at_ = std::chrono::steady_clock::now();
   schedule();
   return Done{};
 }
@@ -98,6 +103,11 @@ void MqttFeed::tick() {
     if (!publisher_.backlog().empty())
       spdlog::info("MQTT: sending {} messages kept while the broker was away ({} dropped so far)",
                    publisher_.backlog().size(), publisher_.backlog().dropped());
+  }
+  if (connections == 0 && !warned_unreached_ && now - started_at_ >= kFirstConnectWarning) {
+    spdlog::warn("MQTT: broker not reached in {} s; still trying, keeping up to {} messages",
+                 kFirstConnectWarning.count(), backlog_capacity_);
+    warned_unreached_ = true;
   }
   publisher_.take(status_(), now, unix_ms_now());
   flush();

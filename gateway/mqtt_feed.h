@@ -49,6 +49,9 @@ class MqttFeed {
   MqttPublisher publisher_;
   MqttClient client_;
   std::chrono::milliseconds period_;
+  std::size_t backlog_capacity_;
+  std::chrono::steady_clock::time_point started_at_{};
+  bool warned_unreached_ = false;
   std::uint64_t published_ = 0;
   std::uint64_t connections_seen_ = 0;
   std::uint64_t drops_reported_ = 0;

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The MQTT feed end to end with Debian's broker and client: `tiltgate run` on a simulated
 # Rieker bus publishes to a `mosquitto` of the test's own (a free loopback port, its own config:
-# never a system broker), and `mosquitto_sub` checks the topics and payloads, the retained info
-# and status a fresh subscriber gets, recovery after the broker restarts (the backlog sent, its
-# drops counted), "offline" on a clean shutdown, and the last will when the gateway is killed.
+# never a system broker), and `mosquitto_sub` checks: a broker that comes after the gateway, the
+# topics and payloads, the retained info and status a fresh subscriber gets, recovery after the
+# broker restarts (the backlog sent, its drops counted), "offline" on a clean shutdown, and the
+# last will when the gateway is killed.
 # A missing broker or client is a failure, never a skip: scripts/setup installs them.
 set -u
 tiltgate=${1:?usage: mqtt_feed_test.sh path/to/tiltgate}
@@ -64,7 +65,6 @@ fresh() {
 states() { grep -c "^$prefix/$2/state " "$1"; }
 at_least() { [ "$(states "$1" "$2")" -ge "$3" ]; }
 
-start_broker
 start_sim "$tiltgate" rieker h6:223,h4360:101 "$dir/ttyUSB0"
 modbus_port=$(free_port)
 cat >"$dir/plant.toml" <<TOML
@@ -110,12 +110,16 @@ start_gateway() {
   pids+=($gateway_pid)
 }
 
-sub "$dir/live.txt" "$prefix/#"
+# The gateway starts before its broker: it keeps trying until the broker is there.
 start_gateway
+sleep 1.5
+start_broker
+sub "$dir/live.txt" "$prefix/#"
 
 # Every sensor's state, several times, as JSON with the documented fields and moving angles.
 both_flowing() { at_least "$dir/live.txt" boom 6 && at_least "$dir/live.txt" mast 6; }
-check "state messages arrive for every sensor" wait_for 15 both_flowing
+check "state messages arrive for every sensor, the broker started after the gateway" \
+  wait_for 15 both_flowing
 state_json_ok() {
   /usr/bin/python3 - "$dir/live.txt" "$prefix" <<'PY'
 import json, sys
@@ -165,7 +169,10 @@ check "state messages flow again after the broker restarts" wait_for 20 flowing_
 check "the info and status are retained again on the restarted broker" wait_for 5 retained_ok
 dropped_logged() { grep -q "backlog full while the broker is away: [0-9]* messages dropped" "$dir/gateway.err"; }
 check "messages beyond the backlog are dropped and counted" dropped_logged
-backlog_sent() { grep -q "sending 5 messages kept while the broker was away" "$dir/gateway.err"; }
+# The first connection sent a full backlog too (the gateway started before the broker).
+backlog_sent() {
+  [ "$(grep -c "sending 5 messages kept while the broker was away" "$dir/gateway.err")" -ge 2 ]
+}
 check "the 5 messages of the backlog are sent on reconnect" backlog_sent
 
 # A clean shutdown leaves status offline (retained).
