@@ -1,8 +1,8 @@
 // The MQTT feed (README, "MQTT"): on the gateway's event loop, a timer takes a status copy,
 // the publisher decides what is due into its bounded backlog, and the backlog is handed to the
 // libmosquitto client while it is connected. The copy is taken between bus events and the
-// network is libmosquitto's thread's business, so neither a Modbus reply nor a bus transaction
-// ever waits for the broker.
+// network is the client's own thread's business, so neither a Modbus reply nor a bus
+// transaction ever waits for the broker.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
