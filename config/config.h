@@ -49,6 +49,26 @@ struct HttpConfig {
 // their history in under 5 MB.
 inline constexpr std::int64_t kMaxHistorySamples = 600;
 
+// The MQTT feed (gateway/mqtt_feed.h): each sensor's state to a broker. Off unless the file has
+// an [mqtt] table; the loader fills in the hostname defaults, so these are the values used.
+struct MqttConfig {
+  bool enabled = false;
+  std::string host;                      // required when enabled
+  std::uint16_t port = 1883;
+  std::string client_id;                 // default "tiltgate-<hostname>"
+  std::string topic_prefix;              // default "tiltgate/<hostname>"
+  int qos = 1;
+  std::chrono::milliseconds interval{1000};  // each sensor's state at least this often
+  double on_change_deg = 0.01;           // sooner when an angle moved this much; 0: every reading
+  int keepalive_s = 30;
+  std::string username;                  // empty: none
+  std::string password;
+  std::string ca_file;                   // TLS when set (cert_file/key_file: client certificate)
+  std::string cert_file;
+  std::string key_file;
+  std::size_t backlog = 1000;            // messages kept while the broker is away
+};
+
 // The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to
 // 16 ms each way) on top of a sensor's own slowness.
 inline constexpr std::chrono::milliseconds kMinDefaultLateGuard{100};
@@ -127,6 +147,7 @@ struct Config {
   std::string path;                 // the file it came from
   ServerConfig server;
   HttpConfig http;
+  MqttConfig mqtt;
   std::vector<BusConfig> buses;
   std::vector<SensorConfig> sensors;
 };

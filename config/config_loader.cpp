@@ -25,11 +25,11 @@ namespace config {
 namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
-constexpr std::string_view kTopLevel = "[server], [http], [[bus]] and [[sensor]]";
+constexpr std::string_view kTopLevel = "[server], [http], [mqtt], [[bus]] and [[sensor]]";
 
 std::string table_header(std::string_view name) {
-  return name == "server" || name == "http" ? fmt::format("[{}]", name)
-                                            : fmt::format("[[{}]]", name);
+  return name == "server" || name == "http" || name == "mqtt" ? fmt::format("[{}]", name)
+                                                               : fmt::format("[[{}]]", name);
 }
 
 // [[bus]] and [[sensor]]: an array whose every element is a table.
@@ -56,7 +56,7 @@ void read_table_array(std::string_view name, const toml::key& key, const toml::n
 
 void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
   const bool is_table = node.is_table() || node.is_array_of_tables();
-  const std::vector<std::string> known{"server", "http", "bus", "sensor"};
+  const std::vector<std::string> known{"server", "http", "mqtt", "bus", "sensor"};
   const std::string guess = closest_key(key.str(), known);
   std::string message = is_table ? "unknown table" : "unknown key at the top level";
   if (!guess.empty())
@@ -116,6 +116,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   ErrorList errors{std::string(source_name)};
   ServerConfig server;
   HttpConfig http;
+  MqttConfig mqtt;
   std::vector<ParsedBus> buses;
   std::vector<ParsedSensor> sensors;
   for (auto&& [key, node] : root) {
@@ -131,6 +132,12 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
       else
         errors.add(place_of(key.source()), "http",
                    fmt::format("expected a table ([http]), got {}", type_name(node.type())));
+    } else if (key == "mqtt") {
+      if (const toml::table* table = node.as_table())
+        mqtt = read_mqtt(*table, errors);
+      else
+        errors.add(place_of(key.source()), "mqtt",
+                   fmt::format("expected a table ([mqtt]), got {}", type_name(node.type())));
     } else if (key == "bus") {
       read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
         buses.push_back(read_bus(table, std::move(path), errors, families));
@@ -155,8 +162,10 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
     all.insert(all.end(), map_file_errors.begin(), map_file_errors.end());
     return Unexpected(std::move(all));
   }
-  return assemble(std::string(source_name), server, std::move(http), std::move(buses),
-                  std::move(sensors));
+  Config config = assemble(std::string(source_name), server, std::move(http), std::move(buses),
+                           std::move(sensors));
+  config.mqtt = std::move(mqtt);
+  return config;
 }
 
 Expected<Config, ConfigErrors> load_config_file(const std::string& path, FamilyList families) {

@@ -1,6 +1,7 @@
-// Reading the kinds of table: [server], [http] and [[sensor]] (sections.cpp), [[bus]]
-// (bus_section.cpp). Each is checked on its own (types, ranges, keys that depend on another key
-// of the same table); checks across tables are in config/cross_checks.h.
+// Reading the kinds of table: [server], [http] and [[sensor]] (sections.cpp), [mqtt]
+// (mqtt_section.cpp), [[bus]] (bus_section.cpp). Each is checked on its own (types, ranges,
+// keys that depend on another key of the same table); checks across tables are in
+// config/cross_checks.h.
 #pragma once
 
 #include <toml++/toml.h>
@@ -32,6 +33,7 @@ struct ParsedSensor {
 
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
 HttpConfig read_http(const toml::table& table, ErrorList& errors);
+MqttConfig read_mqtt(const toml::table& table, ErrorList& errors);
 // Protocols, bauds, addresses and models come from the families' descriptors.
 ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors,
                    FamilyList families);

@@ -19,6 +19,8 @@ struct DemoOptions {
   std::string listen = "127.0.0.1";
   std::uint16_t port = 1502;
   std::uint16_t http_port = 8080;  // the HTTP status API and metrics, on `listen`; 0: off
+  std::string mqtt_host;           // the MQTT feed's broker, under tiltgate/demo/; empty: off
+  std::uint16_t mqtt_port = 1883;
 };
 int demo_command(const DemoOptions& options);
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <iostream>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <memory>
 #include <vector>
@@ -44,6 +45,13 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   config.http.enabled = options.http_port != 0;
   config.http.listen = options.listen;
   config.http.port = options.http_port;
+  if (!options.mqtt_host.empty()) {
+    config.mqtt.enabled = true;
+    config.mqtt.host = options.mqtt_host;
+    config.mqtt.port = options.mqtt_port;
+    config.mqtt.client_id = fmt::format("tiltgate-demo-{}", ::getpid());
+    config.mqtt.topic_prefix = "tiltgate/demo";
+  }
   std::uint8_t unit = 1;
   for (std::size_t i = 0; i < families.size(); ++i) {
     const DemoBus& demo = families[i]->demo;

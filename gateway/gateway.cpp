@@ -79,6 +79,9 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
         io_.get_executor(), [this] { return status(SteadyClock::now()); }, http,
         [this](std::string_view sensor) { return history_->history(sensor); });
   }
+  if (config_.mqtt.enabled)
+    mqtt_ = std::make_unique<MqttFeed>(
+        io_.get_executor(), [this] { return status(SteadyClock::now()); }, config_.mqtt);
 }
 
 Gateway::~Gateway() = default;
@@ -116,6 +119,13 @@ Expected<Done, std::string> Gateway::start() {
                    http_->local_port());
     boost::asio::co_spawn(io_, record_history(), boost::asio::detached);
   }
+  if (mqtt_) {
+    if (auto mqtt = mqtt_->start(); !mqtt)
+      spdlog::warn("MQTT feed off: {}", mqtt.error());
+    else
+      spdlog::info("MQTT feed to {}:{} under {}/", config_.mqtt.host, config_.mqtt.port,
+                   config_.mqtt.topic_prefix);
+  }
   boost::asio::co_spawn(io_, sample_counters(), boost::asio::detached);
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
                buses_.size(), config_.server.listen, server_->local_port(),
@@ -150,6 +160,7 @@ void Gateway::stop() {
   server_->stop();
   if (control_) control_->stop();
   if (http_) http_->stop();
+  if (mqtt_) mqtt_->stop();
   for (Bus& bus : buses_) {
     bus.scheduler->stop();
     bus.line->stop();
@@ -184,6 +195,11 @@ void Gateway::record_counters(SteadyClock::time_point now) {
 std::uint16_t Gateway::port() const { return server_->local_port(); }
 
 std::uint16_t Gateway::http_port() const { return http_ ? http_->local_port() : 0; }
+
+std::optional<MqttStats> Gateway::mqtt_stats() const {
+  if (!mqtt_) return std::nullopt;
+  return mqtt_->stats();
+}
 
 std::vector<UnitMap> Gateway::unit_maps() const {
   std::vector<UnitMap> units;

@@ -6,6 +6,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "config/config.h"
@@ -18,6 +19,7 @@
 #include "gateway/history_recorder.h"
 #include "gateway/http_server.h"
 #include "gateway/modbus_tcp_server.h"
+#include "gateway/mqtt_feed.h"
 #include "gateway/request_router.h"
 #include "mapping/map_export.h"
 #include "gateway/serial_options.h"
@@ -42,6 +44,8 @@ class Gateway {
   GatewayStatus status(SteadyClock::time_point now) const;
   // The HTTP port bound; 0 when [http] is off or its port could not be bound.
   std::uint16_t http_port() const;
+  // The MQTT feed's counters; none when [mqtt] is off.
+  std::optional<MqttStats> mqtt_stats() const;
   const std::vector<std::unique_ptr<GatewaySensor>>& sensors() const { return sensors_; }
 
  private:
@@ -68,6 +72,7 @@ class Gateway {
   std::unique_ptr<HttpServer> http_;        // none with [http] enabled = false
   std::unique_ptr<HistoryRecorder> history_;  // the status page's graphs; none without http_
   boost::asio::steady_timer history_timer_;
+  std::unique_ptr<MqttFeed> mqtt_;          // none without [mqtt]
   double start_seconds_ = 0;                // Unix time of construction
   boost::asio::steady_timer sample_timer_;
   bool stopping_ = false;

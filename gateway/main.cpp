@@ -59,6 +59,10 @@ int main(int argc, char** argv) {
   demo->add_option("--http-port", demo_options.http_port,
                    "HTTP status API and metrics port (0: off)")
       ->capture_default_str();
+  demo->add_option("--mqtt-host", demo_options.mqtt_host,
+                   "MQTT broker to publish the sensors to, under tiltgate/demo/ (default: off)");
+  demo->add_option("--mqtt-port", demo_options.mqtt_port, "MQTT broker port")
+      ->capture_default_str();
 
   // Commissioning: the vendor's Windows apps, from an SSH session.
   tiltgate::BusOptions info_bus;

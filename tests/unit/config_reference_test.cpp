@@ -34,6 +34,7 @@ std::string section(const std::string& doc, const std::string& heading) {
 const std::map<std::string, std::string> kSections{
     {"server", "## `[server]`"},
     {"http", "## `[http]`"},
+    {"mqtt", "## `[mqtt]`"},
     {"bus", "## `[[bus]]`"},
     {"sensor", "## `[[sensor]]`"},
     {"sensor.mounting", "### `mounting`"},

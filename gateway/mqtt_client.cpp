@@ -1,0 +1,208 @@
+#include "gateway/mqtt_client.h"
+
+#include <fmt/format.h>
+#include <mosquitto.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "gateway/mqtt_payload.h"
+
+namespace tiltgate {
+
+namespace {
+
+// libmosquitto wants one mosquitto_lib_init() per process before its first client.
+void init_library_once() {
+  static std::once_flag once;
+  std::call_once(once, [] { mosquitto_lib_init(); });
+}
+
+const char* or_null(const std::string& text) { return text.empty() ? nullptr : text.c_str(); }
+
+MqttClient& client_of(void* self) { return *static_cast<MqttClient*>(self); }
+
+}  // namespace
+
+MqttClient::MqttClient(MqttClientOptions options) : options_(std::move(options)) {}
+
+MqttClient::~MqttClient() {
+  stop();
+  if (mosq_ != nullptr) mosquitto_destroy(mosq_);
+}
+
+Expected<Done, std::string> MqttClient::start() {
+  init_library_once();
+  // clean session: a restarted gateway starts afresh; what it missed is in its own backlog.
+  mosq_ = mosquitto_new(options_.client_id.c_str(), true, this);
+  if (mosq_ == nullptr) return Unexpected{std::string("libmosquitto: cannot create a client")};
+  mosquitto_connect_callback_set(mosq_, &MqttClient::on_connect);
+  mosquitto_disconnect_callback_set(mosq_, &MqttClient::on_disconnect);
+  mosquitto_publish_callback_set(mosq_, &MqttClient::on_publish);
+  mosquitto_log_callback_set(mosq_, &MqttClient::on_log);
+  const std::string_view offline = kMqttOffline;
+  int rc = mosquitto_will_set(mosq_, options_.status_topic.c_str(), int(offline.size()),
+                              offline.data(), options_.qos, true);
+  if (rc != MOSQ_ERR_SUCCESS)
+    return Unexpected{fmt::format("last will: {}", mosquitto_strerror(rc))};
+  if (!options_.username.empty()) {
+    rc = mosquitto_username_pw_set(mosq_, options_.username.c_str(), or_null(options_.password));
+    if (rc != MOSQ_ERR_SUCCESS)
+      return Unexpected{fmt::format("username: {}", mosquitto_strerror(rc))};
+  }
+  if (!options_.ca_file.empty()) {
+    rc = mosquitto_tls_set(mosq_, options_.ca_file.c_str(), nullptr, or_null(options_.cert_file),
+                           or_null(options_.key_file), nullptr);
+    if (rc != MOSQ_ERR_SUCCESS)
+      return Unexpected{fmt::format("TLS files: {}", mosquitto_strerror(rc))};
+  }
+  // Publishing from the event loop while run() drives the network on its own thread.
+  mosquitto_threaded_set(mosq_, true);
+  thread_ = std::thread([this] { run(); });
+  return Done{};
+}
+
+// Our own network thread rather than mosquitto_loop_start(): libmosquitto's thread ends for
+// good on a failed name lookup (MOSQ_ERR_EAI, e.g. a gateway that boots before its DNS), and
+// waits for ever when the first connect_async failed (eclipse-mosquitto/mosquitto issue 1903).
+// Here every failure is retried after a back-off, and stop() can wake the back-off at once.
+void MqttClient::run() {
+  auto delay = std::chrono::seconds(options_.reconnect_min_s);
+  const auto max_delay = std::chrono::seconds(options_.reconnect_max_s);
+  bool first = true;
+  bool socket_open = false;
+  std::optional<std::chrono::steady_clock::time_point> stop_seen;
+  while (true) {
+    if (stopping_.load()) {
+      // The DISCONNECT stop() queued goes out first, given a second at most.
+      const auto now = std::chrono::steady_clock::now();
+      if (!stop_seen) stop_seen = now;
+      if (!socket_open || now - *stop_seen > std::chrono::seconds(1)) break;
+    }
+    if (!socket_open) {
+      spdlog::debug("MQTT: connecting to {}:{}", options_.host, options_.port);
+      // Non-blocking TCP connect; only the name lookup can wait, and it waits on this thread.
+      const int rc = first ? mosquitto_connect_async(mosq_, options_.host.c_str(), options_.port,
+                                                     options_.keepalive_s)
+                           : mosquitto_reconnect_async(mosq_);
+      if (rc == MOSQ_ERR_SUCCESS) {
+        first = false;
+        socket_open = true;
+        continue;
+      }
+      if (rc != MOSQ_ERR_INVAL) first = false;  // connect_async stored the host: reconnect now
+      spdlog::debug("MQTT: broker {}:{} not reached ({}); next attempt in {} s", options_.host,
+                    options_.port,
+                    rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
+                    delay.count());
+    } else {
+      // 100 ms at most in select(): a publish from the event loop wakes it sooner.
+      const int rc = mosquitto_loop(mosq_, 100, 1);
+      if (rc == MOSQ_ERR_SUCCESS) {
+        if (connected_.load()) delay = std::chrono::seconds(options_.reconnect_min_s);
+        continue;
+      }
+      socket_open = false;
+      if (stopping_.load()) break;
+      spdlog::debug("MQTT: connection to {}:{} ended ({}); next attempt in {} s", options_.host,
+                    options_.port,
+                    rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
+                    delay.count());
+    }
+    std::unique_lock lock(wake_mutex_);
+    wake_.wait_for(lock, delay, [&] { return stopping_.load(); });
+    delay = std::min(delay * 2, max_delay);
+  }
+}
+
+bool MqttClient::publish(const MqttMessage& message) {
+  if (!connected_.load()) return false;
+  const int rc =
+      mosquitto_publish(mosq_, nullptr, message.topic.c_str(), int(message.payload.size()),
+                        message.payload.data(), options_.qos, message.retain);
+  return rc == MOSQ_ERR_SUCCESS;
+}
+
+void MqttClient::stop() {
+  if (!thread_.joinable()) return;
+  if (connected_.load()) {
+    const std::string_view offline = kMqttOffline;
+    int mid = 0;
+    if (mosquitto_publish(mosq_, &mid, options_.status_topic.c_str(), int(offline.size()),
+                          offline.data(), options_.qos, true) == MOSQ_ERR_SUCCESS &&
+        options_.qos > 0) {
+      // Acknowledged before the DISCONNECT, or given up on after a second: shutting down must
+      // not hang on a broker that stopped answering.
+      std::unique_lock lock(published_mutex_);
+      published_changed_.wait_for(lock, std::chrono::seconds(1),
+                                  [&] { return last_published_mid_ == mid; });
+    }
+    mosquitto_disconnect(mosq_);  // run() sends it, then its mosquitto_loop() ends
+  }
+  {
+    std::lock_guard lock(wake_mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+  connected_ = false;
+}
+
+void MqttClient::on_connect(struct mosquitto* mosq, void* self, int rc) {
+  MqttClient& client = client_of(self);
+  if (rc != 0) {
+    // A refusal (bad credentials, client id) repeats at every attempt: logged when it changes.
+    if (rc != client.last_refusal_)
+      spdlog::warn("MQTT: broker {}:{} refused the connection: {}", client.options_.host,
+                   client.options_.port, mosquitto_connack_string(rc));
+    client.last_refusal_ = rc;
+    return;
+  }
+  client.last_refusal_ = 0;
+  const std::string_view online = kMqttOnline;
+  mosquitto_publish(mosq, nullptr, client.options_.status_topic.c_str(), int(online.size()),
+                    online.data(), client.options_.qos, true);
+  ++client.connections_;
+  client.connected_ = true;
+  spdlog::info("MQTT: connected to {}:{} as {}", client.options_.host, client.options_.port,
+               client.options_.client_id);
+}
+
+void MqttClient::on_disconnect(struct mosquitto*, void* self, int rc) {
+  MqttClient& client = client_of(self);
+  if (!client.connected_.exchange(false)) return;  // a failed attempt: run() logs it
+  if (rc == 0)
+    spdlog::info("MQTT: disconnected from {}:{}", client.options_.host, client.options_.port);
+  else
+    spdlog::warn("MQTT: lost the broker {}:{} ({}); reconnecting", client.options_.host,
+                 client.options_.port,
+                 rc == MOSQ_ERR_ERRNO ? "connection closed" : mosquitto_strerror(rc));
+}
+
+void MqttClient::on_publish(struct mosquitto*, void* self, int mid) {
+  MqttClient& client = client_of(self);
+  {
+    std::lock_guard lock(client.published_mutex_);
+    client.last_published_mid_ = mid;
+  }
+  client.published_changed_.notify_all();
+}
+
+void MqttClient::on_log(struct mosquitto*, void*, int level, const char* text) {
+  // Each connection attempt ("sending CONNECT") and libmosquitto's own complaints at debug
+  // level, so a broker away for hours does not fill the log; every other packet at trace.
+  const std::string_view line = text;
+  if (level == MOSQ_LOG_ERR || level == MOSQ_LOG_WARNING ||
+      line.find("sending CONNECT") != std::string_view::npos)
+    spdlog::debug("MQTT: libmosquitto: {}", line);
+  else
+    spdlog::trace("MQTT: libmosquitto: {}", line);
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,32 @@
+// What the MQTT feed publishes (README, "MQTT"): topic names and JSON payloads built from a
+// sensor's status copy. Pure: text from a SensorStatus.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "gateway/gateway_status.h"
+
+namespace tiltgate {
+
+// <prefix>/<sensor>/state, <prefix>/<sensor>/info and <prefix>/status.
+std::string mqtt_state_topic(std::string_view prefix, std::string_view sensor);
+std::string mqtt_info_topic(std::string_view prefix, std::string_view sensor);
+std::string mqtt_status_topic(std::string_view prefix);
+
+// The gateway's retained status: "online" while connected, "offline" as the last will and on
+// a clean shutdown.
+inline constexpr std::string_view kMqttOnline = "online";
+inline constexpr std::string_view kMqttOffline = "offline";
+
+// {"ts":..,"x":..,"y":..,"tilt":..,"online":..,"stale":..,"age_ms":..,"alarms":..}. `ts` is the
+// Unix time in milliseconds of the reading x and y come from (`now_unix_ms` less its age), or
+// `now_unix_ms` when there is none yet (x, y and tilt are then null).
+std::string mqtt_state_json(const SensorStatus& sensor, std::int64_t now_unix_ms);
+
+// The sensor's identity: name, bus, unit_id, address, model, serial, firmware. Retained, and
+// published again whenever it changes (the serial arrives after the first poll).
+std::string mqtt_info_json(const SensorStatus& sensor);
+
+}  // namespace tiltgate

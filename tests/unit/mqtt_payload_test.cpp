@@ -1,0 +1,64 @@
+// The MQTT feed's topics and payloads (README, "MQTT"), from a sensor's status copy.
+#include <doctest/doctest.h>
+
+#include "gateway/mqtt_payload.h"
+
+using namespace tiltgate;
+
+namespace {
+
+SensorStatus boom() {
+  SensorStatus s;
+  s.name = "boom";
+  s.bus = "line1";
+  s.unit_id = 3;
+  s.address = 223;
+  s.model = "h6";
+  s.serial = "9600223";
+  s.firmware = "Rev A.8";
+  s.online = true;
+  s.stale = false;
+  s.x = 1.25;
+  s.y = -0.5;
+  s.tilt = 1.346;
+  s.age_ms = 40;
+  s.alarms = 2;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("mqtt: topics are the prefix, the sensor's name and the kind") {
+  CHECK(mqtt_state_topic("tiltgate/gw1", "boom") == "tiltgate/gw1/boom/state");
+  CHECK(mqtt_info_topic("plant/north", "boom") == "plant/north/boom/info");
+  CHECK(mqtt_status_topic("tiltgate/gw1") == "tiltgate/gw1/status");
+}
+
+TEST_CASE("mqtt: a state carries the reading's Unix time in ms, angles, online and alarms") {
+  CHECK(mqtt_state_json(boom(), 1764640000040) ==
+        R"({"ts":1764640000000,"x":1.25,"y":-0.5,"tilt":1.346,"online":true,"stale":false,)"
+        R"("age_ms":40,"alarms":2})");
+}
+
+TEST_CASE("mqtt: a state before the first reading has null angles and the publish time") {
+  SensorStatus s;
+  s.name = "mast";
+  CHECK(mqtt_state_json(s, 1764640000000) ==
+        R"({"ts":1764640000000,"x":null,"y":null,"tilt":null,"online":false,"stale":true,)"
+        R"("age_ms":null,"alarms":0})");
+}
+
+TEST_CASE("mqtt: a single-axis sensor's state has y null") {
+  SensorStatus s = boom();
+  s.y.reset();
+  CHECK(mqtt_state_json(s, 1000).find(R"("y":null)") != std::string::npos);
+}
+
+TEST_CASE("mqtt: info is the sensor's identity, strings escaped") {
+  SensorStatus s = boom();
+  CHECK(mqtt_info_json(s) ==
+        R"({"name":"boom","bus":"line1","unit_id":3,"address":223,"model":"h6",)"
+        R"("serial":"9600223","firmware":"Rev A.8"})");
+  s.firmware = "A\"8";
+  CHECK(mqtt_info_json(s).find(R"("firmware":"A\"8")") != std::string::npos);
+}

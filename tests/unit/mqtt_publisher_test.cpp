@@ -1,0 +1,162 @@
+// The MQTT feed's decisions: when a sensor's state is due (interval, on_change_deg, online),
+// when its info is sent again, and the bounded backlog that drops its oldest messages.
+#include <doctest/doctest.h>
+
+#include <string>
+#include <vector>
+
+#include "gateway/mqtt_publisher.h"
+
+using namespace tiltgate;
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+const Clock::time_point t0 = Clock::time_point{} + 1h;
+
+StateSample at(double x, std::uint64_t readings = 1, bool online = true) {
+  return {x, 0.0, online, readings};
+}
+
+MqttPacing pacing(double on_change_deg) {
+  MqttPacing p;
+  p.interval = 1000ms;
+  p.on_change_deg = on_change_deg;
+  p.min_spacing = 100ms;
+  return p;
+}
+
+SensorStatus sensor(std::string name, double x) {
+  SensorStatus s;
+  s.name = std::move(name);
+  s.bus = "line1";
+  s.online = true;
+  s.x = x;
+  s.y = 0.0;
+  s.age_ms = 0;
+  return s;
+}
+
+std::vector<std::string> drain(MqttBacklog& backlog) {
+  std::vector<std::string> topics;
+  while (!backlog.empty()) {
+    topics.push_back(backlog.front().topic);
+    backlog.pop();
+  }
+  return topics;
+}
+
+}  // namespace
+
+TEST_CASE("mqtt pacing: the first sample is due, then again once the interval has passed") {
+  StatePacer pacer(pacing(0.01));
+  CHECK(pacer.due(at(1.0), t0));
+  pacer.published(at(1.0), t0);
+  CHECK_FALSE(pacer.due(at(1.0, 2), t0 + 999ms));
+  CHECK(pacer.due(at(1.0, 2), t0 + 1000ms));
+}
+
+TEST_CASE("mqtt pacing: an angle moved by on_change_deg is due after min_spacing, less is not") {
+  StatePacer pacer(pacing(0.5));
+  pacer.published(at(1.0), t0);
+  CHECK_FALSE(pacer.due(at(1.4), t0 + 200ms));
+  CHECK_FALSE(pacer.due(at(1.5), t0 + 50ms));  // within min_spacing
+  CHECK(pacer.due(at(1.5), t0 + 100ms));
+  CHECK(pacer.due(at(0.5), t0 + 100ms));
+  // y counts as much as x.
+  CHECK(pacer.due(StateSample{1.0, 0.5, true, 2}, t0 + 100ms));
+}
+
+TEST_CASE("mqtt pacing: the change is measured from the last published angle, not the last seen") {
+  StatePacer pacer(pacing(0.5));
+  pacer.published(at(1.0), t0);
+  CHECK_FALSE(pacer.due(at(1.3), t0 + 200ms));
+  CHECK(pacer.due(at(1.6), t0 + 300ms));  // 0.6 from 1.0, though 0.3 from the sample before
+}
+
+TEST_CASE("mqtt pacing: on_change_deg 0 sends every new reading, spaced by min_spacing") {
+  StatePacer pacer(pacing(0.0));
+  pacer.published(at(1.0, 1), t0);
+  CHECK_FALSE(pacer.due(at(1.0, 1), t0 + 300ms));  // no new reading
+  CHECK_FALSE(pacer.due(at(1.0, 2), t0 + 50ms));
+  CHECK(pacer.due(at(1.0, 2), t0 + 100ms));
+}
+
+TEST_CASE("mqtt pacing: a sensor going offline, or its first reading, is due at once") {
+  StatePacer pacer(pacing(10.0));
+  pacer.published(at(1.0), t0);
+  CHECK(pacer.due(at(1.0, 1, false), t0 + 10ms));
+  StatePacer fresh(pacing(10.0));
+  fresh.published(StateSample{std::nullopt, std::nullopt, false, 0}, t0);
+  CHECK(fresh.due(StateSample{1.0, 0.0, false, 1}, t0 + 100ms));
+}
+
+TEST_CASE("mqtt backlog: full, it drops the oldest and counts each drop") {
+  MqttBacklog backlog(3);
+  for (int i = 0; i < 5; ++i) backlog.push({"t" + std::to_string(i), "", false});
+  CHECK(backlog.size() == 3);
+  CHECK(backlog.dropped() == 2);
+  CHECK(drain(backlog) == std::vector<std::string>{"t2", "t3", "t4"});
+}
+
+TEST_CASE("mqtt backlog: a capacity of 0 keeps nothing and counts every message") {
+  MqttBacklog backlog(0);
+  backlog.push({"t", "", false});
+  CHECK(backlog.empty());
+  CHECK(backlog.dropped() == 1);
+}
+
+TEST_CASE("mqtt publisher: each sensor's info (retained) then state, then states as they come due") {
+  MqttPublisher publisher({"gw", pacing(0.5), 100});
+  GatewayStatus status;
+  status.sensors = {sensor("boom", 1.0), sensor("mast", 2.0)};
+  publisher.take(status, t0, 1000);
+  MqttBacklog& backlog = publisher.backlog();
+  REQUIRE(backlog.size() == 4);
+  CHECK(backlog.front().topic == "gw/boom/info");
+  CHECK(backlog.front().retain);
+  backlog.pop();
+  CHECK(backlog.front().topic == "gw/boom/state");
+  CHECK_FALSE(backlog.front().retain);
+  CHECK(drain(backlog) == std::vector<std::string>{"gw/boom/state", "gw/mast/info", "gw/mast/state"});
+
+  status.sensors[1].x = 3.0;  // mast moved; boom did not
+  publisher.take(status, t0 + 200ms, 1200);
+  CHECK(drain(backlog) == std::vector<std::string>{"gw/mast/state"});
+  publisher.take(status, t0 + 1100ms, 2100);  // boom's interval is over
+  CHECK(drain(backlog) == std::vector<std::string>{"gw/boom/state"});
+}
+
+TEST_CASE("mqtt publisher: info is sent again when it changes, and after forget_info") {
+  MqttPublisher publisher({"gw", pacing(0.5), 100});
+  GatewayStatus status;
+  status.sensors = {sensor("boom", 1.0)};
+  publisher.take(status, t0, 1000);
+  drain(publisher.backlog());
+  status.sensors[0].serial = "9600223";  // arrives after the first poll
+  publisher.take(status, t0 + 10ms, 1010);
+  REQUIRE(publisher.backlog().size() == 1);
+  CHECK(publisher.backlog().front().payload.find("9600223") != std::string::npos);
+  drain(publisher.backlog());
+  publisher.take(status, t0 + 20ms, 1020);
+  CHECK(publisher.backlog().empty());
+  publisher.forget_info();
+  publisher.take(status, t0 + 30ms, 1030);
+  CHECK(drain(publisher.backlog()) == std::vector<std::string>{"gw/boom/info"});
+}
+
+TEST_CASE("mqtt publisher: a small backlog keeps the latest messages while nothing drains it") {
+  MqttPublisher publisher({"gw", pacing(0.0), 2});
+  GatewayStatus status;
+  status.sensors = {sensor("boom", 1.0)};
+  for (int i = 0; i < 5; ++i) {
+    status.sensors[0].polls_ok = std::uint64_t(i + 1);
+    status.sensors[0].x = double(i);
+    publisher.take(status, t0 + i * 200ms, 1000 + i * 200);
+  }
+  // info + 5 states queued, 2 kept: the last two states.
+  CHECK(publisher.backlog().dropped() == 4);
+  REQUIRE(publisher.backlog().size() == 2);
+  CHECK(publisher.backlog().front().payload.find(R"("x":3)") != std::string::npos);
+}
