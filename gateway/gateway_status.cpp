@@ -92,6 +92,7 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   status.modbus_connections_refused = server.refused;
   status.modbus_requests = server_->request_counts().requests();
   status.modbus_exceptions = server_->request_counts().exceptions();
+  status.mqtt = mqtt_stats();
   status.process_start_seconds = start_seconds_;
   return status;
 }

@@ -72,6 +72,15 @@ struct ModbusExceptionCount {
   std::uint64_t count = 0;
 };
 
+// The MQTT feed's counters (gateway/mqtt_feed.h), for the metrics (tiltgate_mqtt_*).
+struct MqttStats {
+  std::uint64_t published = 0;   // messages handed to the broker connection
+  std::uint64_t dropped = 0;     // dropped from a full backlog while the broker was away
+  std::size_t backlog = 0;       // waiting for the broker now
+  bool connected = false;
+  std::uint64_t reconnects = 0;  // connections after the first
+};
+
 struct GatewayStatus {
   std::vector<SensorStatus> sensors;
   std::vector<BusStatus> buses;
@@ -80,6 +89,7 @@ struct GatewayStatus {
   std::uint64_t modbus_connections_refused = 0;  // closed at once: max_clients reached
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;
+  std::optional<MqttStats> mqtt;      // none without [mqtt]
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
 };
 

@@ -19,15 +19,6 @@
 
 namespace tiltgate {
 
-// The feed's counters, for the metrics (tiltgate_mqtt_*).
-struct MqttStats {
-  std::uint64_t published = 0;   // messages handed to the broker connection
-  std::uint64_t dropped = 0;     // dropped from a full backlog while the broker was away
-  std::size_t backlog = 0;       // waiting for the broker now
-  bool connected = false;
-  std::uint64_t reconnects = 0;  // connections after the first
-};
-
 class MqttFeed {
  public:
   MqttFeed(boost::asio::any_io_executor executor, StatusSource status, const MqttConfig& config);

@@ -132,6 +132,22 @@ std::string metrics_text(const GatewayStatus& status) {
   for (const ModbusExceptionCount& e : status.modbus_exceptions)
     out.sample(fmt::format("function=\"{:02X}\",code=\"{:02X}\"", e.function, e.exception),
                double(e.count));
+  if (status.mqtt) {
+    const MqttStats& mqtt = *status.mqtt;
+    out.family("tiltgate_mqtt_connected", "gauge", "1 while connected to the MQTT broker, else 0");
+    out.sample("", mqtt.connected ? 1 : 0);
+    out.family("tiltgate_mqtt_published_total", "counter",
+               "MQTT messages handed to the broker connection");
+    out.sample("", double(mqtt.published));
+    out.family("tiltgate_mqtt_dropped_total", "counter",
+               "MQTT messages dropped from a full backlog while the broker was away");
+    out.sample("", double(mqtt.dropped));
+    out.family("tiltgate_mqtt_backlog_messages", "gauge", "MQTT messages waiting for the broker");
+    out.sample("", double(mqtt.backlog));
+    out.family("tiltgate_mqtt_reconnects_total", "counter",
+               "Connections to the MQTT broker after the first");
+    out.sample("", double(mqtt.reconnects));
+  }
   out.family("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds");
   out.sample("", status.process_start_seconds);

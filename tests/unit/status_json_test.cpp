@@ -170,13 +170,27 @@ TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus request
   CHECK(text.find("tiltgate_modbus_connections_refused_total 1\n") != std::string::npos);
 }
 
+TEST_CASE("metrics: the MQTT feed's series only when [mqtt] is on") {
+  GatewayStatus status = plant();
+  CHECK(metrics_text(status).find("tiltgate_mqtt_") == std::string::npos);
+  status.mqtt = MqttStats{12, 3, 5, true, 1};
+  const std::string text = metrics_text(status);
+  CHECK(text.find("tiltgate_mqtt_connected 1\n") != std::string::npos);
+  CHECK(text.find("tiltgate_mqtt_published_total 12\n") != std::string::npos);
+  CHECK(text.find("tiltgate_mqtt_dropped_total 3\n") != std::string::npos);
+  CHECK(text.find("tiltgate_mqtt_backlog_messages 5\n") != std::string::npos);
+  CHECK(text.find("tiltgate_mqtt_reconnects_total 1\n") != std::string::npos);
+}
+
 TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the 0.0.4 format") {
   const std::regex help(R"(# HELP (tiltgate_[a-z_]+) .+)");
   const std::regex type(R"(# TYPE (tiltgate_[a-z_]+) (gauge|counter))");
   const std::regex sample(
       R"((tiltgate_[a-z_]+)(\{([a-z_]+="([^"\\\n]|\\[\\"n])*")(,[a-z_]+="([^"\\\n]|\\[\\"n])*")*\})? )"
       R"((-?[0-9.]+(e[-+]?[0-9]+)?|NaN|[+-]Inf))");
-  std::istringstream lines(metrics_text(plant()));
+  GatewayStatus status = plant();
+  status.mqtt = MqttStats{12, 3, 5, true, 1};
+  std::istringstream lines(metrics_text(status));
   std::string line, helped, typed;
   std::set<std::string> families;
   int samples = 0;
