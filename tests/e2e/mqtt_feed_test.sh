@@ -67,11 +67,15 @@ at_least() { [ "$(states "$1" "$2")" -ge "$3" ]; }
 
 start_sim "$tiltgate" rieker h6:223,h4360:101 "$dir/ttyUSB0"
 modbus_port=$(free_port)
+http_port=$(free_port)
 cat >"$dir/plant.toml" <<TOML
 [server]
 listen = "127.0.0.1"
 port = $modbus_port
 control_socket = ""
+
+[http]
+port = $http_port
 
 [mqtt]
 host = "127.0.0.1"
@@ -169,6 +173,17 @@ check "state messages flow again after the broker restarts" wait_for 20 flowing_
 check "the info and status are retained again on the restarted broker" wait_for 5 retained_ok
 dropped_logged() { grep -q "backlog full while the broker is away: [0-9]* messages dropped" "$dir/gateway.err"; }
 check "messages beyond the backlog are dropped and counted" dropped_logged
+# /metrics shows the feed connected again, with what it published and dropped.
+metric() {
+  python3 -c "import urllib.request; print(urllib.request.urlopen('http://127.0.0.1:$http_port/metrics').read().decode())" |
+    awk -v name="$1" '$1 == name { print $2 }'
+}
+metrics_ok() {
+  [ "$(metric tiltgate_mqtt_connected)" = 1 ] && [ "$(metric tiltgate_mqtt_dropped_total)" -gt 0 ] &&
+    [ "$(metric tiltgate_mqtt_published_total)" -gt 10 ] && [ "$(metric tiltgate_mqtt_reconnects_total)" -ge 1 ]
+}
+check "/metrics shows the feed connected, with messages published, dropped and a reconnect" \
+  wait_for 5 metrics_ok
 # The first connection sent a full backlog too (the gateway started before the broker).
 backlog_sent() {
   [ "$(grep -c "sending 5 messages kept while the broker was away" "$dir/gateway.err")" -ge 2 ]
