@@ -35,6 +35,9 @@ struct SimulatorSetup {
   std::uint32_t listen_baud = 0;
   // Sensors may share an address, as on a bus commissioned by mistake: their replies collide.
   bool shared_addresses = false;
+  // The demo: angles move slowly, so a status page shows every sensor alive. Families whose
+  // simulator always sways (Rieker, Spectron) ignore it; tests leave it off to read exact values.
+  bool sway = false;
 };
 
 struct SimulatorDescriptor {

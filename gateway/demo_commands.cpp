@@ -120,6 +120,7 @@ int demo_command(const DemoOptions& options) {
   for (const FamilyDescriptor* family : families) {
     SimulatorSetup setup = family->demo.simulator;
     setup.pace_baud = family->demo.baud;  // real wire time, so the demo behaves like a plant
+    setup.sway = true;
     auto simulator = family->simulator.make(io, setup);
     if (!simulator) {
       spdlog::critical("demo: {}", simulator.error());

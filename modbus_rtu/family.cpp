@@ -2,6 +2,10 @@
 
 #include <array>
 #include <charconv>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numbers>
 
 #include "driver/text_list.h"
 #include "mapping/common_block.h"
@@ -159,6 +163,20 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
   for (const SimulatedSlave& slave : *slaves) {
     options.devices.push_back(rtu_inclinometer(slave.address));
     set_inclinometer_angles(options.devices.back(), slave.angle_x, slave.angle_y);
+  }
+  if (setup.sway) {
+    // As the Rieker simulator's sensors: 0.25 degrees around their base over 30 s.
+    std::map<std::uint8_t, std::pair<double, double>> bases;
+    for (const SimulatedSlave& slave : *slaves) bases[slave.address] = {slave.angle_x, slave.angle_y};
+    options.before_request = [bases](SimulatedDevice& device) {
+      const auto base = bases.find(device.slave());
+      if (base == bases.end()) return;
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+      const double phase = 2.0 * std::numbers::pi * seconds / 30.0;
+      set_inclinometer_angles(device, base->second.first + 0.25 * std::sin(phase),
+                              base->second.second + 0.25 * std::cos(phase));
+    };
   }
   options.link_path = setup.link;
   if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;

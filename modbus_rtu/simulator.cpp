@@ -36,6 +36,7 @@ void RtuSimulator::on_bytes(std::span<const std::uint8_t> bytes) {
     std::optional<DeviceReply> first;
     std::size_t answering = 0;
     for (SimulatedDevice& device : options_.devices) {
+      if (options_.before_request) options_.before_request(device);
       auto reply = device.respond(*request);
       if (reply && answering++ == 0) first = std::move(reply);
     }

@@ -10,6 +10,7 @@
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -33,6 +34,8 @@ struct RtuSimulatorOptions {
   std::chrono::microseconds reply_latency{200};
   // A stable path re-pointed at the current slave on every (re)open. Empty: no link.
   std::string link_path;
+  // Called for each device before it sees a request: lets a demo move its values.
+  std::function<void(SimulatedDevice&)> before_request;
 };
 
 struct RtuSimulatorCounters {
