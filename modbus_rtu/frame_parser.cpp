@@ -64,6 +64,10 @@ bool RtuFrameParser::completes_good(std::size_t offset) {
     return false;
   }
   const bool by_crc = *length == kLengthByCrc;
+  if (by_crc && head.size() > kMaxFrameSize) {  // no CRC matched within the largest frame
+    candidate.dead = true;
+    return false;
+  }
   if (by_crc ? head.size() < kMinFrameSize : head.size() != *length) return false;
   if (candidate.crc == 0) return true;
   if (!by_crc) candidate.dead = candidate.crc_failed = true;  // a CRC-delimited one may end later

@@ -120,6 +120,28 @@ TEST_CASE("RTU parser: a frame of a function it does not know ends where its CRC
   CHECK(parse(parser, stream, rng, 1) == std::vector<Bytes>{unusual});
 }
 
+// Found by the modbus_rtu_codec fuzzer: a CRC-delimited frame was taken when its CRC matched
+// at byte 257, one past the largest RTU frame (Serial Line 2.5.1.1), so a pass-through could
+// relay a PDU too long for a Modbus TCP reply.
+TEST_CASE("RTU parser: a frame of a function it does not know is at most 256 bytes") {
+  auto unknown_function_frame = [](std::size_t size) {
+    Bytes frame{0x01, 0x31};  // function 0x31: no length rule, so the CRC ends it
+    frame.resize(size - 2, 0x00);
+    const std::uint16_t crc = test::reference_crc(frame);
+    frame.push_back(static_cast<std::uint8_t>(crc & 0xFF));
+    frame.push_back(static_cast<std::uint8_t>(crc >> 8));
+    return frame;
+  };
+  std::mt19937 rng(5);
+  const Bytes largest = unknown_function_frame(kMaxFrameSize);
+  RtuFrameParser parser(FrameKind::request);
+  CHECK(parse(parser, largest, rng, 7) == std::vector<Bytes>{largest});
+
+  const Bytes too_long = unknown_function_frame(kMaxFrameSize + 1);
+  RtuFrameParser long_parser(FrameKind::request);
+  CHECK(parse(long_parser, too_long, rng, 7).empty());
+}
+
 TEST_CASE("RTU parser: reset forgets a partial frame") {
   RtuFrameParser parser(FrameKind::reply);
   parser.feed(std::span(kReply17).first(6));
