@@ -36,7 +36,7 @@ struct SimulatorSetup {
   // Sensors may share an address, as on a bus commissioned by mistake: their replies collide.
   bool shared_addresses = false;
   // The demo: angles move slowly, so a status page shows every sensor alive. Families whose
-  // simulator always sways (Rieker, Spectron) ignore it; tests leave it off to read exact values.
+  // simulators always sway ignore it; tests leave it off to read exact values.
   bool sway = false;
 };
 
