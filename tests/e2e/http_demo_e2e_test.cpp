@@ -9,6 +9,7 @@
 
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/http_client.h"
+#include "e2e/support/http_demo.h"
 #include "driver/family.h"
 #include "driver/simulator.h"
 
@@ -17,13 +18,9 @@ using namespace tiltgate::test;
 using namespace std::chrono_literals;
 
 TEST_CASE("HTTP: the demo serves every sensor's angles in the API and the metrics") {
-  TempDir dir;
-  const std::uint16_t port = free_tcp_port();
-  const std::uint16_t http_port = free_tcp_port();
-  GatewayProcess demo({"demo", "--port", std::to_string(port), "--http-port",
-                       std::to_string(http_port)},
-                      dir.path());
-  REQUIRE_MESSAGE(demo.wait_listening(http_port), demo.log());
+  HttpDemo started;
+  GatewayProcess& demo = started.process;
+  const std::uint16_t http_port = started.http_port;
   std::vector<std::string> names;
   for (const FamilyDescriptor* family : registered_families())
     for (const DemoSensor& sensor : family->demo.sensors) names.push_back(std::string(sensor.name));

@@ -11,6 +11,7 @@
 
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/http_client.h"
+#include "e2e/support/http_demo.h"
 
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
@@ -29,13 +30,9 @@ std::vector<long long> sample_times(const std::string& json) {
 }  // namespace
 
 TEST_CASE("HTTP: the demo keeps each sensor's angle history and serves it as JSON and CSV") {
-  TempDir dir;
-  const std::uint16_t port = free_tcp_port();
-  const std::uint16_t http_port = free_tcp_port();
-  GatewayProcess demo({"demo", "--port", std::to_string(port), "--http-port",
-                       std::to_string(http_port)},
-                      dir.path());
-  REQUIRE_MESSAGE(demo.wait_listening(http_port), demo.log());
+  HttpDemo started;
+  GatewayProcess& demo = started.process;
+  const std::uint16_t http_port = started.http_port;
 
   const Response page = get(http_port, "/");
   CHECK(page.status == 200);
