@@ -32,6 +32,11 @@ class Exposition {
     text_ += fmt::format("# HELP {} {}\n# TYPE {} {}\n", name, help, name, type);
     name_ = name;
   }
+  // A family of one unlabelled sample.
+  void single(std::string_view name, std::string_view type, std::string_view help, double value) {
+    family(name, type, help);
+    sample("", value);
+  }
   // `labels` as written between the braces, already escaped; empty for none.
   void sample(const std::string& labels, double value) {
     text_ += name_;
@@ -116,13 +121,13 @@ std::string metrics_text(const GatewayStatus& status) {
              "Share of the last seconds the bus was busy, 0 to 1 (1: it cannot poll faster)");
   for (const BusStatus& b : status.buses)
     if (b.utilisation) out.sample(bus_labels(b), *b.utilisation);
-  out.family("tiltgate_modbus_clients", "gauge", "Modbus TCP connections open now");
-  out.sample("", double(status.modbus_clients));
-  out.family("tiltgate_modbus_connections_total", "counter", "Modbus TCP connections accepted");
-  out.sample("", double(status.modbus_connections));
-  out.family("tiltgate_modbus_connections_refused_total", "counter",
-             "Modbus TCP connections closed at once because max_clients were connected");
-  out.sample("", double(status.modbus_connections_refused));
+  out.single("tiltgate_modbus_clients", "gauge", "Modbus TCP connections open now",
+             double(status.modbus_clients));
+  out.single("tiltgate_modbus_connections_total", "counter", "Modbus TCP connections accepted",
+             double(status.modbus_connections));
+  out.single("tiltgate_modbus_connections_refused_total", "counter",
+             "Modbus TCP connections closed at once because max_clients were connected",
+             double(status.modbus_connections_refused));
   out.family("tiltgate_modbus_requests_total", "counter",
              "Modbus TCP requests answered, by function code (two hex digits)");
   for (const ModbusFunctionCount& f : status.modbus_requests)
@@ -134,23 +139,23 @@ std::string metrics_text(const GatewayStatus& status) {
                double(e.count));
   if (status.mqtt) {
     const MqttStats& mqtt = *status.mqtt;
-    out.family("tiltgate_mqtt_connected", "gauge", "1 while connected to the MQTT broker, else 0");
-    out.sample("", mqtt.connected ? 1 : 0);
-    out.family("tiltgate_mqtt_published_total", "counter",
-               "MQTT messages handed to the broker connection");
-    out.sample("", double(mqtt.published));
-    out.family("tiltgate_mqtt_dropped_total", "counter",
-               "MQTT messages dropped from a full backlog while the broker was away");
-    out.sample("", double(mqtt.dropped));
-    out.family("tiltgate_mqtt_backlog_messages", "gauge", "MQTT messages waiting for the broker");
-    out.sample("", double(mqtt.backlog));
-    out.family("tiltgate_mqtt_reconnects_total", "counter",
-               "Connections to the MQTT broker after the first");
-    out.sample("", double(mqtt.reconnects));
+    out.single("tiltgate_mqtt_connected", "gauge", "1 while connected to the MQTT broker, else 0",
+               mqtt.connected ? 1 : 0);
+    out.single("tiltgate_mqtt_published_total", "counter",
+               "MQTT messages handed to the broker connection",
+               double(mqtt.published));
+    out.single("tiltgate_mqtt_dropped_total", "counter",
+               "MQTT messages dropped from a full backlog while the broker was away",
+               double(mqtt.dropped));
+    out.single("tiltgate_mqtt_backlog_messages", "gauge", "MQTT messages waiting for the broker",
+               double(mqtt.backlog));
+    out.single("tiltgate_mqtt_reconnects_total", "counter",
+               "Connections to the MQTT broker after the first",
+               double(mqtt.reconnects));
   }
-  out.family("tiltgate_process_start_time_seconds", "gauge",
-             "Start time of the gateway since the Unix epoch in seconds");
-  out.sample("", status.process_start_seconds);
+  out.single("tiltgate_process_start_time_seconds", "gauge",
+             "Start time of the gateway since the Unix epoch in seconds",
+             status.process_start_seconds);
   return out.take();
 }
 
