@@ -31,6 +31,9 @@ struct ServerConfig {
   // The Unix socket commissioning commands reach the buses through (gateway/control_server.h),
   // an absolute path; empty: none.
   std::string control_socket = std::string(kDefaultControlSocket);
+  // The user `tiltgate run` serves as once its ttys and listeners are open, when started as
+  // root (gateway/run_as_user.h); empty: stay as started.
+  std::string user;
 };
 
 // The read-only HTTP status API and Prometheus metrics (gateway/http_server.h). Loopback by

@@ -152,6 +152,17 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
     else
       server.control_socket = *path;
   }
+  if (auto user = in.string("user")) {
+    // A user name as useradd takes it; whether it exists is for the machine that runs it.
+    const bool plain = !user->empty() && user->size() <= 32 &&
+                       user->find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                               "0123456789_.-") == std::string::npos &&
+                       user->front() != '-';
+    if (plain)
+      server.user = *user;
+    else
+      in.error("user", fmt::format("\"{}\" is not a user name, expected e.g. \"tiltgate\"", *user));
+  }
   in.reject_unknown_keys();
   return server;
 }

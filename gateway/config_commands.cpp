@@ -5,10 +5,12 @@
 #include <fmt/format.h>
 #include <iostream>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include "config/config_loader.h"
 #include "gateway/commands.h"
 #include "gateway/gateway.h"
+#include "gateway/run_as_user.h"
 
 namespace tiltgate {
 
@@ -59,6 +61,17 @@ int run_command(const std::string& config_path) {
   if (!started) {
     spdlog::critical("{}", started.error());
     return 1;
+  }
+  // The ttys and listeners are open: root is no longer needed.
+  if (!config->server.user.empty()) {
+    if (auto switched = run_as_user(config->server.user); !switched) {
+      spdlog::critical("{}", switched.error());
+      return 1;
+    }
+    spdlog::info("serving as user {} (uid {})", config->server.user, getuid());
+  } else if (geteuid() == 0) {
+    spdlog::warn("running as root: set [server] user to serve unprivileged once started "
+                 "(README, \"Running without root\")");
   }
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int signal) {

@@ -1,6 +1,9 @@
 #include "gateway/tcp_listen.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "gateway/inherited_sockets.h"
 
 namespace tiltgate {
 
@@ -13,6 +16,16 @@ Expected<Done, std::string> listen_on(tcp::acceptor& acceptor, const std::string
   const auto address = asio::ip::make_address(listen, ec);
   if (ec) return Unexpected{fmt::format("listen address '{}' is not an IP address", listen)};
   const tcp::endpoint endpoint(address, port);
+  if (auto inherited = take_inherited_listener(port)) {
+    // systemd bound it (ListenStream= in a .socket unit), so no privilege is needed here; its
+    // address is the unit's to choose.
+    acceptor.assign(inherited->ipv6 ? tcp::v6() : tcp::v4(), inherited->fd, ec);
+    if (ec)
+      return Unexpected{fmt::format("cannot use the socket systemd passed for {} port {}: {}",
+                                    what, port, ec.message())};
+    spdlog::info("{}: serving on the socket systemd passed for port {}", what, port);
+    return Done{};
+  }
   auto failed = [&](const char* step) {
     boost::system::error_code ignored;
     acceptor.close(ignored);
@@ -24,6 +37,11 @@ Expected<Done, std::string> listen_on(tcp::acceptor& acceptor, const std::string
   acceptor.set_option(tcp::acceptor::reuse_address(true), ec);
   if (ec) return failed("configure");
   acceptor.bind(endpoint, ec);
+  if (ec == boost::system::errc::permission_denied && port < 1024)
+    return Unexpected{fmt::format(
+        "cannot bind {} {}:{}: {}; a port below 1024 needs root, CAP_NET_BIND_SERVICE or a "
+        "systemd socket (README, \"Running without root\")",
+        what, listen, port, ec.message())};
   if (ec) return failed("bind");
   acceptor.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) return failed("listen on");

@@ -12,7 +12,8 @@
 namespace tiltgate {
 
 // Binds and listens `acceptor` on `listen`:`port`; on failure it is left closed and the error
-// reads "cannot bind WHAT 127.0.0.1:502: Address already in use".
+// reads "cannot bind WHAT 127.0.0.1:502: Address already in use". A listening socket systemd
+// passed for `port` (socket activation) is taken instead of binding a new one.
 Expected<Done, std::string> listen_on(boost::asio::ip::tcp::acceptor& acceptor,
                                       const std::string& listen, std::uint16_t port,
                                       std::string_view what);

@@ -13,10 +13,11 @@ script_setup() {
   trap 'exit 1' INT TERM
 }
 
+# KEEP_DIR=1 keeps the scratch folder for a look after a failure.
 script_cleanup() {
   for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null; done
   wait 2>/dev/null
-  rm -rf "$dir"
+  [ -n "${KEEP_DIR:-}" ] || rm -rf "$dir"
 }
 
 # require_mbpoll: fails the script when Debian's mbpoll is missing.
