@@ -12,8 +12,6 @@ namespace tiltgate {
 
 namespace {
 
-constexpr std::string_view kCommandLineBus = "command-line";
-
 // The option a configuration key stands for: "bus[0].stop_bits" -> "--stop-bits".
 std::string option_for_key(std::string_view key) {
   const std::size_t dot = key.rfind('.');

@@ -62,6 +62,9 @@ Expected<CommissionTarget, UsageErrors> resolve_bus_options(
 // A TOML basic string: quotes, backslashes and control characters escaped.
 std::string toml_string(std::string_view text);
 
+// The name of the bus `--port` and its options describe.
+inline constexpr std::string_view kCommandLineBus = "command-line";
+
 // The configuration text that stands for a command-line bus (exposed for tests).
 std::string command_line_config(const BusOptions& options, FamilyList families);
 

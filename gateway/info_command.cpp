@@ -12,7 +12,6 @@ namespace {
 
 // A driver reads the identity before the first measurement; a sensor that answered only part
 // of that in one poll gets a few more.
-constexpr int kMaxPolls = 3;
 
 bool complete(const SensorState& state) { return state.identity_known && state.reading; }
 
@@ -25,7 +24,7 @@ int info_command(const BusOptions& options) {
         bool first = true;
         for (CommissionedSensor& sensor : bus.sensors()) {
           const SensorState& state = sensor.driver->state();
-          for (int poll = 0; poll < kMaxPolls && !stopping; ++poll) {
+          for (int poll = 0; poll < kMaxIdentityPolls && !stopping; ++poll) {
             co_await sensor.driver->poll(bus.line());
             if (!state.online || complete(state)) break;
           }

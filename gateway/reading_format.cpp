@@ -22,8 +22,6 @@ std::string or_dash(std::optional<double> value, int decimals) {
   return value ? fixed(*value, decimals) : std::string("-");
 }
 
-std::string or_dash(const std::string& text) { return text.empty() ? std::string("-") : text; }
-
 // "1.250 deg", or "-".
 std::string degrees_or_dash(std::optional<double> value) {
   return value ? fixed(*value, 3) + " deg" : std::string("-");
@@ -51,6 +49,8 @@ std::optional<double> unless_nan(double value) {
 constexpr std::string_view kRowFormat = "{:<8} {:<12} {:>9} {:>9} {:>9}  {:<8} {:>9} {:>7}";
 
 }  // namespace
+
+std::string or_dash(const std::string& text) { return text.empty() ? std::string("-") : text; }
 
 void ReadingRate::update(const SensorState& state) {
   if (!state.reading) return;

@@ -47,6 +47,9 @@ std::optional<double> tilt_of(const SensorSnapshot& snapshot);
 // "ok" or "no-reply": one word, so that plain lines split on blanks.
 std::string_view status_word(bool responding);
 
+// `text`, or "-" when it is empty (an identity the sensor did not report).
+std::string or_dash(const std::string& text);
+
 // `watch`'s table: a header and one row per sensor, in fixed-width columns.
 std::string watch_header();
 std::string watch_row(const SensorSnapshot& snapshot);

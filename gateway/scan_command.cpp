@@ -19,9 +19,6 @@ namespace tiltgate {
 
 namespace {
 
-// A driver reads the identity before the first measurement; a sensor that answered only part
-// of that in one poll gets a few more.
-constexpr int kMaxPolls = 3;
 // Scans of more probes than this show a progress bar on a terminal.
 constexpr std::size_t kLongScan = 64;
 constexpr std::chrono::milliseconds kRedrawEvery{100};
@@ -110,7 +107,7 @@ boost::asio::awaitable<void> identify(CommissionBus& bus, const SensorConfig& mo
     auto driver = make_driver(sensor, bus.config());
     if (!driver) continue;
     const SensorState& state = driver->state();
-    for (int poll = 0; poll < kMaxPolls && !stopping; ++poll) {
+    for (int poll = 0; poll < kMaxIdentityPolls && !stopping; ++poll) {
       co_await driver->poll(bus.line());
       if (!state.online || (state.identity_known && state.reading)) break;
     }

@@ -5,15 +5,13 @@
 #include <fmt/ranges.h>
 
 #include "gateway/commission_options.h"
+#include "gateway/reading_format.h"
 
 namespace tiltgate {
 
 namespace {
 
-constexpr std::string_view kRowFormat = "{:<8} {:>7} {:<11} {:<12} {:<9} {:<5} {}";
-constexpr std::string_view kCommandLineBus = "command-line";
-
-std::string or_dash(const std::string& text) { return text.empty() ? std::string("-") : text; }
+constexpr std::string_view kScanRowFormat = "{:<8} {:>7} {:<11} {:<12} {:<9} {:<5} {}";
 
 Expected<std::uint32_t, std::string> checked_bound(std::string_view option, std::int64_t value,
                                                    const ProtocolDescriptor& protocol) {
@@ -81,14 +79,14 @@ std::chrono::milliseconds default_probe_timeout(const ProtocolDescriptor& protoc
 }
 
 std::string scan_header() {
-  return fmt::format(fmt::runtime(kRowFormat), "ADDRESS", "BAUD", "MODEL", "SERIAL", "FIRMWARE",
+  return fmt::format(fmt::runtime(kScanRowFormat), "ADDRESS", "BAUD", "MODEL", "SERIAL", "FIRMWARE",
                      "LOCK", "STATUS");
 }
 
 std::string scan_row(const FoundSensor& s) {
   std::string status = s.collision ? "probable collision (two sensors at this address?)" : "ok";
   if (!s.detail.empty()) status += fmt::format(": {}", s.detail);
-  return fmt::format(fmt::runtime(kRowFormat), s.address, s.baud, or_dash(s.model),
+  return fmt::format(fmt::runtime(kScanRowFormat), s.address, s.baud, or_dash(s.model),
                      or_dash(s.serial), or_dash(s.firmware),
                      s.lock_level ? fmt::format("{}", *s.lock_level) : std::string("-"), status);
 }

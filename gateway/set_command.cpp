@@ -19,14 +19,13 @@ namespace {
 
 namespace asio = boost::asio;
 
-constexpr int kMaxPolls = 3;  // as `info`: the identity may take more than one poll
 // How long a restarted sensor gets to answer again. Neither family's manual gives its boot
 // time; a poll that times out meanwhile costs only its reply time-out.
 constexpr auto kRestartWait = std::chrono::seconds(10);
 
 // Answered the last poll, with its identity and a reading: after a change, a reading from
 // before it does not count.
-bool complete(const SensorState& state) {
+bool complete_after_change(const SensorState& state) {
   return state.online && state.identity_known && state.reading.has_value();
 }
 
@@ -74,10 +73,10 @@ asio::awaitable<bool> read_back(CommissionBus& bus, CommissionedSensor& sensor,
                                 std::chrono::steady_clock::time_point deadline) {
   for (int poll = 0; poll < polls && !stopping; ++poll) {
     co_await sensor.driver->poll(bus.line());
-    if (complete(sensor.driver->state())) co_return true;
+    if (complete_after_change(sensor.driver->state())) co_return true;
     if (std::chrono::steady_clock::now() >= deadline) break;
   }
-  co_return complete(sensor.driver->state());
+  co_return complete_after_change(sensor.driver->state());
 }
 
 // Whether a sensor answers at `address` on the bus: one poll through a driver for it.
@@ -143,7 +142,7 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
 
   // The sensor must answer before it is changed (a refusal is an answer), and a new address
   // must be free.
-  co_await read_back(bus, sensor, stopping, kMaxPolls, std::chrono::steady_clock::time_point::max());
+  co_await read_back(bus, sensor, stopping, kMaxIdentityPolls, std::chrono::steady_clock::time_point::max());
   if (stopping) co_return 0;
   if (!sensor.driver->state().online && !sensor.driver->state().identity_known) {
     std::cerr << "tiltgate set: " << bus.no_reply_message(sensor) << "\nnothing was sent\n";
@@ -212,7 +211,7 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
   const auto deadline = std::chrono::steady_clock::now() + kRestartWait;
   const bool answered = plan->restarts
                             ? co_await read_back(bus, sensor, stopping, 1'000'000, deadline)
-                            : co_await read_back(bus, sensor, stopping, kMaxPolls, deadline);
+                            : co_await read_back(bus, sensor, stopping, kMaxIdentityPolls, deadline);
   if (stopping) co_return 0;
   std::cout << "\n";
   if (!answered) {

@@ -2,19 +2,11 @@
 
 #include <algorithm>
 
+#include "modbus_rtu/big_endian.h"
 #include "modbus_rtu/crc.h"
 
 namespace tiltgate::modbus_rtu {
 namespace {
-
-void put_u16(Bytes& out, std::uint16_t v) {
-  out.push_back(static_cast<std::uint8_t>(v >> 8));
-  out.push_back(static_cast<std::uint8_t>(v));
-}
-
-std::uint16_t get_u16(std::span<const std::uint8_t> bytes, std::size_t at) {
-  return static_cast<std::uint16_t>((bytes[at] << 8) | bytes[at + 1]);
-}
 
 bool is_slave(std::uint8_t slave) { return slave >= 1 && slave <= kMaxSlaveAddress; }
 bool is_slave_or_broadcast(std::uint8_t slave) { return slave <= kMaxSlaveAddress; }

@@ -2,19 +2,11 @@
 
 #include <algorithm>
 
+#include "modbus_rtu/big_endian.h"
 #include "modbus_rtu/crc.h"
 
 namespace tiltgate::modbus_rtu {
 namespace {
-
-std::uint16_t get_u16(std::span<const std::uint8_t> bytes, std::size_t at) {
-  return static_cast<std::uint16_t>((bytes[at] << 8) | bytes[at + 1]);
-}
-
-void put_u16(Bytes& out, std::uint16_t v) {
-  out.push_back(static_cast<std::uint8_t>(v >> 8));
-  out.push_back(static_cast<std::uint8_t>(v));
-}
 
 Bytes exception_pdu(std::uint8_t function, ExceptionCode code) {
   return Bytes{static_cast<std::uint8_t>(function | kExceptionBit), static_cast<std::uint8_t>(code)};
