@@ -44,13 +44,18 @@ struct ReloadPlant {
     sim = std::make_unique<SimulatorThread>(options);
   }
 
-  // A file: [server], bus "line1", then `sensors`.
-  std::string file(const std::string& server_more, const std::string& sensors) const {
+  // A file: [server], bus "line1" (with `retries`), then `sensors`.
+  std::string file(const std::string& server_more, const std::string& sensors,
+                   int retries = 0) const {
     return fmt::format(R"([server]
 listen = "127.0.0.1"
 port = {}
 writes = true
+control_socket = ""
 {}
+
+[http]
+enabled = false
 
 [[bus]]
 name = "line1"
@@ -58,11 +63,11 @@ port = "{}"
 protocol = "rieker"
 timeout_ms = 2500
 max_timeout_ms = 2500
-retries = 0
+retries = {}
 reopen_min_ms = 50
 reopen_max_ms = 200
 {})",
-                       port, server_more, (dir.path() / "ttyUSB0").string(), sensors);
+                       port, server_more, (dir.path() / "ttyUSB0").string(), retries, sensors);
   }
 
   void start(const std::string& text) {
@@ -219,9 +224,13 @@ TEST_CASE("SIGHUP: writes queued before the reload are carried out and answered 
   auto zero_x = write(1, 1, {0x3F00, 0x0000});  // 0.5, queued behind it
   auto refused_filter = write(2, 0, {2});       // queued too; the sensor will NAK it
   std::this_thread::sleep_for(200ms);
-  // left changes (new poll: a new sensor object), right is removed.
-  plant.reload(plant.file("write_timeout_ms = 10000", sensor_table("left", 221, 1, 70)),
+  // The bus changes (retries), so it is reopened and left replaced; right is removed. The old
+  // bus carries out the queued writes before it lets the tty go to the new one.
+  plant.reload(plant.file("write_timeout_ms = 10000", sensor_table("left", 221, 1, 70), 1),
                "configuration reloaded");
+  CHECK(plant.gateway->log().find("buses kept: -; reopened: line1; added: -; removed: -. "
+                                  "sensors kept: -; changed: left; added: -; removed: right") !=
+        std::string::npos);
 
   CHECK(slow_filter.get() == 0);
   CHECK(zero_x.get() == 0);
