@@ -31,13 +31,9 @@ ModbusServerOptions modbus_server_options(const ServerConfig& server) {
   return options;
 }
 
-namespace {
-
-std::string local_time_now() {
+std::string Gateway::local_time_now() {
   return fmt::format("{:%Y-%m-%d %H:%M:%S}", fmt::localtime(std::time(nullptr)));
 }
-
-}  // namespace
 
 Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     : io_(io),

@@ -85,6 +85,8 @@ class Gateway {
   // The status page's history rings for the sensors now; the rings of sensors `previous` had
   // (by name) carry over when they hold as many samples.
   void make_history(const HistoryRecorder* previous);
+  // For loaded_at(): the wall clock now, "2026-12-02 05:10:22".
+  static std::string local_time_now();
   // Routes the bus's pass_through unit ids to its scheduler.
   void pass_through(const BusConfig& bus, BusScheduler& scheduler, bool announce);
   // Samples the poll and busy counters once a second, for the rates status() shows.

@@ -1,8 +1,6 @@
 // Gateway::reload: a new configuration applied to the running gateway (SIGHUP), keeping what
 // did not change. The difference is worked out by diff_configs (gateway/config_diff.h).
 #include <algorithm>
-#include <ctime>
-#include <fmt/chrono.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -125,7 +123,7 @@ void Gateway::reload(const Config& loaded) {
     sensor_poll_rates_ = CounterRates{};
     bus_rates_ = CounterRates{};
   }
-  loaded_at_ = fmt::format("{:%Y-%m-%d %H:%M:%S}", fmt::localtime(std::time(nullptr)));
+  loaded_at_ = local_time_now();
   spdlog::info("configuration reloaded from {}: {}{}{}", config_.path, summarize(diff),
                restarted.empty() ? "" : ". restarted: ", fmt::join(restarted, ", "));
 }
