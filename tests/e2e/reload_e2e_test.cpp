@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "e2e/support/gateway_process.h"
+#include "e2e/support/http_client.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_thread.h"
 #include "rieker/simulator.h"
@@ -44,9 +45,9 @@ struct ReloadPlant {
     sim = std::make_unique<SimulatorThread>(options);
   }
 
-  // A file: [server], bus "line1" (with `retries`), then `sensors`.
-  std::string file(const std::string& server_more, const std::string& sensors,
-                   int retries = 0) const {
+  // A file: [server], `http`, bus "line1" (with `retries`), then `sensors`.
+  std::string file(const std::string& server_more, const std::string& sensors, int retries = 0,
+                   const std::string& http = "[http]\nenabled = false") const {
     return fmt::format(R"([server]
 listen = "127.0.0.1"
 port = {}
@@ -54,8 +55,7 @@ writes = true
 control_socket = ""
 {}
 
-[http]
-enabled = false
+{}
 
 [[bus]]
 name = "line1"
@@ -67,7 +67,8 @@ retries = {}
 reopen_min_ms = 50
 reopen_max_ms = 200
 {})",
-                       port, server_more, (dir.path() / "ttyUSB0").string(), retries, sensors);
+                       port, server_more, http, (dir.path() / "ttyUSB0").string(), retries,
+                       sensors);
   }
 
   void start(const std::string& text) {
@@ -122,6 +123,17 @@ std::vector<std::uint16_t> read_when_online(ModbusClient& client, int unit, int 
     std::this_thread::sleep_for(50ms);
   }
   return {};
+}
+
+bool accepts(std::uint16_t port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+  ::close(fd);
+  return connected;
 }
 
 }  // namespace
@@ -254,4 +266,39 @@ TEST_CASE("SIGHUP: writes queued before the reload are carried out and answered 
   watcher.unit(2);
   CHECK(watcher.input(0, 4).empty());
   CHECK(watcher.exception() == 0x0A);
+}
+
+TEST_CASE("SIGHUP: a changed [http] table restarts the status API; kept sensors keep their history") {
+  ReloadPlant plant;
+  const std::uint16_t first_port = free_tcp_port();
+  auto http = [](std::uint16_t port) {
+    return fmt::format("[http]\nlisten = \"127.0.0.1\"\nport = {}\nhistory_interval_ms = 100\n"
+                       "history_seconds = 60",
+                       port);
+  };
+  const std::string sensors = sensor_table("left", 221, 1, 50) + sensor_table("right", 222, 2, 50);
+  plant.start(plant.file("", sensors, 0, http(first_port)));
+  ModbusClient client(plant.port, 1);
+  REQUIRE_MESSAGE(read_when_online(client, 1, 0, 4).size() == 4, plant.gateway->log());
+  auto samples = [](std::uint16_t port) {
+    return ReloadPlant::count(get(port, "/api/sensors/left/history").body, "\"t\":");
+  };
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (samples(first_port) < 5 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(100ms);
+  REQUIRE(samples(first_port) >= 5);
+
+  // right goes, and the API moves to another port: left's graph comes along.
+  const std::uint16_t second_port = free_tcp_port();
+  plant.reload(plant.file("", sensor_table("left", 221, 1, 50), 0, http(second_port)),
+               "configuration reloaded");
+  CHECK(plant.gateway->log().find("restarted: http") != std::string::npos);
+  const std::size_t kept = samples(second_port);
+  CHECK(kept >= 5);
+  CHECK(get(second_port, "/api/sensors/right/history").status == 404);
+  CHECK(get(second_port, "/api/sensors").body.find("\"right\"") == std::string::npos);
+  CHECK_FALSE(accepts(first_port));
+  // The Modbus connection was not touched.
+  client.unit(1);
+  CHECK(client.input(0, 4).size() == 4);
 }
