@@ -34,6 +34,8 @@ struct ServerConfig {
   // The user `tiltgate run` serves as once its ttys and listeners are open, when started as
   // root (gateway/run_as_user.h); empty: stay as started.
   std::string user;
+
+  bool operator==(const ServerConfig&) const = default;
 };
 
 // The read-only HTTP status API and Prometheus metrics (gateway/http_server.h). Loopback by
@@ -46,6 +48,8 @@ struct HttpConfig {
   // history_seconds (gateway/angle_history.h).
   std::chrono::seconds history_seconds{600};
   std::chrono::milliseconds history_interval{1000};
+
+  bool operator==(const HttpConfig&) const = default;
 };
 
 // The most samples a sensor's history ring may hold: 600 x 16 bytes, so even 480 sensors keep
@@ -70,6 +74,8 @@ struct MqttConfig {
   std::string cert_file;
   std::string key_file;
   std::size_t backlog = 1000;            // messages kept while the broker is away
+
+  bool operator==(const MqttConfig&) const = default;
 };
 
 // The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to
@@ -105,6 +111,10 @@ struct BusConfig {
   // this bus, and its reply relayed (protocols that can: ProtocolDescriptor::forward).
   std::vector<std::uint8_t> pass_through;
   int line = 0;                               // where it was declared, for messages
+
+  // Every field, `line` included: reload compares settings with same_settings()
+  // (gateway/config_diff.h), which leaves `line` out.
+  bool operator==(const BusConfig&) const = default;
 };
 
 // A sensor mounted askew or upside down: applied to every reading before the map sees it,
@@ -114,6 +124,8 @@ struct MountingConfig {
   bool invert_x = false;
   bool invert_y = false;
   double rotate_deg = 0.0;  // rotates the X/Y frame by this angle (degrees, counter-clockwise)
+
+  bool operator==(const MountingConfig&) const = default;
 };
 
 // Alarm thresholds in degrees (after mounting). Each alarm sets when its value passes the
@@ -123,6 +135,8 @@ struct AlarmConfig {
   std::optional<double> tilt_high;          // on sqrt(x^2 + y^2)
   double hysteresis_deg = 0.5;
   std::optional<double> rate_limit_deg_s;   // |d angle / dt| on either axis above this
+
+  bool operator==(const AlarmConfig&) const = default;
 };
 
 struct SensorConfig {
@@ -144,6 +158,9 @@ struct SensorConfig {
   std::optional<MapDefinition> map;
   std::string map_file;     // as resolved; empty for the built-in or an inline map
   int line = 0;
+
+  // Every field, `line` included (see BusConfig).
+  bool operator==(const SensorConfig&) const = default;
 };
 
 struct Config {

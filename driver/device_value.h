@@ -17,6 +17,8 @@ struct DeviceValue {
   // gives none).
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();
+
+  bool operator==(const DeviceValue&) const = default;
 };
 
 }  // namespace tiltgate

@@ -60,6 +60,8 @@ class FamilyOptions {
   void set_device_values(std::vector<DeviceValue> values) { device_values_ = std::move(values); }
   const std::vector<DeviceValue>& device_values() const { return device_values_; }
 
+  bool operator==(const FamilyOptions&) const = default;
+
  private:
   std::vector<DeviceValue> device_values_;
   std::vector<std::pair<std::string, double>> values_;

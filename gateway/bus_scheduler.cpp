@@ -49,11 +49,34 @@ BusScheduler::BusScheduler(asio::any_io_executor executor, Line& line, std::stri
     : executor_(executor), line_(line), name_(std::move(name)), wake_(executor) {}
 
 void BusScheduler::add(GatewaySensor& sensor) {
-  sensor.bus = this;
+  // An empty owner: a pointer that keeps nothing alive.
+  add(std::shared_ptr<GatewaySensor>(std::shared_ptr<GatewaySensor>(), &sensor));
+}
+
+void BusScheduler::add(std::shared_ptr<GatewaySensor> sensor) {
+  sensor->bus = this;
   // The sensor arrives configured: its mounting and alarms are known from here on.
-  sensor.processing = SensorProcessing(sensor.config.mounting, sensor.config.alarms);
-  sensor.processed_seq = sensor.driver->state().sample_seq;
-  sensors_.push_back({&sensor, PollSchedule{SteadyClock::now()}});
+  sensor->processing = SensorProcessing(sensor->config.mounting, sensor->config.alarms);
+  sensor->processed_seq = sensor->driver->state().sample_seq;
+  sensors_.push_back({std::move(sensor), PollSchedule{SteadyClock::now()}});
+  wake_.cancel();
+}
+
+void BusScheduler::remove(const GatewaySensor& sensor) {
+  std::erase_if(sensors_, [&](const Polled& polled) { return polled.sensor.get() == &sensor; });
+}
+
+void BusScheduler::retire() {
+  retiring_ = true;
+  sensors_.clear();
+  refuse_queued_turns();
+  wake_.cancel();
+}
+
+BusScheduler::Polled* BusScheduler::find_polled(const GatewaySensor* sensor) {
+  for (Polled& polled : sensors_)
+    if (polled.sensor.get() == sensor) return &polled;
+  return nullptr;
 }
 
 const char* to_string(ForwardFailure failure) {
@@ -74,6 +97,10 @@ void BusScheduler::stop() {
     pending->done.cancel();
   }
   writes_.clear();
+  refuse_queued_turns();
+}
+
+void BusScheduler::refuse_queued_turns() {
   for (auto& pending : forwards_) {
     pending->result = Unexpected{ForwardFailure::no_response};
     pending->done.cancel();
@@ -130,7 +157,7 @@ WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteT
   if (!address) return Done{};
   for (const Polled& other : sensors_) {
     // Drivers follow their sensor to a new address, so this is where each one answers now.
-    if (other.sensor == &sensor || other.sensor->driver->state().bus_address != *address) continue;
+    if (other.sensor.get() == &sensor || other.sensor->driver->state().bus_address != *address) continue;
     return Unexpected{WriteError{
         WriteErrorKind::bad_value,
         fmt::format("address {} is taken by sensor \"{}\" on bus \"{}\"", *address,
@@ -147,6 +174,10 @@ asio::awaitable<void> BusScheduler::run() {
       const BusyTime busy(stats_.busy);
       co_await run_write(pending);
       continue;
+    }
+    if (retiring_) {  // its last queued write is done
+      stop();
+      break;
     }
     Polled* polled = next_due();
     auto now = SteadyClock::now();
@@ -167,15 +198,19 @@ asio::awaitable<void> BusScheduler::run() {
       co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
+    // Held here: a reload may remove the sensor, or add others, while its poll is on the wire.
+    const std::shared_ptr<GatewaySensor> sensor = polled->sensor;
     {
       const BusyTime busy(stats_.busy);
-      co_await polled->sensor->driver->poll(line_);
+      co_await sensor->driver->poll(line_);
     }
     ++stats_.polls;
     forwarded_last_ = false;
-    process_new_reading(*polled->sensor);
-    polled->schedule = after_poll(polled->schedule, polled->sensor->driver->state().online,
-                                  polled->sensor->config.poll, max_backoff, SteadyClock::now());
+    process_new_reading(*sensor);
+    polled = find_polled(sensor.get());
+    if (polled == nullptr) continue;  // removed meanwhile
+    polled->schedule = after_poll(polled->schedule, sensor->driver->state().online,
+                                  sensor->config.poll, max_backoff, SteadyClock::now());
   }
 }
 
@@ -272,7 +307,7 @@ asio::awaitable<void> BusScheduler::run_turn() {
 
 asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
     LineRequest request, SteadyClock::time_point deadline) {
-  if (stopping_) co_return failed_exchange(LineError::cancelled);
+  if (stopping_ || retiring_) co_return failed_exchange(LineError::cancelled);
   auto pending = std::make_shared<PendingCommand>(
       PendingCommand{std::move(request), false, std::nullopt, asio::steady_timer(executor_)});
   commands_.push_back(pending);
@@ -329,7 +364,7 @@ asio::awaitable<void> BusScheduler::run_forward(std::shared_ptr<PendingForward> 
 asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
                                                      std::vector<std::uint8_t> pdu,
                                                      SteadyClock::time_point deadline) {
-  if (stopping_) co_return Unexpected{ForwardFailure::no_response};
+  if (stopping_ || retiring_) co_return Unexpected{ForwardFailure::no_response};
   if (forwards_.size() >= max_queued_forwards_) {
     ++stats_.forwards_busy;
     co_return Unexpected{ForwardFailure::busy};

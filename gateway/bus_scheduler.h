@@ -65,7 +65,19 @@ class BusScheduler {
  public:
   BusScheduler(boost::asio::any_io_executor executor, Line& line, std::string name);
 
+  // Polls `sensor` from now on. This overload does not own it: the caller keeps it alive.
   void add(GatewaySensor& sensor);
+  // The same, and keeps the sensor alive while it is polled or its poll is on the wire (a
+  // reload may drop every other reference meanwhile).
+  void add(std::shared_ptr<GatewaySensor> sensor);
+  // Polls `sensor` no more (a reload removed or replaced it). Its writes already queued are
+  // still carried out and answered: their callers hold the sensor.
+  void remove(const GatewaySensor& sensor);
+  // Winds the bus down for a reload that removed or changed it: no more polls; forwarded
+  // requests and commands still queued are answered as at stop(); the writes already queued
+  // (and any queued meanwhile) are carried out, and then run() returns, as after stop().
+  void retire();
+  bool retiring() const { return retiring_; }
   // Runs until stop(). Spawn it once.
   boost::asio::awaitable<void> run();
   void stop();
@@ -125,7 +137,7 @@ class BusScheduler {
 
  private:
   struct Polled {
-    GatewaySensor* sensor;
+    std::shared_ptr<GatewaySensor> sensor;
     PollSchedule schedule;
     std::optional<SteadyClock::time_point> held_until{};  // hold(): not polled before then
   };
@@ -154,6 +166,9 @@ class BusScheduler {
   };
 
   Polled* next_due();
+  Polled* find_polled(const GatewaySensor* sensor);
+  // Answers every queued forwarded request and command's transaction: not carried out.
+  void refuse_queued_turns();
   // Takes the next forwarded request or command transaction, alternating between the two when
   // both wait. Called only when one of them waits.
   boost::asio::awaitable<void> run_turn();
@@ -177,6 +192,7 @@ class BusScheduler {
   bool forwarded_last_ = false;
   boost::asio::steady_timer wake_;
   bool stopping_ = false;
+  bool retiring_ = false;  // retire(): the queued writes, then stop
   BusSchedulerStats stats_;
 };
 

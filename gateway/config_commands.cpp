@@ -52,10 +52,40 @@ int map_command(const std::string& config_path, const std::string& format) {
   return 0;
 }
 
+namespace {
+
+// SIGHUP: the file again, through the loader `check` uses. A valid file is applied to the
+// running gateway; an invalid one is refused with every error logged, as `check` prints them.
+void reload_or_refuse(Gateway& gateway, const std::string& config_path) {
+  spdlog::info("SIGHUP: reloading {}", config_path);
+  auto loaded = load_config_file(config_path);
+  if (!loaded) {
+    for (const ConfigError& error : loaded.error()) spdlog::error("{}", error.to_string());
+    spdlog::error("reload refused: {} error(s); still serving the configuration loaded at {}",
+                  loaded.error().size(), gateway.loaded_at());
+    return;
+  }
+  gateway.reload(*loaded);
+}
+
+void reload_on_sighup(boost::asio::signal_set& hangups, Gateway& gateway,
+                      const std::string& config_path) {
+  hangups.async_wait([&hangups, &gateway, &config_path](const boost::system::error_code& ec, int) {
+    if (ec) return;
+    reload_or_refuse(gateway, config_path);
+    reload_on_sighup(hangups, gateway, config_path);
+  });
+}
+
+}  // namespace
+
 int run_command(const std::string& config_path) {
   auto config = load_or_report(config_path);
   if (!config) return 1;
   boost::asio::io_context io;
+  // Before start(): a SIGHUP from then on reloads rather than ends the process.
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  boost::asio::signal_set hangups(io, SIGHUP);
   Gateway gateway(io, *config);
   auto started = gateway.start();
   if (!started) {
@@ -73,13 +103,14 @@ int run_command(const std::string& config_path) {
     spdlog::warn("running as root: set [server] user to serve unprivileged once started "
                  "(README, \"Running without root\")");
   }
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int signal) {
     if (ec) return;
     spdlog::info("signal {}: shutting down", signal);
+    hangups.cancel();
     gateway.stop();
     io.stop();
   });
+  reload_on_sighup(hangups, gateway, config_path);
   io.run();
   return 0;
 }

@@ -4,6 +4,8 @@
 #include <boost/asio/detached.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <ctime>
+#include <fmt/chrono.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -19,6 +21,20 @@ RegisterMap map_for(const SensorConfig& sensor) {
   return build_map(sensor.map, sensor.model, sensor.family_options.device_values());
 }
 
+ModbusServerOptions modbus_server_options(const ServerConfig& server) {
+  ModbusServerOptions options;
+  options.listen = server.listen;
+  options.port = server.port;
+  options.max_clients = server.max_clients;
+  options.idle_timeout = server.idle_timeout;
+  options.request_timeout = server.request_timeout;
+  return options;
+}
+
+std::string Gateway::local_time_now() {
+  return fmt::format("{:%Y-%m-%d %H:%M:%S}", fmt::localtime(std::time(nullptr)));
+}
+
 Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     : io_(io),
       config_(config),
@@ -26,106 +42,108 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
                             config.server.write_timeout}),
       history_timer_(io.get_executor()),
       sample_timer_(io.get_executor()) {
-  for (const BusConfig& bus : config_.buses) {
-    Bus b;
-    SerialLineOptions options = serial_options_from(bus);
-    options.exclusive = true;
-    b.line = std::make_unique<SerialLine>(io_.get_executor(), options);
-    b.scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *b.line, bus.name);
-    pass_through(bus, *b.scheduler);
-    buses_.push_back(std::move(b));
-  }
+  for (const BusConfig& bus : config_.buses) buses_.push_back(make_bus(bus));
   for (const SensorConfig& sc : config_.sensors) {
     std::size_t bus_index = 0;
     while (bus_index < config_.buses.size() && config_.buses[bus_index].name != sc.bus) ++bus_index;
     if (bus_index == config_.buses.size()) continue;  // the loader rejects this
-    auto sensor = std::make_unique<GatewaySensor>();
-    sensor->config = sc;
-    sensor->driver = make_driver(sc, config_.buses[bus_index]);
-    if (!sensor->driver) continue;  // the loader rejects unknown models
-    sensor->map = map_for(sc);
-    sensor->written.assign(sensor->map.holding_end(), 0);
-    sensor->stale_after = sc.stale_after.value_or(default_stale_after(sc.poll));
-    buses_[bus_index].scheduler->add(*sensor);
-    router_.add(*sensor);
-    sensors_.push_back(std::move(sensor));
+    auto sensor = make_sensor(sc, config_.buses[bus_index], *buses_[bus_index].scheduler);
+    if (sensor) sensors_.push_back(std::move(sensor));
   }
-  ModbusServerOptions options;
-  options.listen = config_.server.listen;
-  options.port = config_.server.port;
-  options.max_clients = config_.server.max_clients;
-  options.idle_timeout = config_.server.idle_timeout;
-  options.request_timeout = config_.server.request_timeout;
-  server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_, options);
-  if (!config_.server.control_socket.empty()) {
-    std::vector<ControlServer::ServedBus> served;
-    for (std::size_t i = 0; i < buses_.size(); ++i)
-      served.push_back({config_.buses[i], buses_[i].scheduler.get()});
-    control_ = std::make_unique<ControlServer>(io_.get_executor(), config_.server.control_socket,
-                                               std::move(served));
-  }
+  server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_,
+                                              modbus_server_options(config_.server));
   start_seconds_ = std::chrono::duration<double>(
                        std::chrono::system_clock::now().time_since_epoch()).count();
-  if (config_.http.enabled) {
-    HttpServerOptions http;
-    http.listen = config_.http.listen;
-    http.port = config_.http.port;
-    std::vector<std::string> names;
-    for (const auto& sensor : sensors_) names.push_back(sensor->config.name);
-    history_ = std::make_unique<HistoryRecorder>(
-        std::move(names), std::size_t(std::chrono::milliseconds(config_.http.history_seconds) /
-                                      config_.http.history_interval));
-    http_ = std::make_unique<HttpServer>(
-        io_.get_executor(), [this] { return status(SteadyClock::now()); }, http,
-        [this](std::string_view sensor) { return history_->history(sensor); });
-  }
-  if (config_.mqtt.enabled)
-    mqtt_ = std::make_unique<MqttFeed>(
-        io_.get_executor(), [this] { return status(SteadyClock::now()); }, config_.mqtt);
+  loaded_at_ = local_time_now();
+  make_control();
+  make_http(nullptr);
+  make_mqtt();
 }
 
 Gateway::~Gateway() = default;
 
-void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler) {
+Gateway::Bus Gateway::make_bus(const BusConfig& config) {
+  Bus bus;
+  SerialLineOptions options = serial_options_from(config);
+  options.exclusive = true;
+  bus.line = std::make_unique<SerialLine>(io_.get_executor(), options);
+  bus.scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus.line, config.name);
+  pass_through(config, *bus.scheduler, true);
+  return bus;
+}
+
+std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
+                                                    const BusConfig& bus_config,
+                                                    BusScheduler& bus) {
+  auto sensor = std::make_shared<GatewaySensor>();
+  sensor->config = config;
+  sensor->driver = make_driver(config, bus_config);
+  if (!sensor->driver) return nullptr;  // the loader rejects unknown models
+  sensor->map = map_for(config);
+  sensor->written.assign(sensor->map.holding_end(), 0);
+  sensor->stale_after = config.stale_after.value_or(default_stale_after(config.poll));
+  bus.add(sensor);
+  router_.add(sensor);
+  return sensor;
+}
+
+void Gateway::make_control() {
+  if (config_.server.control_socket.empty()) return;
+  std::vector<ControlServer::ServedBus> served;
+  for (std::size_t i = 0; i < buses_.size(); ++i)
+    served.push_back({config_.buses[i], buses_[i].scheduler.get()});
+  control_ = std::make_unique<ControlServer>(io_.get_executor(), config_.server.control_socket,
+                                             std::move(served));
+}
+
+void Gateway::make_http(const HistoryRecorder* previous) {
+  if (!config_.http.enabled) return;
+  HttpServerOptions http;
+  http.listen = config_.http.listen;
+  http.port = config_.http.port;
+  make_history(previous);
+  http_ = std::make_unique<HttpServer>(
+      io_.get_executor(), [this] { return status(SteadyClock::now()); }, http,
+      [this](std::string_view sensor) -> std::optional<std::vector<AngleSample>> {
+        if (!history_) return std::nullopt;  // a reload turned [http] off meanwhile
+        return history_->history(sensor);
+      });
+}
+
+void Gateway::make_history(const HistoryRecorder* previous) {
+  std::vector<std::string> names;
+  for (const auto& sensor : sensors_) names.push_back(sensor->config.name);
+  history_ = std::make_unique<HistoryRecorder>(
+      std::move(names), std::size_t(std::chrono::milliseconds(config_.http.history_seconds) /
+                                    config_.http.history_interval));
+  if (previous != nullptr) history_->carry_over(*previous);
+}
+
+void Gateway::make_mqtt() {
+  if (!config_.mqtt.enabled) return;
+  mqtt_ = std::make_unique<MqttFeed>(
+      io_.get_executor(), [this] { return status(SteadyClock::now()); }, config_.mqtt);
+}
+
+void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool announce) {
   if (bus.pass_through.empty()) return;
   const ProtocolEntry protocol = find_protocol(registered_families(), bus.protocol);
   if (protocol.protocol == nullptr || protocol.protocol->forward == nullptr) return;  // refused
   scheduler.enable_forwarding(protocol.protocol->forward);
   for (std::uint8_t unit_id : bus.pass_through) router_.pass_through(unit_id, scheduler);
-  spdlog::info("bus {}: unit id(s) {} passed through", bus.name,
-               fmt::join(bus.pass_through, ", "));
+  if (announce)
+    spdlog::info("bus {}: unit id(s) {} passed through", bus.name,
+                 fmt::join(bus.pass_through, ", "));
 }
 
 Expected<Done, std::string> Gateway::start() {
   auto listening = server_->start();
   if (!listening) return Unexpected(listening.error());
-  for (Bus& bus : buses_) {
-    bus.line->start();
-    boost::asio::co_spawn(io_, bus.scheduler->run(), boost::asio::detached);
-  }
-  if (control_) {
-    if (auto control = control_->start(); !control)
-      spdlog::warn("control socket off: {}; commissioning commands cannot use this gateway's "
-                   "buses",
-                   control.error());
-    else
-      spdlog::info("control socket {}", control_->path());
-  }
-  if (http_) {
-    if (auto http = http_->start(); !http)
-      spdlog::warn("HTTP status API off: {}", http.error());
-    else
-      spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.http.listen,
-                   http_->local_port());
-    boost::asio::co_spawn(io_, record_history(), boost::asio::detached);
-  }
-  if (mqtt_) {
-    if (auto mqtt = mqtt_->start(); !mqtt)
-      spdlog::warn("MQTT feed off: {}", mqtt.error());
-    else
-      spdlog::info("MQTT feed to {}:{} under {}/", config_.mqtt.host, config_.mqtt.port,
-                   config_.mqtt.topic_prefix);
-  }
+  for (Bus& bus : buses_) start_bus(bus);
+  start_control();
+  start_http();
+  start_mqtt();
+  boost::asio::co_spawn(io_, record_history(), boost::asio::detached);
   boost::asio::co_spawn(io_, sample_counters(), boost::asio::detached);
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
                buses_.size(), config_.server.listen, server_->local_port(),
@@ -133,10 +151,52 @@ Expected<Done, std::string> Gateway::start() {
   return Done{};
 }
 
+void Gateway::start_bus(Bus& bus) {
+  bus.line->start();
+  boost::asio::co_spawn(io_, run_bus(*bus.scheduler, *bus.line), boost::asio::detached);
+}
+
+boost::asio::awaitable<void> Gateway::run_bus(BusScheduler& scheduler, SerialLine& line) {
+  co_await scheduler.run();
+  // A bus a reload retired lets its tty go once its queued writes are done; at shutdown,
+  // stop() closes every line itself.
+  if (scheduler.retiring()) line.stop();
+}
+
+void Gateway::start_control() {
+  if (!control_) return;
+  if (auto control = control_->start(); !control)
+    spdlog::warn("control socket off: {}; commissioning commands cannot use this gateway's "
+                 "buses",
+                 control.error());
+  else
+    spdlog::info("control socket {}", control_->path());
+}
+
+void Gateway::start_http() {
+  if (!http_) return;
+  if (auto http = http_->start(); !http)
+    spdlog::warn("HTTP status API off: {}", http.error());
+  else
+    spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.http.listen,
+                 http_->local_port());
+}
+
+void Gateway::start_mqtt() {
+  if (!mqtt_) return;
+  if (auto mqtt = mqtt_->start(); !mqtt)
+    spdlog::warn("MQTT feed off: {}", mqtt.error());
+  else
+    spdlog::info("MQTT feed to {}:{} under {}/", config_.mqtt.host, config_.mqtt.port,
+                 config_.mqtt.topic_prefix);
+}
+
 boost::asio::awaitable<void> Gateway::record_history() {
-  const auto interval = config_.http.history_interval;
-  auto next = SteadyClock::now() + interval;
+  // Runs whether or not [http] is on: a reload may turn it on, or change the interval (which
+  // applies from the next sample on).
+  auto next = SteadyClock::now() + config_.http.history_interval;
   while (!stopping_) {
+    const auto interval = config_.http.history_interval;
     history_timer_.expires_at(next);
     boost::system::error_code ec;
     co_await history_timer_.async_wait(
@@ -146,7 +206,7 @@ boost::asio::awaitable<void> Gateway::record_history() {
     const auto unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
                              std::chrono::system_clock::now().time_since_epoch())
                              .count();
-    history_->record(status(now), unix_ms);
+    if (history_) history_->record(status(now), unix_ms);
     // A steady cadence; after a stall (a suspended machine) start over rather than catch up.
     next += interval;
     if (next < now) next = now + interval;
@@ -161,10 +221,11 @@ void Gateway::stop() {
   if (control_) control_->stop();
   if (http_) http_->stop();
   if (mqtt_) mqtt_->stop();
-  for (Bus& bus : buses_) {
-    bus.scheduler->stop();
-    bus.line->stop();
-  }
+  for (std::vector<Bus>* buses : {&buses_, &retired_buses_})
+    for (Bus& bus : *buses) {
+      bus.scheduler->stop();
+      bus.line->stop();
+    }
 }
 
 asio::awaitable<void> Gateway::sample_counters() {

@@ -46,7 +46,18 @@ class Gateway {
   std::uint16_t http_port() const;
   // The MQTT feed's counters; none when [mqtt] is off.
   std::optional<MqttStats> mqtt_stats() const;
-  const std::vector<std::unique_ptr<GatewaySensor>>& sensors() const { return sensors_; }
+  const std::vector<std::shared_ptr<GatewaySensor>>& sensors() const { return sensors_; }
+
+  // Serves `loaded` (a valid configuration: SIGHUP re-read the file) from now on, keeping what
+  // did not change (gateway/config_diff.h): the ttys of unchanged buses, the sensors (cache,
+  // written registers, counters, history, queued writes) whose settings and bus did not
+  // change, and the Modbus clients connected. Replaced and removed sensors' queued writes are
+  // still carried out and answered; a removed or changed bus is closed once its queued writes
+  // are done. [http], [mqtt] and the control socket restart only when their settings (or, for
+  // the control socket, the buses) changed. Logs one summary line. In gateway_reload.cpp.
+  void reload(const Config& loaded);
+  // When the configuration served now was loaded (start-up or the last reload), local time.
+  const std::string& loaded_at() const { return loaded_at_; }
 
  private:
   struct Bus {
@@ -54,8 +65,30 @@ class Gateway {
     std::unique_ptr<BusScheduler> scheduler;
   };
 
+  // A bus's line and scheduler, made (not started) and its pass-through unit ids routed.
+  Bus make_bus(const BusConfig& config);
+  // Starts the bus's line and its scheduler's loop; when a reload retires the scheduler, the
+  // loop ends after its queued writes and the line is closed.
+  void start_bus(Bus& bus);
+  static boost::asio::awaitable<void> run_bus(BusScheduler& scheduler, SerialLine& line);
+  // A sensor as the core serves it, polled by `bus` and answered by the router; none when its
+  // model has no driver (the loader rejects those).
+  std::shared_ptr<GatewaySensor> make_sensor(const SensorConfig& config, const BusConfig& bus_config,
+                                             BusScheduler& bus);
+  // The optional services, made from config_ (not started).
+  void make_control();
+  void make_http(const HistoryRecorder* previous);
+  void make_mqtt();
+  void start_control();
+  void start_http();
+  void start_mqtt();
+  // The status page's history rings for the sensors now; the rings of sensors `previous` had
+  // (by name) carry over when they hold as many samples.
+  void make_history(const HistoryRecorder* previous);
+  // For loaded_at(): the wall clock now, "2026-12-02 05:10:22".
+  static std::string local_time_now();
   // Routes the bus's pass_through unit ids to its scheduler.
-  void pass_through(const BusConfig& bus, BusScheduler& scheduler);
+  void pass_through(const BusConfig& bus, BusScheduler& scheduler, bool announce);
   // Samples the poll and busy counters once a second, for the rates status() shows.
   boost::asio::awaitable<void> sample_counters();
   void record_counters(SteadyClock::time_point now);
@@ -64,8 +97,15 @@ class Gateway {
 
   boost::asio::io_context& io_;
   Config config_;
-  std::vector<Bus> buses_;
-  std::vector<std::unique_ptr<GatewaySensor>> sensors_;
+  std::vector<Bus> buses_;  // buses_[i] serves config_.buses[i]
+  // Buses a reload removed or changed, closed once their queued writes were done; and the
+  // services a reload restarted, stopped. Kept until the gateway goes: a request coroutine
+  // may still hold a pointer into them (RequestRouter::forward holds its bus; a stopped
+  // server's connection coroutines end on later loop turns).
+  std::vector<Bus> retired_buses_;
+  std::vector<std::shared_ptr<void>> retired_services_;
+  std::vector<std::shared_ptr<GatewaySensor>> sensors_;  // in config_.sensors' order
+  std::string loaded_at_;
   RequestRouter router_;
   std::unique_ptr<ModbusTcpServer> server_;
   std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
@@ -79,6 +119,10 @@ class Gateway {
   CounterRates sensor_poll_rates_;  // each sensor's polls, ok and failed
   CounterRates bus_rates_;          // each bus's polls then its busy seconds
 };
+
+// The Modbus TCP server's options from [server]: the one place they are made, at start-up and
+// at every reload.
+ModbusServerOptions modbus_server_options(const ServerConfig& server);
 
 // Builds the register map a sensor serves: its model's built-in map, or the map its
 // configuration describes (a map file or an inline map, checked when the config was loaded).

@@ -30,6 +30,14 @@ void HistoryRecorder::record(const GatewayStatus& status, std::int64_t unix_ms) 
   }
 }
 
+void HistoryRecorder::carry_over(const HistoryRecorder& previous) {
+  for (std::size_t i = 0; i < names_.size(); ++i)
+    for (std::size_t j = 0; j < previous.names_.size(); ++j)
+      if (previous.names_[j] == names_[i] &&
+          previous.rings_[j].capacity() == rings_[i].capacity())
+        rings_[i] = previous.rings_[j];
+}
+
 std::optional<std::vector<AngleSample>> HistoryRecorder::history(std::string_view sensor) const {
   for (std::size_t i = 0; i < names_.size(); ++i)
     if (names_[i] == sensor) return rings_[i].samples();

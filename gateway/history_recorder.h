@@ -24,6 +24,10 @@ class HistoryRecorder {
   // drawn as if it were current. Sensors not named at construction are ignored.
   void record(const GatewayStatus& status, std::int64_t unix_ms);
 
+  // Takes the rings of the sensors `previous` has too (same name, same number of samples): a
+  // reload keeps the graphs of its sensors that keep their name.
+  void carry_over(const HistoryRecorder& previous);
+
   // The sensor's samples, oldest first; none for a name not configured.
   std::optional<std::vector<AngleSample>> history(std::string_view sensor) const;
 

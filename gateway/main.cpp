@@ -42,6 +42,11 @@ int main(int argc, char** argv) {
 
   std::string config_path;
   auto* run = app.add_subcommand("run", "serve the sensors of a configuration file");
+  run->footer(
+      "SIGHUP (systemctl reload tiltgate) re-reads the configuration file: a valid one applies "
+      "without dropping connected Modbus clients or queued writes (unchanged buses and sensors "
+      "are kept as they are); an invalid one is refused, its errors logged, and the running "
+      "configuration keeps serving. SIGINT or SIGTERM stops.");
   run->add_option("-c,--config", config_path, "configuration file")->required();
   auto* check = app.add_subcommand("check", "validate a configuration file; exit 0 or 1");
   check->add_option("-c,--config", config_path, "configuration file")->required();

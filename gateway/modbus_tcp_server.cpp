@@ -101,7 +101,7 @@ Expected<Done, std::string> ModbusTcpServer::start() {
     return listening;
 
   encoder_ = std::move(*encoder);
-  asio::co_spawn(executor_, accept_clients(), asio::detached);
+  asio::co_spawn(executor_, accept_clients(++accept_generation_), asio::detached);
   asio::co_spawn(executor_, summarize_suppressed(), asio::detached);
   return Done{};
 }
@@ -120,14 +120,54 @@ void ModbusTcpServer::stop() {
   for (const auto& connection : connections_) connection->close();
 }
 
+void ModbusTcpServer::apply(ModbusServerOptions options) {
+  if (acceptor_.is_open() && (options.listen != options_.listen || options.port != options_.port) &&
+      !rebind(options.listen, options.port)) {
+    options.listen = options_.listen;
+    options.port = options_.port;
+  }
+  options_ = std::move(options);
+}
+
+bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
+  const std::uint16_t old_port = local_port();
+  tcp::acceptor fresh(executor_);
+  auto listening = listen_on(fresh, listen, port, "Modbus TCP");
+  boost::system::error_code ec;
+  if (!listening && port == old_port) {
+    // The same port on another address (0.0.0.0 to 127.0.0.1) collides with our own listener:
+    // let it go first, and take it back if the new address cannot be had either.
+    acceptor_.close(ec);
+    listening = listen_on(fresh, listen, port, "Modbus TCP");
+    if (!listening) {
+      if (auto back = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP"); !back)
+        spdlog::critical("{}; {}: no Modbus TCP listener now", listening.error(), back.error());
+      else
+        spdlog::error("{}; still listening on {}:{}", listening.error(), options_.listen, old_port);
+      asio::co_spawn(executor_, accept_clients(++accept_generation_), asio::detached);
+      return false;
+    }
+  }
+  if (!listening) {
+    spdlog::error("{}; still listening on {}:{}", listening.error(), options_.listen, old_port);
+    return false;
+  }
+  // The old accept loop sees its acceptor closed (operation_aborted) and ends.
+  acceptor_.close(ec);
+  acceptor_ = std::move(fresh);
+  asio::co_spawn(executor_, accept_clients(++accept_generation_), asio::detached);
+  spdlog::info("Modbus TCP now listening on {}:{}; connected clients stay", listen, local_port());
+  return true;
+}
+
 ModbusServerStats ModbusTcpServer::stats() const {
   ModbusServerStats stats = stats_;
   if (encoder_) stats.libmodbus_replies = encoder_->libmodbus_calls();
   return stats;
 }
 
-asio::awaitable<void> ModbusTcpServer::accept_clients() {
-  while (acceptor_.is_open()) {
+asio::awaitable<void> ModbusTcpServer::accept_clients(std::uint64_t generation) {
+  while (acceptor_.is_open() && generation == accept_generation_) {
     boost::system::error_code ec;
     tcp::socket socket =
         co_await acceptor_.async_accept(asio::redirect_error(asio::use_awaitable, ec));

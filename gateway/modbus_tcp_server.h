@@ -64,6 +64,11 @@ class ModbusTcpServer {
   std::uint16_t local_port() const;
   // Closes the acceptor and every connection; their coroutines end on the next loop turns.
   void stop();
+  // New options for a running server (a reload), all of them at once; connected clients stay
+  // connected and the next request, accept or deadline uses them. The listener is rebound only
+  // when listen or port changed; when the new address cannot be bound, that is logged and the
+  // server keeps listening where it did (options.listen and port stay the old ones).
+  void apply(ModbusServerOptions options);
 
   std::size_t client_count() const { return connections_.size(); }
   ModbusServerStats stats() const;
@@ -72,7 +77,10 @@ class ModbusTcpServer {
  private:
   struct Connection;
 
-  boost::asio::awaitable<void> accept_clients();
+  // Accepts until the acceptor closes or a rebind starts a newer loop.
+  boost::asio::awaitable<void> accept_clients(std::uint64_t generation);
+  // apply(): moves the listener to `listen`:`port`; false (and logged) when it stays.
+  bool rebind(const std::string& listen, std::uint16_t port);
   void admit(boost::asio::ip::tcp::socket socket);
   void refuse(boost::asio::ip::tcp::socket socket);
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
@@ -98,6 +106,7 @@ class ModbusTcpServer {
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   ModbusServerStats stats_;
   ModbusRequestCounts request_counts_;
+  std::uint64_t accept_generation_ = 0;  // of the accept loop that may run
   bool refusing_ = false;  // warn once per burst of refused clients
   LogThrottle problem_log_;
   boost::asio::steady_timer summary_timer_;  // wakes summarize_suppressed()

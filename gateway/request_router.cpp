@@ -80,10 +80,25 @@ std::vector<DeviceObject> device_objects(const GatewaySensor& sensor) {
   };
 }
 
-void RequestRouter::add(GatewaySensor& sensor) { units_[sensor.config.unit_id] = &sensor; }
+void RequestRouter::add(GatewaySensor& sensor) {
+  // An empty owner: a pointer that keeps nothing alive.
+  add(std::shared_ptr<GatewaySensor>(std::shared_ptr<GatewaySensor>(), &sensor));
+}
+
+void RequestRouter::add(std::shared_ptr<GatewaySensor> sensor) {
+  const std::uint8_t unit_id = sensor->config.unit_id;
+  units_[unit_id] = std::move(sensor);
+}
+
+void RequestRouter::clear() {
+  units_.fill(nullptr);
+  forwarded_.fill(nullptr);
+}
 
 boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest& request) {
-  GatewaySensor* sensor = units_[request.unit_id];
+  // Held for the whole request: a write waits for its bus, and a reload may drop the sensor
+  // meanwhile; the write is still carried out and answered with its real outcome.
+  const std::shared_ptr<GatewaySensor> sensor = units_[request.unit_id];
   if (sensor == nullptr) co_return failure(ModbusException::gateway_path_unavailable);
   if (request.function == modbus_function::encapsulated_interface) co_return identify(*sensor);
   if (!request.is_write) co_return read(*sensor, request);

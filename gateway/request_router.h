@@ -5,6 +5,7 @@
 
 #include <array>
 #include <chrono>
+#include <memory>
 #include <span>
 
 #include "config/config.h"
@@ -26,8 +27,18 @@ class RequestRouter : public ModbusRequestHandler {
  public:
   explicit RequestRouter(RouterOptions options) : options_(options) {}
 
-  void add(GatewaySensor& sensor);  // its unit id must be free
-  GatewaySensor* find(std::uint8_t unit_id) const { return units_[unit_id]; }
+  // Answers `sensor`'s unit id (which must be free). This overload does not own the sensor:
+  // the caller keeps it alive.
+  void add(GatewaySensor& sensor);
+  // The same, and a request being answered keeps its sensor alive to the end, even when a
+  // reload drops the sensor meanwhile.
+  void add(std::shared_ptr<GatewaySensor> sensor);
+  GatewaySensor* find(std::uint8_t unit_id) const { return units_[unit_id].get(); }
+  // Forgets every sensor and pass-through unit id (a reload adds the new set at once).
+  // Requests already being answered finish with the sensor or bus they started with.
+  void clear();
+  // Applies to the next request.
+  void set_options(RouterOptions options) { options_ = options; }
 
   boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) override;
 
@@ -47,7 +58,7 @@ class RequestRouter : public ModbusRequestHandler {
                                                const ModbusRequest& request);
 
   RouterOptions options_;
-  std::array<GatewaySensor*, 256> units_{};
+  std::array<std::shared_ptr<GatewaySensor>, 256> units_{};
   std::array<BusScheduler*, 256> forwarded_{};
 };
 

@@ -23,6 +23,8 @@ struct MapDefinition {
   std::vector<std::string> remove;  // built-in points left out, by name (in every table)
   std::vector<Point> points;        // added; one with a built-in point's name and table
                                     // takes that point's place
+
+  bool operator==(const MapDefinition&) const = default;
 };
 
 // A resolved point and where it came from: its index in MapDefinition::points, or kBuiltIn.

@@ -51,6 +51,8 @@ struct Point {
 
   std::uint16_t words() const;  // registers (or bits) the point occupies
   std::uint32_t end() const { return std::uint32_t(address) + words(); }
+
+  bool operator==(const Point&) const = default;
 };
 
 // A read-only point showing `source`: what built-in maps and tests start from.

@@ -134,6 +134,8 @@ int GatewayProcess::terminate(std::chrono::seconds limit) {
   return wait_exit(limit);
 }
 
+bool GatewayProcess::signal(int signal) { return running() && ::kill(pid_, signal) == 0; }
+
 std::string GatewayProcess::log() const { return read_file(stderr_path_); }
 std::string GatewayProcess::output() const { return read_file(stdout_path_); }
 

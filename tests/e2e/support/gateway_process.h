@@ -34,6 +34,8 @@ class GatewayProcess {
   bool wait_listening(std::uint16_t port, std::chrono::seconds limit = std::chrono::seconds(15));
   // Sends SIGTERM and waits for the exit code (-1 on time-out; 128+N if killed by signal N).
   int terminate(std::chrono::seconds limit = std::chrono::seconds(10));
+  // Sends `signal` (SIGHUP: reload); false when the process is gone.
+  bool signal(int signal);
   // Waits for the process to exit by itself.
   int wait_exit(std::chrono::seconds limit = std::chrono::seconds(10));
   std::string log() const;  // stderr so far
