@@ -112,6 +112,7 @@ int run_command(const std::string& config_path) {
   });
   reload_on_sighup(hangups, gateway, config_path);
   io.run();
+  finish_stopped(io);
   return 0;
 }
 

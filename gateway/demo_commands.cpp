@@ -30,6 +30,7 @@ void run_until_signal(boost::asio::io_context& io, Stop stop) {
     io.stop();
   });
   io.run();
+  finish_stopped(io);
 }
 
 // Every family's demo bus, its sensors numbered from unit id 1 in family order. The files

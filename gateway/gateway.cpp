@@ -17,6 +17,11 @@ namespace tiltgate {
 
 namespace asio = boost::asio;
 
+void finish_stopped(boost::asio::io_context& io) {
+  io.restart();
+  io.run_for(std::chrono::seconds(2));
+}
+
 RegisterMap map_for(const SensorConfig& sensor) {
   return build_map(sensor.map, sensor.model, sensor.family_options.device_values());
 }

@@ -120,6 +120,12 @@ class Gateway {
   CounterRates bus_rates_;          // each bus's polls then its busy seconds
 };
 
+// After Gateway::stop() and io.stop(): runs the completions stop() queued (cancelled waits and
+// reads), so every coroutine of the gateway ends on its own before the Gateway is destroyed.
+// Otherwise ~io_context destroys them suspended, after the Gateway, and their locals'
+// destructors touch freed objects. Gives up after 2 s.
+void finish_stopped(boost::asio::io_context& io);
+
 // The Modbus TCP server's options from [server]: the one place they are made, at start-up and
 // at every reload.
 ModbusServerOptions modbus_server_options(const ServerConfig& server);
