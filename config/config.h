@@ -23,6 +23,7 @@ struct ServerConfig {
   std::string listen = "0.0.0.0";
   std::uint16_t port = 502;
   int max_clients = 32;
+  int max_clients_per_host = 8;            // one address's connections; more replace its idle ones
   WordOrder word_order = WordOrder::big;
   bool writes = false;                     // every write is refused with 0x01 unless true
   std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed

@@ -54,6 +54,7 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
   options.listen = config_.server.listen;
   options.port = config_.server.port;
   options.max_clients = config_.server.max_clients;
+  options.max_clients_per_host = config_.server.max_clients_per_host;
   options.idle_timeout = config_.server.idle_timeout;
   options.request_timeout = config_.server.request_timeout;
   server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_, options);

@@ -90,6 +90,7 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   status.modbus_clients = server_->client_count();
   status.modbus_connections = server.accepted;
   status.modbus_connections_refused = server.refused;
+  status.modbus_connections_replaced = server.replaced;
   status.modbus_requests = server_->request_counts().requests();
   status.modbus_exceptions = server_->request_counts().exceptions();
   status.mqtt = mqtt_stats();

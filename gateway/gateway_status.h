@@ -86,7 +86,8 @@ struct GatewayStatus {
   std::vector<BusStatus> buses;
   std::size_t modbus_clients = 0;      // Modbus TCP connections open now
   std::uint64_t modbus_connections = 0;          // accepted since start
-  std::uint64_t modbus_connections_refused = 0;  // closed at once: max_clients reached
+  std::uint64_t modbus_connections_refused = 0;  // closed at once: a limit reached, none idle
+  std::uint64_t modbus_connections_replaced = 0;  // idle ones closed to make room for a new one
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;
   std::optional<MqttStats> mqtt;      // none without [mqtt]

@@ -4,6 +4,7 @@
 # (device_identification); Asio does all socket I/O (modbus_tcp_server).
 add_library(tiltgate_modbus STATIC
   ${CMAKE_CURRENT_LIST_DIR}/modbus_request.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/connection_admission.cpp
   ${CMAKE_CURRENT_LIST_DIR}/device_identification.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_reply_encoder.cpp
   ${CMAKE_CURRENT_LIST_DIR}/log_throttle.cpp

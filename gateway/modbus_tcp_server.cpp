@@ -7,10 +7,12 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/asio/write.hpp>
+#include <algorithm>
 #include <exception>
 #include <spdlog/spdlog.h>
 #include <variant>
 
+#include "gateway/connection_admission.h"
 #include "gateway/modbus_reply_encoder.h"
 #include "gateway/modbus_request.h"
 
@@ -24,18 +26,28 @@ namespace {
 
 constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
 
+// An IPv4 client of a dual-stack socket shows as ::ffff:a.b.c.d: it is the IPv4 host.
+asio::ip::address canonical(const asio::ip::address& address) {
+  if (address.is_v6() && address.to_v6().is_v4_mapped())
+    return asio::ip::make_address_v4(asio::ip::v4_mapped, address.to_v6());
+  return address;
+}
+
 std::string peer_of(const tcp::socket& socket) {
   boost::system::error_code ec;
   const tcp::endpoint peer = socket.remote_endpoint(ec);
   if (ec) return "(unknown peer)";
-  return fmt::format("{}:{}", peer.address().to_string(), peer.port());
+  const asio::ip::address address = canonical(peer.address());
+  if (address.is_v6()) return fmt::format("[{}]:{}", address.to_string(), peer.port());
+  return fmt::format("{}:{}", address.to_string(), peer.port());
 }
 
-// The client's address without its port: what a flood of connections has in common.
+// The client's address without its port: what a flood of connections has in common, and what
+// max_clients_per_host counts.
 std::string address_of(const tcp::socket& socket) {
   boost::system::error_code ec;
   const tcp::endpoint peer = socket.remote_endpoint(ec);
-  return ec ? "(unknown peer)" : peer.address().to_string();
+  return ec ? "(unknown peer)" : canonical(peer.address()).to_string();
 }
 
 // What a connection's deadline currently guards.
@@ -58,6 +70,7 @@ struct ModbusTcpServer::Connection {
   // Sets what the watchdog enforces next. Moving the deadline earlier wakes the watchdog;
   // moving it later does not need to (it re-reads the deadline when its timer fires).
   void expect(Wait what, Clock::time_point when) {
+    if (what == Wait::idle && waiting_for != Wait::idle) idle_since = Clock::now();
     waiting_for = what;
     if (when < deadline) timer.cancel();
     deadline = when;
@@ -75,6 +88,7 @@ struct ModbusTcpServer::Connection {
   std::string peer;
   std::string address;  // peer without the port
   Wait waiting_for = Wait::idle;
+  Clock::time_point idle_since = Clock::now();  // when it last became idle (or connected)
   Clock::time_point deadline = Clock::time_point::max();
   bool closed = false;
 };
@@ -93,6 +107,8 @@ ModbusTcpServer::~ModbusTcpServer() = default;
 Expected<Done, std::string> ModbusTcpServer::start() {
   if (acceptor_.is_open()) return Unexpected(std::string("Modbus server already started"));
   if (options_.max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
+  if (options_.max_clients_per_host < 1)
+    return Unexpected(std::string("max_clients_per_host must be at least 1"));
   auto encoder = ModbusReplyEncoder::create();
   if (!encoder) return Unexpected("Modbus reply encoder: " + encoder.error());
 
@@ -120,6 +136,11 @@ void ModbusTcpServer::stop() {
   for (const auto& connection : connections_) connection->close();
 }
 
+std::size_t ModbusTcpServer::client_count() const {
+  return std::size_t(std::count_if(connections_.begin(), connections_.end(),
+                                   [](const auto& connection) { return !connection->closed; }));
+}
+
 ModbusServerStats ModbusTcpServer::stats() const {
   ModbusServerStats stats = stats_;
   if (encoder_) stats.libmodbus_replies = encoder_->libmodbus_calls();
@@ -139,23 +160,52 @@ asio::awaitable<void> ModbusTcpServer::accept_clients() {
       co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
-    if (connections_.size() >= std::size_t(options_.max_clients)) {
-      refuse(std::move(socket));
-    } else {
-      admit(std::move(socket));
+    // Connections closed for an earlier one may still be winding down: they hold no place.
+    std::vector<Connection*> live;
+    std::vector<OpenConnection> open;
+    for (const auto& connection : connections_) {
+      if (connection->closed) continue;
+      live.push_back(connection.get());
+      open.push_back({connection->address, connection->waiting_for == Wait::idle,
+                      connection->idle_since});
     }
+    const std::string address = address_of(socket);
+    const Admission admission = admit_connection(
+        open, address,
+        {std::size_t(options_.max_clients), std::size_t(options_.max_clients_per_host)});
+    const std::string_view limit = admission.limit == AdmissionLimit::max_clients_per_host
+                                       ? "max_clients_per_host"
+                                       : "max_clients";
+    if (!admission.admitted) {
+      refuse(std::move(socket), limit);
+      continue;
+    }
+    if (admission.replaced) replace(*live[*admission.replaced], peer_of(socket) + " (" +
+                                                                  std::string(limit) + ")");
+    admit(std::move(socket));
   }
 }
 
-void ModbusTcpServer::refuse(tcp::socket socket) {
+void ModbusTcpServer::refuse(tcp::socket socket, std::string_view limit) {
   ++stats_.refused;
   if (!refusing_) {
-    spdlog::warn("Modbus TCP client {} refused: {} clients connected (max_clients)",
-                 peer_of(socket), connections_.size());
+    spdlog::warn("Modbus TCP client {} refused: {} reached and no connection idle", peer_of(socket),
+                 limit);
     refusing_ = true;
   }
   boost::system::error_code ec;
   socket.close(ec);
+}
+
+// An idle connection gives way to a new one: a PLC reconnecting after a cable pull, its old
+// connection still half-open, or any client when idle ones fill the server.
+void ModbusTcpServer::replace(Connection& replaced, const std::string& by) {
+  ++stats_.replaced;
+  const auto idle_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - replaced.idle_since);
+  log_closing(replaced, spdlog::level::info,
+              fmt::format("idle for {} ms, replaced by {}", idle_ms.count(), by));
+  replaced.close();
 }
 
 void ModbusTcpServer::admit(tcp::socket socket) {
@@ -330,9 +380,14 @@ void ModbusTcpServer::finish(const std::shared_ptr<Connection>& connection) {
 
 void ModbusTcpServer::log_closing(const Connection& c, spdlog::level::level_enum level,
                                   std::string_view why) {
+  log_closing(c.peer, c.address, level, why);
+}
+
+void ModbusTcpServer::log_closing(const std::string& peer, const std::string& address,
+                                  spdlog::level::level_enum level, std::string_view why) {
   const auto now = Clock::now();
-  if (problem_log_.admit(c.address, now)) {
-    spdlog::log(level, "closing Modbus TCP client {}: {}", c.peer, why);
+  if (problem_log_.admit(address, now)) {
+    spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
   } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
     summary_timer_.cancel();  // summarize_suppressed() sleeps past this address's summary
   }

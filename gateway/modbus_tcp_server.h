@@ -28,7 +28,11 @@ class ModbusReplyEncoder;
 struct ModbusServerOptions {
   std::string listen = "0.0.0.0";  // an IP address literal (IPv4 or IPv6)
   std::uint16_t port = 502;        // 0 picks a free port (tests); see local_port()
-  int max_clients = 32;            // the next client is accepted and closed at once
+  // At max_clients a new client replaces the one idle longest, else it is accepted and closed
+  // at once (gateway/connection_admission.h); an address holding max_clients_per_host replaces
+  // its own connection idle longest, else it is closed.
+  int max_clients = 32;
+  int max_clients_per_host = 8;
   std::chrono::milliseconds idle_timeout{60000};    // no request for this long: closed
   std::chrono::milliseconds request_timeout{5000};  // a request (or its reply) stuck this long
                                                     // since its first byte: closed
@@ -37,7 +41,8 @@ struct ModbusServerOptions {
 
 struct ModbusServerStats {
   std::uint64_t accepted = 0;          // connections served
-  std::uint64_t refused = 0;           // connections closed at once: max_clients reached
+  std::uint64_t refused = 0;           // connections closed at once: a limit reached, none idle
+  std::uint64_t replaced = 0;          // idle connections closed to make room for a new one
   std::uint64_t requests = 0;          // checked requests passed to the handler
   std::uint64_t forwarded = 0;         // requests for units passed through to a device
   std::uint64_t rejected = 0;          // malformed or unsupported: answered by the parser
@@ -65,7 +70,8 @@ class ModbusTcpServer {
   // Closes the acceptor and every connection; their coroutines end on the next loop turns.
   void stop();
 
-  std::size_t client_count() const { return connections_.size(); }
+  // Open connections, not counting those closed and still winding down.
+  std::size_t client_count() const;
   ModbusServerStats stats() const;
   const ModbusRequestCounts& request_counts() const { return request_counts_; }
 
@@ -74,7 +80,8 @@ class ModbusTcpServer {
 
   boost::asio::awaitable<void> accept_clients();
   void admit(boost::asio::ip::tcp::socket socket);
-  void refuse(boost::asio::ip::tcp::socket socket);
+  void refuse(boost::asio::ip::tcp::socket socket, std::string_view limit);
+  void replace(Connection& replaced, const std::string& by);
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
   boost::asio::awaitable<void> watch(std::shared_ptr<Connection> connection);
   boost::asio::awaitable<bool> answer(Connection& connection, std::span<const std::uint8_t> adu);
@@ -87,6 +94,8 @@ class ModbusTcpServer {
   // Logs why a client is closed, unless its address has had its share of lines lately.
   void log_closing(const Connection& connection, spdlog::level::level_enum level,
                    std::string_view why);
+  void log_closing(const std::string& peer, const std::string& address,
+                   spdlog::level::level_enum level, std::string_view why);
   void log_suppressed(LogThrottle::Clock::time_point now);
   boost::asio::awaitable<void> summarize_suppressed();
 

@@ -126,8 +126,12 @@ std::string metrics_text(const GatewayStatus& status) {
   out.single("tiltgate_modbus_connections_total", "counter", "Modbus TCP connections accepted",
              double(status.modbus_connections));
   out.single("tiltgate_modbus_connections_refused_total", "counter",
-             "Modbus TCP connections closed at once because max_clients were connected",
+             "Modbus TCP connections closed at once: max_clients or max_clients_per_host "
+             "reached and none of those connections idle",
              double(status.modbus_connections_refused));
+  out.single("tiltgate_modbus_connections_replaced_total", "counter",
+             "Idle Modbus TCP connections closed to make room for a new one",
+             double(status.modbus_connections_replaced));
   out.family("tiltgate_modbus_requests_total", "counter",
              "Modbus TCP requests answered, by function code (two hex digits)");
   for (const ModbusFunctionCount& f : status.modbus_requests)
