@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "config/address_allow_list.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
 #include "mapping/map_definition.h"
@@ -26,6 +27,8 @@ struct ServerConfig {
   int max_clients_per_host = 8;            // one address's connections; more replace its idle ones
   WordOrder word_order = WordOrder::big;
   bool writes = false;                     // every write is refused with 0x01 unless true
+  AddressAllowList allow;                  // who may connect (default: everyone)
+  AddressAllowList write_allow;            // who may write (default: the same as allow)
   std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed
   std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
   std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
@@ -40,6 +43,9 @@ struct HttpConfig {
   bool enabled = true;
   std::string listen = "127.0.0.1";
   std::uint16_t port = 8080;
+  // Who may connect; without [http] allow, [server] allow (resolved by the loader).
+  AddressAllowList allow;
+  bool allow_given = false;  // [http] allow was written
   // The status page's graph: each sensor's angles sampled every history_interval, kept for
   // history_seconds (gateway/angle_history.h).
   std::chrono::seconds history_seconds{600};

@@ -55,6 +55,8 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
   options.port = config_.server.port;
   options.max_clients = config_.server.max_clients;
   options.max_clients_per_host = config_.server.max_clients_per_host;
+  options.allow = config_.server.allow;
+  options.write_allow = config_.server.write_allow;
   options.idle_timeout = config_.server.idle_timeout;
   options.request_timeout = config_.server.request_timeout;
   server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_, options);
@@ -71,6 +73,7 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     HttpServerOptions http;
     http.listen = config_.http.listen;
     http.port = config_.http.port;
+    http.allow = config_.http.allow;
     std::vector<std::string> names;
     for (const auto& sensor : sensors_) names.push_back(sensor->config.name);
     history_ = std::make_unique<HistoryRecorder>(

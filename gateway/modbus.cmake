@@ -11,5 +11,5 @@ add_library(tiltgate_modbus STATIC
   ${CMAKE_CURRENT_LIST_DIR}/modbus_request_counts.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server.cpp ${CMAKE_CURRENT_LIST_DIR}/tcp_listen.cpp)
 target_include_directories(tiltgate_modbus PUBLIC ${PROJECT_SOURCE_DIR})
-target_link_libraries(tiltgate_modbus PUBLIC PkgConfig::MODBUS Boost::headers spdlog::spdlog fmt::fmt
+target_link_libraries(tiltgate_modbus PUBLIC tiltgate_address_allow_list PkgConfig::MODBUS Boost::headers spdlog::spdlog fmt::fmt
                       Threads::Threads)

@@ -26,18 +26,11 @@ namespace {
 
 constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
 
-// An IPv4 client of a dual-stack socket shows as ::ffff:a.b.c.d: it is the IPv4 host.
-asio::ip::address canonical(const asio::ip::address& address) {
-  if (address.is_v6() && address.to_v6().is_v4_mapped())
-    return asio::ip::make_address_v4(asio::ip::v4_mapped, address.to_v6());
-  return address;
-}
-
 std::string peer_of(const tcp::socket& socket) {
   boost::system::error_code ec;
   const tcp::endpoint peer = socket.remote_endpoint(ec);
   if (ec) return "(unknown peer)";
-  const asio::ip::address address = canonical(peer.address());
+  const asio::ip::address address = canonical_ip(peer.address());
   if (address.is_v6()) return fmt::format("[{}]:{}", address.to_string(), peer.port());
   return fmt::format("{}:{}", address.to_string(), peer.port());
 }
@@ -47,7 +40,7 @@ std::string peer_of(const tcp::socket& socket) {
 std::string address_of(const tcp::socket& socket) {
   boost::system::error_code ec;
   const tcp::endpoint peer = socket.remote_endpoint(ec);
-  return ec ? "(unknown peer)" : canonical(peer.address()).to_string();
+  return ec ? "(unknown peer)" : canonical_ip(peer.address()).to_string();
 }
 
 // What a connection's deadline currently guards.
@@ -170,6 +163,13 @@ asio::awaitable<void> ModbusTcpServer::accept_clients() {
                       connection->idle_since});
     }
     const std::string address = address_of(socket);
+    if (!options_.allow.allows(address)) {
+      ++stats_.denied;
+      log_closing(peer_of(socket), address, spdlog::level::warn, "address not in [server] allow");
+      boost::system::error_code ignored;
+      socket.close(ignored);
+      continue;
+    }
     const Admission admission = admit_connection(
         open, address,
         {std::size_t(options_.max_clients), std::size_t(options_.max_clients_per_host)});
@@ -263,6 +263,14 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
 }
 
 asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std::uint8_t> adu) {
+  // As with [server] writes = false, passed-through units included: 01, nothing sent anywhere.
+  if (!options_.write_allow.allows(c.address) && !reads_only(adu.subspan(mbap_header_size))) {
+    ++stats_.writes_denied;
+    log_problem(c, fmt::format("function {:02X} refused with 01: address not in [server] "
+                               "write_allow",
+                               adu[mbap_header_size]));
+    co_return co_await send(c, exception_reply(adu, ModbusException::illegal_function));
+  }
   // The assembler hands out whole ADUs with a valid MBAP header only, so a unit passed
   // through gets any function, unchecked: the device judges it.
   if (adu.size() > mbap_header_size && handler_.passes_through(adu[6])) {
@@ -390,6 +398,16 @@ void ModbusTcpServer::log_closing(const std::string& peer, const std::string& ad
     spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
   } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
     summary_timer_.cancel();  // summarize_suppressed() sleeps past this address's summary
+  }
+  log_suppressed(now);
+}
+
+void ModbusTcpServer::log_problem(const Connection& c, std::string_view what) {
+  const auto now = Clock::now();
+  if (problem_log_.admit(c.address, now)) {
+    spdlog::warn("Modbus TCP client {}: {}", c.peer, what);
+  } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
+    summary_timer_.cancel();
   }
   log_suppressed(now);
 }

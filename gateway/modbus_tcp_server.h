@@ -16,6 +16,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "config/address_allow_list.h"
 #include "driver/expected.h"
 #include "gateway/log_throttle.h"
 #include "gateway/modbus_request_counts.h"
@@ -36,6 +37,8 @@ struct ModbusServerOptions {
   std::chrono::milliseconds idle_timeout{60000};    // no request for this long: closed
   std::chrono::milliseconds request_timeout{5000};  // a request (or its reply) stuck this long
                                                     // since its first byte: closed
+  AddressAllowList allow;        // other clients are closed at accept
+  AddressAllowList write_allow;  // other clients' writes (any function but a read) get 0x01
   LogThrottleOptions problem_log;  // clients closed for cause: a few lines per address, then counts
 };
 
@@ -43,6 +46,8 @@ struct ModbusServerStats {
   std::uint64_t accepted = 0;          // connections served
   std::uint64_t refused = 0;           // connections closed at once: a limit reached, none idle
   std::uint64_t replaced = 0;          // idle connections closed to make room for a new one
+  std::uint64_t denied = 0;            // connections closed at once: address not in allow
+  std::uint64_t writes_denied = 0;     // writes answered 0x01: address not in write_allow
   std::uint64_t requests = 0;          // checked requests passed to the handler
   std::uint64_t forwarded = 0;         // requests for units passed through to a device
   std::uint64_t rejected = 0;          // malformed or unsupported: answered by the parser
@@ -96,6 +101,8 @@ class ModbusTcpServer {
                    std::string_view why);
   void log_closing(const std::string& peer, const std::string& address,
                    spdlog::level::level_enum level, std::string_view why);
+  // A refused request, throttled with the closes (it is the same client misbehaving).
+  void log_problem(const Connection& connection, std::string_view what);
   void log_suppressed(LogThrottle::Clock::time_point now);
   boost::asio::awaitable<void> summarize_suppressed();
 
