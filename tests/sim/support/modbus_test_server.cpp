@@ -83,6 +83,7 @@ ModbusServerOptions test_options() {
   options.listen = "127.0.0.1";
   options.port = 0;
   options.max_clients = 40;
+  options.max_clients_per_host = 40;  // every test client is 127.0.0.1 unless it binds another
   options.idle_timeout = 30s;
   options.request_timeout = 30s;
   return options;
