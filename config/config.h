@@ -20,11 +20,21 @@ namespace tiltgate {
 // Where `tiltgate run` listens for commissioning commands, and where they look for it.
 inline constexpr std::string_view kDefaultControlSocket = "/run/tiltgate/control.sock";
 
+// Modbus/TCP Security ([server] tls): the PEM files, as resolved, and their contents, read when
+// the configuration loads.
+struct ServerTlsConfig {
+  std::string cert_file, key_file, ca_file;
+  std::string cert_pem, key_pem, ca_pem;
+  std::uint16_t port = 802;
+};
+
 struct ServerConfig {
   std::string listen = "0.0.0.0";
   std::uint16_t port = 502;
   int max_clients = 32;
-  int max_clients_per_host = 8;            // one address's connections; more replace its idle ones
+  int max_clients_per_host = 8;
+  bool plain_tcp = true;                   // false: Modbus over TLS only (needs tls)
+  std::optional<ServerTlsConfig> tls;      // Modbus/TCP Security beside or instead of plain TCP            // one address's connections; more replace its idle ones
   WordOrder word_order = WordOrder::big;
   bool writes = false;                     // every write is refused with 0x01 unless true
   AddressAllowList allow;                  // who may connect (default: everyone)

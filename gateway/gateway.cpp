@@ -57,6 +57,10 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
   options.max_clients_per_host = config_.server.max_clients_per_host;
   options.allow = config_.server.allow;
   options.write_allow = config_.server.write_allow;
+  options.plain_tcp = config_.server.plain_tcp;
+  if (const auto& tls = config_.server.tls)
+    options.tls = ModbusTlsOptions{tls->cert_pem, tls->key_pem, tls->ca_pem,
+                                   tls->cert_file, tls->key_file, tls->ca_file, tls->port};
   options.idle_timeout = config_.server.idle_timeout;
   options.request_timeout = config_.server.request_timeout;
   server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_, options);

@@ -91,6 +91,7 @@ struct GatewayStatus {
   std::uint64_t modbus_connections_denied = 0;    // closed at accept: not in [server] allow
   std::uint64_t modbus_writes_denied = 0;         // answered 0x01: not in [server] write_allow
   std::uint64_t http_connections_denied = 0;      // closed at accept: not in [http] allow
+  std::uint64_t modbus_tls_refused = 0;           // TLS handshakes failed (certificate, version)
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;
   std::optional<MqttStats> mqtt;      // none without [mqtt]

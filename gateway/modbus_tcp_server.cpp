@@ -54,9 +54,9 @@ enum class Wait {
 }  // namespace
 
 struct ModbusTcpServer::Connection {
-  Connection(tcp::socket s, std::string peer_name, std::string peer_address)
-      : socket(std::move(s)),
-        timer(socket.get_executor()),
+  Connection(ModbusStream s, std::string peer_name, std::string peer_address)
+      : stream(std::move(s)),
+        timer(stream.socket().get_executor()),
         peer(std::move(peer_name)),
         address(std::move(peer_address)) {}
 
@@ -71,12 +71,11 @@ struct ModbusTcpServer::Connection {
 
   void close() {
     closed = true;
-    boost::system::error_code ec;
-    socket.close(ec);
+    stream.close();
     timer.cancel();
   }
 
-  tcp::socket socket;
+  ModbusStream stream;
   asio::steady_timer timer;
   std::string peer;
   std::string address;  // peer without the port
@@ -92,25 +91,48 @@ ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHa
       handler_(handler),
       options_(std::move(options)),
       acceptor_(executor),
+      tls_acceptor_(executor),
       problem_log_(options_.problem_log),
       summary_timer_(executor) {}
 
 ModbusTcpServer::~ModbusTcpServer() = default;
 
 Expected<Done, std::string> ModbusTcpServer::start() {
-  if (acceptor_.is_open()) return Unexpected(std::string("Modbus server already started"));
+  if (running_) return Unexpected(std::string("Modbus server already started"));
+  if (!options_.plain_tcp && !options_.tls)
+    return Unexpected(std::string("neither plain TCP nor TLS: nothing to serve"));
   if (options_.max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
   if (options_.max_clients_per_host < 1)
     return Unexpected(std::string("max_clients_per_host must be at least 1"));
   auto encoder = ModbusReplyEncoder::create();
   if (!encoder) return Unexpected("Modbus reply encoder: " + encoder.error());
 
-  if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP");
-      !listening)
-    return listening;
+  if (options_.tls) {
+    auto context = make_tls_context(*options_.tls);
+    if (!context) return Unexpected(context.error());
+    tls_context_ = std::move(*context);
+  }
+  if (options_.plain_tcp) {
+    if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP");
+        !listening)
+      return listening;
+  }
+  if (options_.tls) {
+    if (auto listening =
+            listen_on(tls_acceptor_, options_.listen, options_.tls->port, "Modbus/TCP Security");
+        !listening) {
+      boost::system::error_code ec;
+      acceptor_.close(ec);
+      return listening;
+    }
+    spdlog::info("Modbus/TCP Security (TLS, client certificates signed by {}) on {}:{}",
+                 options_.tls->ca_file, options_.listen, tls_port());
+  }
 
+  running_ = true;
   encoder_ = std::move(*encoder);
-  asio::co_spawn(executor_, accept_clients(), asio::detached);
+  if (options_.plain_tcp) asio::co_spawn(executor_, accept_clients(acceptor_, false), asio::detached);
+  if (options_.tls) asio::co_spawn(executor_, accept_clients(tls_acceptor_, true), asio::detached);
   asio::co_spawn(executor_, summarize_suppressed(), asio::detached);
   return Done{};
 }
@@ -121,9 +143,17 @@ std::uint16_t ModbusTcpServer::local_port() const {
   return ec ? 0 : local.port();
 }
 
+std::uint16_t ModbusTcpServer::tls_port() const {
+  boost::system::error_code ec;
+  const tcp::endpoint local = tls_acceptor_.local_endpoint(ec);
+  return ec ? 0 : local.port();
+}
+
 void ModbusTcpServer::stop() {
+  running_ = false;
   boost::system::error_code ec;
   acceptor_.close(ec);
+  tls_acceptor_.close(ec);
   summary_timer_.cancel();
   // Each connection's coroutine removes it from the set when it sees the closed socket.
   for (const auto& connection : connections_) connection->close();
@@ -140,12 +170,12 @@ ModbusServerStats ModbusTcpServer::stats() const {
   return stats;
 }
 
-asio::awaitable<void> ModbusTcpServer::accept_clients() {
-  while (acceptor_.is_open()) {
+asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, bool tls) {
+  while (acceptor.is_open()) {
     boost::system::error_code ec;
     tcp::socket socket =
-        co_await acceptor_.async_accept(asio::redirect_error(asio::use_awaitable, ec));
-    if (ec == asio::error::operation_aborted || !acceptor_.is_open()) co_return;
+        co_await acceptor.async_accept(asio::redirect_error(asio::use_awaitable, ec));
+    if (ec == asio::error::operation_aborted || !acceptor.is_open()) co_return;
     if (ec) {
       spdlog::warn("Modbus TCP accept failed: {}", ec.message());
       // Out of descriptors (EMFILE) fails again at once: pause instead of spinning.
@@ -182,7 +212,7 @@ asio::awaitable<void> ModbusTcpServer::accept_clients() {
     }
     if (admission.replaced) replace(*live[*admission.replaced], peer_of(socket) + " (" +
                                                                   std::string(limit) + ")");
-    admit(std::move(socket));
+    admit(std::move(socket), tls);
   }
 }
 
@@ -208,7 +238,7 @@ void ModbusTcpServer::replace(Connection& replaced, const std::string& by) {
   replaced.close();
 }
 
-void ModbusTcpServer::admit(tcp::socket socket) {
+void ModbusTcpServer::admit(tcp::socket socket, bool tls) {
   refusing_ = false;
   ++stats_.accepted;
   boost::system::error_code ec;
@@ -216,8 +246,10 @@ void ModbusTcpServer::admit(tcp::socket socket) {
   socket.set_option(tcp::no_delay(true), ec);
   std::string peer = peer_of(socket);
   std::string address = address_of(socket);
+  ModbusStream stream = tls ? ModbusStream(std::move(socket), *tls_context_)
+                            : ModbusStream(std::move(socket));
   auto connection =
-      std::make_shared<Connection>(std::move(socket), std::move(peer), std::move(address));
+      std::make_shared<Connection>(std::move(stream), std::move(peer), std::move(address));
   connections_.insert(connection);
   spdlog::debug("Modbus TCP client {} connected ({} connected)", connection->peer,
                 connections_.size());
@@ -227,6 +259,20 @@ void ModbusTcpServer::admit(tcp::socket socket) {
 
 asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connection) {
   Connection& c = *connection;
+  if (c.stream.is_tls()) {
+    // The client proves itself here; a handshake is as long as a request may take.
+    c.expect(Wait::request, Clock::now() + options_.request_timeout);
+    boost::system::error_code ec;
+    co_await c.stream.handshake(ec);
+    if (ec && !c.closed) {
+      ++stats_.tls_refused;
+      log_closing(c, spdlog::level::warn, "TLS handshake failed: " + ec.message());
+    }
+    if (ec || c.closed) {
+      finish(connection);
+      co_return;
+    }
+  }
   ModbusFrameAssembler frames;
   Clock::time_point first_byte_at = Clock::now();
   while (!c.closed) {
@@ -250,8 +296,7 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
     }
     boost::system::error_code ec;
     const std::span<std::uint8_t> space = frames.space();
-    const std::size_t n = co_await c.socket.async_read_some(
-        asio::buffer(space.data(), space.size()), asio::redirect_error(asio::use_awaitable, ec));
+    const std::size_t n = co_await c.stream.read_some(asio::buffer(space.data(), space.size()), ec);
     if (ec) {
       if (!c.closed) spdlog::debug("Modbus TCP client {}: {}", c.peer, ec.message());
       break;
@@ -266,7 +311,7 @@ asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std
   // As with [server] writes = false, passed-through units included: 01, nothing sent anywhere.
   if (!options_.write_allow.allows(c.address) && !reads_only(adu.subspan(mbap_header_size))) {
     ++stats_.writes_denied;
-    log_problem(c, fmt::format("function {:02X} refused with 01: address not in [server] "
+    log_problem(c.peer, c.address, fmt::format("function {:02X} refused with 01: address not in [server] "
                                "write_allow",
                                adu[mbap_header_size]));
     co_return co_await send(c, exception_reply(adu, ModbusException::illegal_function));
@@ -302,8 +347,7 @@ asio::awaitable<bool> ModbusTcpServer::send(Connection& c, const std::vector<std
   request_counts_.note_reply(reply);
   c.expect(Wait::reply, Clock::now() + options_.request_timeout);
   boost::system::error_code ec;
-  co_await asio::async_write(c.socket, asio::buffer(reply),
-                             asio::redirect_error(asio::use_awaitable, ec));
+  co_await c.stream.write(asio::buffer(reply), ec);
   co_return !ec;
 }
 
@@ -389,50 +433,6 @@ void ModbusTcpServer::finish(const std::shared_ptr<Connection>& connection) {
 void ModbusTcpServer::log_closing(const Connection& c, spdlog::level::level_enum level,
                                   std::string_view why) {
   log_closing(c.peer, c.address, level, why);
-}
-
-void ModbusTcpServer::log_closing(const std::string& peer, const std::string& address,
-                                  spdlog::level::level_enum level, std::string_view why) {
-  const auto now = Clock::now();
-  if (problem_log_.admit(address, now)) {
-    spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
-  } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
-    summary_timer_.cancel();  // summarize_suppressed() sleeps past this address's summary
-  }
-  log_suppressed(now);
-}
-
-void ModbusTcpServer::log_problem(const Connection& c, std::string_view what) {
-  const auto now = Clock::now();
-  if (problem_log_.admit(c.address, now)) {
-    spdlog::warn("Modbus TCP client {}: {}", c.peer, what);
-  } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
-    summary_timer_.cancel();
-  }
-  log_suppressed(now);
-}
-
-void ModbusTcpServer::log_suppressed(Clock::time_point now) {
-  for (const SuppressedProblems& s : problem_log_.take_summaries(now)) {
-    spdlog::warn("Modbus TCP clients from {}: {} more closed for cause in the last {} s, not "
-                 "logged one by one",
-                 s.address, s.count,
-                 std::chrono::duration_cast<std::chrono::seconds>(s.span).count());
-  }
-}
-
-// Logs each interval's count of suppressed lines when it ends, also when no further problem
-// comes to trigger it.
-asio::awaitable<void> ModbusTcpServer::summarize_suppressed() {
-  while (acceptor_.is_open()) {
-    const auto now = Clock::now();
-    summary_timer_.expires_at(
-        problem_log_.next_summary_due().value_or(now + options_.problem_log.interval));
-    boost::system::error_code ec;
-    co_await summary_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-    if (!acceptor_.is_open()) co_return;
-    log_suppressed(Clock::now());
-  }
 }
 
 }  // namespace tiltgate

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <unordered_set>
@@ -19,6 +20,7 @@
 #include "config/address_allow_list.h"
 #include "driver/expected.h"
 #include "gateway/log_throttle.h"
+#include "gateway/modbus_stream.h"
 #include "gateway/modbus_request_counts.h"
 #include "gateway/modbus_types.h"
 
@@ -29,6 +31,11 @@ class ModbusReplyEncoder;
 struct ModbusServerOptions {
   std::string listen = "0.0.0.0";  // an IP address literal (IPv4 or IPv6)
   std::uint16_t port = 502;        // 0 picks a free port (tests); see local_port()
+  bool plain_tcp = true;           // false: TLS only
+  // Modbus/TCP Security beside (or instead of) plain TCP, on `listen`:tls->port; TLS clients
+  // share every limit, list and time-out below, and the handshake must end within
+  // request_timeout.
+  std::optional<ModbusTlsOptions> tls;
   // At max_clients a new client replaces the one idle longest, else it is accepted and closed
   // at once (gateway/connection_admission.h); an address holding max_clients_per_host replaces
   // its own connection idle longest, else it is closed.
@@ -48,6 +55,8 @@ struct ModbusServerStats {
   std::uint64_t replaced = 0;          // idle connections closed to make room for a new one
   std::uint64_t denied = 0;            // connections closed at once: address not in allow
   std::uint64_t writes_denied = 0;     // writes answered 0x01: address not in write_allow
+  std::uint64_t tls_refused = 0;       // TLS handshakes failed: no client certificate, one not
+                                       // signed by the CA, or not TLS 1.2+
   std::uint64_t requests = 0;          // checked requests passed to the handler
   std::uint64_t forwarded = 0;         // requests for units passed through to a device
   std::uint64_t rejected = 0;          // malformed or unsupported: answered by the parser
@@ -70,8 +79,11 @@ class ModbusTcpServer {
 
   // Binds and listens, then accepts in the background. The error says what failed and where.
   Expected<Done, std::string> start();
-  // The bound port (the ephemeral one when options.port is 0); 0 before start().
+  // The bound port (the ephemeral one when options.port is 0); 0 before start() or without
+  // plain TCP.
   std::uint16_t local_port() const;
+  // The same for Modbus/TCP Security; 0 without [server] tls.
+  std::uint16_t tls_port() const;
   // Closes the acceptor and every connection; their coroutines end on the next loop turns.
   void stop();
 
@@ -83,8 +95,8 @@ class ModbusTcpServer {
  private:
   struct Connection;
 
-  boost::asio::awaitable<void> accept_clients();
-  void admit(boost::asio::ip::tcp::socket socket);
+  boost::asio::awaitable<void> accept_clients(boost::asio::ip::tcp::acceptor& acceptor, bool tls);
+  void admit(boost::asio::ip::tcp::socket socket, bool tls);
   void refuse(boost::asio::ip::tcp::socket socket, std::string_view limit);
   void replace(Connection& replaced, const std::string& by);
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
@@ -102,7 +114,7 @@ class ModbusTcpServer {
   void log_closing(const std::string& peer, const std::string& address,
                    spdlog::level::level_enum level, std::string_view why);
   // A refused request, throttled with the closes (it is the same client misbehaving).
-  void log_problem(const Connection& connection, std::string_view what);
+  void log_problem(const std::string& peer, const std::string& address, std::string_view what);
   void log_suppressed(LogThrottle::Clock::time_point now);
   boost::asio::awaitable<void> summarize_suppressed();
 
@@ -110,6 +122,9 @@ class ModbusTcpServer {
   ModbusRequestHandler& handler_;
   ModbusServerOptions options_;
   boost::asio::ip::tcp::acceptor acceptor_;
+  boost::asio::ip::tcp::acceptor tls_acceptor_;
+  std::unique_ptr<boost::asio::ssl::context> tls_context_;
+  bool running_ = false;  // between start() and stop()
   std::unique_ptr<ModbusReplyEncoder> encoder_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   ModbusServerStats stats_;

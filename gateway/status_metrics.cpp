@@ -138,6 +138,10 @@ std::string metrics_text(const GatewayStatus& status) {
   out.single("tiltgate_modbus_writes_denied_total", "counter",
              "Modbus TCP writes answered 0x01: the address is not in [server] write_allow",
              double(status.modbus_writes_denied));
+  out.single("tiltgate_modbus_tls_refused_total", "counter",
+             "Modbus/TCP Security connections closed in the TLS handshake: no client "
+             "certificate, one not signed by the configured CA, or an older TLS",
+             double(status.modbus_tls_refused));
   out.single("tiltgate_http_connections_denied_total", "counter",
              "HTTP connections closed at once: the address is not in [http] allow",
              double(status.http_connections_denied));
