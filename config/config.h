@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "config/address_allow_list.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
 #include "mapping/map_definition.h"
@@ -19,12 +20,25 @@ namespace tiltgate {
 // Where `tiltgate run` listens for commissioning commands, and where they look for it.
 inline constexpr std::string_view kDefaultControlSocket = "/run/tiltgate/control.sock";
 
+// Modbus/TCP Security ([server] tls): the PEM files, as resolved, and their contents, read when
+// the configuration loads.
+struct ServerTlsConfig {
+  std::string cert_file, key_file, ca_file;
+  std::string cert_pem, key_pem, ca_pem;
+  std::uint16_t port = 802;
+};
+
 struct ServerConfig {
   std::string listen = "0.0.0.0";
   std::uint16_t port = 502;
   int max_clients = 32;
+  int max_clients_per_host = 8;
+  bool plain_tcp = true;                   // false: Modbus over TLS only (needs tls)
+  std::optional<ServerTlsConfig> tls;      // Modbus/TCP Security beside or instead of plain TCP            // one address's connections; more replace its idle ones
   WordOrder word_order = WordOrder::big;
   bool writes = false;                     // every write is refused with 0x01 unless true
+  AddressAllowList allow;                  // who may connect (default: everyone)
+  AddressAllowList write_allow;            // who may write (default: the same as allow)
   std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed
   std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
   std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
@@ -44,6 +58,9 @@ struct HttpConfig {
   bool enabled = true;
   std::string listen = "127.0.0.1";
   std::uint16_t port = 8080;
+  // Who may connect; without [http] allow, [server] allow (resolved by the loader).
+  AddressAllowList allow;
+  bool allow_given = false;  // [http] allow was written
   // The status page's graph: each sensor's angles sampled every history_interval, kept for
   // history_seconds (gateway/angle_history.h).
   std::chrono::seconds history_seconds{600};

@@ -90,6 +90,7 @@ Config assemble(std::string path, ServerConfig server, HttpConfig http,
   config.path = std::move(path);
   config.server = server;
   config.http = std::move(http);
+  if (!config.http.allow_given) config.http.allow = config.server.allow;
   for (ParsedBus& bus : buses) config.buses.push_back(std::move(bus.config));
   for (ParsedSensor& sensor : sensors) {
     sensor.config.address = std::uint32_t(sensor.address);  // range checked against its bus

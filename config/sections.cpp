@@ -18,6 +18,19 @@ namespace {
 
 using std::chrono::milliseconds;
 
+// allow = ["10.0.0.0/8", "::1"]: the list, or none if absent or malformed (reported).
+std::optional<AddressAllowList> read_allow_list(TableReader& in, std::string_view key) {
+  const auto entries = in.strings(key);
+  if (!entries) return std::nullopt;
+  auto list = AddressAllowList::parse(*entries);
+  if (!list) {
+    in.error(key, list.error() + ", expected addresses or networks such as \"192.168.1.20\", "
+                                 "\"10.0.0.0/8\" or \"::1\"");
+    return std::nullopt;
+  }
+  return std::move(*list);
+}
+
 bool is_ip_address(const std::string& text) {
   unsigned char buffer[sizeof(in6_addr)];
   return inet_pton(AF_INET, text.c_str(), buffer) == 1 ||
@@ -130,9 +143,19 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
   }
   if (auto port = in.integer("port", 1, 65535)) server.port = std::uint16_t(*port);
   if (auto n = in.integer("max_clients", 1, 1024)) server.max_clients = int(*n);
+  read_server_tls(in, server, errors);
+  if (auto n = in.integer("max_clients_per_host", 1, 1024)) server.max_clients_per_host = int(*n);
   if (auto order = in.choice("word_order", {"big", "little"}))
     server.word_order = *order == "big" ? WordOrder::big : WordOrder::little;
   if (auto writes = in.boolean("writes")) server.writes = *writes;
+  if (auto allow = read_allow_list(in, "allow")) {
+    if (allow->entries().empty())
+      in.error("allow", "empty: no client could connect (leave allow out to allow every address)");
+    server.allow = *allow;
+  }
+  // Writes from the hosts that may connect, unless narrowed.
+  server.write_allow = server.allow;
+  if (auto write_allow = read_allow_list(in, "write_allow")) server.write_allow = *write_allow;
   if (auto ms = in.integer("idle_timeout_ms", 1000, 86'400'000))
     server.idle_timeout = milliseconds(*ms);
   if (auto ms = in.integer("request_timeout_ms", 100, 600'000))
@@ -180,6 +203,10 @@ HttpConfig read_http(const toml::table& table, ErrorList& errors) {
                                      *listen));
   }
   if (auto port = in.integer("port", 1, 65535)) http.port = std::uint16_t(*port);
+  if (auto allow = read_allow_list(in, "allow")) {
+    http.allow = *allow;
+    http.allow_given = true;
+  }
   if (auto seconds = in.integer("history_seconds", 10, 86400))
     http.history_seconds = std::chrono::seconds(*seconds);
   if (auto interval = in.integer("history_interval_ms", 100, 60000))

@@ -17,6 +17,8 @@
 
 namespace tiltgate::config {
 
+class TableReader;
+
 struct ParsedBus {
   BusConfig config;
   Located where;
@@ -32,6 +34,8 @@ struct ParsedSensor {
 };
 
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
+// [server] tls and plain_tcp (server_tls_section.cpp); after [server] port is read.
+void read_server_tls(TableReader& in, ServerConfig& server, ErrorList& errors);
 HttpConfig read_http(const toml::table& table, ErrorList& errors);
 MqttConfig read_mqtt(const toml::table& table, ErrorList& errors);
 // Protocols, bauds, addresses and models come from the families' descriptors.

@@ -31,6 +31,13 @@ ModbusServerOptions modbus_server_options(const ServerConfig& server) {
   options.listen = server.listen;
   options.port = server.port;
   options.max_clients = server.max_clients;
+  options.max_clients_per_host = server.max_clients_per_host;
+  options.allow = server.allow;
+  options.write_allow = server.write_allow;
+  options.plain_tcp = server.plain_tcp;
+  if (const auto& tls = server.tls)
+    options.tls = ModbusTlsOptions{tls->cert_pem, tls->key_pem, tls->ca_pem,
+                                   tls->cert_file, tls->key_file, tls->ca_file, tls->port};
   options.idle_timeout = server.idle_timeout;
   options.request_timeout = server.request_timeout;
   return options;
@@ -106,6 +113,7 @@ void Gateway::make_http(const HistoryRecorder* previous) {
   HttpServerOptions http;
   http.listen = config_.http.listen;
   http.port = config_.http.port;
+  http.allow = config_.http.allow;
   make_history(previous);
   http_ = std::make_unique<HttpServer>(
       io_.get_executor(), [this] { return status(SteadyClock::now()); }, http,

@@ -90,6 +90,11 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   status.modbus_clients = server_->client_count();
   status.modbus_connections = server.accepted;
   status.modbus_connections_refused = server.refused;
+  status.modbus_connections_replaced = server.replaced;
+  status.modbus_connections_denied = server.denied;
+  status.modbus_writes_denied = server.writes_denied;
+  status.modbus_tls_refused = server.tls_refused;
+  if (http_) status.http_connections_denied = http_->stats().denied;
   status.modbus_requests = server_->request_counts().requests();
   status.modbus_exceptions = server_->request_counts().exceptions();
   status.mqtt = mqtt_stats();

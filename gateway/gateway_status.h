@@ -86,7 +86,12 @@ struct GatewayStatus {
   std::vector<BusStatus> buses;
   std::size_t modbus_clients = 0;      // Modbus TCP connections open now
   std::uint64_t modbus_connections = 0;          // accepted since start
-  std::uint64_t modbus_connections_refused = 0;  // closed at once: max_clients reached
+  std::uint64_t modbus_connections_refused = 0;  // closed at once: a limit reached, none idle
+  std::uint64_t modbus_connections_replaced = 0;  // idle ones closed to make room for a new one
+  std::uint64_t modbus_connections_denied = 0;    // closed at accept: not in [server] allow
+  std::uint64_t modbus_writes_denied = 0;         // answered 0x01: not in [server] write_allow
+  std::uint64_t http_connections_denied = 0;      // closed at accept: not in [http] allow
+  std::uint64_t modbus_tls_refused = 0;           // TLS handshakes failed (certificate, version)
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;
   std::optional<MqttStats> mqtt;      // none without [mqtt]

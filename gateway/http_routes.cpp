@@ -76,6 +76,7 @@ HttpReply route_http(std::string_view method, std::string_view target,
     return HttpReply{200, std::string(kMetricsContentType), metrics_text(status())};
   if (path == "/api/sensors") return json(sensors_json(status().sensors));
   if (path == "/api/buses") return json(buses_json(status().buses));
+  if (path == "/api/modbus") return json(modbus_json(status()));
   if (path.starts_with(kSensorPrefix)) {
     const std::string_view rest = path.substr(kSensorPrefix.size());
     if (rest.ends_with(kHistoryCsvSuffix))
@@ -91,7 +92,7 @@ HttpReply route_http(std::string_view method, std::string_view target,
     return text(404, "no such sensor\n");
   }
   return text(404, "not found: the endpoints are /, /healthz, /api/sensors, /api/sensors/NAME, "
-                   "/api/sensors/NAME/history[.csv], /api/buses and /metrics\n");
+                   "/api/sensors/NAME/history[.csv], /api/buses, /api/modbus and /metrics\n");
 }
 
 }  // namespace tiltgate

@@ -80,6 +80,14 @@ asio::awaitable<void> HttpServer::accept_clients() {
       co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
+    const auto peer = socket.remote_endpoint(ec);
+    if (ec || !options_.allow.allows(canonical_address(peer.address()))) {
+      ++stats_.denied;
+      spdlog::debug("HTTP client {} refused: not in [http] allow",
+                    ec ? std::string("(unknown peer)") : peer.address().to_string());
+      socket.close(ec);
+      continue;
+    }
     if (connections_.size() >= std::size_t(options_.max_clients)) {
       ++stats_.refused;
       socket.close(ec);

@@ -14,6 +14,7 @@
 #include <string>
 #include <unordered_set>
 
+#include "config/address_allow_list.h"
 #include "driver/expected.h"
 #include "gateway/http_routes.h"
 
@@ -27,11 +28,13 @@ struct HttpServerOptions {
   // an idle kept-alive connection stays open.
   std::chrono::milliseconds request_timeout{5000};
   std::size_t max_request_bytes = 8192;  // header and body together; more: 400 and closed
+  AddressAllowList allow;                // other clients are closed at accept
 };
 
 struct HttpServerStats {
   std::uint64_t accepted = 0;
   std::uint64_t refused = 0;    // max_clients reached
+  std::uint64_t denied = 0;     // address not in allow
   std::uint64_t requests = 0;
   std::uint64_t dropped = 0;    // closed for a time-out or a malformed or oversized request
 };

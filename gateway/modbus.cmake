@@ -4,12 +4,14 @@
 # (device_identification); Asio does all socket I/O (modbus_tcp_server).
 add_library(tiltgate_modbus STATIC
   ${CMAKE_CURRENT_LIST_DIR}/modbus_request.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/connection_admission.cpp
   ${CMAKE_CURRENT_LIST_DIR}/device_identification.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_reply_encoder.cpp
   ${CMAKE_CURRENT_LIST_DIR}/log_throttle.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_request_counts.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server.cpp ${CMAKE_CURRENT_LIST_DIR}/tcp_listen.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/inherited_sockets.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/modbus_stream.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server.cpp ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server_log.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tcp_listen.cpp ${CMAKE_CURRENT_LIST_DIR}/inherited_sockets.cpp)
 target_include_directories(tiltgate_modbus PUBLIC ${PROJECT_SOURCE_DIR})
-target_link_libraries(tiltgate_modbus PUBLIC PkgConfig::MODBUS Boost::headers spdlog::spdlog fmt::fmt
-                      Threads::Threads PRIVATE PkgConfig::SYSTEMD)
+target_link_libraries(tiltgate_modbus PUBLIC tiltgate_address_allow_list PkgConfig::MODBUS Boost::headers spdlog::spdlog fmt::fmt
+                      OpenSSL::SSL OpenSSL::Crypto Threads::Threads PRIVATE PkgConfig::SYSTEMD)

@@ -7,10 +7,13 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/asio/write.hpp>
+#include <algorithm>
 #include <exception>
 #include <spdlog/spdlog.h>
+#include <tuple>
 #include <variant>
 
+#include "gateway/connection_admission.h"
 #include "gateway/modbus_reply_encoder.h"
 #include "gateway/modbus_request.h"
 
@@ -28,14 +31,17 @@ std::string peer_of(const tcp::socket& socket) {
   boost::system::error_code ec;
   const tcp::endpoint peer = socket.remote_endpoint(ec);
   if (ec) return "(unknown peer)";
-  return fmt::format("{}:{}", peer.address().to_string(), peer.port());
+  const asio::ip::address address = canonical_ip(peer.address());
+  if (address.is_v6()) return fmt::format("[{}]:{}", address.to_string(), peer.port());
+  return fmt::format("{}:{}", address.to_string(), peer.port());
 }
 
-// The client's address without its port: what a flood of connections has in common.
+// The client's address without its port: what a flood of connections has in common, and what
+// max_clients_per_host counts.
 std::string address_of(const tcp::socket& socket) {
   boost::system::error_code ec;
   const tcp::endpoint peer = socket.remote_endpoint(ec);
-  return ec ? "(unknown peer)" : peer.address().to_string();
+  return ec ? "(unknown peer)" : canonical_ip(peer.address()).to_string();
 }
 
 // What a connection's deadline currently guards.
@@ -49,15 +55,16 @@ enum class Wait {
 }  // namespace
 
 struct ModbusTcpServer::Connection {
-  Connection(tcp::socket s, std::string peer_name, std::string peer_address)
-      : socket(std::move(s)),
-        timer(socket.get_executor()),
+  Connection(ModbusStream s, std::string peer_name, std::string peer_address)
+      : stream(std::move(s)),
+        timer(stream.socket().get_executor()),
         peer(std::move(peer_name)),
         address(std::move(peer_address)) {}
 
   // Sets what the watchdog enforces next. Moving the deadline earlier wakes the watchdog;
   // moving it later does not need to (it re-reads the deadline when its timer fires).
   void expect(Wait what, Clock::time_point when) {
+    if (what == Wait::idle && waiting_for != Wait::idle) idle_since = Clock::now();
     waiting_for = what;
     if (when < deadline) timer.cancel();
     deadline = when;
@@ -65,16 +72,16 @@ struct ModbusTcpServer::Connection {
 
   void close() {
     closed = true;
-    boost::system::error_code ec;
-    socket.close(ec);
+    stream.close();
     timer.cancel();
   }
 
-  tcp::socket socket;
+  ModbusStream stream;
   asio::steady_timer timer;
   std::string peer;
   std::string address;  // peer without the port
   Wait waiting_for = Wait::idle;
+  Clock::time_point idle_since = Clock::now();  // when it last became idle (or connected)
   Clock::time_point deadline = Clock::time_point::max();
   bool closed = false;
 };
@@ -85,23 +92,51 @@ ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHa
       handler_(handler),
       options_(std::move(options)),
       acceptor_(executor),
+      tls_acceptor_(executor),
       problem_log_(options_.problem_log),
       summary_timer_(executor) {}
 
 ModbusTcpServer::~ModbusTcpServer() = default;
 
 Expected<Done, std::string> ModbusTcpServer::start() {
-  if (acceptor_.is_open()) return Unexpected(std::string("Modbus server already started"));
+  if (running_) return Unexpected(std::string("Modbus server already started"));
+  if (!options_.plain_tcp && !options_.tls)
+    return Unexpected(std::string("neither plain TCP nor TLS: nothing to serve"));
   if (options_.max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
+  if (options_.max_clients_per_host < 1)
+    return Unexpected(std::string("max_clients_per_host must be at least 1"));
   auto encoder = ModbusReplyEncoder::create();
   if (!encoder) return Unexpected("Modbus reply encoder: " + encoder.error());
 
-  if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP");
-      !listening)
-    return listening;
+  if (options_.tls) {
+    auto context = make_tls_context(*options_.tls);
+    if (!context) return Unexpected(context.error());
+    tls_context_ = std::move(*context);
+  }
+  if (options_.plain_tcp) {
+    if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP");
+        !listening)
+      return listening;
+  }
+  if (options_.tls) {
+    if (auto listening =
+            listen_on(tls_acceptor_, options_.listen, options_.tls->port, "Modbus/TCP Security");
+        !listening) {
+      boost::system::error_code ec;
+      acceptor_.close(ec);
+      return listening;
+    }
+    spdlog::info("Modbus/TCP Security (TLS, client certificates signed by {}) on {}:{}",
+                 options_.tls->ca_file, options_.listen, tls_port());
+  }
 
+  running_ = true;
   encoder_ = std::move(*encoder);
-  asio::co_spawn(executor_, accept_clients(++accept_generation_), asio::detached);
+  if (options_.plain_tcp)
+    asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_),
+                   asio::detached);
+  if (options_.tls)
+    asio::co_spawn(executor_, accept_clients(tls_acceptor_, true, 0), asio::detached);
   asio::co_spawn(executor_, summarize_suppressed(), asio::detached);
   return Done{};
 }
@@ -112,15 +147,34 @@ std::uint16_t ModbusTcpServer::local_port() const {
   return ec ? 0 : local.port();
 }
 
+std::uint16_t ModbusTcpServer::tls_port() const {
+  boost::system::error_code ec;
+  const tcp::endpoint local = tls_acceptor_.local_endpoint(ec);
+  return ec ? 0 : local.port();
+}
+
 void ModbusTcpServer::stop() {
+  running_ = false;
   boost::system::error_code ec;
   acceptor_.close(ec);
+  tls_acceptor_.close(ec);
   summary_timer_.cancel();
   // Each connection's coroutine removes it from the set when it sees the closed socket.
   for (const auto& connection : connections_) connection->close();
 }
 
 void ModbusTcpServer::apply(ModbusServerOptions options) {
+  // The TLS listener and its context are made once, at start().
+  const auto tls_key = [](const ModbusServerOptions& o) {
+    return o.tls ? std::make_tuple(o.tls->cert_pem, o.tls->key_pem, o.tls->ca_pem, o.tls->port)
+                 : std::make_tuple(std::string(), std::string(), std::string(), std::uint16_t(0));
+  };
+  if (tls_key(options) != tls_key(options_) || options.plain_tcp != options_.plain_tcp) {
+    spdlog::warn("[server] tls and plain_tcp apply at the next start; the listeners stay as "
+                 "they are");
+    options.tls = options_.tls;
+    options.plain_tcp = options_.plain_tcp;
+  }
   if (acceptor_.is_open() && (options.listen != options_.listen || options.port != options_.port) &&
       !rebind(options.listen, options.port)) {
     options.listen = options_.listen;
@@ -144,7 +198,7 @@ bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
         spdlog::critical("{}; {}: no Modbus TCP listener now", listening.error(), back.error());
       else
         spdlog::error("{}; still listening on {}:{}", listening.error(), options_.listen, old_port);
-      asio::co_spawn(executor_, accept_clients(++accept_generation_), asio::detached);
+      asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_), asio::detached);
       return false;
     }
   }
@@ -155,9 +209,14 @@ bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
   // The old accept loop sees its acceptor closed (operation_aborted) and ends.
   acceptor_.close(ec);
   acceptor_ = std::move(fresh);
-  asio::co_spawn(executor_, accept_clients(++accept_generation_), asio::detached);
+  asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_), asio::detached);
   spdlog::info("Modbus TCP now listening on {}:{}; connected clients stay", listen, local_port());
   return true;
+}
+
+std::size_t ModbusTcpServer::client_count() const {
+  return std::size_t(std::count_if(connections_.begin(), connections_.end(),
+                                   [](const auto& connection) { return !connection->closed; }));
 }
 
 ModbusServerStats ModbusTcpServer::stats() const {
@@ -166,12 +225,14 @@ ModbusServerStats ModbusTcpServer::stats() const {
   return stats;
 }
 
-asio::awaitable<void> ModbusTcpServer::accept_clients(std::uint64_t generation) {
-  while (acceptor_.is_open() && generation == accept_generation_) {
+asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, bool tls,
+                                                      std::uint64_t generation) {
+  // A rebind (apply()) moves a new plain acceptor into acceptor_ and starts a newer loop.
+  while (acceptor.is_open() && (tls || generation == accept_generation_)) {
     boost::system::error_code ec;
     tcp::socket socket =
-        co_await acceptor_.async_accept(asio::redirect_error(asio::use_awaitable, ec));
-    if (ec == asio::error::operation_aborted || !acceptor_.is_open()) co_return;
+        co_await acceptor.async_accept(asio::redirect_error(asio::use_awaitable, ec));
+    if (ec == asio::error::operation_aborted || !acceptor.is_open()) co_return;
     if (ec) {
       spdlog::warn("Modbus TCP accept failed: {}", ec.message());
       // Out of descriptors (EMFILE) fails again at once: pause instead of spinning.
@@ -179,26 +240,62 @@ asio::awaitable<void> ModbusTcpServer::accept_clients(std::uint64_t generation) 
       co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
-    if (connections_.size() >= std::size_t(options_.max_clients)) {
-      refuse(std::move(socket));
-    } else {
-      admit(std::move(socket));
+    // Connections closed for an earlier one may still be winding down: they hold no place.
+    std::vector<Connection*> live;
+    std::vector<OpenConnection> open;
+    for (const auto& connection : connections_) {
+      if (connection->closed) continue;
+      live.push_back(connection.get());
+      open.push_back({connection->address, connection->waiting_for == Wait::idle,
+                      connection->idle_since});
     }
+    const std::string address = address_of(socket);
+    if (!options_.allow.allows(address)) {
+      ++stats_.denied;
+      log_closing(peer_of(socket), address, spdlog::level::warn, "address not in [server] allow");
+      boost::system::error_code ignored;
+      socket.close(ignored);
+      continue;
+    }
+    const Admission admission = admit_connection(
+        open, address,
+        {std::size_t(options_.max_clients), std::size_t(options_.max_clients_per_host)});
+    const std::string_view limit = admission.limit == AdmissionLimit::max_clients_per_host
+                                       ? "max_clients_per_host"
+                                       : "max_clients";
+    if (!admission.admitted) {
+      refuse(std::move(socket), limit);
+      continue;
+    }
+    if (admission.replaced) replace(*live[*admission.replaced], peer_of(socket) + " (" +
+                                                                  std::string(limit) + ")");
+    admit(std::move(socket), tls);
   }
 }
 
-void ModbusTcpServer::refuse(tcp::socket socket) {
+void ModbusTcpServer::refuse(tcp::socket socket, std::string_view limit) {
   ++stats_.refused;
   if (!refusing_) {
-    spdlog::warn("Modbus TCP client {} refused: {} clients connected (max_clients)",
-                 peer_of(socket), connections_.size());
+    spdlog::warn("Modbus TCP client {} refused: {} reached and no connection idle", peer_of(socket),
+                 limit);
     refusing_ = true;
   }
   boost::system::error_code ec;
   socket.close(ec);
 }
 
-void ModbusTcpServer::admit(tcp::socket socket) {
+// An idle connection gives way to a new one: a PLC reconnecting after a cable pull, its old
+// connection still half-open, or any client when idle ones fill the server.
+void ModbusTcpServer::replace(Connection& replaced, const std::string& by) {
+  ++stats_.replaced;
+  const auto idle_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - replaced.idle_since);
+  log_closing(replaced, spdlog::level::info,
+              fmt::format("idle for {} ms, replaced by {}", idle_ms.count(), by));
+  replaced.close();
+}
+
+void ModbusTcpServer::admit(tcp::socket socket, bool tls) {
   refusing_ = false;
   ++stats_.accepted;
   boost::system::error_code ec;
@@ -206,8 +303,10 @@ void ModbusTcpServer::admit(tcp::socket socket) {
   socket.set_option(tcp::no_delay(true), ec);
   std::string peer = peer_of(socket);
   std::string address = address_of(socket);
+  ModbusStream stream = tls ? ModbusStream(std::move(socket), *tls_context_)
+                            : ModbusStream(std::move(socket));
   auto connection =
-      std::make_shared<Connection>(std::move(socket), std::move(peer), std::move(address));
+      std::make_shared<Connection>(std::move(stream), std::move(peer), std::move(address));
   connections_.insert(connection);
   spdlog::debug("Modbus TCP client {} connected ({} connected)", connection->peer,
                 connections_.size());
@@ -217,6 +316,20 @@ void ModbusTcpServer::admit(tcp::socket socket) {
 
 asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connection) {
   Connection& c = *connection;
+  if (c.stream.is_tls()) {
+    // The client proves itself here; a handshake is as long as a request may take.
+    c.expect(Wait::request, Clock::now() + options_.request_timeout);
+    boost::system::error_code ec;
+    co_await c.stream.handshake(ec);
+    if (ec && !c.closed) {
+      ++stats_.tls_refused;
+      log_closing(c, spdlog::level::warn, "TLS handshake failed: " + ec.message());
+    }
+    if (ec || c.closed) {
+      finish(connection);
+      co_return;
+    }
+  }
   ModbusFrameAssembler frames;
   Clock::time_point first_byte_at = Clock::now();
   while (!c.closed) {
@@ -240,8 +353,7 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
     }
     boost::system::error_code ec;
     const std::span<std::uint8_t> space = frames.space();
-    const std::size_t n = co_await c.socket.async_read_some(
-        asio::buffer(space.data(), space.size()), asio::redirect_error(asio::use_awaitable, ec));
+    const std::size_t n = co_await c.stream.read_some(asio::buffer(space.data(), space.size()), ec);
     if (ec) {
       if (!c.closed) spdlog::debug("Modbus TCP client {}: {}", c.peer, ec.message());
       break;
@@ -253,6 +365,14 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
 }
 
 asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std::uint8_t> adu) {
+  // As with [server] writes = false, passed-through units included: 01, nothing sent anywhere.
+  if (!options_.write_allow.allows(c.address) && !reads_only(adu.subspan(mbap_header_size))) {
+    ++stats_.writes_denied;
+    log_problem(c.peer, c.address, fmt::format("function {:02X} refused with 01: address not in [server] "
+                               "write_allow",
+                               adu[mbap_header_size]));
+    co_return co_await send(c, exception_reply(adu, ModbusException::illegal_function));
+  }
   // The assembler hands out whole ADUs with a valid MBAP header only, so a unit passed
   // through gets any function, unchecked: the device judges it.
   if (adu.size() > mbap_header_size && handler_.passes_through(adu[6])) {
@@ -284,8 +404,7 @@ asio::awaitable<bool> ModbusTcpServer::send(Connection& c, const std::vector<std
   request_counts_.note_reply(reply);
   c.expect(Wait::reply, Clock::now() + options_.request_timeout);
   boost::system::error_code ec;
-  co_await asio::async_write(c.socket, asio::buffer(reply),
-                             asio::redirect_error(asio::use_awaitable, ec));
+  co_await c.stream.write(asio::buffer(reply), ec);
   co_return !ec;
 }
 
@@ -370,36 +489,7 @@ void ModbusTcpServer::finish(const std::shared_ptr<Connection>& connection) {
 
 void ModbusTcpServer::log_closing(const Connection& c, spdlog::level::level_enum level,
                                   std::string_view why) {
-  const auto now = Clock::now();
-  if (problem_log_.admit(c.address, now)) {
-    spdlog::log(level, "closing Modbus TCP client {}: {}", c.peer, why);
-  } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
-    summary_timer_.cancel();  // summarize_suppressed() sleeps past this address's summary
-  }
-  log_suppressed(now);
-}
-
-void ModbusTcpServer::log_suppressed(Clock::time_point now) {
-  for (const SuppressedProblems& s : problem_log_.take_summaries(now)) {
-    spdlog::warn("Modbus TCP clients from {}: {} more closed for cause in the last {} s, not "
-                 "logged one by one",
-                 s.address, s.count,
-                 std::chrono::duration_cast<std::chrono::seconds>(s.span).count());
-  }
-}
-
-// Logs each interval's count of suppressed lines when it ends, also when no further problem
-// comes to trigger it.
-asio::awaitable<void> ModbusTcpServer::summarize_suppressed() {
-  while (acceptor_.is_open()) {
-    const auto now = Clock::now();
-    summary_timer_.expires_at(
-        problem_log_.next_summary_due().value_or(now + options_.problem_log.interval));
-    boost::system::error_code ec;
-    co_await summary_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-    if (!acceptor_.is_open()) co_return;
-    log_suppressed(Clock::now());
-  }
+  log_closing(c.peer, c.address, level, why);
 }
 
 }  // namespace tiltgate

@@ -11,13 +11,16 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <unordered_set>
 #include <vector>
 
+#include "config/address_allow_list.h"
 #include "driver/expected.h"
 #include "gateway/log_throttle.h"
+#include "gateway/modbus_stream.h"
 #include "gateway/modbus_request_counts.h"
 #include "gateway/modbus_types.h"
 
@@ -28,16 +31,32 @@ class ModbusReplyEncoder;
 struct ModbusServerOptions {
   std::string listen = "0.0.0.0";  // an IP address literal (IPv4 or IPv6)
   std::uint16_t port = 502;        // 0 picks a free port (tests); see local_port()
-  int max_clients = 32;            // the next client is accepted and closed at once
+  bool plain_tcp = true;           // false: TLS only
+  // Modbus/TCP Security beside (or instead of) plain TCP, on `listen`:tls->port; TLS clients
+  // share every limit, list and time-out below, and the handshake must end within
+  // request_timeout.
+  std::optional<ModbusTlsOptions> tls;
+  // At max_clients a new client replaces the one idle longest, else it is accepted and closed
+  // at once (gateway/connection_admission.h); an address holding max_clients_per_host replaces
+  // its own connection idle longest, else it is closed.
+  int max_clients = 32;
+  int max_clients_per_host = 8;
   std::chrono::milliseconds idle_timeout{60000};    // no request for this long: closed
   std::chrono::milliseconds request_timeout{5000};  // a request (or its reply) stuck this long
                                                     // since its first byte: closed
+  AddressAllowList allow;        // other clients are closed at accept
+  AddressAllowList write_allow;  // other clients' writes (any function but a read) get 0x01
   LogThrottleOptions problem_log;  // clients closed for cause: a few lines per address, then counts
 };
 
 struct ModbusServerStats {
   std::uint64_t accepted = 0;          // connections served
-  std::uint64_t refused = 0;           // connections closed at once: max_clients reached
+  std::uint64_t refused = 0;           // connections closed at once: a limit reached, none idle
+  std::uint64_t replaced = 0;          // idle connections closed to make room for a new one
+  std::uint64_t denied = 0;            // connections closed at once: address not in allow
+  std::uint64_t writes_denied = 0;     // writes answered 0x01: address not in write_allow
+  std::uint64_t tls_refused = 0;       // TLS handshakes failed: no client certificate, one not
+                                       // signed by the CA, or not TLS 1.2+
   std::uint64_t requests = 0;          // checked requests passed to the handler
   std::uint64_t forwarded = 0;         // requests for units passed through to a device
   std::uint64_t rejected = 0;          // malformed or unsupported: answered by the parser
@@ -60,8 +79,11 @@ class ModbusTcpServer {
 
   // Binds and listens, then accepts in the background. The error says what failed and where.
   Expected<Done, std::string> start();
-  // The bound port (the ephemeral one when options.port is 0); 0 before start().
+  // The bound port (the ephemeral one when options.port is 0); 0 before start() or without
+  // plain TCP.
   std::uint16_t local_port() const;
+  // The same for Modbus/TCP Security; 0 without [server] tls.
+  std::uint16_t tls_port() const;
   // Closes the acceptor and every connection; their coroutines end on the next loop turns.
   void stop();
   // New options for a running server (a reload), all of them at once; connected clients stay
@@ -70,19 +92,23 @@ class ModbusTcpServer {
   // server keeps listening where it did (options.listen and port stay the old ones).
   void apply(ModbusServerOptions options);
 
-  std::size_t client_count() const { return connections_.size(); }
+  // Open connections, not counting those closed and still winding down.
+  std::size_t client_count() const;
   ModbusServerStats stats() const;
   const ModbusRequestCounts& request_counts() const { return request_counts_; }
 
  private:
   struct Connection;
 
-  // Accepts until the acceptor closes or a rebind starts a newer loop.
-  boost::asio::awaitable<void> accept_clients(std::uint64_t generation);
+  // Accepts until its acceptor closes; the plain one's loop also ends when a rebind starts a
+  // newer loop (generation).
+  boost::asio::awaitable<void> accept_clients(boost::asio::ip::tcp::acceptor& acceptor, bool tls,
+                                              std::uint64_t generation);
   // apply(): moves the listener to `listen`:`port`; false (and logged) when it stays.
   bool rebind(const std::string& listen, std::uint16_t port);
-  void admit(boost::asio::ip::tcp::socket socket);
-  void refuse(boost::asio::ip::tcp::socket socket);
+  void admit(boost::asio::ip::tcp::socket socket, bool tls);
+  void refuse(boost::asio::ip::tcp::socket socket, std::string_view limit);
+  void replace(Connection& replaced, const std::string& by);
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
   boost::asio::awaitable<void> watch(std::shared_ptr<Connection> connection);
   boost::asio::awaitable<bool> answer(Connection& connection, std::span<const std::uint8_t> adu);
@@ -95,6 +121,10 @@ class ModbusTcpServer {
   // Logs why a client is closed, unless its address has had its share of lines lately.
   void log_closing(const Connection& connection, spdlog::level::level_enum level,
                    std::string_view why);
+  void log_closing(const std::string& peer, const std::string& address,
+                   spdlog::level::level_enum level, std::string_view why);
+  // A refused request, throttled with the closes (it is the same client misbehaving).
+  void log_problem(const std::string& peer, const std::string& address, std::string_view what);
   void log_suppressed(LogThrottle::Clock::time_point now);
   boost::asio::awaitable<void> summarize_suppressed();
 
@@ -102,6 +132,9 @@ class ModbusTcpServer {
   ModbusRequestHandler& handler_;
   ModbusServerOptions options_;
   boost::asio::ip::tcp::acceptor acceptor_;
+  boost::asio::ip::tcp::acceptor tls_acceptor_;
+  std::unique_ptr<boost::asio::ssl::context> tls_context_;
+  bool running_ = false;  // between start() and stop()
   std::unique_ptr<ModbusReplyEncoder> encoder_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   ModbusServerStats stats_;

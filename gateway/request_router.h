@@ -62,13 +62,6 @@ class RequestRouter : public ModbusRequestHandler {
   std::array<BusScheduler*, 256> forwarded_{};
 };
 
-// Whether a request PDU only reads, so that it may pass through while [server] writes is
-// false: 01, 02, 03, 04 (reads), 07 (read exception status), 0B and 0C (communication event
-// counter and log), 11 (report server id), 14 (read file record), 18 (read FIFO queue) and
-// 2B/0E (read device identification). Everything else may change the device (08 diagnostics
-// can restart it or clear its counters) and is refused with 0x01.
-bool reads_only(std::span<const std::uint8_t> pdu);
-
 ModbusException exception_for(ForwardFailure failure);
 
 ModbusException exception_for(WriteErrorKind kind);

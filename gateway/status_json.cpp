@@ -77,6 +77,15 @@ std::string sensors_json(const std::vector<SensorStatus>& sensors) {
   return json_array(sensors, sensor_json);
 }
 
+std::string modbus_json(const GatewayStatus& s) {
+  return fmt::format(
+      "{{\"clients\":{},\"connections\":{},\"refused\":{},\"replaced\":{},\"denied\":{},"
+      "\"writes_denied\":{},\"tls_refused\":{},\"http_denied\":{}}}",
+      s.modbus_clients, s.modbus_connections, s.modbus_connections_refused,
+      s.modbus_connections_replaced, s.modbus_connections_denied, s.modbus_writes_denied,
+      s.modbus_tls_refused, s.http_connections_denied);
+}
+
 std::string buses_json(const std::vector<BusStatus>& buses) {
   return json_array(buses, [](const BusStatus& b) {
     return fmt::format(

@@ -20,5 +20,7 @@ std::string json_number(std::optional<double> value);
 std::string sensor_json(const SensorStatus& sensor);
 std::string sensors_json(const std::vector<SensorStatus>& sensors);  // an array
 std::string buses_json(const std::vector<BusStatus>& buses);         // an array
+// The Modbus TCP server's connections and who was kept out: /api/modbus.
+std::string modbus_json(const GatewayStatus& status);
 
 }  // namespace tiltgate

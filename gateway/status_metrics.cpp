@@ -126,8 +126,25 @@ std::string metrics_text(const GatewayStatus& status) {
   out.single("tiltgate_modbus_connections_total", "counter", "Modbus TCP connections accepted",
              double(status.modbus_connections));
   out.single("tiltgate_modbus_connections_refused_total", "counter",
-             "Modbus TCP connections closed at once because max_clients were connected",
+             "Modbus TCP connections closed at once: max_clients or max_clients_per_host "
+             "reached and none of those connections idle",
              double(status.modbus_connections_refused));
+  out.single("tiltgate_modbus_connections_replaced_total", "counter",
+             "Idle Modbus TCP connections closed to make room for a new one",
+             double(status.modbus_connections_replaced));
+  out.single("tiltgate_modbus_connections_denied_total", "counter",
+             "Modbus TCP connections closed at once: the address is not in [server] allow",
+             double(status.modbus_connections_denied));
+  out.single("tiltgate_modbus_writes_denied_total", "counter",
+             "Modbus TCP writes answered 0x01: the address is not in [server] write_allow",
+             double(status.modbus_writes_denied));
+  out.single("tiltgate_modbus_tls_refused_total", "counter",
+             "Modbus/TCP Security connections closed in the TLS handshake: no client "
+             "certificate, one not signed by the configured CA, or an older TLS",
+             double(status.modbus_tls_refused));
+  out.single("tiltgate_http_connections_denied_total", "counter",
+             "HTTP connections closed at once: the address is not in [http] allow",
+             double(status.http_connections_denied));
   out.family("tiltgate_modbus_requests_total", "counter",
              "Modbus TCP requests answered, by function code (two hex digits)");
   for (const ModbusFunctionCount& f : status.modbus_requests)

@@ -48,4 +48,10 @@ Expected<Done, std::string> listen_on(tcp::acceptor& acceptor, const std::string
   return Done{};
 }
 
+boost::asio::ip::address canonical_ip(const boost::asio::ip::address& address) {
+  if (address.is_v6() && address.to_v6().is_v4_mapped())
+    return boost::asio::ip::make_address_v4(boost::asio::ip::v4_mapped, address.to_v6());
+  return address;
+}
+
 }  // namespace tiltgate

@@ -18,4 +18,11 @@ Expected<Done, std::string> listen_on(boost::asio::ip::tcp::acceptor& acceptor,
                                       const std::string& listen, std::uint16_t port,
                                       std::string_view what);
 
+// A peer's address as the allow lists and per-host limits see it: an IPv4 client of a
+// dual-stack socket (::ffff:a.b.c.d) is its IPv4 address.
+boost::asio::ip::address canonical_ip(const boost::asio::ip::address& address);
+inline std::string canonical_address(const boost::asio::ip::address& address) {
+  return canonical_ip(address).to_string();
+}
+
 }  // namespace tiltgate

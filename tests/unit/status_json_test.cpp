@@ -73,6 +73,11 @@ GatewayStatus plant() {
   status.modbus_clients = 2;
   status.modbus_connections = 6;
   status.modbus_connections_refused = 1;
+  status.modbus_connections_replaced = 3;
+  status.modbus_connections_denied = 4;
+  status.modbus_writes_denied = 5;
+  status.http_connections_denied = 2;
+  status.modbus_tls_refused = 6;
   status.modbus_requests = {{0x03, 7}, {0x2B, 1}};
   status.modbus_exceptions = {{0x03, 0x02, 1}};
   status.process_start_seconds = 1700000000.5;
@@ -168,6 +173,17 @@ TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus request
         std::string::npos);
   CHECK(text.find("tiltgate_modbus_connections_total 6\n") != std::string::npos);
   CHECK(text.find("tiltgate_modbus_connections_refused_total 1\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_connections_replaced_total 3\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_connections_denied_total 4\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_writes_denied_total 5\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_connections_denied_total 2\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_tls_refused_total 6\n") != std::string::npos);
+}
+
+TEST_CASE("JSON: /api/modbus counts the connections and who was kept out") {
+  CHECK(modbus_json(plant()) ==
+        "{\"clients\":2,\"connections\":6,\"refused\":1,\"replaced\":3,\"denied\":4,"
+        "\"writes_denied\":5,\"tls_refused\":6,\"http_denied\":2}");
 }
 
 TEST_CASE("metrics: the MQTT feed's series only when [mqtt] is on") {

@@ -39,6 +39,7 @@ Plant::Plant(bool writes, int max_clients, const std::string& more_config) {
 listen = "127.0.0.1"
 port = {}
 max_clients = {}
+max_clients_per_host = {}
 writes = {}
 
 [[bus]]
@@ -77,7 +78,7 @@ address = 101
 unit_id = 3
 poll_ms = 50
 stale_ms = 1000
-)", port, max_clients, writes ? "true" : "false", options.link_path) + more_config);
+)", port, max_clients, max_clients, writes ? "true" : "false", options.link_path) + more_config);
   gateway = std::make_unique<GatewayProcess>(
       std::vector<std::string>{"--log-level", "debug", "run", "--config", config.string()}, dir.path());
   REQUIRE_MESSAGE(gateway->wait_listening(port), gateway->log());

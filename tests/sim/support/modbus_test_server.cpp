@@ -83,6 +83,7 @@ ModbusServerOptions test_options() {
   options.listen = "127.0.0.1";
   options.port = 0;
   options.max_clients = 40;
+  options.max_clients_per_host = 40;  // every test client is 127.0.0.1 unless it binds another
   options.idle_timeout = 30s;
   options.request_timeout = 30s;
   return options;
@@ -122,8 +123,17 @@ bool Client::read_holding(int address, std::uint16_t expected) {
   return modbus_read_registers(ctx, address, 1, &value) == 1 && value == expected;
 }
 
-RawSocket::RawSocket(std::uint16_t port) : fd(::socket(AF_INET, SOCK_STREAM, 0)) {
+RawSocket::RawSocket(std::uint16_t port) : RawSocket(port, nullptr) {}
+
+RawSocket::RawSocket(std::uint16_t port, const char* source)
+    : fd(::socket(AF_INET, SOCK_STREAM, 0)) {
   REQUIRE(fd >= 0);
+  if (source != nullptr) {
+    sockaddr_in from{};
+    from.sin_family = AF_INET;
+    REQUIRE(::inet_pton(AF_INET, source, &from.sin_addr) == 1);
+    REQUIRE(::bind(fd, reinterpret_cast<sockaddr*>(&from), sizeof from) == 0);
+  }
   timeval timeout{5, 0};  // every receive below gives up after 5 s
   ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
   sockaddr_in address{};
@@ -160,6 +170,25 @@ bool RawSocket::closed_by_server() {
 Bytes read_holding_frame(std::uint16_t transaction, std::uint16_t address) {
   return {std::uint8_t(transaction >> 8), std::uint8_t(transaction), 0x00, 0x00, 0x00, 0x06, 0x01,
           0x03, std::uint8_t(address >> 8), std::uint8_t(address), 0x00, 0x01};
+}
+
+Bytes write_holding_frame(std::uint16_t transaction, std::uint16_t address, std::uint16_t value) {
+  return {std::uint8_t(transaction >> 8), std::uint8_t(transaction), 0x00, 0x00, 0x00, 0x06, 0x01,
+          0x06, std::uint8_t(address >> 8), std::uint8_t(address), std::uint8_t(value >> 8),
+          std::uint8_t(value)};
+}
+
+void hold_mid_request(RawSocket& socket) {
+  Bytes frames = read_holding_frame(0x4001, 1);
+  const Bytes next = read_holding_frame(0x4002, 2);
+  frames.insert(frames.end(), next.begin(), next.begin() + 5);
+  socket.send(frames);
+  REQUIRE(socket.receive(11) == holding_reply(0x4001, 1001));
+}
+
+bool answered(RawSocket& socket, std::uint16_t transaction) {
+  socket.send(read_holding_frame(transaction, 7));
+  return socket.receive(11) == holding_reply(transaction, 1007);
 }
 
 Bytes holding_reply(std::uint16_t transaction, std::uint16_t value) {

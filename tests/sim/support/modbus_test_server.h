@@ -113,6 +113,8 @@ class Client {
 class RawSocket {
  public:
   explicit RawSocket(std::uint16_t port);
+  // From `source`, one of loopback's 127.0.0.0/8 addresses, to be another host to the server.
+  RawSocket(std::uint16_t port, const char* source);
   ~RawSocket();
   RawSocket(const RawSocket&) = delete;
   RawSocket& operator=(const RawSocket&) = delete;
@@ -128,5 +130,12 @@ class RawSocket {
 
 Bytes read_holding_frame(std::uint16_t transaction, std::uint16_t address);
 Bytes holding_reply(std::uint16_t transaction, std::uint16_t value);
+Bytes write_holding_frame(std::uint16_t transaction, std::uint16_t address, std::uint16_t value);
+
+// Leaves `socket` mid-request: one request answered, then half of the next in the same send,
+// so the server has read the half by the time the answer is here.
+void hold_mid_request(RawSocket& socket);
+// A read on `socket` answered (its request is written whole, so this works on an idle one).
+bool answered(RawSocket& socket, std::uint16_t transaction);
 
 }  // namespace tiltgate::test
