@@ -27,6 +27,8 @@ struct AddressRule {
   IpAddressBytes network{};
   int prefix_bits = 128;  // of the 16 bytes: an IPv4 /8 is 96 + 8
   std::string text;       // as written
+
+  bool operator==(const AddressRule&) const = default;
 };
 
 // "10.0.0.0/8", "192.168.1.20", "::1", "fd00::/8"; the error says what is wrong with it.
@@ -45,6 +47,8 @@ class AddressAllowList {
   bool allows_everyone() const { return !rules_.has_value(); }
   // The entries as written; empty when everyone is allowed.
   std::vector<std::string> entries() const;
+
+  bool operator==(const AddressAllowList&) const = default;
 
  private:
   std::optional<std::vector<AddressRule>> rules_;  // none: everyone

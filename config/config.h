@@ -26,15 +26,17 @@ struct ServerTlsConfig {
   std::string cert_file, key_file, ca_file;
   std::string cert_pem, key_pem, ca_pem;
   std::uint16_t port = 802;
+
+  bool operator==(const ServerTlsConfig&) const = default;
 };
 
 struct ServerConfig {
   std::string listen = "0.0.0.0";
   std::uint16_t port = 502;
   int max_clients = 32;
-  int max_clients_per_host = 8;
+  int max_clients_per_host = 8;            // one address's connections; more replace its idle ones
   bool plain_tcp = true;                   // false: Modbus over TLS only (needs tls)
-  std::optional<ServerTlsConfig> tls;      // Modbus/TCP Security beside or instead of plain TCP            // one address's connections; more replace its idle ones
+  std::optional<ServerTlsConfig> tls;      // Modbus/TCP Security beside or instead of plain TCP
   WordOrder word_order = WordOrder::big;
   bool writes = false;                     // every write is refused with 0x01 unless true
   AddressAllowList allow;                  // who may connect (default: everyone)
