@@ -18,6 +18,9 @@ fi
 require_mbpoll
 script_setup tiltgate-unprivileged
 chmod 755 "$dir"
+# What runs as nobody from the start needs a binary it may execute: the build tree may sit in
+# a folder only root can enter (/root).
+install -m 755 "$tiltgate" "$dir/tiltgate"
 start_sim "$tiltgate" rieker h6:223 "$dir/tty"
 
 # A free port below 1024 on loopback: only root (or a systemd socket) can bind it.
@@ -97,7 +100,7 @@ chmod 666 "$(readlink -f "$dir/tty")"
 port=$(low_port)
 write_config "$port" ""
 /usr/bin/python3 "$activate" --user nobody --listen "127.0.0.1:$port" -- \
-  "$tiltgate" run --config "$dir/gateway.toml" 2>"$dir/activated.err" &
+  "$dir/tiltgate" run --config "$dir/gateway.toml" 2>"$dir/activated.err" &
 gateway=$!
 pids+=($gateway)
 check "started as nobody, it serves the low port systemd-style sockets gave it" read_unit "$port"
@@ -107,7 +110,8 @@ kill "$gateway"; wait "$gateway" 2>/dev/null
 
 # 4. Without a socket or a privilege, a low port fails with the three ways out named.
 write_config "$(low_port)" ""
-timeout 20 setpriv --reuid=nobody --regid=nogroup --clear-groups "$tiltgate" run --config "$dir/gateway.toml" 2>"$dir/denied.err"
+timeout 20 setpriv --reuid=nobody --regid=nogroup --clear-groups "$dir/tiltgate" run \
+  --config "$dir/gateway.toml" 2>"$dir/denied.err"
 check "an unprivileged bind of a low port exits 1" test $? -eq 1
 check "the error names the ways to get the port" grep -q "needs root, CAP_NET_BIND_SERVICE or a systemd socket" "$dir/denied.err"
 
