@@ -12,7 +12,7 @@
 #include <spdlog/spdlog.h>
 #include <variant>
 
-#include "gateway/modbus_reply_encoder.h"
+#include "gateway/modbus_reply_format.h"
 #include "gateway/modbus_request.h"
 #include "gateway/modbus_tcp_connection.h"
 
@@ -155,11 +155,14 @@ asio::awaitable<ModbusResponse> ModbusTcpServer::ask_handler(const ModbusRequest
 
 std::vector<std::uint8_t> ModbusTcpServer::encode(const ModbusRequest& request,
                                                   const ModbusResponse& response) {
-  auto reply = encoder_->encode(request, response);
-  if (reply) return std::move(*reply);
-  spdlog::warn("Modbus reply to function {:02X} failed ({}): answering 04", request.function,
-               reply.error());
-  return exception_reply(request.adu, ModbusException::device_failure);
+  if (!response.exception && !response_fits(request, response)) {
+    const bool bit_table =
+        request.table == ModbusTable::coil || request.table == ModbusTable::discrete;
+    spdlog::warn("Modbus handler answered {} values to function {:02X} for {} at {}: replying 04",
+                 bit_table ? response.bits.size() : response.registers.size(), request.function,
+                 request.count, request.address);
+  }
+  return format_reply(request, response);
 }
 
 // Closes the connection when its deadline passes. Sleeps on the connection's timer, which

@@ -26,8 +26,6 @@
 
 namespace tiltgate {
 
-class ModbusReplyEncoder;
-
 struct ModbusServerOptions {
   std::string listen = "0.0.0.0";  // an IP address literal (IPv4 or IPv6)
   std::uint16_t port = 502;        // 0 picks a free port (tests); see local_port()
@@ -63,11 +61,10 @@ struct ModbusServerStats {
   std::uint64_t framing_errors = 0;    // connections closed for a bad MBAP header
   std::uint64_t request_timeouts = 0;  // connections closed with a request or reply stuck
   std::uint64_t idle_timeouts = 0;     // connections closed for silence
-  std::uint64_t libmodbus_replies = 0; // replies libmodbus formatted
 };
 
 // Everything runs on `executor`, which must be single-threaded (an io_context run by one
-// thread): the handler, the libmodbus encoder and these members are not synchronised. Call
+// thread): the handler and these members are not synchronised. Call
 // stop() and let the event loop finish the connections before destroying the server.
 class ModbusTcpServer {
  public:
@@ -135,7 +132,6 @@ class ModbusTcpServer {
   boost::asio::ip::tcp::acceptor tls_acceptor_;
   std::unique_ptr<boost::asio::ssl::context> tls_context_;
   bool running_ = false;  // between start() and stop()
-  std::unique_ptr<ModbusReplyEncoder> encoder_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   ModbusServerStats stats_;
   ModbusRequestCounts request_counts_;
