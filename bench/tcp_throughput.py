@@ -5,7 +5,8 @@ server (bench/reference_server.cpp), in the same run.
 For 1, 8, 32 and 64 clients x function 03 / 04 x 10 / 125 registers, runs of the servers
 alternate (reference, tiltgate, reference, ...), each run bench_modbus_load for a few seconds;
 the table shows medians over the runs: requests/s of each, the ratio tiltgate / reference, and
-the p50 / p99 / p99.9 latency of each (us).
+the p50 / p99 / p99.9 latency of each (us), and each server's CPU time per request (us; user +
+system, from /proc, so it holds up better than requests/s when other work shares the cores).
 
 tiltgate runs as `tiltgate run` on one simulated Rieker H6 (`tiltgate sim rieker`, polled every
 50 ms at 125000 baud, so the bus works meanwhile as in a plant), unit 1, with a map that extends
@@ -133,7 +134,16 @@ class Reference:
             self.process.kill()
 
 
-def load(load_binary, port, clients, function, quantity, seconds):
+def cpu_seconds(pid):
+    """User + system CPU time of a process so far (/proc/PID/stat fields 14 and 15)."""
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def load(server, load_binary, clients, function, quantity, seconds):
+    port = server.port
+    cpu_before = cpu_seconds(server.process.pid)
     result = subprocess.run([load_binary, "--port", str(port), "--clients", str(clients),
                              "--function", str(function), "--quantity", str(quantity),
                              "--seconds", str(seconds), "--unit", "1"],
@@ -141,7 +151,10 @@ def load(load_binary, port, clients, function, quantity, seconds):
     fields = dict(item.split("=") for item in result.stdout.split())
     if result.returncode != 0 or int(fields.get("errors", "1")) != 0:
         sys.exit(f"load against port {port} failed: {result.stdout}{result.stderr}")
-    return {k: float(v) for k, v in fields.items()}
+    values = {k: float(v) for k, v in fields.items()}
+    # The server's CPU time per request: steadier than requests/s on a busy machine.
+    values["cpu_us"] = (cpu_seconds(server.process.pid) - cpu_before) * 1e6 / max(values["requests"], 1)
+    return values
 
 
 def main():
@@ -178,6 +191,7 @@ def main():
         for name in others:
             header += f" {name} req/s | {name}/reference |"
         header += " reference p50/p99/p99.9 |" + "".join(f" {n} p50/p99/p99.9 |" for n in others)
+        header += " CPU us/req " + " / ".join(["reference"] + others) + " |"
         print(header)
         print("|" + " ---: |" * (header.count("|") - 1))
         for clients in client_counts:
@@ -186,7 +200,7 @@ def main():
                     results = {name: [] for name, _ in servers}
                     for _ in range(args.runs):
                         for name, _ in servers:
-                            results[name].append(load(load_binary, running[name].port, clients,
+                            results[name].append(load(running[name], load_binary, clients,
                                                       function, quantity, args.seconds))
                     med = {name: {k: statistics.median(r[k] for r in rs) for k in rs[0]}
                            for name, rs in results.items()}
@@ -197,6 +211,7 @@ def main():
                     for name in ["reference"] + others:
                         m = med[name]
                         row += f" {m['p50_us']:.0f} / {m['p99_us']:.0f} / {m['p999_us']:.0f} |"
+                    row += " " + " / ".join(f"{med[n]['cpu_us']:.1f}" for n in ["reference"] + others) + " |"
                     print(row, flush=True)
     finally:
         for server in running.values():

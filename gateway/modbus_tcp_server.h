@@ -112,7 +112,9 @@ class ModbusTcpServer {
   boost::asio::awaitable<bool> send(Connection& connection, const std::vector<std::uint8_t>& reply);
   boost::asio::awaitable<ModbusResponse> ask_handler(const ModbusRequest& request);
   boost::asio::awaitable<std::vector<std::uint8_t>> forward(std::vector<std::uint8_t> adu);
-  std::vector<std::uint8_t> encode(const ModbusRequest& request, const ModbusResponse& response);
+  // The reply into `reply` (a connection's own buffer, reused request after request).
+  void encode(const ModbusRequest& request, const ModbusResponse& response,
+              std::vector<std::uint8_t>& reply);
   void expire(Connection& connection);
   void finish(const std::shared_ptr<Connection>& connection);
   // Logs why a client is closed, unless its address has had its share of lines lately.
