@@ -63,7 +63,14 @@ void format_registers(const ModbusRequest& request, const std::vector<std::uint1
                       std::vector<std::uint8_t>& out) {
   start(request, request.function, out);
   out.push_back(std::uint8_t(2 * registers.size()));
-  for (std::uint16_t value : registers) put16(out, value);
+  // Sized once and written in place: up to 250 bytes, the hottest loop of a large read.
+  const std::size_t data = out.size();
+  out.resize(data + 2 * registers.size());
+  std::uint8_t* at = out.data() + data;
+  for (std::uint16_t value : registers) {
+    *at++ = std::uint8_t(value >> 8);
+    *at++ = std::uint8_t(value & 0xFF);
+  }
   finish(out);
 }
 
