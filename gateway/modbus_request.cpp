@@ -197,7 +197,7 @@ ParsedAdu parse_adu(std::span<const std::uint8_t> adu) {
   request.unit_id = adu[6];
   request.function = adu[7];
   const FunctionRule* rule = rule_for(request.function);
-  // Unknown functions (07, 08, 11, 17, 23, ...) never reach the handler or libmodbus.
+  // Unknown functions (07, 08, 11, 17, 23, ...) never reach the handler or the reply formatter.
   if (rule == nullptr) return reject(adu, ModbusException::illegal_function);
   request.table = rule->table;
   request.is_write = rule->is_write;

@@ -48,7 +48,7 @@ const char* to_string(FramingError error);
 Expected<std::size_t, FramingError> adu_size(
     std::span<const std::uint8_t, mbap_header_size> header);
 
-// A request the parser answers itself with an exception, without the handler or libmodbus.
+// A request the parser answers itself with an exception, without the handler.
 struct RejectedRequest {
   ModbusException exception;
   std::vector<std::uint8_t> reply;  // the whole exception ADU

@@ -12,7 +12,11 @@ namespace tiltgate {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 
-ModbusStream::ModbusStream(tcp::socket socket) : plain_(std::move(socket)) {}
+ModbusStream::ModbusStream(tcp::socket socket) : plain_(std::move(socket)) {
+  // write() tries the socket at once and must not block when the client's window is full.
+  boost::system::error_code ec;
+  plain_->non_blocking(true, ec);
+}
 
 ModbusStream::ModbusStream(tcp::socket socket, asio::ssl::context& tls)
     : tls_(std::in_place, std::move(socket), tls) {}
@@ -35,10 +39,19 @@ asio::awaitable<std::size_t> ModbusStream::read_some(asio::mutable_buffer buffer
 
 asio::awaitable<void> ModbusStream::write(asio::const_buffer buffer,
                                           boost::system::error_code& ec) {
-  if (tls_)
+  if (tls_) {
     co_await asio::async_write(*tls_, buffer, asio::redirect_error(asio::use_awaitable, ec));
-  else
-    co_await asio::async_write(*plain_, buffer, asio::redirect_error(asio::use_awaitable, ec));
+    co_return;
+  }
+  // A reply almost always fits the socket's send buffer: one send() now. An async_write that
+  // completes at once still posts its completion, and the event loop polls epoll once more
+  // before running it; only what did not fit waits for the socket.
+  const std::size_t sent = plain_->write_some(buffer, ec);
+  if (!ec && sent == buffer.size()) co_return;
+  if (ec && ec != asio::error::would_block && ec != asio::error::try_again) co_return;
+  ec = {};
+  buffer += sent;
+  co_await asio::async_write(*plain_, buffer, asio::redirect_error(asio::use_awaitable, ec));
 }
 
 void ModbusStream::close() {

@@ -6,6 +6,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <string>
+#include <vector>
 
 #include "gateway/modbus_stream.h"
 #include "gateway/modbus_tcp_server.h"
@@ -29,12 +30,15 @@ struct ModbusTcpServer::Connection {
         peer(std::move(peer_name)),
         address(std::move(peer_address)) {}
 
-  // Sets what the watchdog enforces next. Moving the deadline earlier wakes the watchdog;
-  // moving it later does not need to (it re-reads the deadline when its timer fires).
+  // Sets what the watchdog enforces next. A deadline before the watchdog's timer wakes it;
+  // one after does not need to (it re-reads the deadline when its timer fires). Compared with
+  // the timer, not the last deadline: each request moves the deadline from "none while the
+  // handler works" back to the reply's, and waking the watchdog for that every time costs a
+  // handler run and a timer re-arm per request.
   void expect(ModbusWait what, Clock::time_point when) {
     if (what == ModbusWait::idle && waiting_for != ModbusWait::idle) idle_since = Clock::now();
     waiting_for = what;
-    if (when < deadline) timer.cancel();
+    if (when < timer.expiry()) timer.cancel();
     deadline = when;
   }
 
@@ -46,6 +50,7 @@ struct ModbusTcpServer::Connection {
 
   ModbusStream stream;
   boost::asio::steady_timer timer;
+  std::vector<std::uint8_t> reply;  // formatted here, so a reply allocates nothing
   std::string peer;
   std::string address;  // peer without the port
   ModbusWait waiting_for = ModbusWait::idle;

@@ -16,7 +16,6 @@
 #include <variant>
 
 #include "gateway/connection_admission.h"
-#include "gateway/modbus_reply_encoder.h"
 #include "gateway/modbus_tcp_connection.h"
 
 namespace tiltgate {
@@ -55,8 +54,6 @@ Expected<Done, std::string> ModbusTcpServer::start() {
   if (options_.max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
   if (options_.max_clients_per_host < 1)
     return Unexpected(std::string("max_clients_per_host must be at least 1"));
-  auto encoder = ModbusReplyEncoder::create();
-  if (!encoder) return Unexpected("Modbus reply encoder: " + encoder.error());
 
   if (options_.tls) {
     auto context = make_tls_context(*options_.tls);
@@ -81,7 +78,6 @@ Expected<Done, std::string> ModbusTcpServer::start() {
   }
 
   running_ = true;
-  encoder_ = std::move(*encoder);
   if (options_.plain_tcp)
     asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_),
                    asio::detached);
@@ -170,9 +166,7 @@ std::size_t ModbusTcpServer::client_count() const {
 }
 
 ModbusServerStats ModbusTcpServer::stats() const {
-  ModbusServerStats stats = stats_;
-  if (encoder_) stats.libmodbus_replies = encoder_->libmodbus_calls();
-  return stats;
+  return stats_;
 }
 
 asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, bool tls,

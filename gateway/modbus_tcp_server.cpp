@@ -12,7 +12,7 @@
 #include <spdlog/spdlog.h>
 #include <variant>
 
-#include "gateway/modbus_reply_encoder.h"
+#include "gateway/modbus_reply_format.h"
 #include "gateway/modbus_request.h"
 #include "gateway/modbus_tcp_connection.h"
 
@@ -102,21 +102,20 @@ asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std
     co_return co_await send(c, reply);
   }
   ParsedAdu parsed = parse_adu(adu);
-  std::vector<std::uint8_t> reply;
   if (auto* rejected = std::get_if<RejectedRequest>(&parsed)) {
     ++stats_.rejected;
     spdlog::debug("Modbus TCP client {}: function {:02X} answered with exception {:02X}", c.peer,
                   adu[7], std::uint8_t(rejected->exception));
-    reply = std::move(rejected->reply);
-  } else if (auto* request = std::get_if<ModbusRequest>(&parsed)) {
+    co_return co_await send(c, rejected->reply);
+  }
+  if (auto* request = std::get_if<ModbusRequest>(&parsed)) {
     ++stats_.requests;
     c.expect(ModbusWait::handler, Clock::time_point::max());
     const ModbusResponse response = co_await ask_handler(*request);
-    reply = encode(*request, response);
-  } else {
-    co_return false;  // unreachable: the assembler only hands out framed ADUs
+    encode(*request, response, c.reply);
+    co_return co_await send(c, c.reply);
   }
-  co_return co_await send(c, reply);
+  co_return false;  // unreachable: the assembler only hands out framed ADUs
 }
 
 asio::awaitable<bool> ModbusTcpServer::send(Connection& c, const std::vector<std::uint8_t>& reply) {
@@ -153,13 +152,16 @@ asio::awaitable<ModbusResponse> ModbusTcpServer::ask_handler(const ModbusRequest
   co_return failed;
 }
 
-std::vector<std::uint8_t> ModbusTcpServer::encode(const ModbusRequest& request,
-                                                  const ModbusResponse& response) {
-  auto reply = encoder_->encode(request, response);
-  if (reply) return std::move(*reply);
-  spdlog::warn("Modbus reply to function {:02X} failed ({}): answering 04", request.function,
-               reply.error());
-  return exception_reply(request.adu, ModbusException::device_failure);
+void ModbusTcpServer::encode(const ModbusRequest& request, const ModbusResponse& response,
+                             std::vector<std::uint8_t>& reply) {
+  if (!response.exception && !response_fits(request, response)) {
+    const bool bit_table =
+        request.table == ModbusTable::coil || request.table == ModbusTable::discrete;
+    spdlog::warn("Modbus handler answered {} values to function {:02X} for {} at {}: replying 04",
+                 bit_table ? response.bits.size() : response.registers.size(), request.function,
+                 request.count, request.address);
+  }
+  format_reply(request, response, reply);
 }
 
 // Closes the connection when its deadline passes. Sleeps on the connection's timer, which

@@ -26,8 +26,6 @@
 
 namespace tiltgate {
 
-class ModbusReplyEncoder;
-
 struct ModbusServerOptions {
   std::string listen = "0.0.0.0";  // an IP address literal (IPv4 or IPv6)
   std::uint16_t port = 502;        // 0 picks a free port (tests); see local_port()
@@ -63,11 +61,10 @@ struct ModbusServerStats {
   std::uint64_t framing_errors = 0;    // connections closed for a bad MBAP header
   std::uint64_t request_timeouts = 0;  // connections closed with a request or reply stuck
   std::uint64_t idle_timeouts = 0;     // connections closed for silence
-  std::uint64_t libmodbus_replies = 0; // replies libmodbus formatted
 };
 
 // Everything runs on `executor`, which must be single-threaded (an io_context run by one
-// thread): the handler, the libmodbus encoder and these members are not synchronised. Call
+// thread): the handler and these members are not synchronised. Call
 // stop() and let the event loop finish the connections before destroying the server.
 class ModbusTcpServer {
  public:
@@ -115,7 +112,9 @@ class ModbusTcpServer {
   boost::asio::awaitable<bool> send(Connection& connection, const std::vector<std::uint8_t>& reply);
   boost::asio::awaitable<ModbusResponse> ask_handler(const ModbusRequest& request);
   boost::asio::awaitable<std::vector<std::uint8_t>> forward(std::vector<std::uint8_t> adu);
-  std::vector<std::uint8_t> encode(const ModbusRequest& request, const ModbusResponse& response);
+  // The reply into `reply` (a connection's own buffer, reused request after request).
+  void encode(const ModbusRequest& request, const ModbusResponse& response,
+              std::vector<std::uint8_t>& reply);
   void expire(Connection& connection);
   void finish(const std::shared_ptr<Connection>& connection);
   // Logs why a client is closed, unless its address has had its share of lines lately.
@@ -135,7 +134,6 @@ class ModbusTcpServer {
   boost::asio::ip::tcp::acceptor tls_acceptor_;
   std::unique_ptr<boost::asio::ssl::context> tls_context_;
   bool running_ = false;  // between start() and stop()
-  std::unique_ptr<ModbusReplyEncoder> encoder_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   ModbusServerStats stats_;
   ModbusRequestCounts request_counts_;

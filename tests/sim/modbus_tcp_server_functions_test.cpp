@@ -50,7 +50,6 @@ TEST_CASE("a libmodbus client reads and writes every table through the server") 
 
   const auto stats = server.stats();
   CHECK(stats.requests == 11);
-  CHECK(stats.libmodbus_replies == 11);
   CHECK(stats.rejected == 0);
 }
 
@@ -144,7 +143,6 @@ TEST_CASE("read device identification is answered by the server itself, paged, n
   const auto stats = server.stats();
   CHECK(stats.requests == 6);
   CHECK(stats.rejected == 3);
-  CHECK(stats.libmodbus_replies == 0);
   // The connection goes on with ordinary requests.
   raw.send(read_holding_frame(0x2A, 5));
   CHECK(raw.receive(11) == holding_reply(0x2A, 1005));

@@ -1,14 +1,18 @@
-// Formats Modbus TCP replies with libmodbus, without letting libmodbus near a client socket or
-// an unchecked frame. libmodbus 3.1.6 (Debian 12) can only reply by writing to its context's
-// socket, so the context gets one end of a socketpair and the reply is read back from the
-// other end. Only requests that parse_adu() accepted are handed to modbus_reply: its 3.1.6
-// request handling has memory-safety bugs on malformed frames (CVE-2022-0367 on 0x17,
-// out-of-bounds reads on short 07/11 frames).
+// The reference the gateway's own reply formatter (gateway/modbus_reply_format.h) is tested
+// against: Modbus TCP replies formatted by libmodbus 3.1.6's modbus_reply and
+// modbus_reply_exception. Test code only; the gateway formats its replies itself.
+//
+// libmodbus 3.1.6 (Debian 12) can only reply by writing to its context's socket, so the
+// context gets one end of a socketpair and the reply is read back from the other end. Only
+// requests that parse_adu() accepted are handed to modbus_reply: its 3.1.6 request handling has
+// memory-safety bugs on malformed frames (CVE-2022-0367 on 0x17, out-of-bounds reads on short
+// 07/11 frames).
 //
 // Function 43 / 14 (Read Device Identification), which libmodbus does not serve, is encoded
-// here without libmodbus (gateway/device_identification.h), its exceptions too.
+// with the gateway's own code (gateway/device_identification.h), its exceptions too, so it is
+// no reference for that function.
 //
-// Not thread-safe (neither is a libmodbus context): use it from the event loop thread only.
+// Not thread-safe (neither is a libmodbus context).
 #pragma once
 
 #include <cstdint>
@@ -21,14 +25,14 @@
 
 struct _modbus;  // libmodbus's modbus_t, kept out of this header
 
-namespace tiltgate {
+namespace tiltgate::test {
 
-class ModbusReplyEncoder {
+class LibmodbusReference {
  public:
-  static Expected<std::unique_ptr<ModbusReplyEncoder>, std::string> create();
-  ~ModbusReplyEncoder();
-  ModbusReplyEncoder(const ModbusReplyEncoder&) = delete;
-  ModbusReplyEncoder& operator=(const ModbusReplyEncoder&) = delete;
+  static Expected<std::unique_ptr<LibmodbusReference>, std::string> create();
+  ~LibmodbusReference();
+  LibmodbusReference(const LibmodbusReference&) = delete;
+  LibmodbusReference& operator=(const LibmodbusReference&) = delete;
 
   // The reply ADU to `request` carrying `response`. A response that does not fit the request
   // (a read answered with the wrong number of values) is answered with exception 04. Fails,
@@ -42,7 +46,7 @@ class ModbusReplyEncoder {
   std::uint64_t libmodbus_calls() const { return libmodbus_calls_; }
 
  private:
-  ModbusReplyEncoder(_modbus* context, int libmodbus_end, int reply_end);
+  LibmodbusReference(_modbus* context, int libmodbus_end, int reply_end);
   Expected<std::vector<std::uint8_t>, std::string> read_reply(int sent);
   void discard_stale_bytes();
 
@@ -52,4 +56,4 @@ class ModbusReplyEncoder {
   std::uint64_t libmodbus_calls_ = 0;
 };
 
-}  // namespace tiltgate
+}  // namespace tiltgate::test

@@ -1,4 +1,4 @@
-#include "gateway/modbus_reply_encoder.h"
+#include "unit/support/libmodbus_reference.h"
 
 #include <errno.h>
 #include <modbus.h>
@@ -6,13 +6,13 @@
 #include <unistd.h>
 
 #include <cstring>
-#include <spdlog/spdlog.h>
+#include <fmt/format.h>
 #include <variant>
 
 #include "gateway/device_identification.h"
 #include "gateway/modbus_request.h"
 
-namespace tiltgate {
+namespace tiltgate::test {
 
 namespace {
 
@@ -87,7 +87,7 @@ Mapping mapping_for(const ModbusRequest& request, const ModbusResponse& response
 
 }  // namespace
 
-Expected<std::unique_ptr<ModbusReplyEncoder>, std::string> ModbusReplyEncoder::create() {
+Expected<std::unique_ptr<LibmodbusReference>, std::string> LibmodbusReference::create() {
   int ends[2];
   // Non-blocking both ways: a reply (<= 260 bytes) always fits the socket buffer, and if it
   // ever did not, libmodbus must fail rather than block the event loop.
@@ -104,20 +104,20 @@ Expected<std::unique_ptr<ModbusReplyEncoder>, std::string> ModbusReplyEncoder::c
   // No reconnecting or sleeping inside libmodbus if a send fails.
   modbus_set_error_recovery(context, MODBUS_ERROR_RECOVERY_NONE);
   modbus_set_socket(context, ends[0]);
-  return std::unique_ptr<ModbusReplyEncoder>(new ModbusReplyEncoder(context, ends[0], ends[1]));
+  return std::unique_ptr<LibmodbusReference>(new LibmodbusReference(context, ends[0], ends[1]));
 }
 
-ModbusReplyEncoder::ModbusReplyEncoder(_modbus* context, int libmodbus_end, int reply_end)
+LibmodbusReference::LibmodbusReference(_modbus* context, int libmodbus_end, int reply_end)
     : context_(context), libmodbus_end_(libmodbus_end), reply_end_(reply_end) {}
 
-ModbusReplyEncoder::~ModbusReplyEncoder() {
+LibmodbusReference::~LibmodbusReference() {
   modbus_set_socket(context_, -1);
   modbus_free(context_);
   ::close(libmodbus_end_);
   ::close(reply_end_);
 }
 
-Expected<std::vector<std::uint8_t>, std::string> ModbusReplyEncoder::encode(
+Expected<std::vector<std::uint8_t>, std::string> LibmodbusReference::encode(
     const ModbusRequest& request, const ModbusResponse& response) {
   if (!is_checked(request)) {
     return Unexpected(std::string("refusing to encode an unchecked request"));
@@ -132,9 +132,6 @@ Expected<std::vector<std::uint8_t>, std::string> ModbusReplyEncoder::encode(
   if (response.exception) {
     sent = modbus_reply_exception(context_, adu, unsigned(*response.exception));
   } else if (!response_fits(request, response)) {
-    spdlog::warn("Modbus handler answered {} values to function {:02X} for {} at {}: replying 04",
-                 values_for(request, response), request.function, request.count,
-                 request.address);
     sent = modbus_reply_exception(context_, adu, unsigned(ModbusException::device_failure));
   } else {
     Mapping mapping = mapping_for(request, response);
@@ -145,7 +142,7 @@ Expected<std::vector<std::uint8_t>, std::string> ModbusReplyEncoder::encode(
   return read_reply(sent);
 }
 
-Expected<std::vector<std::uint8_t>, std::string> ModbusReplyEncoder::read_reply(int sent) {
+Expected<std::vector<std::uint8_t>, std::string> LibmodbusReference::read_reply(int sent) {
   // libmodbus's send() on a stream socketpair has queued the whole reply before returning.
   std::vector<std::uint8_t> reply(static_cast<std::size_t>(sent));
   std::size_t got = 0;
@@ -164,11 +161,11 @@ Expected<std::vector<std::uint8_t>, std::string> ModbusReplyEncoder::read_reply(
   return reply;
 }
 
-void ModbusReplyEncoder::discard_stale_bytes() {
+void LibmodbusReference::discard_stale_bytes() {
   // Only left over if an earlier read_reply failed half-way; keeps replies from mixing.
   std::uint8_t scratch[max_adu_size];
   while (::recv(reply_end_, scratch, sizeof scratch, MSG_DONTWAIT) > 0) {
   }
 }
 
-}  // namespace tiltgate
+}  // namespace tiltgate::test
