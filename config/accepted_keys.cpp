@@ -12,7 +12,7 @@ namespace {
 // for only there. Values are left out: a reader asks for every key it knows whether or not it
 // is given.
 std::string every_table(FamilyList families) {
-  std::string text = "[server]\n[http]\n[mqtt]\n";
+  std::string text = "[server]\n[http]\n[mqtt]\n[[aggregate]]\n";
   for (const FamilyDescriptor* family : families)
     for (const ProtocolDescriptor& protocol : family->protocols)
       text += fmt::format("[[bus]]\nprotocol = \"{}\"\n", protocol.name);
@@ -47,6 +47,9 @@ AcceptedKeys accepted_keys(FamilyList families) {
   });
   read_each(root, "sensor", [&](const toml::table& table, std::size_t i) {
     read_sensor(table, "sensor[" + std::to_string(i) + "]", ignored, families);
+  });
+  read_each(root, "aggregate", [&](const toml::table& table, std::size_t i) {
+    read_aggregate(table, "aggregate[" + std::to_string(i) + "]", ignored);
   });
   return keys;
 }

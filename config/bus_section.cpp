@@ -221,6 +221,8 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   read_master_address(in, bus, protocol.protocol, families);
   read_reopen_backoff(in, bus);
   read_pass_through(in, bus, protocol.protocol);
+  // Checked against [server] and the other buses in listeners.cpp.
+  if (auto port = in.integer("tcp_port", 1, 65535)) bus.tcp_port = std::uint16_t(*port);
   in.reject_unknown_keys();
   return ParsedBus{std::move(bus), in.located()};
 }

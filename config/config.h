@@ -129,6 +129,10 @@ struct BusConfig {
   // Modbus unit ids whose requests are forwarded unchanged to the device with that address on
   // this bus, and its reply relayed (protocols that can: ProtocolDescriptor::forward).
   std::vector<std::uint8_t> pass_through;
+  // A Modbus TCP listener of its own on [server] listen, serving only this bus's sensors, its
+  // aggregates and its pass-through unit ids, so unit ids need only be unique per port. Plain
+  // TCP only. None: the bus's units are served on [server] port.
+  std::optional<std::uint16_t> tcp_port;
   int line = 0;                               // where it was declared, for messages
 
   // Every field, `line` included: reload compares settings with same_settings()
@@ -182,6 +186,19 @@ struct SensorConfig {
   bool operator==(const SensorConfig&) const = default;
 };
 
+// One Modbus unit serving the same points of many sensors back to back (README, "More than 247
+// sensors"): sensor i's block starts at register i x the block's size.
+struct AggregateConfig {
+  std::uint8_t unit_id = 0;
+  std::vector<std::string> points;   // point names of the sensors' maps, in block order
+  // The sensors, in block order: as listed, or (with `bus`) that bus's sensors in file order.
+  std::vector<std::string> sensors;
+  std::string bus;                   // as written; empty when the sensors were listed
+  int line = 0;
+
+  bool operator==(const AggregateConfig&) const = default;
+};
+
 struct Config {
   std::string path;                 // the file it came from
   ServerConfig server;
@@ -189,6 +206,16 @@ struct Config {
   MqttConfig mqtt;
   std::vector<BusConfig> buses;
   std::vector<SensorConfig> sensors;
+  std::vector<AggregateConfig> aggregates;
 };
+
+// The Modbus TCP listener a bus's units are served on: its tcp_port, or kMainListener for
+// [server] port (and the TLS port).
+inline constexpr std::uint16_t kMainListener = 0;
+inline std::uint16_t listener_of(const BusConfig& bus) { return bus.tcp_port.value_or(kMainListener); }
+// A sensor's: its bus's (kMainListener when the bus is unknown).
+std::uint16_t listener_of(const Config& config, const SensorConfig& sensor);
+// An aggregate's: its first sensor's (the loader checks that all of them share it).
+std::uint16_t listener_of(const Config& config, const AggregateConfig& aggregate);
 
 }  // namespace tiltgate

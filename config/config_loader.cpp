@@ -4,7 +4,9 @@
 
 #include <algorithm>
 
+#include "config/aggregate_checks.h"
 #include "config/cross_checks.h"
+#include "config/listeners.h"
 #include "config/map_files.h"
 #include "config/pass_through_checks.h"
 #include "config/sections.h"
@@ -25,14 +27,15 @@ namespace config {
 namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
-constexpr std::string_view kTopLevel = "[server], [http], [mqtt], [[bus]] and [[sensor]]";
+constexpr std::string_view kTopLevel =
+    "[server], [http], [mqtt], [[bus]], [[sensor]] and [[aggregate]]";
 
 std::string table_header(std::string_view name) {
   return name == "server" || name == "http" || name == "mqtt" ? fmt::format("[{}]", name)
                                                                : fmt::format("[[{}]]", name);
 }
 
-// [[bus]] and [[sensor]]: an array whose every element is a table.
+// [[bus]], [[sensor]] and [[aggregate]]: an array whose every element is a table.
 template <class ReadOne>
 void read_table_array(std::string_view name, const toml::key& key, const toml::node& node,
                       ErrorList& errors, ReadOne read_one) {
@@ -56,7 +59,7 @@ void read_table_array(std::string_view name, const toml::key& key, const toml::n
 
 void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
   const bool is_table = node.is_table() || node.is_array_of_tables();
-  const std::vector<std::string> known{"server", "http", "mqtt", "bus", "sensor"};
+  const std::vector<std::string> known{"server", "http", "mqtt", "bus", "sensor", "aggregate"};
   const std::string guess = closest_key(key.str(), known);
   std::string message = is_table ? "unknown table" : "unknown key at the top level";
   if (!guess.empty())
@@ -85,7 +88,8 @@ bool nothing_served(const toml::table& root) {
 }
 
 Config assemble(std::string path, ServerConfig server, HttpConfig http,
-                std::vector<ParsedBus> buses, std::vector<ParsedSensor> sensors) {
+                std::vector<ParsedBus> buses, std::vector<ParsedSensor> sensors,
+                std::vector<ParsedAggregate> aggregates) {
   Config config;
   config.path = std::move(path);
   config.server = server;
@@ -96,6 +100,8 @@ Config assemble(std::string path, ServerConfig server, HttpConfig http,
     sensor.config.address = std::uint32_t(sensor.address);  // range checked against its bus
     config.sensors.push_back(std::move(sensor.config));
   }
+  for (ParsedAggregate& aggregate : aggregates)
+    config.aggregates.push_back(std::move(aggregate.config));
   return config;
 }
 
@@ -120,6 +126,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   MqttConfig mqtt;
   std::vector<ParsedBus> buses;
   std::vector<ParsedSensor> sensors;
+  std::vector<ParsedAggregate> aggregates;
   for (auto&& [key, node] : root) {
     if (key == "server") {
       if (const toml::table* table = node.as_table())
@@ -148,6 +155,11 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
                        [&](const toml::table& table, std::string path) {
                          sensors.push_back(read_sensor(table, std::move(path), errors, families));
                        });
+    } else if (key == "aggregate") {
+      read_table_array("aggregate", key, node, errors,
+                       [&](const toml::table& table, std::string path) {
+                         aggregates.push_back(read_aggregate(table, std::move(path), errors));
+                       });
     } else {
       report_unknown_top_level(key, node, errors);
     }
@@ -155,16 +167,20 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   if (nothing_served(root))
     errors.add(Place{}, "sensor", "no [[sensor]] defined, expected at least one");
   check_buses(buses, errors);
+  check_tcp_ports(buses, server, errors);
   check_sensors(sensors, buses, errors, families);
   check_pass_through(buses, sensors, errors);
+  const std::size_t errors_before_maps = errors.size();
   ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors);
+  check_aggregates(aggregates, sensors, buses,
+                   map_file_errors.empty() && errors.size() == errors_before_maps, errors);
   if (!errors.empty() || !map_file_errors.empty()) {
     ConfigErrors all = errors.take();
     all.insert(all.end(), map_file_errors.begin(), map_file_errors.end());
     return Unexpected(std::move(all));
   }
   Config config = assemble(std::string(source_name), server, std::move(http), std::move(buses),
-                           std::move(sensors));
+                           std::move(sensors), std::move(aggregates));
   config.mqtt = std::move(mqtt);
   return config;
 }

@@ -6,6 +6,8 @@
 #include <optional>
 #include <span>
 
+#include "config/listeners.h"
+
 namespace tiltgate::config {
 
 namespace {
@@ -148,17 +150,22 @@ void check_against_bus(const ParsedSensor& sensor, std::span<const ParsedSensor>
   check_address(sensor, *bus, *protocol.protocol, earlier, errors);
 }
 
-void reject_duplicate_unit_ids(const std::vector<ParsedSensor>& sensors, ErrorList& errors) {
+// Unit ids are unique among the units one listener serves ([[bus]] tcp_port).
+void reject_duplicate_unit_ids(const std::vector<ParsedSensor>& sensors,
+                               const std::vector<ParsedBus>& buses, ErrorList& errors) {
+  std::vector<std::uint16_t> listeners;
+  for (const ParsedSensor& sensor : sensors)
+    listeners.push_back(listener_of_bus(buses, sensor.config.bus));
   for (std::size_t i = 0; i < sensors.size(); ++i) {
     if (!sensors[i].where.valid("unit_id")) continue;
     for (std::size_t j = 0; j < i; ++j) {
       if (!sensors[j].where.valid("unit_id") ||
-          sensors[j].config.unit_id != sensors[i].config.unit_id)
+          sensors[j].config.unit_id != sensors[i].config.unit_id || listeners[j] != listeners[i])
         continue;
       sensors[i].where.report(
           errors, "unit_id",
-          fmt::format("unit id {} is already used by {}", sensors[i].config.unit_id,
-                      describe(sensors[j], "sensor")));
+          fmt::format("unit id {} is already used by {}{}", sensors[i].config.unit_id,
+                      describe(sensors[j], "sensor"), on_listener(listeners[i])));
       break;
     }
   }
@@ -174,7 +181,7 @@ void check_buses(const std::vector<ParsedBus>& buses, ErrorList& errors) {
 void check_sensors(const std::vector<ParsedSensor>& sensors, const std::vector<ParsedBus>& buses,
                    ErrorList& errors, FamilyList families) {
   reject_duplicate_names(sensors, "sensor", errors);
-  reject_duplicate_unit_ids(sensors, errors);
+  reject_duplicate_unit_ids(sensors, buses, errors);
   const std::span<const ParsedSensor> all(sensors);
   for (std::size_t i = 0; i < sensors.size(); ++i)
     check_against_bus(sensors[i], all.first(i), buses, errors, families);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "config/listeners.h"
+
 namespace tiltgate::config {
 
 namespace {
@@ -28,7 +30,9 @@ void reject_across_buses(const std::vector<ParsedBus>& buses, ErrorList& errors)
   for (std::size_t i = 0; i < buses.size(); ++i) {
     for (std::uint8_t id : buses[i].config.pass_through) {
       for (std::size_t j = 0; j < i; ++j) {
-        if (!passes(buses[j], id)) continue;
+        // Unit ids are per listener ([[bus]] tcp_port).
+        if (!passes(buses[j], id) || listener_of(buses[j].config) != listener_of(buses[i].config))
+          continue;
         buses[i].where.report(errors, "pass_through",
                               fmt::format("unit id {} is already passed through on {}", id,
                                           bus_name(buses[j])));
@@ -39,8 +43,11 @@ void reject_across_buses(const std::vector<ParsedBus>& buses, ErrorList& errors)
 }
 
 // A unit id answers either from a sensor's cache or from the device passed through, not both.
-void reject_sensor_unit_id(const ParsedBus& bus, const ParsedSensor& sensor, ErrorList& errors) {
+// On one listener, that is ([[bus]] tcp_port).
+void reject_sensor_unit_id(const ParsedBus& bus, const ParsedSensor& sensor,
+                           const std::vector<ParsedBus>& buses, ErrorList& errors) {
   if (!sensor.where.valid("unit_id") || !passes(bus, sensor.config.unit_id)) return;
+  if (listener_of_bus(buses, sensor.config.bus) != listener_of(bus.config)) return;
   const int id = sensor.config.unit_id;
   if (line_of(sensor.where, "unit_id") > line_of(bus.where, "pass_through")) {
     sensor.where.report(errors, "unit_id",
@@ -80,7 +87,7 @@ void check_pass_through(const std::vector<ParsedBus>& buses,
   for (const ParsedBus& bus : buses) {
     if (bus.config.pass_through.empty() || !bus.where.valid("name")) continue;
     for (const ParsedSensor& sensor : sensors) {
-      reject_sensor_unit_id(bus, sensor, errors);
+      reject_sensor_unit_id(bus, sensor, buses, errors);
       reject_sensor_address(bus, sensor, errors);
     }
   }

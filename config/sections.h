@@ -33,6 +33,11 @@ struct ParsedSensor {
   std::optional<ParsedMap> inline_map;  // map = { ... } or [sensor.map]
 };
 
+struct ParsedAggregate {
+  AggregateConfig config;
+  Located where;
+};
+
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
 // [server] tls and plain_tcp (server_tls_section.cpp); after [server] port is read.
 void read_server_tls(TableReader& in, ServerConfig& server, ErrorList& errors);
@@ -43,6 +48,10 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
                    FamilyList families);
 ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& errors,
                          FamilyList families);
+
+// [[aggregate]] (aggregate_section.cpp); its names and points are checked against the sensors
+// in aggregate_checks.cpp.
+ParsedAggregate read_aggregate(const toml::table& table, std::string path, ErrorList& errors);
 
 // "a or b or c": for messages that list what would do.
 std::string or_list(std::span<const std::string_view> names);

@@ -2,6 +2,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
+#include <deque>
 #include <fmt/format.h>
 #include <iostream>
 #include <spdlog/spdlog.h>
@@ -11,6 +12,7 @@
 #include "gateway/commands.h"
 #include "gateway/gateway.h"
 #include "gateway/run_as_user.h"
+#include "mapping/aggregate_layout.h"
 
 namespace tiltgate {
 
@@ -27,26 +29,64 @@ std::optional<Config> load_or_report(const std::string& path) {
   return std::move(*loaded);
 }
 
+// The TCP port of a listener (config.h, listener_of).
+std::uint16_t served_port(const Config& config, std::uint16_t listener) {
+  return listener == kMainListener ? config.server.port : listener;
+}
+
+// An aggregate's layout as a unit of `tiltgate map`: each sensor's points at their place in
+// its block ("SENSOR.POINT"), and where each block starts. `units` holds the sensors' maps.
+std::optional<UnitMap> aggregate_unit(const Config& config, const AggregateConfig& aggregate,
+                                      const std::vector<UnitMap>& units,
+                                      std::deque<RegisterMap>& maps) {
+  std::vector<AggregateMember> members;
+  for (const std::string& name : aggregate.sensors)
+    for (std::size_t i = 0; i < config.sensors.size(); ++i)
+      if (config.sensors[i].name == name) members.push_back({name, units[i].map});
+  auto layout = make_aggregate_layout(aggregate.points, members);
+  if (!layout) return std::nullopt;  // the loader reports it
+  std::vector<std::string> starts;
+  for (std::size_t i = 0; i < members.size(); ++i)
+    starts.push_back(fmt::format("{} at {}", members[i].name, layout->block_start(i)));
+  maps.push_back(aggregate_register_map(*layout, members));
+  return UnitMap{aggregate.unit_id,
+                 fmt::format("aggregate of {} sensor(s)", members.size()),
+                 "aggregate",
+                 &maps.back(),
+                 config.server.word_order,
+                 served_port(config, listener_of(config, aggregate)),
+                 fmt::format("Blocks of {} registers ({}), read alike as input (FC4) or holding "
+                             "(FC3) registers; writes are refused. Blocks start at: {}.",
+                             layout->block_words, fmt::join(aggregate.points, ", "),
+                             fmt::join(starts, ", "))};
+}
+
 }  // namespace
 
 int check_command(const std::string& config_path) {
   auto config = load_or_report(config_path);
   if (!config) return 1;
-  std::cout << fmt::format("{}: OK ({} bus(es), {} sensor(s))\n", config_path,
-                           config->buses.size(), config->sensors.size());
+  std::cout << fmt::format("{}: OK ({} bus(es), {} sensor(s){})\n", config_path,
+                           config->buses.size(), config->sensors.size(),
+                           config->aggregates.empty()
+                               ? std::string()
+                               : fmt::format(", {} aggregate(s)", config->aggregates.size()));
   return 0;
 }
 
 int map_command(const std::string& config_path, const std::string& format) {
   auto config = load_or_report(config_path);
   if (!config) return 1;
-  std::vector<RegisterMap> maps;
-  maps.reserve(config->sensors.size());
+  // A deque: the units point into it as it grows.
+  std::deque<RegisterMap> maps;
   std::vector<UnitMap> units;
   for (const SensorConfig& sensor : config->sensors) {
     maps.push_back(map_for(sensor));
     units.push_back({sensor.unit_id, sensor.name, sensor.model, &maps.back(),
-                     config->server.word_order});
+                     config->server.word_order, served_port(*config, listener_of(*config, sensor)), {}});
+  }
+  for (const AggregateConfig& aggregate : config->aggregates) {
+    if (auto unit = aggregate_unit(*config, aggregate, units, maps)) units.push_back(*unit);
   }
   std::cout << (format == "markdown" ? export_markdown(units) : export_csv(units));
   return 0;

@@ -27,6 +27,8 @@ std::string listed(const std::vector<std::string>& names) {
 bool same_settings(const BusConfig& a, const BusConfig& b) {
   BusConfig anywhere = b;
   anywhere.line = a.line;
+  // Which TCP port serves its units is routing, not the line: a moved port keeps the tty open.
+  anywhere.tcp_port = a.tcp_port;
   return a == anywhere;
 }
 

@@ -6,7 +6,8 @@
 // was made for that bus's protocol and timing); otherwise it is changed (same name, so the same
 // sensor moved to another bus or with a new map, poll, unit id, ...), added or removed. A
 // renamed sensor or bus is a removed one plus an added one. Where a setting was declared (the
-// `line` fields) is not a setting.
+// `line` fields) is not a setting, nor is a bus's tcp_port (which listener serves its units:
+// the gateway routes every unit anew at each reload). Aggregates are always rebuilt.
 #pragma once
 
 #include <string>

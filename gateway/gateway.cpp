@@ -43,6 +43,14 @@ ModbusServerOptions modbus_server_options(const ServerConfig& server) {
   return options;
 }
 
+ModbusServerOptions bus_listener_options(const ServerConfig& server, std::uint16_t port) {
+  ModbusServerOptions options = modbus_server_options(server);
+  options.port = port;
+  options.plain_tcp = true;
+  options.tls.reset();
+  return options;
+}
+
 std::string Gateway::local_time_now() {
   return fmt::format("{:%Y-%m-%d %H:%M:%S}", fmt::localtime(std::time(nullptr)));
 }
@@ -62,6 +70,7 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     auto sensor = make_sensor(sc, config_.buses[bus_index], *buses_[bus_index].scheduler);
     if (sensor) sensors_.push_back(std::move(sensor));
   }
+  make_aggregates();
   server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_,
                                               modbus_server_options(config_.server));
   start_seconds_ = std::chrono::duration<double>(
@@ -95,8 +104,46 @@ std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
   sensor->written.assign(sensor->map.holding_end(), 0);
   sensor->stale_after = config.stale_after.value_or(default_stale_after(config.poll));
   bus.add(sensor);
-  router_.add(sensor);
+  router_for(listener_of(bus_config)).add(sensor);
   return sensor;
+}
+
+RequestRouter& Gateway::router_for(std::uint16_t listener) {
+  if (listener == kMainListener) return router_;
+  for (BusListener& bus : bus_listeners_)
+    if (bus.port == listener) return *bus.router;
+  BusListener made;
+  made.port = listener;
+  made.router = std::make_unique<RequestRouter>(
+      RouterOptions{config_.server.writes, config_.server.word_order, config_.server.write_timeout});
+  made.server = std::make_unique<ModbusTcpServer>(io_.get_executor(), *made.router,
+                                                  bus_listener_options(config_.server, listener));
+  bus_listeners_.push_back(std::move(made));
+  return *bus_listeners_.back().router;
+}
+
+void Gateway::make_aggregates() {
+  for (const AggregateConfig& config : config_.aggregates) {
+    auto aggregate = make_gateway_aggregate(config, sensors_);
+    if (!aggregate) {
+      spdlog::error("aggregate unit {} (line {}) not served: {}", config.unit_id, config.line,
+                    aggregate.error());
+      continue;
+    }
+    router_for(listener_of(config_, config)).add(std::move(*aggregate));
+  }
+}
+
+std::vector<const ModbusTcpServer*> Gateway::servers() const {
+  std::vector<const ModbusTcpServer*> all{server_.get()};
+  for (const BusListener& bus : bus_listeners_) all.push_back(bus.server.get());
+  return all;
+}
+
+std::vector<std::uint16_t> Gateway::bus_ports() const {
+  std::vector<std::uint16_t> ports;
+  for (const BusListener& bus : bus_listeners_) ports.push_back(bus.server->local_port());
+  return ports;
 }
 
 void Gateway::make_control() {
@@ -143,7 +190,8 @@ void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool a
   const ProtocolEntry protocol = find_protocol(registered_families(), bus.protocol);
   if (protocol.protocol == nullptr || protocol.protocol->forward == nullptr) return;  // refused
   scheduler.enable_forwarding(protocol.protocol->forward);
-  for (std::uint8_t unit_id : bus.pass_through) router_.pass_through(unit_id, scheduler);
+  RequestRouter& router = router_for(listener_of(bus));
+  for (std::uint8_t unit_id : bus.pass_through) router.pass_through(unit_id, scheduler);
   if (announce)
     spdlog::info("bus {}: unit id(s) {} passed through", bus.name,
                  fmt::join(bus.pass_through, ", "));
@@ -152,6 +200,10 @@ void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool a
 Expected<Done, std::string> Gateway::start() {
   auto listening = server_->start();
   if (!listening) return Unexpected(listening.error());
+  for (BusListener& bus : bus_listeners_) {
+    auto bus_listening = bus.server->start();
+    if (!bus_listening) return Unexpected(bus_listening.error());
+  }
   for (Bus& bus : buses_) start_bus(bus);
   start_control();
   start_http();
@@ -161,6 +213,8 @@ Expected<Done, std::string> Gateway::start() {
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
                buses_.size(), config_.server.listen, server_->local_port(),
                config_.server.writes ? ", writes enabled" : "");
+  for (const BusConfig& bus : config_.buses)
+    if (bus.tcp_port) spdlog::info("bus {}: its units on Modbus TCP port {}", bus.name, *bus.tcp_port);
   return Done{};
 }
 
@@ -231,6 +285,7 @@ void Gateway::stop() {
   sample_timer_.cancel();
   history_timer_.cancel();
   server_->stop();
+  for (BusListener& bus : bus_listeners_) bus.server->stop();
   if (control_) control_->stop();
   if (http_) http_->stop();
   if (mqtt_) mqtt_->stop();
@@ -278,8 +333,10 @@ std::optional<MqttStats> Gateway::mqtt_stats() const {
 std::vector<UnitMap> Gateway::unit_maps() const {
   std::vector<UnitMap> units;
   for (const auto& s : sensors_) {
+    const std::uint16_t listener = listener_of(config_, s->config);
     units.push_back({s->config.unit_id, s->config.name, s->config.model, &s->map,
-                     config_.server.word_order});
+                     config_.server.word_order,
+                     listener == kMainListener ? config_.server.port : listener, {}});
   }
   return units;
 }

@@ -39,6 +39,8 @@ class Gateway {
   void stop();
 
   std::uint16_t port() const;
+  // The ports of the buses' own listeners ([[bus]] tcp_port), in the order first used.
+  std::vector<std::uint16_t> bus_ports() const;
   std::vector<UnitMap> unit_maps() const;
   // Every sensor's and bus's state now, for the HTTP status API and metrics.
   GatewayStatus status(SteadyClock::time_point now) const;
@@ -64,6 +66,25 @@ class Gateway {
     std::unique_ptr<SerialLine> line;
     std::unique_ptr<BusScheduler> scheduler;
   };
+  // A [[bus]] tcp_port's listener: a router and a Modbus TCP server of its own, with
+  // [server]'s limits, lists and time-outs (plain TCP only).
+  struct BusListener {
+    std::uint16_t port = 0;
+    std::unique_ptr<RequestRouter> router;   // declared first: outlives the server
+    std::unique_ptr<ModbusTcpServer> server;
+  };
+
+  // The router of a listener (config.h, listener_of): router_ for the main one; a bus
+  // listener's is made (not started) when first asked for.
+  RequestRouter& router_for(std::uint16_t listener);
+  // The aggregates of config_, routed on their listeners; one that cannot be made is logged.
+  void make_aggregates();
+  // reload(): stops and retires the bus listeners whose port `loaded` no longer has.
+  void retire_bus_listeners(const Config& loaded);
+  // reload(): starts the bus listeners made since, applies [server] to the others.
+  void start_or_apply_bus_listeners();
+  // Every Modbus TCP server: the main one, then the bus listeners'.
+  std::vector<const ModbusTcpServer*> servers() const;
 
   // A bus's line and scheduler, made (not started) and its pass-through unit ids routed.
   Bus make_bus(const BusConfig& config);
@@ -106,8 +127,9 @@ class Gateway {
   std::vector<std::shared_ptr<void>> retired_services_;
   std::vector<std::shared_ptr<GatewaySensor>> sensors_;  // in config_.sensors' order
   std::string loaded_at_;
-  RequestRouter router_;
+  RequestRouter router_;  // the main listener's: units of buses without tcp_port
   std::unique_ptr<ModbusTcpServer> server_;
+  std::vector<BusListener> bus_listeners_;
   std::unique_ptr<ControlServer> control_;  // none without [server] control_socket
   std::unique_ptr<HttpServer> http_;        // none with [http] enabled = false
   std::unique_ptr<HistoryRecorder> history_;  // the status page's graphs; none without http_
@@ -129,6 +151,8 @@ void finish_stopped(boost::asio::io_context& io);
 // The Modbus TCP server's options from [server]: the one place they are made, at start-up and
 // at every reload.
 ModbusServerOptions modbus_server_options(const ServerConfig& server);
+// A bus listener's ([[bus]] tcp_port): the same, on `port`, plain TCP only.
+ModbusServerOptions bus_listener_options(const ServerConfig& server, std::uint16_t port);
 
 // Builds the register map a sensor serves: its model's built-in map, or the map its
 // configuration describes (a map file or an inline map, checked when the config was loaded).

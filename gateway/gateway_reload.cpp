@@ -22,12 +22,60 @@ std::shared_ptr<void> retired(std::unique_ptr<T> service) {
 
 }  // namespace
 
+void Gateway::retire_bus_listeners(const Config& loaded) {
+  std::vector<BusListener> kept;
+  for (BusListener& listener : bus_listeners_) {
+    const bool used = std::any_of(loaded.buses.begin(), loaded.buses.end(), [&](const auto& bus) {
+      return listener_of(bus) == listener.port;
+    });
+    if (used) {
+      listener.router->clear();
+      kept.push_back(std::move(listener));
+      continue;
+    }
+    // Its clients are closed; a request being answered still holds its router.
+    listener.server->stop();
+    spdlog::info("Modbus TCP port {} closed: no bus has it as tcp_port", listener.port);
+    retired_services_.push_back(std::make_shared<BusListener>(std::move(listener)));
+  }
+  bus_listeners_ = std::move(kept);
+}
+
+void Gateway::start_or_apply_bus_listeners() {
+  const RouterOptions options{config_.server.writes, config_.server.word_order,
+                              config_.server.write_timeout};
+  std::vector<BusListener> served;
+  for (BusListener& listener : bus_listeners_) {
+    listener.router->set_options(options);
+    if (listener.server->local_port() != 0) {
+      listener.server->apply(bus_listener_options(config_.server, listener.port));
+      served.push_back(std::move(listener));
+      continue;
+    }
+    if (auto started = listener.server->start(); !started) {
+      spdlog::error("Modbus TCP port {} not served: {}", listener.port, started.error());
+      listener.server->stop();
+      retired_services_.push_back(std::make_shared<BusListener>(std::move(listener)));
+      continue;
+    }
+    spdlog::info("Modbus TCP port {} opened", listener.port);
+    served.push_back(std::move(listener));
+  }
+  bus_listeners_ = std::move(served);
+}
+
 void Gateway::reload(const Config& loaded) {
   const ConfigDiff diff = diff_configs(config_, loaded);
+  // From here on, what is made (bus listeners, their options) is made for the new file.
+  config_ = loaded;
+
+  // Every listener's units are routed anew; listeners whose port is gone stop, new ones are
+  // made as their first unit is routed and started below.
+  router_.clear();
+  retire_bus_listeners(loaded);
 
   // Buses, in the new file's order: the unchanged ones as they are (tty open, scheduler and
   // queued writes untouched), the others made anew and started below.
-  router_.clear();
   std::vector<Bus> old_buses = std::move(buses_);
   buses_.clear();
   std::vector<std::size_t> fresh_buses;
@@ -61,7 +109,7 @@ void Gateway::reload(const Config& loaded) {
     });
     if (listed(diff.sensors_kept, config.name) && old != old_sensors.end()) {
       (*old)->config = config;  // where it is declared may have moved
-      router_.add(*old);
+      router_for(listener_of(loaded, config)).add(*old);
       sensors_.push_back(std::move(*old));
       continue;
     }
@@ -76,12 +124,14 @@ void Gateway::reload(const Config& loaded) {
   for (const auto& sensor : old_sensors)
     if (sensor && sensor->bus != nullptr) sensor->bus->remove(*sensor);
 
-  config_ = loaded;
+  // Aggregates are rebuilt over the sensors served now (kept or new).
+  make_aggregates();
   for (std::size_t index : fresh_buses) start_bus(buses_[index]);
 
   router_.set_options(RouterOptions{config_.server.writes, config_.server.word_order,
                                     config_.server.write_timeout});
   server_->apply(modbus_server_options(config_.server));
+  start_or_apply_bus_listeners();
 
   std::vector<std::string> restarted;
   if (control_ || !config_.server.control_socket.empty()) {

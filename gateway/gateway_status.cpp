@@ -20,6 +20,25 @@ std::optional<double> rounded(std::optional<double> value, double scale) {
   return std::round(*value * scale) / scale;
 }
 
+// Adds one listener's request or exception counts to the totals, keeping them in key order.
+template <class Count>
+void add_counts(std::vector<Count>& totals, const std::vector<Count>& counts) {
+  const auto key = [](const Count& c) {
+    if constexpr (requires { c.exception; }) return std::pair(c.function, c.exception);
+    else return std::pair(c.function, std::uint8_t(0));
+  };
+  for (const Count& count : counts) {
+    auto at = std::find_if(totals.begin(), totals.end(),
+                           [&](const Count& total) { return key(total) == key(count); });
+    if (at != totals.end())
+      at->count += count.count;
+    else
+      totals.push_back(count);
+  }
+  std::sort(totals.begin(), totals.end(),
+            [&](const Count& a, const Count& b) { return key(a) < key(b); });
+}
+
 SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point now) {
   const SensorState& state = sensor.driver->state();
   SensorStatus s;
@@ -86,17 +105,20 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
       bus.utilisation = std::min(*busy, 1.0);
     status.buses.push_back(std::move(bus));
   }
-  const ModbusServerStats server = server_->stats();
-  status.modbus_clients = server_->client_count();
-  status.modbus_connections = server.accepted;
-  status.modbus_connections_refused = server.refused;
-  status.modbus_connections_replaced = server.replaced;
-  status.modbus_connections_denied = server.denied;
-  status.modbus_writes_denied = server.writes_denied;
-  status.modbus_tls_refused = server.tls_refused;
+  // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
+  for (const ModbusTcpServer* listener : servers()) {
+    const ModbusServerStats server = listener->stats();
+    status.modbus_clients += listener->client_count();
+    status.modbus_connections += server.accepted;
+    status.modbus_connections_refused += server.refused;
+    status.modbus_connections_replaced += server.replaced;
+    status.modbus_connections_denied += server.denied;
+    status.modbus_writes_denied += server.writes_denied;
+    status.modbus_tls_refused += server.tls_refused;
+    add_counts(status.modbus_requests, listener->request_counts().requests());
+    add_counts(status.modbus_exceptions, listener->request_counts().exceptions());
+  }
   if (http_) status.http_connections_denied = http_->stats().denied;
-  status.modbus_requests = server_->request_counts().requests();
-  status.modbus_exceptions = server_->request_counts().exceptions();
   status.mqtt = mqtt_stats();
   status.process_start_seconds = start_seconds_;
   return status;

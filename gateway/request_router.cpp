@@ -90,14 +90,23 @@ void RequestRouter::add(std::shared_ptr<GatewaySensor> sensor) {
   units_[unit_id] = std::move(sensor);
 }
 
+void RequestRouter::add(std::shared_ptr<GatewayAggregate> aggregate) {
+  const std::uint8_t unit_id = aggregate->config.unit_id;
+  aggregates_[unit_id] = std::move(aggregate);
+}
+
 void RequestRouter::clear() {
   units_.fill(nullptr);
+  aggregates_.fill(nullptr);
   forwarded_.fill(nullptr);
 }
 
 boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest& request) {
   // Held for the whole request: a write waits for its bus, and a reload may drop the sensor
   // meanwhile; the write is still carried out and answered with its real outcome.
+  // An aggregate's reply is built in one call that does not suspend: one instant for all.
+  if (const auto& aggregate = aggregates_[request.unit_id])
+    co_return read_aggregate_unit(*aggregate, request, options_.word_order, SteadyClock::now());
   const std::shared_ptr<GatewaySensor> sensor = units_[request.unit_id];
   if (sensor == nullptr) co_return failure(ModbusException::gateway_path_unavailable);
   if (request.function == modbus_function::encapsulated_interface) co_return identify(*sensor);

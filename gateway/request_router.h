@@ -9,6 +9,7 @@
 #include <span>
 
 #include "config/config.h"
+#include "gateway/gateway_aggregate.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/modbus_types.h"
 
@@ -34,7 +35,9 @@ class RequestRouter : public ModbusRequestHandler {
   // reload drops the sensor meanwhile.
   void add(std::shared_ptr<GatewaySensor> sensor);
   GatewaySensor* find(std::uint8_t unit_id) const { return units_[unit_id].get(); }
-  // Forgets every sensor and pass-through unit id (a reload adds the new set at once).
+  // Answers the aggregate's unit id (which must be free) from its sensors' caches.
+  void add(std::shared_ptr<GatewayAggregate> aggregate);
+  // Forgets every sensor, aggregate and pass-through unit id (a reload adds the new set at once).
   // Requests already being answered finish with the sensor or bus they started with.
   void clear();
   // Applies to the next request.
@@ -59,6 +62,7 @@ class RequestRouter : public ModbusRequestHandler {
 
   RouterOptions options_;
   std::array<std::shared_ptr<GatewaySensor>, 256> units_{};
+  std::array<std::shared_ptr<GatewayAggregate>, 256> aggregates_{};
   std::array<BusScheduler*, 256> forwarded_{};
 };
 

@@ -48,6 +48,10 @@ std::string layout_of(const Point& p, WordOrder server) {
   return std::string(name_of(order_names(), order));
 }
 
+std::string port_of(const UnitMap& unit) {
+  return unit.port == 0 ? std::string() : std::to_string(unit.port);
+}
+
 }  // namespace
 
 std::string plc_number(RegisterTable table, std::uint16_t address) {
@@ -62,13 +66,15 @@ std::string plc_number(RegisterTable table, std::uint16_t address) {
 
 std::string export_csv(const std::vector<UnitMap>& units) {
   std::string out =
-      "unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order\n";
+      "unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order,"
+      "port\n";
   for (const UnitMap& unit : units) {
     for (const Point& p : unit.map->points()) {
-      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", unit.unit_id, csv_field(p.name),
-                         to_string(p.table), p.address, p.words(), type_of(p), access_of(p),
-                         csv_field(p.units), csv_field(p.description), scaling(p, p.scale),
-                         scaling(p, p.offset), layout_of(p, unit.word_order));
+      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{}\n", unit.unit_id,
+                         csv_field(p.name), to_string(p.table), p.address, p.words(), type_of(p),
+                         access_of(p), csv_field(p.units), csv_field(p.description),
+                         scaling(p, p.scale), scaling(p, p.offset), layout_of(p, unit.word_order),
+                         port_of(unit));
     }
   }
   return out;
@@ -77,7 +83,9 @@ std::string export_csv(const std::vector<UnitMap>& units) {
 std::string export_markdown(const std::vector<UnitMap>& units) {
   std::string out;
   for (const UnitMap& unit : units) {
-    out += fmt::format("### Unit {}: {} ({})\n\n", unit.unit_id, unit.sensor, unit.model);
+    out += fmt::format("### Unit {}: {} ({}){}\n\n", unit.unit_id, unit.sensor, unit.model,
+                       unit.port == 0 ? std::string() : fmt::format(", port {}", unit.port));
+    if (!unit.note.empty()) out += unit.note + "\n\n";
     out +=
         "| table | address | PLC | words | type | name | access | units | description | "
         "scale | offset | word order |\n";

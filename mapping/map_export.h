@@ -16,11 +16,13 @@ struct UnitMap {
   std::string model;
   const RegisterMap* map;
   WordOrder word_order = WordOrder::big;  // [server] word_order, for points without their own
+  std::uint16_t port = 0;  // the Modbus TCP port serving the unit; 0: not shown
+  std::string note{};      // a paragraph under the unit's heading (Markdown only)
 };
 
-// Header: unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order
-// word_order is the byte layout (ABCD, CDAB, BADC, DCBA; AB or BA for 16-bit values), empty
-// for bits and strings.
+// Header: unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order,
+// port. word_order is the byte layout (ABCD, CDAB, BADC, DCBA; AB or BA for 16-bit values),
+// empty for bits and strings; port is the TCP port serving the unit (empty when not known).
 std::string export_csv(const std::vector<UnitMap>& units);
 std::string export_markdown(const std::vector<UnitMap>& units);
 

@@ -99,6 +99,18 @@ TEST_CASE("config diff: a sensor moved to another bus is changed") {
   CHECK(diff.sensors_kept == Names{"boom"});
 }
 
+TEST_CASE("config diff: a bus given a tcp_port keeps its tty and its sensors") {
+  // Which port serves its units is routing: the gateway routes every unit anew at a reload.
+  const Config before = loads(two_buses_plus(kBoomAndArm));
+  std::string text = two_buses_plus(kBoomAndArm);
+  text.insert(text.find("[[bus]]\nname = \"line2\""), "tcp_port = 5021\n");
+  const Config after = loads(text);
+  REQUIRE(after.buses[0].tcp_port == 5021);
+  const ConfigDiff diff = diff_configs(before, after);
+  CHECK(diff.buses_kept == Names{"line1", "line2"});
+  CHECK(diff.sensors_kept == Names{"boom", "arm"});
+}
+
 TEST_CASE("config diff: a changed bus is reopened and its sensors are replaced") {
   const Config before = loads(two_buses_plus(kBoomAndArm));
   std::string text = two_buses_plus(kBoomAndArm);

@@ -41,6 +41,7 @@ const std::map<std::string, std::string> kSections{
     {"sensor.alarms", "### `alarms`"},
     {"sensor.map", "## Register maps: `map`"},
     {"sensor.map.point", "### `[[point]]`"},
+    {"aggregate", "## `[[aggregate]]`"},
 };
 
 }  // namespace
