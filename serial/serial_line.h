@@ -33,6 +33,11 @@
 //
 // Kernel RS485 (rs485_kernel): a port whose driver refuses TIOCSRS485 (USB adapters, ptys)
 // logs one warning and is used as it is.
+//
+// Low latency (low_latency, serial/low_latency.h): at every open the driver's ASYNC_LOW_LATENCY
+// flag is set, so a USB adapter hands received bytes over at once instead of after its latency
+// timer. The outcome is logged when it differs from the previous open's (an unplugged adapter
+// that comes back the same stays quiet); a port that cannot take the flag is used as it is.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -50,6 +55,7 @@
 
 #include "driver/framing.h"
 #include "driver/line.h"
+#include "serial/low_latency.h"
 #include "serial/termios_settings.h"
 
 namespace tiltgate {
@@ -73,6 +79,10 @@ struct SerialLineOptions {
   // Take an advisory lock (flock) on the tty while it is open, so that a commissioning command
   // opening it directly is told it is in use instead of talking over the gateway.
   bool exclusive = false;
+  // Set the driver's low-latency flag at each open (serial/low_latency.h); false leaves it alone.
+  bool low_latency = true;
+  // Where sysfs is mounted, to read a USB adapter's latency_timer for the log (tests: a fake).
+  std::string sysfs_root = "/sys";
 };
 
 class SerialLine final : public Line {
@@ -107,6 +117,9 @@ class SerialLine final : public Line {
 
   // The settings in force on the open port (nullopt while closed).
   std::optional<TtySettings> termios_in_force();
+  // What setting the low-latency flag gave at the latest open (nothing: not tried yet, or
+  // low_latency is off).
+  const std::optional<LowLatencyResult>& low_latency() const { return low_latency_; }
   void observe_writes(WriteObserver observer) { write_observer_ = std::move(observer); }
 
  private:
@@ -114,6 +127,7 @@ class SerialLine final : public Line {
   using Clock = std::chrono::steady_clock;
 
   Expected<Done, std::string> open_port();
+  void apply_low_latency(int fd);
   void schedule_reopen();
   void reopen_now();
   void lose_port(const std::string& why);
@@ -150,6 +164,8 @@ class SerialLine final : public Line {
   Clock::time_point quiet_until_{};  // earliest start of the next master packet
   bool stopped_ = false;
   bool warned_rs485_ = false;
+  std::optional<LowLatencyResult> low_latency_;
+  std::optional<LowLatencyResult> logged_low_latency_;  // the outcome last logged above debug
   std::uint64_t generation_ = 0;
   std::uint64_t echo_mismatches_ = 0;
   LineStats stats_;

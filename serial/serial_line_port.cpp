@@ -79,6 +79,7 @@ Expected<Done, std::string> SerialLine::open_port() {
     ::close(fd);
     return Unexpected("cannot configure: " + configured.error().message());
   }
+  if (options_.low_latency) apply_low_latency(fd);
   if (options_.rs485_kernel) {
     auto rs485 = enable_kernel_rs485(fd);
     if (!rs485 && !warned_rs485_) {
@@ -97,6 +98,23 @@ Expected<Done, std::string> SerialLine::open_port() {
   }
   ++generation_;
   return Done{};
+}
+
+void SerialLine::apply_low_latency(int fd) {
+  low_latency_ = set_low_latency(fd);
+  // Read after setting it: ftdi_sio lowers the timer to 1 ms when the flag goes on.
+  const LowLatencyLogLine line = low_latency_log_line(
+      options_.name, options_.port, *low_latency_,
+      read_latency_timer(options_.port, options_.sysfs_root));
+  if (logged_low_latency_ == low_latency_) {
+    spdlog::debug("{}", line.text);  // a reopen that ends as the last open did
+    return;
+  }
+  logged_low_latency_ = low_latency_;
+  if (line.warning)
+    spdlog::warn("{}", line.text);
+  else
+    spdlog::info("{}", line.text);
 }
 
 void SerialLine::schedule_reopen() {
