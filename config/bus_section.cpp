@@ -218,6 +218,7 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   read_gap(in, bus, protocol);
   if (auto rs485 = in.boolean("rs485")) bus.rs485_kernel = *rs485;
   if (auto echo = in.boolean("echo")) bus.echo = *echo;
+  if (auto low_latency = in.boolean("low_latency")) bus.low_latency = *low_latency;
   read_master_address(in, bus, protocol.protocol, families);
   read_reopen_backoff(in, bus);
   read_pass_through(in, bus, protocol.protocol);

@@ -123,6 +123,7 @@ struct BusConfig {
   std::optional<Framing> framing;
   bool rs485_kernel = false;                  // TIOCSRS485 on on-board UARTs
   bool echo = false;                          // the adapter hears its own transmission
+  bool low_latency = true;                    // ASYNC_LOW_LATENCY at each open (USB adapters)
   std::uint16_t master_address = 0;           // protocols where the master has an address
   std::chrono::milliseconds reopen_min{500};  // back-off when the tty disappears
   std::chrono::milliseconds reopen_max{10000};

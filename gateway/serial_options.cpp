@@ -13,6 +13,7 @@ SerialLineOptions serial_options_from(const BusConfig& bus, FamilyList families)
   o.gap = bus.gap;
   o.rs485_kernel = bus.rs485_kernel;
   o.echo = bus.echo;
+  o.low_latency = bus.low_latency;
   o.reopen_min = bus.reopen_min;
   o.reopen_max = bus.reopen_max;
   // The loader accepts only the families' protocols; 8N1 is the transport's own default.
