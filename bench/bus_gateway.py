@@ -1,0 +1,317 @@
+#!/usr/bin/env python3
+"""The bus side of the gateway as a whole: `tiltgate run` polling simulated Rieker H6 sensors.
+
+Every table runs the product as deployed: `tiltgate sim rieker` serves many addresses on one
+pseudo-terminal, its replies paced at the baud rate (the request's own wire time included; the
+simulator also waits its default 200 us "as fast as possible" reply latency before answering),
+and `tiltgate run` polls them through its bus scheduler with every sensor at `poll_ms = 10`, so
+the bus is saturated (but for one sensor at 125000 baud: poll_ms cannot go below 10, so one
+sensor asks for only 100 polls/s, the "asked" column). Counters come from the HTTP API (`/api/sensors`).
+
+1. Bus efficiency at 9600 and 125000 baud for 1, 10 and 60 sensors on one bus, against the
+   wire limit (request bits + max(reply bits, the manual's 1 ms between master packets) per
+   poll, as bench/bus_throughput.cpp computes it); polls/s is the median over consecutive
+   windows of one gateway run. Fairness (10 and 60 sensors): the spread of the sensors' update
+   rates over the whole measured time, as min/max and the coefficient of variation.
+2. The same saturated bus (10 sensors, 125000 baud, the default `timeout_ms = 50`) idle and
+   under a 64-client Modbus TCP flood (bench_modbus_load, function 04 x 10 on unit 1),
+   alternating; polls/s medians, their ratio, and how often a sensor stopped answering (the
+   gateway's "stopped answering" log line; the simulator never stops, so each one is false),
+   summed over the rounds, with the reply time-outs (retried ones included) beside them.
+3. Freshness (angle change to the new value over Modbus) is not measured: `tiltgate sim
+   rieker` has no way to change a sensor's angle at runtime.
+4. RSS and CPU of `tiltgate run` with 8 buses x 60 sensors (each bus its own simulator and
+   `tcp_port`, unit ids 1..60 on each, the default `poll_ms = 100`): VmRSS after 10 s and CPU%
+   over those 10 s (user + system time of the gateway process alone).
+
+Usage: bench/bus_gateway.py [--quick] [--windows N] [--seconds S] [--build DIR]
+"""
+import argparse
+import json
+import os
+import shutil
+import signal
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+# Get Angle type 4: request 7 + 1 + 2 bytes, reply 7 + 8 + 2 bytes; 10 bits a byte (8N1).
+REQUEST_BYTES, REPLY_BYTES, GAP_S = 10, 17, 0.001
+SIM_LATENCY_S = 200e-6  # RiekerSimulatorOptions::reply_latency, which `tiltgate sim` keeps
+
+
+def wire_limit(baud):
+    return 1.0 / (REQUEST_BYTES * 10 / baud + max(REPLY_BYTES * 10 / baud, GAP_S))
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def cpu_seconds(pid):
+    """User + system CPU time of a process so far (/proc/PID/stat fields 14 and 15)."""
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def rss_kib(pid):
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    return 0
+
+
+def stop(process):
+    if process.poll() is None:
+        process.send_signal(signal.SIGTERM)
+        try:
+            process.wait(5)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+
+
+class Gateway:
+    """Simulated buses (one `tiltgate sim rieker` each) and one `tiltgate run` polling them."""
+
+    def __init__(self, binary, folder, baud, buses, sensors, poll_ms, own_ports=False):
+        self.sims = []
+        self.http_port = free_port()
+        self.modbus_port = free_port()
+        config = [f"""[server]
+listen = "127.0.0.1"
+port = {self.modbus_port}
+max_clients = 100
+max_clients_per_host = 100
+control_socket = ""
+
+[http]
+listen = "127.0.0.1"
+port = {self.http_port}
+"""]
+        for b in range(buses):
+            link = os.path.join(folder, f"tty{b}")
+            spec = ",".join(f"h6:{a}" for a in range(1, sensors + 1))
+            self.sims.append(subprocess.Popen(
+                [binary, "sim", "rieker", "--sensors", spec, "--link", link,
+                 "--pace-baud", str(baud)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            for _ in range(200):
+                if os.path.exists(link):
+                    break
+                time.sleep(0.05)
+            config.append(f'[[bus]]\nname = "line{b}"\nport = "{link}"\nbaud = {baud}\n' +
+                          (f"tcp_port = {free_port()}\n" if own_ports else ""))
+            for a in range(1, sensors + 1):
+                config.append(f'[[sensor]]\nname = "s{b}_{a}"\nbus = "line{b}"\nmodel = "h6"\n'
+                              f"address = {a}\nunit_id = {a}\npoll_ms = {poll_ms}\n")
+        path = os.path.join(folder, "bench.toml")
+        with open(path, "w") as f:
+            f.write("\n".join(config))
+        self.log_path = os.path.join(folder, "tiltgate.log")
+        self.log = open(self.log_path, "w")
+        self.started = time.monotonic()
+        self.process = subprocess.Popen([binary, "run", "--config", path],
+                                        stdout=self.log, stderr=subprocess.STDOUT)
+        end = time.time() + 20
+        while True:
+            if self.process.poll() is not None:
+                sys.exit(f"tiltgate run exited with status {self.process.returncode}; "
+                         f"see {self.log_path}")
+            try:
+                self.sensors()
+                break
+            except OSError:
+                if time.time() > end:
+                    sys.exit("tiltgate run did not serve HTTP")
+                time.sleep(0.05)
+
+    def sensors(self):
+        url = f"http://127.0.0.1:{self.http_port}/api/sensors"
+        with urllib.request.urlopen(url, timeout=5) as reply:
+            return json.load(reply)
+
+    def polls(self):
+        """Each sensor's polls_ok, and the time they were read."""
+        sensors = self.sensors()
+        return time.monotonic(), {s["name"]: s["polls_ok"] for s in sensors}
+
+    def wait_all_polled(self, seconds=60):
+        end = time.time() + seconds
+        while time.time() < end:
+            if all(s["polls_ok"] > 0 for s in self.sensors()):
+                return
+            time.sleep(0.1)
+        sys.exit("not every sensor answered")
+
+    def timeouts(self):
+        return sum(s["failures"]["timeout"] for s in self.sensors())
+
+    def stopped_answering(self):
+        self.log.flush()
+        with open(self.log_path) as f:
+            return f.read().count("stopped answering")
+
+    def stop(self):
+        stop(self.process)
+        for sim in self.sims:
+            stop(sim)
+        self.log.close()
+
+
+def rates(before, after):
+    (t0, p0), (t1, p1) = before, after
+    return {name: (p1[name] - p0[name]) / (t1 - t0) for name in p1}
+
+
+def efficiency(binary, folder, windows, seconds):
+    print(f"Bus efficiency: `tiltgate run`, every sensor at poll_ms = 10 (the bus saturated); "
+          f"polls/s is the median of {windows} consecutive windows, fairness over all of them")
+    print()
+    print("| baud | sensors | asked (polls/s) | wire limit (polls/s) | median polls/s | ratio "
+          "| overhead per poll (us) | ratio without the simulator's 200 us | per-sensor min/max "
+          "| per-sensor CV |")
+    print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    for baud in (9600, 125000):
+        for count in (1, 10, 60):
+            sub = tempfile.mkdtemp(dir=folder)
+            gateway = Gateway(binary, sub, baud, 1, count, 10)
+            try:
+                gateway.wait_all_polled()
+                # At 9600 baud 60 sensors get under one poll each a second: windows long enough
+                # for about ten polls per sensor each, so the spread is not rounding.
+                window = max(seconds, min(10.0, 10 * count / wire_limit(baud)))
+                time.sleep(0.5)
+                marks = [gateway.polls()]
+                for _ in range(windows):
+                    time.sleep(window)
+                    marks.append(gateway.polls())
+            finally:
+                gateway.stop()
+            totals = [sum(rates(a, b).values()) for a, b in zip(marks, marks[1:])]
+            median = statistics.median(totals)
+            limit = wire_limit(baud)
+            # One sensor at 125000 baud asks for fewer polls than the wire carries: no overhead
+            # to compute there.
+            overhead = f"{(1 / median - 1 / limit) * 1e6:.0f}" if count * 100 > limit else "-"
+            with_sim = 1 / (1 / limit + SIM_LATENCY_S)
+            fair_min_max = fair_cv = "-"
+            if count > 1:
+                per_sensor = list(rates(marks[0], marks[-1]).values())
+                mean = statistics.mean(per_sensor)
+                fair_min_max = f"{min(per_sensor) / max(per_sensor):.2f}"
+                fair_cv = f"{statistics.pstdev(per_sensor) / mean:.3f}"
+            print(f"| {baud} | {count} | {count * 100} | {limit:.1f} | {median:.1f} | {median / limit:.2f} | "
+                  f"{overhead} | {median / with_sim:.2f} | {fair_min_max} | {fair_cv} |",
+                  flush=True)
+    print()
+
+
+def flood(binary, folder, build, rounds, seconds):
+    load = os.path.join(build, "bench", "bench_modbus_load")
+    print(f"Bus under a Modbus TCP flood: 10 sensors at 125000 baud, poll_ms = 10, timeout_ms = 50; "
+          f"{rounds} rounds of {seconds:g} s idle then {seconds:g} s with 64 clients "
+          f"(function 04 x 10, unit 1), medians")
+    print()
+    print("| bus polls/s idle | bus polls/s flooded | ratio | Modbus req/s during the flood "
+          "| stopped answering idle | stopped answering flooded | time-outs idle | time-outs flooded |")
+    print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    sub = tempfile.mkdtemp(dir=folder)
+    gateway = Gateway(binary, sub, 125000, 1, 10, 10)
+    idle, flooded, requests = [], [], []
+    offline_idle = offline_flooded = timeouts_idle = timeouts_flooded = 0
+    try:
+        gateway.wait_all_polled()
+        time.sleep(0.5)
+        for _ in range(rounds):
+            before, offline, timeouts = gateway.polls(), gateway.stopped_answering(), gateway.timeouts()
+            time.sleep(seconds)
+            after = gateway.polls()
+            offline_idle += gateway.stopped_answering() - offline
+            timeouts_idle += gateway.timeouts() - timeouts
+            timeouts = gateway.timeouts()
+            idle.append(sum(rates(before, after).values()))
+            offline = gateway.stopped_answering()
+            result = subprocess.Popen([load, "--port", str(gateway.modbus_port), "--clients", "64",
+                                       "--function", "4", "--quantity", "10", "--unit", "1",
+                                       "--seconds", str(seconds)],
+                                      stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+            time.sleep(0.3)  # the clients connected and the flood under way
+            before = gateway.polls()
+            time.sleep(max(0.5, seconds - 0.6))
+            after = gateway.polls()
+            out, _ = result.communicate()
+            offline_flooded += gateway.stopped_answering() - offline
+            timeouts_flooded += gateway.timeouts() - timeouts
+            flooded.append(sum(rates(before, after).values()))
+            fields = dict(item.split("=") for item in out.split() if "=" in item)
+            requests.append(float(fields.get("req_per_s", 0)))
+    finally:
+        gateway.stop()
+    i, f = statistics.median(idle), statistics.median(flooded)
+    print(f"| {i:.1f} | {f:.1f} | {f / i:.3f} | {statistics.median(requests):.0f} | "
+          f"{offline_idle} | {offline_flooded} | {timeouts_idle} | {timeouts_flooded} |")
+    print()
+
+
+def scale(binary, folder, seconds):
+    print("Scale: `tiltgate run` with 8 buses x 60 simulated H6 at 125000 baud (each bus its own "
+          "tcp_port, poll_ms = 100); the gateway process alone")
+    print()
+    print("| sensors | VmRSS after start (MiB) | VmRSS after {0:g} s (MiB) | CPU % over {0:g} s "
+          "| sensors polled | polls/s (all buses) |".format(seconds))
+    print("| ---: | ---: | ---: | ---: | ---: | ---: |")
+    sub = tempfile.mkdtemp(dir=folder)
+    gateway = Gateway(binary, sub, 125000, 8, 60, 100, own_ports=True)
+    try:
+        pid = gateway.process.pid
+        rss_start = rss_kib(pid)
+        cpu_start, t_start = cpu_seconds(pid), time.monotonic()
+        before = gateway.polls()
+        time.sleep(max(0.0, seconds - (time.monotonic() - gateway.started)))
+        cpu = (cpu_seconds(pid) - cpu_start) / (time.monotonic() - t_start) * 100
+        rss = rss_kib(pid)
+        after = gateway.polls()
+        polled = sum(1 for n in after[1] if after[1][n] > 0)
+        total = sum(rates(before, after).values())
+    finally:
+        gateway.stop()
+    print(f"| {len(after[1])} | {rss_start / 1024:.1f} | {rss / 1024:.1f} | {cpu:.0f} | {polled} | "
+          f"{total:.0f} |")
+    print()
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--windows", type=int, default=3)
+    parser.add_argument("--seconds", type=float, default=3.0)
+    parser.add_argument("--quick", action="store_true", help="1 window of 1.5 s each")
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    args = parser.parse_args()
+    if args.quick:
+        args.windows, args.seconds = 1, 1.5
+    binary = os.path.join(args.build, "tiltgate")
+    folder = tempfile.mkdtemp(prefix="tiltgate-busbench-")
+    try:
+        print(f"({os.cpu_count()} cores)\n")
+        efficiency(binary, folder, args.windows, args.seconds)
+        flood(binary, folder, args.build, args.windows, args.seconds)
+        print("Freshness: not measured; `tiltgate sim rieker` cannot change an angle at runtime.\n")
+        scale(binary, folder, 10.0)
+    finally:
+        if not os.environ.get("KEEP_DIR"):
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
