@@ -22,10 +22,6 @@ LowLatencyResult failure(int error) {
                           error};
 }
 
-std::string errno_text(int error) {
-  return std::error_code(error, std::generic_category()).message();
-}
-
 }  // namespace
 
 const char* to_string(LowLatencyOutcome outcome) {
@@ -44,7 +40,7 @@ std::string LowLatencyResult::describe() const {
       return "not supported by this driver (it did not keep the flag)";
     return to_string(outcome);
   }
-  return fmt::format("{} ({})", to_string(outcome), errno_text(error));
+  return fmt::format("{} ({})", to_string(outcome), std::generic_category().message(error));
 }
 
 LowLatencyResult set_low_latency(int fd) {
