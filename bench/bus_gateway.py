@@ -31,11 +31,13 @@ import json
 import os
 import shutil
 import signal
-import socket
 import statistics
 import subprocess
 import sys
 import tempfile
+
+# The TCP benchmark beside this script has the helpers both need.
+from tcp_throughput import cpu_seconds, free_port
 import time
 import urllib.request
 
@@ -49,19 +51,6 @@ SIM_LATENCY_S = 200e-6  # RiekerSimulatorOptions::reply_latency, which `tiltgate
 
 def wire_limit(baud):
     return 1.0 / (REQUEST_BYTES * 10 / baud + max(REPLY_BYTES * 10 / baud, GAP_S))
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def cpu_seconds(pid):
-    """User + system CPU time of a process so far (/proc/PID/stat fields 14 and 15)."""
-    with open(f"/proc/{pid}/stat") as f:
-        fields = f.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def rss_kib(pid):
