@@ -15,6 +15,7 @@
 #include "modbus_rtu/reply_framer.h"
 #include "modbus_rtu/simulator.h"
 #include "sim/support/raw_tty_client.h"
+#include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;

@@ -16,6 +16,7 @@
 
 #include "serial/termios_settings.h"
 #include "sim/support/raw_tty_client.h"
+#include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

@@ -13,6 +13,7 @@
 #include "rieker/simulator.h"
 #include "sim/support/raw_tty_client.h"
 #include "unit/rieker_test_vectors.h"
+#include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
 using namespace tiltgate::rieker;

@@ -16,6 +16,7 @@
 #include "spectron/reply_framers.h"
 #include "spectron/simulator.h"
 #include "unit/spectron_test_vectors.h"
+#include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
 using namespace tiltgate::spectron;

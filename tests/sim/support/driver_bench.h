@@ -15,6 +15,7 @@
 #include "serial/serial_line.h"
 #include "sim/support/raw_tty_client.h"
 #include "sim/support/run_coroutine.h"
+#include "unit/support/scratch_dir.h"
 
 namespace tiltgate::test {
 

@@ -8,7 +8,6 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <thread>
 
 namespace tiltgate::test {
@@ -47,17 +46,6 @@ std::vector<std::uint8_t> RawTtyClient::read_available() {
   const ssize_t n = ::read(fd_, bytes.data(), bytes.size());
   bytes.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
   return bytes;
-}
-
-ScratchDir::ScratchDir(const std::string& prefix) {
-  std::string pattern = "/tmp/" + prefix + "-XXXXXX";
-  REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-  dir_ = pattern;
-}
-
-ScratchDir::~ScratchDir() {
-  std::error_code ignored;
-  std::filesystem::remove_all(dir_, ignored);
 }
 
 }  // namespace tiltgate::test

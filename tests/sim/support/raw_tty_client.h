@@ -72,18 +72,4 @@ bool run_until(boost::asio::io_context& io, Predicate done,
   return done();
 }
 
-// A fresh directory under /tmp for a test's links, removed with everything in it at the end.
-class ScratchDir {
- public:
-  explicit ScratchDir(const std::string& prefix);
-  ~ScratchDir();
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
-
- private:
-  std::string dir_;
-};
-
 }  // namespace tiltgate::test
