@@ -139,6 +139,9 @@ TEST_CASE("unplug makes the slave side read as a lost adapter and drops later se
   RawTtyClient client(bus.io, bus.server->link_path());
   client.send(Bytes{7});
   CHECK(receive(client, 1) == Bytes{7});
+  // The client can read the echo before the loop has run the write's completion: wait for it,
+  // or a busy machine unplugs first and the echo is never counted.
+  REQUIRE(run_until(bus.io, [&] { return bus.server->counters().sends_completed == 1; }));
   bus.server->unplug();
   int error = 0;
   const ssize_t n = client.read_once(error);
