@@ -18,8 +18,10 @@ sensor asks for only 100 polls/s, the "asked" column). Counters come from the HT
    alternating; polls/s medians, their ratio, and how often a sensor stopped answering (the
    gateway's "stopped answering" log line; the simulator never stops, so each one is false),
    summed over the rounds, with the reply time-outs (retried ones included) beside them.
-3. Freshness (angle change to the new value over Modbus) is not measured: `tiltgate sim
-   rieker` has no way to change a sensor's angle at runtime.
+3. Freshness: the time from a simulated angle change (`angle ADDRESS X Y` on `tiltgate sim
+   rieker`'s standard input, timed from its "ok") to the new value read over Modbus (input
+   register 4, angle_x_cdeg, read back to back by one client), for 1 and 10 sensors at poll_ms
+   20 and 100 on a 125000-baud bus, against the poll period: median, p95 and the longest.
 4. RSS and CPU of `tiltgate run` with 8 buses x 60 sensors (each bus its own simulator and
    `tcp_port`, unit ids 1..60 on each, the default `poll_ms = 100`): VmRSS after 10 s and CPU%
    over those 10 s (user + system time of the gateway process alone).
@@ -31,7 +33,9 @@ import json
 import os
 import shutil
 import signal
+import socket
 import statistics
+import struct
 import subprocess
 import sys
 import tempfile
@@ -74,7 +78,9 @@ def stop(process):
 class Gateway:
     """Simulated buses (one `tiltgate sim rieker` each) and one `tiltgate run` polling them."""
 
-    def __init__(self, binary, folder, baud, buses, sensors, poll_ms, own_ports=False):
+    def __init__(self, binary, folder, baud, buses, sensors, poll_ms, own_ports=False,
+                 commands=False):
+        """commands: the simulators' standard input and output are pipes (sim_command())."""
         self.sims = []
         self.http_port = free_port()
         self.modbus_port = free_port()
@@ -94,7 +100,11 @@ port = {self.http_port}
             spec = ",".join(f"h6:{a}" for a in range(1, sensors + 1))
             self.sims.append(subprocess.Popen(
                 [binary, "sim", "rieker", "--sensors", spec, "--link", link,
-                 "--pace-baud", str(baud)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+                 "--pace-baud", str(baud)], stderr=subprocess.DEVNULL, text=True,
+                stdin=subprocess.PIPE if commands else subprocess.DEVNULL,
+                stdout=subprocess.PIPE if commands else subprocess.DEVNULL))
+            if commands:
+                self.sims[-1].stdout.readline()  # the pty's path
             for _ in range(200):
                 if os.path.exists(link):
                     break
@@ -150,6 +160,15 @@ port = {self.http_port}
         self.log.flush()
         with open(self.log_path) as f:
             return f.read().count("stopped answering")
+
+    def sim_command(self, line, bus=0):
+        """Sends one command to a simulator and waits for its answer."""
+        sim = self.sims[bus]
+        sim.stdin.write(line + "\n")
+        sim.stdin.flush()
+        answer = sim.stdout.readline().strip()
+        if answer != "ok":
+            sys.exit(f"tiltgate sim answered {answer!r} to {line!r}")
 
     def stop(self):
         stop(self.process)
@@ -253,6 +272,63 @@ def flood(binary, folder, build, rounds, seconds):
     print()
 
 
+def receive(connection, count):
+    data = b""
+    while len(data) < count:
+        chunk = connection.recv(count - len(data))
+        if not chunk:
+            sys.exit("the gateway closed the Modbus connection")
+        data += chunk
+    return data
+
+
+def read_input_register(connection, transaction, unit, address):
+    """One function 04 read of one register over an open Modbus TCP connection: its value, or
+    None for an exception reply (a stale or offline sensor's, say)."""
+    connection.sendall(struct.pack(">HHHBBHH", transaction, 0, 6, unit, 4, address, 1))
+    header = receive(connection, 7)
+    body = receive(connection, struct.unpack(">H", header[4:6])[0] - 1)
+    if body[0] != 4:
+        return None
+    return struct.unpack(">h", body[2:4])[0]
+
+
+def freshness(binary, folder, changes):
+    print(f"Freshness: a simulated angle change to the new value read over Modbus, 125000 baud, "
+          f"{changes} changes each, times in ms")
+    print()
+    print("| sensors | poll_ms | median | p95 | longest | median / poll period |")
+    print("| ---: | ---: | ---: | ---: | ---: | ---: |")
+    for count, poll_ms in ((1, 20), (1, 100), (10, 20), (10, 100)):
+        sub = tempfile.mkdtemp(dir=folder)
+        gateway = Gateway(binary, sub, 125000, 1, count, poll_ms, commands=True)
+        delays = []
+        try:
+            gateway.wait_all_polled()
+            with socket.create_connection(("127.0.0.1", gateway.modbus_port)) as connection:
+                connection.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                for i in range(changes):
+                    # Distinct values, an odd number of hundredths apart, in no step with the poll.
+                    cdeg = 1000 + 37 * i if i % 2 else -1000 - 37 * i
+                    time.sleep(0.003 * (i % 7))
+                    gateway.sim_command(f"angle 1 {cdeg / 100:.2f} 0")
+                    changed = time.monotonic()
+                    transaction = 0
+                    while read_input_register(connection, transaction & 0xFFFF, 1, 4) != cdeg:
+                        transaction += 1
+                        if time.monotonic() - changed > 5:
+                            sys.exit("the new angle never reached Modbus")
+                    delays.append((time.monotonic() - changed) * 1000)
+        finally:
+            gateway.stop()
+        delays.sort()
+        median = statistics.median(delays)
+        p95 = delays[min(len(delays) - 1, int(0.95 * len(delays)))]
+        print(f"| {count} | {poll_ms} | {median:.1f} | {p95:.1f} | {delays[-1]:.1f} | "
+              f"{median / poll_ms:.2f} |", flush=True)
+    print()
+
+
 def scale(binary, folder, seconds):
     print("Scale: `tiltgate run` with 8 buses x 60 simulated H6 at 125000 baud (each bus its own "
           "tcp_port, poll_ms = 100); the gateway process alone")
@@ -295,7 +371,7 @@ def main():
         print(f"({os.cpu_count()} cores)\n")
         efficiency(binary, folder, args.windows, args.seconds)
         flood(binary, folder, args.build, args.windows, args.seconds)
-        print("Freshness: not measured; `tiltgate sim rieker` cannot change an angle at runtime.\n")
+        freshness(binary, folder, 10 if args.quick else 40)
         scale(binary, folder, 10.0)
     finally:
         if not os.environ.get("KEEP_DIR"):

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gateway/commands.h"
+#include "gateway/simulator_console.h"
 #include "gateway/demo_sensor_keys.h"
 #include "gateway/gateway.h"
 
@@ -170,7 +171,13 @@ int sim_command(const FamilyDescriptor& family, const SimulatorSetup& setup) {
   std::cout << (setup.link.empty() ? running.slave_path() : setup.link) << std::endl;
   spdlog::info("simulating {} {} on {}", running.sensor_count(), running.what(),
                running.slave_path());
-  run_until_signal(io, [&] { running.stop(); });
+  SimulatorConsole console(io, running, STDIN_FILENO,
+                           [](const std::string& answer) { std::cout << answer << std::endl; });
+  if (console.start()) spdlog::info("reading commands from standard input");
+  run_until_signal(io, [&] {
+    console.stop();
+    running.stop();
+  });
   return 0;
 }
 

@@ -1,7 +1,10 @@
 #include "rieker/family.h"
 
+#include <fmt/format.h>
+
 #include <array>
 
+#include "driver/simulator_command.h"
 #include "mapping/register_map.h"
 #include "rieker/codec.h"
 #include "rieker/raw.h"
@@ -98,6 +101,26 @@ class Simulator final : public BusSimulator {
   const std::string& slave_path() const override { return simulator_.slave_path(); }
   std::size_t sensor_count() const override { return simulator_.sensor_count(); }
   std::string what() const override { return "Rieker sensor(s)"; }
+  // "angle ADDRESS X [Y]": the sensor's raw angles in degrees, fixed from now on.
+  Expected<Done, std::string> command(std::string_view line) override {
+    auto parsed = parse_simulator_command(line);
+    if (!parsed) return Unexpected{parsed.error()};
+    if (parsed->verb != "angle") {
+      return Unexpected{"unknown command \"" + parsed->verb + "\" (try: angle ADDRESS X [Y])"};
+    }
+    SimulatedSensor* sensor = parsed->address > 0xFFFF
+                                  ? nullptr
+                                  : simulator_.sensor_by_address(std::uint16_t(parsed->address));
+    if (sensor == nullptr) return Unexpected{fmt::format("no sensor at address {}", parsed->address)};
+    const std::size_t axes = sensor->model() == Model::h6 ? 2 : 1;
+    const std::vector<double>& angles = parsed->values;
+    if (angles.empty() || angles.size() > axes) {
+      return Unexpected{fmt::format("the sensor at address {} takes {} angle(s)", parsed->address,
+                                    axes == 2 ? "1 or 2" : "1")};
+    }
+    sensor->set_angles(angles[0], angles.size() > 1 ? angles[1] : 0.0);
+    return Done{};
+  }
 
  private:
   RiekerSimulator simulator_;

@@ -1,6 +1,10 @@
 #include "spectron/family.h"
 
 #include <array>
+#include <cmath>
+#include <string>
+
+#include "driver/simulator_command.h"
 
 #include "mapping/register_map.h"
 #include "mapping/value_source.h"
@@ -119,6 +123,25 @@ class Simulator final : public BusSimulator {
   std::size_t sensor_count() const override { return simulator_.sensor_count(); }
   std::string what() const override {
     return std::string(protocol_name(protocol_)) + " Dyna module(s)";
+  }
+  // "counts ADDRESS N": the module's raw counts (-32768..32767), fixed from now on.
+  Expected<Done, std::string> command(std::string_view line) override {
+    auto parsed = parse_simulator_command(line);
+    if (!parsed) return Unexpected{parsed.error()};
+    if (parsed->verb != "counts") {
+      return Unexpected{"unknown command \"" + parsed->verb + "\" (try: counts ADDRESS N)"};
+    }
+    SimulatedDyna* module = parsed->address > 0xFF
+                                ? nullptr
+                                : simulator_.sensor_by_address(std::uint8_t(parsed->address));
+    if (module == nullptr) return Unexpected{"no module at address " + std::to_string(parsed->address)};
+    const std::vector<double>& values = parsed->values;
+    if (values.size() != 1 || values[0] != std::floor(values[0]) || values[0] < -32768 ||
+        values[0] > 32767) {
+      return Unexpected{std::string("counts takes one whole number, -32768..32767")};
+    }
+    module->set_counts(std::int16_t(values[0]));
+    return Done{};
   }
 
  private:
