@@ -109,8 +109,8 @@ void reload_or_refuse(Gateway& gateway, const std::string& config_path) {
   gateway.reload(*loaded);
 }
 
-// systemctl reload waits from RELOADING=1 until READY=1, whether the file was applied or
-// refused: either way the gateway serves again.
+// systemd shows the service as reloading from RELOADING=1 until READY=1, which comes whether
+// the file was applied or refused: either way the gateway serves again.
 void reload_on_sighup(boost::asio::signal_set& hangups, Gateway& gateway,
                       const std::string& config_path, ServiceNotifier& notifier) {
   hangups.async_wait(
