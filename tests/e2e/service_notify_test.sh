@@ -79,6 +79,8 @@ def wait_for(wanted, skip=("WATCHDOG=1",)):
 try:
     first = wait_for("READY=1", skip=())
     check(f"READY=1 first, got {first!r}", first == "READY=1")
+    if first != "READY=1":
+        raise SystemExit(1)  # nothing else would come either
     try:
         socket.create_connection(("127.0.0.1", port), timeout=5).close()
         bound = True
