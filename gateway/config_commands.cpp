@@ -12,6 +12,7 @@
 #include "gateway/commands.h"
 #include "gateway/gateway.h"
 #include "gateway/run_as_user.h"
+#include "gateway/service_notify.h"
 #include "mapping/aggregate_layout.h"
 
 namespace tiltgate {
@@ -108,13 +109,18 @@ void reload_or_refuse(Gateway& gateway, const std::string& config_path) {
   gateway.reload(*loaded);
 }
 
+// systemd shows the service as reloading from RELOADING=1 until READY=1, which comes whether
+// the file was applied or refused: either way the gateway serves again.
 void reload_on_sighup(boost::asio::signal_set& hangups, Gateway& gateway,
-                      const std::string& config_path) {
-  hangups.async_wait([&hangups, &gateway, &config_path](const boost::system::error_code& ec, int) {
-    if (ec) return;
-    reload_or_refuse(gateway, config_path);
-    reload_on_sighup(hangups, gateway, config_path);
-  });
+                      const std::string& config_path, ServiceNotifier& notifier) {
+  hangups.async_wait(
+      [&hangups, &gateway, &config_path, &notifier](const boost::system::error_code& ec, int) {
+        if (ec) return;
+        notifier.reloading();
+        reload_or_refuse(gateway, config_path);
+        notifier.ready();
+        reload_on_sighup(hangups, gateway, config_path, notifier);
+      });
 }
 
 }  // namespace
@@ -143,14 +149,18 @@ int run_command(const std::string& config_path) {
     spdlog::warn("running as root: set [server] user to serve unprivileged once started "
                  "(README, \"Running without root\")");
   }
+  // Listeners bound, ttys opened, privileges dropped: systemd may now count the service as up.
+  ServiceNotifier notifier(io);
+  notifier.ready();
   signals.async_wait([&](const boost::system::error_code& ec, int signal) {
     if (ec) return;
     spdlog::info("signal {}: shutting down", signal);
+    notifier.stopping();
     hangups.cancel();
     gateway.stop();
     io.stop();
   });
-  reload_on_sighup(hangups, gateway, config_path);
+  reload_on_sighup(hangups, gateway, config_path, notifier);
   io.run();
   finish_stopped(io);
   return 0;

@@ -8,13 +8,19 @@
 
 #include "gateway/commands.h"
 #include "gateway/commission_cli.h"
+#include "gateway/journal_log.h"
 
 namespace {
 
 void set_up_logging(const std::string& level) {
   auto logger = spdlog::stderr_color_mt("tiltgate");
   spdlog::set_default_logger(logger);
-  spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%-5l%$ %v");
+  // Under systemd, stderr is the journal: it keeps the time, and takes the priority from a
+  // "<4>" prefix (journal_log.h).
+  if (tiltgate::stderr_is_journal())
+    spdlog::set_formatter(tiltgate::journal_formatter());
+  else
+    spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%-5l%$ %v");
   spdlog::set_level(spdlog::level::from_str(level));
 }
 
