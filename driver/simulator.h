@@ -23,9 +23,9 @@ class BusSimulator {
   virtual std::size_t sensor_count() const = 0;
   // What it simulates, for the log: "sensor(s)" of the family.
   virtual std::string what() const = 0;
-  // One line of `tiltgate sim FAMILY`'s standard input while it runs (e.g. "angle 1 12.5 -3"
-  // for Rieker): changes a simulated sensor, so a benchmark or an engineer can see how soon the
-  // change reaches Modbus. The error says what is wrong with the line. Families without such
+  // One line of `tiltgate sim FAMILY`'s standard input while it runs (e.g. "angle 1 12.5 -3"):
+  // changes a simulated sensor, so a benchmark or an engineer can see how soon the change
+  // reaches Modbus. The error says what is wrong with the line. Families without such
   // commands keep this default.
   virtual Expected<Done, std::string> command(std::string_view line) {
     (void)line;
