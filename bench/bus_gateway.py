@@ -31,6 +31,7 @@ Usage: bench/bus_gateway.py [--quick] [--windows N] [--seconds S] [--build DIR]
 import argparse
 import json
 import os
+import random
 import shutil
 import signal
 import socket
@@ -303,14 +304,17 @@ def freshness(binary, folder, changes):
         sub = tempfile.mkdtemp(dir=folder)
         gateway = Gateway(binary, sub, 125000, 1, count, poll_ms, commands=True)
         delays = []
+        chance = random.Random(poll_ms * 1000 + count)  # the same waits in every run
         try:
             gateway.wait_all_polled()
             with socket.create_connection(("127.0.0.1", gateway.modbus_port)) as connection:
                 connection.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
                 for i in range(changes):
-                    # Distinct values, an odd number of hundredths apart, in no step with the poll.
+                    # Distinct values, each a new one.
                     cdeg = 1000 + 37 * i if i % 2 else -1000 - 37 * i
-                    time.sleep(0.003 * (i % 7))
+                    # The read that saw the last change came just after a poll: wait a random
+                    # part of the period, or every change would land just after a poll.
+                    time.sleep(chance.uniform(0, poll_ms / 1000))
                     gateway.sim_command(f"angle 1 {cdeg / 100:.2f} 0")
                     changed = time.monotonic()
                     transaction = 0
