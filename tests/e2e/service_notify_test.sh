@@ -11,27 +11,7 @@ source "$(dirname "$0")/support/script_lib.sh"
 script_setup tiltgate-notify
 start_sim "$tiltgate" rieker h6:223 "$dir/tty"
 port=$(free_port)
-cat >"$dir/gateway.toml" <<TOML
-[server]
-listen = "127.0.0.1"
-port = $port
-control_socket = ""
-
-[http]
-enabled = false
-
-[[bus]]
-name = "line1"
-port = "$dir/tty"
-protocol = "rieker"
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-TOML
+one_h6_config "$port" "$dir/tty" >"$dir/gateway.toml"
 
 /usr/bin/python3 - "$tiltgate" "$dir" "$port" <<'PY'
 import os, signal, socket, subprocess, sys

@@ -39,28 +39,7 @@ PY
 }
 
 write_config() {  # PORT USER
-  cat >"$dir/gateway.toml" <<TOML
-[server]
-listen = "127.0.0.1"
-port = $1
-control_socket = ""
-$( [ -n "$2" ] && echo "user = \"$2\"" )
-
-[http]
-enabled = false
-
-[[bus]]
-name = "line1"
-port = "$dir/tty"
-protocol = "rieker"
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-TOML
+  one_h6_config "$1" "$dir/tty" "$( [ -n "$2" ] && echo "user = \"$2\"" )" >"$dir/gateway.toml"
   chmod 644 "$dir/gateway.toml"
 }
 

@@ -54,3 +54,31 @@ check() {
     failures=$((failures + 1)); echo "FAIL: $name"; tail -8 "$dir/checks.log"
   fi
 }
+
+# one_h6_config PORT TTY [SERVER_LINES]: a configuration of one H6 (address 223, unit 1) on
+# TTY, Modbus on 127.0.0.1:PORT, no HTTP and no control socket; SERVER_LINES (one or more
+# lines) go into [server] as they are.
+one_h6_config() {
+  cat <<TOML
+[server]
+listen = "127.0.0.1"
+port = $1
+control_socket = ""
+${3:-}
+
+[http]
+enabled = false
+
+[[bus]]
+name = "line1"
+port = "$2"
+protocol = "rieker"
+
+[[sensor]]
+name = "boom"
+bus = "line1"
+model = "h6"
+address = 223
+unit_id = 1
+TOML
+}
