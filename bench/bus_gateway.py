@@ -36,12 +36,12 @@ import shutil
 import signal
 import socket
 import statistics
-import struct
 import subprocess
 import sys
 import tempfile
 
 # The TCP benchmark beside this script has the helpers both need.
+from modbus_tcp_client import read_input
 from tcp_throughput import cpu_seconds, free_port
 import time
 import urllib.request
@@ -273,25 +273,16 @@ def flood(binary, folder, build, rounds, seconds):
     print()
 
 
-def receive(connection, count):
-    data = b""
-    while len(data) < count:
-        chunk = connection.recv(count - len(data))
-        if not chunk:
-            sys.exit("the gateway closed the Modbus connection")
-        data += chunk
-    return data
-
-
-def read_input_register(connection, transaction, unit, address):
-    """One function 04 read of one register over an open Modbus TCP connection: its value, or
-    None for an exception reply (a stale or offline sensor's, say)."""
-    connection.sendall(struct.pack(">HHHBBHH", transaction, 0, 6, unit, 4, address, 1))
-    header = receive(connection, 7)
-    body = receive(connection, struct.unpack(">H", header[4:6])[0] - 1)
-    if body[0] != 4:
+def read_angle_x_cdeg(connection):
+    """Unit 1's input register 4 (angle_x_cdeg) as a signed number, or None for an exception
+    reply (a stale or offline sensor's, say)."""
+    try:
+        (word,) = read_input(connection, 1, 4, 1)
+    except ValueError:
         return None
-    return struct.unpack(">h", body[2:4])[0]
+    except ConnectionError:
+        sys.exit("the gateway closed the Modbus connection")
+    return word - 0x10000 if word & 0x8000 else word
 
 
 def freshness(binary, folder, changes):
@@ -317,9 +308,7 @@ def freshness(binary, folder, changes):
                     time.sleep(chance.uniform(0, poll_ms / 1000))
                     gateway.sim_command(f"angle 1 {cdeg / 100:.2f} 0")
                     changed = time.monotonic()
-                    transaction = 0
-                    while read_input_register(connection, transaction & 0xFFFF, 1, 4) != cdeg:
-                        transaction += 1
+                    while read_angle_x_cdeg(connection) != cdeg:
                         if time.monotonic() - changed > 5:
                             sys.exit("the new angle never reached Modbus")
                     delays.append((time.monotonic() - changed) * 1000)

@@ -55,31 +55,10 @@ def free_port():
     return port
 
 
-# ---- Modbus TCP, just enough ----------------------------------------------------------------
+# ---- Modbus TCP, just enough (bench/modbus_tcp_client.py) ------------------------------------
 
-def modbus_call(sock, unit, pdu, tid=[0]):
-    tid[0] = (tid[0] + 1) & 0xFFFF
-    sock.sendall(struct.pack(">HHHB", tid[0], 0, len(pdu) + 1, unit) + pdu)
-    header = recv_exact(sock, 7)
-    _, _, length, _ = struct.unpack(">HHHB", header)
-    return recv_exact(sock, length - 1)
-
-
-def recv_exact(sock, n):
-    data = b""
-    while len(data) < n:
-        chunk = sock.recv(n - len(data))
-        if not chunk:
-            raise ConnectionError("closed")
-        data += chunk
-    return data
-
-
-def read_input(sock, unit, address, count_):
-    reply = modbus_call(sock, unit, struct.pack(">BHH", 4, address, count_))
-    if reply[0] & 0x80:
-        raise ValueError(f"exception {reply[1]:02X}")
-    return struct.unpack(f">{count_}H", reply[2:2 + 2 * count_])
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench"))
+from modbus_tcp_client import modbus_call, read_input  # noqa: E402
 
 
 def float_of(words):
