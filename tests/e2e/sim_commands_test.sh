@@ -14,8 +14,7 @@ mkfifo "$dir/commands"
   >"$dir/sim.out" 2>"$dir/sim.err" &
 pids+=($!)
 exec 3>"$dir/commands"
-for _ in $(seq 100); do [ -e "$dir/tty" ] && break; sleep 0.05; done
-check "the simulator started" test -e "$dir/tty"
+check "the simulator started" wait_for_link "$dir/tty"
 check "the simulator says it reads commands" grep -q "reading commands from standard input" "$dir/sim.err"
 
 # send LINE: writes one command and prints its answer (waiting at most 5 s): the line after the
@@ -30,14 +29,15 @@ send() {
   done
   sed -n "$((before + 1))p" "$dir/sim.out"
 }
-angles() { timeout 30 "$tiltgate" raw --port "$dir/tty" --protocol rieker --address "$1" --function 5 --data "$2" 2>&1; }
+# angles TTY ADDRESS TYPE: Get Angle of that type, as `tiltgate raw` shows it.
+angles() { timeout 30 "$tiltgate" raw --port "$1" --protocol rieker --address "$2" --function 5 --data "$3" 2>&1; }
 
 check "angle on an H6 answers ok" test "$(send "angle 223 12.5 -3.25")" = "ok"
-angles 223 04 >"$dir/h6.out"
+angles "$dir/tty" 223 04 >"$dir/h6.out"
 check "the H6 answers the new X" grep -qxF "angle x:  12.500 deg" "$dir/h6.out"
 check "the H6 answers the new Y" grep -qxF "angle y:  -3.250 deg" "$dir/h6.out"
 check "angle on an H4360 answers ok" test "$(send "angle 101 -45")" = "ok"
-angles 101 01 >"$dir/h4360.out"
+angles "$dir/tty" 101 01 >"$dir/h4360.out"
 check "the H4360 answers the new angle" grep -qxF "angle x:  -45.000 deg" "$dir/h4360.out"
 
 check "no sensor at the address is an error" \
@@ -55,7 +55,7 @@ mkfifo "$dir/dyna-commands"
   >"$dir/dyna.out" 2>"$dir/dyna.err" &
 pids+=($!)
 exec 4>"$dir/dyna-commands"
-for _ in $(seq 100); do [ -e "$dir/dyna" ] && break; sleep 0.05; done
+wait_for_link "$dir/dyna"
 echo "counts 5 40000" >&4
 echo "counts 5 -1200" >&4
 for _ in $(seq 100); do [ "$(wc -l <"$dir/dyna.out")" -ge 3 ] && break; sleep 0.05; done
@@ -65,8 +65,8 @@ check "counts in range answers ok" test "$(sed -n 3p "$dir/dyna.out")" = "ok"
 # Standard input from /dev/null: not read, and the simulator runs as before.
 "$tiltgate" sim rieker --sensors h6:223 --link "$dir/quiet" </dev/null >"$dir/quiet.out" 2>"$dir/quiet.err" &
 pids+=($!)
-for _ in $(seq 100); do [ -e "$dir/quiet" ] && break; sleep 0.05; done
-check "with /dev/null the simulator serves" grep -qF "angle x:" <(timeout 30 "$tiltgate" raw --port "$dir/quiet" --protocol rieker --address 223 --function 5 --data 04 2>&1)
+wait_for_link "$dir/quiet"
+check "with /dev/null the simulator serves" grep -qF "angle x:" <(angles "$dir/quiet" 223 04)
 check "with /dev/null it does not say it reads commands" bash -c "! grep -q 'reading commands' '$dir/quiet.err'"
 
 exec 3>&- 4>&-

@@ -39,10 +39,16 @@ free_port() {
 start_sim() {
   "$1" sim "$2" --sensors "$3" --link "$4" >"$dir/sim.out" 2>"$dir/sim.err" &
   pids+=($!)
-  for _ in $(seq 100); do [ -e "$4" ] && return 0; sleep 0.05; done
+  wait_for_link "$4" && return 0
   echo "FAIL: the simulator did not start"
   cat "$dir/sim.err"
   exit 1
+}
+
+# wait_for_link LINK: waits (at most 5 s) for a simulator's link to its pseudo-terminal.
+wait_for_link() {
+  for _ in $(seq 100); do [ -e "$1" ] && return 0; sleep 0.05; done
+  return 1
 }
 
 # check NAME COMMAND...: counts a pass when the command succeeds, else a failure with its log.
