@@ -1,7 +1,6 @@
 #include "gateway/service_notify.h"
 
 #include <algorithm>
-#include <ctime>
 #include <fmt/format.h>
 #include <systemd/sd-daemon.h>
 
@@ -34,10 +33,10 @@ void ServiceNotifier::ready() {
 void ServiceNotifier::reloading() {
   // MONOTONIC_USEC: the time the reload began, which systemd 253's Type=notify-reload wants
   // with RELOADING=1; systemd 252 (Debian 12) ignores it.
-  timespec now{};
-  clock_gettime(CLOCK_MONOTONIC, &now);
-  const auto usec = static_cast<std::uint64_t>(now.tv_sec) * 1'000'000u +
-                    static_cast<std::uint64_t>(now.tv_nsec) / 1000u;
+  // steady_clock is CLOCK_MONOTONIC on Linux, the clock systemd means.
+  const auto usec = std::chrono::duration_cast<std::chrono::microseconds>(
+                        std::chrono::steady_clock::now().time_since_epoch())
+                        .count();
   sd_notify(0, fmt::format("RELOADING=1\nMONOTONIC_USEC={}", usec).c_str());
 }
 
