@@ -35,6 +35,7 @@ struct ServerConfig {
   std::uint16_t port = 502;
   int max_clients = 32;
   int max_clients_per_host = 8;            // one address's connections; more replace its idle ones
+  int threads = 0;                         // threads serving Modbus TCP connections; 0: one per core
   bool plain_tcp = true;                   // false: Modbus over TLS only (needs tls)
   std::optional<ServerTlsConfig> tls;      // Modbus/TCP Security beside or instead of plain TCP
   WordOrder word_order = WordOrder::big;

@@ -145,6 +145,7 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
   if (auto n = in.integer("max_clients", 1, 1024)) server.max_clients = int(*n);
   read_server_tls(in, server, errors);
   if (auto n = in.integer("max_clients_per_host", 1, 1024)) server.max_clients_per_host = int(*n);
+  if (auto n = in.integer("threads", 1, 64)) server.threads = int(*n);
   if (auto order = in.choice("word_order", {"big", "little"}))
     server.word_order = *order == "big" ? WordOrder::big : WordOrder::little;
   if (auto writes = in.boolean("writes")) server.writes = *writes;

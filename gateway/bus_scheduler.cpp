@@ -58,6 +58,7 @@ void BusScheduler::add(std::shared_ptr<GatewaySensor> sensor) {
   // The sensor arrives configured: its mounting and alarms are known from here on.
   sensor->processing = SensorProcessing(sensor->config.mounting, sensor->config.alarms);
   sensor->processed_seq = sensor->driver->state().sample_seq;
+  sensor->publish();
   sensors_.push_back({std::move(sensor), PollSchedule{SteadyClock::now()}});
   wake_.cancel();
 }
@@ -207,6 +208,7 @@ asio::awaitable<void> BusScheduler::run() {
     ++stats_.polls;
     forwarded_last_ = false;
     process_new_reading(*sensor);
+    sensor->publish();
     polled = find_polled(sensor.get());
     if (polled == nullptr) continue;  // removed meanwhile
     polled->schedule = after_poll(polled->schedule, sensor->driver->state().online,
@@ -228,6 +230,7 @@ asio::awaitable<void> BusScheduler::run_write(std::shared_ptr<PendingWrite> pend
   if (result) {
     result = co_await pending->sensor->driver->write(line_, pending->target, pending->value);
     ++stats_.writes;
+    pending->sensor->publish();
   }
   pending->result = std::move(result);
   pending->done.cancel();
@@ -326,6 +329,7 @@ std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std:
     SensorDriver& driver = *polled.sensor->driver;
     if (driver.state().bus_address != from) continue;
     driver.follow_address(to);
+    polled.sensor->publish();
     // Poll it at its new address at once: the command's read-back and the PLC agree sooner.
     polled.schedule = PollSchedule{SteadyClock::now()};
     polled.held_until.reset();

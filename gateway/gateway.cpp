@@ -58,8 +58,10 @@ std::string Gateway::local_time_now() {
 Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     : io_(io),
       config_(config),
-      router_(RouterOptions{config.server.writes, config.server.word_order,
-                            config.server.write_timeout}),
+      tcp_workers_(std::make_unique<TcpWorkerPool>(
+          config.server.threads > 0 ? std::size_t(config.server.threads) : default_tcp_threads())),
+      router_(io.get_executor(), RouterOptions{config.server.writes, config.server.word_order,
+                                               config.server.write_timeout}),
       history_timer_(io.get_executor()),
       sample_timer_(io.get_executor()) {
   for (const BusConfig& bus : config_.buses) buses_.push_back(make_bus(bus));
@@ -72,7 +74,8 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
   }
   make_aggregates();
   server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_,
-                                              modbus_server_options(config_.server));
+                                              modbus_server_options(config_.server),
+                                              tcp_workers_.get());
   start_seconds_ = std::chrono::duration<double>(
                        std::chrono::system_clock::now().time_since_epoch()).count();
   loaded_at_ = local_time_now();
@@ -81,7 +84,10 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
   make_mqtt();
 }
 
-Gateway::~Gateway() = default;
+Gateway::~Gateway() {
+  // The connections' threads end first: their coroutines refer to the servers and routers.
+  tcp_workers_->stop();
+}
 
 Gateway::Bus Gateway::make_bus(const BusConfig& config) {
   Bus bus;
@@ -115,9 +121,11 @@ RequestRouter& Gateway::router_for(std::uint16_t listener) {
   BusListener made;
   made.port = listener;
   made.router = std::make_unique<RequestRouter>(
+      io_.get_executor(),
       RouterOptions{config_.server.writes, config_.server.word_order, config_.server.write_timeout});
   made.server = std::make_unique<ModbusTcpServer>(io_.get_executor(), *made.router,
-                                                  bus_listener_options(config_.server, listener));
+                                                  bus_listener_options(config_.server, listener),
+                                                  tcp_workers_.get());
   bus_listeners_.push_back(std::move(made));
   return *bus_listeners_.back().router;
 }
@@ -210,9 +218,9 @@ Expected<Done, std::string> Gateway::start() {
   start_mqtt();
   boost::asio::co_spawn(io_, record_history(), boost::asio::detached);
   boost::asio::co_spawn(io_, sample_counters(), boost::asio::detached);
-  spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{}{}", sensors_.size(),
-               buses_.size(), config_.server.listen, server_->local_port(),
-               config_.server.writes ? ", writes enabled" : "");
+  spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{} ({} thread(s)){}",
+               sensors_.size(), buses_.size(), config_.server.listen, server_->local_port(),
+               tcp_workers_->size(), config_.server.writes ? ", writes enabled" : "");
   for (const BusConfig& bus : config_.buses)
     if (bus.tcp_port) spdlog::info("bus {}: its units on Modbus TCP port {}", bus.name, *bus.tcp_port);
   return Done{};
@@ -284,6 +292,10 @@ void Gateway::stop() {
   stopping_ = true;
   sample_timer_.cancel();
   history_timer_.cancel();
+  // Writes and forwarded requests still arriving are answered at once, not queued for buses
+  // that stop below.
+  router_.stop();
+  for (BusListener& bus : bus_listeners_) bus.router->stop();
   server_->stop();
   for (BusListener& bus : bus_listeners_) bus.server->stop();
   if (control_) control_->stop();

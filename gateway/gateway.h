@@ -1,5 +1,6 @@
 // The assembled product: buses, drivers, register maps and the Modbus TCP server, built from a
-// validated Config and run on one io_context.
+// validated Config. The buses and services run on one io_context (the caller's thread); the
+// Modbus TCP connections on threads of their own ([server] threads).
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
@@ -21,6 +22,7 @@
 #include "gateway/modbus_tcp_server.h"
 #include "gateway/mqtt_feed.h"
 #include "gateway/request_router.h"
+#include "gateway/tcp_worker_pool.h"
 #include "mapping/map_export.h"
 #include "gateway/serial_options.h"
 #include "serial/serial_line.h"
@@ -127,6 +129,9 @@ class Gateway {
   std::vector<std::shared_ptr<void>> retired_services_;
   std::vector<std::shared_ptr<GatewaySensor>> sensors_;  // in config_.sensors' order
   std::string loaded_at_;
+  // The Modbus TCP connections' threads ([server] threads). Everything else of the gateway (the
+  // buses first) runs on io_, which a TCP flood therefore cannot hold up.
+  std::unique_ptr<TcpWorkerPool> tcp_workers_;
   RequestRouter router_;  // the main listener's: units of buses without tcp_port
   std::unique_ptr<ModbusTcpServer> server_;
   std::vector<BusListener> bus_listeners_;

@@ -37,11 +37,25 @@ ModbusResponse read_aggregate_unit(const GatewayAggregate& aggregate, const Modb
     return response;
   }
   const MemberRange range = members_in(aggregate.layout, request.address, request.count);
+  // Every sensor's snapshot first, taken at one instant (no poll published between them),
+  // then the reply from them without a lock.
+  std::vector<std::shared_ptr<const SensorSnapshot>> snapshots;
+  snapshots.reserve(range.last - range.first);
+  {
+    const SnapshotSlot::Instant instant;
+    for (std::size_t i = range.first; i < range.last; ++i)
+      snapshots.push_back(aggregate.members[i]->snapshot(instant));
+  }
+  for (const auto& snapshot : snapshots)
+    if (snapshot == nullptr) {  // a sensor routed but not yet taken up by its bus
+      response.exception = ModbusException::gateway_target_failed;
+      return response;
+    }
   std::vector<AggregateSource> sources;
-  sources.reserve(range.last - range.first);
+  sources.reserve(snapshots.size());
   for (std::size_t i = range.first; i < range.last; ++i) {
     const GatewaySensor& sensor = *aggregate.members[i];
-    sources.push_back({&sensor.map, sensor.view(now, order)});
+    sources.push_back({&sensor.map, sensor.view(*snapshots[i - range.first], now, order)});
   }
   auto words = read_aggregate(aggregate.layout, range, sources, request.address, request.count);
   if (!words)

@@ -66,11 +66,17 @@ void Gateway::start_or_apply_bus_listeners() {
 
 void Gateway::reload(const Config& loaded) {
   const ConfigDiff diff = diff_configs(config_, loaded);
+  if (loaded.server.threads != config_.server.threads)
+    spdlog::warn("[server] threads applies at the next start; still {} thread(s)",
+                 tcp_workers_->size());
   // From here on, what is made (bus listeners, their options) is made for the new file.
   config_ = loaded;
 
   // Every listener's units are routed anew; listeners whose port is gone stop, new ones are
-  // made as their first unit is routed and started below.
+  // made as their first unit is routed and started below. Requests see the new routes only
+  // once all are made (commit_update() at the end).
+  router_.begin_update();
+  for (BusListener& listener : bus_listeners_) listener.router->begin_update();
   router_.clear();
   retire_bus_listeners(loaded);
 
@@ -108,7 +114,9 @@ void Gateway::reload(const Config& loaded) {
       return sensor && sensor->config.name == config.name;
     });
     if (listed(diff.sensors_kept, config.name) && old != old_sensors.end()) {
-      (*old)->config = config;  // where it is declared may have moved
+      // Where it is declared may have moved; nothing else differs (same_settings). Only that
+      // field is written: the Modbus TCP threads read the rest meanwhile.
+      (*old)->config.line = config.line;
       router_for(listener_of(loaded, config)).add(*old);
       sensors_.push_back(std::move(*old));
       continue;
@@ -130,6 +138,8 @@ void Gateway::reload(const Config& loaded) {
 
   router_.set_options(RouterOptions{config_.server.writes, config_.server.word_order,
                                     config_.server.write_timeout});
+  router_.commit_update();
+  for (BusListener& listener : bus_listeners_) listener.router->commit_update();
   server_->apply(modbus_server_options(config_.server));
   start_or_apply_bus_listeners();
 

@@ -1,6 +1,10 @@
 // One configured sensor as the gateway core holds it: its driver (and through it the cache),
-// what is derived from each of its readings, its register map, and the holding-register values
-// written through the gateway.
+// what is derived from each of its readings, its register map, the holding-register values
+// written through the gateway, and the snapshot of all that the Modbus TCP threads read.
+//
+// Threads: driver, processing, written and bus belong to the bus's thread (the event loop);
+// config, map and stale_after do not change while the sensor is served; the TCP threads read
+// only those and snapshot().
 #pragma once
 
 #include <chrono>
@@ -10,6 +14,7 @@
 #include "config/config.h"
 #include "driver/sensor_driver.h"
 #include "gateway/sensor_processing.h"
+#include "gateway/sensor_snapshot.h"
 #include "mapping/map_access.h"
 #include "mapping/register_map.h"
 
@@ -30,14 +35,31 @@ struct GatewaySensor {
   std::chrono::milliseconds stale_after{1000};
   BusScheduler* bus = nullptr;
 
-  SensorView view(SteadyClock::time_point now, WordOrder order) const {
-    SensorView view{driver->state(), now, stale_after, written, order};
-    view.derived = &processing.derived();
+  // Bus thread: copies state, derived values and written registers into a new snapshot, after
+  // anything changed them (a poll, a write, a moved address).
+  void publish() {
+    published.publish(std::make_shared<const SensorSnapshot>(
+        SensorSnapshot{driver->state(), processing.derived(), written}));
+  }
+  // Any thread: the latest published snapshot (the first is published by BusScheduler::add()).
+  std::shared_ptr<const SensorSnapshot> snapshot() const { return published.get(); }
+  // The same, while `instant` holds every sensor's snapshot still.
+  std::shared_ptr<const SensorSnapshot> snapshot(const SnapshotSlot::Instant& instant) const {
+    return published.get(instant);
+  }
+
+  // What the register map reads of `snapshot`, which the caller keeps alive.
+  SensorView view(const SensorSnapshot& snapshot, SteadyClock::time_point now,
+                  WordOrder order) const {
+    SensorView view{snapshot.state, now, stale_after, snapshot.written, order};
+    view.derived = &snapshot.derived;
     view.offline = config.offline;
     view.substitute = config.substitute;
     view.model = driver->model();
     return view;
   }
+
+  SnapshotSlot published;
 };
 
 // The default: three missed polls, but never less than a second, so a 20 Hz poll does not

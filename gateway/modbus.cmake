@@ -11,7 +11,7 @@ add_library(tiltgate_modbus STATIC
   ${CMAKE_CURRENT_LIST_DIR}/modbus_request_counts.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_stream.cpp
   ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server.cpp ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_listeners.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server_log.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/modbus_tcp_server_log.cpp ${CMAKE_CURRENT_LIST_DIR}/tcp_worker_pool.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tcp_listen.cpp ${CMAKE_CURRENT_LIST_DIR}/inherited_sockets.cpp)
 target_include_directories(tiltgate_modbus PUBLIC ${PROJECT_SOURCE_DIR})
 target_link_libraries(tiltgate_modbus PUBLIC tiltgate_address_allow_list Boost::headers spdlog::spdlog fmt::fmt

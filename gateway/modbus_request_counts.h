@@ -2,10 +2,12 @@
 // answers were exceptions, by function and exception code: the /metrics families
 // tiltgate_modbus_requests_total and tiltgate_modbus_exceptions_total. Counted from the reply
 // sent, so requests answered by the parser, the register maps or a passed-through device all
-// count the same way.
+// count the same way. Counted from any thread.
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <mutex>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -24,7 +26,8 @@ class ModbusRequestCounts {
   std::vector<ModbusExceptionCount> exceptions() const;  // (function, code) seen, in order
 
  private:
-  std::array<std::uint64_t, 128> by_function_{};
+  std::array<std::atomic<std::uint64_t>, 128> by_function_{};
+  mutable std::mutex exceptions_mutex_;  // exceptions are the rare case: a lock is cheap enough
   std::map<std::pair<std::uint8_t, std::uint8_t>, std::uint64_t> exceptions_;
 };
 

@@ -17,6 +17,7 @@
 
 #include "gateway/connection_admission.h"
 #include "gateway/modbus_tcp_connection.h"
+#include "gateway/tcp_worker_pool.h"
 
 namespace tiltgate {
 
@@ -49,39 +50,40 @@ std::string address_of(const tcp::socket& socket) {
 
 Expected<Done, std::string> ModbusTcpServer::start() {
   if (running_) return Unexpected(std::string("Modbus server already started"));
-  if (!options_.plain_tcp && !options_.tls)
+  const auto current = options();
+  if (!current->plain_tcp && !current->tls)
     return Unexpected(std::string("neither plain TCP nor TLS: nothing to serve"));
-  if (options_.max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
-  if (options_.max_clients_per_host < 1)
+  if (current->max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
+  if (current->max_clients_per_host < 1)
     return Unexpected(std::string("max_clients_per_host must be at least 1"));
 
-  if (options_.tls) {
-    auto context = make_tls_context(*options_.tls);
+  if (current->tls) {
+    auto context = make_tls_context(*current->tls);
     if (!context) return Unexpected(context.error());
     tls_context_ = std::move(*context);
   }
-  if (options_.plain_tcp) {
-    if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP");
+  if (current->plain_tcp) {
+    if (auto listening = listen_on(acceptor_, current->listen, current->port, "Modbus TCP");
         !listening)
       return listening;
   }
-  if (options_.tls) {
+  if (current->tls) {
     if (auto listening =
-            listen_on(tls_acceptor_, options_.listen, options_.tls->port, "Modbus/TCP Security");
+            listen_on(tls_acceptor_, current->listen, current->tls->port, "Modbus/TCP Security");
         !listening) {
       boost::system::error_code ec;
       acceptor_.close(ec);
       return listening;
     }
     spdlog::info("Modbus/TCP Security (TLS, client certificates signed by {}) on {}:{}",
-                 options_.tls->ca_file, options_.listen, tls_port());
+                 current->tls->ca_file, current->listen, tls_port());
   }
 
   running_ = true;
-  if (options_.plain_tcp)
+  if (current->plain_tcp)
     asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_),
                    asio::detached);
-  if (options_.tls)
+  if (current->tls)
     asio::co_spawn(executor_, accept_clients(tls_acceptor_, true, 0), asio::detached);
   asio::co_spawn(executor_, summarize_suppressed(), asio::detached);
   return Done{};
@@ -106,30 +108,39 @@ void ModbusTcpServer::stop() {
   tls_acceptor_.close(ec);
   summary_timer_.cancel();
   // Each connection's coroutine removes it from the set when it sees the closed socket.
+  std::lock_guard lock(connections_mutex_);
   for (const auto& connection : connections_) connection->close();
 }
 
 void ModbusTcpServer::apply(ModbusServerOptions options) {
+  const auto current = this->options();
   // The TLS listener and its context are made once, at start().
   const auto tls_key = [](const ModbusServerOptions& o) {
     return o.tls ? std::make_tuple(o.tls->cert_pem, o.tls->key_pem, o.tls->ca_pem, o.tls->port)
                  : std::make_tuple(std::string(), std::string(), std::string(), std::uint16_t(0));
   };
-  if (tls_key(options) != tls_key(options_) || options.plain_tcp != options_.plain_tcp) {
+  if (tls_key(options) != tls_key(*current) || options.plain_tcp != current->plain_tcp) {
     spdlog::warn("[server] tls and plain_tcp apply at the next start; the listeners stay as "
                  "they are");
-    options.tls = options_.tls;
-    options.plain_tcp = options_.plain_tcp;
+    options.tls = current->tls;
+    options.plain_tcp = current->plain_tcp;
   }
-  if (acceptor_.is_open() && (options.listen != options_.listen || options.port != options_.port) &&
+  if (acceptor_.is_open() && (options.listen != current->listen || options.port != current->port) &&
       !rebind(options.listen, options.port)) {
-    options.listen = options_.listen;
-    options.port = options_.port;
+    options.listen = current->listen;
+    options.port = current->port;
   }
-  options_ = std::move(options);
+  auto next = std::make_shared<const ModbusServerOptions>(std::move(options));
+  {
+    std::lock_guard lock(options_mutex_);
+    options_.swap(next);
+  }
+  // After the swap: a connection that sees the new generation finds the new options.
+  options_generation_.fetch_add(1, std::memory_order_release);
 }
 
 bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
+  const auto current = options();
   const std::uint16_t old_port = local_port();
   tcp::acceptor fresh(executor_);
   auto listening = listen_on(fresh, listen, port, "Modbus TCP");
@@ -140,16 +151,16 @@ bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
     acceptor_.close(ec);
     listening = listen_on(fresh, listen, port, "Modbus TCP");
     if (!listening) {
-      if (auto back = listen_on(acceptor_, options_.listen, options_.port, "Modbus TCP"); !back)
+      if (auto back = listen_on(acceptor_, current->listen, current->port, "Modbus TCP"); !back)
         spdlog::critical("{}; {}: no Modbus TCP listener now", listening.error(), back.error());
       else
-        spdlog::error("{}; still listening on {}:{}", listening.error(), options_.listen, old_port);
+        spdlog::error("{}; still listening on {}:{}", listening.error(), current->listen, old_port);
       asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_), asio::detached);
       return false;
     }
   }
   if (!listening) {
-    spdlog::error("{}; still listening on {}:{}", listening.error(), options_.listen, old_port);
+    spdlog::error("{}; still listening on {}:{}", listening.error(), current->listen, old_port);
     return false;
   }
   // The old accept loop sees its acceptor closed (operation_aborted) and ends.
@@ -161,12 +172,26 @@ bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
 }
 
 std::size_t ModbusTcpServer::client_count() const {
+  std::lock_guard lock(connections_mutex_);
   return std::size_t(std::count_if(connections_.begin(), connections_.end(),
                                    [](const auto& connection) { return !connection->closed; }));
 }
 
 ModbusServerStats ModbusTcpServer::stats() const {
-  return stats_;
+  ModbusServerStats s;
+  s.accepted = stats_.accepted;
+  s.refused = stats_.refused;
+  s.replaced = stats_.replaced;
+  s.denied = stats_.denied;
+  s.writes_denied = stats_.writes_denied;
+  s.tls_refused = stats_.tls_refused;
+  s.requests = stats_.requests;
+  s.forwarded = stats_.forwarded;
+  s.rejected = stats_.rejected;
+  s.framing_errors = stats_.framing_errors;
+  s.request_timeouts = stats_.request_timeouts;
+  s.idle_timeouts = stats_.idle_timeouts;
+  return s;
 }
 
 asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, bool tls,
@@ -174,8 +199,10 @@ asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, b
   // A rebind (apply()) moves a new plain acceptor into acceptor_ and starts a newer loop.
   while (acceptor.is_open() && (tls || generation == accept_generation_)) {
     boost::system::error_code ec;
+    // The socket is made on the thread that will serve it.
+    const asio::any_io_executor serving = workers_ ? workers_->next() : executor_;
     tcp::socket socket =
-        co_await acceptor.async_accept(asio::redirect_error(asio::use_awaitable, ec));
+        co_await acceptor.async_accept(serving, asio::redirect_error(asio::use_awaitable, ec));
     if (ec == asio::error::operation_aborted || !acceptor.is_open()) co_return;
     if (ec) {
       spdlog::warn("Modbus TCP accept failed: {}", ec.message());
@@ -184,17 +211,21 @@ asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, b
       co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
+    const auto options = this->options();
     // Connections closed for an earlier one may still be winding down: they hold no place.
-    std::vector<Connection*> live;
+    std::vector<std::shared_ptr<Connection>> live;
     std::vector<OpenConnection> open;
-    for (const auto& connection : connections_) {
-      if (connection->closed) continue;
-      live.push_back(connection.get());
-      open.push_back({connection->address, connection->waiting_for == ModbusWait::idle,
-                      connection->idle_since});
+    {
+      std::lock_guard lock(connections_mutex_);
+      for (const auto& connection : connections_) {
+        if (connection->closed) continue;
+        live.push_back(connection);
+        open.push_back({connection->address, connection->is_idle(),
+                        connection->idle_since_time()});
+      }
     }
     const std::string address = address_of(socket);
-    if (!options_.allow.allows(address)) {
+    if (!options->allow.allows(address)) {
       ++stats_.denied;
       log_closing(peer_of(socket), address, spdlog::level::warn, "address not in [server] allow");
       boost::system::error_code ignored;
@@ -203,7 +234,7 @@ asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, b
     }
     const Admission admission = admit_connection(
         open, address,
-        {std::size_t(options_.max_clients), std::size_t(options_.max_clients_per_host)});
+        {std::size_t(options->max_clients), std::size_t(options->max_clients_per_host)});
     const std::string_view limit = admission.limit == AdmissionLimit::max_clients_per_host
                                        ? "max_clients_per_host"
                                        : "max_clients";
@@ -232,8 +263,8 @@ void ModbusTcpServer::refuse(tcp::socket socket, std::string_view limit) {
 // connection still half-open, or any client when idle ones fill the server.
 void ModbusTcpServer::replace(Connection& replaced, const std::string& by) {
   ++stats_.replaced;
-  const auto idle_ms =
-      std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - replaced.idle_since);
+  const auto idle_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+      Clock::now() - replaced.idle_since_time());
   log_closing(replaced, spdlog::level::info,
               fmt::format("idle for {} ms, replaced by {}", idle_ms.count(), by));
   replaced.close();
@@ -251,11 +282,17 @@ void ModbusTcpServer::admit(tcp::socket socket, bool tls) {
                             : ModbusStream(std::move(socket));
   auto connection =
       std::make_shared<Connection>(std::move(stream), std::move(peer), std::move(address));
-  connections_.insert(connection);
-  spdlog::debug("Modbus TCP client {} connected ({} connected)", connection->peer,
-                connections_.size());
-  asio::co_spawn(executor_, watch(connection), asio::detached);
-  asio::co_spawn(executor_, serve(connection), asio::detached);
+  std::size_t count = 0;
+  {
+    std::lock_guard lock(connections_mutex_);
+    connections_.insert(connection);
+    count = connections_.size();
+  }
+  spdlog::debug("Modbus TCP client {} connected ({} connected)", connection->peer, count);
+  // On the socket's thread (a worker's), as everything of this connection from here on.
+  const asio::any_io_executor serving = connection->timer.get_executor();
+  asio::co_spawn(serving, watch(connection), asio::detached);
+  asio::co_spawn(serving, serve(connection), asio::detached);
 }
 
 }  // namespace tiltgate

@@ -15,6 +15,7 @@
 #include "gateway/modbus_reply_format.h"
 #include "gateway/modbus_request.h"
 #include "gateway/modbus_tcp_connection.h"
+#include "gateway/tcp_worker_pool.h"
 
 namespace tiltgate {
 
@@ -23,22 +24,37 @@ using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
 ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHandler& handler,
-                                 ModbusServerOptions options)
+                                 ModbusServerOptions options, TcpWorkerPool* workers)
     : executor_(executor),
       handler_(handler),
-      options_(std::move(options)),
+      workers_(workers),
+      options_(std::make_shared<const ModbusServerOptions>(std::move(options))),
       acceptor_(executor),
       tls_acceptor_(executor),
-      problem_log_(options_.problem_log),
+      problem_log_(options_->problem_log),
       summary_timer_(executor) {}
 
 ModbusTcpServer::~ModbusTcpServer() = default;
+
+std::shared_ptr<const ModbusServerOptions> ModbusTcpServer::options() const {
+  std::lock_guard lock(options_mutex_);
+  return options_;
+}
+
+const ModbusServerOptions& ModbusTcpServer::options_for(Connection& c) const {
+  const std::uint64_t generation = options_generation_.load(std::memory_order_acquire);
+  if (c.options_seen != generation) {
+    c.options = options();
+    c.options_seen = generation;
+  }
+  return *c.options;
+}
 
 asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connection) {
   Connection& c = *connection;
   if (c.stream.is_tls()) {
     // The client proves itself here; a handshake is as long as a request may take.
-    c.expect(ModbusWait::request, Clock::now() + options_.request_timeout);
+    c.expect(ModbusWait::request, Clock::now() + options_for(c).request_timeout);
     boost::system::error_code ec;
     co_await c.stream.handshake(ec);
     if (ec && !c.closed) {
@@ -66,10 +82,11 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
       first_byte_at = Clock::now();
       continue;
     }
+    const ModbusServerOptions& options = options_for(c);
     if (frames.buffered() == 0) {
-      c.expect(ModbusWait::idle, Clock::now() + options_.idle_timeout);
+      c.expect(ModbusWait::idle, Clock::now() + options.idle_timeout);
     } else {
-      c.expect(ModbusWait::request, first_byte_at + options_.request_timeout);
+      c.expect(ModbusWait::request, first_byte_at + options.request_timeout);
     }
     boost::system::error_code ec;
     const std::span<std::uint8_t> space = frames.space();
@@ -86,7 +103,7 @@ asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connect
 
 asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std::uint8_t> adu) {
   // As with [server] writes = false, passed-through units included: 01, nothing sent anywhere.
-  if (!options_.write_allow.allows(c.address) && !reads_only(adu.subspan(mbap_header_size))) {
+  if (!reads_only(adu.subspan(mbap_header_size)) && !options_for(c).write_allow.allows(c.address)) {
     ++stats_.writes_denied;
     log_problem(c.peer, c.address, fmt::format("function {:02X} refused with 01: address not in [server] "
                                "write_allow",
@@ -121,7 +138,7 @@ asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std
 asio::awaitable<bool> ModbusTcpServer::send(Connection& c, const std::vector<std::uint8_t>& reply) {
   if (c.closed) co_return false;  // stop() while the handler worked
   request_counts_.note_reply(reply);
-  c.expect(ModbusWait::reply, Clock::now() + options_.request_timeout);
+  c.expect(ModbusWait::reply, Clock::now() + options_for(c).request_timeout);
   boost::system::error_code ec;
   co_await c.stream.write(asio::buffer(reply), ec);
   co_return !ec;
@@ -181,22 +198,23 @@ asio::awaitable<void> ModbusTcpServer::watch(std::shared_ptr<Connection> connect
 }
 
 void ModbusTcpServer::expire(Connection& c) {
+  const ModbusServerOptions& options = options_for(c);
   switch (c.waiting_for) {
     case ModbusWait::idle:
       ++stats_.idle_timeouts;
       // Silence is no fault of the request: info, but throttled like the rest.
       log_closing(c, spdlog::level::info,
-                  fmt::format("idle for {} ms", options_.idle_timeout.count()));
+                  fmt::format("idle for {} ms", options.idle_timeout.count()));
       break;
     case ModbusWait::request:
       ++stats_.request_timeouts;
       log_closing(c, spdlog::level::warn,
-                  fmt::format("request incomplete after {} ms", options_.request_timeout.count()));
+                  fmt::format("request incomplete after {} ms", options.request_timeout.count()));
       break;
     case ModbusWait::reply:
       ++stats_.request_timeouts;
       log_closing(c, spdlog::level::warn,
-                  fmt::format("reply not taken within {} ms", options_.request_timeout.count()));
+                  fmt::format("reply not taken within {} ms", options.request_timeout.count()));
       break;
     case ModbusWait::handler: break;  // no deadline while the handler works
   }
@@ -204,9 +222,13 @@ void ModbusTcpServer::expire(Connection& c) {
 
 void ModbusTcpServer::finish(const std::shared_ptr<Connection>& connection) {
   connection->close();
-  connections_.erase(connection);
-  spdlog::debug("Modbus TCP client {} disconnected ({} connected)", connection->peer,
-                connections_.size());
+  std::size_t left = 0;
+  {
+    std::lock_guard lock(connections_mutex_);
+    connections_.erase(connection);
+    left = connections_.size();
+  }
+  spdlog::debug("Modbus TCP client {} disconnected ({} connected)", connection->peer, left);
 }
 
 void ModbusTcpServer::log_closing(const Connection& c, spdlog::level::level_enum level,

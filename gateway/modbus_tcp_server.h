@@ -1,6 +1,7 @@
 // The Modbus TCP server: accepts clients, frames and checks their requests, asks the handler,
-// and sends the replies. One coroutine per connection on a single-threaded event loop (epoll,
-// so no FD_SETSIZE limit); a slow, silent or half-sent client only ever holds up itself.
+// and sends the replies. One coroutine per connection (epoll, so no FD_SETSIZE limit); a slow,
+// silent or half-sent client only ever holds up itself. Accepting runs on the server's
+// executor; each connection is served on one of the worker pool's threads, if there is one.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -10,7 +11,9 @@
 #include <spdlog/common.h>
 #include <chrono>
 #include <cstdint>
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -63,13 +66,18 @@ struct ModbusServerStats {
   std::uint64_t idle_timeouts = 0;     // connections closed for silence
 };
 
-// Everything runs on `executor`, which must be single-threaded (an io_context run by one
-// thread): the handler and these members are not synchronised. Call
-// stop() and let the event loop finish the connections before destroying the server.
+class TcpWorkerPool;
+
+// The listeners, admission, start(), stop() and apply() run on `executor`, which must be
+// single-threaded (an io_context run by one thread). Connections are served on `workers`'
+// threads (without workers: on `executor` too), so the handler must take requests from any
+// of them at once; stats(), request_counts() and client_count() may be read from `executor`
+// meanwhile. Call stop() and let the connections end (the event loop and the workers) before
+// destroying the server.
 class ModbusTcpServer {
  public:
   ModbusTcpServer(boost::asio::any_io_executor executor, ModbusRequestHandler& handler,
-                  ModbusServerOptions options);
+                  ModbusServerOptions options, TcpWorkerPool* workers = nullptr);
   ~ModbusTcpServer();
   ModbusTcpServer(const ModbusTcpServer&) = delete;
   ModbusTcpServer& operator=(const ModbusTcpServer&) = delete;
@@ -92,6 +100,8 @@ class ModbusTcpServer {
   // Open connections, not counting those closed and still winding down.
   std::size_t client_count() const;
   ModbusServerStats stats() const;
+  // The options in force: apply() replaces them, connections read them request by request.
+  std::shared_ptr<const ModbusServerOptions> options() const;
   const ModbusRequestCounts& request_counts() const { return request_counts_; }
 
  private:
@@ -127,20 +137,37 @@ class ModbusTcpServer {
   void log_suppressed(LogThrottle::Clock::time_point now);
   boost::asio::awaitable<void> summarize_suppressed();
 
+  // ModbusServerStats, counted from any thread.
+  struct Counters {
+    std::atomic<std::uint64_t> accepted{0}, refused{0}, replaced{0}, denied{0}, writes_denied{0},
+        tls_refused{0}, requests{0}, forwarded{0}, rejected{0}, framing_errors{0},
+        request_timeouts{0}, idle_timeouts{0};
+  };
+  // The options as `connection` last took them: a lock only after apply() changed them.
+  const ModbusServerOptions& options_for(Connection& connection) const;
+  // summarize_suppressed() is to wake before `due` (from any thread).
+  void wake_summary_before(LogThrottle::Clock::time_point due);
+
   boost::asio::any_io_executor executor_;
   ModbusRequestHandler& handler_;
-  ModbusServerOptions options_;
+  TcpWorkerPool* workers_;  // none: connections on executor_
+  mutable std::mutex options_mutex_;  // guards the pointer only
+  std::shared_ptr<const ModbusServerOptions> options_;
+  std::atomic<std::uint64_t> options_generation_{1};  // +1 by every apply()
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::ip::tcp::acceptor tls_acceptor_;
   std::unique_ptr<boost::asio::ssl::context> tls_context_;
   bool running_ = false;  // between start() and stop()
+  mutable std::mutex connections_mutex_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
-  ModbusServerStats stats_;
+  Counters stats_;
   ModbusRequestCounts request_counts_;
   std::uint64_t accept_generation_ = 0;  // of the accept loop that may run
   bool refusing_ = false;  // warn once per burst of refused clients
+  std::mutex problem_log_mutex_;
   LogThrottle problem_log_;
   boost::asio::steady_timer summary_timer_;  // wakes summarize_suppressed()
+  std::atomic<LogThrottle::Clock::rep> summary_wake_{0};  // summary_timer_'s expiry
 };
 
 }  // namespace tiltgate

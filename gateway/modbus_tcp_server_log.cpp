@@ -1,5 +1,6 @@
 // ModbusTcpServer's log of clients closed or refused for cause, throttled per address
 // (gateway/log_throttle.h) so a scanner or a broken client cannot flood the log.
+#include <boost/asio/post.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
@@ -11,30 +12,54 @@ namespace tiltgate {
 namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
 
+// Called from any thread: the throttle is shared by every connection, under its mutex.
 void ModbusTcpServer::log_closing(const std::string& peer, const std::string& address,
                                   spdlog::level::level_enum level, std::string_view why) {
   const auto now = Clock::now();
-  if (problem_log_.admit(address, now)) {
-    spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
-  } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
-    summary_timer_.cancel();  // summarize_suppressed() sleeps past this address's summary
+  bool admitted = false;
+  std::optional<Clock::time_point> due;
+  {
+    std::lock_guard lock(problem_log_mutex_);
+    admitted = problem_log_.admit(address, now);
+    if (!admitted) due = problem_log_.next_summary_due();
   }
+  if (admitted)
+    spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
+  else if (due)
+    wake_summary_before(*due);  // summarize_suppressed() may sleep past this address's summary
   log_suppressed(now);
 }
 
 void ModbusTcpServer::log_problem(const std::string& peer, const std::string& address,
                                   std::string_view what) {
   const auto now = Clock::now();
-  if (problem_log_.admit(address, now)) {
-    spdlog::warn("Modbus TCP client {}: {}", peer, what);
-  } else if (auto due = problem_log_.next_summary_due(); due && *due < summary_timer_.expiry()) {
-    summary_timer_.cancel();
+  bool admitted = false;
+  std::optional<Clock::time_point> due;
+  {
+    std::lock_guard lock(problem_log_mutex_);
+    admitted = problem_log_.admit(address, now);
+    if (!admitted) due = problem_log_.next_summary_due();
   }
+  if (admitted)
+    spdlog::warn("Modbus TCP client {}: {}", peer, what);
+  else if (due)
+    wake_summary_before(*due);
   log_suppressed(now);
 }
 
+void ModbusTcpServer::wake_summary_before(Clock::time_point due) {
+  if (due.time_since_epoch().count() >= summary_wake_.load()) return;
+  // The timer is the accepting thread's.
+  asio::post(executor_, [this] { summary_timer_.cancel(); });
+}
+
 void ModbusTcpServer::log_suppressed(Clock::time_point now) {
-  for (const SuppressedProblems& s : problem_log_.take_summaries(now)) {
+  std::vector<SuppressedProblems> summaries;
+  {
+    std::lock_guard lock(problem_log_mutex_);
+    summaries = problem_log_.take_summaries(now);
+  }
+  for (const SuppressedProblems& s : summaries) {
     spdlog::warn("Modbus TCP clients from {}: {} more closed for cause in the last {} s, not "
                  "logged one by one",
                  s.address, s.count,
@@ -47,8 +72,14 @@ void ModbusTcpServer::log_suppressed(Clock::time_point now) {
 asio::awaitable<void> ModbusTcpServer::summarize_suppressed() {
   while (running_) {
     const auto now = Clock::now();
-    summary_timer_.expires_at(
-        problem_log_.next_summary_due().value_or(now + options_.problem_log.interval));
+    std::optional<Clock::time_point> due;
+    {
+      std::lock_guard lock(problem_log_mutex_);
+      due = problem_log_.next_summary_due();
+    }
+    const auto wake = due.value_or(now + options()->problem_log.interval);
+    summary_timer_.expires_at(wake);
+    summary_wake_ = wake.time_since_epoch().count();
     boost::system::error_code ec;
     co_await summary_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
     if (!running_) co_return;

@@ -68,9 +68,9 @@ std::optional<double> ReadingRate::per_second() const {
   return double(readings_) / span.count();
 }
 
-SensorSnapshot snapshot_of(std::uint32_t address, const SensorState& state,
+WatchRow snapshot_of(std::uint32_t address, const SensorState& state,
                            SteadyClock::time_point now, std::optional<double> polls_per_second) {
-  SensorSnapshot s;
+  WatchRow s;
   s.address = address;
   s.serial = state.serial;
   s.responding = state.online;
@@ -83,7 +83,7 @@ SensorSnapshot snapshot_of(std::uint32_t address, const SensorState& state,
   return s;
 }
 
-std::optional<double> tilt_of(const SensorSnapshot& snapshot) {
+std::optional<double> tilt_of(const WatchRow& snapshot) {
   if (!snapshot.angle_x) return std::nullopt;
   return tilt_degrees(*snapshot.angle_x, snapshot.angle_y.value_or(NAN));
 }
@@ -95,7 +95,7 @@ std::string watch_header() {
                      "STATUS", "AGE_MS", "POLLS/S");
 }
 
-std::string watch_row(const SensorSnapshot& s) {
+std::string watch_row(const WatchRow& s) {
   return fmt::format(fmt::runtime(kRowFormat), s.address, or_dash(s.serial), or_dash(s.angle_x, 3),
                      or_dash(s.angle_y, 3), or_dash(tilt_of(s), 3), status_word(s.responding),
                      s.age ? fmt::format("{}", s.age->count()) : std::string("-"),
@@ -115,7 +115,7 @@ std::string iso8601_utc_ms(std::chrono::system_clock::time_point time) {
 
 std::string csv_header() { return "time,address,serial,x_deg,y_deg,tilt_deg,status\n"; }
 
-std::string csv_line(std::chrono::system_clock::time_point time, const SensorSnapshot& s) {
+std::string csv_line(std::chrono::system_clock::time_point time, const WatchRow& s) {
   const bool fresh = s.responding;
   const std::optional<double> none;
   return fmt::format("{},{},{},{},{},{},{}\n", iso8601_utc_ms(time), s.address,
@@ -126,7 +126,7 @@ std::string csv_line(std::chrono::system_clock::time_point time, const SensorSna
 
 std::string sensor_info_text(std::uint32_t address, std::string_view model,
                              const SensorState& state) {
-  const SensorSnapshot s = snapshot_of(address, state, SteadyClock::now(), std::nullopt);
+  const WatchRow s = snapshot_of(address, state, SteadyClock::now(), std::nullopt);
   const std::string lock = state.protection_level ? fmt::format("{}", *state.protection_level)
                                                   : std::string("-");
   std::string text;

@@ -13,7 +13,7 @@
 namespace tiltgate {
 
 // One sensor as `watch` shows it at one moment.
-struct SensorSnapshot {
+struct WatchRow {
   std::uint32_t address = 0;
   std::string serial;                  // empty until the sensor has told it
   std::optional<double> angle_x;       // the last reading's; none before the first
@@ -38,11 +38,11 @@ class ReadingRate {
   SteadyClock::time_point last_{};
 };
 
-SensorSnapshot snapshot_of(std::uint32_t address, const SensorState& state,
+WatchRow snapshot_of(std::uint32_t address, const SensorState& state,
                            SteadyClock::time_point now, std::optional<double> polls_per_second);
 
 // The tilt from vertical of a reading's angles (mapping/tilt.h); none without an X angle.
-std::optional<double> tilt_of(const SensorSnapshot& snapshot);
+std::optional<double> tilt_of(const WatchRow& snapshot);
 
 // "ok" or "no-reply": one word, so that plain lines split on blanks.
 std::string_view status_word(bool responding);
@@ -52,7 +52,7 @@ std::string or_dash(const std::string& text);
 
 // `watch`'s table: a header and one row per sensor, in fixed-width columns.
 std::string watch_header();
-std::string watch_row(const SensorSnapshot& snapshot);
+std::string watch_row(const WatchRow& snapshot);
 
 // 2026-12-01T20:40:01.123Z
 std::string iso8601_utc_ms(std::chrono::system_clock::time_point time);
@@ -60,7 +60,7 @@ std::string iso8601_utc_ms(std::chrono::system_clock::time_point time);
 // `watch --log`: the header, and one line per poll. A poll that got no reading leaves the
 // angles empty.
 std::string csv_header();
-std::string csv_line(std::chrono::system_clock::time_point time, const SensorSnapshot& snapshot);
+std::string csv_line(std::chrono::system_clock::time_point time, const WatchRow& snapshot);
 
 // `info`: one "name: value" line each for the address, model, serial, firmware, lock level,
 // angles and tilt; "-" for what the sensor has not told or its protocol does not have.

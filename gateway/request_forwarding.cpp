@@ -1,5 +1,7 @@
 // RequestRouter's pass-through: requests for unit ids a [[bus]] passes through are forwarded
 // to the device with that address on the bus, under the same write rule as the cached sensors.
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
 #include "gateway/bus_scheduler.h"
@@ -20,19 +22,32 @@ ModbusException exception_for(ForwardFailure failure) {
 
 boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_id,
                                                               std::vector<std::uint8_t> pdu) {
-  BusScheduler* bus = forwarded_[unit_id];
+  const std::shared_ptr<const Routes> routes = this->routes();
+  BusScheduler* bus = routes->forwarded[unit_id];
   if (bus == nullptr) co_return Unexpected{ModbusException::gateway_path_unavailable};
   // As for the cached sensors: nobody on the plant network changes a device by default.
-  if (!options_.writes && !reads_only(pdu)) {
+  if (!routes->options.writes && !reads_only(pdu)) {
     spdlog::debug("unit {}: function {:02X} not passed through: [server] writes is false",
                   unit_id, pdu.empty() ? 0 : pdu[0]);
     co_return Unexpected{ModbusException::illegal_function};
   }
+  if (stopping_) co_return Unexpected{ModbusException::gateway_target_failed};
   // The server's write_timeout bounds the wait for the bus, as it does for writes.
-  auto reply = co_await bus->forward(unit_id, std::move(pdu),
-                                     SteadyClock::now() + options_.write_timeout);
-  if (!reply) co_return Unexpected{exception_for(reply.error())};
+  const auto deadline = SteadyClock::now() + routes->options.write_timeout;
+  std::optional<ForwardedReply> reply = co_await boost::asio::co_spawn(
+      bus_executor_, forward_on_bus(*bus, unit_id, std::move(pdu), deadline),
+      boost::asio::use_awaitable);
   co_return std::move(*reply);
+}
+
+// On the buses' executor: the scheduler is theirs. In an optional only because co_spawn wants
+// a result it can default-construct.
+boost::asio::awaitable<std::optional<ForwardedReply>> RequestRouter::forward_on_bus(
+    BusScheduler& bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
+    SteadyClock::time_point deadline) {
+  auto reply = co_await bus.forward(unit_id, std::move(pdu), deadline);
+  if (!reply) co_return ForwardedReply{Unexpected{exception_for(reply.error())}};
+  co_return ForwardedReply{std::move(*reply)};
 }
 
 }  // namespace tiltgate

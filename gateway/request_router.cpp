@@ -1,5 +1,7 @@
 #include "gateway/request_router.h"
 
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
 #include <span>
@@ -62,8 +64,7 @@ ModbusException exception_for(const WriteError& error) {
   return exception_for(error.kind);
 }
 
-std::vector<DeviceObject> device_objects(const GatewaySensor& sensor) {
-  const SensorState& state = sensor.driver->state();
+std::vector<DeviceObject> device_objects(const GatewaySensor& sensor, const SensorState& state) {
   const ProductIdentity product = product_of(sensor.driver->model());
   return {
       {device_object::vendor_name, std::string(product.vendor)},
@@ -80,43 +81,99 @@ std::vector<DeviceObject> device_objects(const GatewaySensor& sensor) {
   };
 }
 
+RequestRouter::RequestRouter(boost::asio::any_io_executor bus_executor, RouterOptions options)
+    : bus_executor_(std::move(bus_executor)), routes_(std::make_shared<const Routes>(Routes{options})) {}
+
+std::shared_ptr<const RequestRouter::Routes> RequestRouter::routes() const {
+  std::lock_guard lock(routes_mutex_);
+  return routes_;
+}
+
+template <class Change>
+void RequestRouter::edit(Change change) {
+  if (draft_) {
+    change(*draft_);
+    return;
+  }
+  // A copy a few kB large per change: start-up only, never per request.
+  auto edited = std::make_shared<Routes>(*routes());
+  change(*edited);
+  std::shared_ptr<const Routes> next = std::move(edited);
+  std::lock_guard lock(routes_mutex_);
+  routes_.swap(next);
+}
+
+void RequestRouter::begin_update() {
+  if (!draft_) draft_ = std::make_shared<Routes>(*routes());
+}
+
+void RequestRouter::commit_update() {
+  if (!draft_) return;
+  std::shared_ptr<const Routes> next = std::move(draft_);
+  draft_.reset();
+  std::lock_guard lock(routes_mutex_);
+  routes_.swap(next);
+}
+
 void RequestRouter::add(GatewaySensor& sensor) {
   // An empty owner: a pointer that keeps nothing alive.
   add(std::shared_ptr<GatewaySensor>(std::shared_ptr<GatewaySensor>(), &sensor));
 }
 
 void RequestRouter::add(std::shared_ptr<GatewaySensor> sensor) {
-  const std::uint8_t unit_id = sensor->config.unit_id;
-  units_[unit_id] = std::move(sensor);
+  edit([&](Routes& routes) { routes.units[sensor->config.unit_id] = std::move(sensor); });
 }
 
 void RequestRouter::add(std::shared_ptr<GatewayAggregate> aggregate) {
-  const std::uint8_t unit_id = aggregate->config.unit_id;
-  aggregates_[unit_id] = std::move(aggregate);
+  edit([&](Routes& routes) { routes.aggregates[aggregate->config.unit_id] = std::move(aggregate); });
 }
 
 void RequestRouter::clear() {
-  units_.fill(nullptr);
-  aggregates_.fill(nullptr);
-  forwarded_.fill(nullptr);
+  edit([](Routes& routes) {
+    routes.units.fill(nullptr);
+    routes.aggregates.fill(nullptr);
+    routes.forwarded.fill(nullptr);
+  });
+}
+
+void RequestRouter::set_options(RouterOptions options) {
+  edit([&](Routes& routes) { routes.options = options; });
+}
+
+void RequestRouter::pass_through(std::uint8_t unit_id, BusScheduler& bus) {
+  edit([&](Routes& routes) { routes.forwarded[unit_id] = &bus; });
 }
 
 boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest& request) {
+  // One table for the whole request, whatever a reload routes meanwhile.
+  const std::shared_ptr<const Routes> routes = this->routes();
+  const WordOrder order = routes->options.word_order;
+  // An aggregate's reply is built in one call that does not suspend: one instant for all.
+  if (const auto& aggregate = routes->aggregates[request.unit_id])
+    co_return read_aggregate_unit(*aggregate, request, order, SteadyClock::now());
   // Held for the whole request: a write waits for its bus, and a reload may drop the sensor
   // meanwhile; the write is still carried out and answered with its real outcome.
-  // An aggregate's reply is built in one call that does not suspend: one instant for all.
-  if (const auto& aggregate = aggregates_[request.unit_id])
-    co_return read_aggregate_unit(*aggregate, request, options_.word_order, SteadyClock::now());
-  const std::shared_ptr<GatewaySensor> sensor = units_[request.unit_id];
+  std::shared_ptr<GatewaySensor> sensor = routes->units[request.unit_id];
   if (sensor == nullptr) co_return failure(ModbusException::gateway_path_unavailable);
-  if (request.function == modbus_function::encapsulated_interface) co_return identify(*sensor);
-  if (!request.is_write) co_return read(*sensor, request);
-  co_return co_await write(*sensor, request);
+  if (request.function == modbus_function::encapsulated_interface || !request.is_write) {
+    const std::shared_ptr<const SensorSnapshot> snapshot = sensor->snapshot();
+    // Published when its bus takes it up: only a sensor routed but never polled has none.
+    if (snapshot == nullptr) co_return failure(ModbusException::gateway_target_failed);
+    if (request.function == modbus_function::encapsulated_interface)
+      co_return identify(*sensor, *snapshot);
+    co_return read(*sensor, *snapshot, request, order);
+  }
+  // A gateway must not let anyone on the plant network re-address a sensor by default.
+  if (!routes->options.writes) co_return failure(ModbusException::illegal_function);
+  if (stopping_) co_return failure(ModbusException::gateway_target_failed);
+  co_return co_await boost::asio::co_spawn(
+      bus_executor_, write(std::move(sensor), request, routes->options),
+      boost::asio::use_awaitable);
 }
 
-ModbusResponse RequestRouter::read(const GatewaySensor& sensor,
-                                   const ModbusRequest& request) const {
-  const auto view = sensor.view(SteadyClock::now(), options_.word_order);
+ModbusResponse RequestRouter::read(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
+                                   const ModbusRequest& request, WordOrder order) {
+  const auto view = sensor.view(snapshot, SteadyClock::now(), order);
   const auto table = table_of(request.table);
   ModbusResponse response;
   if (table == RegisterTable::coil || table == RegisterTable::discrete) {
@@ -131,23 +188,24 @@ ModbusResponse RequestRouter::read(const GatewaySensor& sensor,
   return response;
 }
 
-ModbusResponse RequestRouter::identify(const GatewaySensor& sensor) {
+ModbusResponse RequestRouter::identify(const GatewaySensor& sensor,
+                                       const SensorSnapshot& snapshot) {
   // The encoder picks the objects the request asks for and pages them.
   ModbusResponse response;
-  response.device_objects = device_objects(sensor);
+  response.device_objects = device_objects(sensor, snapshot.state);
   return response;
 }
 
-boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& sensor,
-                                                            const ModbusRequest& request) {
-  // A gateway must not let anyone on the plant network re-address a sensor by default.
-  if (!options_.writes) co_return failure(ModbusException::illegal_function);
+boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<GatewaySensor> held,
+                                                            ModbusRequest request,
+                                                            RouterOptions options) {
+  GatewaySensor& sensor = *held;
   if (request.table != ModbusTable::holding) {
     const auto table = table_of(request.table);
     co_return failure(sensor.map.has_table(table) ? ModbusException::illegal_address
                                                   : ModbusException::illegal_function);
   }
-  auto plan = plan_register_write(sensor.map, options_.word_order, request.address,
+  auto plan = plan_register_write(sensor.map, options.word_order, request.address,
                                   request.registers);
   if (!plan) co_return failure(exception_for(plan.error()));
   // Checked together, before anything is queued: a value may depend on a setting written
@@ -166,7 +224,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
     spdlog::warn("{}: write refused: {}", sensor.config.name, checked.error().detail);
     co_return failure(exception_for(checked.error()));
   }
-  const auto deadline = SteadyClock::now() + options_.write_timeout;
+  const auto deadline = SteadyClock::now() + options.write_timeout;
   for (std::size_t i = 0; i < plan->size(); ++i) {
     const PlannedWrite& step = (*plan)[i];
     auto done = co_await sensor.bus->write(sensor, *step.point->write, step.value, deadline);
@@ -174,11 +232,13 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(GatewaySensor& senso
       spdlog::warn("{}: write {} = {} failed: {}", sensor.config.name, step.point->name,
                    step.value, done.error().detail);
       sensor.driver->abandon(std::span(settings).first(i));
+      sensor.publish();
       co_return failure(exception_for(done.error()));
     }
     spdlog::info("{}: wrote {} = {}", sensor.config.name, step.point->name, step.value);
     std::copy(step.words.begin(), step.words.end(),
               sensor.written.begin() + step.point->address);
+    sensor.publish();
   }
   co_return ModbusResponse{};
 }

@@ -1,11 +1,20 @@
 // Answers checked Modbus requests: routes by unit id to a sensor, reads from its cache through
 // its register map, turns register writes into queued sensor writes, and lists the sensor's
 // identification objects for Read Device Identification (43 / 14).
+//
+// Threads: handle(), passes_through() and forward() may run on any Modbus TCP thread, many at
+// once. Reads are answered there, from the sensors' snapshots; writes and forwarded requests
+// run on the buses' executor and the request awaits them. The routing table is replaced whole
+// (add(), clear(), set_options() on the buses' thread), so a request sees one table throughout.
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <boost/asio/any_io_executor.hpp>
 #include <chrono>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <span>
 
 #include "config/config.h"
@@ -26,7 +35,8 @@ struct RouterOptions {
 
 class RequestRouter : public ModbusRequestHandler {
  public:
-  explicit RequestRouter(RouterOptions options) : options_(options) {}
+  // `bus_executor`: where the buses, their schedulers and the sensors' drivers run.
+  RequestRouter(boost::asio::any_io_executor bus_executor, RouterOptions options);
 
   // Answers `sensor`'s unit id (which must be free). This overload does not own the sensor:
   // the caller keeps it alive.
@@ -34,36 +44,60 @@ class RequestRouter : public ModbusRequestHandler {
   // The same, and a request being answered keeps its sensor alive to the end, even when a
   // reload drops the sensor meanwhile.
   void add(std::shared_ptr<GatewaySensor> sensor);
-  GatewaySensor* find(std::uint8_t unit_id) const { return units_[unit_id].get(); }
   // Answers the aggregate's unit id (which must be free) from its sensors' caches.
   void add(std::shared_ptr<GatewayAggregate> aggregate);
   // Forgets every sensor, aggregate and pass-through unit id (a reload adds the new set at once).
   // Requests already being answered finish with the sensor or bus they started with.
   void clear();
   // Applies to the next request.
-  void set_options(RouterOptions options) { options_ = options; }
+  void set_options(RouterOptions options);
+  // Between these two (a reload), the changes above collect in a draft that requests do not
+  // see; commit_update() hands them over at once, so no request finds a unit missing halfway.
+  void begin_update();
+  void commit_update();
+  // The gateway is stopping: writes and forwarded requests not yet handed to a bus are answered
+  // 0x0B at once, so none waits for a bus that no longer runs.
+  void stop() { stopping_ = true; }
 
   boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) override;
 
   // Pass-through (gateway/request_forwarding.cpp): requests for `unit_id` go to the device
   // with that address on `bus`. The unit id must be no sensor's.
-  void pass_through(std::uint8_t unit_id, BusScheduler& bus) { forwarded_[unit_id] = &bus; }
+  void pass_through(std::uint8_t unit_id, BusScheduler& bus);
   bool passes_through(std::uint8_t unit_id) const override {
-    return forwarded_[unit_id] != nullptr;
+    return routes()->forwarded[unit_id] != nullptr;
   }
   boost::asio::awaitable<ForwardedReply> forward(std::uint8_t unit_id,
                                                  std::vector<std::uint8_t> pdu) override;
 
  private:
-  ModbusResponse read(const GatewaySensor& sensor, const ModbusRequest& request) const;
-  static ModbusResponse identify(const GatewaySensor& sensor);
-  boost::asio::awaitable<ModbusResponse> write(GatewaySensor& sensor,
-                                               const ModbusRequest& request);
+  struct Routes {
+    RouterOptions options;
+    std::array<std::shared_ptr<GatewaySensor>, 256> units{};
+    std::array<std::shared_ptr<GatewayAggregate>, 256> aggregates{};
+    std::array<BusScheduler*, 256> forwarded{};
+  };
 
-  RouterOptions options_;
-  std::array<std::shared_ptr<GatewaySensor>, 256> units_{};
-  std::array<std::shared_ptr<GatewayAggregate>, 256> aggregates_{};
-  std::array<BusScheduler*, 256> forwarded_{};
+  std::shared_ptr<const Routes> routes() const;
+  // Replaces the table with a copy `change` has edited (the buses' thread only).
+  template <class Change>
+  void edit(Change change);
+
+  static ModbusResponse read(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
+                             const ModbusRequest& request, WordOrder order);
+  static ModbusResponse identify(const GatewaySensor& sensor, const SensorSnapshot& snapshot);
+  // Runs on the buses' executor; holds the sensor to the end.
+  boost::asio::awaitable<ModbusResponse> write(std::shared_ptr<GatewaySensor> sensor,
+                                               ModbusRequest request, RouterOptions options);
+  boost::asio::awaitable<std::optional<ForwardedReply>> forward_on_bus(BusScheduler& bus, std::uint8_t unit_id,
+                                                        std::vector<std::uint8_t> pdu,
+                                                        SteadyClock::time_point deadline);
+
+  boost::asio::any_io_executor bus_executor_;
+  mutable std::mutex routes_mutex_;  // guards the pointer only
+  std::shared_ptr<const Routes> routes_;
+  std::shared_ptr<Routes> draft_;  // between begin_update() and commit_update()
+  std::atomic<bool> stopping_ = false;
 };
 
 ModbusException exception_for(ForwardFailure failure);
@@ -74,7 +108,8 @@ ModbusException exception_for(const WriteError& error);
 
 // Every Read Device Identification object of a sensor (gateway/device_identification.h for
 // the ids): vendor and product from its model, firmware and serial as the sensor reported
-// them (empty until read), its name, bus and bus address, and the gateway's version.
-std::vector<DeviceObject> device_objects(const GatewaySensor& sensor);
+// them (empty until read), its name, bus and bus address, and the gateway's version; `state` is
+// the sensor's (a snapshot's, off the buses' thread).
+std::vector<DeviceObject> device_objects(const GatewaySensor& sensor, const SensorState& state);
 
 }  // namespace tiltgate

@@ -29,16 +29,16 @@ class Display {
  public:
   explicit Display(bool redraw) : redraw_(redraw) {}
 
-  void show(const std::vector<SensorSnapshot>& rows) {
+  void show(const std::vector<WatchRow>& rows) {
     if (redraw_) {
       // Back to the header drawn last time (ANSI cursor up), each line cleared as it is redrawn.
       if (drawn_ > 0) std::cout << fmt::format("\x1b[{}A", drawn_);
       std::cout << "\r\x1b[2K" << watch_header() << "\n";
-      for (const SensorSnapshot& row : rows) std::cout << "\r\x1b[2K" << watch_row(row) << "\n";
+      for (const WatchRow& row : rows) std::cout << "\r\x1b[2K" << watch_row(row) << "\n";
       drawn_ = int(rows.size()) + 1;
     } else {
       if (drawn_ == 0) std::cout << watch_header() << "\n";
-      for (const SensorSnapshot& row : rows) std::cout << watch_row(row) << "\n";
+      for (const WatchRow& row : rows) std::cout << watch_row(row) << "\n";
       drawn_ = 1;
     }
     std::cout.flush();
@@ -90,7 +90,7 @@ int watch_command(const BusOptions& bus_options, const WatchOptions& options) {
         const std::chrono::milliseconds interval(options.interval_ms);
         for (int round = 1; !stopping; ++round) {
           const SteadyClock::time_point round_start = SteadyClock::now();
-          std::vector<SensorSnapshot> rows;
+          std::vector<WatchRow> rows;
           for (std::size_t i = 0; i < bus.sensors().size() && !stopping; ++i) {
             CommissionedSensor& sensor = bus.sensors()[i];
             co_await sensor.driver->poll(bus.line());

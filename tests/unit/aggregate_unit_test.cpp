@@ -33,12 +33,13 @@ ModbusRequest aggregate_read(std::uint8_t function, ModbusTable table, std::uint
 // Three fake H6 "s1".."s3" (units 1..3), offline: their angles read the substitute 1.5,
 // 2.5, 3.5; an aggregate of their angle_x_cdeg and status on unit 200.
 struct AggregatePlant {
-  AggregatePlant() : router(RouterOptions{true, WordOrder::big, 3000ms}) {
+  AggregatePlant() : router(io.get_executor(), RouterOptions{true, WordOrder::big, 3000ms}) {
     for (int i = 1; i <= 3; ++i) {
       auto sensor = fake_sensor("s" + std::to_string(i), std::uint8_t(i), std::uint32_t(i), events);
       sensor->config.offline = OfflineRead::substitute;
       sensor->config.substitute = 0.5 + i;
       sensors.push_back(std::shared_ptr<GatewaySensor>(std::move(sensor)));
+      sensors.back()->publish();  // as its bus would when it takes it up
       router.add(sensors.back());
     }
     AggregateConfig config;
@@ -63,7 +64,7 @@ struct AggregatePlant {
   BusEvents events;
   asio::io_context io;
   std::vector<std::shared_ptr<GatewaySensor>> sensors;
-  RequestRouter router;
+  RequestRouter router{io.get_executor(), RouterOptions{}};
 };
 
 }  // namespace

@@ -246,6 +246,10 @@ GatewaySensor identified(std::string model) {
   return sensor;
 }
 
+std::vector<DeviceObject> objects_of(const GatewaySensor& sensor) {
+  return device_objects(sensor, sensor.driver->state());
+}
+
 std::string object(const std::vector<DeviceObject>& objects, std::uint8_t id) {
   for (const auto& o : objects) {
     if (o.id == id) return o.value;
@@ -257,7 +261,7 @@ std::string object(const std::vector<DeviceObject>& objects, std::uint8_t id) {
 }  // namespace
 
 TEST_CASE("the router identifies a sensor by vendor, model, firmware, serial and place") {
-  const auto h6 = device_objects(identified("h6"));
+  const auto h6 = objects_of(identified("h6"));
   CHECK(object(h6, device_object::vendor_name) == "Rieker Inc.");
   CHECK(object(h6, device_object::product_code) == "H6");
   CHECK(object(h6, device_object::major_minor_revision) == "Rev A.8");
@@ -270,13 +274,13 @@ TEST_CASE("the router identifies a sensor by vendor, model, firmware, serial and
   CHECK(object(h6, device_object::user_application_name) ==
         "tiltgate " + object(h6, device_object::gateway_version));
   CHECK(conformity_level(h6) == 0x83);
-  CHECK(object(device_objects(identified("h4360")), device_object::product_code) == "H4360");
-  CHECK(object(device_objects(identified("dyna")), device_object::vendor_name) ==
+  CHECK(object(objects_of(identified("h4360")), device_object::product_code) == "H4360");
+  CHECK(object(objects_of(identified("dyna")), device_object::vendor_name) ==
         "Spectron Systems Technology");
   // Before the identity is read: the objects are there, empty.
   GatewaySensor fresh = identified("h6");
   static_cast<IdentifiedDriver&>(*fresh.driver).state_ = SensorState{};
-  const auto unknown = device_objects(fresh);
+  const auto unknown = objects_of(fresh);
   CHECK(object(unknown, device_object::major_minor_revision).empty());
   CHECK(object(unknown, device_object::serial_number).empty());
   // Everything a sensor lists fits the stream in one or two pages.

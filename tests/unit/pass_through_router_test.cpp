@@ -24,7 +24,7 @@ using Bytes = std::vector<std::uint8_t>;
 
 // A router with unit 30 passed through to a bus whose device echoes every PDU.
 struct Plant {
-  explicit Plant(bool writes) : router(RouterOptions{writes, WordOrder::big, 3000ms}) {
+  explicit Plant(bool writes) : router(io.get_executor(), RouterOptions{writes, WordOrder::big, 3000ms}) {
     line.reply = [this](const LineRequest& request) {
       ++sent;
       return request.bytes;
@@ -52,7 +52,7 @@ struct Plant {
   asio::io_context io;
   FakeLine line{io.get_executor()};
   BusScheduler scheduler{io.get_executor(), line, "bus"};
-  RequestRouter router;
+  RequestRouter router{io.get_executor(), RouterOptions{}};
   int sent = 0;
 };
 

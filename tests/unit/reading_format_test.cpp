@@ -56,7 +56,7 @@ TEST_CASE("log times are ISO 8601 UTC with milliseconds") {
 TEST_CASE("a CSV line has the time, address, serial, angles, tilt and status, in the header's order") {
   CHECK(csv_header() == "time,address,serial,x_deg,y_deg,tilt_deg,status\n");
   const auto now = SteadyClock::now();
-  const SensorSnapshot s = snapshot_of(223, answering(3.0, -4.0, now), now, std::nullopt);
+  const WatchRow s = snapshot_of(223, answering(3.0, -4.0, now), now, std::nullopt);
   const std::string line = csv_line(kTime, s);
   REQUIRE(line.back() == '\n');
   const auto f = fields(line.substr(0, line.size() - 1), ',');
@@ -157,7 +157,7 @@ TEST_CASE("a freshly zeroed sensor shows 0.000, not -0.000, in info, watch rows 
   const std::string text = sensor_info_text(7, "h6", state);
   CHECK(text.find("angle x:    0.000 deg\n") != std::string::npos);
   CHECK(text.find("-0.000") == std::string::npos);
-  const SensorSnapshot row = snapshot_of(7, state, SteadyClock::now(), 1.0);
+  const WatchRow row = snapshot_of(7, state, SteadyClock::now(), 1.0);
   CHECK(words(watch_row(row)).at(2) == "0.000");
   CHECK(fields(csv_line(kTime, snapshot_of(7, answering(-0.00004, 0, SteadyClock::now()),
                                            SteadyClock::now(), 1.0)),

@@ -80,7 +80,7 @@ struct Bus {
   asio::io_context io;
   FakeLine line{io.get_executor()};
   BusScheduler scheduler{io.get_executor(), line, "bus"};
-  RequestRouter router{RouterOptions{true, WordOrder::big, 3000ms}};
+  RequestRouter router{io.get_executor(), RouterOptions{true, WordOrder::big, 3000ms}};
   BusEvents events;
   std::vector<std::shared_ptr<GatewaySensor>> sensors;
   bool run_ended = false;

@@ -36,7 +36,7 @@ ModbusRequest write_register(std::uint8_t unit, std::uint16_t address, std::uint
 
 // Two fake H6 on one bus: unit 1 "left" at 223, unit 2 "right" at 224.
 struct Gateway {
-  explicit Gateway(bool writes) : router(RouterOptions{writes, WordOrder::big, 3000ms}) {
+  explicit Gateway(bool writes) : router(io.get_executor(), RouterOptions{writes, WordOrder::big, 3000ms}) {
     for (auto [name, address] : {std::pair{"left", 223}, std::pair{"right", 224}}) {
       sensors.push_back(
           fake_sensor(name, std::uint8_t(sensors.size() + 1), std::uint32_t(address), events));
@@ -70,7 +70,7 @@ struct Gateway {
   asio::io_context io;
   FakeLine line{io.get_executor()};
   BusScheduler scheduler{io.get_executor(), line, "bus"};
-  RequestRouter router;
+  RequestRouter router{io.get_executor(), RouterOptions{}};
   BusEvents events;
   std::vector<std::unique_ptr<GatewaySensor>> sensors;
 };
