@@ -70,6 +70,9 @@ class FakeDriver : public SensorDriver {
   std::chrono::milliseconds poll_time{0};
   std::chrono::milliseconds write_time{0};
   std::function<void()> on_poll;  // runs as each poll starts, before it takes the line
+  // Each reading's angles: x = y = the poll's number (else 1.0 and 2.0), so a reply that mixes
+  // two readings shows.
+  bool counting = false;
   int polls = 0;
   mutable int checks = 0;  // check_write calls
   std::vector<std::pair<WriteTarget, double>> writes;  // every write that reached the driver
@@ -87,7 +90,8 @@ class FakeDriver : public SensorDriver {
     co_await line.transact(LineRequest{{}, 0, nullptr, poll_time});
     state_.online = answers;
     if (answers) {
-      state_.reading = Reading{1.0, 2.0, {}, {}, SteadyClock::now(), {}};
+      const double x = counting ? polls : 1.0;
+      state_.reading = Reading{x, counting ? x : 2.0, {}, {}, SteadyClock::now(), {}};
       ++state_.sample_seq;
     }
     events_.push_back(name_ + " poll end");
