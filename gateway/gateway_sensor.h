@@ -4,7 +4,8 @@
 //
 // Threads: driver, processing, written and bus belong to the bus's thread (the event loop);
 // config, map and stale_after do not change while the sensor is served; the TCP threads read
-// only those and snapshot().
+// only those and snapshot(). Its last owner may be a request on a TCP thread (a reload dropped
+// it meanwhile): it holds no I/O objects, so it may be freed there.
 #pragma once
 
 #include <chrono>

@@ -151,8 +151,9 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest
   // An aggregate's reply is built in one call that does not suspend: one instant for all.
   if (const auto& aggregate = routes->aggregates[request.unit_id])
     co_return read_aggregate_unit(*aggregate, request, order, SteadyClock::now());
-  // Held for the whole request: a write waits for its bus, and a reload may drop the sensor
-  // meanwhile; the write is still carried out and answered with its real outcome.
+  // Held until the request is done: a write waits for its bus, and a reload may drop the sensor
+  // meanwhile; the write is still carried out and answered with its real outcome. A write
+  // takes it along to the buses' thread, where it is then let go.
   std::shared_ptr<GatewaySensor> sensor = routes->units[request.unit_id];
   if (sensor == nullptr) co_return failure(ModbusException::gateway_path_unavailable);
   if (request.function == modbus_function::encapsulated_interface || !request.is_write) {

@@ -94,6 +94,7 @@ TEST_CASE("reload: a dropped sensor's queued write is carried out, answered, the
   FakeDriver& a = fake_driver(*bus.sensors[0]);
   REQUIRE(run_until(bus.io, [&] { return happened(bus.events, "a poll end"); }));
   std::optional<ModbusResponse> b_done, a_done;
+  std::vector<std::pair<WriteTarget, double>> a_wrote;
   bus.send(write_filter(2, 3), b_done);
   REQUIRE(run_until(bus.io, [&] { return happened(bus.events, "b write"); }));
   bus.send(write_filter(1, 5), a_done);  // queued behind b's
@@ -103,10 +104,14 @@ TEST_CASE("reload: a dropped sensor's queued write is carried out, answered, the
 
   const std::weak_ptr<GatewaySensor> dropped = bus.drop(0);
   CHECK_FALSE(dropped.expired());  // the request waiting for the bus holds it
-  REQUIRE(run_until(bus.io, [&] { return a_done.has_value(); }));
+  // `a` is freed by the time the answer is seen: what it wrote is copied while it lives.
+  REQUIRE(run_until(bus.io, [&] {
+    if (!dropped.expired() && happened(bus.events, "a write end")) a_wrote = a.writes;
+    return a_done.has_value();
+  }));
   CHECK_FALSE(a_done->exception.has_value());
-  REQUIRE(a.writes.size() == 1);  // `a` is alive until the request ends, so this may be read
-  CHECK(a.writes[0].second == 5);
+  REQUIRE(a_wrote.size() == 1);
+  CHECK(a_wrote[0].second == 5);
   CHECK(dropped.expired());  // and freed once answered
   // The unit is no longer served.
   std::optional<ModbusResponse> later;
