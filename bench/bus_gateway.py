@@ -355,6 +355,8 @@ def main():
     parser.add_argument("--seconds", type=float, default=3.0)
     parser.add_argument("--quick", action="store_true", help="1 window of 1.5 s each")
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--only", choices=["efficiency", "flood", "freshness", "scale"],
+                        help="one table only")
     args = parser.parse_args()
     if args.quick:
         args.windows, args.seconds = 1, 1.5
@@ -362,10 +364,15 @@ def main():
     folder = tempfile.mkdtemp(prefix="tiltgate-busbench-")
     try:
         print(f"({os.cpu_count()} cores)\n")
-        efficiency(binary, folder, args.windows, args.seconds)
-        flood(binary, folder, args.build, args.windows, args.seconds)
-        freshness(binary, folder, 10 if args.quick else 40)
-        scale(binary, folder, 10.0)
+        wanted = lambda table: args.only in (None, table)
+        if wanted("efficiency"):
+            efficiency(binary, folder, args.windows, args.seconds)
+        if wanted("flood"):
+            flood(binary, folder, args.build, args.windows, args.seconds)
+        if wanted("freshness"):
+            freshness(binary, folder, 10 if args.quick else 40)
+        if wanted("scale"):
+            scale(binary, folder, 10.0)
     finally:
         if not os.environ.get("KEEP_DIR"):
             shutil.rmtree(folder, ignore_errors=True)
