@@ -135,6 +135,8 @@ class ModbusTcpServer {
   // A refused request, throttled with the closes (it is the same client misbehaving).
   void log_problem(const std::string& peer, const std::string& address, std::string_view what);
   void log_suppressed(LogThrottle::Clock::time_point now);
+  // One problem from `address`: true when it is to be logged in full (else it is counted).
+  bool admit_problem(const std::string& address, LogThrottle::Clock::time_point now);
   boost::asio::awaitable<void> summarize_suppressed();
 
   // ModbusServerStats, counted from any thread.

@@ -13,37 +13,29 @@ namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
 
 // Called from any thread: the throttle is shared by every connection, under its mutex.
-void ModbusTcpServer::log_closing(const std::string& peer, const std::string& address,
-                                  spdlog::level::level_enum level, std::string_view why) {
-  const auto now = Clock::now();
-  bool admitted = false;
+bool ModbusTcpServer::admit_problem(const std::string& address, Clock::time_point now) {
   std::optional<Clock::time_point> due;
   {
     std::lock_guard lock(problem_log_mutex_);
-    admitted = problem_log_.admit(address, now);
-    if (!admitted) due = problem_log_.next_summary_due();
+    if (problem_log_.admit(address, now)) return true;
+    due = problem_log_.next_summary_due();
   }
-  if (admitted)
-    spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
-  else if (due)
-    wake_summary_before(*due);  // summarize_suppressed() may sleep past this address's summary
+  // summarize_suppressed() may sleep past this address's summary.
+  if (due) wake_summary_before(*due);
+  return false;
+}
+
+void ModbusTcpServer::log_closing(const std::string& peer, const std::string& address,
+                                  spdlog::level::level_enum level, std::string_view why) {
+  const auto now = Clock::now();
+  if (admit_problem(address, now)) spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
   log_suppressed(now);
 }
 
 void ModbusTcpServer::log_problem(const std::string& peer, const std::string& address,
                                   std::string_view what) {
   const auto now = Clock::now();
-  bool admitted = false;
-  std::optional<Clock::time_point> due;
-  {
-    std::lock_guard lock(problem_log_mutex_);
-    admitted = problem_log_.admit(address, now);
-    if (!admitted) due = problem_log_.next_summary_due();
-  }
-  if (admitted)
-    spdlog::warn("Modbus TCP client {}: {}", peer, what);
-  else if (due)
-    wake_summary_before(*due);
+  if (admit_problem(address, now)) spdlog::warn("Modbus TCP client {}: {}", peer, what);
   log_suppressed(now);
 }
 
