@@ -58,6 +58,19 @@ def wire_limit(baud):
     return 1.0 / (REQUEST_BYTES * 10 / baud + max(REPLY_BYTES * 10 / baud, GAP_S))
 
 
+_handed_out = set()
+
+
+def distinct_port():
+    """A free port not handed out before in this run: one gateway's listeners must all differ
+    (free_port() alone can return a port twice, and the HTTP API then cannot bind)."""
+    while True:
+        port = free_port()
+        if port not in _handed_out:
+            _handed_out.add(port)
+            return port
+
+
 def rss_kib(pid):
     with open(f"/proc/{pid}/status") as f:
         for line in f:
@@ -83,8 +96,8 @@ class Gateway:
                  commands=False):
         """commands: the simulators' standard input and output are pipes (sim_command())."""
         self.sims = []
-        self.http_port = free_port()
-        self.modbus_port = free_port()
+        self.http_port = distinct_port()
+        self.modbus_port = distinct_port()
         config = [f"""[server]
 listen = "127.0.0.1"
 port = {self.modbus_port}
@@ -111,7 +124,7 @@ port = {self.http_port}
                     break
                 time.sleep(0.05)
             config.append(f'[[bus]]\nname = "line{b}"\nport = "{link}"\nbaud = {baud}\n' +
-                          (f"tcp_port = {free_port()}\n" if own_ports else ""))
+                          (f"tcp_port = {distinct_port()}\n" if own_ports else ""))
             for a in range(1, sensors + 1):
                 config.append(f'[[sensor]]\nname = "s{b}_{a}"\nbus = "line{b}"\nmodel = "h6"\n'
                               f"address = {a}\nunit_id = {a}\npoll_ms = {poll_ms}\n")
@@ -126,6 +139,7 @@ port = {self.http_port}
         end = time.time() + 20
         while True:
             if self.process.poll() is not None:
+                self.stop()  # the simulators too: nothing of a failed run is left running
                 sys.exit(f"tiltgate run exited with status {self.process.returncode}; "
                          f"see {self.log_path}")
             try:
@@ -133,7 +147,8 @@ port = {self.http_port}
                 break
             except OSError:
                 if time.time() > end:
-                    sys.exit("tiltgate run did not serve HTTP")
+                    self.stop()
+                    sys.exit(f"tiltgate run did not serve HTTP; see {self.log_path}")
                 time.sleep(0.05)
 
     def sensors(self):
