@@ -43,14 +43,14 @@ ModbusResponse read_aggregate_unit(const GatewayAggregate& aggregate, const Modb
   snapshots.reserve(range.last - range.first);
   {
     const SnapshotSlot::Instant instant;
-    for (std::size_t i = range.first; i < range.last; ++i)
+    for (std::size_t i = range.first; i < range.last; ++i) {
       snapshots.push_back(aggregate.members[i]->snapshot(instant));
-  }
-  for (const auto& snapshot : snapshots)
-    if (snapshot == nullptr) {  // a sensor routed but not yet taken up by its bus
-      response.exception = ModbusException::gateway_target_failed;
-      return response;
+      if (snapshots.back() == nullptr) {  // a sensor routed but not yet taken up by its bus
+        response.exception = ModbusException::gateway_target_failed;
+        return response;
+      }
     }
+  }
   std::vector<AggregateSource> sources;
   sources.reserve(snapshots.size());
   for (std::size_t i = range.first; i < range.last; ++i) {

@@ -64,8 +64,10 @@ class RequestRouter : public ModbusRequestHandler {
   // Pass-through (gateway/request_forwarding.cpp): requests for `unit_id` go to the device
   // with that address on `bus`. The unit id must be no sensor's.
   void pass_through(std::uint8_t unit_id, BusScheduler& bus);
+  // Asked of every request: a look under the lock, without taking a copy of the table.
   bool passes_through(std::uint8_t unit_id) const override {
-    return routes()->forwarded[unit_id] != nullptr;
+    std::lock_guard lock(routes_mutex_);
+    return routes_->forwarded[unit_id] != nullptr;
   }
   boost::asio::awaitable<ForwardedReply> forward(std::uint8_t unit_id,
                                                  std::vector<std::uint8_t> pdu) override;

@@ -36,12 +36,8 @@ class SnapshotSlot {
   };
 
   SnapshotSlot() = default;
-  // Only while nobody else uses either slot (a sensor being built).
+  // Only while nobody else uses the slot (a sensor being built and returned).
   SnapshotSlot(SnapshotSlot&& other) noexcept : current_(other.get()) {}
-  SnapshotSlot& operator=(SnapshotSlot&& other) noexcept {
-    publish(other.get());
-    return *this;
-  }
 
   void publish(std::shared_ptr<const SensorSnapshot> next) {
     {
