@@ -1,7 +1,8 @@
 // The Rieker Flex (H6 dual axis, H4360 single axis) RS485 protocol, as pure functions: frames,
 // their encoding, and typed requests and replies for the 15 user functions. No I/O here.
 // Source: the H6/H4360 manual, "Digital RS485 Communications", with the errata listed in
-// PROTOCOL-NOTES.md (its example CRCs were checked by computation; some are wrong).
+// docs/protocols.md, "Rieker errata" (its example CRCs were checked by computation; some are
+// wrong).
 #pragma once
 
 #include <cstddef>
@@ -23,7 +24,7 @@ inline constexpr std::size_t kMaxDataSize = 255;  // DL is one byte
 inline constexpr std::size_t kMinFrameSize = kHeaderSize + kCrcSize;        // 9
 inline constexpr std::size_t kMaxFrameSize = kMinFrameSize + kMaxDataSize;  // 264
 
-// ---- Addresses ("Digital RS485 Communications"; master range from the notes) ----
+// ---- Addresses ("Digital RS485 Communications"; docs/protocols.md, "Rieker addresses") ----
 inline constexpr std::uint16_t kBroadcastAddress = 0xFFFC;
 inline constexpr std::uint16_t kFactoryAddress = 223;
 inline constexpr std::uint16_t kMinSensorAddress = 1;

@@ -20,7 +20,7 @@ namespace tiltgate::rieker {
 
 namespace {
 
-// The rates a Rieker sensor can be set to (PROTOCOL-NOTES, Rieker: baud codes 1..8).
+// The rates a Rieker sensor can be set to (docs/protocols.md, "Rieker baud rates": codes 1..8).
 constexpr std::array<std::int64_t, 8> kBauds{9600,   19200,  38400,  62500,
                                              115200, 125000, 128000, 250000};
 
@@ -33,7 +33,7 @@ const ProtocolDescriptor kProtocols[] = {{
     .framing = Framing::eight_none_one,
     .bauds = kBauds,
     .default_baud = 125000,                 // the factory rate
-    .addresses = {1, 65000},                // PROTOCOL-NOTES, Rieker
+    .addresses = {1, 65000},                // docs/protocols.md, "Rieker addresses"
     .master_addresses = AddressRange{0, 65500},  // the master's own address, never a sensor's
     .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
     // Addresses up to 65000 are allowed, but a bus of up to 60 sensors rarely goes past 255:

@@ -237,7 +237,7 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   bool stalled = false;
   {
     // One write for the whole packet: some protocols need a packet's bytes within 125 us of
-    // each other (PROTOCOL-NOTES).
+    // each other (docs/protocols.md, "Packet timing").
     PortDeadline deadline(port_, Clock::now() + wire + kStalledWrite);
     co_await asio::async_write(port_, asio::buffer(bytes.data(), bytes.size()),
                                asio::redirect_error(asio::use_awaitable, ec));

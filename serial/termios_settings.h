@@ -16,7 +16,7 @@
 namespace tiltgate {
 
 // mark/space are "stick" parity (CMSPAR): the parity bit is a constant 1 or 0, which is how a
-// PC UART sends the ninth bit of a 9-bit bus (PROTOCOL-NOTES.md, 9-bit addressing).
+// PC UART sends the ninth bit of a 9-bit bus (docs/protocols.md, "9-bit framing on a PC UART").
 enum class Parity { none, even, odd, mark, space };
 
 const char* to_string(Parity parity);

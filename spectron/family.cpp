@@ -21,12 +21,14 @@ namespace tiltgate::spectron {
 
 namespace {
 
-// The rates a Dyna can be set to (PROTOCOL-NOTES, Dyna EEPROM location 22 baud codes). The
-// factory rate is not documented, so a bus must say which rate its sensors were set to.
+// The rates a Dyna can be set to (docs/protocols.md, "Dyna EEPROM map": location 22's baud
+// codes). The factory rate is not documented, so a bus must say which rate its sensors were set
+// to.
 constexpr std::array<std::int64_t, 5> kBauds{4800, 9600, 19200, 28800, 38400};
 
-// Modules ship at address 0 in the 9-bit protocol (PROTOCOL-NOTES, Dyna protocol 1); the
-// Modbus-ASCII protocol's factory address is not documented.
+// Modules ship at address 0 in the 9-bit protocol
+// (docs/protocols.md, "9-bit framing on a PC UART"); the Modbus-ASCII protocol's factory address
+// is not documented.
 constexpr std::uint32_t kNineBitFactoryAddresses[] = {0};
 
 const ProtocolDescriptor kProtocols[] = {
@@ -50,7 +52,7 @@ const ProtocolDescriptor kProtocols[] = {
         .framing = Framing::eight_even_one,
         .bauds = kBauds,
         .default_baud = std::nullopt,
-        .addresses = {1, 250},  // PROTOCOL-NOTES, Dyna protocol 2
+        .addresses = {1, 250},  // docs/protocols.md, "Dyna protocol 2 frame"
         .master_addresses = std::nullopt,
         .min_gap = std::chrono::microseconds{0},
         .scan = {.first = 1,

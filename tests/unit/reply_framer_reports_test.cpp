@@ -38,7 +38,8 @@ Bytes corrupted(Bytes frame, std::size_t from_end) {
   return frame;
 }
 
-// A Modbus-ASCII frame's text with its LRC over the characters as written (PROTOCOL-NOTES).
+// A Modbus-ASCII frame's text with its LRC over the characters as written (docs/protocols.md,
+// "Dyna LRC").
 std::string with_lrc(std::string_view text) {
   unsigned sum = 0;
   for (char c : text.substr(1)) sum += static_cast<unsigned char>(c);

@@ -1,5 +1,6 @@
-// The Rieker frames whose CRC was verified by computation (PROTOCOL-NOTES.md), shared by the
-// codec, sensor and simulator tests, and a hex helper to write frames as the manual does.
+// The Rieker frames whose CRC was verified by computation
+// (docs/protocols.md, "Rieker verified frames"), shared by the codec, sensor and simulator
+// tests, and a hex helper to write frames as the manual does.
 #pragma once
 
 #include <cctype>
@@ -37,7 +38,7 @@ inline std::vector<std::uint8_t> ascii(std::string_view text) {
 
 struct Vector {
   const char* meaning;
-  const char* wire;  // hex, as in PROTOCOL-NOTES.md
+  const char* wire;  // hex, as in docs/protocols.md, "Rieker verified frames"
   Frame frame;
 };
 

@@ -41,7 +41,7 @@ bool feed(ReplyFramer& framer, const std::vector<std::uint8_t>& bytes) {
 
 TEST_CASE("Rieker: the ACK to Check Address 223 is a sensor at 223") {
   auto framer = rieker_check_address(223);
-  // PROTOCOL-NOTES: 0000 00DF 0000 00 D43B, the ACK from 223.
+  // docs/protocols.md, "Rieker verified frames": 0000 00DF 0000 00 D43B, the ACK from 223.
   REQUIRE(feed(framer, {0x00, 0x00, 0x00, 0xDF, 0x00, 0x00, 0x00, 0xD4, 0x3B}));
   const ProbeResult result = rieker::probe_outcome(framer);
   CHECK(result.outcome == ProbeOutcome::answered);
@@ -75,7 +75,7 @@ TEST_CASE("Rieker: the broadcast Get Address reply gives the sensor's own addres
   REQUIRE(request.has_value());
   rieker::RiekerReplyFramer framer(*request);
   framer.reset();
-  // PROTOCOL-NOTES: 0000 00DF 0003 02 00DF 73F3, "address 223".
+  // docs/protocols.md, "Rieker verified frames": 0000 00DF 0003 02 00DF 73F3, "address 223".
   REQUIRE(feed(framer, {0x00, 0x00, 0x00, 0xDF, 0x00, 0x03, 0x02, 0x00, 0xDF, 0x73, 0xF3}));
   const ProbeResult result = rieker::probe_outcome(framer);
   CHECK(result.outcome == ProbeOutcome::answered);

@@ -1,6 +1,6 @@
 // The Dyna application note's Modbus-ASCII examples (SAN-220-4509, "Modbus protocol"), each
-// LRC verified by computation (PROTOCOL-NOTES.md), shared by the codec, parser and simulator
-// tests, and a helper to write text as bytes.
+// LRC verified by computation (docs/protocols.md, "Dyna LRC"), shared by the codec, parser and
+// simulator tests, and a helper to write text as bytes.
 #pragma once
 
 #include <cstdint>
