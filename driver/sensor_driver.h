@@ -95,6 +95,10 @@ class SensorDriver {
                                                     double value) = 0;
 
   virtual const SensorState& state() const = 0;
+
+  // A refusal code of the protocol (SensorCounters::last_refusal) as its manual names it, for
+  // the user: "NAK 2 (function not valid for this sensor or mode)".
+  virtual std::string refusal_text(std::uint8_t code) const;
 };
 
 }  // namespace tiltgate

@@ -103,7 +103,7 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
       return Unexpected{OpenError{
           2, fmt::format("sensor \"{}\": no driver for model {} on a {} bus", sensor.name,
                          sensor.model, target.bus.protocol)}};
-    sensors.push_back({sensor, std::move(driver)});
+    sensors.push_back({sensor, std::move(driver), target.model_source});
   }
   auto remote = bus_through_gateway(executor, target);
   if (!remote) return Unexpected{remote.error()};

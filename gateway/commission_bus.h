@@ -22,6 +22,10 @@ namespace tiltgate {
 struct CommissionedSensor {
   SensorConfig config;
   std::unique_ptr<SensorDriver> driver;
+  // Where config.model came from: --model or the configuration decide the driver; a detected
+  // one (the protocol's first model until then) is replaced by the model the sensor measures
+  // as (gateway/model_detection.h).
+  ModelSource model_source = ModelSource::configuration;
 };
 
 class CommissionBus {

@@ -99,6 +99,7 @@ Expected<CommissionTarget, UsageErrors> from_command_line(const BusOptions& o,
   target.bus = loaded->buses.front();
   if (o.sensors_optional && o.addresses.empty()) target.bus.pass_through.clear();
   target.sensors = std::move(loaded->sensors);
+  target.model_source = o.model.empty() ? ModelSource::detected : ModelSource::option;
   target.control_socket = std::string(kDefaultControlSocket);
   return target;
 }

@@ -45,10 +45,18 @@ struct BusOptions {
   std::string control_socket;
 };
 
+// Where a commissioned sensor's model comes from.
+enum class ModelSource : std::uint8_t {
+  option,         // --model
+  configuration,  // the [[sensor]]'s model in --config FILE
+  detected,       // neither: found by polling the sensor as each model of its family
+};
+
 // The bus to open and the sensors on it to talk to, validated as a configuration is.
 struct CommissionTarget {
   BusConfig bus;
   std::vector<SensorConfig> sensors;
+  ModelSource model_source = ModelSource::configuration;  // of every sensor's model
   std::string control_socket;  // where a running gateway may serve the bus; empty: none
   bool via_gateway = false;    // only through that gateway, never the tty directly
 };

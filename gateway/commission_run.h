@@ -11,10 +11,6 @@
 
 namespace tiltgate {
 
-// Polls a command gives one sensor for its identity and a reading: a driver reads the identity
-// before the first measurement, and a sensor that answered only part of it gets a few more.
-inline constexpr int kMaxIdentityPolls = 3;
-
 // The command's work on the open bus; returns the exit code. `stopping` turns true on a
 // signal, after which the line is stopped and every poll returns at once.
 using CommissionWork =

@@ -1,21 +1,15 @@
-// `tiltgate info`: the vendor User App's Sensor Info, for each sensor asked for.
+// `tiltgate info`: the vendor User App's Sensor Info, for each sensor asked for. A sensor whose
+// model the options do not name is polled as each model of its family until one measures
+// (gateway/model_detection.h).
 #include <fmt/format.h>
 #include <iostream>
 
 #include "gateway/commands.h"
 #include "gateway/commission_run.h"
+#include "gateway/model_detection.h"
 #include "gateway/reading_format.h"
 
 namespace tiltgate {
-
-namespace {
-
-// A driver reads the identity before the first measurement; a sensor that answered only part
-// of that in one poll gets a few more.
-
-bool complete(const SensorState& state) { return state.identity_known && state.reading; }
-
-}  // namespace
 
 int info_command(const BusOptions& options) {
   return run_commissioning(
@@ -23,27 +17,30 @@ int info_command(const BusOptions& options) {
         int exit_code = 0;
         bool first = true;
         for (CommissionedSensor& sensor : bus.sensors()) {
-          const SensorState& state = sensor.driver->state();
-          for (int poll = 0; poll < kMaxIdentityPolls && !stopping; ++poll) {
-            co_await sensor.driver->poll(bus.line());
-            if (!state.online || complete(state)) break;
-          }
+          const ModelCheck check = co_await check_model(bus, sensor, stopping);
           if (stopping) co_return 0;
+          if (const std::string found = model_check_message(sensor, check); !found.empty())
+            std::cerr << "tiltgate info: " << found << "\n";
           if (!first) std::cout << "\n";
           first = false;
-          if (!complete(state)) {
-            std::cout << "address:    " << sensor.config.address << "\nstatus:     no reply\n";
-            std::cerr << "tiltgate info: "
-                      << (state.online || state.identity_known
-                              ? fmt::format("address {} answered, but gave no complete reading "
-                                            "as a {} (is --model right?)",
-                                            sensor.config.address, sensor.config.model)
-                              : bus.no_reply_message(sensor))
-                      << "\n";
-            exit_code = 1;
+          const SensorState& state = sensor.driver->state();
+          const PollOutcome outcome = check.outcome();
+          if (outcome.result == PollResult::reading && state.identity_known) {
+            std::cout << sensor_info_text(sensor.config.address, sensor.driver->model(), state);
             continue;
           }
-          std::cout << sensor_info_text(sensor.config.address, sensor.driver->model(), state);
+          exit_code = 1;
+          if (outcome.result == PollResult::reading) {
+            // It measures, but did not tell its serial and firmware: shown as "-".
+            std::cout << sensor_info_text(sensor.config.address, sensor.driver->model(), state);
+            std::cerr << fmt::format("tiltgate info: address {} gave a reading, but not its "
+                                     "identity (serial, firmware)\n",
+                                     sensor.config.address);
+            continue;
+          }
+          std::cout << "address:    " << sensor.config.address
+                    << "\nstatus:     " << poll_status_text(sensor, outcome) << "\n";
+          std::cerr << "tiltgate info: " << poll_outcome_message(bus, sensor, outcome) << "\n";
         }
         std::cout.flush();
         co_return exit_code;

@@ -69,11 +69,12 @@ std::optional<double> ReadingRate::per_second() const {
 }
 
 WatchRow snapshot_of(std::uint32_t address, const SensorState& state,
-                           SteadyClock::time_point now, std::optional<double> polls_per_second) {
+                     SteadyClock::time_point now, std::optional<double> polls_per_second,
+                     std::optional<PollResult> outcome) {
   WatchRow s;
   s.address = address;
   s.serial = state.serial;
-  s.responding = state.online;
+  s.result = outcome.value_or(state.online ? PollResult::reading : PollResult::silent);
   if (state.reading) {
     s.angle_x = unless_nan(state.reading->angle_x);
     s.angle_y = unless_nan(state.reading->angle_y);
@@ -88,7 +89,15 @@ std::optional<double> tilt_of(const WatchRow& snapshot) {
   return tilt_degrees(*snapshot.angle_x, snapshot.angle_y.value_or(NAN));
 }
 
-std::string_view status_word(bool responding) { return responding ? "ok" : "no-reply"; }
+std::string_view status_word(PollResult result) {
+  switch (result) {
+    case PollResult::reading: return "ok";
+    case PollResult::refused: return "refused";
+    case PollResult::no_reading: return "no-reading";
+    case PollResult::silent: break;
+  }
+  return "no-reply";
+}
 
 std::string watch_header() {
   return fmt::format(fmt::runtime(kRowFormat), "ADDRESS", "SERIAL", "X_DEG", "Y_DEG", "TILT_DEG",
@@ -97,7 +106,7 @@ std::string watch_header() {
 
 std::string watch_row(const WatchRow& s) {
   return fmt::format(fmt::runtime(kRowFormat), s.address, or_dash(s.serial), or_dash(s.angle_x, 3),
-                     or_dash(s.angle_y, 3), or_dash(tilt_of(s), 3), status_word(s.responding),
+                     or_dash(s.angle_y, 3), or_dash(tilt_of(s), 3), status_word(s.result),
                      s.age ? fmt::format("{}", s.age->count()) : std::string("-"),
                      or_dash(s.polls_per_second, 1));
 }
@@ -116,12 +125,12 @@ std::string iso8601_utc_ms(std::chrono::system_clock::time_point time) {
 std::string csv_header() { return "time,address,serial,x_deg,y_deg,tilt_deg,status\n"; }
 
 std::string csv_line(std::chrono::system_clock::time_point time, const WatchRow& s) {
-  const bool fresh = s.responding;
+  const bool fresh = s.result == PollResult::reading;
   const std::optional<double> none;
   return fmt::format("{},{},{},{},{},{},{}\n", iso8601_utc_ms(time), s.address,
                      csv_field(s.serial), or_empty(fresh ? s.angle_x : none),
                      or_empty(fresh ? s.angle_y : none), or_empty(fresh ? tilt_of(s) : none),
-                     status_word(s.responding));
+                     status_word(s.result));
 }
 
 std::string sensor_info_text(std::uint32_t address, std::string_view model,

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "driver/sensor_state.h"
+#include "gateway/poll_outcome.h"
 
 namespace tiltgate {
 
@@ -18,7 +19,8 @@ struct WatchRow {
   std::string serial;                  // empty until the sensor has told it
   std::optional<double> angle_x;       // the last reading's; none before the first
   std::optional<double> angle_y;       // none on single-axis sensors too
-  bool responding = false;             // the last exchange got a valid reply
+  // What the last poll came to; a reading when the row shows one just taken.
+  PollResult result = PollResult::silent;
   std::optional<std::chrono::milliseconds> age;  // of the last reading
   std::optional<double> polls_per_second;  // readings per second; none before the second
 };
@@ -38,14 +40,18 @@ class ReadingRate {
   SteadyClock::time_point last_{};
 };
 
+// `outcome`: what the last poll came to (poll_outcome.h); none: as the state says (answering
+// or silent), for a state that was not just polled.
 WatchRow snapshot_of(std::uint32_t address, const SensorState& state,
-                           SteadyClock::time_point now, std::optional<double> polls_per_second);
+                     SteadyClock::time_point now, std::optional<double> polls_per_second,
+                     std::optional<PollResult> outcome = std::nullopt);
 
 // The tilt from vertical of a reading's angles (mapping/tilt.h); none without an X angle.
 std::optional<double> tilt_of(const WatchRow& snapshot);
 
-// "ok" or "no-reply": one word, so that plain lines split on blanks.
-std::string_view status_word(bool responding);
+// "ok", "no-reply", "refused" (a NAK or an exception: an answer, but no reading) or
+// "no-reading": one word, so that plain lines split on blanks.
+std::string_view status_word(PollResult result);
 
 // `text`, or "-" when it is empty (an identity the sensor did not report).
 std::string or_dash(const std::string& text);

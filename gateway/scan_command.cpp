@@ -13,6 +13,7 @@
 #include "gateway/commands.h"
 #include "gateway/commission_run.h"
 #include "gateway/driver_registry.h"
+#include "gateway/model_detection.h"
 #include "gateway/scan_plan.h"
 
 namespace tiltgate {
@@ -89,45 +90,32 @@ class Progress {
   Clock::time_point drawn_at_{};
 };
 
-// Reads the identity of the sensor at `found.address` through the family's driver, trying each
-// model of the family (the given one first) until one gets a reading: a model whose measurement
-// the sensor refuses (a dual-axis request to a single-axis sensor) is not the sensor's.
+// Reads the identity of the sensor at `found.address` through the family's driver, polled as
+// each model of the family (the given one first) until one gets a reading, as `info` does
+// (gateway/model_detection.h).
 boost::asio::awaitable<void> identify(CommissionBus& bus, const SensorConfig& model_sensor,
-                                      const FamilyDescriptor& family, FoundSensor& found,
-                                      const bool& stopping) {
-  std::vector<std::string> models{model_sensor.model};
-  for (const ModelDescriptor& m : family.models)
-    if (m.name != model_sensor.model) models.emplace_back(m.name);
-  bool identity = false;
-  for (const std::string& model : models) {
-    SensorConfig sensor = model_sensor;
-    sensor.name = fmt::format("sensor_{}", found.address);
-    sensor.address = found.address;
-    sensor.model = model;
-    auto driver = make_driver(sensor, bus.config());
-    if (!driver) continue;
-    const SensorState& state = driver->state();
-    for (int poll = 0; poll < kMaxIdentityPolls && !stopping; ++poll) {
-      co_await driver->poll(bus.line());
-      if (!state.online || (state.identity_known && state.reading)) break;
-    }
-    if (stopping) co_return;
-    if (state.identity_known && (state.reading || !identity)) {
-      identity = true;
-      found.model = model;
-      found.serial = state.serial;
-      found.firmware = state.firmware;
-      found.lock_level = state.protection_level;
-      found.detail.clear();
-    }
-    if (state.identity_known && state.reading) co_return;
+                                      FoundSensor& found, const bool& stopping) {
+  CommissionedSensor sensor{model_sensor, nullptr, ModelSource::detected};
+  sensor.config.name = fmt::format("sensor_{}", found.address);
+  sensor.config.address = found.address;
+  sensor.driver = make_driver(sensor.config, bus.config());
+  if (!sensor.driver) co_return;
+  const ModelCheck check = co_await check_model(bus, sensor, stopping);
+  if (stopping) co_return;
+  const SensorState& state = sensor.driver->state();
+  found.model = sensor.config.model;
+  if (state.identity_known) {
+    found.serial = state.serial;
+    found.firmware = state.firmware;
+    found.lock_level = state.protection_level;
   }
-  if (!identity) {
-    found.model = model_sensor.model;
+  if (check.outcome().result == PollResult::reading && state.identity_known)
+    found.detail.clear();
+  else if (!state.identity_known)
     found.detail = "answered the probe, but not the identity read";
-  } else {
-    found.detail = "identity read, but no measurement: model not known";
-  }
+  else
+    found.detail = fmt::format("identity read, but no measurement ({}): model not known",
+                               check.polled_refusal);
 }
 
 boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
@@ -184,7 +172,7 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
     if (target.model_sensor) {
       for (std::size_t i = found_before; i < found.size(); ++i)
         if (!found[i].collision)
-          co_await identify(bus, *target.model_sensor, *protocol.family, found[i], stopping);
+          co_await identify(bus, *target.model_sensor, found[i], stopping);
     }
     if (stopping) co_return 0;
   }

@@ -9,6 +9,7 @@
 #include "gateway/commands.h"
 #include "gateway/commission_run.h"
 #include "gateway/driver_registry.h"
+#include "gateway/model_detection.h"
 #include "gateway/reading_format.h"
 #include "gateway/set_config_update.h"
 #include "gateway/set_plan.h"
@@ -22,12 +23,6 @@ namespace asio = boost::asio;
 // How long a restarted sensor gets to answer again. Neither family's manual gives its boot
 // time; a poll that times out meanwhile costs only its reply time-out.
 constexpr auto kRestartWait = std::chrono::seconds(10);
-
-// Answered the last poll, with its identity and a reading: after a change, a reading from
-// before it does not count.
-bool complete_after_change(const SensorState& state) {
-  return state.online && state.identity_known && state.reading.has_value();
-}
 
 std::string meaning(const WriteError& error) {
   switch (error.kind) {
@@ -66,17 +61,54 @@ Expected<SetTarget, std::string> set_target(const BusConfig& bus, const SensorCo
                    sensor.family_options.device_values()};
 }
 
-// Polls until the sensor has told its identity and a reading, `polls` times at most or until
-// `deadline`, whichever comes first.
-asio::awaitable<bool> read_back(CommissionBus& bus, CommissionedSensor& sensor,
-                                const bool& stopping, int polls,
-                                std::chrono::steady_clock::time_point deadline) {
+// Polls until the sensor has told its identity and given a new reading (one from before the
+// change does not count), `polls` times at most or until `deadline`, whichever comes first.
+// The last poll's outcome: a reading only with the identity known.
+asio::awaitable<PollOutcome> read_back(CommissionBus& bus, CommissionedSensor& sensor,
+                                       const bool& stopping, int polls,
+                                       std::chrono::steady_clock::time_point deadline) {
+  PollOutcome outcome;
   for (int poll = 0; poll < polls && !stopping; ++poll) {
+    const PollMark before = mark_before_poll(sensor.driver->state());
     co_await sensor.driver->poll(bus.line());
-    if (complete_after_change(sensor.driver->state())) co_return true;
+    outcome = outcome_since(before, sensor.driver->state());
+    if (outcome.result == PollResult::reading && sensor.driver->state().identity_known)
+      co_return outcome;
     if (std::chrono::steady_clock::now() >= deadline) break;
   }
-  co_return complete_after_change(sensor.driver->state());
+  if (outcome.result == PollResult::reading) outcome.result = PollResult::no_reading;
+  co_return outcome;
+}
+
+// The writes the words stand for on this sensor's model, every value checked before anything
+// is sent; an exit code (2) with the reason printed when they cannot be made.
+Expected<SetPlan, int> plan_for(const CommissionBus& bus, const CommissionedSensor& sensor,
+                                const SetArguments& arguments) {
+  const auto target = set_target(bus.config(), sensor.config);
+  if (!target) {
+    std::cerr << "tiltgate set: " << target.error() << "\n";
+    return Unexpected{2};
+  }
+  auto plan = plan_setting(*target, arguments);
+  if (!plan) {
+    std::cerr << "tiltgate set: " << plan.error() << "\n";
+    return Unexpected{2};
+  }
+  if (auto checked = sensor.driver->check_writes(plan->writes); !checked) {
+    std::cerr << fmt::format("tiltgate set: {}: {}; nothing was sent", plan->setting,
+                             checked.error().detail);
+    for (const SettingWrite& w : plan->writes)
+      if (!sensor.driver->check_write(w.target, w.value))
+        std::cerr << descriptor_range(*target, w.target);
+    std::cerr << "\n";
+    return Unexpected{2};
+  }
+  if (plan->new_address == sensor.config.address) {
+    std::cerr << fmt::format("tiltgate set: the sensor is at address {} already\n",
+                             sensor.config.address);
+    return Unexpected{2};
+  }
+  return std::move(*plan);
 }
 
 // Whether a sensor answers at `address` on the bus: one poll through a driver for it.
@@ -114,39 +146,24 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
     co_return 2;
   }
   CommissionedSensor& sensor = bus.sensors().front();
-  const auto target = set_target(bus.config(), sensor.config);
-  if (!target) {
-    std::cerr << "tiltgate set: " << target.error() << "\n";
-    co_return 2;
-  }
-  const auto plan = plan_setting(*target, arguments);
-  if (!plan) {
-    std::cerr << "tiltgate set: " << plan.error() << "\n";
-    co_return 2;
-  }
-  // Every value checked before anything is sent.
-  if (auto checked = sensor.driver->check_writes(plan->writes); !checked) {
-    std::cerr << fmt::format("tiltgate set: {}: {}; nothing was sent", plan->setting,
-                             checked.error().detail);
-    for (const SettingWrite& w : plan->writes)
-      if (!sensor.driver->check_write(w.target, w.value))
-        std::cerr << descriptor_range(*target, w.target);
-    std::cerr << "\n";
-    co_return 2;
-  }
+  // Checked as the model the options give first, so that a usage error costs no bus time.
+  auto plan = plan_for(bus, sensor, arguments);
+  if (!plan) co_return plan.error();
   const std::uint32_t old_address = sensor.config.address;
-  if (plan->new_address == old_address) {
-    std::cerr << fmt::format("tiltgate set: the sensor is at address {} already\n", old_address);
-    co_return 2;
-  }
 
-  // The sensor must answer before it is changed (a refusal is an answer), and a new address
-  // must be free.
-  co_await read_back(bus, sensor, stopping, kMaxIdentityPolls, std::chrono::steady_clock::time_point::max());
+  // The sensor must answer before it is changed (a refusal is an answer), as the model it is,
+  // and a new address must be free.
+  const ModelCheck check = co_await check_model(bus, sensor, stopping);
   if (stopping) co_return 0;
-  if (!sensor.driver->state().online && !sensor.driver->state().identity_known) {
+  if (const std::string found = model_check_message(sensor, check); !found.empty())
+    std::cerr << "tiltgate set: " << found << "\n";
+  if (check.outcome().result == PollResult::silent && !sensor.driver->state().identity_known) {
     std::cerr << "tiltgate set: " << bus.no_reply_message(sensor) << "\nnothing was sent\n";
     co_return 1;
+  }
+  if (check.adopted) {
+    plan = plan_for(bus, sensor, arguments);
+    if (!plan) co_return plan.error();
   }
   if (plan->new_address) {
     if (const auto other = co_await someone_at(bus, sensor, *plan->new_address)) {
@@ -209,15 +226,16 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
 
   // Read back: after a restart the sensor gets time to come back.
   const auto deadline = std::chrono::steady_clock::now() + kRestartWait;
-  const bool answered = plan->restarts
-                            ? co_await read_back(bus, sensor, stopping, 1'000'000, deadline)
-                            : co_await read_back(bus, sensor, stopping, kMaxIdentityPolls, deadline);
+  const PollOutcome read = plan->restarts
+                               ? co_await read_back(bus, sensor, stopping, 1'000'000, deadline)
+                               : co_await read_back(bus, sensor, stopping, kMaxIdentityPolls, deadline);
   if (stopping) co_return 0;
   std::cout << "\n";
-  if (!answered) {
-    std::cout << "address:    " << sensor.config.address << "\nstatus:     no reply\n";
+  if (read.result != PollResult::reading) {
+    std::cout << "address:    " << sensor.config.address
+              << "\nstatus:     " << poll_status_text(sensor, read) << "\n";
     std::cerr << "tiltgate set: the change was acknowledged, but reading back: "
-              << bus.no_reply_message(sensor) << "\n";
+              << poll_outcome_message(bus, sensor, read) << "\n";
     co_return 1;
   }
   std::cout << sensor_info_text(sensor.config.address, sensor.driver->model(),

@@ -14,6 +14,7 @@
 
 #include "gateway/commands.h"
 #include "gateway/commission_run.h"
+#include "gateway/model_detection.h"
 #include "gateway/reading_format.h"
 
 namespace tiltgate {
@@ -25,21 +26,37 @@ namespace asio = boost::asio;
 // The pause between rounds is waited out in slices, so a signal ends it promptly.
 constexpr std::chrono::milliseconds kWaitSlice{50};
 
+// The table, and a note per sensor where there is something to say (the model found, why it
+// gives no reading): below the table when it is redrawn, else on stderr when a note changes.
 class Display {
  public:
   explicit Display(bool redraw) : redraw_(redraw) {}
 
-  void show(const std::vector<WatchRow>& rows) {
+  void show(const std::vector<WatchRow>& rows, const std::vector<std::string>& notes) {
     if (redraw_) {
       // Back to the header drawn last time (ANSI cursor up), each line cleared as it is redrawn.
       if (drawn_ > 0) std::cout << fmt::format("\x1b[{}A", drawn_);
       std::cout << "\r\x1b[2K" << watch_header() << "\n";
       for (const WatchRow& row : rows) std::cout << "\r\x1b[2K" << watch_row(row) << "\n";
-      drawn_ = int(rows.size()) + 1;
+      int lines = int(rows.size()) + 1;
+      for (const std::string& note : notes) {
+        if (note.empty()) continue;
+        std::cout << "\r\x1b[2K" << note << "\n";
+        ++lines;
+      }
+      // Lines a longer note list left below are cleared.
+      for (int i = lines; i < drawn_; ++i) std::cout << "\r\x1b[2K\n";
+      drawn_ = std::max(drawn_, lines);
     } else {
       if (drawn_ == 0) std::cout << watch_header() << "\n";
       for (const WatchRow& row : rows) std::cout << watch_row(row) << "\n";
       drawn_ = 1;
+      told_.resize(notes.size());
+      for (std::size_t i = 0; i < notes.size(); ++i) {
+        if (notes[i] == told_[i]) continue;
+        if (!notes[i].empty()) std::cerr << "tiltgate watch: " << notes[i] << "\n";
+        told_[i] = notes[i];
+      }
     }
     std::cout.flush();
   }
@@ -47,7 +64,18 @@ class Display {
  private:
   bool redraw_;
   int drawn_ = 0;
+  std::vector<std::string> told_;  // the notes last written to stderr
 };
+
+// What to tell of one sensor after a poll: why it gave no reading (an answer that is no reading;
+// silence shows in the table), and the model found.
+std::string note_for(const CommissionBus& bus, const CommissionedSensor& sensor,
+                     const PollOutcome& outcome, const std::string& model_found) {
+  if (outcome.result != PollResult::refused && outcome.result != PollResult::no_reading)
+    return model_found;
+  const std::string why = poll_outcome_message(bus, sensor, outcome);
+  return model_found.empty() ? why : why + "; " + model_found;
+}
 
 // Appends to `path`, with the header when the file is new or empty.
 Expected<std::ofstream, std::string> open_log(const std::string& path) {
@@ -86,24 +114,41 @@ int watch_command(const BusOptions& bus_options, const WatchOptions& options) {
       "watch", bus_options,
       [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
         Display display(redraw);
-        std::vector<ReadingRate> rates(bus.sensors().size());
+        const std::size_t count = bus.sensors().size();
+        std::vector<ReadingRate> rates(count);
+        // A sensor's model is checked (or found) at its first poll that gets an answer.
+        std::vector<bool> checked(count, false);
+        std::vector<std::string> models_found(count), notes(count);
         const std::chrono::milliseconds interval(options.interval_ms);
         for (int round = 1; !stopping; ++round) {
           const SteadyClock::time_point round_start = SteadyClock::now();
           std::vector<WatchRow> rows;
-          for (std::size_t i = 0; i < bus.sensors().size() && !stopping; ++i) {
+          for (std::size_t i = 0; i < count && !stopping; ++i) {
             CommissionedSensor& sensor = bus.sensors()[i];
-            co_await sensor.driver->poll(bus.line());
+            PollOutcome outcome;
+            if (!checked[i]) {
+              const ModelCheck check = co_await check_model(bus, sensor, stopping);
+              outcome = check.outcome();
+              checked[i] = outcome.result != PollResult::silent;
+              models_found[i] = model_check_message(sensor, check);
+            } else {
+              const PollMark before = mark_before_poll(sensor.driver->state());
+              co_await sensor.driver->poll(bus.line());
+              outcome = outcome_since(before, sensor.driver->state());
+            }
+            if (stopping) break;
             rates[i].update(sensor.driver->state());
+            notes[i] = note_for(bus, sensor, outcome, models_found[i]);
             rows.push_back(snapshot_of(sensor.config.address, sensor.driver->state(),
-                                       SteadyClock::now(), rates[i].per_second()));
+                                       SteadyClock::now(), rates[i].per_second(),
+                                       outcome.result));
             if (log.is_open() && !stopping) {
               log << csv_line(std::chrono::system_clock::now(), rows.back());
               log.flush();
             }
           }
           if (stopping) break;
-          display.show(rows);
+          display.show(rows, notes);
           if (options.count > 0 && round >= options.count) break;
           co_await pause_until(round_start + interval, stopping);
         }

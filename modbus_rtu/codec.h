@@ -40,6 +40,9 @@ enum class ExceptionCode : std::uint8_t {
   device_failure = 0x04,
 };
 
+// An exception code's name in the Application Protocol (7.): "illegal data address".
+const char* exception_name(std::uint8_t code);
+
 enum class RegisterBank : std::uint8_t {
   holding = kReadHoldingRegisters,
   input = kReadInputRegisters,

@@ -11,22 +11,6 @@ namespace tiltgate::modbus_rtu {
 
 namespace {
 
-// Application Protocol 7.
-const char* exception_name(std::uint8_t code) {
-  switch (code) {
-    case 0x01: return "illegal function";
-    case 0x02: return "illegal data address";
-    case 0x03: return "illegal data value";
-    case 0x04: return "server device failure";
-    case 0x05: return "acknowledge";
-    case 0x06: return "server device busy";
-    case 0x08: return "memory parity error";
-    case 0x0A: return "gateway path unavailable";
-    case 0x0B: return "gateway target device failed to respond";
-    default: return "not a standard exception code";
-  }
-}
-
 class Exchange final : public RawExchange {
  public:
   explicit Exchange(Request request) : request_(request), framer_(std::move(request)) {}

@@ -33,6 +33,10 @@ void RtuDriver::follow_address(std::uint32_t address) {
   state_.bus_address = address;
 }
 
+std::string RtuDriver::refusal_text(std::uint8_t code) const {
+  return fmt::format("exception {} ({})", code, exception_name(code));
+}
+
 WriteResult RtuDriver::check_write(WriteTarget target, double value) const {
   const auto& values = options_.profile.values;
   if (!target.is_device_value() || target.device_index() >= values.size() ||

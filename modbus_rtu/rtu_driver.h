@@ -33,6 +33,8 @@ class RtuDriver final : public PolledSensorDriver {
   WriteResult check_write(WriteTarget target, double value) const override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
   void follow_address(std::uint32_t address) override;
+  // "exception 2 (illegal data address)".
+  std::string refusal_text(std::uint8_t code) const override;
 
  protected:
   boost::asio::awaitable<bool> read_identity(Line& line) override;

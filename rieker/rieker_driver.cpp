@@ -125,7 +125,7 @@ asio::awaitable<Expected<Frame, ExchangeError>> RiekerDriver::exchange(Line& lin
       continue;
     }
     co_return Unexpected(ExchangeError{ExchangeError::Kind::nak, LineError::timeout, code,
-                                       fmt::format("NAK {} ({})", code, nak_name(code))});
+                                       refusal_text(code)});
   }
 }
 
@@ -149,7 +149,7 @@ asio::awaitable<bool> RiekerDriver::read_identity(Line& line) {
   if (lock_level) state_.protection_level = std::uint16_t(*lock_level);
   state_.identity_known = serial_text.has_value() && firmware_text.has_value();
   if (state_.identity_known) {
-    spdlog::info("{}: Rieker {} at {} is serial '{}', firmware '{}'", options_.name, model(),
+    spdlog::info("{}: Rieker sensor at {} is serial '{}', firmware '{}'", options_.name,
                  options_.address, state_.serial, state_.firmware);
   } else {
     spdlog::warn("{}: could not read the identity of the sensor at {}", options_.name,
@@ -267,6 +267,10 @@ asio::awaitable<WriteResult> RiekerDriver::set_address(Line& line, std::uint16_t
   spdlog::info("{}: sensor moved from address {} to {}", options_.name, options_.address, new_address);
   follow_address(new_address);
   co_return Done{};
+}
+
+std::string RiekerDriver::refusal_text(std::uint8_t code) const {
+  return fmt::format("NAK {} ({})", code, nak_name(code));
 }
 
 void RiekerDriver::follow_address(std::uint32_t address) {

@@ -38,6 +38,8 @@ class RiekerDriver : public PolledSensorDriver {
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
 
   void follow_address(std::uint32_t address) override;
+  // "NAK 2 (function not valid for this sensor or mode)".
+  std::string refusal_text(std::uint8_t code) const override;
 
   std::uint16_t address() const { return options_.address; }
 
