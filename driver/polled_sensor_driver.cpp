@@ -51,6 +51,7 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
   note_timing(line.last_timing(), line.name());
   if (sent) {
     state_.online = true;
+    state_.last_answer = SteadyClock::now();
   } else {
     if (sent.error() == LineError::timeout) {
       ++state_.counters.timeouts;

@@ -49,6 +49,8 @@ struct SensorState {
   std::optional<Reading> reading;   // the last good measurement
   std::uint16_t sample_seq = 0;     // +1 for every new reading (wraps)
   bool online = false;              // the last exchange with the sensor got a valid reply
+  // When the sensor last gave a valid reply (a refusal included); none before the first.
+  std::optional<SteadyClock::time_point> last_answer;
   bool identity_known = false;      // serial/firmware read since the last (re)connect
   bool last_write_failed = false;
   // The sensor has answered after the reply time-out recently (status bit 5); its time-out
@@ -67,5 +69,19 @@ struct SensorState {
   KnownSettings settings;
   SensorCounters counters;
 };
+
+// Whether the sensor counts as online at `now`: its last exchange got a valid reply, and it has
+// been heard from within `silence_limit` (its stale_after). The second half matters while a
+// poll of a sensor that fell silent is still running its retries, each with its late-reply
+// guard (with the defaults 3 x (50 + 450) ms): it clears the online bit no later than the
+// measurements turn stale, instead of half a second after. Heard from: its last answer, or its
+// last reading, which is taken when the measurement's answer arrived.
+inline bool online_at(const SensorState& state, SteadyClock::time_point now,
+                      std::chrono::milliseconds silence_limit) {
+  if (!state.online) return false;
+  std::optional<SteadyClock::time_point> heard = state.last_answer;
+  if (state.reading && (!heard || state.reading->taken > *heard)) heard = state.reading->taken;
+  return !heard || now - *heard <= silence_limit;
+}
 
 }  // namespace tiltgate

@@ -49,7 +49,7 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.model = std::string(sensor.driver->model());
   s.serial = state.serial;
   s.firmware = state.firmware;
-  s.online = state.online;
+  s.online = online_at(state, now, sensor.stale_after);
   s.polls_ok = state.counters.polls_ok;
   s.polls_failed = state.counters.polls_failed;
   s.timeouts = state.counters.timeouts;

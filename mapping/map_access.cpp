@@ -38,7 +38,7 @@ Expected<Measurements, MapFault> measurements_for(const std::vector<const Point*
                                                   const SensorView& v) {
   const bool needed = std::any_of(points.begin(), points.end(),
                                   [](const Point* p) { return is_measurement_point(*p); });
-  if (!needed || (v.state.online && !v.stale())) return Measurements::fresh;
+  if (!needed || (v.online() && !v.stale())) return Measurements::fresh;
   switch (v.offline) {
     case OfflineRead::exception:
       break;

@@ -21,7 +21,7 @@ std::uint16_t SensorView::alarms() const {
 
 std::uint16_t SensorView::status() const {
   std::uint16_t bits = 0;
-  if (state.online) bits |= status_bit::online;
+  if (online()) bits |= status_bit::online;
   if (stale()) bits |= status_bit::stale;
   if (state.last_write_failed) bits |= status_bit::last_write_failed;
   if (!state.identity_known) bits |= status_bit::identity_unknown;

@@ -26,6 +26,9 @@ struct SensorView {
   double substitute = 0.0;  // offline == substitute: what numeric measurement points show
   std::string_view model{};  // the driver's model (a ModelDescriptor name), for model_code
 
+  // Online now: answering, and heard from within stale_after (driver/sensor_state.h), so the
+  // online bit clears no later than the measurements turn stale.
+  bool online() const { return online_at(state, now, stale_after); }
   bool stale() const;
   std::uint16_t age_ms() const;  // 65535 when there never was a reading
   std::uint16_t status() const;

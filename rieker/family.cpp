@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <limits>
 
 #include "driver/simulator_command.h"
 #include "mapping/register_map.h"
@@ -102,16 +103,25 @@ class Simulator final : public BusSimulator {
   std::size_t sensor_count() const override { return simulator_.sensor_count(); }
   std::string what() const override { return "Rieker sensor(s)"; }
   // "angle ADDRESS X [Y]": the sensor's raw angles in degrees, fixed from now on.
+  // "silent ADDRESS": the sensor stops answering (unpowered, its drop cut) until "answer ADDRESS".
   Expected<Done, std::string> command(std::string_view line) override {
     auto parsed = parse_simulator_command(line);
     if (!parsed) return Unexpected{parsed.error()};
-    if (parsed->verb != "angle") {
-      return Unexpected{"unknown command \"" + parsed->verb + "\" (try: angle ADDRESS X [Y])"};
+    const bool known = parsed->verb == "angle" || parsed->verb == "silent" || parsed->verb == "answer";
+    if (!known) {
+      return Unexpected{"unknown command \"" + parsed->verb +
+                        "\" (try: angle ADDRESS X [Y], silent ADDRESS, answer ADDRESS)"};
     }
     SimulatedSensor* sensor = parsed->address > 0xFFFF
                                   ? nullptr
                                   : simulator_.sensor_by_address(std::uint16_t(parsed->address));
     if (sensor == nullptr) return Unexpected{fmt::format("no sensor at address {}", parsed->address)};
+    if (parsed->verb != "angle") {
+      if (!parsed->values.empty())
+        return Unexpected{fmt::format("{} takes only an address", parsed->verb)};
+      sensor->faults().silent = parsed->verb == "silent" ? std::numeric_limits<int>::max() : 0;
+      return Done{};
+    }
     const std::size_t axes = sensor->model() == Model::h6 ? 2 : 1;
     const std::vector<double>& angles = parsed->values;
     if (angles.empty() || angles.size() > axes) {

@@ -45,9 +45,17 @@ check "no sensor at the address is an error" \
 check "two angles for a single-axis sensor is an error" \
   test "$(send "angle 101 1 2")" = "error: the sensor at address 101 takes 1 angle(s)"
 check "a word that is not a number is an error" test "$(send "angle 223 x")" = 'error: "x" is not a number'
-check "an unknown command is an error naming the right one" \
-  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y])'
+check "an unknown command is an error naming the right ones" \
+  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y], silent ADDRESS, answer ADDRESS)'
 check "the simulator still answers after bad commands" test "$(send "angle 223 1 2")" = "ok"
+
+check "silent on an H6 answers ok" test "$(send "silent 223")" = "ok"
+angles "$dir/tty" 223 04 >"$dir/silent.out"
+check "the silent H6 gives no reply" grep -q "no reply" "$dir/silent.out"
+check "silent takes only an address" test "$(send "silent 223 1")" = "error: silent takes only an address"
+check "answer on the silent H6 answers ok" test "$(send "answer 223")" = "ok"
+angles "$dir/tty" 223 04 >"$dir/answers.out"
+check "the H6 answers again" grep -qxF "angle x:  1.000 deg" "$dir/answers.out"
 
 # Spectron: counts.
 mkfifo "$dir/dyna-commands"

@@ -130,6 +130,7 @@ TEST_CASE("bit points pick one status bit, and a packed register carries several
   const RegisterMap map({stale, packed});
   const auto now = SteadyClock::now();
   auto state = sensor_at(now, 1, 1);
+  state.last_answer = now + 4900ms;  // it answers (a refusal to each poll), its reading ages
   DerivedState derived;
   derived.alarms = alarm_bit::tilt_high;
   derived.valid = true;
@@ -188,4 +189,35 @@ TEST_CASE("a write through a scaled, word-swapped point is decoded before the ra
   CHECK(plan->front().value == -80.0);
   const Words too_far{0x4E20, 0x0000};  // 20000 -> 200 degrees
   CHECK(plan_register_write(map, WordOrder::big, 10, too_far).error() == MapFault::illegal_value);
+}
+
+TEST_CASE("a sensor not heard from for stale_after reads offline, its angles 0x0B, though its poll still runs") {
+  // The driver has not finished the poll that finds the sensor silent (its retries and their
+  // late-reply guards take longer than stale_after), so state.online still says the last
+  // exchange was answered.
+  const auto now = SteadyClock::now();
+  SensorState state = sensor_at(now, 1.5, -2.25);
+  state.last_answer = state.reading->taken - 1ms;  // the Get Angle reply, just before the reading
+  const RegisterMap map({input("x", 0, PointType::float32, ValueSource::angle_x),
+                         input("status", 2, PointType::uint16, ValueSource::status)});
+
+  const SensorView fresh{state, state.reading->taken + 1000ms, 1000ms, {}};
+  CHECK(fresh.online());
+  CHECK_FALSE(fresh.stale());
+  CHECK((fresh.status() & status_bit::online) != 0);
+
+  const SensorView silent{state, state.reading->taken + 1001ms, 1000ms, {}};
+  CHECK_FALSE(silent.online());
+  CHECK(silent.stale());
+  CHECK((silent.status() & status_bit::online) == 0);
+  const auto angles = read_registers(map, silent, RegisterTable::input, 0, 2);
+  REQUIRE_FALSE(angles.has_value());
+  CHECK(angles.error() == MapFault::unavailable);
+  CHECK((read(map, silent, 2, 1)[0] & status_bit::online) == 0);
+
+  // A sensor that answers (a NAK to every measurement) stays online while its reading ages.
+  state.last_answer = state.reading->taken + 900ms;
+  const SensorView refusing{state, state.reading->taken + 1500ms, 1000ms, {}};
+  CHECK(refusing.online());
+  CHECK(refusing.stale());
 }

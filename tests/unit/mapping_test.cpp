@@ -103,6 +103,7 @@ TEST_CASE("measurements of a stale or offline sensor are unavailable but status 
   const auto map = default_map("h6");
   const auto now = SteadyClock::now();
   auto state = online_sensor(now);
+  state.last_answer = now + 4900ms;  // it answers (a refusal to each poll), its reading ages
   SensorView stale{state, now + 5s, 1000ms, {}, WordOrder::big};
   CHECK(read_registers(map, stale, RegisterTable::input, 0, 2).error() == MapFault::unavailable);
   auto status = read_registers(map, stale, RegisterTable::input, 6, 2);
