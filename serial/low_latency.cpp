@@ -77,30 +77,42 @@ std::string latency_timer_path(const std::string& port) {
   return "/sys/bus/usb-serial/devices/" + name + "/latency_timer";
 }
 
+bool is_usb_serial(const std::string& port, const fs::path& sysfs_root) {
+  std::error_code ec;
+  return fs::exists(sysfs_root / "bus/usb-serial/devices" / tty_kernel_name(port), ec);
+}
+
 LowLatencyLogLine low_latency_log_line(std::string_view name, const std::string& port,
                                        const LowLatencyResult& result,
-                                       std::optional<int> latency_timer_ms) {
+                                       std::optional<int> latency_timer_ms, bool usb_serial) {
+  using Level = LowLatencyLogLevel;
   const bool slow_timer = latency_timer_ms && *latency_timer_ms > 1;
   const std::string timer =
       slow_timer ? fmt::format("; its latency_timer is {} ms", *latency_timer_ms) : "";
   const std::string fix = fmt::format("echo 1 > {} (or a udev rule, see the README)",
                                       latency_timer_path(port));
+  if (!usb_serial && !slow_timer) {
+    // A pty or an on-board UART: no latency timer holds its bytes back, nothing to do.
+    return {Level::debug, fmt::format("{}: {} low-latency flag: {} (not a USB serial adapter: "
+                                      "no latency timer to set)",
+                                      name, port, result.describe())};
+  }
   switch (result.outcome) {
     case LowLatencyOutcome::set:
     case LowLatencyOutcome::already_set:
-      return {slow_timer,
+      return {slow_timer ? Level::warning : Level::info,
               fmt::format("{}: {} low-latency mode {}{}{}", name, port, result.describe(), timer,
                           slow_timer ? ", set it to 1: " + fix : "")};
     case LowLatencyOutcome::not_supported:
-      return {slow_timer,
-              fmt::format("{}: {} has no low-latency flag: {}{}; on a USB adapter, set its "
-                          "latency timer to 1 ms instead: {}",
+      return {slow_timer ? Level::warning : Level::info,
+              fmt::format("{}: {} has no low-latency flag: {}{}; set the USB adapter's latency "
+                          "timer to 1 ms instead: {}",
                           name, port, result.describe(), timer, fix)};
     case LowLatencyOutcome::failed: break;
   }
-  return {true, fmt::format("{}: {} cannot be put in low-latency mode: {}{}; set its latency "
-                            "timer to 1 ms instead: {}",
-                            name, port, result.describe(), timer, fix)};
+  return {Level::warning, fmt::format("{}: {} cannot be put in low-latency mode: {}{}; set its "
+                                      "latency timer to 1 ms instead: {}",
+                                      name, port, result.describe(), timer, fix)};
 }
 
 }  // namespace tiltgate

@@ -7,6 +7,7 @@
 // through sysfs: /sys/bus/usb-serial/devices/ttyUSBn/latency_timer.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -49,15 +50,25 @@ std::optional<int> read_latency_timer(const std::string& port,
 // The sysfs file to write 1 into by hand or from a udev rule, for the log's advice.
 std::string latency_timer_path(const std::string& port);
 
+// Whether the tty at `port` is a USB serial adapter's (ftdi_sio, cp210x, ch341, pl2303, ...):
+// `sysfs_root`/bus/usb-serial/devices/<tty_kernel_name(port)> exists. Only those have a latency
+// timer; a pseudo-terminal, an on-board UART or a CDC-ACM device has none.
+bool is_usb_serial(const std::string& port, const std::filesystem::path& sysfs_root = "/sys");
+
 // The one log line for an open's outcome: what happened to `port` of bus `name`, the latency
-// timer when it is above 1 ms, and what to do when the flag could not be set. A warning when
-// the bus is slowed for certain (a real failure, or a latency timer above 1 ms left as it is).
+// timer when it is above 1 ms, and what to do when the flag could not be set.
+// - a warning when the bus is slowed for certain: a latency timer above 1 ms left as it is, or a
+//   USB adapter that refused the flag;
+// - info on a USB serial adapter otherwise, with the latency-timer advice where the flag is
+//   missing: that is where it applies;
+// - debug on any other tty (a pseudo-terminal, an on-board UART), which has no timer to set.
+enum class LowLatencyLogLevel : std::uint8_t { debug, info, warning };
 struct LowLatencyLogLine {
-  bool warning = false;
+  LowLatencyLogLevel level = LowLatencyLogLevel::debug;
   std::string text;
 };
 LowLatencyLogLine low_latency_log_line(std::string_view name, const std::string& port,
                                        const LowLatencyResult& result,
-                                       std::optional<int> latency_timer_ms);
+                                       std::optional<int> latency_timer_ms, bool usb_serial);
 
 }  // namespace tiltgate

@@ -105,16 +105,18 @@ void SerialLine::apply_low_latency(int fd) {
   // Read after setting it: ftdi_sio lowers the timer to 1 ms when the flag goes on.
   const LowLatencyLogLine line = low_latency_log_line(
       options_.name, options_.port, *low_latency_,
-      read_latency_timer(options_.port, options_.sysfs_root));
+      read_latency_timer(options_.port, options_.sysfs_root),
+      is_usb_serial(options_.port, options_.sysfs_root));
   if (logged_low_latency_ == low_latency_) {
     spdlog::debug("{}", line.text);  // a reopen that ends as the last open did
     return;
   }
   logged_low_latency_ = low_latency_;
-  if (line.warning)
-    spdlog::warn("{}", line.text);
-  else
-    spdlog::info("{}", line.text);
+  switch (line.level) {
+    case LowLatencyLogLevel::warning: spdlog::warn("{}", line.text); break;
+    case LowLatencyLogLevel::info: spdlog::info("{}", line.text); break;
+    case LowLatencyLogLevel::debug: spdlog::debug("{}", line.text); break;
+  }
 }
 
 void SerialLine::schedule_reopen() {

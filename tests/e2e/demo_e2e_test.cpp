@@ -115,3 +115,13 @@ TEST_CASE("tiltgate demo serves the RTU inclinometer through the example profile
   CHECK(demo->terminate() == 0);
   CHECK(std::filesystem::is_empty(tmp));
 }
+
+TEST_CASE("tiltgate demo gives no USB latency advice for its simulated buses' pseudo-terminals") {
+  TempDir dir;
+  const std::uint16_t port = free_tcp_port();
+  GatewayProcess demo({"demo", "--port", std::to_string(port), "--http-port", "0"}, dir.path());
+  REQUIRE_MESSAGE(demo.wait_listening(port), demo.log());
+  // A pty has no latency timer to set: the low-latency outcome is a debug line, not info.
+  CHECK_MESSAGE(demo.log().find("low-latency") == std::string::npos, demo.log());
+  CHECK_MESSAGE(demo.log().find("latency timer") == std::string::npos, demo.log());
+}

@@ -73,29 +73,54 @@ TEST_CASE("low latency: the latency timer is read under the tty's kernel name") 
 }
 
 TEST_CASE("low latency: the log line says what happened and the fix when the flag is missing") {
+  using Level = LowLatencyLogLevel;
   const LowLatencyResult set{LowLatencyOutcome::set, 0};
-  const LowLatencyLogLine fine = low_latency_log_line("line1", "/dev/ttyUSB0", set, 1);
-  CHECK_FALSE(fine.warning);
+  const LowLatencyLogLine fine = low_latency_log_line("line1", "/dev/ttyUSB0", set, 1, true);
+  CHECK(fine.level == Level::info);
   CHECK(fine.text == "line1: /dev/ttyUSB0 low-latency mode set");
 
   // The flag went on but the timer stayed high: the bus is slow, say how to fix it.
-  const LowLatencyLogLine slow = low_latency_log_line("line1", "/dev/ttyUSB0", set, 16);
-  CHECK(slow.warning);
+  const LowLatencyLogLine slow = low_latency_log_line("line1", "/dev/ttyUSB0", set, 16, true);
+  CHECK(slow.level == Level::warning);
   CHECK(contains(slow.text, "latency_timer is 16 ms"));
   CHECK(contains(slow.text, "echo 1 > /sys/bus/usb-serial/devices/ttyUSB0/latency_timer"));
 
+  // A USB adapter whose driver has no flag: the latency-timer advice applies, at info.
   const LowLatencyResult missing{LowLatencyOutcome::not_supported, ENOTTY};
-  const LowLatencyLogLine pty = low_latency_log_line("line1", "/dev/pts/3", missing, {});
-  CHECK_FALSE(pty.warning);  // a pty or an on-board UART: nothing known to be slow
-  CHECK(contains(pty.text, "line1: /dev/pts/3 has no low-latency flag"));
-  CHECK(contains(pty.text, "not supported by this driver"));
-  CHECK(contains(pty.text, "/sys/bus/usb-serial/devices/ttyUSBn/latency_timer"));
-  CHECK(low_latency_log_line("line1", "/dev/ttyUSB0", missing, 16).warning);
+  const LowLatencyLogLine usb = low_latency_log_line("line1", "/dev/ttyUSB0", missing, 1, true);
+  CHECK(usb.level == Level::info);
+  CHECK(contains(usb.text, "line1: /dev/ttyUSB0 has no low-latency flag"));
+  CHECK(contains(usb.text, "echo 1 > /sys/bus/usb-serial/devices/ttyUSB0/latency_timer"));
+  CHECK(low_latency_log_line("line1", "/dev/ttyUSB0", missing, 16, true).level == Level::warning);
 
-  const LowLatencyLogLine refused =
-      low_latency_log_line("line1", "/dev/ttyUSB0", LowLatencyResult{LowLatencyOutcome::failed,
-                                                                     EPERM}, {});
-  CHECK(refused.warning);
+  const LowLatencyLogLine refused = low_latency_log_line(
+      "line1", "/dev/ttyUSB0", LowLatencyResult{LowLatencyOutcome::failed, EPERM}, {}, true);
+  CHECK(refused.level == Level::warning);
   CHECK(contains(refused.text, "cannot be put in low-latency mode: failed (Operation not permitted)"));
   CHECK(contains(refused.text, "echo 1 > /sys/bus/usb-serial/devices/ttyUSB0/latency_timer"));
+}
+
+TEST_CASE("low latency: a pty or an on-board UART gets one debug line and no USB advice") {
+  using Level = LowLatencyLogLevel;
+  const LowLatencyResult missing{LowLatencyOutcome::not_supported, ENOTTY};
+  const LowLatencyLogLine pty = low_latency_log_line("line1", "/dev/pts/3", missing, {}, false);
+  CHECK(pty.level == Level::debug);
+  CHECK(contains(pty.text, "line1: /dev/pts/3 low-latency flag: not supported by this driver"));
+  CHECK(contains(pty.text, "not a USB serial adapter"));
+  CHECK_FALSE(contains(pty.text, "latency_timer"));
+  CHECK_FALSE(contains(pty.text, "echo 1"));
+  const LowLatencyLogLine uart = low_latency_log_line(
+      "line1", "/dev/ttyS0", LowLatencyResult{LowLatencyOutcome::failed, EPERM}, {}, false);
+  CHECK(uart.level == Level::debug);
+  CHECK(low_latency_log_line("line1", "/dev/ttyS0", LowLatencyResult{LowLatencyOutcome::set, 0},
+                             {}, false)
+            .level == Level::debug);
+}
+
+TEST_CASE("low latency: a tty is a USB serial adapter's when sysfs lists it under usb-serial") {
+  ScratchDir sysfs("tiltgate-usb-serial");
+  write_latency_timer(sysfs, "ttyUSB3", "1\n");
+  CHECK(is_usb_serial("/dev/ttyUSB3", sysfs.path("")));
+  CHECK_FALSE(is_usb_serial("/dev/ttyS0", sysfs.path("")));
+  CHECK_FALSE(is_usb_serial("/dev/pts/4", sysfs.path("")));
 }
