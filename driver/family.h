@@ -19,9 +19,9 @@
 #include "driver/family_options.h"
 #include "driver/framing.h"
 #include "driver/scan.h"
-#include "driver/forwarding.h"
+#include "driver/forwarded_exchange.h"
 #include "driver/sensor_driver.h"
-#include "driver/simulator.h"
+#include "driver/bus_simulator.h"
 
 namespace tiltgate {
 
@@ -59,7 +59,7 @@ struct ProtocolDescriptor {
   std::chrono::microseconds (*default_gap)(std::uint32_t baud, Framing framing) = nullptr;
   // For a protocol that carries Modbus PDUs: wraps a Modbus TCP request's PDU for one device
   // on the bus and finds its reply, so a [[bus]] may pass unit ids through to its devices
-  // (driver/forwarding.h). Null: the protocol cannot forward Modbus requests.
+  // (driver/forwarded_exchange.h). Null: the protocol cannot forward Modbus requests.
   ForwardFactory forward = nullptr;
   // How `tiltgate scan` finds the protocol's sensors (driver/scan.h).
   ScanDescriptor scan{};

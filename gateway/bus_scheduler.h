@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "driver/forwarding.h"
+#include "driver/forwarded_exchange.h"
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
 #include "gateway/gateway_sensor.h"
@@ -94,7 +94,7 @@ class BusScheduler {
   WriteResult check_address_free(const GatewaySensor& sensor, WriteTarget target,
                                  double value) const;
 
-  // Lets forward() frame requests with the bus protocol's factory (driver/forwarding.h), with
+  // Lets forward() frame requests with the bus protocol's factory (driver/forwarded_exchange.h), with
   // at most `max_queued` of them waiting at once.
   void enable_forwarding(ForwardFactory make, std::size_t max_queued = kMaxQueuedForwards);
 

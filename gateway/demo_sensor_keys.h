@@ -1,4 +1,4 @@
-// A demo sensor's own family keys (driver/simulator.h, DemoSensor): the files they name are
+// A demo sensor's own family keys (driver/bus_simulator.h, DemoSensor): the files they name are
 // written into a private folder, and the family reads its keys as from a configuration, so
 // the demo's sensors get what a configured sensor gets, defaults included.
 #pragma once

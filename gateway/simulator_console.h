@@ -13,7 +13,7 @@
 #include <optional>
 #include <string>
 
-#include "driver/simulator.h"
+#include "driver/bus_simulator.h"
 
 namespace tiltgate {
 

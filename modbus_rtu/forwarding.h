@@ -9,7 +9,7 @@
 
 #include <optional>
 
-#include "driver/forwarding.h"
+#include "driver/forwarded_exchange.h"
 #include "modbus_rtu/codec.h"
 #include "modbus_rtu/frame_parser.h"
 

@@ -11,7 +11,7 @@
 #include "e2e/support/http_client.h"
 #include "e2e/support/http_demo.h"
 #include "driver/family.h"
-#include "driver/simulator.h"
+#include "driver/bus_simulator.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "driver/forwarding.h"
+#include "driver/forwarded_exchange.h"
 
 namespace tiltgate::test {
 
