@@ -28,10 +28,18 @@ require_mbpoll() {
   exit 1
 }
 
-# free_port: a TCP port nothing listens on now (the kernel's choice), or a random high one.
+# free_port: a TCP port nothing listens on now (the kernel's choice), or a random high one;
+# never one it handed out before in this script (kept in $dir/.ports): the kernel gives a port
+# just freed out again, and two listeners of one gateway on one port cannot both bind.
 free_port() {
-  /usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' \
-    2>/dev/null || echo $((20000 + RANDOM % 20000))
+  local port
+  for _ in $(seq 50); do
+    port=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' \
+      2>/dev/null || echo $((20000 + RANDOM % 20000)))
+    grep -qx "$port" "${dir:?}/.ports" 2>/dev/null || break
+  done
+  echo "$port" >>"$dir/.ports"
+  echo "$port"
 }
 
 # start_sim TILTGATE FAMILY SENSORS LINK: `tiltgate sim FAMILY` in the background, waiting
