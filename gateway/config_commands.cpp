@@ -10,7 +10,7 @@
 
 #include "config/config_loader.h"
 #include "gateway/commands.h"
-#include "gateway/gateway.h"
+#include "gateway/served_gateway.h"
 #include "gateway/run_as_user.h"
 #include "gateway/service_notify.h"
 #include "mapping/aggregate_layout.h"
@@ -132,7 +132,8 @@ int run_command(const std::string& config_path) {
   // Before start(): a SIGHUP from then on reloads rather than ends the process.
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   boost::asio::signal_set hangups(io, SIGHUP);
-  Gateway gateway(io, *config);
+  ServedGateway served(io, *config);
+  Gateway& gateway = served.gateway();
   auto started = gateway.start();
   if (!started) {
     spdlog::critical("{}", started.error());

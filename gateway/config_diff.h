@@ -1,4 +1,4 @@
-// What a reload changes (SIGHUP, gateway/gateway_reload.cpp): the running configuration and the
+// What a reload changes (SIGHUP, Gateway::reload in gateway/gateway.cpp): the running configuration and the
 // file's new one, compared by name. Pure: the gateway applies the result.
 //
 // A bus is kept when its settings are the same; otherwise it is reopened (same name), added or

@@ -14,7 +14,7 @@
 #include "gateway/commands.h"
 #include "gateway/simulator_console.h"
 #include "gateway/demo_sensor_keys.h"
-#include "gateway/gateway.h"
+#include "gateway/served_gateway.h"
 
 namespace tiltgate {
 
@@ -141,7 +141,8 @@ int demo_command(const DemoOptions& options) {
     return 1;
   }
   const Config& config = *demo;
-  Gateway gateway(io, config);
+  ServedGateway served(io, config);
+  Gateway& gateway = served.gateway();
   if (auto started = gateway.start(); !started) {
     spdlog::critical("demo: {}", started.error());
     return 1;

@@ -4,18 +4,34 @@
 #include <boost/asio/detached.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <algorithm>
 #include <ctime>
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "driver/family.h"
+#include "gateway/config_diff.h"
 #include "gateway/driver_registry.h"
+#include "gateway/serial_options.h"
+#include "gateway/status_copy.h"
 #include "mapping/map_definition.h"
 
 namespace tiltgate {
 
 namespace asio = boost::asio;
+
+namespace {
+
+bool listed(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+std::size_t tcp_threads(const ServerConfig& server) {
+  return server.threads > 0 ? std::size_t(server.threads) : default_tcp_threads();
+}
+
+}  // namespace
 
 void finish_stopped(boost::asio::io_context& io) {
   io.restart();
@@ -26,31 +42,6 @@ RegisterMap map_for(const SensorConfig& sensor) {
   return build_map(sensor.map, sensor.model, sensor.family_options.device_values());
 }
 
-ModbusServerOptions modbus_server_options(const ServerConfig& server) {
-  ModbusServerOptions options;
-  options.listen = server.listen;
-  options.port = server.port;
-  options.max_clients = server.max_clients;
-  options.max_clients_per_host = server.max_clients_per_host;
-  options.allow = server.allow;
-  options.write_allow = server.write_allow;
-  options.plain_tcp = server.plain_tcp;
-  if (const auto& tls = server.tls)
-    options.tls = ModbusTlsOptions{tls->cert_pem, tls->key_pem, tls->ca_pem,
-                                   tls->cert_file, tls->key_file, tls->ca_file, tls->port};
-  options.idle_timeout = server.idle_timeout;
-  options.request_timeout = server.request_timeout;
-  return options;
-}
-
-ModbusServerOptions bus_listener_options(const ServerConfig& server, std::uint16_t port) {
-  ModbusServerOptions options = modbus_server_options(server);
-  options.port = port;
-  options.plain_tcp = true;
-  options.tls.reset();
-  return options;
-}
-
 std::string Gateway::local_time_now() {
   return fmt::format("{:%Y-%m-%d %H:%M:%S}", fmt::localtime(std::time(nullptr)));
 }
@@ -58,11 +49,8 @@ std::string Gateway::local_time_now() {
 Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     : io_(io),
       config_(config),
-      tcp_workers_(std::make_unique<TcpWorkerPool>(
-          config.server.threads > 0 ? std::size_t(config.server.threads) : default_tcp_threads())),
-      router_(io.get_executor(), RouterOptions{config.server.writes, config.server.word_order,
-                                               config.server.write_timeout}),
-      history_timer_(io.get_executor()),
+      tcp_workers_(std::make_unique<TcpWorkerPool>(tcp_threads(config.server))),
+      listeners_(io.get_executor(), config.server, *tcp_workers_),
       sample_timer_(io.get_executor()) {
   for (const BusConfig& bus : config_.buses) buses_.push_back(make_bus(bus));
   for (const SensorConfig& sc : config_.sensors) {
@@ -73,21 +61,17 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config)
     if (sensor) sensors_.push_back(std::move(sensor));
   }
   make_aggregates();
-  server_ = std::make_unique<ModbusTcpServer>(io_.get_executor(), router_,
-                                              modbus_server_options(config_.server),
-                                              tcp_workers_.get());
   start_seconds_ = std::chrono::duration<double>(
                        std::chrono::system_clock::now().time_since_epoch()).count();
   loaded_at_ = local_time_now();
-  make_control();
-  make_http(nullptr);
-  make_mqtt();
 }
 
 Gateway::~Gateway() {
   // The connections' threads end first: their coroutines refer to the servers and routers.
   tcp_workers_->stop();
 }
+
+void Gateway::attach(GatewayService& service) { services_.push_back(&service); }
 
 Gateway::Bus Gateway::make_bus(const BusConfig& config) {
   Bus bus;
@@ -110,24 +94,8 @@ std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
   sensor->written.assign(sensor->map.holding_end(), 0);
   sensor->stale_after = config.stale_after.value_or(default_stale_after(config.poll));
   bus.add(sensor);
-  router_for(listener_of(bus_config)).add(sensor);
+  listeners_.router_for(listener_of(bus_config)).add(sensor);
   return sensor;
-}
-
-RequestRouter& Gateway::router_for(std::uint16_t listener) {
-  if (listener == kMainListener) return router_;
-  for (BusListener& bus : bus_listeners_)
-    if (bus.port == listener) return *bus.router;
-  BusListener made;
-  made.port = listener;
-  made.router = std::make_unique<RequestRouter>(
-      io_.get_executor(),
-      RouterOptions{config_.server.writes, config_.server.word_order, config_.server.write_timeout});
-  made.server = std::make_unique<ModbusTcpServer>(io_.get_executor(), *made.router,
-                                                  bus_listener_options(config_.server, listener),
-                                                  tcp_workers_.get());
-  bus_listeners_.push_back(std::move(made));
-  return *bus_listeners_.back().router;
 }
 
 void Gateway::make_aggregates() {
@@ -138,59 +106,8 @@ void Gateway::make_aggregates() {
                     aggregate.error());
       continue;
     }
-    router_for(listener_of(config_, config)).add(std::move(*aggregate));
+    listeners_.router_for(listener_of(config_, config)).add(std::move(*aggregate));
   }
-}
-
-std::vector<const ModbusTcpServer*> Gateway::servers() const {
-  std::vector<const ModbusTcpServer*> all{server_.get()};
-  for (const BusListener& bus : bus_listeners_) all.push_back(bus.server.get());
-  return all;
-}
-
-std::vector<std::uint16_t> Gateway::bus_ports() const {
-  std::vector<std::uint16_t> ports;
-  for (const BusListener& bus : bus_listeners_) ports.push_back(bus.server->local_port());
-  return ports;
-}
-
-void Gateway::make_control() {
-  if (config_.server.control_socket.empty()) return;
-  std::vector<ControlServer::ServedBus> served;
-  for (std::size_t i = 0; i < buses_.size(); ++i)
-    served.push_back({config_.buses[i], buses_[i].scheduler.get()});
-  control_ = std::make_unique<ControlServer>(io_.get_executor(), config_.server.control_socket,
-                                             std::move(served));
-}
-
-void Gateway::make_http(const HistoryRecorder* previous) {
-  if (!config_.http.enabled) return;
-  HttpServerOptions http;
-  http.listen = config_.http.listen;
-  http.port = config_.http.port;
-  http.allow = config_.http.allow;
-  make_history(previous);
-  http_ = std::make_unique<HttpServer>(
-      io_.get_executor(), [this] { return status(SteadyClock::now()); }, http,
-      [this](std::string_view sensor) -> std::optional<std::vector<AngleSample>> {
-        if (!history_) return std::nullopt;  // a reload turned [http] off meanwhile
-        return history_->history(sensor);
-      });
-}
-
-void Gateway::make_history(const HistoryRecorder* previous) {
-  std::vector<std::string> names;
-  for (const auto& sensor : sensors_) names.push_back(sensor->config.name);
-  history_ = std::make_unique<HistoryRecorder>(
-      std::move(names), std::size_t(std::chrono::milliseconds(config_.http.history_seconds) /
-                                    config_.http.history_interval));
-  if (previous != nullptr) history_->carry_over(*previous);
-}
-
-void Gateway::make_mqtt() {
-  if (!config_.mqtt.enabled) return;
-  mqtt_ = std::make_unique<MqttFeed>(
-      io_.get_executor(), [this] { return status(SteadyClock::now()); }, config_.mqtt);
 }
 
 void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool announce) {
@@ -198,7 +115,7 @@ void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool a
   const ProtocolEntry protocol = find_protocol(registered_families(), bus.protocol);
   if (protocol.protocol == nullptr || protocol.protocol->forward == nullptr) return;  // refused
   scheduler.enable_forwarding(protocol.protocol->forward);
-  RequestRouter& router = router_for(listener_of(bus));
+  RequestRouter& router = listeners_.router_for(listener_of(bus));
   for (std::uint8_t unit_id : bus.pass_through) router.pass_through(unit_id, scheduler);
   if (announce)
     spdlog::info("bus {}: unit id(s) {} passed through", bus.name,
@@ -206,23 +123,15 @@ void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool a
 }
 
 Expected<Done, std::string> Gateway::start() {
-  auto listening = server_->start();
-  if (!listening) return Unexpected(listening.error());
-  for (BusListener& bus : bus_listeners_) {
-    auto bus_listening = bus.server->start();
-    if (!bus_listening) return Unexpected(bus_listening.error());
-  }
+  if (auto listening = listeners_.start(); !listening) return listening;
   for (Bus& bus : buses_) start_bus(bus);
-  start_control();
-  start_http();
-  start_mqtt();
-  boost::asio::co_spawn(io_, record_history(), boost::asio::detached);
   boost::asio::co_spawn(io_, sample_counters(), boost::asio::detached);
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{} ({} thread(s)){}",
-               sensors_.size(), buses_.size(), config_.server.listen, server_->local_port(),
+               sensors_.size(), buses_.size(), config_.server.listen, listeners_.port(),
                tcp_workers_->size(), config_.server.writes ? ", writes enabled" : "");
   for (const BusConfig& bus : config_.buses)
     if (bus.tcp_port) spdlog::info("bus {}: its units on Modbus TCP port {}", bus.name, *bus.tcp_port);
+  for (GatewayService* service : services_) service->start();
   return Done{};
 }
 
@@ -238,74 +147,103 @@ boost::asio::awaitable<void> Gateway::run_bus(BusScheduler& scheduler, SerialLin
   if (scheduler.retiring()) line.stop();
 }
 
-void Gateway::start_control() {
-  if (!control_) return;
-  if (auto control = control_->start(); !control)
-    spdlog::warn("control socket off: {}; commissioning commands cannot use this gateway's "
-                 "buses",
-                 control.error());
-  else
-    spdlog::info("control socket {}", control_->path());
-}
-
-void Gateway::start_http() {
-  if (!http_) return;
-  if (auto http = http_->start(); !http)
-    spdlog::warn("HTTP status API off: {}", http.error());
-  else
-    spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.http.listen,
-                 http_->local_port());
-}
-
-void Gateway::start_mqtt() {
-  if (!mqtt_) return;
-  if (auto mqtt = mqtt_->start(); !mqtt)
-    spdlog::warn("MQTT feed off: {}", mqtt.error());
-  else
-    spdlog::info("MQTT feed to {}:{} under {}/", config_.mqtt.host, config_.mqtt.port,
-                 config_.mqtt.topic_prefix);
-}
-
-boost::asio::awaitable<void> Gateway::record_history() {
-  // Runs whether or not [http] is on: a reload may turn it on, or change the interval (which
-  // applies from the next sample on).
-  auto next = SteadyClock::now() + config_.http.history_interval;
-  while (!stopping_) {
-    const auto interval = config_.http.history_interval;
-    history_timer_.expires_at(next);
-    boost::system::error_code ec;
-    co_await history_timer_.async_wait(
-        boost::asio::redirect_error(boost::asio::use_awaitable, ec));
-    if (ec || stopping_) co_return;
-    const auto now = SteadyClock::now();
-    const auto unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                             std::chrono::system_clock::now().time_since_epoch())
-                             .count();
-    if (history_) history_->record(status(now), unix_ms);
-    // A steady cadence; after a stall (a suspended machine) start over rather than catch up.
-    next += interval;
-    if (next < now) next = now + interval;
-  }
-}
-
 void Gateway::stop() {
   stopping_ = true;
   sample_timer_.cancel();
-  history_timer_.cancel();
-  // Writes and forwarded requests still arriving are answered at once, not queued for buses
-  // that stop below.
-  router_.stop();
-  for (BusListener& bus : bus_listeners_) bus.router->stop();
-  server_->stop();
-  for (BusListener& bus : bus_listeners_) bus.server->stop();
-  if (control_) control_->stop();
-  if (http_) http_->stop();
-  if (mqtt_) mqtt_->stop();
+  listeners_.stop();
+  for (GatewayService* service : services_) service->stop();
   for (std::vector<Bus>* buses : {&buses_, &retired_buses_})
     for (Bus& bus : *buses) {
       bus.scheduler->stop();
       bus.line->stop();
     }
+}
+
+void Gateway::reload(const Config& loaded) {
+  const ConfigDiff diff = diff_configs(config_, loaded);
+  if (loaded.server.threads != config_.server.threads)
+    spdlog::warn("[server] threads applies at the next start; still {} thread(s)",
+                 tcp_workers_->size());
+  config_ = loaded;
+
+  // Every listener's units are routed anew; requests see the new routes only once all are
+  // made (commit_reload() below).
+  listeners_.begin_reload(loaded);
+  const std::vector<std::size_t> fresh_buses = reload_buses(loaded, diff);
+  reload_sensors(loaded, diff);
+  // Aggregates are rebuilt over the sensors served now (kept or new).
+  make_aggregates();
+  for (std::size_t index : fresh_buses) start_bus(buses_[index]);
+  listeners_.commit_reload();
+
+  if (!diff.buses_unchanged() || !diff.sensors_unchanged()) {
+    // The rates are kept per position; positions moved.
+    sensor_poll_rates_ = CounterRates{};
+    bus_rates_ = CounterRates{};
+  }
+  std::vector<std::string_view> restarted;
+  for (GatewayService* service : services_)
+    if (service->reload(config_, diff)) restarted.push_back(service->name());
+  loaded_at_ = local_time_now();
+  spdlog::info("configuration reloaded from {}: {}{}{}", config_.path, summarize(diff),
+               restarted.empty() ? "" : ". restarted: ", fmt::join(restarted, ", "));
+}
+
+std::vector<std::size_t> Gateway::reload_buses(const Config& loaded, const ConfigDiff& diff) {
+  // In the new file's order: the unchanged ones as they are (tty open, scheduler and queued
+  // writes untouched), the others made anew, started once their sensors are added.
+  std::vector<Bus> old_buses = std::move(buses_);
+  buses_.clear();
+  std::vector<std::size_t> fresh;
+  for (const BusConfig& config : loaded.buses) {
+    auto old = std::find_if(old_buses.begin(), old_buses.end(), [&](const Bus& bus) {
+      return bus.scheduler && bus.scheduler->name() == config.name;
+    });
+    if (listed(diff.buses_kept, config.name) && old != old_buses.end()) {
+      pass_through(config, *old->scheduler, false);
+      buses_.push_back(std::move(*old));
+      old->scheduler.reset();  // taken
+    } else {
+      buses_.push_back(make_bus(config));
+      fresh.push_back(buses_.size() - 1);
+    }
+  }
+  // Removed and changed buses: no more polls; their queued writes finish, then the tty closes.
+  for (Bus& bus : old_buses) {
+    if (!bus.scheduler) continue;
+    bus.scheduler->retire();
+    retired_buses_.push_back(std::move(bus));
+  }
+  return fresh;
+}
+
+void Gateway::reload_sensors(const Config& loaded, const ConfigDiff& diff) {
+  // In the new file's order: unchanged ones keep their object (cache, written registers,
+  // counters, queued writes); the others are made anew on their bus.
+  std::vector<std::shared_ptr<GatewaySensor>> old_sensors = std::move(sensors_);
+  sensors_.clear();
+  for (const SensorConfig& config : loaded.sensors) {
+    auto old = std::find_if(old_sensors.begin(), old_sensors.end(), [&](const auto& sensor) {
+      return sensor && sensor->config.name == config.name;
+    });
+    if (listed(diff.sensors_kept, config.name) && old != old_sensors.end()) {
+      // Where it is declared may have moved; nothing else differs (same_settings). Only that
+      // field is written: the Modbus TCP threads read the rest meanwhile.
+      (*old)->config.line = config.line;
+      listeners_.router_for(listener_of(loaded, config)).add(*old);
+      sensors_.push_back(std::move(*old));
+      continue;
+    }
+    std::size_t bus = 0;
+    while (bus < loaded.buses.size() && loaded.buses[bus].name != config.bus) ++bus;
+    if (bus == loaded.buses.size()) continue;  // the loader rejects this
+    if (auto sensor = make_sensor(config, loaded.buses[bus], *buses_[bus].scheduler))
+      sensors_.push_back(std::move(sensor));
+  }
+  // Removed and replaced sensors leave their bus's polls (a retired bus has none left). Their
+  // queued writes still run: each request being answered holds its sensor.
+  for (const auto& sensor : old_sensors)
+    if (sensor && sensor->bus != nullptr) sensor->bus->remove(*sensor);
 }
 
 asio::awaitable<void> Gateway::sample_counters() {
@@ -333,13 +271,25 @@ void Gateway::record_counters(SteadyClock::time_point now) {
   bus_rates_.record(now, std::move(buses));
 }
 
-std::uint16_t Gateway::port() const { return server_->local_port(); }
+GatewayStatus Gateway::status(SteadyClock::time_point now) const {
+  GatewayStatus status;
+  for (std::size_t i = 0; i < sensors_.size(); ++i) {
+    status.sensors.push_back(sensor_status(*sensors_[i], now));
+    status.sensors.back().polls_per_s = rounded(sensor_poll_rates_.rate(i), 100);
+  }
+  for (std::size_t i = 0; i < buses_.size(); ++i)
+    status.buses.push_back(bus_status(config_.buses[i], buses_[i].scheduler->stats(),
+                                      bus_rates_.rate(2 * i), bus_rates_.rate(2 * i + 1)));
+  // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
+  for (const ModbusTcpServer* listener : listeners_.servers()) add_listener_counts(status, *listener);
+  status.process_start_seconds = start_seconds_;
+  return status;
+}
 
-std::uint16_t Gateway::http_port() const { return http_ ? http_->local_port() : 0; }
-
-std::optional<MqttStats> Gateway::mqtt_stats() const {
-  if (!mqtt_) return std::nullopt;
-  return mqtt_->stats();
+std::vector<BusScheduler*> Gateway::schedulers() const {
+  std::vector<BusScheduler*> schedulers;
+  for (const Bus& bus : buses_) schedulers.push_back(bus.scheduler.get());
+  return schedulers;
 }
 
 std::vector<UnitMap> Gateway::unit_maps() const {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -97,5 +98,8 @@ struct GatewayStatus {
   std::optional<MqttStats> mqtt;      // none without [mqtt]
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
 };
+
+// A status copy taken now: how a service asks for one.
+using StatusSource = std::function<GatewayStatus()>;
 
 }  // namespace tiltgate

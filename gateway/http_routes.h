@@ -21,7 +21,6 @@ struct HttpReply {
   std::string content_disposition{};  // e.g. a download's file name; empty: no such header
 };
 
-using StatusSource = std::function<GatewayStatus()>;
 // A sensor's recent angles, oldest first; none for a name not configured.
 using HistorySource = std::function<std::optional<std::vector<AngleSample>>(std::string_view)>;
 

@@ -1,4 +1,4 @@
-// What a reload does to the bus and router under requests in flight (gateway/gateway_reload.cpp):
+// What a reload does to the bus and router under requests in flight (Gateway::reload, gateway/gateway.cpp):
 // a sensor the reload drops stays alive while its poll is on the wire or a client's write to it
 // waits for the bus, that write is still carried out and answered, and a retired bus carries
 // out its queued writes before it stops. A FakeLine and fake drivers (unit/support/fake_bus.h).

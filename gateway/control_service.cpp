@@ -1,0 +1,49 @@
+#include "gateway/control_service.h"
+
+#include <spdlog/spdlog.h>
+
+namespace tiltgate {
+
+ControlService::ControlService(const Gateway& gateway) : gateway_(gateway) { make_server(); }
+
+ControlService::~ControlService() = default;
+
+void ControlService::make_server() {
+  const Config& config = gateway_.config();
+  if (config.server.control_socket.empty()) return;
+  std::vector<ControlServer::ServedBus> served;
+  const std::vector<BusScheduler*> schedulers = gateway_.schedulers();
+  for (std::size_t i = 0; i < schedulers.size(); ++i)
+    served.push_back({config.buses[i], schedulers[i]});
+  server_ = std::make_unique<ControlServer>(gateway_.executor(), config.server.control_socket,
+                                            std::move(served));
+}
+
+void ControlService::start() {
+  if (!server_) return;
+  if (auto started = server_->start(); !started)
+    spdlog::warn("control socket off: {}; commissioning commands cannot use this gateway's "
+                 "buses",
+                 started.error());
+  else
+    spdlog::info("control socket {}", server_->path());
+}
+
+bool ControlService::reload(const Config& loaded, const ConfigDiff& diff) {
+  if (!server_ && loaded.server.control_socket.empty()) return false;
+  // Its sessions hold the old buses.
+  if (!diff.control_socket_changed && diff.buses_unchanged()) return false;
+  if (server_) {
+    server_->stop();
+    retired_.push_back(std::move(server_));
+  }
+  make_server();
+  start();
+  return true;
+}
+
+void ControlService::stop() {
+  if (server_) server_->stop();
+}
+
+}  // namespace tiltgate

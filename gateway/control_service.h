@@ -1,0 +1,36 @@
+// The control socket ([server] control_socket, gateway/control_server.h) as a service attached
+// to the gateway (gateway/gateway_service.h): it relays commissioning commands to the
+// gateway's buses, so a reload that changes the socket's path or the buses restarts it with
+// the buses served then (a command in progress is ended and reconnects).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "gateway/control_server.h"
+#include "gateway/gateway.h"
+#include "gateway/gateway_service.h"
+
+namespace tiltgate {
+
+class ControlService final : public GatewayService {
+ public:
+  explicit ControlService(const Gateway& gateway);
+  ~ControlService() override;
+
+  void start() override;
+  bool reload(const Config& loaded, const ConfigDiff& diff) override;
+  void stop() override;
+  std::string_view name() const override { return "control socket"; }
+
+ private:
+  // A server for the gateway's buses now, when [server] control_socket is set.
+  void make_server();
+
+  const Gateway& gateway_;
+  std::unique_ptr<ControlServer> server_;
+  // Servers a reload replaced, stopped: their sessions' coroutines end on later loop turns.
+  std::vector<std::unique_ptr<ControlServer>> retired_;
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,30 @@
+// A service that runs beside the gateway core, on its event loop: the HTTP status API and its
+// history, the MQTT feed, the control socket. The composition root (app/) makes each one and
+// attaches it to the Gateway, which starts, reloads and stops it with itself: a service sees
+// every reload and the shutdown without the core knowing what it is.
+#pragma once
+
+#include <string_view>
+
+#include "config/config.h"
+#include "gateway/config_diff.h"
+
+namespace tiltgate {
+
+class GatewayService {
+ public:
+  virtual ~GatewayService() = default;
+  // After the core is serving (buses open, Modbus listeners bound). A service whose table is
+  // off does nothing; one that cannot start logs why: the PLC's Modbus service never depends
+  // on it.
+  virtual void start() = 0;
+  // The gateway serves `loaded` now; `diff` says what changed against the configuration
+  // before. True when the service restarted (for the reload's summary line).
+  virtual bool reload(const Config& loaded, const ConfigDiff& diff) = 0;
+  // Before the buses stop.
+  virtual void stop() = 0;
+  // For the log: "http", "mqtt", "control socket".
+  virtual std::string_view name() const = 0;
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,49 @@
+#include "gateway/mqtt_service.h"
+
+#include <spdlog/spdlog.h>
+
+namespace tiltgate {
+
+MqttService::MqttService(boost::asio::any_io_executor executor, StatusSource status,
+                         const MqttConfig& config)
+    : executor_(std::move(executor)), status_(std::move(status)), config_(config) {
+  make_feed();
+}
+
+MqttService::~MqttService() = default;
+
+void MqttService::make_feed() {
+  if (!config_.enabled) return;
+  feed_ = std::make_unique<MqttFeed>(executor_, status_, config_);
+}
+
+void MqttService::start() {
+  if (!feed_) return;
+  if (auto started = feed_->start(); !started)
+    spdlog::warn("MQTT feed off: {}", started.error());
+  else
+    spdlog::info("MQTT feed to {}:{} under {}/", config_.host, config_.port, config_.topic_prefix);
+}
+
+bool MqttService::reload(const Config& loaded, const ConfigDiff& diff) {
+  if (!diff.mqtt_changed) return false;
+  if (feed_) {
+    feed_->stop();
+    retired_.push_back(std::move(feed_));
+  }
+  config_ = loaded.mqtt;
+  make_feed();
+  start();
+  return true;
+}
+
+void MqttService::stop() {
+  if (feed_) feed_->stop();
+}
+
+std::optional<MqttStats> MqttService::stats() const {
+  if (!feed_) return std::nullopt;
+  return feed_->stats();
+}
+
+}  // namespace tiltgate

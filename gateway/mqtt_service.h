@@ -1,0 +1,43 @@
+// The MQTT feed ([mqtt], gateway/mqtt_feed.h) as a service attached to the gateway
+// (gateway/gateway_service.h): made when the table is there, restarted when a reload changes
+// it.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "config/config.h"
+#include "gateway/gateway_service.h"
+#include "gateway/gateway_status.h"
+#include "gateway/mqtt_feed.h"
+
+namespace tiltgate {
+
+class MqttService final : public GatewayService {
+ public:
+  MqttService(boost::asio::any_io_executor executor, StatusSource status, const MqttConfig& config);
+  ~MqttService() override;
+
+  void start() override;
+  bool reload(const Config& loaded, const ConfigDiff& diff) override;
+  void stop() override;
+  std::string_view name() const override { return "mqtt"; }
+
+  // The feed's counters; none while [mqtt] is off.
+  std::optional<MqttStats> stats() const;
+
+ private:
+  void make_feed();
+
+  boost::asio::any_io_executor executor_;
+  StatusSource status_;
+  MqttConfig config_;
+  std::unique_ptr<MqttFeed> feed_;  // none without [mqtt]
+  // Feeds a reload replaced, stopped: their client's thread and timer may still be winding
+  // down, and they go with the service.
+  std::vector<std::unique_ptr<MqttFeed>> retired_;
+};
+
+}  // namespace tiltgate

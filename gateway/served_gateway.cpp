@@ -1,0 +1,22 @@
+#include "gateway/served_gateway.h"
+
+namespace tiltgate {
+
+ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config)
+    : gateway_(io, config),
+      http_(gateway_, [this] { return status(SteadyClock::now()); }),
+      mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
+      control_(gateway_) {
+  gateway_.attach(control_);
+  gateway_.attach(http_);
+  gateway_.attach(mqtt_);
+}
+
+GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
+  GatewayStatus status = gateway_.status(now);
+  status.http_connections_denied = http_.connections_denied();
+  status.mqtt = mqtt_.stats();
+  return status;
+}
+
+}  // namespace tiltgate

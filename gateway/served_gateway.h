@@ -1,0 +1,34 @@
+// The gateway as `tiltgate run` and `tiltgate demo` serve it: the core (gateway/gateway.h) and
+// every service beside it, made here and attached to it: the HTTP status API and its history,
+// the MQTT feed and the control socket, each on or off as its configuration says. The one
+// place that knows every service.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+
+#include "config/config.h"
+#include "gateway/control_service.h"
+#include "gateway/gateway.h"
+#include "gateway/mqtt_service.h"
+#include "gateway/status_service.h"
+
+namespace tiltgate {
+
+class ServedGateway {
+ public:
+  ServedGateway(boost::asio::io_context& io, const Config& config);
+
+  Gateway& gateway() { return gateway_; }
+  const Gateway& gateway() const { return gateway_; }
+  // The status the API, the metrics, the history and the MQTT feed show: the core's, with the
+  // services' own counters.
+  GatewayStatus status(SteadyClock::time_point now) const;
+
+ private:
+  Gateway gateway_;  // first: the services refer to it, and go before it
+  StatusService http_;
+  MqttService mqtt_;
+  ControlService control_;
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,113 @@
+#include "gateway/status_copy.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tiltgate {
+
+namespace {
+
+std::optional<double> present(double value) {
+  if (std::isnan(value)) return std::nullopt;
+  return value;
+}
+
+// Adds one listener's request or exception counts to the totals, keeping them in key order.
+template <class Count>
+void add_counts(std::vector<Count>& totals, const std::vector<Count>& counts) {
+  const auto key = [](const Count& c) {
+    if constexpr (requires { c.exception; }) return std::pair(c.function, c.exception);
+    else return std::pair(c.function, std::uint8_t(0));
+  };
+  for (const Count& count : counts) {
+    auto at = std::find_if(totals.begin(), totals.end(),
+                           [&](const Count& total) { return key(total) == key(count); });
+    if (at != totals.end())
+      at->count += count.count;
+    else
+      totals.push_back(count);
+  }
+  std::sort(totals.begin(), totals.end(),
+            [&](const Count& a, const Count& b) { return key(a) < key(b); });
+}
+
+}  // namespace
+
+// Rates are estimates over a few seconds: more digits than these would only be noise.
+// Division by the scale (not multiplication by a step) gives the double nearest the decimal.
+std::optional<double> rounded(std::optional<double> value, double scale) {
+  if (!value) return std::nullopt;
+  return std::round(*value * scale) / scale;
+}
+
+SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point now) {
+  const SensorState& state = sensor.driver->state();
+  SensorStatus s;
+  s.name = sensor.config.name;
+  s.bus = sensor.config.bus;
+  s.unit_id = sensor.config.unit_id;
+  s.address = state.bus_address;
+  s.model = std::string(sensor.driver->model());
+  s.serial = state.serial;
+  s.firmware = state.firmware;
+  s.online = online_at(state, now, sensor.stale_after);
+  s.polls_ok = state.counters.polls_ok;
+  s.polls_failed = state.counters.polls_failed;
+  s.timeouts = state.counters.timeouts;
+  s.checksum_errors = state.counters.checksum_errors;
+  s.io_errors = state.counters.io_errors;
+  s.late_replies = state.counters.late_replies;
+  for (std::size_t code = 0; code < state.counters.refusals.size(); ++code)
+    if (state.counters.refusals[code] > 0)
+      s.refusals.emplace_back(std::uint8_t(code), state.counters.refusals[code]);
+  if (state.reading) {
+    const auto age = std::chrono::duration_cast<std::chrono::milliseconds>(now - state.reading->taken);
+    s.age_ms = age.count();
+    s.stale = age > sensor.stale_after;
+    // The angles the register map serves: after mounting, once processing has seen a reading.
+    const DerivedState& derived = sensor.processing.derived();
+    if (derived.valid) {
+      s.x = present(derived.angle_x);
+      s.y = present(derived.angle_y);
+      s.tilt = present(derived.tilt);
+      s.alarms = derived.alarms;
+    } else {
+      s.x = present(state.reading->angle_x);
+      s.y = present(state.reading->angle_y);
+    }
+  }
+  return s;
+}
+
+BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats,
+                     std::optional<double> polls_per_s, std::optional<double> busy_share) {
+  BusStatus bus;
+  bus.name = config.name;
+  bus.port = config.port;
+  bus.baud = config.baud;
+  bus.protocol = config.protocol;
+  bus.polls = stats.polls;
+  bus.writes = stats.writes;
+  bus.forwarded = stats.forwarded;
+  bus.busy_seconds = std::chrono::duration<double>(stats.busy).count();
+  bus.polls_per_s = rounded(polls_per_s, 100);
+  // A turn that ran across the sample instant counts wholly in the later sample, so a busy
+  // share can come out a little over 1 for a moment.
+  if (const auto busy = rounded(busy_share, 1000)) bus.utilisation = std::min(*busy, 1.0);
+  return bus;
+}
+
+void add_listener_counts(GatewayStatus& status, const ModbusTcpServer& listener) {
+  const ModbusServerStats server = listener.stats();
+  status.modbus_clients += listener.client_count();
+  status.modbus_connections += server.accepted;
+  status.modbus_connections_refused += server.refused;
+  status.modbus_connections_replaced += server.replaced;
+  status.modbus_connections_denied += server.denied;
+  status.modbus_writes_denied += server.writes_denied;
+  status.modbus_tls_refused += server.tls_refused;
+  add_counts(status.modbus_requests, listener.request_counts().requests());
+  add_counts(status.modbus_exceptions, listener.request_counts().exceptions());
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,106 @@
+#include "gateway/status_service.h"
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <spdlog/spdlog.h>
+
+namespace tiltgate {
+
+StatusService::StatusService(const Gateway& gateway, StatusSource status)
+    : gateway_(gateway),
+      status_(std::move(status)),
+      config_(gateway.config().http),
+      history_timer_(gateway.executor()) {
+  make_http(nullptr);
+}
+
+StatusService::~StatusService() = default;
+
+void StatusService::make_http(const HistoryRecorder* previous) {
+  if (!config_.enabled) return;
+  HttpServerOptions http;
+  http.listen = config_.listen;
+  http.port = config_.port;
+  http.allow = config_.allow;
+  make_history(previous);
+  http_ = std::make_unique<HttpServer>(
+      gateway_.executor(), status_, http,
+      [this](std::string_view sensor) -> std::optional<std::vector<AngleSample>> {
+        if (!history_) return std::nullopt;  // a reload turned [http] off meanwhile
+        return history_->history(sensor);
+      });
+}
+
+void StatusService::make_history(const HistoryRecorder* previous) {
+  std::vector<std::string> names;
+  for (const auto& sensor : gateway_.sensors()) names.push_back(sensor->config.name);
+  history_ = std::make_unique<HistoryRecorder>(
+      std::move(names),
+      std::size_t(std::chrono::milliseconds(config_.history_seconds) / config_.history_interval));
+  if (previous != nullptr) history_->carry_over(*previous);
+}
+
+void StatusService::start() {
+  start_http();
+  boost::asio::co_spawn(gateway_.executor(), record_history(), boost::asio::detached);
+}
+
+void StatusService::start_http() {
+  if (!http_) return;
+  if (auto started = http_->start(); !started)
+    spdlog::warn("HTTP status API off: {}", started.error());
+  else
+    spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.listen,
+                 http_->local_port());
+}
+
+bool StatusService::reload(const Config& loaded, const ConfigDiff& diff) {
+  config_ = loaded.http;
+  if (diff.http_changed) {
+    if (http_) {
+      http_->stop();
+      retired_.push_back(std::move(http_));
+    }
+    std::unique_ptr<HistoryRecorder> previous = std::move(history_);
+    make_http(previous.get());
+    start_http();
+    return true;
+  }
+  if (history_ && !diff.sensors_unchanged()) {
+    std::unique_ptr<HistoryRecorder> previous = std::move(history_);
+    make_history(previous.get());
+  }
+  return false;
+}
+
+void StatusService::stop() {
+  stopping_ = true;
+  history_timer_.cancel();
+  if (http_) http_->stop();
+}
+
+boost::asio::awaitable<void> StatusService::record_history() {
+  // Runs whether or not [http] is on: a reload may turn it on, or change the interval (which
+  // applies from the next sample on).
+  auto next = SteadyClock::now() + config_.history_interval;
+  while (!stopping_) {
+    const auto interval = config_.history_interval;
+    history_timer_.expires_at(next);
+    boost::system::error_code ec;
+    co_await history_timer_.async_wait(
+        boost::asio::redirect_error(boost::asio::use_awaitable, ec));
+    if (ec || stopping_) co_return;
+    const auto unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+    if (history_) history_->record(status_(), unix_ms);
+    // A steady cadence; after a stall (a suspended machine) start over rather than catch up.
+    const auto now = SteadyClock::now();
+    next += interval;
+    if (next < now) next = now + interval;
+  }
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,58 @@
+// The HTTP status API, its metrics and the status page ([http]), with the angle history the
+// page's graphs draw: a service attached to the gateway (gateway/gateway_service.h). The
+// history is recorded every [http] history_interval_ms from the same status copy the API
+// serves; a reload that changes [http] restarts the server, one that changes the sensors keeps
+// the graphs of the sensors that keep their name.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <memory>
+#include <vector>
+
+#include "config/config.h"
+#include "gateway/gateway.h"
+#include "gateway/gateway_service.h"
+#include "gateway/history_recorder.h"
+#include "gateway/http_server.h"
+
+namespace tiltgate {
+
+class StatusService final : public GatewayService {
+ public:
+  // `status`: the gateway's whole status, as the API shows it (the core's and the services').
+  StatusService(const Gateway& gateway, StatusSource status);
+  ~StatusService() override;
+
+  void start() override;
+  bool reload(const Config& loaded, const ConfigDiff& diff) override;
+  void stop() override;
+  std::string_view name() const override { return "http"; }
+
+  // Clients refused for [http] allow; 0 while the server is off.
+  std::uint64_t connections_denied() const { return http_ ? http_->stats().denied : 0; }
+  // The bound port; 0 when [http] is off or its port could not be bound.
+  std::uint16_t port() const { return http_ ? http_->local_port() : 0; }
+
+ private:
+  void make_http(const HistoryRecorder* previous);
+  void start_http();
+  // The rings for the sensors served now; those of `previous` (by name) carry over.
+  void make_history(const HistoryRecorder* previous);
+  // Every history_interval_ms: each sensor's angles into its ring.
+  boost::asio::awaitable<void> record_history();
+
+  const Gateway& gateway_;
+  StatusSource status_;
+  HttpConfig config_;
+  std::unique_ptr<HttpServer> http_;          // none with [http] enabled = false
+  std::unique_ptr<HistoryRecorder> history_;  // none without http_
+  boost::asio::steady_timer history_timer_;
+  bool stopping_ = false;
+  // Servers a reload replaced, stopped: kept until the service goes, since their connections'
+  // coroutines end on later loop turns.
+  std::vector<std::unique_ptr<HttpServer>> retired_;
+};
+
+}  // namespace tiltgate
