@@ -1,4 +1,4 @@
-// The Modbus TCP side a client reaches first (gateway/modbus_request.h): the frame assembler
+// The Modbus TCP side a client reaches first (modbus_tcp/modbus_request.h): the frame assembler
 // fed a byte stream in random-sized reads, each ADU it yields parsed as the server would, and
 // the whole input parsed as one ADU as well.
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <variant>
 
 #include "fuzz/chunks.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_request.h"
 
 using namespace tiltgate;
 using fuzz::check;

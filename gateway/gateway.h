@@ -19,7 +19,7 @@
 #include "gateway/gateway_service.h"
 #include "gateway/gateway_status.h"
 #include "gateway/modbus_listeners.h"
-#include "gateway/tcp_worker_pool.h"
+#include "modbus_tcp/tcp_worker_pool.h"
 #include "mapping/map_export.h"
 #include "serial/serial_line.h"
 

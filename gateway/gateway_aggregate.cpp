@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate {
 

@@ -7,7 +7,7 @@
 
 #include "config/config.h"
 #include "gateway/gateway_sensor.h"
-#include "gateway/modbus_types.h"
+#include "modbus_tcp/modbus_types.h"
 #include "mapping/aggregate_layout.h"
 
 namespace tiltgate {

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "modbus_tcp/modbus_request_counts.h"
+
 namespace tiltgate {
 
 struct SensorStatus {
@@ -59,18 +61,6 @@ struct BusStatus {
   // was busy (0..1; 1 = the bus runs flat out and cannot poll faster). None until counted.
   std::optional<double> polls_per_s;
   std::optional<double> utilisation;
-};
-
-// Modbus TCP requests answered, by function code, and those answered with an exception, by
-// function and exception code (gateway/modbus_request_counts.h).
-struct ModbusFunctionCount {
-  std::uint8_t function = 0;
-  std::uint64_t count = 0;
-};
-struct ModbusExceptionCount {
-  std::uint8_t function = 0;
-  std::uint8_t exception = 0;
-  std::uint64_t count = 0;
 };
 
 // The MQTT feed's counters (gateway/mqtt_feed.h), for the metrics (tiltgate_mqtt_*).

@@ -1,4 +1,4 @@
-#include "gateway/tcp_listen.h"
+#include "modbus_tcp/tcp_listen.h"
 #include "gateway/http_server.h"
 
 #include <boost/asio/co_spawn.hpp>

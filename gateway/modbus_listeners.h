@@ -16,9 +16,9 @@
 
 #include "config/config.h"
 #include "driver/expected.h"
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 #include "gateway/request_router.h"
-#include "gateway/tcp_worker_pool.h"
+#include "modbus_tcp/tcp_worker_pool.h"
 
 namespace tiltgate {
 

@@ -5,7 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gateway/bus_scheduler.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_request.h"
 #include "gateway/request_router.h"
 
 namespace tiltgate {

@@ -10,8 +10,8 @@
 
 #include "driver/family.h"
 #include "gateway/bus_scheduler.h"
-#include "gateway/device_identification.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/device_identification.h"
+#include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate {
 

@@ -20,7 +20,7 @@
 #include "config/config.h"
 #include "gateway/gateway_aggregate.h"
 #include "gateway/gateway_sensor.h"
-#include "gateway/modbus_types.h"
+#include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
 
@@ -108,7 +108,7 @@ ModbusException exception_for(WriteErrorKind kind);
 // The same, but a device's own Modbus exception is relayed with its code.
 ModbusException exception_for(const WriteError& error);
 
-// Every Read Device Identification object of a sensor (gateway/device_identification.h for
+// Every Read Device Identification object of a sensor (modbus_tcp/device_identification.h for
 // the ids): vendor and product from its model, firmware and serial as the sensor reported
 // them (empty until read), its name, bus and bus address, and the gateway's version; `state` is
 // the sensor's (a snapshot's, off the buses' thread).

@@ -8,7 +8,7 @@
 #include "gateway/bus_scheduler.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/gateway_status.h"
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 
 namespace tiltgate {
 

@@ -1,9 +1,9 @@
-// Whom a new Modbus TCP connection displaces when the server is full (gateway/connection_admission.h).
+// Whom a new Modbus TCP connection displaces when the server is full (modbus_tcp/connection_admission.h).
 #include <doctest/doctest.h>
 
 #include <vector>
 
-#include "gateway/connection_admission.h"
+#include "modbus_tcp/connection_admission.h"
 
 using namespace tiltgate;
 

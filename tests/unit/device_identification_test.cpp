@@ -10,9 +10,9 @@
 #include <variant>
 #include <vector>
 
-#include "gateway/device_identification.h"
-#include "gateway/modbus_reply_format.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/device_identification.h"
+#include "modbus_tcp/modbus_reply_format.h"
+#include "modbus_tcp/modbus_request.h"
 #include "gateway/request_router.h"
 
 using namespace tiltgate;

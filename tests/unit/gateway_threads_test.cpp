@@ -1,5 +1,5 @@
 // The gateway's threads together: the bus polls on its event loop while Modbus TCP clients are
-// served on a pool of threads (gateway/tcp_worker_pool.h), read sensors from their snapshots,
+// served on a pool of threads (modbus_tcp/tcp_worker_pool.h), read sensors from their snapshots,
 // write through the bus's executor, and the routes are replaced meanwhile. Run under
 // ThreadSanitizer by scripts/sanitize --threads; here it checks what a client sees: every
 // reply whole and from one reading, none lost, no unit missing while routes are replaced.
@@ -20,9 +20,9 @@
 
 #include "gateway/bus_scheduler.h"
 #include "gateway/gateway_aggregate.h"
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 #include "gateway/request_router.h"
-#include "gateway/tcp_worker_pool.h"
+#include "modbus_tcp/tcp_worker_pool.h"
 #include "unit/support/fake_bus.h"
 
 using namespace tiltgate;

@@ -17,8 +17,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "gateway/modbus_reply_format.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_reply_format.h"
+#include "modbus_tcp/modbus_request.h"
 #include "unit/support/libmodbus_reference.h"
 
 using namespace tiltgate;
@@ -38,7 +38,7 @@ constexpr FunctionUnderTest served[] = {
     {0x05, 1},    {0x06, 1},    {0x0F, 1968}, {0x10, 123},
 };
 
-// Every exception code the gateway answers with (gateway/modbus_types.h).
+// Every exception code the gateway answers with (modbus_tcp/modbus_types.h).
 constexpr ModbusException exceptions[] = {
     ModbusException::illegal_function,         ModbusException::illegal_address,
     ModbusException::illegal_value,            ModbusException::device_failure,

@@ -7,8 +7,8 @@
 #include <variant>
 #include <vector>
 
-#include "gateway/modbus_reply_format.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_reply_format.h"
+#include "modbus_tcp/modbus_request.h"
 
 using namespace tiltgate;
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gateway/modbus_request_counts.h"
+#include "modbus_tcp/modbus_request_counts.h"
 
 using namespace tiltgate;
 

@@ -6,7 +6,7 @@
 #include <variant>
 #include <vector>
 
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_request.h"
 
 using namespace tiltgate;
 

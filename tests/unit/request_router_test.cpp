@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "gateway/bus_scheduler.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_request.h"
 #include "gateway/request_router.h"
 #include "unit/support/fake_bus.h"
 

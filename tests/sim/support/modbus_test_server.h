@@ -19,7 +19,7 @@
 #include <thread>
 #include <vector>
 
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 
 namespace tiltgate::test {
 

@@ -9,8 +9,8 @@
 #include <fmt/format.h>
 #include <variant>
 
-#include "gateway/device_identification.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/device_identification.h"
+#include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate::test {
 

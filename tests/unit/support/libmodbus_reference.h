@@ -1,4 +1,4 @@
-// The reference the gateway's own reply formatter (gateway/modbus_reply_format.h) is tested
+// The reference the gateway's own reply formatter (modbus_tcp/modbus_reply_format.h) is tested
 // against: Modbus TCP replies formatted by libmodbus 3.1.6's modbus_reply and
 // modbus_reply_exception. Test code only; the gateway formats its replies itself.
 //
@@ -9,7 +9,7 @@
 // 07/11 frames).
 //
 // Function 43 / 14 (Read Device Identification), which libmodbus does not serve, is encoded
-// with the gateway's own code (gateway/device_identification.h), its exceptions too, so it is
+// with the gateway's own code (modbus_tcp/device_identification.h), its exceptions too, so it is
 // no reference for that function.
 //
 // Not thread-safe (neither is a libmodbus context).
@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "driver/expected.h"
-#include "gateway/modbus_types.h"
+#include "modbus_tcp/modbus_types.h"
 
 struct _modbus;  // libmodbus's modbus_t, kept out of this header
 

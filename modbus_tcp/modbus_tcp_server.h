@@ -22,10 +22,10 @@
 
 #include "config/address_allow_list.h"
 #include "driver/expected.h"
-#include "gateway/log_throttle.h"
-#include "gateway/modbus_stream.h"
-#include "gateway/modbus_request_counts.h"
-#include "gateway/modbus_types.h"
+#include "modbus_tcp/log_throttle.h"
+#include "modbus_tcp/modbus_stream.h"
+#include "modbus_tcp/modbus_request_counts.h"
+#include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
 
@@ -38,7 +38,7 @@ struct ModbusServerOptions {
   // request_timeout.
   std::optional<ModbusTlsOptions> tls;
   // At max_clients a new client replaces the one idle longest, else it is accepted and closed
-  // at once (gateway/connection_admission.h); an address holding max_clients_per_host replaces
+  // at once (modbus_tcp/connection_admission.h); an address holding max_clients_per_host replaces
   // its own connection idle longest, else it is closed.
   int max_clients = 32;
   int max_clients_per_host = 8;

@@ -1,7 +1,7 @@
 // The accepting half of the Modbus TCP server: its listeners (plain and TLS), moving them on a
 // reload, and which connections are admitted, replaced or refused.
-#include "gateway/tcp_listen.h"
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/tcp_listen.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
@@ -15,9 +15,9 @@
 #include <tuple>
 #include <variant>
 
-#include "gateway/connection_admission.h"
-#include "gateway/modbus_tcp_connection.h"
-#include "gateway/tcp_worker_pool.h"
+#include "modbus_tcp/connection_admission.h"
+#include "modbus_tcp/modbus_tcp_connection.h"
+#include "modbus_tcp/tcp_worker_pool.h"
 
 namespace tiltgate {
 

@@ -1,4 +1,4 @@
-#include "gateway/inherited_sockets.h"
+#include "modbus_tcp/inherited_sockets.h"
 
 #include <sys/socket.h>
 #include <systemd/sd-daemon.h>

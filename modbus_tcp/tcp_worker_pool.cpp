@@ -1,4 +1,4 @@
-#include "gateway/tcp_worker_pool.h"
+#include "modbus_tcp/tcp_worker_pool.h"
 
 #include <spdlog/spdlog.h>
 

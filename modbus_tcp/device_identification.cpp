@@ -1,4 +1,4 @@
-#include "gateway/device_identification.h"
+#include "modbus_tcp/device_identification.h"
 
 #include <algorithm>
 

@@ -1,9 +1,9 @@
-#include "gateway/tcp_listen.h"
+#include "modbus_tcp/tcp_listen.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "gateway/inherited_sockets.h"
+#include "modbus_tcp/inherited_sockets.h"
 
 namespace tiltgate {
 

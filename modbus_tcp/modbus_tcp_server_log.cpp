@@ -1,11 +1,11 @@
 // ModbusTcpServer's log of clients closed or refused for cause, throttled per address
-// (gateway/log_throttle.h) so a scanner or a broken client cannot flood the log.
+// (modbus_tcp/log_throttle.h) so a scanner or a broken client cannot flood the log.
 #include <boost/asio/post.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 
 namespace tiltgate {
 

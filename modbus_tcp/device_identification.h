@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "driver/expected.h"
-#include "gateway/modbus_types.h"
+#include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
 

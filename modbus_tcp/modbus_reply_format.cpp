@@ -1,7 +1,7 @@
-#include "gateway/modbus_reply_format.h"
+#include "modbus_tcp/modbus_reply_format.h"
 
-#include "gateway/device_identification.h"
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/device_identification.h"
+#include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate {
 

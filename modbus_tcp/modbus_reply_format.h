@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gateway/modbus_types.h"
+#include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
 
@@ -25,7 +25,7 @@ bool response_fits(const ModbusRequest& request, const ModbusResponse& response)
 // - 01/02: byte count and the bits, least significant first; 03/04: byte count and the
 //   registers, high byte first;
 // - 05/06: the request echoed; 0F/10: address and quantity;
-// - 43/14: the identification objects the request asks for (gateway/device_identification.h);
+// - 43/14: the identification objects the request asks for (modbus_tcp/device_identification.h);
 // - a response that does not fit the request (response_fits), or a function the parser does
 //   not accept: 04 server device failure.
 // Transaction id and unit id come from the request, the protocol id is 0 and the length counts

@@ -13,9 +13,19 @@
 #include <span>
 #include <vector>
 
-#include "gateway/gateway_status.h"
-
 namespace tiltgate {
+
+// Requests answered with one function code, and answers that were one exception code to one
+// function.
+struct ModbusFunctionCount {
+  std::uint8_t function = 0;
+  std::uint64_t count = 0;
+};
+struct ModbusExceptionCount {
+  std::uint8_t function = 0;
+  std::uint8_t exception = 0;
+  std::uint64_t count = 0;
+};
 
 class ModbusRequestCounts {
  public:

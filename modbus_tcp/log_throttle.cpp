@@ -1,4 +1,4 @@
-#include "gateway/log_throttle.h"
+#include "modbus_tcp/log_throttle.h"
 
 #include <algorithm>
 #include <utility>

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "driver/expected.h"
-#include "gateway/modbus_types.h"
+#include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
 
@@ -33,7 +33,7 @@ inline constexpr std::uint8_t write_single_register = 0x06;
 inline constexpr std::uint8_t write_multiple_coils = 0x0F;
 inline constexpr std::uint8_t write_multiple_registers = 0x10;
 // Encapsulated Interface Transport; the gateway serves MEI type 14, Read Device
-// Identification (gateway/device_identification.h).
+// Identification (modbus_tcp/device_identification.h).
 inline constexpr std::uint8_t encapsulated_interface = 0x2B;
 }  // namespace modbus_function
 

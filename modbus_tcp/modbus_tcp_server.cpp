@@ -1,6 +1,6 @@
 // The serving half of the Modbus TCP server: each connection's requests, replies and deadlines.
 // Accepting is in modbus_tcp_listeners.cpp.
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
@@ -12,10 +12,10 @@
 #include <spdlog/spdlog.h>
 #include <variant>
 
-#include "gateway/modbus_reply_format.h"
-#include "gateway/modbus_request.h"
-#include "gateway/modbus_tcp_connection.h"
-#include "gateway/tcp_worker_pool.h"
+#include "modbus_tcp/modbus_reply_format.h"
+#include "modbus_tcp/modbus_request.h"
+#include "modbus_tcp/modbus_tcp_connection.h"
+#include "modbus_tcp/tcp_worker_pool.h"
 
 namespace tiltgate {
 

@@ -27,7 +27,7 @@ enum class ModbusException : std::uint8_t {
 };
 
 // One Read Device Identification object (function 43 / MEI type 14): its id and its value, an
-// ASCII string. gateway/device_identification.h lists the ids the gateway uses.
+// ASCII string. modbus_tcp/device_identification.h lists the ids the gateway uses.
 struct DeviceObject {
   std::uint8_t id = 0;
   std::string value;

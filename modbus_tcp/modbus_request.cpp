@@ -1,10 +1,10 @@
-#include "gateway/modbus_request.h"
+#include "modbus_tcp/modbus_request.h"
 
 #include <algorithm>
 #include <cstring>
 #include <optional>
 
-#include "gateway/device_identification.h"
+#include "modbus_tcp/device_identification.h"
 
 namespace tiltgate {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/modbus_stream.h"
-#include "gateway/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_stream.h"
+#include "modbus_tcp/modbus_tcp_server.h"
 
 namespace tiltgate {
 

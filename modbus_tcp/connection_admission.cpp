@@ -1,4 +1,4 @@
-#include "gateway/connection_admission.h"
+#include "modbus_tcp/connection_admission.h"
 
 namespace tiltgate {
 

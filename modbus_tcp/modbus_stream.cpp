@@ -1,4 +1,4 @@
-#include "gateway/modbus_stream.h"
+#include "modbus_tcp/modbus_stream.h"
 
 #include <openssl/ssl.h>
 

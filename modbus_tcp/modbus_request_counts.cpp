@@ -1,4 +1,4 @@
-#include "gateway/modbus_request_counts.h"
+#include "modbus_tcp/modbus_request_counts.h"
 
 namespace tiltgate {
 
