@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """What a PLC sees, and how soon, when a sensor falls silent and answers again, with every bus and
 sensor setting at its default (`poll_ms` 100, `timeout_ms` 50, `retries` 2, `max_timeout_ms`
-500, so `late_guard_ms` 450, `stale_after_ms` 1000): the times behind the README's table
-"What the PLC sees when something fails".
+500, so `late_guard_ms` 450, `stale_ms` 1000): the times behind the table of
+docs/operations.md, "What the PLC sees when something fails".
 
 One H6 on `tiltgate sim rieker` (125000 baud, paced), polled by `tiltgate run`. Each round waits a
 random part of a poll period, tells the simulator `silent 1` on its standard input (timed from

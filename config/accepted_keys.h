@@ -1,5 +1,5 @@
 // Every key the configuration loader accepts, table by table, taken from the readers
-// themselves (the keys each one asks for), so config/CONFIG-REFERENCE.md can be checked
+// themselves (the keys each one asks for), so docs/configuration.md can be checked
 // against the loader by a test and never fall behind it.
 #pragma once
 

@@ -137,7 +137,7 @@ void read_master_address(TableReader& in, BusConfig& bus, const ProtocolDescript
 
 // timeout_ms, the cap of the adaptive per-sensor time-out, and the quiet guard after a
 // time-out. Defaults follow what is given: the cap is at least the time-out, and the guard
-// covers replies up to the cap (README, "Late replies").
+// covers replies up to the cap (docs/operations.md, "How the gateway behaves": late replies).
 void read_reply_timeouts(TableReader& in, BusConfig& bus) {
   if (auto ms = in.integer("timeout_ms", 1, 10'000)) bus.timeout = milliseconds(*ms);
   auto max_timeout = in.integer("max_timeout_ms", 1, 10'000);

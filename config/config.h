@@ -188,7 +188,7 @@ struct SensorConfig {
   bool operator==(const SensorConfig&) const = default;
 };
 
-// One Modbus unit serving the same points of many sensors back to back (README, "More than 247
+// One Modbus unit serving the same points of many sensors back to back (docs/configuration.md, "More than 247
 // sensors"): sensor i's block starts at register i x the block's size.
 struct AggregateConfig {
   std::uint8_t unit_id = 0;

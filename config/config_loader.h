@@ -1,6 +1,6 @@
 // Loads a tiltgate TOML configuration and validates all of it before anything starts, so a
 // commissioning mistake is reported up front, compiler style, instead of at 3 a.m. on a bus.
-// Every key, default and range is listed in config/CONFIG-REFERENCE.md.
+// Every key, default and range is listed in docs/configuration.md.
 #pragma once
 
 #include <string>

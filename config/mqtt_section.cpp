@@ -1,4 +1,4 @@
-// [mqtt]: the MQTT feed's broker, names and pacing (README, "MQTT"). The table's presence turns
+// [mqtt]: the MQTT feed's broker, names and pacing (docs/northbound.md, "MQTT"). The table's presence turns
 // the feed on (enabled = false keeps it written but off); host is then required.
 #include <fmt/format.h>
 #include <unistd.h>

@@ -2,7 +2,7 @@
 # them (the first family's first protocol is what a [[bus]] without `protocol` speaks).
 # A new family is its folder plus one line here: the top-level CMakeLists.txt adds each
 # folder, families/CMakeLists.txt generates the family list from it and links each family's
-# tiltgate_FOLDER_family library (README, "Adding a sensor family").
+# tiltgate_FOLDER_family library (docs/development.md, "Adding a sensor family").
 set(TILTGATE_FAMILIES
   rieker
   spectron

@@ -1,4 +1,4 @@
-// The recent angles of one sensor, for the status page's graph and its CSV download (README,
+// The recent angles of one sensor, for the status page's graph and its CSV download (docs/northbound.md,
 // "HTTP status API and metrics"): a fixed-size ring of samples, oldest overwritten first. The
 // gateway samples every sensor into its ring on a timer; the memory is fixed when the ring is
 // made (16 bytes a sample), so a gateway's history never grows.

@@ -27,7 +27,7 @@ int demo_command(const DemoOptions& options);
 // `tiltgate sim FAMILY`: the family's simulator on a pseudo-terminal until SIGINT/SIGTERM.
 int sim_command(const FamilyDescriptor& family, const SimulatorSetup& setup);
 
-// Commissioning (README, "Commissioning"): exit 0 on success, 1 when a sensor does not answer
+// Commissioning (docs/commissioning.md, "Commissioning"): exit 0 on success, 1 when a sensor does not answer
 // or the tty cannot be used, 2 on a usage error.
 // `tiltgate info`: each sensor's identity, lock level and angles.
 int info_command(const BusOptions& bus);

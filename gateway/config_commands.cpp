@@ -148,7 +148,7 @@ int run_command(const std::string& config_path) {
     spdlog::info("serving as user {} (uid {})", config->server.user, getuid());
   } else if (geteuid() == 0) {
     spdlog::warn("running as root: set [server] user to serve unprivileged once started "
-                 "(README, \"Running without root\")");
+                 "(docs/operations.md, \"Running without root\")");
   }
   // Listeners bound, ttys opened, privileges dropped: systemd may now count the service as up.
   ServiceNotifier notifier(io);

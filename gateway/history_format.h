@@ -1,5 +1,5 @@
 // A sensor's angle history as the HTTP API serves it: JSON for the status page's graph and CSV
-// for a spreadsheet (README, "HTTP status API and metrics"). Pure.
+// for a spreadsheet (docs/northbound.md, "HTTP status API and metrics"). Pure.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// What each HTTP request is answered with (README, "HTTP status API and metrics"). Pure: the
+// What each HTTP request is answered with (docs/northbound.md, "HTTP status API and metrics"). Pure: the
 // server (gateway/http_server.h) hands it the method and target, and a way to take the
 // gateway's status, which is taken only for the endpoints that show it.
 #pragma once

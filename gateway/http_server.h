@@ -1,4 +1,4 @@
-// The read-only HTTP server of the status API and metrics (README, "HTTP status API and
+// The read-only HTTP server of the status API and metrics (docs/northbound.md, "HTTP status API and
 // metrics"), HTTP/1.1 with Boost.Beast on the gateway's event loop. One coroutine per
 // connection; each request is answered from a status copy taken at once, so it never waits
 // for a bus. A client that does not send a whole request in time, sends too much, or comes

@@ -1,4 +1,4 @@
-// The MQTT feed (README, "MQTT"): on the gateway's event loop, a timer takes a status copy,
+// The MQTT feed (docs/northbound.md, "MQTT"): on the gateway's event loop, a timer takes a status copy,
 // the publisher decides what is due into its bounded backlog, and the backlog is handed to the
 // libmosquitto client while it is connected. The copy is taken between bus events and the
 // network is the client's own thread's business, so neither a Modbus reply nor a bus

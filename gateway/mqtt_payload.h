@@ -1,4 +1,4 @@
-// What the MQTT feed publishes (README, "MQTT"): topic names and JSON payloads built from a
+// What the MQTT feed publishes (docs/northbound.md, "MQTT"): topic names and JSON payloads built from a
 // sensor's status copy. Pure: text from a SensorStatus.
 #pragma once
 

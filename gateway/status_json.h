@@ -1,4 +1,4 @@
-// The JSON of the HTTP status API (README, "HTTP status API and metrics"): /api/sensors,
+// The JSON of the HTTP status API (docs/northbound.md, "HTTP status API and metrics"): /api/sensors,
 // /api/sensors/{name} and /api/buses. Pure: text from a GatewayStatus.
 #pragma once
 

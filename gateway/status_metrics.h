@@ -1,5 +1,5 @@
 // /metrics: the gateway's state in the Prometheus text exposition format, version 0.0.4
-// (README, "HTTP status API and metrics"). Pure: text from a GatewayStatus.
+// (docs/northbound.md, "HTTP status API and metrics"). Pure: text from a GatewayStatus.
 #pragma once
 
 #include <string>

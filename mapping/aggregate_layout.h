@@ -1,4 +1,4 @@
-// An aggregate unit's register layout ([[aggregate]], README "More than 247 sensors"): the same
+// An aggregate unit's register layout ([[aggregate]], docs/configuration.md, "More than 247 sensors"): the same
 // points of many sensors back to back. Sensor i's block starts at register i x block_words;
 // within a block the points follow in the order given, each as wide as in the sensors' maps.
 // Pure: built from the sensors' register maps, read against their views.

@@ -1,5 +1,5 @@
-// Whom a new Modbus TCP connection may displace when the server is full (README, "Modbus TCP
-// server"): idle connections are cheap to open and hold, so a full server replaces the one idle
+// Whom a new Modbus TCP connection may displace when the server is full (docs/operations.md,
+// "How the gateway behaves"): idle connections are cheap to open and hold, so a full server replaces the one idle
 // longest rather than turn a PLC away, and one address may hold only so many. Pure: the server
 // describes its connections, this decides.
 #pragma once

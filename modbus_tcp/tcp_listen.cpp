@@ -40,7 +40,7 @@ Expected<Done, std::string> listen_on(tcp::acceptor& acceptor, const std::string
   if (ec == boost::system::errc::permission_denied && port < 1024)
     return Unexpected{fmt::format(
         "cannot bind {} {}:{}: {}; a port below 1024 needs root, CAP_NET_BIND_SERVICE or a "
-        "systemd socket (README, \"Running without root\")",
+        "systemd socket (docs/operations.md, \"Running without root\")",
         what, listen, port, ec.message())};
   if (ec) return failed("bind");
   acceptor.listen(asio::socket_base::max_listen_connections, ec);

@@ -90,8 +90,18 @@ the configuration the service runs (a conffile: kept on upgrades)
 the systemd service: \fBsystemctl enable \-\-now tiltgate\fR, \fBsystemctl reload tiltgate\fR,
 \fBjournalctl \-u tiltgate\fR
 .TP
-.I /usr/share/doc/tiltgate/
-the README, the configuration reference and example configurations and register maps
+.I /usr/share/doc/tiltgate/README.md
+what tiltgate is, a short tour and the list of the manual's pages
+.TP
+.I /usr/share/doc/tiltgate/docs/
+the manual: \fIcommissioning.md\fR, \fIconfiguration.md\fR (the configuration reference:
+every key, its default, range and when it applies), \fIregister\-maps.md\fR (and the
+built\-in maps, \fIdefault\-maps.md\fR), \fIoperations.md\fR (install, reload, failures,
+access control, wiring), \fInorthbound.md\fR (HTTP status API, metrics, MQTT),
+\fIprotocols.md\fR, \fIperformance.md\fR and \fIdevelopment.md\fR
+.TP
+.I /usr/share/doc/tiltgate/examples/
+example configurations, register maps and device profiles
 .SH EXIT STATUS
 0 on success, 1 when a configuration is invalid or the gateway cannot start, 2 on a usage error.
 .SH SEE ALSO

@@ -1,4 +1,5 @@
-# The Debian package (README, "Install on a gateway"): install rules and CPack's DEB generator.
+# The Debian package (docs/operations.md, "Install on a gateway"): install rules and CPack's DEB
+# generator.
 # `cpack` in a build tree writes tiltgate_<version>_<arch>.deb; scripts/package makes one from
 # a release tree, tests/e2e/package_test.sh from build/.
 include_guard(GLOBAL)
@@ -43,7 +44,15 @@ install(FILES ${generated}/tiltgate.1.gz DESTINATION share/man/man1)
 install(FILES ${packaging}/tiltgate.bash-completion DESTINATION share/bash-completion/completions
         RENAME tiltgate)
 install(FILES ${packaging}/copyright ${generated}/changelog.gz ${PROJECT_SOURCE_DIR}/README.md
-              ${PROJECT_SOURCE_DIR}/config/CONFIG-REFERENCE.md DESTINATION ${doc})
+        DESTINATION ${doc})
+# The manual: every page of docs/ and the images the pages show, in a docs/ folder beside the
+# README as in the source tree, so the README's relative links (docs/configuration.md, ...)
+# and the pages' own links work in /usr/share/doc/tiltgate too. Not compressed, for the same
+# reason: a link to page.md does not open page.md.gz. (Policy 12.3 says plain text
+# documentation "should" be compressed unless small; Debian 12's lintian has no tag for it.)
+file(GLOB manual_pages CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/docs/*.md
+                                         ${PROJECT_SOURCE_DIR}/docs/*.png)
+install(FILES ${manual_pages} DESTINATION ${doc}/docs)
 install(FILES ${PROJECT_SOURCE_DIR}/examples/tiltgate.toml ${PROJECT_SOURCE_DIR}/examples/tiltgate-maps.toml
               ${PROJECT_SOURCE_DIR}/examples/builtin-maps.toml DESTINATION ${doc}/examples)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/maps ${PROJECT_SOURCE_DIR}/examples/devices

@@ -25,7 +25,9 @@ replace_once("# tiltgate example configuration: three Rieker inclinometers on on
 ")
 replace_once("`tiltgate check --config examples/tiltgate.toml`"
              "`tiltgate check --config /etc/tiltgate/tiltgate.toml`")
-replace_once("config/CONFIG-REFERENCE.md" "/usr/share/doc/tiltgate/CONFIG-REFERENCE.md")
+# The configuration reference, where the package installs it; the example names it by its place
+# in the source tree.
+replace_once("docs/configuration.md" "/usr/share/doc/tiltgate/docs/configuration.md")
 replace_once("listen = \"0.0.0.0\"          # address to bind; \"127.0.0.1\" to serve this machine only\n"
 "listen = \"127.0.0.1\"        # packaged: this machine only until edited; \"0.0.0.0\" to serve the PLCs
 control_socket = \"/run/tiltgate/control.sock\"  # in the service's RuntimeDirectory

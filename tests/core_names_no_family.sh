@@ -2,8 +2,7 @@
 # The core folders name no sensor family: config/, mapping/, gateway/, serial/ and driver/ ask
 # the family descriptors (driver/family.h) instead, so a new family is its own folder plus one
 # line in families/families.cmake. Checks the sources (C++ and CMake), comments included.
-# Allowed: config/CONFIG-REFERENCE.md, a document for the engineer that lists the protocol and
-# model values a config file takes (it is not a source, so the pattern is not applied to it).
+# Documents (docs/, README.md) are not sources: they name the families for the engineer.
 # Usage: core_names_no_family.sh SOURCE_DIR
 set -u
 root=${1:?usage: $0 SOURCE_DIR}

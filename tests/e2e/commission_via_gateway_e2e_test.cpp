@@ -26,7 +26,7 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 constexpr auto kPollPeriod = 200ms;
-// Input registers of the built-in map (README, "Default register map").
+// Input registers of the built-in map (docs/register-maps.md, "Default register map").
 constexpr int kSampleSeq = 15;
 constexpr int kBusAddress = 14;
 

@@ -1,5 +1,5 @@
 // A write waits for its sensor, and only its own connection waits with it: reads on another
-// connection are answered from the cache meanwhile (README, "How the gateway behaves").
+// connection are answered from the cache meanwhile (docs/operations.md, "How the gateway behaves").
 #include <doctest/doctest.h>
 #include <fmt/format.h>
 

@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# The Debian package (packaging/, README "Install on a gateway"), made by cpack from the
-# already-built tree of the binary under test (no second compile), then checked as a gateway
+# The Debian package (packaging/, docs/operations.md "Install on a gateway"), made by cpack from
+# the already-built tree of the binary under test (no second compile), then checked as a gateway
 # would get it: its files and control fields (conffile, Depends computed by dpkg-shlibdeps,
-# the version from CMake), a stripped binary, lintian without errors, the service unit through
-# systemd-analyze verify and security (exposure at most 2.5), the packaged binary's `check` on
-# the packaged configuration (loopback, writes off), and the bash completion.
+# the version from CMake), the manual (README.md and every docs/ page and image, uncompressed,
+# the README's links resolving in the installed tree), a stripped binary, lintian without
+# errors, the service unit through systemd-analyze verify and security (exposure at most 2.5),
+# the packaged binary's `check` on the packaged configuration (loopback, writes off, the
+# configuration reference named where it is installed), and the bash completion.
 # A missing tool fails the test: scripts/setup installs them all.
 set -u
 tiltgate=${1:?usage: package_test.sh path/to/build/tiltgate}
 build=$(cd "$(dirname "$tiltgate")" && pwd)
+source_dir=$(cd "$(dirname "$0")/../.." && pwd)
 source "$(dirname "$0")/support/script_lib.sh"
 script_setup tiltgate-package
 
@@ -32,12 +35,19 @@ contents=$(dpkg-deb -c "$deb" | awk '{print $NF}')
 for file in ./usr/bin/tiltgate ./etc/tiltgate/tiltgate.toml ./lib/systemd/system/tiltgate.service \
             ./usr/share/man/man1/tiltgate.1.gz ./usr/share/bash-completion/completions/tiltgate \
             ./usr/share/doc/tiltgate/copyright ./usr/share/doc/tiltgate/changelog.gz \
-            ./usr/share/doc/tiltgate/README.md ./usr/share/doc/tiltgate/CONFIG-REFERENCE.md \
+            ./usr/share/doc/tiltgate/README.md ./usr/share/doc/tiltgate/docs/configuration.md \
             ./usr/share/doc/tiltgate/examples/tiltgate.toml \
             ./usr/share/doc/tiltgate/examples/maps/cdab-floats.toml \
             ./usr/share/doc/tiltgate/examples/devices/rtu-inclinometer.toml; do
   check "the package holds $file" grep -qx -- "$file" <<<"$contents"
 done
+# The manual: every page of docs/ and every image, under docs/ beside the README.
+for page in "$source_dir"/docs/*.md "$source_dir"/docs/*.png; do
+  check "the package holds the manual's docs/${page##*/}" \
+    grep -qx -- "./usr/share/doc/tiltgate/docs/${page##*/}" <<<"$contents"
+done
+check "the package holds no CONFIG-REFERENCE.md (docs/configuration.md replaced it)" \
+  bash -c '! grep -q CONFIG-REFERENCE' <<<"$contents"
 field() { dpkg-deb -f "$deb" "$1"; }
 check "Package: tiltgate" test "$(field Package)" = tiltgate
 check "Version: the CMake project's ($version)" test "$(field Version)" = "$version"
@@ -64,8 +74,22 @@ check "tiltgate check passes on the packaged configuration" \
 check "the packaged configuration serves loopback only" grep -q '^listen = "127.0.0.1"' "$config"
 check "the packaged configuration refuses writes" grep -q '^writes = false' "$config"
 check "the packaged configuration says so" grep -q 'this machine only until edited' "$config"
+check "the packaged configuration names the installed configuration reference" \
+  grep -q '/usr/share/doc/tiltgate/docs/configuration\.md' "$config"
+doc="$root/usr/share/doc/tiltgate"
+for page in "$source_dir"/docs/*.md "$source_dir"/docs/*.png "$source_dir"/README.md; do
+  case $page in */README.md) packaged=$doc/README.md ;; *) packaged=$doc/docs/${page##*/} ;; esac
+  check "the packaged ${packaged#"$doc"/} is the source's, uncompressed" cmp -s "$page" "$packaged"
+done
+# Every relative link of the installed README (docs/configuration.md#server, ...) resolves there.
+links=$(grep -o '](docs/[^)#]*' "$doc/README.md" | sed 's/^](//' | sort -u)
+check "the installed README links to the manual's pages" test -n "$links"
+for link in $links; do
+  check "the installed README's link to $link resolves" test -f "$doc/$link"
+done
 
-# lintian: no error (E:) is allowed; warnings are shown (README lists the ones left and why).
+# lintian: no error (E:) is allowed; warnings are shown (docs/development.md, "The Debian
+# package", lists the ones left and why).
 lintian --fail-on error --tag-display-limit 0 "$deb" >"$dir/lintian.log" 2>&1
 lintian_status=$?
 cat "$dir/lintian.log"

@@ -1,4 +1,4 @@
-// SIGHUP reload of build/tiltgate (README "Reloading the configuration"), seen by one libmodbus
+// SIGHUP reload of build/tiltgate (docs/operations.md, "Reloading the configuration"), seen by one libmodbus
 // client connection kept open throughout and by simulated Rieker sensors: an invalid file is
 // refused and changes nothing; a valid one adds, changes and removes units without closing the
 // connection; writes queued when the reload comes are carried out and answered truly.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The gateway never needs root (README, "Running without root"). As root, the test plays both
+# The gateway never needs root (docs/operations.md, "Running without root"). As root, the test plays both
 # ways a gateway gets port 502 and its ttys without keeping root:
 #  - [server] user: started as root, `tiltgate run` opens the tty and binds a port below 1024,
 #    then serves as `nobody` (all its uids and gids, checked in /proc) and still reads the

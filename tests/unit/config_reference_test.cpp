@@ -1,6 +1,6 @@
-// config/CONFIG-REFERENCE.md lists every key the loader accepts, in its table's section: the
-// keys are taken from the loader's own readers, so a key added there fails this test until it
-// is documented.
+// docs/configuration.md, the configuration reference, lists every key the loader accepts, in
+// its table's section: the keys are taken from the loader's own readers, so a key added there
+// fails this test until it is documented.
 #include <doctest/doctest.h>
 
 #include <fstream>
@@ -16,7 +16,7 @@ using namespace tiltgate;
 namespace {
 
 std::string reference() {
-  std::ifstream in(std::string(TILTGATE_SOURCE_DIR) + "/config/CONFIG-REFERENCE.md");
+  std::ifstream in(std::string(TILTGATE_SOURCE_DIR) + "/docs/configuration.md");
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
@@ -30,7 +30,7 @@ std::string section(const std::string& doc, const std::string& heading) {
   return doc.substr(start, end == std::string::npos ? std::string::npos : end - start);
 }
 
-// Each kind of table the loader reads, and the heading of its section.
+// Each kind of table the loader reads, and the heading of its section in docs/configuration.md.
 const std::map<std::string, std::string> kSections{
     {"server", "## `[server]`"},
     {"http", "## `[http]`"},
@@ -46,7 +46,7 @@ const std::map<std::string, std::string> kSections{
 
 }  // namespace
 
-TEST_CASE("config/CONFIG-REFERENCE.md has a row for every key the loader accepts") {
+TEST_CASE("docs/configuration.md has a row for every key the loader accepts") {
   const std::string doc = reference();
   REQUIRE_FALSE(doc.empty());
   const config::AcceptedKeys accepted = config::accepted_keys();

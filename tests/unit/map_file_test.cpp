@@ -236,18 +236,19 @@ TEST_CASE("docs/default-maps.md is the markdown export of the built-in maps") {
   CHECK(read_file(kSource / "docs/default-maps.md") == export_markdown(units));
 }
 
-TEST_CASE("the README's annotated map file loads") {
-  const std::string readme = read_file(kSource / "README.md");
-  const auto section = readme.find("## Register-map files");
+// docs/register-maps.md, "Register-map files": its first TOML block is the annotated map file.
+TEST_CASE("the annotated map file of docs/register-maps.md loads") {
+  const std::string page = read_file(kSource / "docs/register-maps.md");
+  const auto section = page.find("## Register-map files");
   REQUIRE(section != std::string::npos);
-  const auto start = readme.find("```toml\n", section);
+  const auto start = page.find("```toml\n", section);
   REQUIRE(start != std::string::npos);
-  const auto end = readme.find("```\n", start + 8);
+  const auto end = page.find("```\n", start + 8);
   REQUIRE(end != std::string::npos);
   ScratchDir dir;
-  dir.write("maps/readme.toml", readme.substr(start + 8, end - start - 8));
+  dir.write("maps/annotated.toml", page.substr(start + 8, end - start - 8));
   auto loaded =
-      load_config_file(dir.write("plant.toml", config_with("map = \"maps/readme.toml\"\n")));
+      load_config_file(dir.write("plant.toml", config_with("map = \"maps/annotated.toml\"\n")));
   INFO((loaded ? std::string() : joined(loaded.error())));
   REQUIRE(loaded.has_value());
   const RegisterMap map = build_map(loaded->sensors[0].map, "h6");

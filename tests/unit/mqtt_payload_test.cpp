@@ -1,4 +1,4 @@
-// The MQTT feed's topics and payloads (README, "MQTT"), from a sensor's status copy.
+// The MQTT feed's topics and payloads (docs/northbound.md, "MQTT"), from a sensor's status copy.
 #include <doctest/doctest.h>
 
 #include "gateway/mqtt_payload.h"
