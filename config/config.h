@@ -55,7 +55,7 @@ struct ServerConfig {
   bool operator==(const ServerConfig&) const = default;
 };
 
-// The read-only HTTP status API and Prometheus metrics (gateway/http_server.h). Loopback by
+// The read-only HTTP status API and Prometheus metrics (status/http_server.h). Loopback by
 // default: it shows every sensor's identity and angles to whoever can reach it.
 struct HttpConfig {
   bool enabled = true;
@@ -65,7 +65,7 @@ struct HttpConfig {
   AddressAllowList allow;
   bool allow_given = false;  // [http] allow was written
   // The status page's graph: each sensor's angles sampled every history_interval, kept for
-  // history_seconds (gateway/angle_history.h).
+  // history_seconds (status/angle_history.h).
   std::chrono::seconds history_seconds{600};
   std::chrono::milliseconds history_interval{1000};
 

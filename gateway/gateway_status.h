@@ -1,6 +1,6 @@
 // What the HTTP status API and the metrics show of a running gateway: a copy of each sensor's
 // and each bus's state taken at one moment, as plain values, so the text built from it
-// (gateway/status_json.h, gateway/status_metrics.h) is pure and testable without a bus.
+// (status/status_json.h, status/status_metrics.h) is pure and testable without a bus.
 #pragma once
 
 #include <cstdint>

@@ -13,7 +13,7 @@
 
 #include "config/config.h"
 #include "driver/expected.h"
-#include "gateway/http_routes.h"  // StatusSource
+#include "gateway/gateway_status.h"
 #include "gateway/mqtt_client.h"
 #include "gateway/mqtt_publisher.h"
 

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "gateway/status_json.h"
+#include "status/status_json.h"
 
 namespace tiltgate {
 

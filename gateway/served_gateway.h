@@ -10,7 +10,7 @@
 #include "gateway/control_service.h"
 #include "gateway/gateway.h"
 #include "gateway/mqtt_service.h"
-#include "gateway/status_service.h"
+#include "status/status_service.h"
 
 namespace tiltgate {
 

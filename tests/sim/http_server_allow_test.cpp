@@ -9,7 +9,7 @@
 #include <string>
 #include <thread>
 
-#include "gateway/http_server.h"
+#include "status/http_server.h"
 #include "sim/support/modbus_test_server.h"
 
 using namespace tiltgate;

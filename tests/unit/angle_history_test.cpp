@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/angle_history.h"
-#include "gateway/history_format.h"
+#include "status/angle_history.h"
+#include "status/history_format.h"
 
 using namespace tiltgate;
 

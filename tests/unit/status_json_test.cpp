@@ -8,9 +8,9 @@
 #include <sstream>
 #include <string>
 
-#include "gateway/http_routes.h"
-#include "gateway/status_json.h"
-#include "gateway/status_metrics.h"
+#include "status/http_routes.h"
+#include "status/status_json.h"
+#include "status/status_metrics.h"
 
 using namespace tiltgate;
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "gateway/history_format.h"
-#include "gateway/history_recorder.h"
-#include "gateway/http_routes.h"
+#include "status/history_format.h"
+#include "status/history_recorder.h"
+#include "status/http_routes.h"
 
 using namespace tiltgate;
 

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "gateway/angle_history.h"
+#include "status/angle_history.h"
 
 namespace tiltgate {
 

@@ -1,4 +1,4 @@
-#include "gateway/angle_history.h"
+#include "status/angle_history.h"
 
 #include <cmath>
 #include <limits>

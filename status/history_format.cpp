@@ -1,4 +1,4 @@
-#include "gateway/history_format.h"
+#include "status/history_format.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-// Every sensor's angle history (gateway/angle_history.h), filled from the status snapshots the
+// Every sensor's angle history (status/angle_history.h), filled from the status snapshots the
 // gateway takes on a timer: the same copy /api/sensors shows, so the graph and the live values
 // agree. Pure: the gateway calls record() on its event loop, the HTTP routes call history().
 #pragma once
@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "gateway/angle_history.h"
+#include "status/angle_history.h"
 #include "gateway/gateway_status.h"
 
 namespace tiltgate {

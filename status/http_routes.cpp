@@ -1,9 +1,9 @@
-#include "gateway/http_routes.h"
+#include "status/http_routes.h"
 
-#include "gateway/history_format.h"
-#include "gateway/status_json.h"
-#include "gateway/status_metrics.h"
-#include "gateway/status_page.h"
+#include "status/history_format.h"
+#include "status/status_json.h"
+#include "status/status_metrics.h"
+#include "status/status_page.h"
 
 namespace tiltgate {
 

@@ -1,4 +1,4 @@
-#include "gateway/history_recorder.h"
+#include "status/history_recorder.h"
 
 namespace tiltgate {
 

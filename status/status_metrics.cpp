@@ -1,4 +1,4 @@
-#include "gateway/status_metrics.h"
+#include "status/status_metrics.h"
 
 #include <fmt/format.h>
 

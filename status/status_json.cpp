@@ -1,4 +1,4 @@
-#include "gateway/status_json.h"
+#include "status/status_json.h"
 
 #include <fmt/format.h>
 

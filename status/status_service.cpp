@@ -1,4 +1,4 @@
-#include "gateway/status_service.h"
+#include "status/status_service.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>

@@ -1,5 +1,5 @@
 #include "modbus_tcp/tcp_listen.h"
-#include "gateway/http_server.h"
+#include "status/http_server.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>

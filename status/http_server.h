@@ -16,7 +16,7 @@
 
 #include "config/address_allow_list.h"
 #include "driver/expected.h"
-#include "gateway/http_routes.h"
+#include "status/http_routes.h"
 
 namespace tiltgate {
 

@@ -14,8 +14,8 @@
 #include "config/config.h"
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
-#include "gateway/history_recorder.h"
-#include "gateway/http_server.h"
+#include "status/history_recorder.h"
+#include "status/http_server.h"
 
 namespace tiltgate {
 

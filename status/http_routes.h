@@ -1,5 +1,5 @@
 // What each HTTP request is answered with (docs/northbound.md, "HTTP status API and metrics"). Pure: the
-// server (gateway/http_server.h) hands it the method and target, and a way to take the
+// server (status/http_server.h) hands it the method and target, and a way to take the
 // gateway's status, which is taken only for the endpoints that show it.
 #pragma once
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "gateway/angle_history.h"
+#include "status/angle_history.h"
 #include "gateway/gateway_status.h"
 
 namespace tiltgate {
