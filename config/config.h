@@ -76,7 +76,7 @@ struct HttpConfig {
 // their history in under 5 MB.
 inline constexpr std::int64_t kMaxHistorySamples = 600;
 
-// The MQTT feed (gateway/mqtt_feed.h): each sensor's state to a broker. Off unless the file has
+// The MQTT feed (mqtt/mqtt_feed.h): each sensor's state to a broker. Off unless the file has
 // an [mqtt] table; the loader fills in the hostname defaults, so these are the values used.
 struct MqttConfig {
   bool enabled = false;

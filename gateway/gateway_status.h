@@ -63,7 +63,7 @@ struct BusStatus {
   std::optional<double> utilisation;
 };
 
-// The MQTT feed's counters (gateway/mqtt_feed.h), for the metrics (tiltgate_mqtt_*).
+// The MQTT feed's counters (mqtt/mqtt_feed.h), for the metrics (tiltgate_mqtt_*).
 struct MqttStats {
   std::uint64_t published = 0;   // messages handed to the broker connection
   std::uint64_t dropped = 0;     // dropped from a full backlog while the broker was away

@@ -9,7 +9,7 @@
 #include "config/config.h"
 #include "gateway/control_service.h"
 #include "gateway/gateway.h"
-#include "gateway/mqtt_service.h"
+#include "mqtt/mqtt_service.h"
 #include "status/status_service.h"
 
 namespace tiltgate {

@@ -1,7 +1,7 @@
 // The MQTT feed's topics and payloads (docs/northbound.md, "MQTT"), from a sensor's status copy.
 #include <doctest/doctest.h>
 
-#include "gateway/mqtt_payload.h"
+#include "mqtt/mqtt_payload.h"
 
 using namespace tiltgate;
 

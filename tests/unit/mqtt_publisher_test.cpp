@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/mqtt_publisher.h"
+#include "mqtt/mqtt_publisher.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

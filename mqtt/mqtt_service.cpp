@@ -1,4 +1,4 @@
-#include "gateway/mqtt_service.h"
+#include "mqtt/mqtt_service.h"
 
 #include <spdlog/spdlog.h>
 

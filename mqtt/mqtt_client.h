@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "driver/expected.h"
-#include "gateway/mqtt_publisher.h"
+#include "mqtt/mqtt_publisher.h"
 
 struct mosquitto;
 struct mosquitto_message;

@@ -14,8 +14,8 @@
 #include "config/config.h"
 #include "driver/expected.h"
 #include "gateway/gateway_status.h"
-#include "gateway/mqtt_client.h"
-#include "gateway/mqtt_publisher.h"
+#include "mqtt/mqtt_client.h"
+#include "mqtt/mqtt_publisher.h"
 
 namespace tiltgate {
 

@@ -1,8 +1,8 @@
-#include "gateway/mqtt_feed.h"
+#include "mqtt/mqtt_feed.h"
 
 #include <spdlog/spdlog.h>
 
-#include "gateway/mqtt_payload.h"
+#include "mqtt/mqtt_payload.h"
 
 namespace tiltgate {
 

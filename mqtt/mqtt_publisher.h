@@ -1,6 +1,6 @@
 // The MQTT feed's decisions, without a broker (docs/northbound.md, "MQTT"): when a sensor's state is due,
 // which identity has changed, and the bounded backlog that holds messages while the broker is
-// away. Pure: time is passed in; gateway/mqtt_client.h sends what this produces.
+// away. Pure: time is passed in; mqtt/mqtt_client.h sends what this produces.
 #pragma once
 
 #include <chrono>

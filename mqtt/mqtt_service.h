@@ -1,4 +1,4 @@
-// The MQTT feed ([mqtt], gateway/mqtt_feed.h) as a service attached to the gateway
+// The MQTT feed ([mqtt], mqtt/mqtt_feed.h) as a service attached to the gateway
 // (gateway/gateway_service.h): made when the table is there, restarted when a reload changes
 // it.
 #pragma once
@@ -11,7 +11,7 @@
 #include "config/config.h"
 #include "gateway/gateway_service.h"
 #include "gateway/gateway_status.h"
-#include "gateway/mqtt_feed.h"
+#include "mqtt/mqtt_feed.h"
 
 namespace tiltgate {
 

@@ -1,4 +1,4 @@
-#include "gateway/mqtt_client.h"
+#include "mqtt/mqtt_client.h"
 
 #include <fmt/format.h>
 #include <mosquitto.h>
@@ -12,7 +12,7 @@
 #include <optional>
 #include <thread>
 
-#include "gateway/mqtt_payload.h"
+#include "mqtt/mqtt_payload.h"
 
 namespace tiltgate {
 

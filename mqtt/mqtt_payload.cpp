@@ -1,4 +1,4 @@
-#include "gateway/mqtt_payload.h"
+#include "mqtt/mqtt_payload.h"
 
 #include <fmt/format.h>
 

@@ -1,8 +1,8 @@
-#include "gateway/mqtt_publisher.h"
+#include "mqtt/mqtt_publisher.h"
 
 #include <cmath>
 
-#include "gateway/mqtt_payload.h"
+#include "mqtt/mqtt_payload.h"
 
 namespace tiltgate {
 
