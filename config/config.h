@@ -45,7 +45,7 @@ struct ServerConfig {
   std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed
   std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
   std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
-  // The Unix socket commissioning commands reach the buses through (gateway/control_server.h),
+  // The Unix socket commissioning commands reach the buses through (control/control_server.h),
   // an absolute path; empty: none.
   std::string control_socket = std::string(kDefaultControlSocket);
   // The user `tiltgate run` serves as once its ttys and listeners are open, when started as

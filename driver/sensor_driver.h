@@ -81,7 +81,7 @@ class SensorDriver {
   }
 
   // Someone else moved the sensor to `address` (a commissioning command through the control
-  // socket, gateway/control_server.h): talk to it there from now on. The caller has checked the
+  // socket, control/control_server.h): talk to it there from now on. The caller has checked the
   // address against the protocol's range.
   virtual void follow_address(std::uint32_t address) = 0;
 

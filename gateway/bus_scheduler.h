@@ -107,7 +107,7 @@ class BusScheduler {
   boost::asio::awaitable<ForwardResult> forward(std::uint8_t slave, std::vector<std::uint8_t> pdu,
                                                 SteadyClock::time_point deadline);
 
-  // Runs one transaction of a commissioning command (gateway/control_server.h) on the line.
+  // Runs one transaction of a commissioning command (control/control_server.h) on the line.
   // It takes turns with the polls as forwarded requests do, so every sensor keeps being polled
   // while a command scans or sets. The request is sent as given (its time-out, retries and
   // settle time); its framer must stay alive until this returns. A request still queued at

@@ -1,6 +1,6 @@
 // One bus opened for a commissioning command: its tty, held with an advisory lock for as long
 // as the command runs, or the same bus through the control socket of a running gateway that
-// owns the tty (gateway/remote_line.h); and a driver for each sensor the command talks to. The
+// owns the tty (control/remote_line.h); and a driver for each sensor the command talks to. The
 // command polls the sensors through their drivers, as the gateway's bus scheduler does, one at
 // a time.
 #pragma once
@@ -14,7 +14,7 @@
 #include "driver/expected.h"
 #include "driver/sensor_driver.h"
 #include "gateway/commission_options.h"
-#include "gateway/remote_line.h"
+#include "control/remote_line.h"
 #include "serial/serial_line.h"
 
 namespace tiltgate {

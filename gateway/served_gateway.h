@@ -7,7 +7,7 @@
 #include <boost/asio/io_context.hpp>
 
 #include "config/config.h"
-#include "gateway/control_service.h"
+#include "control/control_service.h"
 #include "gateway/gateway.h"
 #include "mqtt/mqtt_service.h"
 #include "status/status_service.h"

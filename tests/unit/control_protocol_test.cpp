@@ -1,11 +1,11 @@
-// The control socket's messages (gateway/control_protocol.h): each formats to the documented
+// The control socket's messages (control/control_protocol.h): each formats to the documented
 // line and parses back to itself; anything else is refused with a message, never guessed at.
 #include <doctest/doctest.h>
 
 #include <string>
 #include <vector>
 
-#include "gateway/control_protocol.h"
+#include "control/control_protocol.h"
 
 using namespace tiltgate;
 using namespace tiltgate::control;

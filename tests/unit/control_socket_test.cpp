@@ -18,8 +18,8 @@
 #include <thread>
 
 #include "gateway/bus_scheduler.h"
-#include "gateway/control_server.h"
-#include "gateway/remote_line.h"
+#include "control/control_server.h"
+#include "control/remote_line.h"
 #include "unit/support/fake_bus.h"
 #include "unit/support/scratch_dir.h"
 

@@ -1,4 +1,4 @@
-#include "gateway/remote_line.h"
+#include "control/remote_line.h"
 
 #include <boost/asio/read_until.hpp>
 #include <boost/asio/redirect_error.hpp>
@@ -15,7 +15,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "gateway/control_socket_io.h"
+#include "control/control_socket_io.h"
 #include "serial/frame_trace.h"
 
 namespace tiltgate {

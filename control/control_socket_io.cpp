@@ -1,11 +1,11 @@
-#include "gateway/control_socket_io.h"
+#include "control/control_socket_io.h"
 
 #include <cerrno>
 #include <cstring>
 #include <poll.h>
 #include <sys/socket.h>
 
-#include "gateway/control_protocol.h"
+#include "control/control_protocol.h"
 
 namespace tiltgate::control {
 

@@ -1,4 +1,4 @@
-#include "gateway/control_server.h"
+#include "control/control_server.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
@@ -13,8 +13,8 @@
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 
-#include "gateway/control_protocol.h"
-#include "gateway/control_relay.h"
+#include "control/control_protocol.h"
+#include "control/control_relay.h"
 
 namespace tiltgate {
 

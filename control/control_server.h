@@ -3,7 +3,7 @@
 // that commissioning one sensor never stops the PLC seeing the others.
 //
 // A command asks for the bus on its tty, then sends its transactions one at a time
-// (gateway/control_protocol.h). Each is queued on that bus between polls (BusScheduler::
+// (control/control_protocol.h). Each is queued on that bus between polls (BusScheduler::
 // exchange_for_command) and carried out by the gateway's own Line; the command keeps its
 // driver and framer and decides, chunk by chunk, when the reply is whole. A command that moved
 // a sensor says so, and the gateway polls that sensor at its new address from then on.

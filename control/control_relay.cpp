@@ -1,9 +1,9 @@
-#include "gateway/control_relay.h"
+#include "control/control_relay.h"
 
 #include <variant>
 
-#include "gateway/control_protocol.h"
-#include "gateway/control_socket_io.h"
+#include "control/control_protocol.h"
+#include "control/control_socket_io.h"
 
 namespace tiltgate {
 

@@ -1,4 +1,4 @@
-// The control socket ([server] control_socket, gateway/control_server.h) as a service attached
+// The control socket ([server] control_socket, control/control_server.h) as a service attached
 // to the gateway (gateway/gateway_service.h): it relays commissioning commands to the
 // gateway's buses, so a reload that changes the socket's path or the buses restarts it with
 // the buses served then (a command in progress is ended and reconnects).
@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "gateway/control_server.h"
+#include "control/control_server.h"
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
 

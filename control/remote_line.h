@@ -1,5 +1,5 @@
 // A commissioning command's Line through a running gateway's control socket
-// (gateway/control_server.h): each transaction goes to the gateway, which sends it on its own
+// (control/control_server.h): each transaction goes to the gateway, which sends it on its own
 // bus between polls and relays what comes back, chunk by chunk, to this line, where the
 // command's framer decides when the reply is whole. Drivers and commands cannot tell it from
 // a tty of their own.
@@ -20,7 +20,7 @@
 
 #include "driver/expected.h"
 #include "driver/line.h"
-#include "gateway/control_protocol.h"
+#include "control/control_protocol.h"
 
 namespace tiltgate {
 

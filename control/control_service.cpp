@@ -1,4 +1,4 @@
-#include "gateway/control_service.h"
+#include "control/control_service.h"
 
 #include <spdlog/spdlog.h>
 

@@ -1,4 +1,4 @@
-#include "gateway/control_protocol.h"
+#include "control/control_protocol.h"
 
 #include <charconv>
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-// The gateway's side of a command's framer (gateway/control_server.h): a ReplyFramer that
+// The gateway's side of a command's framer (control/control_server.h): a ReplyFramer that
 // relays what the bus received to the command over the control socket and asks whether the
 // reply is whole. The command holds the real framer; this one only carries its answers.
 //
