@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "config/config_loader.h"
-#include "gateway/commands.h"
+#include "commission/commands.h"
 #include "gateway/served_gateway.h"
 #include "gateway/run_as_user.h"
 #include "gateway/service_notify.h"

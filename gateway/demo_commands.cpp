@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "gateway/commands.h"
+#include "commission/commands.h"
 #include "gateway/simulator_console.h"
 #include "gateway/demo_sensor_keys.h"
 #include "gateway/served_gateway.h"

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/commands.h"
-#include "gateway/commission_cli.h"
+#include "commission/commands.h"
+#include "commission/commission_cli.h"
 #include "gateway/journal_log.h"
 
 namespace {

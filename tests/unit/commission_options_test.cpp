@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "gateway/commission_options.h"
+#include "commission/commission_options.h"
 
 using namespace tiltgate;
 

@@ -2,8 +2,8 @@
 // told apart from silence, and an old reading is not a new one.
 #include <doctest/doctest.h>
 
-#include "gateway/poll_outcome.h"
-#include "gateway/reading_format.h"
+#include "commission/poll_outcome.h"
+#include "commission/reading_format.h"
 
 using namespace tiltgate;
 

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <vector>
 
-#include "gateway/reading_format.h"
+#include "commission/reading_format.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

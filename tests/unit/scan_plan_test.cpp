@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "config/config_loader.h"
-#include "gateway/scan_plan.h"
+#include "commission/scan_plan.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "driver/family.h"
-#include "gateway/set_plan.h"
+#include "commission/set_plan.h"
 #include "spectron/setting_ids.h"
 
 using namespace tiltgate;

@@ -6,13 +6,13 @@
 #include <fmt/ranges.h>
 #include <iostream>
 
-#include "gateway/commands.h"
-#include "gateway/commission_run.h"
+#include "commission/commands.h"
+#include "commission/commission_run.h"
 #include "gateway/driver_registry.h"
-#include "gateway/model_detection.h"
-#include "gateway/reading_format.h"
-#include "gateway/set_config_update.h"
-#include "gateway/set_plan.h"
+#include "commission/model_detection.h"
+#include "commission/reading_format.h"
+#include "commission/set_config_update.h"
+#include "commission/set_plan.h"
 
 namespace tiltgate {
 

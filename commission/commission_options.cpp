@@ -1,4 +1,4 @@
-#include "gateway/commission_options.h"
+#include "commission/commission_options.h"
 
 #include <algorithm>
 #include <filesystem>

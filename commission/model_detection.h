@@ -11,8 +11,8 @@
 #include <string_view>
 
 #include "driver/sensor_driver.h"
-#include "gateway/commission_bus.h"
-#include "gateway/poll_outcome.h"
+#include "commission/commission_bus.h"
+#include "commission/poll_outcome.h"
 
 namespace tiltgate {
 

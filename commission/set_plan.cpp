@@ -1,4 +1,4 @@
-#include "gateway/set_plan.h"
+#include "commission/set_plan.h"
 
 #include <algorithm>
 #include <charconv>

@@ -6,8 +6,8 @@
 #include <functional>
 #include <string_view>
 
-#include "gateway/commission_bus.h"
-#include "gateway/commission_options.h"
+#include "commission/commission_bus.h"
+#include "commission/commission_options.h"
 
 namespace tiltgate {
 

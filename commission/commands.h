@@ -5,9 +5,9 @@
 #include <string>
 
 #include "driver/family.h"
-#include "gateway/commission_options.h"
-#include "gateway/scan_plan.h"
-#include "gateway/set_plan.h"
+#include "commission/commission_options.h"
+#include "commission/scan_plan.h"
+#include "commission/set_plan.h"
 
 namespace tiltgate {
 

@@ -1,13 +1,13 @@
 // `tiltgate info`: the vendor User App's Sensor Info, for each sensor asked for. A sensor whose
 // model the options do not name is polled as each model of its family until one measures
-// (gateway/model_detection.h).
+// (commission/model_detection.h).
 #include <fmt/format.h>
 #include <iostream>
 
-#include "gateway/commands.h"
-#include "gateway/commission_run.h"
-#include "gateway/model_detection.h"
-#include "gateway/reading_format.h"
+#include "commission/commands.h"
+#include "commission/commission_run.h"
+#include "commission/model_detection.h"
+#include "commission/reading_format.h"
 
 namespace tiltgate {
 

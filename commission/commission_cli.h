@@ -1,10 +1,10 @@
 // The command-line side of the commissioning commands: the bus and sensor options they share
-// (gateway/commission_options.h) and their help.
+// (commission/commission_options.h) and their help.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
-#include "gateway/commission_options.h"
+#include "commission/commission_options.h"
 
 namespace tiltgate {
 

@@ -12,10 +12,10 @@
 #include <iostream>
 #include <unistd.h>
 
-#include "gateway/commands.h"
-#include "gateway/commission_run.h"
-#include "gateway/model_detection.h"
-#include "gateway/reading_format.h"
+#include "commission/commands.h"
+#include "commission/commission_run.h"
+#include "commission/model_detection.h"
+#include "commission/reading_format.h"
 
 namespace tiltgate {
 

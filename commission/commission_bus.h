@@ -13,7 +13,7 @@
 
 #include "driver/expected.h"
 #include "driver/sensor_driver.h"
-#include "gateway/commission_options.h"
+#include "commission/commission_options.h"
 #include "control/remote_line.h"
 #include "serial/serial_line.h"
 
@@ -24,7 +24,7 @@ struct CommissionedSensor {
   std::unique_ptr<SensorDriver> driver;
   // Where config.model came from: --model or the configuration decide the driver; a detected
   // one (the protocol's first model until then) is replaced by the model the sensor measures
-  // as (gateway/model_detection.h).
+  // as (commission/model_detection.h).
   ModelSource model_source = ModelSource::configuration;
 };
 

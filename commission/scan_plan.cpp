@@ -1,11 +1,11 @@
-#include "gateway/scan_plan.h"
+#include "commission/scan_plan.h"
 
 #include <algorithm>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "gateway/commission_options.h"
-#include "gateway/reading_format.h"
+#include "commission/commission_options.h"
+#include "commission/reading_format.h"
 
 namespace tiltgate {
 

@@ -8,8 +8,8 @@
 
 #include "config/config.h"
 #include "driver/expected.h"
-#include "gateway/commission_options.h"
-#include "gateway/set_plan.h"
+#include "commission/commission_options.h"
+#include "commission/set_plan.h"
 
 namespace tiltgate {
 

@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "driver/sensor_state.h"
-#include "gateway/poll_outcome.h"
+#include "commission/poll_outcome.h"
 
 namespace tiltgate {
 

@@ -1,4 +1,4 @@
-#include "gateway/set_config_update.h"
+#include "commission/set_config_update.h"
 
 #include <filesystem>
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-#include "gateway/reading_format.h"
+#include "commission/reading_format.h"
 
 #include <cmath>
 #include <ctime>

@@ -1,4 +1,4 @@
-#include "gateway/commission_cli.h"
+#include "commission/commission_cli.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "driver/hex.h"
-#include "gateway/commands.h"
-#include "gateway/commission_run.h"
+#include "commission/commands.h"
+#include "commission/commission_run.h"
 
 namespace tiltgate {
 

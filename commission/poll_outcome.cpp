@@ -1,4 +1,4 @@
-#include "gateway/poll_outcome.h"
+#include "commission/poll_outcome.h"
 
 #include <numeric>
 

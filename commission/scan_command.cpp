@@ -10,11 +10,11 @@
 #include <iostream>
 #include <unistd.h>
 
-#include "gateway/commands.h"
-#include "gateway/commission_run.h"
+#include "commission/commands.h"
+#include "commission/commission_run.h"
 #include "gateway/driver_registry.h"
-#include "gateway/model_detection.h"
-#include "gateway/scan_plan.h"
+#include "commission/model_detection.h"
+#include "commission/scan_plan.h"
 
 namespace tiltgate {
 
@@ -92,7 +92,7 @@ class Progress {
 
 // Reads the identity of the sensor at `found.address` through the family's driver, polled as
 // each model of the family (the given one first) until one gets a reading, as `info` does
-// (gateway/model_detection.h).
+// (commission/model_detection.h).
 boost::asio::awaitable<void> identify(CommissionBus& bus, const SensorConfig& model_sensor,
                                       FoundSensor& found, const bool& stopping) {
   CommissionedSensor sensor{model_sensor, nullptr, ModelSource::detected};

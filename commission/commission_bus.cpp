@@ -1,4 +1,4 @@
-#include "gateway/commission_bus.h"
+#include "commission/commission_bus.h"
 
 #include <cerrno>
 #include <cstring>

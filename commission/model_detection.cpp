@@ -1,4 +1,4 @@
-#include "gateway/model_detection.h"
+#include "commission/model_detection.h"
 
 #include <fmt/format.h>
 

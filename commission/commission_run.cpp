@@ -1,4 +1,4 @@
-#include "gateway/commission_run.h"
+#include "commission/commission_run.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
