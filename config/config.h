@@ -49,7 +49,7 @@ struct ServerConfig {
   // an absolute path; empty: none.
   std::string control_socket = std::string(kDefaultControlSocket);
   // The user `tiltgate run` serves as once its ttys and listeners are open, when started as
-  // root (gateway/run_as_user.h); empty: stay as started.
+  // root (app/run_as_user.h); empty: stay as started.
   std::string user;
 
   bool operator==(const ServerConfig&) const = default;

@@ -1,4 +1,4 @@
-#include "gateway/simulator_console.h"
+#include "app/simulator_console.h"
 
 #include <doctest/doctest.h>
 #include <fcntl.h>

@@ -4,7 +4,7 @@
 
 #include <spdlog/details/log_msg.h>
 
-#include "gateway/journal_log.h"
+#include "app/journal_log.h"
 
 using namespace tiltgate;
 

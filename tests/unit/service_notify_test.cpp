@@ -5,7 +5,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "gateway/service_notify.h"
+#include "app/service_notify.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

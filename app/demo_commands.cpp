@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "commission/commands.h"
-#include "gateway/simulator_console.h"
-#include "gateway/demo_sensor_keys.h"
-#include "gateway/served_gateway.h"
+#include "app/simulator_console.h"
+#include "app/demo_sensor_keys.h"
+#include "app/served_gateway.h"
 
 namespace tiltgate {
 

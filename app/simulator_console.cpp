@@ -1,4 +1,4 @@
-#include "gateway/simulator_console.h"
+#include "app/simulator_console.h"
 
 #include <sys/stat.h>
 #include <unistd.h>

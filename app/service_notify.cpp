@@ -1,4 +1,4 @@
-#include "gateway/service_notify.h"
+#include "app/service_notify.h"
 
 #include <algorithm>
 #include <fmt/format.h>

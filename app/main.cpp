@@ -8,7 +8,7 @@
 
 #include "commission/commands.h"
 #include "commission/commission_cli.h"
-#include "gateway/journal_log.h"
+#include "app/journal_log.h"
 
 namespace {
 

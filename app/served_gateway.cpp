@@ -1,4 +1,4 @@
-#include "gateway/served_gateway.h"
+#include "app/served_gateway.h"
 
 namespace tiltgate {
 

@@ -10,9 +10,9 @@
 
 #include "config/config_loader.h"
 #include "commission/commands.h"
-#include "gateway/served_gateway.h"
-#include "gateway/run_as_user.h"
-#include "gateway/service_notify.h"
+#include "app/served_gateway.h"
+#include "app/run_as_user.h"
+#include "app/service_notify.h"
 #include "mapping/aggregate_layout.h"
 
 namespace tiltgate {

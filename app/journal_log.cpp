@@ -1,4 +1,4 @@
-#include "gateway/journal_log.h"
+#include "app/journal_log.h"
 
 #include <charconv>
 #include <cstdlib>

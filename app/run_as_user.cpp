@@ -1,4 +1,4 @@
-#include "gateway/run_as_user.h"
+#include "app/run_as_user.h"
 
 #include <fmt/format.h>
 #include <grp.h>

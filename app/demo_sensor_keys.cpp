@@ -1,4 +1,4 @@
-#include "gateway/demo_sensor_keys.h"
+#include "app/demo_sensor_keys.h"
 
 #include <cerrno>
 #include <cstdlib>
