@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The core folders name no sensor family: config/, mapping/, gateway/, serial/ and driver/ ask
-# the family descriptors (driver/family.h) instead, so a new family is its own folder plus one
-# line in families/families.cmake. Checks the sources (C++ and CMake), comments included.
+# No folder but the families' own names a sensor family: the core (config/, mapping/, gateway/,
+# serial/, driver/) and the rooms beside it (modbus_tcp/, status/, mqtt/, control/,
+# commission/, app/) ask the family descriptors (driver/family.h) instead, so a new family is
+# its own folder plus one line in families/families.cmake. Checks the sources (C++ and CMake),
+# comments included.
 # Documents (docs/, README.md) are not sources: they name the families for the engineer.
 # Usage: core_names_no_family.sh SOURCE_DIR
 set -u
@@ -16,10 +18,11 @@ if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron modbus_rtu; then
   exit 2
 fi
 
-hits=$(grep -rniE "$pattern" "${sources[@]}" config mapping gateway serial driver)
+rooms=(config mapping gateway serial driver modbus_tcp status mqtt control commission app)
+hits=$(grep -rniE "$pattern" "${sources[@]}" "${rooms[@]}")
 if [ -n "$hits" ]; then
   echo "core sources name a sensor family (move it into the family's descriptor):"
   echo "$hits"
   exit 1
 fi
-echo "config/ mapping/ gateway/ serial/ driver/ name no sensor family"
+echo "${rooms[*]}: no sensor family named"
