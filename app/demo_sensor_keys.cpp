@@ -29,7 +29,7 @@ class DemoKeyReader final : public SensorKeyReader {
   void error(std::string_view key, std::string message) override {
     problems_.push_back(fmt::format("{}: {}", key, message));
   }
-  void file_errors(std::vector<FileError> errors) override {
+  void file_errors(FileErrors errors) override {
     for (const FileError& e : errors)
       problems_.push_back(fmt::format("{}:{}: {}: {}", e.file, e.line, e.key, e.message));
   }

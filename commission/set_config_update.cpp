@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "config/config_edit.h"
-#include "config/text_file.h"
+#include "toml/text_file.h"
 
 namespace tiltgate {
 
@@ -40,7 +40,7 @@ Expected<std::optional<std::string>, std::string> update_config_file(const BusOp
                                                                       const SetPlan& plan) {
   if (options.config.empty() || !options.port.empty()) return std::optional<std::string>{};
   if (!plan.new_address && !plan.new_baud) return std::optional<std::string>{};
-  const auto text = config::read_text_file(options.config);
+  const auto text = toml_input::read_text_file(options.config);
   if (!text) return Unexpected{fmt::format("{} not updated: {}", options.config, text.error())};
   std::string edited = *text;
   std::vector<std::string> changes;

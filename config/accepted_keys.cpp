@@ -6,6 +6,9 @@
 #include "config/sections.h"
 
 namespace tiltgate::config {
+
+using toml_input::AcceptedKeys;
+using toml_input::ErrorList;
 namespace {
 
 // One table of each kind, and each protocol and model of every family, as some keys are asked

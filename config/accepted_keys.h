@@ -3,10 +3,12 @@
 // against the loader by a test and never fall behind it.
 #pragma once
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "driver/family.h"
 
 namespace tiltgate::config {
+
+using toml_input::AcceptedKeys;
 
 // Kinds of table: "server", "bus", "sensor", "sensor.mounting", "sensor.alarms", "sensor.map"
 // (also a map file's top level) and "sensor.map.point" (also a map file's [[point]]).

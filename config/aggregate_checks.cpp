@@ -9,6 +9,8 @@
 
 namespace tiltgate::config {
 
+using toml_input::ErrorList;
+
 namespace {
 
 const ParsedSensor* find_sensor(const std::vector<ParsedSensor>& sensors,

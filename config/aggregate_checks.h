@@ -7,10 +7,12 @@
 
 #include <vector>
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "config/sections.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
 
 // `check_points`: false when the maps themselves had errors (the points are not checked).
 void check_aggregates(std::vector<ParsedAggregate>& aggregates,

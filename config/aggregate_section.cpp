@@ -3,9 +3,13 @@
 #include <fmt/format.h>
 
 #include "config/sections.h"
-#include "config/toml_reader.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
+using toml_input::TableReader;
+using toml_input::Presence;
 
 namespace {
 

@@ -7,9 +7,17 @@
 #include <vector>
 
 #include "config/sections.h"
-#include "config/toml_reader.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate::config {
+
+using toml_input::kAnyInteger;
+using toml_input::kAnyIntegerMax;
+using toml_input::check_name;
+using toml_input::ErrorList;
+using toml_input::Located;
+using toml_input::TableReader;
+using toml_input::Presence;
 
 namespace {
 

@@ -10,20 +10,20 @@
 #include "config/map_files.h"
 #include "config/pass_through_checks.h"
 #include "config/sections.h"
-#include "config/text_file.h"
-#include "config/toml_reader.h"
+#include "toml/text_file.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate {
 
-std::string ConfigError::to_string() const {
-  std::string out = file;
-  if (line > 0) out += fmt::format(":{}:{}", line, column);
-  out += ": ";
-  if (!key.empty()) out += key + ": ";
-  return out + message;
-}
-
 namespace config {
+
+using toml_input::closest_key;
+using toml_input::ErrorList;
+using toml_input::Place;
+using toml_input::place_of;
+using toml_input::TableReader;
+using toml_input::type_name;
+
 namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
@@ -186,7 +186,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
 }
 
 Expected<Config, ConfigErrors> load_config_file(const std::string& path, FamilyList families) {
-  auto text = config::read_text_file(path);
+  auto text = toml_input::read_text_file(path);
   if (!text) return Unexpected(ConfigErrors{ConfigError{path, 0, 0, "", text.error()}});
   return load_config_string(*text, path, families);
 }

@@ -9,22 +9,14 @@
 
 #include "config/config.h"
 #include "driver/expected.h"
+#include "driver/file_error.h"
 #include "driver/family.h"
 
 namespace tiltgate {
 
-struct ConfigError {
-  std::string file;
-  int line = 0;         // 1-based; 0 when the problem has no one place (unreadable file)
-  int column = 0;       // 1-based
-  std::string key;      // "server.port", "bus[0].baud", "sensor[2].unit_id"; empty for syntax
-  std::string message;  // what is wrong and what is expected
-
-  // "FILE:LINE:COL: KEY: message", or "FILE: KEY: message" when there is no line.
-  std::string to_string() const;
-};
-
-using ConfigErrors = std::vector<ConfigError>;
+// A problem in the configuration or a file it names, at its place.
+using ConfigError = FileError;
+using ConfigErrors = FileErrors;
 
 // Every problem in the file, ordered by line; a TOML syntax error is reported alone.
 // Protocols, models and their keys are those of `families`.

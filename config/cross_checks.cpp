@@ -10,6 +10,8 @@
 
 namespace tiltgate::config {
 
+using toml_input::ErrorList;
+
 namespace {
 
 // `bus "line1" (line 4)`, or `bus[0] (line 4)` when its name is itself in error.

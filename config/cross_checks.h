@@ -4,10 +4,12 @@
 
 #include <vector>
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "config/sections.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
 
 void check_buses(const std::vector<ParsedBus>& buses, ErrorList& errors);
 void check_sensors(const std::vector<ParsedSensor>& sensors, const std::vector<ParsedBus>& buses,

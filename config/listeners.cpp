@@ -23,6 +23,8 @@ std::uint16_t listener_of(const Config& config, const AggregateConfig& aggregate
 
 namespace tiltgate::config {
 
+using toml_input::ErrorList;
+
 std::uint16_t listener_of_bus(const std::vector<ParsedBus>& buses, const std::string& bus) {
   for (const ParsedBus& parsed : buses)
     if (parsed.where.valid("name") && parsed.config.name == bus) return listener_of(parsed.config);

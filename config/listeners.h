@@ -7,10 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "config/sections.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
 
 // The listener of the bus named `bus` (kMainListener when there is no such bus).
 std::uint16_t listener_of_bus(const std::vector<ParsedBus>& buses, const std::string& bus);

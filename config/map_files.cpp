@@ -8,10 +8,14 @@
 #include <set>
 #include <string>
 
-#include "config/text_file.h"
-#include "config/toml_reader.h"
+#include "toml/text_file.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate::config {
+
+using toml_input::place_of;
+using toml_input::ErrorList;
+using toml_input::read_text_file;
 namespace {
 
 struct MapFile {

@@ -8,10 +8,12 @@
 #include <vector>
 
 #include "config/config_loader.h"
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "config/sections.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
 
 // Sets each sensor's config.map (and map_file). Problems in the configuration file (a map
 // file that cannot be opened, an inline map) go to `errors`; the problems found in map files

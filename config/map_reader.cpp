@@ -5,12 +5,17 @@
 #include <algorithm>
 
 #include "config/point_reader.h"
-#include "config/toml_reader.h"
+#include "toml/toml_reader.h"
 #include "mapping/default_maps.h"
 #include "mapping/device_values.h"
 #include "mapping/map_validation.h"
 
 namespace tiltgate::config {
+
+using toml_input::place_of;
+using toml_input::type_name;
+using toml_input::ErrorList;
+using toml_input::TableReader;
 namespace {
 
 std::string point_path(const std::string& map_path, std::size_t index) {

@@ -10,11 +10,14 @@
 #include <string_view>
 #include <vector>
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "driver/device_value.h"
 #include "mapping/map_definition.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
+using toml_input::Located;
 
 struct ParsedMap {
   MapDefinition definition;

@@ -8,6 +8,9 @@
 
 namespace tiltgate::config {
 
+using toml_input::ErrorList;
+using toml_input::Located;
+
 namespace {
 
 std::string bus_name(const ParsedBus& bus) {

@@ -5,10 +5,12 @@
 
 #include <vector>
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "config/sections.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
 
 void check_pass_through(const std::vector<ParsedBus>& buses,
                         const std::vector<ParsedSensor>& sensors, ErrorList& errors);

@@ -4,9 +4,14 @@
 
 #include <vector>
 
-#include "config/toml_reader.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate::config {
+
+using toml_input::closest_key;
+using toml_input::ErrorList;
+using toml_input::TableReader;
+using toml_input::Presence;
 namespace {
 
 // Strings longer than this are not an identity any sensor reports; 250 characters already

@@ -7,10 +7,13 @@
 
 #include <string>
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "mapping/point.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
+using toml_input::Located;
 
 struct ParsedPoint {
   Point point;

@@ -10,9 +10,17 @@
 #include <span>
 
 #include "config/sensor_options.h"
-#include "config/toml_reader.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate::config {
+
+using toml_input::type_name;
+using toml_input::kAnyInteger;
+using toml_input::kAnyIntegerMax;
+using toml_input::check_name;
+using toml_input::ErrorList;
+using toml_input::TableReader;
+using toml_input::Presence;
 
 namespace {
 
@@ -64,10 +72,8 @@ class TableKeyReader final : public SensorKeyReader {
   void error(std::string_view key, std::string message) override {
     in_.error(key, std::move(message));
   }
-  void file_errors(std::vector<FileError> errors) override {
-    for (FileError& e : errors)
-      errors_.add_elsewhere(ConfigError{std::move(e.file), e.line, e.column, std::move(e.key),
-                                        std::move(e.message)});
+  void file_errors(FileErrors errors) override {
+    for (FileError& e : errors) errors_.add_elsewhere(std::move(e));
   }
 
  private:

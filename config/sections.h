@@ -11,13 +11,20 @@
 #include <string_view>
 
 #include "config/config.h"
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "config/map_reader.h"
 #include "driver/family.h"
 
+namespace tiltgate::toml_input {
+class TableReader;
+}  // namespace tiltgate::toml_input
+
 namespace tiltgate::config {
 
-class TableReader;
+using toml_input::ErrorList;
+using toml_input::Located;
+using toml_input::TableReader;
+
 
 struct ParsedBus {
   BusConfig config;

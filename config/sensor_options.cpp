@@ -5,6 +5,10 @@
 #include "mapping/model_capabilities.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
+using toml_input::TableReader;
+using toml_input::Presence;
 namespace {
 
 // The sensor's model has one axis: keys about a second axis are mistakes.

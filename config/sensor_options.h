@@ -3,10 +3,13 @@
 #pragma once
 
 #include "config/config.h"
-#include "config/error_list.h"
-#include "config/toml_reader.h"
+#include "toml/error_list.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
+using toml_input::TableReader;
 
 // mounting = { swap_axes, invert_x, invert_y, rotate_deg }
 void read_mounting(TableReader& in, SensorConfig& sensor, ErrorList& errors);

@@ -6,10 +6,15 @@
 #include <filesystem>
 
 #include "config/sections.h"
-#include "config/text_file.h"
-#include "config/toml_reader.h"
+#include "toml/text_file.h"
+#include "toml/toml_reader.h"
 
 namespace tiltgate::config {
+
+using toml_input::ErrorList;
+using toml_input::TableReader;
+using toml_input::Presence;
+using toml_input::read_text_file;
 
 namespace {
 

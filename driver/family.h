@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "driver/adaptive_reply_timeout.h"
+#include "driver/file_error.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
 #include "driver/scan.h"
@@ -177,15 +178,6 @@ struct ModelDescriptor {
   std::span<const SettingDescriptor> settings;
 };
 
-// A problem found in a file a [[sensor]] key names (a device profile), at its own place.
-struct FileError {
-  std::string file;
-  int line = 0;    // 1-based; 0 when the problem has no one place
-  int column = 0;
-  std::string key;
-  std::string message;
-};
-
 // How a family reads its own [[sensor]] keys: the config loader's reader, which checks types
 // and reports errors with the file, line and key.
 class SensorKeyReader {
@@ -196,8 +188,9 @@ class SensorKeyReader {
   // A string naming a file, resolved against the configuration file's folder (as map files).
   virtual std::optional<std::string> file_path(std::string_view key) = 0;
   virtual void error(std::string_view key, std::string message) = 0;
-  // The problems found in the file `key` names, reported along with the configuration's.
-  virtual void file_errors(std::vector<FileError> errors) = 0;
+  // The problems found in the file `key` names (a device profile), each at its own place,
+  // reported along with the configuration's.
+  virtual void file_errors(FileErrors errors) = 0;
 };
 
 // What a driver factory gets: one configured sensor on its bus.

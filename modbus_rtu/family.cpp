@@ -92,10 +92,7 @@ void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
   if (!path) return;
   auto profile = load_device_profile(*path);
   if (!profile) {
-    std::vector<FileError> errors;
-    for (const ConfigError& e : profile.error())
-      errors.push_back(FileError{e.file, e.line, e.column, e.key, e.message});
-    in.file_errors(std::move(errors));
+    in.file_errors(std::move(profile.error()));
     return;
   }
   options.set_text("device", *path);

@@ -34,7 +34,7 @@ Span span_of(const ProfileValue& v) {
   return Span{v.bank, v.address, std::size_t{v.address} + v.words()};
 }
 
-void check_blocks(const std::vector<LocatedBlock>& blocks, config::ErrorList& errors) {
+void check_blocks(const std::vector<LocatedBlock>& blocks, toml_input::ErrorList& errors) {
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     if (!blocks[i].read_ok) continue;
     const Span span = span_of(blocks[i].block);
@@ -61,7 +61,7 @@ bool inside_a_block(const Span& span, const std::vector<LocatedBlock>& blocks) {
 // A map file names a value by its name, as it names a built-in source or setting, so a value
 // may not take a built-in's name: the map could not reach it. angle_x and angle_y are the two
 // that mean the built-in angles.
-void check_name(const LocatedValue& v, config::ErrorList& errors) {
+void check_name(const LocatedValue& v, toml_input::ErrorList& errors) {
   const std::string& name = v.value.name;
   if (name == "angle_x" || name == "angle_y") return;
   if (from_name(source_names(), name))
@@ -74,7 +74,7 @@ void check_name(const LocatedValue& v, config::ErrorList& errors) {
 
 void check_value(const std::vector<LocatedValue>& values, std::size_t i,
                  const std::vector<LocatedBlock>& blocks, bool blocks_read,
-                 config::ErrorList& errors) {
+                 toml_input::ErrorList& errors) {
   const LocatedValue& v = values[i];
   const Span span = span_of(v.value);
   check_name(v, errors);
@@ -105,7 +105,7 @@ void check_value(const std::vector<LocatedValue>& values, std::size_t i,
 }  // namespace
 
 void check_profile(const std::vector<LocatedBlock>& blocks, const std::vector<LocatedValue>& values,
-                   config::ErrorList& errors) {
+                   toml_input::ErrorList& errors) {
   check_blocks(blocks, errors);
   // A block with a wrong key holds defaults: "outside every block" would then be a guess.
   bool blocks_read = !blocks.empty();

@@ -5,24 +5,24 @@
 
 #include <vector>
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 #include "modbus_rtu/device_profile.h"
 
 namespace tiltgate::modbus_rtu {
 
 struct LocatedBlock {
   ReadBlock block;
-  config::Located where;
+  toml_input::Located where;
   bool read_ok = true;  // read without errors: the checks may rely on its keys
 };
 
 struct LocatedValue {
   ProfileValue value;
-  config::Located where;
+  toml_input::Located where;
   bool read_ok = true;
 };
 
 void check_profile(const std::vector<LocatedBlock>& blocks, const std::vector<LocatedValue>& values,
-                   config::ErrorList& errors);
+                   toml_input::ErrorList& errors);
 
 }  // namespace tiltgate::modbus_rtu

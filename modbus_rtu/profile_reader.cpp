@@ -5,18 +5,18 @@
 #include <filesystem>
 #include <toml++/toml.h>
 
-#include "config/error_list.h"
-#include "config/text_file.h"
-#include "config/toml_reader.h"
+#include "toml/error_list.h"
+#include "toml/text_file.h"
+#include "toml/toml_reader.h"
 #include "modbus_rtu/profile_checks.h"
 
 namespace tiltgate::modbus_rtu {
 namespace {
 
-using config::ErrorList;
-using config::Located;
-using config::Presence;
-using config::TableReader;
+using toml_input::ErrorList;
+using toml_input::Located;
+using toml_input::Presence;
+using toml_input::TableReader;
 
 std::optional<RegisterBank> read_bank(TableReader& in) {
   const auto table = in.choice("table", {"holding", "input"}, Presence::required);
@@ -118,14 +118,14 @@ std::vector<Located> read_array(TableReader& root, std::string_view key, ErrorLi
 
 }  // namespace
 
-Expected<DeviceProfile, ConfigErrors> parse_device_profile(std::string_view text,
+Expected<DeviceProfile, FileErrors> parse_device_profile(std::string_view text,
                                                            std::string_view source_name) {
   ErrorList errors{std::string(source_name)};
   toml::table root;
   try {
     root = toml::parse(text, source_name);
   } catch (const toml::parse_error& e) {
-    errors.add(config::place_of(e.source()), "", std::string(e.description()));
+    errors.add(toml_input::place_of(e.source()), "", std::string(e.description()));
     return Unexpected{errors.take()};
   }
   TableReader in(root, "", errors);
@@ -141,9 +141,9 @@ Expected<DeviceProfile, ConfigErrors> parse_device_profile(std::string_view text
   return profile;
 }
 
-Expected<DeviceProfile, ConfigErrors> load_device_profile(const std::string& path) {
-  auto fail = [&](std::string message) -> Expected<DeviceProfile, ConfigErrors> {
-    return Unexpected{ConfigErrors{ConfigError{path, 0, 0, "", std::move(message)}}};
+Expected<DeviceProfile, FileErrors> load_device_profile(const std::string& path) {
+  auto fail = [&](std::string message) -> Expected<DeviceProfile, FileErrors> {
+    return Unexpected{FileErrors{FileError{path, 0, 0, "", std::move(message)}}};
   };
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
@@ -153,7 +153,7 @@ Expected<DeviceProfile, ConfigErrors> load_device_profile(const std::string& pat
   if (error) return fail("cannot read the size: " + error.message());
   if (size > kMaxProfileBytes)
     return fail(fmt::format("{} bytes is more than a profile's limit of {}", size, kMaxProfileBytes));
-  auto text = config::read_text_file(path);
+  auto text = toml_input::read_text_file(path);
   if (!text) return fail(text.error());
   return parse_device_profile(*text, path);
 }

@@ -1,5 +1,5 @@
 // Loading a Modbus RTU device profile (modbus_rtu/device_profile.h) from a TOML file, checked
-// the way config/ checks a map file: every problem in one pass, each reported as
+// the way the configuration and its map files are checked (toml/): every problem in one pass, each reported as
 // "FILE:LINE:COL: KEY: message" at the line it is about.
 //
 //   [[read]]                 # polled together, each block one FC 3/4 request
@@ -21,7 +21,7 @@
 #include <string>
 #include <string_view>
 
-#include "config/config_loader.h"
+#include "driver/file_error.h"
 #include "driver/expected.h"
 #include "modbus_rtu/device_profile.h"
 
@@ -31,9 +31,9 @@ namespace tiltgate::modbus_rtu {
 inline constexpr std::uintmax_t kMaxProfileBytes = 1024 * 1024;
 
 // Reads only a regular file of at most kMaxProfileBytes.
-Expected<DeviceProfile, ConfigErrors> load_device_profile(const std::string& path);
+Expected<DeviceProfile, FileErrors> load_device_profile(const std::string& path);
 // The same from text in memory; `source_name` stands for the file name in errors.
-Expected<DeviceProfile, ConfigErrors> parse_device_profile(std::string_view text,
+Expected<DeviceProfile, FileErrors> parse_device_profile(std::string_view text,
                                                            std::string_view source_name);
 
 }  // namespace tiltgate::modbus_rtu

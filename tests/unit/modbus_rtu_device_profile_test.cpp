@@ -24,7 +24,7 @@ std::vector<std::string> errors_of(const std::string& text) {
   const auto profile = parse_device_profile(text, "p.toml");
   REQUIRE_FALSE(profile.has_value());
   std::vector<std::string> messages;
-  for (const ConfigError& e : profile.error()) {
+  for (const FileError& e : profile.error()) {
     std::string line = e.to_string();
     REQUIRE(line.rfind("p.toml:", 0) == 0);
     messages.push_back(line.substr(7));
@@ -49,7 +49,7 @@ count = 8
 DeviceProfile parsed(const std::string& text) {
   auto profile = parse_device_profile(text, "p.toml");
   if (!profile) {
-    for (const ConfigError& e : profile.error()) MESSAGE(e.to_string());
+    for (const FileError& e : profile.error()) MESSAGE(e.to_string());
   }
   REQUIRE(profile.has_value());
   return std::move(*profile);

@@ -7,12 +7,12 @@
 
 #include <string>
 
-#include "config/text_file.h"
+#include "toml/text_file.h"
 #include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
-using tiltgate::config::kMaxTextFileBytes;
-using tiltgate::config::read_text_file;
+using tiltgate::toml_input::kMaxTextFileBytes;
+using tiltgate::toml_input::read_text_file;
 
 TEST_CASE("text file: a regular file is read whole") {
   test::ScratchDir dir;

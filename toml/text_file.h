@@ -6,7 +6,7 @@
 
 #include "driver/expected.h"
 
-namespace tiltgate::config {
+namespace tiltgate::toml_input {
 
 // No configuration, map or profile comes near this; /dev/zero or a log file given by mistake
 // would otherwise be read until memory runs out.
@@ -17,4 +17,4 @@ inline constexpr std::size_t kMaxTextFileBytes = 1024 * 1024;
 // open: ...". Never blocks: a FIFO is refused, not waited on.
 Expected<std::string, std::string> read_text_file(const std::string& path);
 
-}  // namespace tiltgate::config
+}  // namespace tiltgate::toml_input

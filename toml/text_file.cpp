@@ -1,4 +1,4 @@
-#include "config/text_file.h"
+#include "toml/text_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -8,7 +8,7 @@
 #include <cstring>
 #include <fmt/format.h>
 
-namespace tiltgate::config {
+namespace tiltgate::toml_input {
 
 namespace {
 
@@ -61,4 +61,4 @@ Expected<std::string, std::string> read_text_file(const std::string& path) {
   return text;
 }
 
-}  // namespace tiltgate::config
+}  // namespace tiltgate::toml_input

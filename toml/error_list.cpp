@@ -1,8 +1,8 @@
-#include "config/error_list.h"
+#include "toml/error_list.h"
 
 #include <algorithm>
 
-namespace tiltgate::config {
+namespace tiltgate::toml_input {
 
 void ErrorList::add(Place where, std::string key, std::string message) {
   errors_.push_back(
@@ -45,4 +45,4 @@ void Located::report(ErrorList& errors, std::string_view key, std::string messag
   errors.add(at(key), key_path(key), std::move(message));
 }
 
-}  // namespace tiltgate::config
+}  // namespace tiltgate::toml_input

@@ -16,9 +16,9 @@
 
 #include "driver/closest_name.h"
 
-#include "config/error_list.h"
+#include "toml/error_list.h"
 
-namespace tiltgate::config {
+namespace tiltgate::toml_input {
 
 enum class Presence { optional, required };
 
@@ -96,4 +96,4 @@ inline constexpr std::int64_t kAnyIntegerMax = std::numeric_limits<std::int64_t>
 // (reported at `key` otherwise).
 void check_name(TableReader& in, std::string_view key, const std::string& name);
 
-}  // namespace tiltgate::config
+}  // namespace tiltgate::toml_input

@@ -1,4 +1,4 @@
-#include "config/toml_reader.h"
+#include "toml/toml_reader.h"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-namespace tiltgate::config {
+namespace tiltgate::toml_input {
 
 Place place_of(const toml::source_region& region) {
   return Place{int(region.begin.line), int(region.begin.column)};
@@ -256,4 +256,4 @@ void check_name(TableReader& in, std::string_view key, const std::string& name) 
                               name));
 }
 
-}  // namespace tiltgate::config
+}  // namespace tiltgate::toml_input

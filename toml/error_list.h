@@ -10,7 +10,7 @@
 
 #include "config/config_loader.h"
 
-namespace tiltgate::config {
+namespace tiltgate::toml_input {
 
 struct Place {
   int line = 0;
@@ -75,4 +75,4 @@ class Located {
   std::set<std::string, std::less<>> valid_;
 };
 
-}  // namespace tiltgate::config
+}  // namespace tiltgate::toml_input
