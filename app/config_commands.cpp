@@ -20,8 +20,8 @@ namespace tiltgate {
 namespace {
 
 // Loads and validates; prints every problem to stderr, compiler style.
-std::optional<Config> load_or_report(const std::string& path) {
-  auto loaded = load_config_file(path);
+std::optional<Config> load_or_report(const std::string& path, FamilyList families) {
+  auto loaded = load_config_file(path, families);
   if (!loaded) {
     for (const ConfigError& error : loaded.error()) std::cerr << error.to_string() << "\n";
     std::cerr << fmt::format("{}: {} error(s); nothing started\n", path, loaded.error().size());
@@ -64,8 +64,8 @@ std::optional<UnitMap> aggregate_unit(const Config& config, const AggregateConfi
 
 }  // namespace
 
-int check_command(const std::string& config_path) {
-  auto config = load_or_report(config_path);
+int check_command(const std::string& config_path, FamilyList families) {
+  auto config = load_or_report(config_path, families);
   if (!config) return 1;
   std::cout << fmt::format("{}: OK ({} bus(es), {} sensor(s){})\n", config_path,
                            config->buses.size(), config->sensors.size(),
@@ -75,14 +75,14 @@ int check_command(const std::string& config_path) {
   return 0;
 }
 
-int map_command(const std::string& config_path, const std::string& format) {
-  auto config = load_or_report(config_path);
+int map_command(const std::string& config_path, const std::string& format, FamilyList families) {
+  auto config = load_or_report(config_path, families);
   if (!config) return 1;
   // A deque: the units point into it as it grows.
   std::deque<RegisterMap> maps;
   std::vector<UnitMap> units;
   for (const SensorConfig& sensor : config->sensors) {
-    maps.push_back(map_for(sensor));
+    maps.push_back(map_for(families, sensor));
     units.push_back({sensor.unit_id, sensor.name, sensor.model, &maps.back(),
                      config->server.word_order, served_port(*config, listener_of(*config, sensor)), {}});
   }
@@ -97,9 +97,9 @@ namespace {
 
 // SIGHUP: the file again, through the loader `check` uses. A valid file is applied to the
 // running gateway; an invalid one is refused with every error logged, as `check` prints them.
-void reload_or_refuse(Gateway& gateway, const std::string& config_path) {
+void reload_or_refuse(Gateway& gateway, const std::string& config_path, FamilyList families) {
   spdlog::info("SIGHUP: reloading {}", config_path);
-  auto loaded = load_config_file(config_path);
+  auto loaded = load_config_file(config_path, families);
   if (!loaded) {
     for (const ConfigError& error : loaded.error()) spdlog::error("{}", error.to_string());
     spdlog::error("reload refused: {} error(s); still serving the configuration loaded at {}",
@@ -112,27 +112,28 @@ void reload_or_refuse(Gateway& gateway, const std::string& config_path) {
 // systemd shows the service as reloading from RELOADING=1 until READY=1, which comes whether
 // the file was applied or refused: either way the gateway serves again.
 void reload_on_sighup(boost::asio::signal_set& hangups, Gateway& gateway,
-                      const std::string& config_path, ServiceNotifier& notifier) {
-  hangups.async_wait(
-      [&hangups, &gateway, &config_path, &notifier](const boost::system::error_code& ec, int) {
-        if (ec) return;
-        notifier.reloading();
-        reload_or_refuse(gateway, config_path);
-        notifier.ready();
-        reload_on_sighup(hangups, gateway, config_path, notifier);
-      });
+                      const std::string& config_path, FamilyList families,
+                      ServiceNotifier& notifier) {
+  hangups.async_wait([&hangups, &gateway, &config_path, families, &notifier](
+                         const boost::system::error_code& ec, int) {
+    if (ec) return;
+    notifier.reloading();
+    reload_or_refuse(gateway, config_path, families);
+    notifier.ready();
+    reload_on_sighup(hangups, gateway, config_path, families, notifier);
+  });
 }
 
 }  // namespace
 
-int run_command(const std::string& config_path) {
-  auto config = load_or_report(config_path);
+int run_command(const std::string& config_path, FamilyList families) {
+  auto config = load_or_report(config_path, families);
   if (!config) return 1;
   boost::asio::io_context io;
   // Before start(): a SIGHUP from then on reloads rather than ends the process.
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   boost::asio::signal_set hangups(io, SIGHUP);
-  ServedGateway served(io, *config);
+  ServedGateway served(io, *config, families);
   Gateway& gateway = served.gateway();
   auto started = gateway.start();
   if (!started) {
@@ -161,7 +162,7 @@ int run_command(const std::string& config_path) {
     gateway.stop();
     io.stop();
   });
-  reload_on_sighup(hangups, gateway, config_path, notifier);
+  reload_on_sighup(hangups, gateway, config_path, families, notifier);
   io.run();
   finish_stopped(io);
   return 0;

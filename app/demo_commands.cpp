@@ -70,7 +70,7 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
       sensor.model = s.model;
       sensor.address = s.address;
       sensor.unit_id = unit++;
-      auto family_options = demo_sensor_options(*families[i], s, folder);
+      auto family_options = demo_sensor_options(families, *families[i], s, folder);
       if (!family_options) return Unexpected{family_options.error()};
       sensor.family_options = std::move(*family_options);
       config.sensors.push_back(sensor);
@@ -102,7 +102,7 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyList fa
 
 }  // namespace
 
-int demo_command(const DemoOptions& options) {
+int demo_command(const DemoOptions& options, FamilyList all_families) {
   boost::asio::io_context io;
   // Declared first, so it goes last: the sensors' drivers read their files while they run.
   auto folder = DemoFolder::create();
@@ -113,7 +113,7 @@ int demo_command(const DemoOptions& options) {
   // A family whose demo has no sensor gets no bus: an empty simulated bus would only be noise
   // in the demo.
   std::vector<const FamilyDescriptor*> demo_families;
-  for (const FamilyDescriptor* family : registered_families()) {
+  for (const FamilyDescriptor* family : all_families) {
     if (!family->demo.sensors.empty()) demo_families.push_back(family);
   }
   const FamilyList families = demo_families;
@@ -141,7 +141,7 @@ int demo_command(const DemoOptions& options) {
     return 1;
   }
   const Config& config = *demo;
-  ServedGateway served(io, config);
+  ServedGateway served(io, config, families);
   Gateway& gateway = served.gateway();
   if (auto started = gateway.start(); !started) {
     spdlog::critical("demo: {}", started.error());

@@ -17,8 +17,8 @@ namespace {
 // so the family applies its defaults. Problems are collected rather than located in a file.
 class DemoKeyReader final : public SensorKeyReader {
  public:
-  DemoKeyReader(const DemoSensor& sensor, const std::filesystem::path& folder)
-      : sensor_(sensor), folder_(folder) {}
+  DemoKeyReader(const DemoSensor& sensor, const std::filesystem::path& folder, FamilyList families)
+      : sensor_(sensor), folder_(folder), families_(families) {}
   std::optional<double> number(std::string_view) override { return std::nullopt; }
   std::optional<bool> boolean(std::string_view) override { return std::nullopt; }
   std::optional<std::string> file_path(std::string_view key) override {
@@ -29,6 +29,9 @@ class DemoKeyReader final : public SensorKeyReader {
   void error(std::string_view key, std::string message) override {
     problems_.push_back(fmt::format("{}: {}", key, message));
   }
+  std::vector<std::string_view> setting_names() const override {
+    return model_setting_names(families_);
+  }
   void file_errors(FileErrors errors) override {
     for (const FileError& e : errors)
       problems_.push_back(fmt::format("{}:{}: {}: {}", e.file, e.line, e.key, e.message));
@@ -38,6 +41,7 @@ class DemoKeyReader final : public SensorKeyReader {
  private:
   const DemoSensor& sensor_;
   const std::filesystem::path& folder_;
+  FamilyList families_;
   std::vector<std::string> problems_;
 };
 
@@ -68,7 +72,8 @@ DemoFolder::~DemoFolder() {
   std::filesystem::remove_all(path_, ignored);
 }
 
-Expected<FamilyOptions, std::string> demo_sensor_options(const FamilyDescriptor& family,
+Expected<FamilyOptions, std::string> demo_sensor_options(FamilyList families,
+                                                         const FamilyDescriptor& family,
                                                          const DemoSensor& sensor,
                                                          const std::filesystem::path& folder) {
   const std::filesystem::path own = folder / std::string(sensor.name);
@@ -80,7 +85,7 @@ Expected<FamilyOptions, std::string> demo_sensor_options(const FamilyDescriptor&
   for (const DemoFile& file : sensor.files)
     if (auto written = write_file(own / file.file_name, file.contents); !written)
       return Unexpected{written.error()};
-  DemoKeyReader reader(sensor, own);
+  DemoKeyReader reader(sensor, own, families);
   FamilyOptions options;
   family.read_sensor_keys(reader, options);
   if (!reader.problems().empty())

@@ -27,9 +27,10 @@ class DemoFolder {
   std::filesystem::path path_;
 };
 
-// Writes the sensor's files into `folder` (a sub-folder per sensor) and has the family read
-// its keys; the error names the sensor and the problem.
-Expected<FamilyOptions, std::string> demo_sensor_options(const FamilyDescriptor& family,
+// Writes the sensor's files into `folder` (a sub-folder per sensor) and has `family`, one of
+// `families`, read its keys; the error names the sensor and the problem.
+Expected<FamilyOptions, std::string> demo_sensor_options(FamilyList families,
+                                                         const FamilyDescriptor& family,
                                                          const DemoSensor& sensor,
                                                          const std::filesystem::path& folder);
 

@@ -25,8 +25,7 @@ void set_up_logging(const std::string& level) {
 }
 
 // "A, B and C": the families' titles.
-std::string family_titles() {
-  const tiltgate::FamilyList families = tiltgate::registered_families();
+std::string family_titles(tiltgate::FamilyList families) {
   std::string titles;
   for (std::size_t i = 0; i < families.size(); ++i) {
     if (i > 0) titles += i + 1 == families.size() ? " and " : ", ";
@@ -38,7 +37,9 @@ std::string family_titles() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tiltgate: Modbus/TCP gateway for " + family_titles() + " inclinometers"};
+  // The sensor families this build serves: asked for here, once, and handed to every command.
+  const tiltgate::FamilyList families = tiltgate::registered_families();
+  CLI::App app{"tiltgate: Modbus/TCP gateway for " + family_titles(families) + " inclinometers"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tiltgate ") + TILTGATE_VERSION);
   std::string log_level = "info";
@@ -79,14 +80,14 @@ int main(int argc, char** argv) {
   tiltgate::BusOptions info_bus;
   auto* info = app.add_subcommand("info", "show a sensor's address, model, serial, firmware, "
                                           "lock level and angles (the User App's Sensor Info)");
-  tiltgate::add_bus_options(*info, info_bus);
-  info->footer(tiltgate::info_help_footer());
+  tiltgate::add_bus_options(*info, info_bus, families);
+  info->footer(tiltgate::info_help_footer(families));
 
   tiltgate::BusOptions watch_bus;
   tiltgate::WatchOptions watch_options;
   auto* watch = app.add_subcommand("watch", "poll sensors in turn and show their angles, one "
                                             "row each (the Multi-Unit Angle Display)");
-  tiltgate::add_bus_options(*watch, watch_bus);
+  tiltgate::add_bus_options(*watch, watch_bus, families);
   watch->add_option("--count", watch_options.count, "stop after this many rounds (plain lines)")
       ->check(CLI::Range(1, 100'000'000));
   watch->add_option("--interval", watch_options.interval_ms, "ms from one round to the next")
@@ -95,13 +96,13 @@ int main(int argc, char** argv) {
   watch->add_option("--log", watch_options.log,
                     "append every reading to this CSV file (time, address, serial, x_deg, "
                     "y_deg, tilt_deg, status)");
-  watch->footer(tiltgate::watch_help_footer());
+  watch->footer(tiltgate::watch_help_footer(families));
 
   tiltgate::BusOptions scan_bus;
   tiltgate::ScanOptions scan_options;
   auto* scan = app.add_subcommand("scan", "find the sensors on a bus: one row per address that "
                                           "answers, and a configuration of them");
-  tiltgate::add_bus_options(*scan, scan_bus, &scan_options.auto_baud);
+  tiltgate::add_bus_options(*scan, scan_bus, families, &scan_options.auto_baud);
   scan->add_option_function<std::int64_t>(
           "--from", [&](const std::int64_t& v) { scan_options.from = v; },
           "first address to probe (default: the protocol's usual range)")
@@ -123,34 +124,33 @@ int main(int argc, char** argv) {
           "+ 10 ms)")
       ->check(CLI::Range(1, 10'000))
       ->group("Scan");
-  scan->footer(tiltgate::scan_help_footer());
+  scan->footer(tiltgate::scan_help_footer(families));
 
   tiltgate::BusOptions set_bus;
   tiltgate::SetArguments set_arguments;
   auto* set = app.add_subcommand("set", "change one setting of a sensor (address, baud, filter, "
                                         "zero, restart, the model's own) and read it back");
-  tiltgate::add_bus_options(*set, set_bus);
+  tiltgate::add_bus_options(*set, set_bus, families);
   // One address, so that the SETTING words after it are not taken for more addresses.
   set->get_option("--address")->allow_extra_args(false);
   set->add_option("setting", set_arguments.words, "SETTING [VALUE...]")->required();
   set->add_flag("--permanent", set_arguments.permanent, "zero-here: keep the zero after a restart");
-  set->footer(tiltgate::set_help_footer());
+  set->footer(tiltgate::set_help_footer(families));
 
   tiltgate::BusOptions raw_bus;
   tiltgate::RawOptions raw_options;
   auto* raw = app.add_subcommand("raw", "send one request by function number and show the bytes "
                                         "each way and the reply (the User App's command section)");
-  tiltgate::add_bus_options(*raw, raw_bus);
+  tiltgate::add_bus_options(*raw, raw_bus, families);
   raw->get_option("--address")->allow_extra_args(false);
   raw->add_option("--function", raw_options.function, "the function / command number (see below)")
       ->required();
   raw->add_option("--data", raw_options.data, "the request's data bytes in hex, e.g. \"00 10\"");
-  raw->footer(tiltgate::raw_help_footer());
+  raw->footer(tiltgate::raw_help_footer(families));
 
   auto* sim = app.add_subcommand("sim", "run a simulated sensor bus on a pseudo-terminal");
   sim->require_subcommand(1);
   // One `sim` subcommand per family.
-  const tiltgate::FamilyList families = tiltgate::registered_families();
   std::vector<tiltgate::SimulatorSetup> sim_setups(families.size());
   std::vector<CLI::App*> sim_commands;
   for (std::size_t i = 0; i < families.size(); ++i) {
@@ -191,15 +191,15 @@ int main(int argc, char** argv) {
   if (commissioning && app.get_option("--log-level")->count() == 0) log_level = "error";
   set_up_logging(log_level);
 
-  if (*run) return tiltgate::run_command(config_path);
-  if (*check) return tiltgate::check_command(config_path);
-  if (*map) return tiltgate::map_command(config_path, format);
-  if (*demo) return tiltgate::demo_command(demo_options);
-  if (*info) return tiltgate::info_command(info_bus);
-  if (*watch) return tiltgate::watch_command(watch_bus, watch_options);
-  if (*scan) return tiltgate::scan_command(scan_bus, scan_options);
-  if (*set) return tiltgate::set_command(set_bus, set_arguments);
-  if (*raw) return tiltgate::raw_command(raw_bus, raw_options);
+  if (*run) return tiltgate::run_command(config_path, families);
+  if (*check) return tiltgate::check_command(config_path, families);
+  if (*map) return tiltgate::map_command(config_path, format, families);
+  if (*demo) return tiltgate::demo_command(demo_options, families);
+  if (*info) return tiltgate::info_command(info_bus, families);
+  if (*watch) return tiltgate::watch_command(watch_bus, watch_options, families);
+  if (*scan) return tiltgate::scan_command(scan_bus, scan_options, families);
+  if (*set) return tiltgate::set_command(set_bus, set_arguments, families);
+  if (*raw) return tiltgate::raw_command(raw_bus, raw_options, families);
   for (std::size_t i = 0; i < families.size(); ++i)
     if (*sim_commands[i]) return tiltgate::sim_command(*families[i], sim_setups[i]);
   return 2;

@@ -2,8 +2,9 @@
 
 namespace tiltgate {
 
-ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config)
-    : gateway_(io, config),
+ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
+                             FamilyList families)
+    : gateway_(io, config, families),
       http_(gateway_, [this] { return status(SteadyClock::now()); }),
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
       control_(gateway_) {

@@ -16,7 +16,7 @@ namespace tiltgate {
 
 class ServedGateway {
  public:
-  ServedGateway(boost::asio::io_context& io, const Config& config);
+  ServedGateway(boost::asio::io_context& io, const Config& config, FamilyList families);
 
   Gateway& gateway() { return gateway_; }
   const Gateway& gateway() const { return gateway_; }

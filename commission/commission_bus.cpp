@@ -60,8 +60,8 @@ Expected<std::unique_ptr<RemoteLine>, CommissionBus::OpenError> bus_through_gate
 
 }  // namespace
 
-CommissionBus::CommissionBus(BusConfig config, int lock_fd)
-    : config_(std::move(config)), lock_fd_(lock_fd) {}
+CommissionBus::CommissionBus(BusConfig config, FamilyList families, int lock_fd)
+    : config_(std::move(config)), families_(families), lock_fd_(lock_fd) {}
 
 CommissionBus::~CommissionBus() {
   stop();
@@ -98,7 +98,7 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
     boost::asio::any_io_executor executor, const CommissionTarget& target) {
   std::vector<CommissionedSensor> sensors;
   for (const SensorConfig& sensor : target.sensors) {
-    auto driver = make_driver(sensor, target.bus);
+    auto driver = make_driver(target.families, sensor, target.bus);
     if (!driver)
       return Unexpected{OpenError{
           2, fmt::format("sensor \"{}\": no driver for model {} on a {} bus", sensor.name,
@@ -108,7 +108,7 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
   auto remote = bus_through_gateway(executor, target);
   if (!remote) return Unexpected{remote.error()};
   if (*remote) {
-    std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, -1));
+    std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, -1));
     bus->sensors_ = std::move(sensors);
     bus->config_.baud = (*remote)->bus().baud;
     bus->remote_ = remote->get();
@@ -118,7 +118,7 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
   }
   auto lock = open_and_lock(target.bus.port);
   if (!lock) return Unexpected{OpenError{1, lock.error()}};
-  std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, *lock));
+  std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, *lock));
   bus->sensors_ = std::move(sensors);
   bus->executor_ = executor;
   if (auto started = bus->start_line(); !started) return Unexpected{OpenError{1, started.error()}};
@@ -126,7 +126,7 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
 }
 
 Expected<Done, std::string> CommissionBus::start_line() {
-  auto line = std::make_unique<SerialLine>(executor_, serial_options_from(config_));
+  auto line = std::make_unique<SerialLine>(executor_, serial_options_from(families_, config_));
   serial_ = line.get();
   line_ = std::move(line);
   if (!serial_->start()) return Unexpected{fmt::format("cannot open {} as a serial port", config_.port)};

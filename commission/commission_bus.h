@@ -44,6 +44,8 @@ class CommissionBus {
   CommissionBus& operator=(const CommissionBus&) = delete;
 
   const BusConfig& config() const { return config_; }
+  // The families the bus and its sensors were checked against: every driver is made from them.
+  FamilyList families() const { return families_; }
   // The bus's line. Commands talk to sensors only through it (their drivers' transactions or
   // their own), so that the same command also works through a running gateway.
   Line& line() { return *line_; }
@@ -70,11 +72,12 @@ class CommissionBus {
   std::string no_reply_message(const CommissionedSensor& sensor) const;
 
  private:
-  CommissionBus(BusConfig config, int lock_fd);
+  CommissionBus(BusConfig config, FamilyList families, int lock_fd);
   Expected<Done, std::string> start_line();
 
   boost::asio::any_io_executor executor_;
   BusConfig config_;
+  FamilyList families_;
   int lock_fd_;  // -1 through a gateway
   std::unique_ptr<Line> line_;
   SerialLine* serial_ = nullptr;  // line_, on a tty of our own

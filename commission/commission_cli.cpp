@@ -43,9 +43,9 @@ std::vector<std::string> example_buses(FamilyList families) {
 
 }  // namespace
 
-std::string info_help_footer() {
+std::string info_help_footer(FamilyList families) {
   std::string text = "Examples:\n";
-  for (const std::string& bus : example_buses(registered_families()))
+  for (const std::string& bus : example_buses(families))
     text += fmt::format("  tiltgate info {}\n", bus);
   text += "  tiltgate info --config /etc/tiltgate/tiltgate.toml --sensor boom\n";
   text += "  tiltgate info --config /etc/tiltgate/tiltgate.toml --bus line1 --address 5,6\n";
@@ -55,9 +55,9 @@ std::string info_help_footer() {
   return text;
 }
 
-std::string watch_help_footer() {
+std::string watch_help_footer(FamilyList families) {
   std::string text = "Examples:\n";
-  for (const std::string& bus : example_buses(registered_families()))
+  for (const std::string& bus : example_buses(families))
     text += fmt::format("  tiltgate watch {}\n", bus);
   text += "  tiltgate watch --config /etc/tiltgate/tiltgate.toml --bus line1 --log angles.csv\n";
   text += "  tiltgate watch --config /etc/tiltgate/tiltgate.toml --sensor boom --count 10 "
@@ -70,13 +70,13 @@ std::string watch_help_footer() {
   return text;
 }
 
-std::string scan_help_footer() {
+std::string scan_help_footer(FamilyList families) {
   std::string text = "Examples:\n";
-  for (const FamilyDescriptor* family : registered_families()) {
+  for (const FamilyDescriptor* family : families) {
     if (family->demo.sensors.empty()) continue;
     std::string example = fmt::format("  tiltgate scan --port /dev/ttyUSB0 --protocol {}",
                                       family->demo.protocol);
-    const ProtocolEntry protocol = find_protocol(registered_families(), family->demo.protocol);
+    const ProtocolEntry protocol = find_protocol(families, family->demo.protocol);
     example += protocol.protocol && !protocol.protocol->default_baud
                    ? std::string(" --baud auto")
                    : fmt::format(" --config-out {}.toml", family->demo.protocol);
@@ -96,7 +96,7 @@ std::string scan_help_footer() {
   return text;
 }
 
-std::string set_help_footer() {
+std::string set_help_footer(FamilyList families) {
   std::string text = "Settings (the sensor's model decides which it has; an unknown one lists them):\n";
   text +=
       "  address N            move the sensor to bus address N (refused when one answers there)\n"
@@ -106,21 +106,21 @@ std::string set_help_footer() {
       "  zero-here [--permanent]  zero to the current angle (temporary unless --permanent)\n"
       "  restart              restart the sensor and wait for it\n"
       "  NAME VALUE...        the model's own settings by name (an unknown SETTING lists them)\n";
-  for (const FamilyDescriptor* family : registered_families())
+  for (const FamilyDescriptor* family : families)
     for (const CompoundSetting& compound : family->set.compound_settings)
       text += fmt::format("  {:<20} {} sensors: writes {}\n",
                           fmt::format("{} {}", compound.name, compound.values), family->title,
                           fmt::join(compound.parts, " then "));
   text += "Examples:\n";
-  const std::vector<std::string> buses = example_buses(registered_families());
+  const std::vector<std::string> buses = example_buses(families);
   if (!buses.empty()) {
     text += fmt::format("  tiltgate set {} address 7\n", buses.front());
     text += fmt::format("  tiltgate set {} zero-here --permanent\n", buses.front());
   }
   // A family without a restart command has only its sensors' own settings, named by them.
   std::size_t bus = 1;
-  for (const FamilyDescriptor* family : registered_families()) {
-    if (family->demo.sensors.empty() || family == registered_families().front()) continue;
+  for (const FamilyDescriptor* family : families) {
+    if (family->demo.sensors.empty() || family == families.front()) continue;
     const bool restarts = family->set.command_value &&
                           family->set.command_value(SensorCommand::restart).has_value();
     if (bus < buses.size())
@@ -136,13 +136,13 @@ std::string set_help_footer() {
   return text;
 }
 
-std::string raw_help_footer() {
+std::string raw_help_footer(FamilyList families) {
   std::string text = "--function and --data on each protocol:\n";
-  for (const FamilyDescriptor* family : registered_families())
+  for (const FamilyDescriptor* family : families)
     if (!family->raw.function_help.empty())
       text += fmt::format("  {}\n", family->raw.function_help);
   text += "Examples:\n";
-  const std::vector<std::string> buses = example_buses(registered_families());
+  const std::vector<std::string> buses = example_buses(families);
   if (!buses.empty()) text += fmt::format("  tiltgate raw {} --function 37\n", buses.front());
   text += "  tiltgate raw --config /etc/tiltgate/tiltgate.toml --sensor boom --function 5 --data 04\n";
   text +=
@@ -152,8 +152,8 @@ std::string raw_help_footer() {
   return text;
 }
 
-void add_bus_options(CLI::App& command, BusOptions& options, bool* auto_baud) {
-  const FamilyList families = registered_families();
+void add_bus_options(CLI::App& command, BusOptions& options, FamilyList families,
+                     bool* auto_baud) {
   command.add_option("--port", options.port, "the bus's tty, e.g. /dev/ttyUSB0")
       ->group("Bus on the command line");
   command

@@ -9,15 +9,16 @@
 namespace tiltgate {
 
 // --port, --protocol, --baud, --parity, --stop-bits, --master-address, --model, --device,
-// --config, --sensor, --bus and --address, filling `options`.
+// --config, --sensor, --bus and --address, filling `options`; the protocols are `families'`.
 // With `auto_baud`, --baud also takes "auto", which sets it.
-void add_bus_options(CLI::App& command, BusOptions& options, bool* auto_baud = nullptr);
+void add_bus_options(CLI::App& command, BusOptions& options, FamilyList families,
+                     bool* auto_baud = nullptr);
 
-// The commands' --help footers: examples for each family's bus, and the exit status.
-std::string info_help_footer();
-std::string watch_help_footer();
-std::string scan_help_footer();
-std::string set_help_footer();
-std::string raw_help_footer();
+// The commands' --help footers: examples for each of `families`' buses, and the exit status.
+std::string info_help_footer(FamilyList families);
+std::string watch_help_footer(FamilyList families);
+std::string scan_help_footer(FamilyList families);
+std::string set_help_footer(FamilyList families);
+std::string raw_help_footer(FamilyList families);
 
 }  // namespace tiltgate

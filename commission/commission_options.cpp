@@ -222,6 +222,7 @@ Expected<CommissionTarget, UsageErrors> resolve_bus_options(const BusOptions& op
   auto target = options.config.empty() ? from_command_line(options, families)
                                        : from_config_file(options, families);
   if (!target) return target;
+  target->families = families;
   if (!options.control_socket.empty()) target->control_socket = options.control_socket;
   target->via_gateway = options.via_gateway;
   if (target->via_gateway && target->control_socket.empty())

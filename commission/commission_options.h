@@ -57,6 +57,7 @@ struct CommissionTarget {
   BusConfig bus;
   std::vector<SensorConfig> sensors;
   ModelSource model_source = ModelSource::configuration;  // of every sensor's model
+  FamilyList families;  // the families the bus and its sensors were checked against
   std::string control_socket;  // where a running gateway may serve the bus; empty: none
   bool via_gateway = false;    // only through that gateway, never the tty directly
 };
@@ -64,8 +65,9 @@ struct CommissionTarget {
 // Each message names the option (or the configuration file's place) it is about.
 using UsageErrors = std::vector<std::string>;
 
-Expected<CommissionTarget, UsageErrors> resolve_bus_options(
-    const BusOptions& options, FamilyList families = registered_families());
+// Protocols, models and their keys are those of `families`.
+Expected<CommissionTarget, UsageErrors> resolve_bus_options(const BusOptions& options,
+                                                            FamilyList families);
 
 // A TOML basic string: quotes, backslashes and control characters escaped.
 std::string toml_string(std::string_view text);

@@ -16,8 +16,9 @@ int report_usage_errors(std::string_view command, const UsageErrors& errors) {
   return 2;
 }
 
-int run_commissioning(std::string_view command, const BusOptions& options, CommissionWork work) {
-  const auto target = resolve_bus_options(options);
+int run_commissioning(std::string_view command, const BusOptions& options, FamilyList families,
+                      CommissionWork work) {
+  const auto target = resolve_bus_options(options, families);
   if (!target) return report_usage_errors(command, target.error());
   return run_commissioning_on(command, *target, std::move(work));
 }

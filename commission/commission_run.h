@@ -18,7 +18,8 @@ using CommissionWork =
 
 // Prints usage errors ("tiltgate COMMAND: --baud: ...") and returns 2, or a bus that cannot be
 // opened and returns 1; else the work's exit code (0 when stopped by a signal).
-int run_commissioning(std::string_view command, const BusOptions& options, CommissionWork work);
+int run_commissioning(std::string_view command, const BusOptions& options, FamilyList families,
+                      CommissionWork work);
 
 // The same on a target the command resolved (and adjusted) itself: opens the bus and runs.
 int run_commissioning_on(std::string_view command, const CommissionTarget& target,

@@ -11,9 +11,9 @@
 
 namespace tiltgate {
 
-int info_command(const BusOptions& options) {
+int info_command(const BusOptions& options, FamilyList families) {
   return run_commissioning(
-      "info", options, [](CommissionBus& bus, const bool& stopping) -> boost::asio::awaitable<int> {
+      "info", options, families, [](CommissionBus& bus, const bool& stopping) -> boost::asio::awaitable<int> {
         int exit_code = 0;
         bool first = true;
         for (CommissionedSensor& sensor : bus.sensors()) {

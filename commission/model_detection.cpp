@@ -15,11 +15,6 @@ std::string_view named_by(ModelSource source) {
   return source == ModelSource::option ? "--model names" : "the configuration names";
 }
 
-std::size_t models_of_family(std::string_view model) {
-  const ModelEntry entry = find_model(registered_families(), model);
-  return entry.family ? entry.family->models.size() : 0;
-}
-
 }  // namespace
 
 boost::asio::awaitable<PollOutcome> poll_for_identity(Line& line, SensorDriver& driver,
@@ -38,6 +33,8 @@ boost::asio::awaitable<ModelCheck> check_model(CommissionBus& bus, CommissionedS
                                                const bool& stopping) {
   ModelCheck check;
   check.polled_as = sensor.config.model;
+  const ModelEntry entry = find_model(bus.families(), sensor.config.model);
+  check.family_models = entry.family ? entry.family->models.size() : 0;
   check.polled = co_await poll_for_identity(bus.line(), *sensor.driver, stopping);
   if (check.polled.result == PollResult::reading) {
     check.measured_as = sensor.config.model;
@@ -48,13 +45,12 @@ boost::asio::awaitable<ModelCheck> check_model(CommissionBus& bus, CommissionedS
   check.polled_refusal = check.polled.result == PollResult::refused
                              ? sensor.driver->refusal_text(check.polled.refusal)
                              : std::string("with no usable reading");
-  const ModelEntry entry = find_model(registered_families(), sensor.config.model);
   if (!entry.family) co_return check;
   for (const ModelDescriptor& model : entry.family->models) {
     if (model.name == sensor.config.model) continue;
     SensorConfig as_other = sensor.config;
     as_other.model = std::string(model.name);
-    auto driver = make_driver(as_other, bus.config());
+    auto driver = make_driver(bus.families(), as_other, bus.config());
     if (!driver) continue;
     const PollOutcome outcome = co_await poll_for_identity(bus.line(), *driver, stopping);
     if (stopping) co_return check;
@@ -71,7 +67,7 @@ boost::asio::awaitable<ModelCheck> check_model(CommissionBus& bus, CommissionedS
 }
 
 std::string model_check_message(const CommissionedSensor& sensor, const ModelCheck& check) {
-  if (models_of_family(check.polled_as) < 2) return "";
+  if (check.family_models < 2) return "";
   const std::uint32_t address = sensor.config.address;
   if (sensor.model_source == ModelSource::detected) {
     if (check.measured_as.empty()) return "";

@@ -28,6 +28,7 @@ boost::asio::awaitable<PollOutcome> poll_for_identity(Line& line, SensorDriver& 
 
 struct ModelCheck {
   std::string polled_as;    // the model the sensor had before the check
+  std::size_t family_models = 0;  // how many models its family has
   PollOutcome polled;       // what polling it as that model came to
   // Why that was no reading, as the sensor's driver words a refusal; empty after a reading.
   std::string polled_refusal;

@@ -29,7 +29,7 @@ asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const Ra
     co_return 2;
   }
   const CommissionedSensor& sensor = bus.sensors().front();
-  const ProtocolEntry protocol = find_protocol(registered_families(), bus.config().protocol);
+  const ProtocolEntry protocol = find_protocol(bus.families(), bus.config().protocol);
   if (!protocol.family || !protocol.family->raw.make) {
     std::cerr << fmt::format("tiltgate raw: no raw requests on a {} bus\n", bus.config().protocol);
     co_return 2;
@@ -69,8 +69,8 @@ asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const Ra
 
 }  // namespace
 
-int raw_command(const BusOptions& options, const RawOptions& raw) {
-  return run_commissioning("raw", options,
+int raw_command(const BusOptions& options, const RawOptions& raw, FamilyList families) {
+  return run_commissioning("raw", options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
                              co_return co_await raw_work(bus, stopping, raw);
                            });

@@ -36,13 +36,13 @@ struct ScanTarget {
 // A command-line bus gets a stand-in sensor so that --model and the family's keys (--device)
 // are read and checked as for any sensor; a family whose sensors need a key the options do not
 // give is scanned without one.
-Expected<ScanTarget, UsageErrors> resolve_scan_target(BusOptions options, bool auto_baud) {
+Expected<ScanTarget, UsageErrors> resolve_scan_target(BusOptions options, bool auto_baud,
+                                                      FamilyList families) {
   options.sensors_optional = true;
   if (options.config.empty()) {
     const ProtocolEntry entry = find_protocol(
-        registered_families(),
-        options.protocol.empty() ? registered_families().front()->protocols.front().name
-                                 : std::string_view(options.protocol));
+        families, options.protocol.empty() ? families.front()->protocols.front().name
+                                           : std::string_view(options.protocol));
     // --baud auto starts at the factory rate, else at the protocol's first.
     if (entry.protocol && auto_baud && !options.baud && !entry.protocol->bauds.empty())
       options.baud = entry.protocol->default_baud.value_or(entry.protocol->bauds.front());
@@ -51,14 +51,14 @@ Expected<ScanTarget, UsageErrors> resolve_scan_target(BusOptions options, bool a
       std::int64_t address = entry.protocol->addresses.min;
       if (options.master_address && *options.master_address == address) ++address;
       with_sensor.addresses = {address};
-      if (auto target = resolve_bus_options(with_sensor)) {
+      if (auto target = resolve_bus_options(with_sensor, families)) {
         ScanTarget out{*target, target->sensors.front()};
         out.bus.sensors.clear();
         return out;
       }
     }
   }
-  auto target = resolve_bus_options(options);
+  auto target = resolve_bus_options(options, families);
   if (!target) return Unexpected{target.error()};
   ScanTarget out{*target, std::nullopt};
   if (!out.bus.sensors.empty()) out.model_sensor = out.bus.sensors.front();
@@ -98,7 +98,7 @@ boost::asio::awaitable<void> identify(CommissionBus& bus, const SensorConfig& mo
   CommissionedSensor sensor{model_sensor, nullptr, ModelSource::detected};
   sensor.config.name = fmt::format("sensor_{}", found.address);
   sensor.config.address = found.address;
-  sensor.driver = make_driver(sensor.config, bus.config());
+  sensor.driver = make_driver(bus.families(), sensor.config, bus.config());
   if (!sensor.driver) co_return;
   const ModelCheck check = co_await check_model(bus, sensor, stopping);
   if (stopping) co_return;
@@ -217,10 +217,10 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
 
 }  // namespace
 
-int scan_command(const BusOptions& bus_options, const ScanOptions& options) {
-  auto target = resolve_scan_target(bus_options, options.auto_baud);
+int scan_command(const BusOptions& bus_options, const ScanOptions& options, FamilyList families) {
+  auto target = resolve_scan_target(bus_options, options.auto_baud, families);
   if (!target) return report_usage_errors("scan", target.error());
-  const ProtocolEntry protocol = find_protocol(registered_families(), target->bus.bus.protocol);
+  const ProtocolEntry protocol = find_protocol(families, target->bus.bus.protocol);
   UsageErrors errors;
   auto addresses = scan_addresses(*protocol.protocol, options.from, options.to);
   if (!addresses) errors.push_back(addresses.error());

@@ -51,8 +51,8 @@ std::string descriptor_range(const SetTarget& target, WriteTarget id) {
   return "";
 }
 
-Expected<SetTarget, std::string> set_target(const BusConfig& bus, const SensorConfig& sensor) {
-  const FamilyList families = registered_families();
+Expected<SetTarget, std::string> set_target(FamilyList families, const BusConfig& bus,
+                                            const SensorConfig& sensor) {
   const ModelEntry model = find_model(families, sensor.model);
   const ProtocolEntry protocol = find_protocol(families, bus.protocol);
   if (!model.model || !protocol.protocol)
@@ -84,7 +84,7 @@ asio::awaitable<PollOutcome> read_back(CommissionBus& bus, CommissionedSensor& s
 // is sent; an exit code (2) with the reason printed when they cannot be made.
 Expected<SetPlan, int> plan_for(const CommissionBus& bus, const CommissionedSensor& sensor,
                                 const SetArguments& arguments) {
-  const auto target = set_target(bus.config(), sensor.config);
+  const auto target = set_target(bus.families(), bus.config(), sensor.config);
   if (!target) {
     std::cerr << "tiltgate set: " << target.error() << "\n";
     return Unexpected{2};
@@ -118,7 +118,7 @@ asio::awaitable<std::optional<std::string>> someone_at(CommissionBus& bus,
   SensorConfig there = sensor.config;
   there.address = address;
   there.name = fmt::format("probe {}", address);
-  auto probe = make_driver(there, bus.config());
+  auto probe = make_driver(bus.families(), there, bus.config());
   if (!probe) co_return std::nullopt;
   co_await probe->poll(bus.line());
   const SensorState& state = probe->state();
@@ -247,8 +247,8 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
 
 }  // namespace
 
-int set_command(const BusOptions& options, const SetArguments& arguments) {
-  return run_commissioning("set", options,
+int set_command(const BusOptions& options, const SetArguments& arguments, FamilyList families) {
+  return run_commissioning("set", options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
                              co_return co_await set_work(bus, stopping, options, arguments);
                            });

@@ -99,7 +99,8 @@ asio::awaitable<void> pause_until(SteadyClock::time_point until, const bool& sto
 
 }  // namespace
 
-int watch_command(const BusOptions& bus_options, const WatchOptions& options) {
+int watch_command(const BusOptions& bus_options, const WatchOptions& options,
+                  FamilyList families) {
   std::ofstream log;
   if (!options.log.empty()) {
     auto opened = open_log(options.log);
@@ -111,7 +112,7 @@ int watch_command(const BusOptions& bus_options, const WatchOptions& options) {
   }
   const bool redraw = options.count == 0 && ::isatty(STDOUT_FILENO) == 1;
   return run_commissioning(
-      "watch", bus_options,
+      "watch", bus_options, families,
       [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
         Display display(redraw);
         const std::size_t count = bus.sensors().size();

@@ -12,6 +12,6 @@ using toml_input::AcceptedKeys;
 
 // Kinds of table: "server", "bus", "sensor", "sensor.mounting", "sensor.alarms", "sensor.map"
 // (also a map file's top level) and "sensor.map.point" (also a map file's [[point]]).
-AcceptedKeys accepted_keys(FamilyList families = registered_families());
+AcceptedKeys accepted_keys(FamilyList families);
 
 }  // namespace tiltgate::config

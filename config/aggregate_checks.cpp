@@ -113,7 +113,7 @@ void check_unit_id(const ParsedAggregate& aggregate, std::uint16_t listener,
 }
 
 void check_aggregate_points(const ParsedAggregate& aggregate, const std::vector<ParsedSensor>& sensors,
-                  ErrorList& errors) {
+                  ErrorList& errors, FamilyList families) {
   if (aggregate.config.points.empty()) return;
   std::vector<RegisterMap> maps;
   std::vector<AggregateMember> members;
@@ -121,7 +121,7 @@ void check_aggregate_points(const ParsedAggregate& aggregate, const std::vector<
   for (const std::string& name : aggregate.config.sensors) {
     const ParsedSensor* sensor = find_sensor(sensors, name);
     if (!sensor->where.valid("model")) return;  // reported with the sensor
-    maps.push_back(build_map(sensor->config.map, sensor->config.model,
+    maps.push_back(build_map(families, sensor->config.map, sensor->config.model,
                              sensor->config.family_options.device_values()));
     members.push_back({sensor->config.name, &maps.back()});
   }
@@ -133,7 +133,8 @@ void check_aggregate_points(const ParsedAggregate& aggregate, const std::vector<
 
 void check_aggregates(std::vector<ParsedAggregate>& aggregates,
                       const std::vector<ParsedSensor>& sensors,
-                      const std::vector<ParsedBus>& buses, bool points, ErrorList& errors) {
+                      const std::vector<ParsedBus>& buses, bool points, ErrorList& errors,
+                      FamilyList families) {
   std::vector<std::optional<std::uint16_t>> listeners;
   for (std::size_t i = 0; i < aggregates.size(); ++i) {
     ParsedAggregate& aggregate = aggregates[i];
@@ -143,7 +144,7 @@ void check_aggregates(std::vector<ParsedAggregate>& aggregates,
       if (listener)
         check_unit_id(aggregate, *listener, std::span(aggregates).first(i), listeners, sensors,
                       buses, errors);
-      if (points) check_aggregate_points(aggregate, sensors, errors);
+      if (points) check_aggregate_points(aggregate, sensors, errors, families);
     }
     listeners.push_back(listener);
   }

@@ -17,6 +17,7 @@ using toml_input::ErrorList;
 // `check_points`: false when the maps themselves had errors (the points are not checked).
 void check_aggregates(std::vector<ParsedAggregate>& aggregates,
                       const std::vector<ParsedSensor>& sensors,
-                      const std::vector<ParsedBus>& buses, bool check_points, ErrorList& errors);
+                      const std::vector<ParsedBus>& buses, bool check_points, ErrorList& errors,
+                      FamilyList families);
 
 }  // namespace tiltgate::config

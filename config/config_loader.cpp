@@ -171,9 +171,10 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   check_sensors(sensors, buses, errors, families);
   check_pass_through(buses, sensors, errors);
   const std::size_t errors_before_maps = errors.size();
-  ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors);
+  ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors, families);
   check_aggregates(aggregates, sensors, buses,
-                   map_file_errors.empty() && errors.size() == errors_before_maps, errors);
+                   map_file_errors.empty() && errors.size() == errors_before_maps, errors,
+                   families);
   if (!errors.empty() || !map_file_errors.empty()) {
     ConfigErrors all = errors.take();
     all.insert(all.end(), map_file_errors.begin(), map_file_errors.end());

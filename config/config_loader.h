@@ -21,11 +21,11 @@ using ConfigErrors = FileErrors;
 // Every problem in the file, ordered by line; a TOML syntax error is reported alone.
 // Protocols, models and their keys are those of `families`.
 Expected<Config, ConfigErrors> load_config_file(const std::string& path,
-                                                FamilyList families = registered_families());
+                                                FamilyList families);
 // The same from text in memory; `source_name` stands for the file name in errors and in
 // Config::path.
 Expected<Config, ConfigErrors> load_config_string(std::string_view text,
                                                   std::string_view source_name,
-                                                  FamilyList families = registered_families());
+                                                  FamilyList families);
 
 }  // namespace tiltgate

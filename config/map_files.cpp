@@ -35,7 +35,7 @@ std::string resolve(std::string_view config_path, const std::string& map_file) {
   return path.lexically_normal().string();
 }
 
-std::unique_ptr<MapFile> load(const std::string& path) {
+std::unique_ptr<MapFile> load(const std::string& path, FamilyList families) {
   auto file = std::make_unique<MapFile>(path);
   auto text = read_text_file(path);
   if (!text) {
@@ -49,16 +49,18 @@ std::unique_ptr<MapFile> load(const std::string& path) {
     file->errors.add(place_of(e.source()), "", std::string(e.description()));
     return file;
   }
-  file->map = read_map(root, "", file->errors);
+  file->map = read_map(root, "", file->errors, families);
   return file;
 }
 
 class MapFiles {
  public:
+  explicit MapFiles(FamilyList families) : families_(families) {}
+
   MapFile& get(const std::string& path) {
     for (auto& file : files_)
       if (file->path == path) return *file;
-    files_.push_back(load(path));
+    files_.push_back(load(path, families_));
     return *files_.back();
   }
 
@@ -72,6 +74,7 @@ class MapFiles {
   }
 
  private:
+  FamilyList families_;
   std::vector<std::unique_ptr<MapFile>> files_;
 };
 
@@ -94,7 +97,7 @@ std::string sensor_kind(const ParsedSensor& sensor) {
 }
 
 void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& files,
-              ErrorList& errors) {
+              ErrorList& errors, FamilyList families) {
   const std::string path = resolve(config_path, sensor.map_file);
   MapFile& file = files.get(path);
   if (!file.open_error.empty())
@@ -102,7 +105,7 @@ void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& file
         errors, "map", fmt::format("\"{}\" ({}) {}", sensor.map_file, path, file.open_error));
   if (!file.map) return;  // its syntax error is reported in the file
   if (file.checked_kinds.insert(sensor_kind(sensor)).second)
-    check_map(*file.map, checked_model(sensor), device_values(sensor), file.errors);
+    check_map(*file.map, checked_model(sensor), device_values(sensor), file.errors, families);
   sensor.config.map = file.map->definition;
   sensor.config.map_file = path;
 }
@@ -110,14 +113,14 @@ void use_file(ParsedSensor& sensor, std::string_view config_path, MapFiles& file
 }  // namespace
 
 ConfigErrors load_sensor_maps(std::vector<ParsedSensor>& sensors, std::string_view config_path,
-                              ErrorList& errors) {
-  MapFiles files;
+                              ErrorList& errors, FamilyList families) {
+  MapFiles files(families);
   for (ParsedSensor& sensor : sensors) {
     if (sensor.inline_map) {
-      check_map(*sensor.inline_map, checked_model(sensor), device_values(sensor), errors);
+      check_map(*sensor.inline_map, checked_model(sensor), device_values(sensor), errors, families);
       sensor.config.map = sensor.inline_map->definition;
     } else if (!sensor.map_file.empty()) {
-      use_file(sensor, config_path, files, errors);
+      use_file(sensor, config_path, files, errors, families);
     }
   }
   return files.take_errors();

@@ -19,6 +19,6 @@ using toml_input::ErrorList;
 // file that cannot be opened, an inline map) go to `errors`; the problems found in map files
 // are returned, file by file in the order the sensors name them, each file's in line order.
 ConfigErrors load_sensor_maps(std::vector<ParsedSensor>& sensors, std::string_view config_path,
-                              ErrorList& errors);
+                              ErrorList& errors, FamilyList families);
 
 }  // namespace tiltgate::config

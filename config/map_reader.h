@@ -28,7 +28,8 @@ struct ParsedMap {
 };
 
 // `path` names the table in messages: "" for a map file's top level, "sensor[0].map" inline.
-ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors);
+ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors,
+                   FamilyList families);
 
 // Checks `map` as the map of a sensor of `model` whose own values are `device_values`
 // (mapping/map_validation.h); model "" when the sensor's model is itself in error. Only what read without errors is checked, so that a key
@@ -36,6 +37,7 @@ ParsedMap read_map(const toml::table& table, std::string path, ErrorList& errors
 // wrong key (it holds defaults) is left out, and so are the built-in points when `extends`,
 // `remove` or the model could not be read.
 void check_map(const ParsedMap& map, std::string_view model,
-               std::span<const DeviceValue> device_values, ErrorList& errors);
+               std::span<const DeviceValue> device_values, ErrorList& errors,
+               FamilyList families);
 
 }  // namespace tiltgate::config

@@ -104,12 +104,13 @@ void read_scaling(TableReader& in, Point& p) {
 // `write` and the range a written value must be in (before scaling), both ends required. A
 // name that is no built-in setting may be one of the sensor's own writable values, like a
 // source; such a point shows the value as the device holds it unless it names a source.
-void read_write(TableReader& in, Point& p) {
+void read_write(TableReader& in, Point& p, FamilyList families) {
   if (auto name = in.string("write")) {
-    if (auto target = from_name(write_target_names(), *name)) {
+    const std::vector<Named<WriteTarget>> settings = write_target_names(families);
+    if (auto target = from_name(std::span<const Named<WriteTarget>>(settings), *name)) {
       p.write = *target;
     } else if (name->empty()) {
-      in.error("write", unknown_name(*name, write_target_names()));
+      in.error("write", unknown_name(*name, std::span<const Named<WriteTarget>>(settings)));
     } else {
       p.write = kUnresolvedDeviceValue;
       p.device_setting = *name;
@@ -130,7 +131,8 @@ void read_write(TableReader& in, Point& p) {
 
 }  // namespace
 
-ParsedPoint read_point(const toml::table& table, std::string path, ErrorList& errors) {
+ParsedPoint read_point(const toml::table& table, std::string path, ErrorList& errors,
+                       FamilyList families) {
   TableReader in(table, std::move(path), errors);
   Point p;
   if (auto name = in.string("name", Presence::required)) {
@@ -146,7 +148,7 @@ ParsedPoint read_point(const toml::table& table, std::string path, ErrorList& er
   read_scaling(in, p);
   if (auto v = in.string("units")) p.units = *v;
   if (auto v = in.string("description")) p.description = *v;
-  read_write(in, p);
+  read_write(in, p, families);
   in.reject_unknown_keys();
   return ParsedPoint{std::move(p), in.located()};
 }

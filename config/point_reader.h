@@ -20,6 +20,8 @@ struct ParsedPoint {
   Located where;
 };
 
-ParsedPoint read_point(const toml::table& table, std::string path, ErrorList& errors);
+// Settings are written by the names `families` give them.
+ParsedPoint read_point(const toml::table& table, std::string path, ErrorList& errors,
+                       FamilyList families);
 
 }  // namespace tiltgate::config

@@ -55,7 +55,8 @@ std::vector<std::string_view> model_names(FamilyList families) {
 // A family's keys through the TableReader, so errors carry the file, line and key.
 class TableKeyReader final : public SensorKeyReader {
  public:
-  TableKeyReader(TableReader& in, ErrorList& errors) : in_(in), errors_(errors) {}
+  TableKeyReader(TableReader& in, ErrorList& errors, FamilyList families)
+      : in_(in), errors_(errors), families_(families) {}
   std::optional<double> number(std::string_view key) override { return in_.number(key); }
   std::optional<bool> boolean(std::string_view key) override { return in_.boolean(key); }
   std::optional<std::string> file_path(std::string_view key) override {
@@ -72,6 +73,9 @@ class TableKeyReader final : public SensorKeyReader {
   void error(std::string_view key, std::string message) override {
     in_.error(key, std::move(message));
   }
+  std::vector<std::string_view> setting_names() const override {
+    return model_setting_names(families_);
+  }
   void file_errors(FileErrors errors) override {
     for (FileError& e : errors) errors_.add_elsewhere(std::move(e));
   }
@@ -79,6 +83,7 @@ class TableKeyReader final : public SensorKeyReader {
  private:
   TableReader& in_;
   ErrorList& errors_;
+  FamilyList families_;
 };
 
 std::string quoted_models(const FamilyDescriptor& family) {
@@ -94,7 +99,7 @@ void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families
   const ModelEntry model =
       in.located().valid("model") ? find_model(families, sensor.model) : ModelEntry{};
   for (const FamilyDescriptor* family : families) {
-    TableKeyReader reader(in, errors);
+    TableKeyReader reader(in, errors, families);
     FamilyOptions options;
     family->read_sensor_keys(reader, options);
     if (family == model.family) sensor.family_options = std::move(options);
@@ -113,7 +118,7 @@ void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families
 }
 
 // map = "FILE" (loaded once every sensor is read) or an inline map table.
-void read_map_key(TableReader& in, ParsedSensor& parsed, ErrorList& errors) {
+void read_map_key(TableReader& in, ParsedSensor& parsed, ErrorList& errors, FamilyList families) {
   const toml::node* node = in.node("map");
   if (node == nullptr) return;
   if (const auto* file = node->as_string()) {
@@ -121,7 +126,7 @@ void read_map_key(TableReader& in, ParsedSensor& parsed, ErrorList& errors) {
     parsed.map_file = file->get();
     in.accept("map");
   } else if (const toml::table* table = node->as_table()) {
-    parsed.inline_map = read_map(*table, in.located().key_path("map"), errors);
+    parsed.inline_map = read_map(*table, in.located().key_path("map"), errors, families);
     in.accept("map");
   } else {
     in.error("map", fmt::format("expected a map file name (a string) or an inline map (a "
@@ -261,11 +266,11 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
       sensor.stale_after = milliseconds(*ms);
   }
   read_family_keys(in, sensor, families, errors);
-  read_mounting(in, sensor, errors);
-  read_alarms(in, sensor, errors);
+  read_mounting(in, sensor, errors, families);
+  read_alarms(in, sensor, errors, families);
   read_offline(in, sensor);
   ParsedSensor parsed{std::move(sensor), address.value_or(0), in.located(), {}, {}};
-  read_map_key(in, parsed, errors);
+  read_map_key(in, parsed, errors, families);
   in.reject_unknown_keys();
   parsed.where = in.located();
   return parsed;

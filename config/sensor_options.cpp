@@ -12,8 +12,8 @@ using toml_input::Presence;
 namespace {
 
 // The sensor's model has one axis: keys about a second axis are mistakes.
-bool single_axis(const TableReader& in, const SensorConfig& sensor) {
-  return in.located().valid("model") && model_axes(sensor.model) == 1;
+bool single_axis(const TableReader& in, const SensorConfig& sensor, FamilyList families) {
+  return in.located().valid("model") && model_axes(families, sensor.model) == 1;
 }
 
 void reject_on_single_axis(TableReader& sub, std::string_view key, const SensorConfig& sensor) {
@@ -32,12 +32,13 @@ void check_order(TableReader& sub, const std::optional<double>& low,
 
 }  // namespace
 
-void read_mounting(TableReader& in, SensorConfig& sensor, ErrorList& errors) {
+void read_mounting(TableReader& in, SensorConfig& sensor, ErrorList& errors,
+                   FamilyList families) {
   const toml::table* table = in.table("mounting");
   if (table == nullptr) return;
   TableReader sub(*table, in.located().key_path("mounting"), errors);
   MountingConfig& m = sensor.mounting;
-  const bool one_axis = single_axis(in, sensor);
+  const bool one_axis = single_axis(in, sensor, families);
   if (auto v = sub.boolean("swap_axes")) {
     if (*v && one_axis) reject_on_single_axis(sub, "swap_axes", sensor);
     m.swap_axes = *v;
@@ -54,12 +55,13 @@ void read_mounting(TableReader& in, SensorConfig& sensor, ErrorList& errors) {
   sub.reject_unknown_keys();
 }
 
-void read_alarms(TableReader& in, SensorConfig& sensor, ErrorList& errors) {
+void read_alarms(TableReader& in, SensorConfig& sensor, ErrorList& errors,
+                 FamilyList families) {
   const toml::table* table = in.table("alarms");
   if (table == nullptr) return;
   TableReader sub(*table, in.located().key_path("alarms"), errors);
   AlarmConfig& a = sensor.alarms;
-  const bool one_axis = single_axis(in, sensor);
+  const bool one_axis = single_axis(in, sensor, families);
   a.x_high = sub.number_in("x_high", -kMaxAngle, kMaxAngle);
   a.x_low = sub.number_in("x_low", -kMaxAngle, kMaxAngle);
   a.y_high = sub.number_in("y_high", -kMaxAngle, kMaxAngle);

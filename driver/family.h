@@ -188,6 +188,10 @@ class SensorKeyReader {
   // A string naming a file, resolved against the configuration file's folder (as map files).
   virtual std::optional<std::string> file_path(std::string_view key) = 0;
   virtual void error(std::string_view key, std::string message) = 0;
+  // The names of every model's own settings (SettingDescriptor::name) in the configuration's
+  // families: a map file writes them by name, so a family's own file (a device profile) may
+  // not give a value one of them.
+  virtual std::vector<std::string_view> setting_names() const = 0;
   // The problems found in the file `key` names (a device profile), each at its own place,
   // reported along with the configuration's.
   virtual void file_errors(FileErrors errors) = 0;
@@ -247,5 +251,7 @@ struct ModelEntry {
 // Null members when no family has it.
 ProtocolEntry find_protocol(FamilyList families, std::string_view name);
 ModelEntry find_model(FamilyList families, std::string_view name);
+// Every model's own settings' names (SettingDescriptor::name), each once, in family order.
+std::vector<std::string_view> model_setting_names(FamilyList families);
 
 }  // namespace tiltgate

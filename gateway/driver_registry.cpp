@@ -14,8 +14,8 @@ DriverSetup driver_setup(const SensorConfig& sensor, const BusConfig& bus) {
   return setup;
 }
 
-std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusConfig& bus,
-                                          FamilyList families) {
+std::unique_ptr<SensorDriver> make_driver(FamilyList families, const SensorConfig& sensor,
+                                          const BusConfig& bus) {
   const DriverSetup setup = driver_setup(sensor, bus);
   const ModelEntry model = find_model(families, setup.model);
   const ProtocolEntry protocol = find_protocol(families, setup.protocol);

@@ -15,7 +15,7 @@ DriverSetup driver_setup(const SensorConfig& sensor, const BusConfig& bus);
 
 // Null for a model no family serves on the bus's protocol (the config loader has rejected
 // those already).
-std::unique_ptr<SensorDriver> make_driver(const SensorConfig& sensor, const BusConfig& bus,
-                                          FamilyList families = registered_families());
+std::unique_ptr<SensorDriver> make_driver(FamilyList families, const SensorConfig& sensor,
+                                          const BusConfig& bus);
 
 }  // namespace tiltgate

@@ -38,16 +38,17 @@ void finish_stopped(boost::asio::io_context& io) {
   io.run_for(std::chrono::seconds(2));
 }
 
-RegisterMap map_for(const SensorConfig& sensor) {
-  return build_map(sensor.map, sensor.model, sensor.family_options.device_values());
+RegisterMap map_for(FamilyList families, const SensorConfig& sensor) {
+  return build_map(families, sensor.map, sensor.model, sensor.family_options.device_values());
 }
 
 std::string Gateway::local_time_now() {
   return fmt::format("{:%Y-%m-%d %H:%M:%S}", fmt::localtime(std::time(nullptr)));
 }
 
-Gateway::Gateway(boost::asio::io_context& io, const Config& config)
+Gateway::Gateway(boost::asio::io_context& io, const Config& config, FamilyList families)
     : io_(io),
+      families_(families),
       config_(config),
       tcp_workers_(std::make_unique<TcpWorkerPool>(tcp_threads(config.server))),
       listeners_(io.get_executor(), config.server, *tcp_workers_),
@@ -75,7 +76,7 @@ void Gateway::attach(GatewayService& service) { services_.push_back(&service); }
 
 Gateway::Bus Gateway::make_bus(const BusConfig& config) {
   Bus bus;
-  SerialLineOptions options = serial_options_from(config);
+  SerialLineOptions options = serial_options_from(families_, config);
   options.exclusive = true;
   bus.line = std::make_unique<SerialLine>(io_.get_executor(), options);
   bus.scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus.line, config.name);
@@ -88,9 +89,10 @@ std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
                                                     BusScheduler& bus) {
   auto sensor = std::make_shared<GatewaySensor>();
   sensor->config = config;
-  sensor->driver = make_driver(config, bus_config);
+  sensor->model = find_model(families_, config.model).model;
+  sensor->driver = make_driver(families_, config, bus_config);
   if (!sensor->driver) return nullptr;  // the loader rejects unknown models
-  sensor->map = map_for(config);
+  sensor->map = map_for(families_, config);
   sensor->written.assign(sensor->map.holding_end(), 0);
   sensor->stale_after = config.stale_after.value_or(default_stale_after(config.poll));
   bus.add(sensor);
@@ -112,7 +114,7 @@ void Gateway::make_aggregates() {
 
 void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool announce) {
   if (bus.pass_through.empty()) return;
-  const ProtocolEntry protocol = find_protocol(registered_families(), bus.protocol);
+  const ProtocolEntry protocol = find_protocol(families_, bus.protocol);
   if (protocol.protocol == nullptr || protocol.protocol->forward == nullptr) return;  // refused
   scheduler.enable_forwarding(protocol.protocol->forward);
   RequestRouter& router = listeners_.router_for(listener_of(bus));

@@ -27,7 +27,8 @@ namespace tiltgate {
 
 class Gateway {
  public:
-  Gateway(boost::asio::io_context& io, const Config& config);
+  // `families`: the sensor families `config` was loaded with (its protocols and models).
+  Gateway(boost::asio::io_context& io, const Config& config, FamilyList families);
   ~Gateway();
 
   // Started, reloaded and stopped with the gateway from now on, after the core (stopped
@@ -96,6 +97,7 @@ class Gateway {
   static std::string local_time_now();
 
   boost::asio::io_context& io_;
+  FamilyList families_;
   Config config_;
   std::vector<Bus> buses_;  // buses_[i] serves config_.buses[i]
   // Buses a reload removed or changed, closed once their queued writes were done. Kept until
@@ -124,6 +126,6 @@ void finish_stopped(boost::asio::io_context& io);
 
 // Builds the register map a sensor serves: its model's built-in map, or the map its
 // configuration describes (a map file or an inline map, checked when the config was loaded).
-RegisterMap map_for(const SensorConfig& sensor);
+RegisterMap map_for(FamilyList families, const SensorConfig& sensor);
 
 }  // namespace tiltgate

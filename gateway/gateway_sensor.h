@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "driver/family.h"
 #include "driver/sensor_driver.h"
 #include "gateway/sensor_processing.h"
 #include "gateway/sensor_snapshot.h"
@@ -25,6 +26,9 @@ class BusScheduler;
 
 struct GatewaySensor {
   SensorConfig config;
+  // Its model as its family describes it (identity, register 37), resolved once when the
+  // sensor is made: a read never looks a model up by name.
+  const ModelDescriptor* model = nullptr;
   std::unique_ptr<SensorDriver> driver;
   // Mounting, tilt and alarms of the latest reading. BusScheduler::add() builds it from
   // config.mounting and config.alarms, and updates it after every poll that brought a new
@@ -56,7 +60,7 @@ struct GatewaySensor {
     view.derived = &snapshot.derived;
     view.offline = config.offline;
     view.substitute = config.substitute;
-    view.model = driver->model();
+    view.model_code = model != nullptr ? model->model_code : 0;
     return view;
   }
 

@@ -8,7 +8,6 @@
 #include <string_view>
 #include <vector>
 
-#include "driver/family.h"
 #include "gateway/bus_scheduler.h"
 #include "modbus_tcp/device_identification.h"
 #include "modbus_tcp/modbus_request.h"
@@ -35,14 +34,6 @@ RegisterTable table_of(ModbusTable table) {
 
 ModbusException exception_for(MapFault fault) { return ModbusException(std::uint8_t(fault)); }
 
-// What Read Device Identification says about a model: its family's identity strings.
-ProductIdentity product_of(std::string_view model) {
-  const ModelEntry entry = find_model(registered_families(), model);
-  if (entry.model != nullptr) return entry.model->identity;
-  // A model no family lists still answers, with what the driver calls it.
-  return {"", model, model};
-}
-
 }  // namespace
 
 ModbusException exception_for(WriteErrorKind kind) {
@@ -65,7 +56,10 @@ ModbusException exception_for(const WriteError& error) {
 }
 
 std::vector<DeviceObject> device_objects(const GatewaySensor& sensor, const SensorState& state) {
-  const ProductIdentity product = product_of(sensor.driver->model());
+  // A model no family lists still answers, with what the driver calls it.
+  const ProductIdentity product =
+      sensor.model != nullptr ? sensor.model->identity
+                              : ProductIdentity{"", sensor.driver->model(), sensor.driver->model()};
   return {
       {device_object::vendor_name, std::string(product.vendor)},
       {device_object::product_code, std::string(product.product_code)},

@@ -2,7 +2,7 @@
 
 namespace tiltgate {
 
-SerialLineOptions serial_options_from(const BusConfig& bus, FamilyList families) {
+SerialLineOptions serial_options_from(FamilyList families, const BusConfig& bus) {
   SerialLineOptions o;
   o.name = bus.name;
   o.port = bus.port;

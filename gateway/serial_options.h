@@ -8,7 +8,7 @@
 
 namespace tiltgate {
 
-SerialLineOptions serial_options_from(const BusConfig& bus,
-                                      FamilyList families = registered_families());
+// The framing is the bus's protocol's, one of `families`' protocols.
+SerialLineOptions serial_options_from(FamilyList families, const BusConfig& bus);
 
 }  // namespace tiltgate

@@ -1,5 +1,4 @@
 #include "mapping/common_block.h"
-#include "mapping/model_capabilities.h"
 
 namespace tiltgate {
 namespace {
@@ -76,8 +75,8 @@ void add_identity_and_counters(std::vector<Point>& points) {
                                "exchanges lost to a port failure"));
   points.push_back(input_point("reply_timeout_ms", 36, T::uint16, S::reply_timeout_ms, "ms",
                                "the reply time-out in use for this sensor"));
-  points.push_back(
-      input_point("model_code", 37, T::uint16, S::model_code, "", model_code_description()));
+  // Described by the map's builder, which knows every model (mapping/map_definition.h).
+  points.push_back(input_point("model_code", 37, T::uint16, S::model_code, "", ""));
 }
 
 // Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit

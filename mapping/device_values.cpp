@@ -31,20 +31,23 @@ std::vector<std::string> names_of(std::span<const DeviceValue> values, bool writ
 
 }  // namespace
 
-std::vector<DeviceNameProblem> device_name_problems(const Point& p,
+std::vector<DeviceNameProblem> device_name_problems(FamilyList families, const Point& p,
                                                     std::span<const DeviceValue> values) {
   std::vector<DeviceNameProblem> problems;
   if (p.source == ValueSource::device_value && p.device_index == kNoDeviceValue)
     problems.push_back({"source", unknown_name(p.device_value, source_names(),
                                                names_of(values, false), "source")});
-  if (p.write == kUnresolvedDeviceValue)
-    problems.push_back({"write", unknown_name(p.device_setting, write_target_names(),
+  if (p.write == kUnresolvedDeviceValue) {
+    const std::vector<Named<WriteTarget>> settings = write_target_names(families);
+    problems.push_back({"write", unknown_name(p.device_setting,
+                                              std::span<const Named<WriteTarget>>(settings),
                                               names_of(values, true), "setting")});
-  else if (p.write && p.write->is_device_value() && p.write->device_index() < values.size() &&
-           !values[p.write->device_index()].writable)
+  } else if (p.write && p.write->is_device_value() && p.write->device_index() < values.size() &&
+             !values[p.write->device_index()].writable) {
     problems.push_back({"write", fmt::format("\"{}\" is read-only in the sensor's device profile "
                                              "(its [[value]] needs writable = true)",
                                              p.device_setting)});
+  }
   return problems;
 }
 

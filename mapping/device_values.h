@@ -21,13 +21,13 @@ namespace tiltgate {
 void resolve_device_values(std::span<Point> points, std::span<const DeviceValue> values);
 
 // What is wrong with one resolved point's device-value names, at the map-file key it is about:
-// a name that is neither built in nor one of `values`, or a write of a value the device profile
-// does not make writable.
+// a name that is neither built in (a source, or a setting of `families`) nor one of `values`,
+// or a write of a value the device profile does not make writable.
 struct DeviceNameProblem {
   std::string key;  // "source" or "write"
   std::string message;
 };
-std::vector<DeviceNameProblem> device_name_problems(const Point& p,
+std::vector<DeviceNameProblem> device_name_problems(FamilyList families, const Point& p,
                                                     std::span<const DeviceValue> values);
 
 // The index of the value called `name`, or none.

@@ -4,6 +4,7 @@
 
 #include "mapping/default_maps.h"
 #include "mapping/device_values.h"
+#include "mapping/model_capabilities.h"
 
 namespace tiltgate {
 
@@ -12,12 +13,13 @@ std::string base_profile(const MapDefinition& definition, std::string_view model
   return definition.extends;
 }
 
-std::vector<ResolvedPoint> resolve_points(const MapDefinition& definition, std::string_view model,
+std::vector<ResolvedPoint> resolve_points(FamilyList families, const MapDefinition& definition,
+                                          std::string_view model,
                                           std::span<const DeviceValue> device_values) {
   std::vector<ResolvedPoint> resolved;
   const std::string base = base_profile(definition, model);
   if (!base.empty()) {
-    const RegisterMap builtin = default_map(base);
+    const RegisterMap builtin = default_map(families, base);
     for (const Point& p : builtin.points()) {
       const auto& removed = definition.remove;
       if (std::find(removed.begin(), removed.end(), p.name) != removed.end()) continue;
@@ -34,12 +36,19 @@ std::vector<ResolvedPoint> resolve_points(const MapDefinition& definition, std::
   return resolved;
 }
 
-RegisterMap build_map(const std::optional<MapDefinition>& definition, std::string_view model,
-                      std::span<const DeviceValue> device_values) {
-  if (!definition) return default_map(model);
+RegisterMap build_map(FamilyList families, const std::optional<MapDefinition>& definition,
+                      std::string_view model, std::span<const DeviceValue> device_values) {
   std::vector<Point> points;
-  for (ResolvedPoint& r : resolve_points(*definition, model, device_values))
-    points.push_back(std::move(r.point));
+  if (definition) {
+    for (ResolvedPoint& r : resolve_points(families, *definition, model, device_values))
+      points.push_back(std::move(r.point));
+  } else {
+    points = default_map(families, model).points();
+  }
+  // The common block leaves register 37's description to whoever knows every model.
+  for (Point& p : points)
+    if (p.source == ValueSource::model_code && p.description.empty())
+      p.description = model_code_description(families);
   return RegisterMap(std::move(points));
 }
 

@@ -37,14 +37,17 @@ struct ResolvedPoint {
 // The model whose built-in map `definition` starts from ("" when it starts empty).
 std::string base_profile(const MapDefinition& definition, std::string_view model);
 
-// The points of `definition` for a sensor of `model` whose own values are `device_values`
-// (driver/device_value.h): the kept built-in points, then the definition's own, in
-// declaration order, with their device values matched by name (mapping/device_values.h).
-std::vector<ResolvedPoint> resolve_points(const MapDefinition& definition, std::string_view model,
+// The points of `definition` for a sensor of `model` (one of `families`' models) whose own
+// values are `device_values` (driver/device_value.h): the kept built-in points, then the
+// definition's own, in declaration order, with their device values matched by name
+// (mapping/device_values.h).
+std::vector<ResolvedPoint> resolve_points(FamilyList families, const MapDefinition& definition,
+                                          std::string_view model,
                                           std::span<const DeviceValue> device_values = {});
 
 // A sensor's map: its model's built-in map without a definition, else the resolved definition.
-RegisterMap build_map(const std::optional<MapDefinition>& definition, std::string_view model,
-                      std::span<const DeviceValue> device_values = {});
+// Register 37 (model_code) is described with every model of `families`.
+RegisterMap build_map(FamilyList families, const std::optional<MapDefinition>& definition,
+                      std::string_view model, std::span<const DeviceValue> device_values = {});
 
 }  // namespace tiltgate

@@ -32,9 +32,14 @@ bool is_text_source(ValueSource source) { return source == S::serial || source =
 // Collects the problems of one point.
 class PointChecker {
  public:
-  PointChecker(const Point& point, std::size_t index, std::string_view model,
+  PointChecker(const Point& point, std::size_t index, FamilyList families, std::string_view model,
                std::span<const DeviceValue> device_values, std::vector<MapProblem>& problems)
-      : p_(point), index_(index), model_(model), values_(device_values), problems_(problems) {}
+      : p_(point),
+        index_(index),
+        families_(families),
+        model_(model),
+        values_(device_values),
+        problems_(problems) {}
 
   void run() {
     check_place();
@@ -181,25 +186,26 @@ class PointChecker {
   }
 
   void check_model() {
-    const auto offered = [&](ValueSource s) { return model_offers(model_, s); };
+    const auto offered = [&](ValueSource s) { return model_offers(families_, model_, s); };
     if (p_.source != S::bits && !offered(p_.source))
       report("source", fmt::format("model \"{}\" does not offer {}", model_, to_string(p_.source)));
     for (const auto& bit : p_.bits)
       if (bit && !offered(*bit))
         report("bits", fmt::format("model \"{}\" does not offer {}", model_, to_string(*bit)));
-    if (p_.write && !p_.write->is_device_value() && !model_accepts(model_, *p_.write))
+    if (p_.write && !p_.write->is_device_value() && !model_accepts(families_, model_, *p_.write))
       report("write", fmt::format("model \"{}\" does not accept writes of {}", model_,
-                                  to_string(*p_.write)));
+                                  setting_name(families_, *p_.write)));
     check_device_values();
   }
 
   void check_device_values() {
-    for (DeviceNameProblem& problem : device_name_problems(p_, values_))
+    for (DeviceNameProblem& problem : device_name_problems(families_, p_, values_))
       report(std::move(problem.key), std::move(problem.message));
   }
 
   const Point& p_;
   std::size_t index_;
+  FamilyList families_;
   std::string_view model_;
   std::span<const DeviceValue> values_;
   std::vector<MapProblem>& problems_;
@@ -238,11 +244,12 @@ void check_layout(std::span<const Point> points, std::vector<MapProblem>& proble
 
 }  // namespace
 
-std::vector<MapProblem> check_points(std::span<const Point> points, std::string_view model,
+std::vector<MapProblem> check_points(std::span<const Point> points, FamilyList families,
+                                     std::string_view model,
                                      std::span<const DeviceValue> device_values) {
   std::vector<MapProblem> problems;
   for (std::size_t i = 0; i < points.size(); ++i)
-    PointChecker(points[i], i, model, device_values, problems).run();
+    PointChecker(points[i], i, families, model, device_values, problems).run();
   check_layout(points, problems);
   return problems;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "driver/device_value.h"
+#include "driver/family.h"
 #include "mapping/point.h"
 
 namespace tiltgate {
@@ -24,10 +25,11 @@ struct MapProblem {
 
 inline constexpr std::size_t kNoOtherPoint = static_cast<std::size_t>(-1);
 
-// Every problem of `points` as the map of a sensor of `model` whose own values are
-// `device_values` (points resolved against them, mapping/device_values.h); model "" skips the
-// checks against a model (mapping/model_capabilities.h) and its values.
-std::vector<MapProblem> check_points(std::span<const Point> points, std::string_view model,
+// Every problem of `points` as the map of a sensor of `model` (one of `families`' models) whose
+// own values are `device_values` (points resolved against them, mapping/device_values.h);
+// model "" skips the checks against a model (mapping/model_capabilities.h) and its values.
+std::vector<MapProblem> check_points(std::span<const Point> points, FamilyList families,
+                                     std::string_view model,
                                      std::span<const DeviceValue> device_values = {});
 
 }  // namespace tiltgate

@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "driver/family.h"
 
 namespace tiltgate {
 namespace {
@@ -17,8 +16,8 @@ bool is_model_specific(ValueSource source) {
   return source == ValueSource::raw_counts || source == ValueSource::raw_temperature;
 }
 
-const ModelDescriptor* find(std::string_view model) {
-  return find_model(registered_families(), model).model;
+const ModelDescriptor* find(FamilyList families, std::string_view model) {
+  return find_model(families, model).model;
 }
 
 template <class T>
@@ -28,32 +27,27 @@ bool contains(std::span<const T> list, T value) {
 
 }  // namespace
 
-bool model_offers(std::string_view model, ValueSource source) {
+bool model_offers(FamilyList families, std::string_view model, ValueSource source) {
   if (!is_model_specific(source)) return true;
-  const ModelDescriptor* m = find(model);
+  const ModelDescriptor* m = find(families, model);
   return m != nullptr && contains(m->sources, source);
 }
 
-bool model_accepts(std::string_view model, WriteTarget target) {
-  const ModelDescriptor* m = find(model);
+bool model_accepts(FamilyList families, std::string_view model, WriteTarget target) {
+  const ModelDescriptor* m = find(families, model);
   if (m == nullptr) return false;
   return std::any_of(m->settings.begin(), m->settings.end(),
                      [&](const SettingDescriptor& s) { return s.id == target; });
 }
 
-std::uint16_t model_code(std::string_view model) {
-  const ModelDescriptor* m = find(model);
-  return m == nullptr ? 0 : m->model_code;
-}
-
-int model_axes(std::string_view model) {
-  const ModelDescriptor* m = find(model);
+int model_axes(FamilyList families, std::string_view model) {
+  const ModelDescriptor* m = find(families, model);
   return m == nullptr ? 2 : m->axes;
 }
 
-std::string model_code_description() {
+std::string model_code_description(FamilyList families) {
   std::vector<std::string> codes;
-  for (const FamilyDescriptor* family : registered_families())
+  for (const FamilyDescriptor* family : families)
     for (const ModelDescriptor& model : family->models)
       codes.push_back(fmt::format("{} {}", model.model_code, model.identity.product_code));
   return fmt::format("{}", fmt::join(codes, ", "));

@@ -5,25 +5,6 @@
 #include "driver/family.h"
 
 namespace tiltgate {
-namespace {
-
-// The common block's settings, then every family's own, each name once: what a map file's
-// `write = "NAME"` may say.
-std::vector<Named<WriteTarget>> all_setting_names() {
-  std::vector<Named<WriteTarget>> names;
-  const auto add = [&](const SettingDescriptor& setting) {
-    for (const Named<WriteTarget>& known : names)
-      if (known.name == setting.name) return;
-    names.push_back({setting.name, setting.id});
-  };
-  for (const SettingDescriptor& setting : kCommonSettings) add(setting);
-  for (const FamilyDescriptor* family : registered_families())
-    for (const ModelDescriptor& model : family->models)
-      for (const SettingDescriptor& setting : model.settings) add(setting);
-  return names;
-}
-
-}  // namespace
 
 Point make_point(std::string name, RegisterTable table, std::uint16_t address, PointType type,
                  ValueSource source, std::string units, std::string description) {
@@ -75,14 +56,23 @@ Point discrete_point(std::string name, std::uint16_t address, ValueSource source
                     "", std::move(description));
 }
 
-std::span<const Named<WriteTarget>> write_target_names() {
-  static const std::vector<Named<WriteTarget>> names = all_setting_names();
+std::vector<Named<WriteTarget>> write_target_names(FamilyList families) {
+  std::vector<Named<WriteTarget>> names;
+  const auto add = [&](const SettingDescriptor& setting) {
+    for (const Named<WriteTarget>& known : names)
+      if (known.name == setting.name) return;
+    names.push_back({setting.name, setting.id});
+  };
+  for (const SettingDescriptor& setting : kCommonSettings) add(setting);
+  for (const FamilyDescriptor* family : families)
+    for (const ModelDescriptor& model : family->models)
+      for (const SettingDescriptor& setting : model.settings) add(setting);
   return names;
 }
 
-const char* to_string(WriteTarget target) {
+std::string setting_name(FamilyList families, WriteTarget target) {
   if (target.is_device_value()) return "the device's value";
-  return name_of(write_target_names(), target).data();
+  return std::string(name_of(std::span<const Named<WriteTarget>>(write_target_names(families)), target));
 }
 
 std::uint16_t Point::words() const {

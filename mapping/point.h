@@ -77,8 +77,10 @@ Point unavailable_holding_point(std::string name, std::uint16_t address, PointTy
 Point discrete_point(std::string name, std::uint16_t address, ValueSource source,
                      std::string description);
 
-// The names a map file uses for WriteTarget.
-std::span<const Named<WriteTarget>> write_target_names();
-const char* to_string(WriteTarget target);
+// The names a map file's `write = "NAME"` uses for a WriteTarget: the common block's settings,
+// then every model's own of `families`, each name once.
+std::vector<Named<WriteTarget>> write_target_names(FamilyList families);
+// A setting's map-file name, for messages.
+std::string setting_name(FamilyList families, WriteTarget target);
 
 }  // namespace tiltgate

@@ -45,9 +45,9 @@ std::uint32_t RegisterMap::holding_end() const {
   return end;
 }
 
-std::vector<std::string> RegisterMap::validate(std::string_view model) const {
+std::vector<std::string> RegisterMap::validate(FamilyList families, std::string_view model) const {
   std::vector<std::string> messages;
-  for (const MapProblem& problem : check_points(points_, model))
+  for (const MapProblem& problem : check_points(points_, families, model))
     messages.push_back(fmt::format("point \"{}\": {}: {}", points_[problem.point].name, problem.key,
                                    problem.message));
   return messages;

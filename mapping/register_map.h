@@ -28,8 +28,9 @@ class RegisterMap {
   std::uint32_t holding_end() const;
 
   // Empty when the map is consistent (mapping/map_validation.h), also as the map of a sensor
-  // of `model` when one is given; otherwise one message per problem.
-  std::vector<std::string> validate(std::string_view model = {}) const;
+  // of `model` (one of `families`' models) when one is given; otherwise one message per
+  // problem.
+  std::vector<std::string> validate(FamilyList families = {}, std::string_view model = {}) const;
 
  private:
   std::vector<Point> points_;  // sorted by (table, address)

@@ -24,7 +24,7 @@ struct SensorView {
   const DerivedState* derived = nullptr;
   OfflineRead offline = OfflineRead::exception;
   double substitute = 0.0;  // offline == substitute: what numeric measurement points show
-  std::string_view model{};  // the driver's model (a ModelDescriptor name), for model_code
+  std::uint16_t model_code = 0;  // what input register 37 shows (ModelDescriptor::model_code)
 
   // Online now: answering, and heard from within stale_after (driver/sensor_state.h), so the
   // online bit clears no later than the measurements turn stale.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mapping/model_capabilities.h"
 #include "mapping/tilt.h"
 
 namespace tiltgate {
@@ -121,7 +120,7 @@ double source_value(ValueSource source, const SensorView& v) {
     case S::sample_seq:
       return s.sample_seq;
     case S::model_code:
-      return model_code(v.model);
+      return v.model_code;
     case S::serial:
     case S::firmware:
     case S::written:

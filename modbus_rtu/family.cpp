@@ -90,7 +90,7 @@ constexpr std::string_view kSensorKeys[] = {"device"};
 void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
   const std::optional<std::string> path = in.file_path("device");
   if (!path) return;
-  auto profile = load_device_profile(*path);
+  auto profile = load_device_profile(*path, in.setting_names());
   if (!profile) {
     in.file_errors(std::move(profile.error()));
     return;

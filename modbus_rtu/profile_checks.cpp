@@ -58,26 +58,34 @@ bool inside_a_block(const Span& span, const std::vector<LocatedBlock>& blocks) {
   return false;
 }
 
+bool is_setting_name(std::string_view name, std::span<const std::string_view> setting_names) {
+  const auto common = std::find_if(std::begin(kCommonSettings), std::end(kCommonSettings),
+                                   [&](const SettingDescriptor& s) { return s.name == name; });
+  return common != std::end(kCommonSettings) ||
+         std::find(setting_names.begin(), setting_names.end(), name) != setting_names.end();
+}
+
 // A map file names a value by its name, as it names a built-in source or setting, so a value
 // may not take a built-in's name: the map could not reach it. angle_x and angle_y are the two
 // that mean the built-in angles.
-void check_name(const LocatedValue& v, toml_input::ErrorList& errors) {
+void check_name(const LocatedValue& v, std::span<const std::string_view> setting_names,
+                toml_input::ErrorList& errors) {
   const std::string& name = v.value.name;
   if (name == "angle_x" || name == "angle_y") return;
   if (from_name(source_names(), name))
     v.where.report(errors, "name", fmt::format("\"{}\" is a built-in source of every sensor; "
                                                "give the value another name", name));
-  else if (from_name(write_target_names(), name))
+  else if (is_setting_name(name, setting_names))
     v.where.report(errors, "name", fmt::format("\"{}\" is a built-in setting; give the value "
                                                "another name", name));
 }
 
 void check_value(const std::vector<LocatedValue>& values, std::size_t i,
                  const std::vector<LocatedBlock>& blocks, bool blocks_read,
-                 toml_input::ErrorList& errors) {
+                 std::span<const std::string_view> setting_names, toml_input::ErrorList& errors) {
   const LocatedValue& v = values[i];
   const Span span = span_of(v.value);
-  check_name(v, errors);
+  check_name(v, setting_names, errors);
   if (i == kMaxDeviceValues)
     v.where.report(errors, "name", fmt::format("a profile has at most {} values",
                                                kMaxDeviceValues));
@@ -105,13 +113,13 @@ void check_value(const std::vector<LocatedValue>& values, std::size_t i,
 }  // namespace
 
 void check_profile(const std::vector<LocatedBlock>& blocks, const std::vector<LocatedValue>& values,
-                   toml_input::ErrorList& errors) {
+                   std::span<const std::string_view> setting_names, toml_input::ErrorList& errors) {
   check_blocks(blocks, errors);
   // A block with a wrong key holds defaults: "outside every block" would then be a guess.
   bool blocks_read = !blocks.empty();
   for (const LocatedBlock& b : blocks) blocks_read = blocks_read && b.read_ok;
   for (std::size_t i = 0; i < values.size(); ++i)
-    if (values[i].read_ok) check_value(values, i, blocks, blocks_read, errors);
+    if (values[i].read_ok) check_value(values, i, blocks, blocks_read, setting_names, errors);
 }
 
 }  // namespace tiltgate::modbus_rtu

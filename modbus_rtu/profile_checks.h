@@ -22,7 +22,9 @@ struct LocatedValue {
   bool read_ok = true;
 };
 
+// `setting_names`: the settings a map file writes by name besides the common block's (every
+// model's own); a value may take none of them.
 void check_profile(const std::vector<LocatedBlock>& blocks, const std::vector<LocatedValue>& values,
-                   toml_input::ErrorList& errors);
+                   std::span<const std::string_view> setting_names, toml_input::ErrorList& errors);
 
 }  // namespace tiltgate::modbus_rtu

@@ -118,8 +118,9 @@ std::vector<Located> read_array(TableReader& root, std::string_view key, ErrorLi
 
 }  // namespace
 
-Expected<DeviceProfile, FileErrors> parse_device_profile(std::string_view text,
-                                                           std::string_view source_name) {
+Expected<DeviceProfile, FileErrors> parse_device_profile(
+    std::string_view text, std::string_view source_name,
+    std::span<const std::string_view> setting_names) {
   ErrorList errors{std::string(source_name)};
   toml::table root;
   try {
@@ -133,7 +134,7 @@ Expected<DeviceProfile, FileErrors> parse_device_profile(std::string_view text,
   const auto blocks = read_array<LocatedBlock>(in, "read", errors, read_block);
   const auto values = read_array<LocatedValue>(in, "value", errors, read_value);
   in.reject_unknown_keys();
-  check_profile(blocks, values, errors);
+  check_profile(blocks, values, setting_names, errors);
   if (!errors.empty()) return Unexpected{errors.take()};
   DeviceProfile profile{std::string(source_name), {}, {}};
   for (const LocatedBlock& b : blocks) profile.reads.push_back(b.block);
@@ -141,7 +142,8 @@ Expected<DeviceProfile, FileErrors> parse_device_profile(std::string_view text,
   return profile;
 }
 
-Expected<DeviceProfile, FileErrors> load_device_profile(const std::string& path) {
+Expected<DeviceProfile, FileErrors> load_device_profile(
+    const std::string& path, std::span<const std::string_view> setting_names) {
   auto fail = [&](std::string message) -> Expected<DeviceProfile, FileErrors> {
     return Unexpected{FileErrors{FileError{path, 0, 0, "", std::move(message)}}};
   };
@@ -155,7 +157,7 @@ Expected<DeviceProfile, FileErrors> load_device_profile(const std::string& path)
     return fail(fmt::format("{} bytes is more than a profile's limit of {}", size, kMaxProfileBytes));
   auto text = toml_input::read_text_file(path);
   if (!text) return fail(text.error());
-  return parse_device_profile(*text, path);
+  return parse_device_profile(*text, path, setting_names);
 }
 
 }  // namespace tiltgate::modbus_rtu

@@ -30,10 +30,14 @@ namespace tiltgate::modbus_rtu {
 // Profiles are small; a bigger file is a mistake (a log, a binary), not a profile.
 inline constexpr std::uintmax_t kMaxProfileBytes = 1024 * 1024;
 
-// Reads only a regular file of at most kMaxProfileBytes.
-Expected<DeviceProfile, FileErrors> load_device_profile(const std::string& path);
+// Reads only a regular file of at most kMaxProfileBytes. A value may not take the name of a
+// setting a map file writes by name: the common block's, and `setting_names` (every model's
+// own, as the configuration's families give them).
+Expected<DeviceProfile, FileErrors> load_device_profile(
+    const std::string& path, std::span<const std::string_view> setting_names = {});
 // The same from text in memory; `source_name` stands for the file name in errors.
-Expected<DeviceProfile, FileErrors> parse_device_profile(std::string_view text,
-                                                           std::string_view source_name);
+Expected<DeviceProfile, FileErrors> parse_device_profile(
+    std::string_view text, std::string_view source_name,
+    std::span<const std::string_view> setting_names = {});
 
 }  // namespace tiltgate::modbus_rtu

@@ -112,7 +112,7 @@ TEST_CASE("the bus configuration maps onto line options and framing") {
   bus.retries = 4;
   bus.gap = 1500us;
   bus.echo = true;
-  const SerialLineOptions o = tiltgate::serial_options_from(bus);
+  const SerialLineOptions o = tiltgate::serial_options_from(tiltgate::registered_families(), bus);
   CHECK(o.name == "east");
   CHECK(o.port == "/dev/ttyUSB3");
   CHECK(o.baud == 28800);
@@ -122,9 +122,9 @@ TEST_CASE("the bus configuration maps onto line options and framing") {
   CHECK(o.echo);
   CHECK(o.framing == tiltgate::Framing::nine_bit);
   bus.protocol = "spectron-modbus";
-  CHECK(tiltgate::serial_options_from(bus).framing == tiltgate::Framing::eight_even_one);
+  CHECK(tiltgate::serial_options_from(tiltgate::registered_families(), bus).framing == tiltgate::Framing::eight_even_one);
   bus.protocol = "rieker";
-  CHECK(tiltgate::serial_options_from(bus).framing == tiltgate::Framing::eight_none_one);
+  CHECK(tiltgate::serial_options_from(tiltgate::registered_families(), bus).framing == tiltgate::Framing::eight_none_one);
 }
 
 TEST_CASE("Modbus RTU framings set their parity and stop bits on the port") {
@@ -167,5 +167,5 @@ TEST_CASE("a bus's own framing overrides its protocol's") {
   tiltgate::BusConfig bus;
   bus.protocol = "spectron-modbus";
   bus.framing = tiltgate::Framing::eight_none_two;
-  CHECK(tiltgate::serial_options_from(bus).framing == tiltgate::Framing::eight_none_two);
+  CHECK(tiltgate::serial_options_from(tiltgate::registered_families(), bus).framing == tiltgate::Framing::eight_none_two);
 }

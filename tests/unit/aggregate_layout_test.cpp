@@ -40,7 +40,7 @@ float float_in(const Words& words, std::size_t at) {
 
 // Three H6 at (1.5, -2.25), (10, 20), (-30.5, 0.25), all read at `now`.
 struct ThreeSensors {
-  RegisterMap map = default_map("h6");
+  RegisterMap map = default_map(registered_families(), "h6");
   SteadyClock::time_point now = SteadyClock::now();
   std::vector<SensorState> states{online_at(now, 1.5, -2.25), online_at(now, 10, 20),
                                   online_at(now, -30.5, 0.25)};
@@ -81,7 +81,7 @@ TEST_CASE("aggregate layout: points back to back in the order given, sensor i at
 }
 
 TEST_CASE("aggregate layout: int16 angles make a 2-register block, 60 sensors in one request") {
-  const RegisterMap map = default_map("h6");
+  const RegisterMap map = default_map(registered_families(), "h6");
   std::vector<std::string> names;
   std::vector<AggregateMember> members;
   names.reserve(60);
@@ -95,7 +95,7 @@ TEST_CASE("aggregate layout: int16 angles make a 2-register block, 60 sensors in
 }
 
 TEST_CASE("aggregate layout: a point missing, of another type, or not a register is refused") {
-  const RegisterMap h6 = default_map("h6");
+  const RegisterMap h6 = default_map(registered_families(), "h6");
   const RegisterMap other({make_point("angle_x", RegisterTable::input, 0, PointType::int16,
                                       ValueSource::angle_x)});
   const std::vector<AggregateMember> members{{"s1", &h6}, {"s2", &other}};
@@ -115,7 +115,7 @@ TEST_CASE("aggregate layout: a point missing, of another type, or not a register
 }
 
 TEST_CASE("aggregate layout: more sensors than a unit's 65536 registers hold are refused") {
-  const RegisterMap map = default_map("h6");
+  const RegisterMap map = default_map(registered_families(), "h6");
   std::vector<AggregateMember> members(13108, AggregateMember{"s", &map});  // x 5 = 65540
   auto layout = make_aggregate_layout(kAngles, members);
   REQUIRE_FALSE(layout.has_value());

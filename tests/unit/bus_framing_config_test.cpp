@@ -110,7 +110,7 @@ BusConfig load_bus(std::string_view protocol, std::string_view extra) {
 
 Framing framing_of(std::string_view extra) {
   const BusConfig bus = load_bus("chosen-bus", extra);
-  return serial_options_from(bus, kList).framing;
+  return serial_options_from(kList, bus).framing;
 }
 
 std::string first_error(std::string_view protocol, std::string_view extra) {
@@ -149,7 +149,7 @@ TEST_CASE("parity and stop_bits on a bus whose protocol fixes its framing are re
         "bus.toml:6:1: bus[0].parity: applies to chosen-bus buses only, not fixed-bus");
   CHECK(first_error("fixed-bus", "stop_bits = 2\n") ==
         "bus.toml:6:1: bus[0].stop_bits: applies to chosen-bus buses only, not fixed-bus");
-  CHECK(serial_options_from(load_bus("fixed-bus", ""), kList).framing == Framing::eight_none_one);
+  CHECK(serial_options_from(kList, load_bus("fixed-bus", "")).framing == Framing::eight_none_one);
 }
 
 TEST_CASE("the gap defaults to the protocol's, from the bus's baud and framing") {

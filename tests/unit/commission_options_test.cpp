@@ -79,7 +79,7 @@ unit_id = 3
 }  // namespace
 
 TEST_CASE("a command-line bus takes the protocol's factory baud and its family's first model") {
-  const auto target = resolve_bus_options(rieker_bus());
+  const auto target = resolve_bus_options(rieker_bus(), registered_families());
   REQUIRE_MESSAGE(target, all(target ? UsageErrors{} : target.error()));
   CHECK(target->bus.port == "/dev/ttyUSB0");
   CHECK(target->bus.protocol == "rieker");
@@ -92,7 +92,7 @@ TEST_CASE("a command-line bus takes the protocol's factory baud and its family's
   dyna.protocol = "spectron-9bit";
   dyna.baud = 28800;
   dyna.addresses = {1, 2};
-  const auto dynas = resolve_bus_options(dyna);
+  const auto dynas = resolve_bus_options(dyna, registered_families());
   REQUIRE(dynas);
   CHECK(dynas->sensors.size() == 2);
   CHECK(dynas->sensors[1].model == "dyna");
@@ -104,7 +104,7 @@ TEST_CASE("a bad baud, address or framing on the command line is named by its op
   o.baud = 9601;
   o.addresses = {0, 70000};
   o.parity = "even";
-  const auto target = resolve_bus_options(o);
+  const auto target = resolve_bus_options(o, registered_families());
   REQUIRE_FALSE(target);
   INFO(all(target.error()));
   CHECK(has_error_starting(target.error(), "--baud: 9601 is not a rieker baud rate"));
@@ -116,7 +116,7 @@ TEST_CASE("a bad baud, address or framing on the command line is named by its op
 TEST_CASE("an unknown protocol is reported once, without a follow-on model error") {
   BusOptions o = rieker_bus();
   o.protocol = "rieker-ascii";
-  const auto target = resolve_bus_options(o);
+  const auto target = resolve_bus_options(o, registered_families());
   REQUIRE_FALSE(target);
   INFO(all(target.error()));
   CHECK(target.error().size() == 1);
@@ -126,7 +126,7 @@ TEST_CASE("an unknown protocol is reported once, without a follow-on model error
 TEST_CASE("a model from another family than the protocol's is refused under --model") {
   BusOptions o = rieker_bus();
   o.model = "dyna";
-  const auto target = resolve_bus_options(o);
+  const auto target = resolve_bus_options(o, registered_families());
   REQUIRE_FALSE(target);
   INFO(all(target.error()));
   CHECK(has_error_starting(target.error(), "--model:"));
@@ -136,19 +136,19 @@ TEST_CASE("--device goes to the family's own key reader: required by one family,
   BusOptions rtu = rieker_bus();
   rtu.protocol = "modbus-rtu";
   rtu.addresses = {1};
-  const auto missing = resolve_bus_options(rtu);
+  const auto missing = resolve_bus_options(rtu, registered_families());
   REQUIRE_FALSE(missing);
   CHECK(has_error_starting(missing.error(), "--device: required key is missing"));
 
   rtu.device = std::string(TILTGATE_SOURCE_DIR) + "/examples/devices/rtu-inclinometer.toml";
-  const auto given = resolve_bus_options(rtu);
+  const auto given = resolve_bus_options(rtu, registered_families());
   REQUIRE_MESSAGE(given, all(given ? UsageErrors{} : given.error()));
   CHECK(given->sensors[0].family_options.text("device") == rtu.device);
   CHECK_FALSE(given->sensors[0].family_options.device_values().empty());
 
   BusOptions rieker = rieker_bus();
   rieker.device = rtu.device;
-  const auto refused = resolve_bus_options(rieker);
+  const auto refused = resolve_bus_options(rieker, registered_families());
   REQUIRE_FALSE(refused);
   CHECK(has_error_starting(refused.error(), "--device: applies to model"));
 }
@@ -156,7 +156,7 @@ TEST_CASE("--device goes to the family's own key reader: required by one family,
 TEST_CASE("a tty path with quotes and backslashes reaches the bus unchanged") {
   BusOptions o = rieker_bus();
   o.port = R"(/tmp/a "quoted" \ tty)";
-  const auto target = resolve_bus_options(o);
+  const auto target = resolve_bus_options(o, registered_families());
   REQUIRE(target);
   CHECK(target->bus.port == o.port);
 }
@@ -165,7 +165,7 @@ TEST_CASE("bus options come from the command line or a configuration, never both
   BusOptions both = rieker_bus();
   both.config = "plant.toml";
   both.sensor = "boom";
-  const auto mixed = resolve_bus_options(both);
+  const auto mixed = resolve_bus_options(both, registered_families());
   REQUIRE_FALSE(mixed);
   CHECK(has_error_starting(mixed.error(), "--port: not with --config"));
   CHECK(has_error_starting(mixed.error(), "--protocol: not with --config"));
@@ -173,25 +173,25 @@ TEST_CASE("bus options come from the command line or a configuration, never both
 
   BusOptions neither;
   neither.addresses = {1};
-  const auto none = resolve_bus_options(neither);
+  const auto none = resolve_bus_options(neither, registered_families());
   REQUIRE_FALSE(none);
   CHECK(has_error_starting(none.error(), "--port: required"));
 
   BusOptions no_address = rieker_bus();
   no_address.addresses.clear();
-  const auto unaddressed = resolve_bus_options(no_address);
+  const auto unaddressed = resolve_bus_options(no_address, registered_families());
   REQUIRE_FALSE(unaddressed);
   CHECK(has_error_starting(unaddressed.error(), "--address: required with --port"));
 
   BusOptions config_alone;
   config_alone.config = "plant.toml";
-  const auto alone = resolve_bus_options(config_alone);
+  const auto alone = resolve_bus_options(config_alone, registered_families());
   REQUIRE_FALSE(alone);
   CHECK(has_error_starting(alone.error(), "--config: give --sensor NAME"));
 
   BusOptions sensor_alone = rieker_bus();
   sensor_alone.sensor = "boom";
-  const auto without_config = resolve_bus_options(sensor_alone);
+  const auto without_config = resolve_bus_options(sensor_alone, registered_families());
   REQUIRE_FALSE(without_config);
   CHECK(has_error_starting(without_config.error(), "--sensor: needs --config"));
 }
@@ -201,7 +201,7 @@ TEST_CASE("--config with --sensor takes that sensor and its bus") {
   BusOptions o;
   o.config = file.path.string();
   o.sensor = "jib";
-  const auto target = resolve_bus_options(o);
+  const auto target = resolve_bus_options(o, registered_families());
   REQUIRE_MESSAGE(target, all(target ? UsageErrors{} : target.error()));
   CHECK(target->bus.name == "line2");
   CHECK(target->bus.baud == 28800);
@@ -209,7 +209,7 @@ TEST_CASE("--config with --sensor takes that sensor and its bus") {
   CHECK(target->sensors[0].name == "jib");
 
   o.sensor = "jab";
-  const auto unknown = resolve_bus_options(o);
+  const auto unknown = resolve_bus_options(o, registered_families());
   REQUIRE_FALSE(unknown);
   CHECK(has_error_starting(unknown.error(), "--sensor:"));
   CHECK(all(unknown.error()).find("boom, mast, jib") != std::string::npos);
@@ -220,7 +220,7 @@ TEST_CASE("--config with --bus takes the bus's sensors, or those at the addresse
   BusOptions o;
   o.config = file.path.string();
   o.bus = "line1";
-  const auto whole = resolve_bus_options(o);
+  const auto whole = resolve_bus_options(o, registered_families());
   REQUIRE(whole);
   CHECK(whole->bus.port == "/dev/ttyUSB0");
   REQUIRE(whole->sensors.size() == 2);
@@ -228,19 +228,19 @@ TEST_CASE("--config with --bus takes the bus's sensors, or those at the addresse
   CHECK(whole->sensors[1].name == "mast");
 
   o.addresses = {101};
-  const auto one = resolve_bus_options(o);
+  const auto one = resolve_bus_options(o, registered_families());
   REQUIRE(one);
   REQUIRE(one->sensors.size() == 1);
   CHECK(one->sensors[0].name == "mast");
 
   o.addresses = {101, 5};
-  const auto missing = resolve_bus_options(o);
+  const auto missing = resolve_bus_options(o, registered_families());
   REQUIRE_FALSE(missing);
   CHECK(has_error_starting(missing.error(), "--address: bus \"line1\""));
 
   o.addresses.clear();
   o.bus = "line9";
-  const auto no_bus = resolve_bus_options(o);
+  const auto no_bus = resolve_bus_options(o, registered_families());
   REQUIRE_FALSE(no_bus);
   CHECK(has_error_starting(no_bus.error(), "--bus:"));
 }
@@ -250,7 +250,7 @@ TEST_CASE("a configuration with errors is refused with its own places") {
   BusOptions o;
   o.config = file.path.string();
   o.bus = "line1";
-  const auto target = resolve_bus_options(o);
+  const auto target = resolve_bus_options(o, registered_families());
   REQUIRE_FALSE(target);
   INFO(all(target.error()));
   CHECK(all(target.error()).find(file.path.string() + ":4:") != std::string::npos);

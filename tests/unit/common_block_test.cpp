@@ -30,7 +30,7 @@ std::string layout(const Point& p) {
 // The points below the model-specific start, in table and address order.
 std::vector<std::string> common_layout(std::string_view model) {
   std::vector<std::string> rows;
-  const RegisterMap map = default_map(model);
+  const RegisterMap map = default_map(registered_families(), model);
   for (const Point& p : map.points())
     if (p.address < kModelSpecificStart) rows.push_back(layout(p));
   return rows;
@@ -61,7 +61,7 @@ float float_at(const Words& words, std::size_t at) {
 
 SensorView view_of(const SensorState& state, SteadyClock::time_point now, std::string_view model) {
   SensorView view{state, now, 1000ms, {}};
-  view.model = model;
+  view.model_code = find_model(registered_families(), model).model->model_code;
   return view;
 }
 
@@ -72,16 +72,16 @@ TEST_CASE("every model's map has the identical common block") {
   CHECK(h6 == common_layout("h4360"));
   CHECK(h6 == common_layout("dyna"));
   // Contiguous: one read of input 0..37 and of holding 0..7 covers it on any model.
-  for (std::string_view model : models_with_default_maps()) {
+  for (std::string_view model : models_with_default_maps(registered_families())) {
     CAPTURE(model);
-    const RegisterMap map = default_map(model);
+    const RegisterMap map = default_map(registered_families(), model);
     const auto now = SteadyClock::now();
     const SensorState state = online_state(now, 1, 2);
     CHECK(read_registers(map, view_of(state, now, model), RegisterTable::input, 0, 38));
     CHECK(read_registers(map, view_of(state, now, model), RegisterTable::holding, 0, 8));
-    CHECK(map.validate(model).empty());
+    CHECK(map.validate(registered_families(), model).empty());
   }
-  const RegisterMap dyna = default_map("dyna");
+  const RegisterMap dyna = default_map(registered_families(), "dyna");
   CHECK(dyna.find("raw_counts")->address == 100);
   CHECK(dyna.find("raw_temperature")->address == 102);
   CHECK(dyna.find("eeprom_location")->address == 103);
@@ -93,7 +93,7 @@ TEST_CASE("register 37 tells the model") {
   for (const auto& expected : {std::pair("h6", 1), std::pair("h4360", 2), std::pair("dyna", 3)}) {
     const std::string_view model = expected.first;
     CAPTURE(model);
-    CHECK(read(default_map(model), view_of(state, now, model), RegisterTable::input, 37, 1)[0] ==
+    CHECK(read(default_map(registered_families(), model), view_of(state, now, model), RegisterTable::input, 37, 1)[0] ==
           expected.second);
   }
 }
@@ -103,7 +103,7 @@ TEST_CASE("a single-axis model's Y reads NaN and -32768") {
   const SensorState state = online_state(now, 12.5, NAN);
   for (std::string_view model : {"h4360", "dyna"}) {
     CAPTURE(model);
-    const Words w = read(default_map(model), view_of(state, now, model), RegisterTable::input, 0, 6);
+    const Words w = read(default_map(registered_families(), model), view_of(state, now, model), RegisterTable::input, 0, 6);
     CHECK(float_at(w, 0) == 12.5f);
     CHECK(std::isnan(float_at(w, 2)));
     CHECK(std::int16_t(w[4]) == 1250);
@@ -114,19 +114,19 @@ TEST_CASE("a single-axis model's Y reads NaN and -32768") {
 TEST_CASE("holding registers read the unknown value before any write") {
   const auto now = SteadyClock::now();
   const SensorState state = online_state(now, 1, 2);
-  for (std::string_view model : models_with_default_maps()) {
+  for (std::string_view model : models_with_default_maps(registered_families())) {
     CAPTURE(model);
-    const Words w = read(default_map(model), view_of(state, now, model), RegisterTable::holding,
+    const Words w = read(default_map(registered_families(), model), view_of(state, now, model), RegisterTable::holding,
                          0, 8);
     CHECK(w[0] == 0xFFFF);                                    // filter
     CHECK(std::isnan(float_at(w, 1)));  // zero_x
     CHECK(std::isnan(float_at(w, 3)));  // zero_y
     // command: "no command" where the model takes commands, else not available
-    CHECK(w[5] == (model_accepts(model, WriteTarget::command) ? 0 : 0xFFFF));
+    CHECK(w[5] == (model_accepts(registered_families(), model, WriteTarget::command) ? 0 : 0xFFFF));
     CHECK(w[6] == 0xFFFF);                                    // baud_code
     CHECK(w[7] == 0xFFFF);                                    // rs485_address: not published
   }
-  const Words dyna = read(default_map("dyna"), view_of(state, now, "dyna"),
+  const Words dyna = read(default_map(registered_families(), "dyna"), view_of(state, now, "dyna"),
                           RegisterTable::holding, 100, 5);
   CHECK(dyna == Words{0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF});
 }
@@ -138,7 +138,7 @@ TEST_CASE("holding registers show the settings the driver knows") {
   state.settings.set(WriteTarget::zero_x, -1.5);
   state.settings.set(WriteTarget::baud_code, 3);
   state.settings.set(WriteTarget::bus_address, 223);
-  const Words h6 = read(default_map("h6"), view_of(state, now, "h6"), RegisterTable::holding, 0, 8);
+  const Words h6 = read(default_map(registered_families(), "h6"), view_of(state, now, "h6"), RegisterTable::holding, 0, 8);
   CHECK(h6[0] == 4);
   CHECK(float_at(h6, 1) == -1.5f);
   CHECK(std::isnan(float_at(h6, 3)));  // zero_y still unknown
@@ -148,7 +148,7 @@ TEST_CASE("holding registers show the settings the driver knows") {
   state.settings.set(spectron::setting::sensor_offset, 7);
   state.settings.set(spectron::setting::eeprom_location, 20);
   state.settings.set(spectron::setting::eeprom_value, 355);
-  const RegisterMap dyna = default_map("dyna");
+  const RegisterMap dyna = default_map(registered_families(), "dyna");
   const Words d = read(dyna, view_of(state, now, "dyna"), RegisterTable::holding, 0, 8);
   CHECK(d[0] == 0xFFFF);  // a Dyna has no filter, whatever the state says
   CHECK(std::isnan(float_at(d, 1)));
@@ -159,12 +159,12 @@ TEST_CASE("holding registers show the settings the driver knows") {
 
 TEST_CASE("a setting the model does not have refuses writes as an illegal address") {
   const std::uint16_t one[] = {1};
-  CHECK(plan_register_write(default_map("dyna"), WordOrder::big, 0, one).error() ==
+  CHECK(plan_register_write(default_map(registered_families(), "dyna"), WordOrder::big, 0, one).error() ==
         MapFault::illegal_address);  // filter
   const std::uint16_t zero[] = {0, 0};
-  CHECK(plan_register_write(default_map("dyna"), WordOrder::big, 1, zero).error() ==
+  CHECK(plan_register_write(default_map(registered_families(), "dyna"), WordOrder::big, 1, zero).error() ==
         MapFault::illegal_address);  // zero_x
-  CHECK(plan_register_write(default_map("h4360"), WordOrder::big, 3, zero).error() ==
+  CHECK(plan_register_write(default_map(registered_families(), "h4360"), WordOrder::big, 3, zero).error() ==
         MapFault::illegal_address);  // zero_y
-  CHECK(plan_register_write(default_map("h6"), WordOrder::big, 3, zero).has_value());
+  CHECK(plan_register_write(default_map(registered_families(), "h6"), WordOrder::big, 3, zero).has_value());
 }

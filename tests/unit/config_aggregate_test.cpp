@@ -51,7 +51,7 @@ struct TlsPemFiles {
   ~TlsPemFiles() { std::filesystem::remove_all(path); }
   // The one error of `text`, loaded as a file in the folder.
   ConfigError only_error_of(const std::string& text) const {
-    auto loaded = load_config_string(text, (path / "plant.toml").string());
+    auto loaded = load_config_string(text, (path / "plant.toml").string(), registered_families());
     REQUIRE_FALSE(loaded.has_value());
     INFO(joined(loaded.error()));
     REQUIRE(loaded.error().size() == 1);

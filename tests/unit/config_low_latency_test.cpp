@@ -17,8 +17,8 @@ TEST_CASE("config: a bus sets the low-latency flag unless it says low_latency = 
   CHECK(loads(with_bus_keys("low_latency = true\n")).buses.at(0).low_latency);
   const Config off = loads(with_bus_keys("low_latency = false\n"));
   CHECK_FALSE(off.buses.at(0).low_latency);
-  CHECK_FALSE(serial_options_from(off.buses.at(0)).low_latency);
-  CHECK(serial_options_from(loads(valid_plus("")).buses.at(0)).low_latency);
+  CHECK_FALSE(serial_options_from(registered_families(), off.buses.at(0)).low_latency);
+  CHECK(serial_options_from(registered_families(), loads(valid_plus("")).buses.at(0)).low_latency);
 }
 
 TEST_CASE("config: low_latency must be a boolean") {

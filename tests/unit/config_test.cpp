@@ -12,7 +12,7 @@ using namespace tiltgate::test;
 using namespace std::chrono_literals;
 
 TEST_CASE("config: the example file loads") {
-  auto loaded = load_config_file(TILTGATE_SOURCE_DIR "/examples/tiltgate.toml");
+  auto loaded = load_config_file(TILTGATE_SOURCE_DIR "/examples/tiltgate.toml", registered_families());
   INFO((loaded ? std::string() : joined(loaded.error())));
   REQUIRE(loaded.has_value());
   const Config& config = *loaded;
@@ -64,7 +64,7 @@ TEST_CASE("config: an error reads FILE:LINE:COL: KEY: message") {
       "[[sensor]]\nname = \"jib\"\nbus = \"line1\"\nmodel = \"h6\"\naddress = 224\nunit_id = 2\n";
   text +=
       "[[sensor]]\nname = \"s3\"\nbus = \"line1\"\nmodel = \"h6\"\naddress = 225\nunit_id = 300\n";
-  auto loaded = load_config_string(text, "plant.toml");
+  auto loaded = load_config_string(text, "plant.toml", registered_families());
   REQUIRE_FALSE(loaded.has_value());
   REQUIRE(loaded.error().size() == 1);
   CHECK(loaded.error()[0].to_string() ==
@@ -191,7 +191,7 @@ TEST_CASE("config: every error in a file is reported, in line order") {
 }
 
 TEST_CASE("config: a file that cannot be opened says why") {
-  auto loaded = load_config_file("/nonexistent/tiltgate.toml");
+  auto loaded = load_config_file("/nonexistent/tiltgate.toml", registered_families());
   REQUIRE_FALSE(loaded.has_value());
   REQUIRE(loaded.error().size() == 1);
   CHECK(loaded.error()[0].to_string() ==

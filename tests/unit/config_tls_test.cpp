@@ -38,7 +38,7 @@ const std::string kTls =
 
 TEST_CASE("config: [server] tls reads its files against the config file's folder, port 802") {
   const PemFolder folder;
-  auto loaded = load_config_string("[server]\n" + kTls + valid_plus(""), folder.config_path());
+  auto loaded = load_config_string("[server]\n" + kTls + valid_plus(""), folder.config_path(), registered_families());
   REQUIRE(loaded.has_value());
   const ServerConfig& server = loaded->server;
   CHECK(server.plain_tcp);
@@ -54,7 +54,7 @@ TEST_CASE("config: [server] tls reads its files against the config file's folder
 TEST_CASE("config: [server] tls mistakes are reported at their line") {
   const PemFolder folder;
   const auto error_in = [&](const std::string& text) {
-    auto loaded = load_config_string(text + valid_plus(""), folder.config_path());
+    auto loaded = load_config_string(text + valid_plus(""), folder.config_path(), registered_families());
     REQUIRE_FALSE(loaded.has_value());
     REQUIRE(loaded.error().size() == 1);
     return loaded.error()[0];
@@ -84,7 +84,7 @@ TEST_CASE("config: plain_tcp = false needs tls, and then serves TLS only") {
   const PemFolder folder;
   auto loaded = load_config_string("[server]\nplain_tcp = false\nport = 802\n" + kTls +
                                        valid_plus(""),
-                                   folder.config_path());
+                                   folder.config_path(), registered_families());
   REQUIRE(loaded.has_value());
   CHECK_FALSE(loaded->server.plain_tcp);
   CHECK(loaded->server.tls.has_value());

@@ -238,6 +238,8 @@ GatewaySensor identified(std::string model) {
   GatewaySensor sensor;
   sensor.config.name = "boom-left";
   sensor.config.bus = "line1";
+  // As the gateway makes a sensor: its model resolved once, from the families.
+  sensor.model = find_model(registered_families(), model).model;
   auto driver = std::make_unique<IdentifiedDriver>(model);
   driver->state_.serial = "962285";
   driver->state_.firmware = "Rev A.8";

@@ -178,7 +178,7 @@ TEST_CASE("a family's descriptor sets the protocols, bauds, addresses and keys t
 
 TEST_CASE("a family's driver factory gets the configured sensor with its own keys") {
   const Config config = load_fake(kFakeConfig);
-  auto driver = make_driver(config.sensors[0], config.buses[0], kFakeList);
+  auto driver = make_driver(kFakeList, config.sensors[0], config.buses[0]);
   REQUIRE(driver != nullptr);
   CHECK(driver->model() == "tilt-x1");
   CHECK(g_last_setup.name == "x1");
@@ -189,7 +189,7 @@ TEST_CASE("a family's driver factory gets the configured sensor with its own key
 
 TEST_CASE("a family's protocol gives the serial line its framing") {
   const Config config = load_fake(kFakeConfig);
-  CHECK(serial_options_from(config.buses[0], kFakeList).framing == Framing::eight_even_one);
+  CHECK(serial_options_from(kFakeList, config.buses[0]).framing == Framing::eight_even_one);
 }
 
 TEST_CASE("a family's model builds its default map from the common block") {

@@ -44,7 +44,7 @@ std::optional<MapFault> fault_of(const RegisterMap& map, std::uint16_t address,
 }  // namespace
 
 TEST_CASE("a float32 write with its words swapped (a subnormal) is refused with 0x03") {
-  const auto map = default_map("h6");  // zero_x: float32 at holding 1, -180..180
+  const auto map = default_map(registered_families(), "h6");  // zero_x: float32 at holding 1, -180..180
   // mbpoll -t 4:float without -B sends 0.75 (3F40 0000) as 0000 3F40: 2.3e-41.
   CHECK(fault_of(map, 1, {0x0000, 0x3F40}) == MapFault::illegal_value);
   CHECK(fault_of(map, 1, {0x3F40, 0x0000}) == std::nullopt);

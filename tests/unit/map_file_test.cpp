@@ -58,13 +58,13 @@ std::string point(std::string_view name, std::string_view table, int address, st
 }
 
 ConfigErrors errors_of(const std::string& config_path) {
-  auto loaded = load_config_file(config_path);
+  auto loaded = load_config_file(config_path, registered_families());
   REQUIRE_FALSE(loaded.has_value());
   return loaded.error();
 }
 
 ConfigErrors errors_of_text(const std::string& text) {
-  auto loaded = load_config_string(text, "test.toml");
+  auto loaded = load_config_string(text, "test.toml", registered_families());
   REQUIRE_FALSE(loaded.has_value());
   return loaded.error();
 }
@@ -96,13 +96,13 @@ TEST_CASE("map files: a sensor's map file is found next to the config file") {
                                      point("grade", "input", 100, "float32", "angle_x") +
                                      "angle_unit = \"percent\"\n");
   const auto config = dir.write("plant.toml", config_with("map = \"maps/plant-a.toml\"\n"));
-  auto loaded = load_config_file(config);
+  auto loaded = load_config_file(config, registered_families());
   INFO((loaded ? std::string() : joined(loaded.error())));
   REQUIRE(loaded.has_value());
   const SensorConfig& s = loaded->sensors[0];
   REQUIRE(s.map.has_value());
   CHECK(s.map_file == (dir.path / "maps/plant-a.toml").string());
-  const RegisterMap map = build_map(s.map, s.model);
+  const RegisterMap map = build_map(registered_families(), s.map, s.model);
   REQUIRE(map.find("grade") != nullptr);
   CHECK(map.find("grade")->angle_unit == AngleUnit::percent_grade);
   CHECK(map.find("angle_x") != nullptr);  // kept from the built-in map
@@ -166,17 +166,17 @@ TEST_CASE("map files: an inline map, with errors at the config file's lines") {
       "[sensor.map]\nextends = \"default\"\nremove = [\"angle_y_cdeg\"]\n"
       "[[sensor.map.point]]\nname = \"grade\"\ntable = \"input\"\naddress = 5\n"
       "type = \"int16\"\nsource = \"angle_x\"\nangle_unit = \"percent\"\n");
-  auto loaded = load_config_string(inline_map, "test.toml");
+  auto loaded = load_config_string(inline_map, "test.toml", registered_families());
   REQUIRE_FALSE(loaded.has_value());
   INFO(joined(loaded.error()));
   REQUIRE(loaded.error().size() == 1);
   CHECK(loaded.error()[0].to_string() ==
         "test.toml:17:1: sensor[0].map.point[0].type: int16 cannot hold angle_x in percent: its "
         "range has no bounds; use a wider type or a smaller scale, or saturate = true to clamp");
-  auto fixed = load_config_string(inline_map + "saturate = true\n", "test.toml");
+  auto fixed = load_config_string(inline_map + "saturate = true\n", "test.toml", registered_families());
   INFO((fixed ? std::string() : joined(fixed.error())));
   REQUIRE(fixed.has_value());
-  const RegisterMap map = build_map(fixed->sensors[0].map, "h6");
+  const RegisterMap map = build_map(registered_families(), fixed->sensors[0].map, "h6");
   CHECK(map.find("grade")->address == 5);
   CHECK(map.find("angle_y_cdeg") == nullptr);
 }
@@ -198,20 +198,20 @@ TEST_CASE("map files: remove must name a built-in point, and a map needs points"
 }
 
 TEST_CASE("map files: the examples load and validate") {
-  auto loaded = load_config_file((kSource / "examples/tiltgate-maps.toml").string());
+  auto loaded = load_config_file((kSource / "examples/tiltgate-maps.toml").string(), registered_families());
   INFO((loaded ? std::string() : joined(loaded.error())));
   REQUIRE(loaded.has_value());
   REQUIRE(loaded->sensors.size() == 4);
   for (const SensorConfig& s : loaded->sensors) {
     CAPTURE(s.name);
     REQUIRE(s.map.has_value());
-    const RegisterMap map = build_map(s.map, s.model);
-    CHECK(map.validate(s.model).empty());
+    const RegisterMap map = build_map(registered_families(), s.map, s.model);
+    CHECK(map.validate(registered_families(), s.model).empty());
   }
   CHECK(loaded->sensors[0].map_file == (kSource / "examples/maps/cdab-floats.toml").string());
   CHECK(loaded->sensors[1].map_file == (kSource / "examples/maps/int16-scaled.toml").string());
   CHECK(loaded->sensors[2].map_file == (kSource / "examples/maps/holding-only.toml").string());
-  const RegisterMap holding_only = build_map(loaded->sensors[2].map, "h6");
+  const RegisterMap holding_only = build_map(registered_families(), loaded->sensors[2].map, "h6");
   CHECK_FALSE(holding_only.has_table(RegisterTable::input));
   CHECK_FALSE(holding_only.has_table(RegisterTable::discrete));
   CHECK(loaded->sensors[3].mounting.invert_x);
@@ -220,13 +220,13 @@ TEST_CASE("map files: the examples load and validate") {
 
 TEST_CASE("docs/default-maps.md is the markdown export of the built-in maps") {
   const fs::path config = kSource / "examples/builtin-maps.toml";
-  auto loaded = load_config_file(config.string());
+  auto loaded = load_config_file(config.string(), registered_families());
   REQUIRE(loaded.has_value());
   std::vector<RegisterMap> maps;
   maps.reserve(loaded->sensors.size());
   std::vector<UnitMap> units;
   for (const SensorConfig& s : loaded->sensors) {
-    maps.push_back(build_map(s.map, s.model));
+    maps.push_back(build_map(registered_families(), s.map, s.model));
     units.push_back({s.unit_id, s.name, s.model, &maps.back(), loaded->server.word_order});
   }
   INFO(
@@ -248,10 +248,10 @@ TEST_CASE("the annotated map file of docs/register-maps.md loads") {
   ScratchDir dir;
   dir.write("maps/annotated.toml", page.substr(start + 8, end - start - 8));
   auto loaded =
-      load_config_file(dir.write("plant.toml", config_with("map = \"maps/annotated.toml\"\n")));
+      load_config_file(dir.write("plant.toml", config_with("map = \"maps/annotated.toml\"\n")), registered_families());
   INFO((loaded ? std::string() : joined(loaded.error())));
   REQUIRE(loaded.has_value());
-  const RegisterMap map = build_map(loaded->sensors[0].map, "h6");
+  const RegisterMap map = build_map(registered_families(), loaded->sensors[0].map, "h6");
   CHECK(map.find("angle_x")->address == 100);
   CHECK(map.find("grade")->nan_value == -32768);
   CHECK(map.find("flags")->bits.size() == 4);

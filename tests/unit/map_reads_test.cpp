@@ -84,7 +84,7 @@ TEST_CASE("angles in milliradians and percent grade") {
 }
 
 TEST_CASE("angles, tilt and alarms come from the derived state once it is valid") {
-  const RegisterMap map = default_map("h6");
+  const RegisterMap map = default_map(registered_families(), "h6");
   const auto now = SteadyClock::now();
   const auto state = sensor_at(now, 3.0, 4.0);
   SensorView raw{state, now, 1000ms, {}};
@@ -114,7 +114,7 @@ TEST_CASE("angles, tilt and alarms come from the derived state once it is valid"
 }
 
 TEST_CASE("a single-axis sensor's tilt is |x|") {
-  const RegisterMap map = default_map("h4360");
+  const RegisterMap map = default_map(registered_families(), "h4360");
   const auto now = SteadyClock::now();
   const auto state = sensor_at(now, -30.5, NAN);
   const Words w = read(map, SensorView{state, now, 1000ms, {}}, 25, 2);
@@ -142,7 +142,7 @@ TEST_CASE("bit points pick one status bit, and a packed register carries several
 }
 
 TEST_CASE("offline reads: exception, last value or a substitute") {
-  const RegisterMap map = default_map("h6");
+  const RegisterMap map = default_map(registered_families(), "h6");
   const auto now = SteadyClock::now();
   auto state = sensor_at(now, 1.5, -2.25);
   state.online = false;
@@ -163,7 +163,7 @@ TEST_CASE("offline reads: exception, last value or a substitute") {
 }
 
 TEST_CASE("offline last value is still an exception before the first reading") {
-  const RegisterMap map = default_map("h6");
+  const RegisterMap map = default_map(registered_families(), "h6");
   SensorState never;
   SensorView view{never, SteadyClock::now(), 1000ms, {}};
   view.offline = OfflineRead::last_value;

@@ -34,12 +34,12 @@ Point writable(WriteTarget target) {
 }
 
 std::vector<MapProblem> problems_of(const std::vector<Point>& points, std::string_view model) {
-  return check_points(points, model);
+  return check_points(points, registered_families(), model);
 }
 
 // The one problem of `points` for an h6: its key and message.
 MapProblem only_problem(const std::vector<Point>& points, std::string_view model = "h6") {
-  const auto problems = check_points(points, model);
+  const auto problems = check_points(points, registered_families(), model);
   std::string all;
   for (const auto& p : problems) all += p.key + ": " + p.message + "\n";
   INFO(all);
@@ -57,9 +57,9 @@ void expect(const std::vector<Point>& points, std::string_view key, std::string_
 }  // namespace
 
 TEST_CASE("the built-in maps pass every check, also against their model") {
-  for (std::string_view model : models_with_default_maps()) {
+  for (std::string_view model : models_with_default_maps(registered_families())) {
     CAPTURE(model);
-    CHECK(default_map(model).validate(model).empty());
+    CHECK(default_map(registered_families(), model).validate(registered_families(), model).empty());
   }
 }
 
@@ -145,8 +145,8 @@ TEST_CASE("sources and settings the model does not have are errors") {
   CHECK(problems_of({point("y", RegisterTable::input, 0, PointType::float32, ValueSource::angle_y)},
                     "h4360")
             .empty());
-  CHECK(model_offers("h4360", ValueSource::angle_y));
-  CHECK_FALSE(model_accepts("no-such-model", WriteTarget::filter));
+  CHECK(model_offers(registered_families(), "h4360", ValueSource::angle_y));
+  CHECK_FALSE(model_accepts(registered_families(), "no-such-model", WriteTarget::filter));
 }
 
 TEST_CASE("bool points need one bit, strings need text, bits need integers") {
@@ -204,11 +204,11 @@ TEST_CASE("a map extending a profile keeps its points, replaces by name and remo
   Point moved =
       point("angle_x", RegisterTable::input, 100, PointType::float32, ValueSource::angle_x);
   definition.points = {moved};
-  const RegisterMap map = build_map(definition, "h6");
+  const RegisterMap map = build_map(registered_families(), definition, "h6");
   REQUIRE(map.find("angle_x") != nullptr);
   CHECK(map.find("angle_x")->address == 100);
   CHECK(map.find("angle_y_cdeg") == nullptr);
   CHECK(map.find("status") != nullptr);
-  CHECK(map.validate("h6").empty());
-  CHECK(build_map(std::nullopt, "h6").points().size() == default_map("h6").points().size());
+  CHECK(map.validate(registered_families(), "h6").empty());
+  CHECK(build_map(registered_families(), std::nullopt, "h6").points().size() == default_map(registered_families(), "h6").points().size());
 }

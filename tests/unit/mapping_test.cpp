@@ -33,10 +33,10 @@ SensorState online_sensor(SteadyClock::time_point now) {
 }  // namespace
 
 TEST_CASE("built-in Rieker maps are consistent") {
-  CHECK(default_map("h6").validate().empty());
-  CHECK(default_map("h4360").validate().empty());
-  CHECK_FALSE(default_map("h4360").find("zero_y")->write.has_value());  // not available
-  CHECK(default_map("nonsense").points().empty());
+  CHECK(default_map(registered_families(), "h6").validate().empty());
+  CHECK(default_map(registered_families(), "h4360").validate().empty());
+  CHECK_FALSE(default_map(registered_families(), "h4360").find("zero_y")->write.has_value());  // not available
+  CHECK(default_map(registered_families(), "nonsense").points().empty());
 }
 
 TEST_CASE("float32 words follow the configured word order") {
@@ -66,7 +66,7 @@ TEST_CASE("strings are two characters per register, first in the high byte") {
 }
 
 TEST_CASE("a read returns angles, status and identity of one sample") {
-  const auto map = default_map("h6");
+  const auto map = default_map(registered_families(), "h6");
   const auto now = SteadyClock::now();
   const auto state = online_sensor(now);
   SensorView view{state, now, 1000ms, {}, WordOrder::big};
@@ -89,7 +89,7 @@ TEST_CASE("a read returns angles, status and identity of one sample") {
 }
 
 TEST_CASE("a read that splits a 32-bit value or leaves the map is an illegal address") {
-  const auto map = default_map("h6");
+  const auto map = default_map(registered_families(), "h6");
   const auto now = SteadyClock::now();
   const auto state = online_sensor(now);
   SensorView view{state, now, 1000ms, {}, WordOrder::big};
@@ -100,7 +100,7 @@ TEST_CASE("a read that splits a 32-bit value or leaves the map is an illegal add
 }
 
 TEST_CASE("measurements of a stale or offline sensor are unavailable but status stays readable") {
-  const auto map = default_map("h6");
+  const auto map = default_map(registered_families(), "h6");
   const auto now = SteadyClock::now();
   auto state = online_sensor(now);
   state.last_answer = now + 4900ms;  // it answers (a refusal to each poll), its reading ages
@@ -119,7 +119,7 @@ TEST_CASE("measurements of a stale or offline sensor are unavailable but status 
 }
 
 TEST_CASE("writes must cover whole writable points with values in range") {
-  const auto map = default_map("h6");
+  const auto map = default_map(registered_families(), "h6");
   std::uint16_t zero[2];
   put_float32(zero, 1.5f, WordOrder::big);
   auto plan = plan_register_write(map, WordOrder::big, 1, zero);
@@ -132,12 +132,12 @@ TEST_CASE("writes must cover whole writable points with values in range") {
   CHECK(plan_register_write(map, WordOrder::big, 0, filter_bad).error() == MapFault::illegal_value);
   const std::uint16_t nothing[] = {1};
   CHECK(plan_register_write(map, WordOrder::big, 8, nothing).error() == MapFault::illegal_address);
-  CHECK(plan_register_write(default_map("h4360"), WordOrder::big, 3, zero).error() ==
+  CHECK(plan_register_write(default_map(registered_families(), "h4360"), WordOrder::big, 3, zero).error() ==
         MapFault::illegal_address);
 }
 
 TEST_CASE("the CSV export has the documented header and one row per point") {
-  const auto map = default_map("h6");
+  const auto map = default_map(registered_families(), "h6");
   const std::string csv = export_csv({{1, "boom", "h6", &map}});
   CHECK(csv.rfind("unit_id,name,table,address,words,type,access,units,description,scale,offset,"
                   "word_order,port\n",

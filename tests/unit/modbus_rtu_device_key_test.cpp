@@ -48,7 +48,7 @@ TEST_CASE("a modbus-rtu sensor's device profile is found next to the configurati
   write_file(dir.path("tilt.toml"), kProfile);
   const std::string config = dir.path("gateway.toml");
   write_file(config, rtu_config("device = \"tilt.toml\"\n"));
-  auto loaded = load_config_file(config);
+  auto loaded = load_config_file(config, registered_families());
   REQUIRE_MESSAGE(loaded.has_value(),
                   (loaded ? std::string() : loaded.error().front().to_string()));
   CHECK(loaded->sensors.at(0).family_options.text("device") == dir.path("tilt.toml"));
@@ -61,7 +61,7 @@ TEST_CASE("a device profile's errors are reported at their own file and line") {
                                      "address = 40\ntype = \"float32\"\n");
   const std::string config = dir.path("gateway.toml");
   write_file(config, rtu_config("device = \"tilt.toml\"\nbogus = 1\n"));
-  auto loaded = load_config_file(config);
+  auto loaded = load_config_file(config, registered_families());
   REQUIRE_FALSE(loaded.has_value());
   REQUIRE(loaded.error().size() == 2);
   CHECK(loaded.error()[0].file == config);  // the configuration's own error, with it
@@ -71,12 +71,12 @@ TEST_CASE("a device profile's errors are reported at their own file and line") {
 }
 
 TEST_CASE("device is required on modbus-rtu sensors and refused on others") {
-  auto missing = load_config_string(rtu_config(""), "rtu.toml");
+  auto missing = load_config_string(rtu_config(""), "rtu.toml", registered_families());
   REQUIRE_FALSE(missing.has_value());
   CHECK(missing.error().front().to_string() ==
         "rtu.toml:6:1: sensor[0].device: required key is missing on modbus-rtu sensors");
   auto unreadable = load_config_string(rtu_config("device = \"/nonexistent/tilt.toml\"\n"),
-                                       "rtu.toml");
+                                       "rtu.toml", registered_families());
   REQUIRE_FALSE(unreadable.has_value());
   CHECK(unreadable.error().front().file == "/nonexistent/tilt.toml");
 }

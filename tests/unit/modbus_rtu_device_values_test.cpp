@@ -43,7 +43,7 @@ struct Plant {
     const std::string keys = model == "modbus-rtu"
                                  ? "device = \"device.toml\"\nmap = \"map.toml\"\n"
                                  : "map = \"map.toml\"\n";
-    return load_config_file(dir.write("plant.toml", config(model, keys)));
+    return load_config_file(dir.write("plant.toml", config(model, keys)), registered_families());
   }
 };
 
@@ -61,7 +61,7 @@ TEST_CASE("a map shows and writes a device profile's values by their names") {
       "modbus-rtu", point("temperature", "input", 0, "source = \"temperature\"\nscale = 10\n") +
                         point("filter", "holding", 0, "write = \"filter_level\"\nmin = 1\nmax = 8\n"));
   REQUIRE_MESSAGE(loaded.has_value(), joined(loaded.error()));
-  const RegisterMap map = map_for(loaded->sensors[0]);
+  const RegisterMap map = map_for(registered_families(), loaded->sensors[0]);
   const Point* temperature = map.find("temperature");
   REQUIRE(temperature != nullptr);
   CHECK(temperature->source == ValueSource::device_value);
@@ -139,7 +139,7 @@ TEST_CASE("a device profile value may not take a built-in source's or setting's 
   profile += "\n[[value]]\nname = \"zero_x\"\ntable = \"input\"\naddress = 5\ntype = \"int16\"\n";
   const std::string device = dir.write("device.toml", profile);
   const auto loaded =
-      load_config_file(dir.write("plant.toml", config("modbus-rtu", "device = \"device.toml\"\n")));
+      load_config_file(dir.write("plant.toml", config("modbus-rtu", "device = \"device.toml\"\n")), registered_families());
   REQUIRE_FALSE(loaded.has_value());
   INFO(joined(loaded.error()));
   REQUIRE(loaded.error().size() == 2);

@@ -41,7 +41,7 @@ BusConfig load_bus(std::string_view bus_keys) {
 TEST_CASE("a Modbus RTU bus defaults to 19200 baud 8E1 with the spec's fixed t3.5 above 19200") {
   const BusConfig bus = load_bus("");
   CHECK(bus.baud == 19200);
-  CHECK(serial_options_from(bus, kList).framing == Framing::eight_even_one);
+  CHECK(serial_options_from(kList, bus).framing == Framing::eight_even_one);
   CHECK(bus.gap == 2006us);  // 3.5 x 11 bits at 19200 baud, rounded up
   CHECK(load_bus("baud = 38400\n").gap == 1750us);
   CHECK(load_bus("baud = 230400\n").gap == 1750us);
@@ -52,7 +52,7 @@ TEST_CASE("a Modbus RTU bus's gap follows its framing's character length unless 
   CHECK(load_bus("baud = 9600\nparity = \"none\"\n").gap == 4011us);      // 8N2: 11 bits too
   CHECK(load_bus("baud = 9600\nparity = \"none\"\nstop_bits = 1\n").gap == 3646us);  // 10 bits
   CHECK(load_bus("baud = 9600\ngap_us = 5000\n").gap == 5000us);
-  CHECK(serial_options_from(load_bus("parity = \"odd\"\n"), kList).framing ==
+  CHECK(serial_options_from(kList, load_bus("parity = \"odd\"\n")).framing ==
         Framing::eight_odd_one);
 }
 

@@ -167,7 +167,7 @@ TEST_CASE("--config-out's configuration loads, one sensor per sensor found at th
                                        found_at(77, 9600, "h6")};
   const std::string text = scan_config_text(scanned_bus(), found, {});
   INFO(text);
-  auto config = load_config_string(text, "scan");
+  auto config = load_config_string(text, "scan", registered_families());
   REQUIRE(config.has_value());
   REQUIRE(config->buses.size() == 1);
   CHECK(config->buses[0].baud == 125000);

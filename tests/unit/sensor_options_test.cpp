@@ -26,7 +26,7 @@ std::string sensor_with(std::string_view rest, std::string_view model = "h6") {
 }
 
 SensorConfig loads(const std::string& text) {
-  auto loaded = load_config_string(text, "test.toml");
+  auto loaded = load_config_string(text, "test.toml", registered_families());
   INFO((loaded ? std::string() : joined(loaded.error())));
   REQUIRE(loaded.has_value());
   return loaded->sensors.at(0);
@@ -34,7 +34,7 @@ SensorConfig loads(const std::string& text) {
 
 void expect_error(const std::string& text, int line, std::string_view key,
                   std::string_view message) {
-  auto loaded = load_config_string(text, "test.toml");
+  auto loaded = load_config_string(text, "test.toml", registered_families());
   REQUIRE_FALSE(loaded.has_value());
   INFO(joined(loaded.error()));
   REQUIRE(loaded.error().size() == 1);

@@ -18,7 +18,7 @@ inline std::string joined(const ConfigErrors& errors) {
 }
 
 inline ConfigErrors errors_of(std::string_view text) {
-  auto loaded = load_config_string(text, "test.toml");
+  auto loaded = load_config_string(text, "test.toml", registered_families());
   REQUIRE_FALSE(loaded.has_value());
   return loaded.error();
 }
@@ -32,7 +32,7 @@ inline ConfigError only_error(std::string_view text) {
 }
 
 inline Config loads(std::string_view text) {
-  auto loaded = load_config_string(text, "test.toml");
+  auto loaded = load_config_string(text, "test.toml", registered_families());
   INFO((loaded ? std::string() : joined(loaded.error())));
   REQUIRE(loaded.has_value());
   return *loaded;

@@ -127,7 +127,7 @@ inline std::unique_ptr<GatewaySensor> fake_sensor(std::string name, std::uint8_t
   sensor->config.unit_id = unit_id;
   sensor->config.poll = poll;
   sensor->driver = std::make_unique<FakeDriver>(std::move(name), address, events);
-  sensor->map = default_map("h6");
+  sensor->map = default_map(registered_families(), "h6");
   sensor->written.assign(sensor->map.holding_end(), 0);
   return sensor;
 }
