@@ -12,7 +12,7 @@ using tiltgate::fuzz::check;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::string_view text(reinterpret_cast<const char*>(data), size);
-  auto loaded = tiltgate::load_config_string(text, "fuzz.toml");
+  auto loaded = tiltgate::load_config_string(text, "fuzz.toml", tiltgate::registered_families());
   if (!loaded) {
     check(!loaded.error().empty());
     for (const auto& error : loaded.error()) check(!error.to_string().empty());
