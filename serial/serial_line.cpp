@@ -1,18 +1,16 @@
 // SerialLine's exchanges: a request written, its reply framed, time-outs and retries, and the
 // quiet guard that keeps a late reply from answering the next request. Opening and reopening
-// the port is serial_line_port.cpp's.
+// the port is TtyPort's (serial/tty_port.cpp).
 #include "serial/serial_line.h"
 
-#include <fcntl.h>
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/asio/write.hpp>
-#include <cerrno>
+#include <utility>
 
 #include "serial/frame_trace.h"
 
@@ -30,6 +28,33 @@ constexpr std::chrono::seconds kStalledWrite{1};
 // The wait for quiet after a time-out ends after this long (or 4 guard times) even if the line
 // keeps receiving: a babbling device must not hold the bus forever.
 constexpr std::chrono::milliseconds kLongestGuardWait{2000};
+
+// The parity of every byte but a 9-bit bus's address bytes, which switch to mark.
+Parity idle_parity(Framing framing) {
+  switch (framing) {
+    case Framing::eight_none_one: return Parity::none;
+    case Framing::eight_even_one: return Parity::even;
+    case Framing::eight_odd_one: return Parity::odd;
+    case Framing::eight_none_two: return Parity::none;
+    case Framing::nine_bit: return Parity::space;
+  }
+  return Parity::none;
+}
+
+// The port's share of the line's options.
+TtyPortOptions port_options_of(const SerialLineOptions& line) {
+  return {.name = line.name,
+          .path = line.port,
+          .baud = line.baud,
+          .parity = idle_parity(line.framing),
+          .stop_bits = stop_bits_of(line.framing),
+          .rs485_kernel = line.rs485_kernel,
+          .exclusive = line.exclusive,
+          .low_latency = line.low_latency,
+          .sysfs_root = line.sysfs_root,
+          .reopen_min = line.reopen_min,
+          .reopen_max = line.reopen_max};
+}
 
 // Rounded up, and never negative (a pty delivers a reply before the request's estimated wire
 // time has passed).
@@ -75,20 +100,22 @@ class PortDeadline {
 
 SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options)
     : options_(std::move(options)),
-      port_(executor),
-      quiet_timer_(executor),
-      reopen_timer_(executor) {
-  // A zero back-off would spin; a maximum below the minimum would make no sense.
-  options_.reopen_min = std::max(options_.reopen_min, std::chrono::milliseconds{1});
-  options_.reopen_max = std::max(options_.reopen_max, options_.reopen_min);
-  reopen_delay_ = options_.reopen_min;
-}
+      port_(executor, port_options_of(options_), [this] { ++stats_.reopens; }),
+      quiet_timer_(executor) {}
 
 SerialLine::~SerialLine() { stop(); }
 
+bool SerialLine::start() { return port_.open(); }
+
+void SerialLine::stop() {
+  port_.stop();
+  quiet_timer_.cancel();
+}
+
 SerialLine::Attempt SerialLine::port_failure(const std::string& why) {
-  if (stopped_) return Attempt::cancelled;  // stop() closed the port under the operation
-  lose_port(why);
+  if (port_.stopped()) return Attempt::cancelled;  // stop() closed the port under the operation
+  ++stats_.io_errors;
+  port_.lose(why);
   return Attempt::failed;
 }
 
@@ -101,7 +128,7 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
   tracing_ = spdlog::should_log(spdlog::level::trace);
   std::optional<Clock::time_point> timed_out_request_end;
   for (int attempts_left = retries + 1;; --attempts_left) {
-    if (stopped_) co_return Unexpected(LineError::cancelled);
+    if (port_.stopped()) co_return Unexpected(LineError::cancelled);
     if (!port_.is_open()) co_return Unexpected(LineError::closed);
     Attempt outcome = co_await attempt(request, timeout);
     if (outcome == Attempt::timed_out) {
@@ -181,7 +208,7 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
   if (request.framer) request.framer->reset();
   // Bytes that arrived since the last reply (a late answer, line noise) would be taken for
   // the start of this reply.
-  auto flushed = discard_input(port_.native_handle());
+  auto flushed = discard_input(port_.fd());
   if (!flushed) co_return port_failure(flushed.error().message());
   ++stats_.attempts;
   const std::optional<Attempt> send_failure = co_await send(request);
@@ -203,7 +230,7 @@ asio::awaitable<bool> SerialLine::keep_quiet() {
     error_code ec;
     co_await quiet_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
   }
-  co_return !stopped_;
+  co_return !port_.stopped();
 }
 
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::send(const LineRequest& request) {
@@ -211,7 +238,7 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::send(const LineR
   const std::size_t address_bytes =
       options_.framing == Framing::nine_bit ? std::min(request.address_bytes, bytes.size()) : 0;
   if (address_bytes > 0) {
-    const int fd = port_.native_handle();
+    const int fd = port_.fd();
     auto marked = apply_parity(fd, Parity::mark);
     if (!marked) co_return port_failure(marked.error().message());
     const std::optional<Attempt> address_failure =
@@ -226,7 +253,7 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::send(const LineR
     bytes = bytes.subspan(address_bytes);
     if (bytes.empty()) co_return std::nullopt;
   }
-  co_return co_await write_segment(bytes, idle_parity());
+  co_return co_await write_segment(bytes, idle_parity(options_.framing));
 }
 
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
@@ -238,8 +265,8 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   {
     // One write for the whole packet: some protocols need a packet's bytes within 125 us of
     // each other (docs/protocols.md, "Packet timing").
-    PortDeadline deadline(port_, Clock::now() + wire + kStalledWrite);
-    co_await asio::async_write(port_, asio::buffer(bytes.data(), bytes.size()),
+    PortDeadline deadline(port_.stream(), Clock::now() + wire + kStalledWrite);
+    co_await asio::async_write(port_.stream(), asio::buffer(bytes.data(), bytes.size()),
                                asio::redirect_error(asio::use_awaitable, ec));
     stalled = deadline.passed();
   }
@@ -247,7 +274,7 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   // The driver has the bytes; they are on the wire for `wire` more (its buffer was empty).
   packet_end_ = Clock::now() + wire;
   if (write_observer_) {
-    auto in_force = read_settings(port_.native_handle());
+    auto in_force = port_.settings_in_force();
     if (in_force) write_observer_(bytes, parity, *in_force);
   }
   co_return std::nullopt;
@@ -294,13 +321,13 @@ asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_bef
   std::size_t received = 0;
   bool passed = false;
   {
-    PortDeadline guard(port_, deadline);
-    received = co_await port_.async_read_some(asio::buffer(buffer.data(), buffer.size()),
-                                              asio::redirect_error(asio::use_awaitable, ec));
+    PortDeadline guard(port_.stream(), deadline);
+    received = co_await port_.stream().async_read_some(
+        asio::buffer(buffer.data(), buffer.size()), asio::redirect_error(asio::use_awaitable, ec));
     passed = guard.passed();
   }
   if (ec) {
-    if (!stopped_ && passed && ec == asio::error::operation_aborted) {
+    if (!port_.stopped() && passed && ec == asio::error::operation_aborted) {
       co_return Unexpected(Attempt::timed_out);
     }
     co_return Unexpected(port_failure(ec.message()));  // EIO, or end of file after a hang-up

@@ -3,9 +3,10 @@
 // between master packets, the reply timeout, retries). It knows no protocol: the request's
 // ReplyFramer says when a reply is complete.
 //
-// A port that fails (EIO from an unplugged adapter, a vanished device file) is closed and
-// reopened in the background with exponential back-off; meanwhile transact() returns
-// LineError::closed at once. Nothing here throws or ends the process.
+// The port is a TtyPort (serial/tty_port.h): opened with the bus's termios settings, kernel
+// RS485 and the low-latency flag, and, when it fails (EIO from an unplugged adapter, a vanished
+// device file), closed and reopened in the background with exponential back-off; meanwhile
+// transact() returns LineError::closed at once. Nothing here throws or ends the process.
 //
 // Timing: a packet ends when its write completes plus its wire time at the baud rate (10 bits
 // a byte, 11 with parity or two stop bits). The next packet starts no earlier than that end + the request's
@@ -30,24 +31,14 @@
 //
 // 9-bit framing: address bytes go out with mark parity, then tcdrain (which blocks the event
 // loop for the few byte-times the address takes), then space parity for the data bytes.
-//
-// Kernel RS485 (rs485_kernel): a port whose driver refuses TIOCSRS485 (USB adapters, ptys)
-// logs one warning and is used as it is.
-//
-// Low latency (low_latency, serial/low_latency.h): at every open the driver's ASYNC_LOW_LATENCY
-// flag is set, so a USB adapter hands received bytes over at once instead of after its latency
-// timer. The outcome is logged when it differs from the previous open's (an unplugged adapter
-// that comes back the same stays quiet); a port that cannot take the flag is used as it is.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
-#include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -57,6 +48,7 @@
 #include "driver/line.h"
 #include "serial/low_latency.h"
 #include "serial/termios_settings.h"
+#include "serial/tty_port.h"
 
 namespace tiltgate {
 
@@ -107,7 +99,7 @@ class SerialLine final : public Line {
 
   boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override;
 
-  std::uint64_t generation() const override { return generation_; }
+  std::uint64_t generation() const override { return port_.generation(); }
   bool is_open() const override { return port_.is_open(); }
   const std::string& name() const override { return options_.name; }
   const LineStats& stats() const override { return stats_; }
@@ -116,23 +108,18 @@ class SerialLine final : public Line {
   const SerialLineOptions& options() const { return options_; }
 
   // The settings in force on the open port (nullopt while closed).
-  std::optional<TtySettings> termios_in_force();
+  std::optional<TtySettings> termios_in_force() { return port_.settings_in_force(); }
   // What setting the low-latency flag gave at the latest open (nothing: not tried yet, or
   // low_latency is off).
-  const std::optional<LowLatencyResult>& low_latency() const { return low_latency_; }
+  const std::optional<LowLatencyResult>& low_latency() const { return port_.low_latency(); }
   void observe_writes(WriteObserver observer) { write_observer_ = std::move(observer); }
 
  private:
   enum class Attempt { replied, timed_out, failed, cancelled };
   using Clock = std::chrono::steady_clock;
 
-  Expected<Done, std::string> open_port();
-  void apply_low_latency(int fd);
-  void schedule_reopen();
-  void reopen_now();
-  void lose_port(const std::string& why);
+  // A read, write or termios call that failed: counted, and the port given up for reopening.
   Attempt port_failure(const std::string& why);
-  Parity idle_parity() const;
 
   boost::asio::awaitable<Attempt> attempt(const LineRequest& request,
                                           std::chrono::milliseconds timeout);
@@ -155,18 +142,11 @@ class SerialLine final : public Line {
 
   SerialLineOptions options_;
   std::chrono::milliseconds request_late_guard_{0};  // this transaction's (LineRequest::late_guard)
-  boost::asio::posix::stream_descriptor port_;
+  TtyPort port_;
   boost::asio::steady_timer quiet_timer_;
-  boost::asio::steady_timer reopen_timer_;
-  std::chrono::milliseconds reopen_delay_;
   Clock::time_point packet_end_{};   // when the last byte written leaves the UART
   Clock::time_point last_byte_at_{}; // when the last byte was received
   Clock::time_point quiet_until_{};  // earliest start of the next master packet
-  bool stopped_ = false;
-  bool warned_rs485_ = false;
-  std::optional<LowLatencyResult> low_latency_;
-  std::optional<LowLatencyResult> logged_low_latency_;  // the outcome last logged above debug
-  std::uint64_t generation_ = 0;
   std::uint64_t echo_mismatches_ = 0;
   LineStats stats_;
   LineTiming timing_;
@@ -175,8 +155,6 @@ class SerialLine final : public Line {
   // current attempt, kept only while tracing.
   bool tracing_ = false;
   std::vector<std::uint8_t> traced_received_;
-  // Lets timer handlers that outlive the line see that it is gone.
-  std::shared_ptr<int> alive_ = std::make_shared<int>(0);
 };
 
 }  // namespace tiltgate

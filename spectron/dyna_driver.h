@@ -101,8 +101,8 @@ class DynaDriver : public PolledSensorDriver {
   WriteResult check_location_value(std::int64_t location, double value) const;
   WriteResult check_window_value(std::optional<std::uint16_t> location, double value) const;
 
-  // EEPROM read-back (dyna_settings.cpp): every named setting and the window's location, with
-  // the identity; false when the module stopped answering.
+  // EEPROM read-back: every named setting and the window's location, with the identity; false
+  // when the module stopped answering.
   boost::asio::awaitable<bool> read_settings(Line& line);
   // Reads one location and publishes it in state_.settings (unknown if unreadable).
   boost::asio::awaitable<Expected<std::uint16_t, ExchangeError>> read_back(Line& line,

@@ -1,0 +1,106 @@
+// One bus's tty, open or being reopened: owns the descriptor the SerialLine moves its bytes
+// through. It knows no framing and no transaction, only how the port is opened and kept open.
+//
+// Opening: an advisory lock if asked, raw mode at the bus's baud, parity and stop bits
+// (serial/termios_settings.h), then what was received before we were listening is dropped. A
+// symlink (/dev/serial/by-id/...) is followed at every open, so an adapter that comes back as
+// another ttyUSB is found again.
+//
+// Reopening: a port that could not be opened, or that the line lost (EIO from an unplugged
+// adapter, a vanished device file), is retried in the background, the delay doubling from
+// reopen_min to reopen_max; every successful open counts one generation. Nothing here throws
+// or ends the process.
+//
+// Kernel RS485 (rs485_kernel): a port whose driver refuses TIOCSRS485 (USB adapters, ptys)
+// logs one warning and is used as it is.
+//
+// Low latency (low_latency, serial/low_latency.h): at every open the driver's ASYNC_LOW_LATENCY
+// flag is set, so a USB adapter hands received bytes over at once instead of after its latency
+// timer. The outcome is logged when it differs from the previous open's (an unplugged adapter
+// that comes back the same stays quiet); a port that cannot take the flag is used as it is.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "driver/expected.h"
+#include "serial/low_latency.h"
+#include "serial/termios_settings.h"
+
+namespace tiltgate {
+
+// How a bus's tty is opened and reopened: the port side of SerialLineOptions
+// (serial/serial_line.h).
+struct TtyPortOptions {
+  std::string name;  // the bus's, for log lines
+  std::string path;  // e.g. /dev/ttyUSB0
+  std::uint32_t baud = 125000;
+  Parity parity = Parity::none;  // in force between packets
+  int stop_bits = 1;
+  bool rs485_kernel = false;
+  bool exclusive = false;  // flock the tty while it is open
+  bool low_latency = true;
+  std::string sysfs_root = "/sys";  // where a USB adapter's latency_timer is read for the log
+  std::chrono::milliseconds reopen_min{500};
+  std::chrono::milliseconds reopen_max{10000};
+};
+
+class TtyPort {
+ public:
+  // `on_reopened` is called after each successful open but the first (the line counts them).
+  TtyPort(boost::asio::any_io_executor executor, TtyPortOptions options,
+          std::function<void()> on_reopened);
+  TtyPort(const TtyPort&) = delete;
+  TtyPort& operator=(const TtyPort&) = delete;
+
+  // Opens the port; one that cannot be opened yet is logged and retried with back-off. Returns
+  // whether the port is open now.
+  bool open();
+  // Closes the port for good: a pending read or write completes with operation_aborted, and
+  // nothing reopens it.
+  void stop();
+  // Closes a port that failed under the line and reopens it with back-off; `why` is logged.
+  void lose(const std::string& why);
+
+  bool is_open() const { return stream_.is_open(); }
+  bool stopped() const { return stopped_; }
+  // Successful opens so far.
+  std::uint64_t generation() const { return generation_; }
+  // For the reads and writes; closed (and every operation on it failing) while the port is.
+  boost::asio::posix::stream_descriptor& stream() { return stream_; }
+  // For the termios calls between writes; -1 while closed.
+  int fd() { return stream_.native_handle(); }
+  // The settings in force on the open port (nullopt while closed).
+  std::optional<TtySettings> settings_in_force();
+  // What setting the low-latency flag gave at the latest open (nothing: not tried yet, or
+  // low_latency is off).
+  const std::optional<LowLatencyResult>& low_latency() const { return low_latency_; }
+
+ private:
+  Expected<Done, std::string> open_now();
+  void apply_low_latency(int fd);
+  void schedule_reopen();
+  void reopen_now();
+
+  TtyPortOptions options_;
+  std::function<void()> on_reopened_;
+  boost::asio::posix::stream_descriptor stream_;
+  boost::asio::steady_timer reopen_timer_;
+  std::chrono::milliseconds reopen_delay_;
+  bool stopped_ = false;
+  bool warned_rs485_ = false;
+  std::optional<LowLatencyResult> low_latency_;
+  std::optional<LowLatencyResult> logged_low_latency_;  // the outcome last logged above debug
+  std::uint64_t generation_ = 0;
+  // Lets timer handlers that outlive the port see that it is gone.
+  std::shared_ptr<int> alive_ = std::make_shared<int>(0);
+};
+
+}  // namespace tiltgate
