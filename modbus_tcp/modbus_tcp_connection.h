@@ -1,20 +1,45 @@
-// The Modbus TCP server's view of one client connection, shared by its two halves:
-// modbus_tcp_listeners.cpp (accepting, admitting, replacing) and modbus_tcp_server.cpp (serving
-// requests and enforcing deadlines). Private to those two files.
+// One Modbus TCP client connection, from its admission to its close: it reads the client's
+// bytes, frames them, checks each request (write_allow, pass-through, the parser), asks the
+// handler and sends the reply, each step under a deadline (idle_timeout, request_timeout) that
+// a watchdog coroutine enforces. ModbusTcpServer accepts it and keeps the set of them.
 #pragma once
 
-#include <boost/asio/dispatch.hpp>
+#include <boost/asio/awaitable.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <spdlog/common.h>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "modbus_tcp/client_problem_log.h"
+#include "modbus_tcp/modbus_request_counts.h"
+#include "modbus_tcp/modbus_server_options.h"
+#include "modbus_tcp/modbus_server_stats.h"
 #include "modbus_tcp/modbus_stream.h"
-#include "modbus_tcp/modbus_tcp_server.h"
+#include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
+
+class ModbusTcpConnection;
+
+// What a connection needs of the server that accepted it, and all it sees of it. Every part
+// may be used from any thread, and outlives the connections (ModbusTcpServer is destroyed only
+// after they ended).
+struct ModbusConnectionContext {
+  ModbusRequestHandler& handler;  // takes requests from every connection's thread at once
+  ModbusServerCounters& counters;
+  ModbusRequestCounts& request_counts;
+  const ModbusOptionsInForce& options;  // read through the connection's own Reader
+  ClientProblemLog& problem_log;
+  // Called once, on the connection's thread, when it is closed and its serving ends.
+  std::function<void(const std::shared_ptr<ModbusTcpConnection>&)> finished;
+};
 
 // What a connection's deadline currently guards.
 enum class ModbusWait {
@@ -26,54 +51,57 @@ enum class ModbusWait {
 
 // Its stream, timer and buffers belong to the thread serving it (the stream's executor); the
 // accepting thread reads only the atomics (admission) and asks it to close().
-struct ModbusTcpServer::Connection : std::enable_shared_from_this<Connection> {
+class ModbusTcpConnection : public std::enable_shared_from_this<ModbusTcpConnection> {
+ public:
   using Clock = std::chrono::steady_clock;
 
-  Connection(ModbusStream s, std::string peer_name, std::string peer_address)
-      : stream(std::move(s)),
-        timer(stream.socket().get_executor()),
-        peer(std::move(peer_name)),
-        address(std::move(peer_address)) {}
+  ModbusTcpConnection(ModbusStream stream, std::string peer, std::string address,
+                      const ModbusConnectionContext& context);
+  ModbusTcpConnection(const ModbusTcpConnection&) = delete;
+  ModbusTcpConnection& operator=(const ModbusTcpConnection&) = delete;
 
-  // Serving thread. Sets what the watchdog enforces next. A deadline before the watchdog's
-  // timer wakes it; one after does not need to (it re-reads the deadline when its timer
-  // fires). Compared with the timer, not the last deadline: each request moves the deadline
-  // from "none while the handler works" back to the reply's, and waking the watchdog for that
-  // every time costs a handler run and a timer re-arm per request.
-  void expect(ModbusWait what, Clock::time_point when) {
-    if (what == ModbusWait::idle && waiting_for != ModbusWait::idle)
-      idle_since = Clock::now().time_since_epoch().count();
-    waiting_for = what;
-    if (when < timer.expiry()) timer.cancel();
-    deadline = when;
-  }
-
+  // Serves it, and watches its deadline, on its stream's thread until it closes; then it tells
+  // context.finished.
+  void start();
   // Any thread: marks it closed at once (admission no longer counts it) and closes its stream
   // on its own thread.
-  void close() {
-    closed = true;
-    boost::asio::dispatch(timer.get_executor(), [self = shared_from_this()] {
-      self->stream.close();
-      self->timer.cancel();
-    });
-  }
+  void close();
 
-  bool is_idle() const { return waiting_for == ModbusWait::idle; }
-  Clock::time_point idle_since_time() const { return Clock::time_point(Clock::duration(idle_since)); }
+  // Any thread.
+  bool is_closed() const { return closed_; }
+  bool is_idle() const { return waiting_for_ == ModbusWait::idle; }
+  Clock::time_point idle_since() const { return Clock::time_point(Clock::duration(idle_since_)); }
+  const std::string& peer() const { return peer_; }
+  const std::string& address() const { return address_; }  // peer without the port
 
-  ModbusStream stream;
-  boost::asio::steady_timer timer;
-  std::vector<std::uint8_t> reply;  // formatted here, so a reply allocates nothing
-  const std::string peer;
-  const std::string address;  // peer without the port
-  std::atomic<ModbusWait> waiting_for = ModbusWait::idle;
+ private:
+  // The TLS handshake, if it is TLS: false when the connection is to close.
+  boost::asio::awaitable<bool> handshake();
+  boost::asio::awaitable<void> serve();
+  // One framed request, answered: false when the connection is to close.
+  boost::asio::awaitable<bool> answer(std::span<const std::uint8_t> adu);
+  boost::asio::awaitable<bool> send(const std::vector<std::uint8_t>& reply);
+  // Closes the connection when its deadline passes.
+  boost::asio::awaitable<void> watch();
+  // Sets what the watchdog enforces next.
+  void expect(ModbusWait what, Clock::time_point when);
+  // Counts and logs why the deadline closes it.
+  void expire();
+  void finish();
+  void log_closing(spdlog::level::level_enum level, std::string_view why);
+
+  const ModbusConnectionContext& context_;
+  ModbusStream stream_;
+  boost::asio::steady_timer timer_;  // the watchdog's
+  std::vector<std::uint8_t> reply_;  // formatted here, so a reply allocates nothing
+  const std::string peer_;
+  const std::string address_;
+  std::atomic<ModbusWait> waiting_for_ = ModbusWait::idle;
   // When it last became idle (or connected), as Clock ticks.
-  std::atomic<Clock::rep> idle_since = Clock::now().time_since_epoch().count();
-  Clock::time_point deadline = Clock::time_point::max();  // serving thread
-  // The server's options as of generation options_seen (ModbusTcpServer::options_for()).
-  std::shared_ptr<const ModbusServerOptions> options;
-  std::uint64_t options_seen = 0;
-  std::atomic<bool> closed = false;
+  std::atomic<Clock::rep> idle_since_ = Clock::now().time_since_epoch().count();
+  Clock::time_point deadline_ = Clock::time_point::max();  // serving thread
+  ModbusOptionsInForce::Reader options_;                   // serving thread
+  std::atomic<bool> closed_ = false;
 };
 
 }  // namespace tiltgate

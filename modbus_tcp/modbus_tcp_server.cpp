@@ -1,5 +1,3 @@
-// The serving half of the Modbus TCP server: each connection's requests, replies and deadlines.
-// Accepting is in modbus_tcp_listeners.cpp.
 #include "modbus_tcp/modbus_tcp_server.h"
 
 #include <boost/asio/co_spawn.hpp>
@@ -7,14 +5,13 @@
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/use_awaitable.hpp>
-#include <boost/asio/write.hpp>
-#include <exception>
+#include <algorithm>
 #include <spdlog/spdlog.h>
-#include <variant>
+#include <tuple>
+#include <vector>
 
-#include "modbus_tcp/modbus_reply_format.h"
-#include "modbus_tcp/modbus_request.h"
-#include "modbus_tcp/modbus_tcp_connection.h"
+#include "modbus_tcp/connection_admission.h"
+#include "modbus_tcp/tcp_listen.h"
 #include "modbus_tcp/tcp_worker_pool.h"
 
 namespace tiltgate {
@@ -23,217 +20,286 @@ namespace asio = boost::asio;
 using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
+namespace {
+
+constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
+
+std::string peer_of(const tcp::socket& socket) {
+  boost::system::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  if (ec) return "(unknown peer)";
+  const asio::ip::address address = canonical_ip(peer.address());
+  if (address.is_v6()) return fmt::format("[{}]:{}", address.to_string(), peer.port());
+  return fmt::format("{}:{}", address.to_string(), peer.port());
+}
+
+// The client's address without its port: what a flood of connections has in common, and what
+// max_clients_per_host counts.
+std::string address_of(const tcp::socket& socket) {
+  boost::system::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  return ec ? "(unknown peer)" : canonical_ip(peer.address()).to_string();
+}
+
+}  // namespace
+
 ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHandler& handler,
                                  ModbusServerOptions options, TcpWorkerPool* workers)
     : executor_(executor),
-      handler_(handler),
       workers_(workers),
-      options_(std::make_shared<const ModbusServerOptions>(std::move(options))),
+      options_(std::move(options)),
       acceptor_(executor),
       tls_acceptor_(executor),
-      problem_log_(options_->problem_log),
-      summary_timer_(executor) {}
+      problem_log_(executor, options_),
+      connection_context_{
+          .handler = handler,
+          .counters = stats_,
+          .request_counts = request_counts_,
+          .options = options_,
+          .problem_log = problem_log_,
+          .finished = [this](const std::shared_ptr<ModbusTcpConnection>& connection) {
+            forget(connection);
+          },
+      } {}
 
 ModbusTcpServer::~ModbusTcpServer() = default;
 
 std::shared_ptr<const ModbusServerOptions> ModbusTcpServer::options() const {
-  std::lock_guard lock(options_mutex_);
-  return options_;
+  return options_.current();
 }
 
-const ModbusServerOptions& ModbusTcpServer::options_for(Connection& c) const {
-  const std::uint64_t generation = options_generation_.load(std::memory_order_acquire);
-  if (c.options_seen != generation) {
-    c.options = options();
-    c.options_seen = generation;
+Expected<Done, std::string> ModbusTcpServer::start() {
+  if (running_) return Unexpected(std::string("Modbus server already started"));
+  const auto current = options();
+  if (!current->plain_tcp && !current->tls)
+    return Unexpected(std::string("neither plain TCP nor TLS: nothing to serve"));
+  if (current->max_clients < 1) return Unexpected(std::string("max_clients must be at least 1"));
+  if (current->max_clients_per_host < 1)
+    return Unexpected(std::string("max_clients_per_host must be at least 1"));
+
+  if (current->tls) {
+    auto context = make_tls_context(*current->tls);
+    if (!context) return Unexpected(context.error());
+    tls_context_ = std::move(*context);
   }
-  return *c.options;
+  if (current->plain_tcp) {
+    if (auto listening = listen_on(acceptor_, current->listen, current->port, "Modbus TCP");
+        !listening)
+      return listening;
+  }
+  if (current->tls) {
+    if (auto listening =
+            listen_on(tls_acceptor_, current->listen, current->tls->port, "Modbus/TCP Security");
+        !listening) {
+      boost::system::error_code ec;
+      acceptor_.close(ec);
+      return listening;
+    }
+    spdlog::info("Modbus/TCP Security (TLS, client certificates signed by {}) on {}:{}",
+                 current->tls->ca_file, current->listen, tls_port());
+  }
+
+  running_ = true;
+  if (current->plain_tcp)
+    asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_),
+                   asio::detached);
+  if (current->tls)
+    asio::co_spawn(executor_, accept_clients(tls_acceptor_, true, 0), asio::detached);
+  problem_log_.start();
+  return Done{};
 }
 
-asio::awaitable<void> ModbusTcpServer::serve(std::shared_ptr<Connection> connection) {
-  Connection& c = *connection;
-  if (c.stream.is_tls()) {
-    // The client proves itself here; a handshake is as long as a request may take.
-    c.expect(ModbusWait::request, Clock::now() + options_for(c).request_timeout);
+std::uint16_t ModbusTcpServer::local_port() const {
+  boost::system::error_code ec;
+  const tcp::endpoint local = acceptor_.local_endpoint(ec);
+  return ec ? 0 : local.port();
+}
+
+std::uint16_t ModbusTcpServer::tls_port() const {
+  boost::system::error_code ec;
+  const tcp::endpoint local = tls_acceptor_.local_endpoint(ec);
+  return ec ? 0 : local.port();
+}
+
+void ModbusTcpServer::stop() {
+  running_ = false;
+  boost::system::error_code ec;
+  acceptor_.close(ec);
+  tls_acceptor_.close(ec);
+  problem_log_.stop();
+  // Each connection's coroutine removes it from the set when it sees the closed socket.
+  std::lock_guard lock(connections_mutex_);
+  for (const auto& connection : connections_) connection->close();
+}
+
+void ModbusTcpServer::apply(ModbusServerOptions options) {
+  const auto current = this->options();
+  // The TLS listener and its context are made once, at start().
+  const auto tls_key = [](const ModbusServerOptions& o) {
+    return o.tls ? std::make_tuple(o.tls->cert_pem, o.tls->key_pem, o.tls->ca_pem, o.tls->port)
+                 : std::make_tuple(std::string(), std::string(), std::string(), std::uint16_t(0));
+  };
+  if (tls_key(options) != tls_key(*current) || options.plain_tcp != current->plain_tcp) {
+    spdlog::warn("[server] tls and plain_tcp apply at the next start; the listeners stay as "
+                 "they are");
+    options.tls = current->tls;
+    options.plain_tcp = current->plain_tcp;
+  }
+  if (acceptor_.is_open() && (options.listen != current->listen || options.port != current->port) &&
+      !rebind(options.listen, options.port)) {
+    options.listen = current->listen;
+    options.port = current->port;
+  }
+  options_.replace(std::move(options));
+}
+
+bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
+  const auto current = options();
+  const std::uint16_t old_port = local_port();
+  tcp::acceptor fresh(executor_);
+  auto listening = listen_on(fresh, listen, port, "Modbus TCP");
+  boost::system::error_code ec;
+  if (!listening && port == old_port) {
+    // The same port on another address (0.0.0.0 to 127.0.0.1) collides with our own listener:
+    // let it go first, and take it back if the new address cannot be had either.
+    acceptor_.close(ec);
+    listening = listen_on(fresh, listen, port, "Modbus TCP");
+    if (!listening) {
+      if (auto back = listen_on(acceptor_, current->listen, current->port, "Modbus TCP"); !back)
+        spdlog::critical("{}; {}: no Modbus TCP listener now", listening.error(), back.error());
+      else
+        spdlog::error("{}; still listening on {}:{}", listening.error(), current->listen, old_port);
+      asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_), asio::detached);
+      return false;
+    }
+  }
+  if (!listening) {
+    spdlog::error("{}; still listening on {}:{}", listening.error(), current->listen, old_port);
+    return false;
+  }
+  // The old accept loop sees its acceptor closed (operation_aborted) and ends.
+  acceptor_.close(ec);
+  acceptor_ = std::move(fresh);
+  asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_), asio::detached);
+  spdlog::info("Modbus TCP now listening on {}:{}; connected clients stay", listen, local_port());
+  return true;
+}
+
+std::size_t ModbusTcpServer::client_count() const {
+  std::lock_guard lock(connections_mutex_);
+  return std::size_t(
+      std::count_if(connections_.begin(), connections_.end(),
+                    [](const auto& connection) { return !connection->is_closed(); }));
+}
+
+ModbusServerStats ModbusTcpServer::stats() const { return stats_.snapshot(); }
+
+asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, bool tls,
+                                                      std::uint64_t generation) {
+  // A rebind (apply()) moves a new plain acceptor into acceptor_ and starts a newer loop.
+  while (acceptor.is_open() && (tls || generation == accept_generation_)) {
     boost::system::error_code ec;
-    co_await c.stream.handshake(ec);
-    if (ec && !c.closed) {
-      ++stats_.tls_refused;
-      log_closing(c, spdlog::level::warn, "TLS handshake failed: " + ec.message());
-    }
-    if (ec || c.closed) {
-      finish(connection);
-      co_return;
-    }
-  }
-  ModbusFrameAssembler frames;
-  Clock::time_point first_byte_at = Clock::now();
-  while (!c.closed) {
-    const auto next = frames.next();
-    if (const auto* error = std::get_if<FramingError>(&next)) {
-      log_closing(c, spdlog::level::warn, to_string(*error));
-      ++stats_.framing_errors;
-      break;
-    }
-    if (const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next)) {
-      if (!co_await answer(c, *adu)) break;
-      frames.pop();
-      // Pipelined bytes already buffered start their request clock now.
-      first_byte_at = Clock::now();
+    // The socket is made on the thread that will serve it.
+    const asio::any_io_executor serving = workers_ ? workers_->next() : executor_;
+    tcp::socket socket =
+        co_await acceptor.async_accept(serving, asio::redirect_error(asio::use_awaitable, ec));
+    if (ec == asio::error::operation_aborted || !acceptor.is_open()) co_return;
+    if (ec) {
+      spdlog::warn("Modbus TCP accept failed: {}", ec.message());
+      // Out of descriptors (EMFILE) fails again at once: pause instead of spinning.
+      asio::steady_timer pause(executor_, accept_retry_pause);
+      co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
-    const ModbusServerOptions& options = options_for(c);
-    if (frames.buffered() == 0) {
-      c.expect(ModbusWait::idle, Clock::now() + options.idle_timeout);
-    } else {
-      c.expect(ModbusWait::request, first_byte_at + options.request_timeout);
+    const auto options = this->options();
+    // Connections closed for an earlier one may still be winding down: they hold no place.
+    std::vector<std::shared_ptr<ModbusTcpConnection>> live;
+    std::vector<OpenConnection> open;
+    {
+      std::lock_guard lock(connections_mutex_);
+      for (const auto& connection : connections_) {
+        if (connection->is_closed()) continue;
+        live.push_back(connection);
+        open.push_back({connection->address(), connection->is_idle(), connection->idle_since()});
+      }
     }
-    boost::system::error_code ec;
-    const std::span<std::uint8_t> space = frames.space();
-    const std::size_t n = co_await c.stream.read_some(asio::buffer(space.data(), space.size()), ec);
-    if (ec) {
-      if (!c.closed) spdlog::debug("Modbus TCP client {}: {}", c.peer, ec.message());
-      break;
+    const std::string address = address_of(socket);
+    if (!options->allow.allows(address)) {
+      ++stats_.denied;
+      problem_log_.log_closing(peer_of(socket), address, spdlog::level::warn,
+                               "address not in [server] allow");
+      boost::system::error_code ignored;
+      socket.close(ignored);
+      continue;
     }
-    if (frames.buffered() == 0) first_byte_at = Clock::now();
-    frames.commit(n);
+    const Admission admission = admit_connection(
+        open, address,
+        {std::size_t(options->max_clients), std::size_t(options->max_clients_per_host)});
+    const std::string_view limit = admission.limit == AdmissionLimit::max_clients_per_host
+                                       ? "max_clients_per_host"
+                                       : "max_clients";
+    if (!admission.admitted) {
+      refuse(std::move(socket), limit);
+      continue;
+    }
+    if (admission.replaced) replace(*live[*admission.replaced], peer_of(socket) + " (" +
+                                                                  std::string(limit) + ")");
+    admit(std::move(socket), tls);
   }
-  finish(connection);
 }
 
-asio::awaitable<bool> ModbusTcpServer::answer(Connection& c, std::span<const std::uint8_t> adu) {
-  // As with [server] writes = false, passed-through units included: 01, nothing sent anywhere.
-  if (!reads_only(adu.subspan(mbap_header_size)) && !options_for(c).write_allow.allows(c.address)) {
-    ++stats_.writes_denied;
-    log_problem(c.peer, c.address, fmt::format("function {:02X} refused with 01: address not in [server] "
-                               "write_allow",
-                               adu[mbap_header_size]));
-    co_return co_await send(c, exception_reply(adu, ModbusException::illegal_function));
+void ModbusTcpServer::refuse(tcp::socket socket, std::string_view limit) {
+  ++stats_.refused;
+  if (!refusing_) {
+    spdlog::warn("Modbus TCP client {} refused: {} reached and no connection idle", peer_of(socket),
+                 limit);
+    refusing_ = true;
   }
-  // The assembler hands out whole ADUs with a valid MBAP header only, so a unit passed
-  // through gets any function, unchecked: the device judges it.
-  if (adu.size() > mbap_header_size && handler_.passes_through(adu[6])) {
-    ++stats_.forwarded;
-    c.expect(ModbusWait::handler, Clock::time_point::max());
-    const std::vector<std::uint8_t> reply = co_await forward({adu.begin(), adu.end()});
-    co_return co_await send(c, reply);
-  }
-  ParsedAdu parsed = parse_adu(adu);
-  if (auto* rejected = std::get_if<RejectedRequest>(&parsed)) {
-    ++stats_.rejected;
-    spdlog::debug("Modbus TCP client {}: function {:02X} answered with exception {:02X}", c.peer,
-                  adu[7], std::uint8_t(rejected->exception));
-    co_return co_await send(c, rejected->reply);
-  }
-  if (auto* request = std::get_if<ModbusRequest>(&parsed)) {
-    ++stats_.requests;
-    c.expect(ModbusWait::handler, Clock::time_point::max());
-    const ModbusResponse response = co_await ask_handler(*request);
-    encode(*request, response, c.reply);
-    co_return co_await send(c, c.reply);
-  }
-  co_return false;  // unreachable: the assembler only hands out framed ADUs
-}
-
-asio::awaitable<bool> ModbusTcpServer::send(Connection& c, const std::vector<std::uint8_t>& reply) {
-  if (c.closed) co_return false;  // stop() while the handler worked
-  request_counts_.note_reply(reply);
-  c.expect(ModbusWait::reply, Clock::now() + options_for(c).request_timeout);
   boost::system::error_code ec;
-  co_await c.stream.write(asio::buffer(reply), ec);
-  co_return !ec;
+  socket.close(ec);
 }
 
-asio::awaitable<std::vector<std::uint8_t>> ModbusTcpServer::forward(std::vector<std::uint8_t> adu) {
-  const std::uint8_t unit_id = adu[6];
-  ForwardedReply relayed = Unexpected{ModbusException::device_failure};
-  // As ask_handler(): a throwing handler costs one 04 reply, not the connection.
-  try {
-    relayed = co_await handler_.forward(unit_id, {adu.begin() + mbap_header_size, adu.end()});
-  } catch (const std::exception& e) {
-    spdlog::warn("Modbus pass-through to unit {} failed: {}", unit_id, e.what());
+// An idle connection gives way to a new one: a PLC reconnecting after a cable pull, its old
+// connection still half-open, or any client when idle ones fill the server.
+void ModbusTcpServer::replace(ModbusTcpConnection& replaced, const std::string& by) {
+  ++stats_.replaced;
+  const auto idle_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+      Clock::now() - replaced.idle_since());
+  problem_log_.log_closing(replaced.peer(), replaced.address(), spdlog::level::info,
+                           fmt::format("idle for {} ms, replaced by {}", idle_ms.count(), by));
+  replaced.close();
+}
+
+void ModbusTcpServer::admit(tcp::socket socket, bool tls) {
+  refusing_ = false;
+  ++stats_.accepted;
+  boost::system::error_code ec;
+  // Replies are small and the client waits for each one: do not hold them for Nagle.
+  socket.set_option(tcp::no_delay(true), ec);
+  std::string peer = peer_of(socket);
+  std::string address = address_of(socket);
+  ModbusStream stream = tls ? ModbusStream(std::move(socket), *tls_context_)
+                            : ModbusStream(std::move(socket));
+  auto connection = std::make_shared<ModbusTcpConnection>(std::move(stream), std::move(peer),
+                                                          std::move(address), connection_context_);
+  std::size_t count = 0;
+  {
+    std::lock_guard lock(connections_mutex_);
+    connections_.insert(connection);
+    count = connections_.size();
   }
-  if (!relayed) co_return exception_reply(adu, relayed.error());
-  co_return relayed_reply(adu, *relayed);
+  spdlog::debug("Modbus TCP client {} connected ({} connected)", connection->peer(), count);
+  connection->start();
 }
 
-asio::awaitable<ModbusResponse> ModbusTcpServer::ask_handler(const ModbusRequest& request) {
-  // A throwing handler is a bug, but it must cost one 04 reply, not the connection.
-  try {
-    co_return co_await handler_.handle(request);
-  } catch (const std::exception& e) {
-    spdlog::warn("Modbus handler failed on function {:02X}: {}", request.function, e.what());
-  }
-  ModbusResponse failed;
-  failed.exception = ModbusException::device_failure;
-  co_return failed;
-}
-
-void ModbusTcpServer::encode(const ModbusRequest& request, const ModbusResponse& response,
-                             std::vector<std::uint8_t>& reply) {
-  if (!response.exception && !response_fits(request, response)) {
-    const bool bit_table =
-        request.table == ModbusTable::coil || request.table == ModbusTable::discrete;
-    spdlog::warn("Modbus handler answered {} values to function {:02X} for {} at {}: replying 04",
-                 bit_table ? response.bits.size() : response.registers.size(), request.function,
-                 request.count, request.address);
-  }
-  format_reply(request, response, reply);
-}
-
-// Closes the connection when its deadline passes. Sleeps on the connection's timer, which
-// expect() cancels when it moves the deadline earlier.
-asio::awaitable<void> ModbusTcpServer::watch(std::shared_ptr<Connection> connection) {
-  Connection& c = *connection;
-  while (!c.closed) {
-    if (Clock::now() >= c.deadline) {
-      expire(c);
-      c.close();
-      co_return;
-    }
-    c.timer.expires_at(c.deadline);
-    boost::system::error_code ec;
-    co_await c.timer.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-  }
-}
-
-void ModbusTcpServer::expire(Connection& c) {
-  const ModbusServerOptions& options = options_for(c);
-  switch (c.waiting_for) {
-    case ModbusWait::idle:
-      ++stats_.idle_timeouts;
-      // Silence is no fault of the request: info, but throttled like the rest.
-      log_closing(c, spdlog::level::info,
-                  fmt::format("idle for {} ms", options.idle_timeout.count()));
-      break;
-    case ModbusWait::request:
-      ++stats_.request_timeouts;
-      log_closing(c, spdlog::level::warn,
-                  fmt::format("request incomplete after {} ms", options.request_timeout.count()));
-      break;
-    case ModbusWait::reply:
-      ++stats_.request_timeouts;
-      log_closing(c, spdlog::level::warn,
-                  fmt::format("reply not taken within {} ms", options.request_timeout.count()));
-      break;
-    case ModbusWait::handler: break;  // no deadline while the handler works
-  }
-}
-
-void ModbusTcpServer::finish(const std::shared_ptr<Connection>& connection) {
-  connection->close();
+void ModbusTcpServer::forget(const std::shared_ptr<ModbusTcpConnection>& connection) {
   std::size_t left = 0;
   {
     std::lock_guard lock(connections_mutex_);
     connections_.erase(connection);
     left = connections_.size();
   }
-  spdlog::debug("Modbus TCP client {} disconnected ({} connected)", connection->peer, left);
-}
-
-void ModbusTcpServer::log_closing(const Connection& c, spdlog::level::level_enum level,
-                                  std::string_view why) {
-  log_closing(c.peer, c.address, level, why);
+  spdlog::debug("Modbus TCP client {} disconnected ({} connected)", connection->peer(), left);
 }
 
 }  // namespace tiltgate
