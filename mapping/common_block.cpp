@@ -31,65 +31,81 @@ void add_angles(std::vector<Point>& points, const CommonBlockModel& m) {
                                   : "-32768 (single axis)"));
 }
 
-void add_status(std::vector<Point>& points) {
-  points.push_back(input_point("status", 6, T::uint16, S::status, "",
-                               "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity "
-                               "unknown, bit 4 an alarm is active, bit 5 answers late"));
-  points.push_back(input_point("age_ms", 7, T::uint16, S::age_ms, "ms",
-                               "time since the last good reading, saturating at 65535"));
-  points.push_back(
-      input_point("polls_ok", 8, T::uint32, S::polls_ok, "", "measurement polls answered"));
-  points.push_back(input_point("polls_failed", 10, T::uint32, S::polls_failed, "",
-                               "measurement polls not answered"));
-  points.push_back(input_point("last_nak", 12, T::uint16, S::last_nak, "",
-                               "last NAK code from the sensor, 65535 if none (or no NAKs)"));
-  points.push_back(input_point("lock_level", 13, T::uint16, S::lock_level, "",
-                               "sensor lock level, 65535 if unknown (or no locks)"));
-  points.push_back(input_point("rs485_address", 14, T::uint16, S::bus_address, "",
-                               "the sensor's address on its bus"));
-  points.push_back(input_point("sample_seq", 15, T::uint16, S::sample_seq, "",
-                               "increments with every new reading"));
-}
+// The input registers 6..37 of every model, after the angles: one row each.
+struct InputRow {
+  const char* name;
+  std::uint16_t address;
+  PointType type;
+  ValueSource source;
+  const char* units;
+  const char* description;
+  std::uint16_t chars = 0;  // string points: characters
+};
 
-// Registers 16..37: identity, tilt, alarms, the line's counters and the model.
-void add_identity_and_counters(std::vector<Point>& points) {
-  points.push_back(input_point("serial", 16, T::string, S::serial, "",
-                               "serial number, 2 characters per register, first in the high byte",
-                               10));
-  // 8 characters: the firmware texts of the sensors served have 7 or fewer, or are free text;
-  // function 43 reports it in full.
-  points.push_back(input_point("firmware", 21, T::string, S::firmware, "",
-                               "firmware revision, first 8 characters, space padded", 8));
-  points.push_back(input_point("tilt", 25, T::float32, S::tilt, "deg",
-                               "tilt from vertical, tan^2 = tan^2 x + tan^2 y; |x| on one axis"));
-  points.push_back(input_point("alarms", 27, T::uint16, S::alarms, "",
-                               "bit 0 x high, 1 x low, 2 y high, 3 y low, 4 tilt high, 5 rate; "
-                               "0 without [sensor] alarms"));
-  points.push_back(input_point("timeouts", 28, T::uint32, S::timeouts, "",
-                               "exchanges that got no valid reply in time"));
-  points.push_back(input_point("checksum_errors", 30, T::uint32, S::checksum_errors, "",
-                               "replies dropped for a bad CRC or LRC"));
-  points.push_back(input_point("late_replies", 32, T::uint32, S::late_replies, "",
-                               "replies that came after the reply time-out"));
-  points.push_back(input_point("io_errors", 34, T::uint32, S::io_errors, "",
-                               "exchanges lost to a port failure"));
-  points.push_back(input_point("reply_timeout_ms", 36, T::uint16, S::reply_timeout_ms, "ms",
-                               "the reply time-out in use for this sensor"));
-  // Described by the map's builder, which knows every model (mapping/map_definition.h).
-  points.push_back(input_point("model_code", 37, T::uint16, S::model_code, "", ""));
+constexpr InputRow kStatusIdentityAndCounters[] = {
+    {"status", 6, T::uint16, S::status, "",
+     "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity unknown, bit 4 an "
+     "alarm is active, bit 5 answers late"},
+    {"age_ms", 7, T::uint16, S::age_ms, "ms",
+     "time since the last good reading, saturating at 65535"},
+    {"polls_ok", 8, T::uint32, S::polls_ok, "", "measurement polls answered"},
+    {"polls_failed", 10, T::uint32, S::polls_failed, "", "measurement polls not answered"},
+    {"last_nak", 12, T::uint16, S::last_nak, "",
+     "last NAK code from the sensor, 65535 if none (or no NAKs)"},
+    {"lock_level", 13, T::uint16, S::lock_level, "",
+     "sensor lock level, 65535 if unknown (or no locks)"},
+    {"rs485_address", 14, T::uint16, S::bus_address, "", "the sensor's address on its bus"},
+    {"sample_seq", 15, T::uint16, S::sample_seq, "", "increments with every new reading"},
+    {"serial", 16, T::string, S::serial, "",
+     "serial number, 2 characters per register, first in the high byte", 10},
+    // 8 characters: the firmware texts of the sensors served have 7 or fewer, or are free text;
+    // function 43 reports it in full.
+    {"firmware", 21, T::string, S::firmware, "",
+     "firmware revision, first 8 characters, space padded", 8},
+    {"tilt", 25, T::float32, S::tilt, "deg",
+     "tilt from vertical, tan^2 = tan^2 x + tan^2 y; |x| on one axis"},
+    {"alarms", 27, T::uint16, S::alarms, "",
+     "bit 0 x high, 1 x low, 2 y high, 3 y low, 4 tilt high, 5 rate; 0 without [sensor] alarms"},
+    {"timeouts", 28, T::uint32, S::timeouts, "", "exchanges that got no valid reply in time"},
+    {"checksum_errors", 30, T::uint32, S::checksum_errors, "",
+     "replies dropped for a bad CRC or LRC"},
+    {"late_replies", 32, T::uint32, S::late_replies, "",
+     "replies that came after the reply time-out"},
+    {"io_errors", 34, T::uint32, S::io_errors, "", "exchanges lost to a port failure"},
+    {"reply_timeout_ms", 36, T::uint16, S::reply_timeout_ms, "ms",
+     "the reply time-out in use for this sensor"},
+    // Described by the map's builder, which knows every model (mapping/map_definition.h).
+    {"model_code", 37, T::uint16, S::model_code, "", ""},
+};
+
+void add_status_identity_and_counters(std::vector<Point>& points) {
+  for (const InputRow& row : kStatusIdentityAndCounters)
+    points.push_back(input_point(row.name, row.address, row.type, row.source, row.units,
+                                 row.description, row.chars));
 }
 
 // Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit
 // order), 0 unless the sensor's [sensor] alarms configure them.
+struct DiscreteRow {
+  const char* name;
+  ValueSource source;
+  const char* description;
+};
+
+constexpr DiscreteRow kDiscreteInputs[] = {
+    {"online", S::online, "the sensor answers"},
+    {"alarm_x_high", S::alarm_x_high, "X above alarms.x_high"},
+    {"alarm_x_low", S::alarm_x_low, "X below alarms.x_low"},
+    {"alarm_y_high", S::alarm_y_high, "Y above alarms.y_high"},
+    {"alarm_y_low", S::alarm_y_low, "Y below alarms.y_low"},
+    {"alarm_tilt", S::alarm_tilt, "tilt above alarms.tilt_high"},
+    {"alarm_rate", S::alarm_rate, "an angle changes faster than alarms.rate_limit_deg_s"},
+};
+
 void add_discrete_inputs(std::vector<Point>& points) {
-  points.push_back(discrete_point("online", 0, S::online, "the sensor answers"));
-  points.push_back(discrete_point("alarm_x_high", 1, S::alarm_x_high, "X above alarms.x_high"));
-  points.push_back(discrete_point("alarm_x_low", 2, S::alarm_x_low, "X below alarms.x_low"));
-  points.push_back(discrete_point("alarm_y_high", 3, S::alarm_y_high, "Y above alarms.y_high"));
-  points.push_back(discrete_point("alarm_y_low", 4, S::alarm_y_low, "Y below alarms.y_low"));
-  points.push_back(discrete_point("alarm_tilt", 5, S::alarm_tilt, "tilt above alarms.tilt_high"));
-  points.push_back(discrete_point("alarm_rate", 6, S::alarm_rate,
-                                  "an angle changes faster than alarms.rate_limit_deg_s"));
+  std::uint16_t address = 0;
+  for (const DiscreteRow& row : kDiscreteInputs)
+    points.push_back(discrete_point(row.name, address++, row.source, row.description));
 }
 
 // `units` for a model without the setting; a model's own come from its descriptor.
@@ -123,8 +139,7 @@ std::vector<Point> common_block(const CommonBlockModel& model) {
   std::vector<Point> points;
   add_discrete_inputs(points);
   add_angles(points, model);
-  add_status(points);
-  add_identity_and_counters(points);
+  add_status_identity_and_counters(points);
   add_settings(points, model);
   return points;
 }

@@ -1,8 +1,10 @@
 #include "mapping/value_source.h"
 
-#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "mapping/angle_units.h"
 
@@ -11,136 +13,121 @@ namespace {
 
 using S = ValueSource;
 
-constexpr std::array<Named<ValueSource>, 39> kSources{{
-    {"angle_x", S::angle_x},
-    {"angle_y", S::angle_y},
-    {"angle_x_cdeg", S::angle_x_cdeg},
-    {"angle_y_cdeg", S::angle_y_cdeg},
-    {"tilt", S::tilt},
-    {"raw_counts", S::raw_counts},
-    {"raw_temperature", S::raw_temperature},
-    {"status", S::status},
-    {"online", S::online},
-    {"stale", S::stale},
-    {"last_write_failed", S::last_write_failed},
-    {"identity_unknown", S::identity_unknown},
-    {"alarm_active", S::alarm_active},
-    {"answers_late", S::answers_late},
-    {"alarms", S::alarms},
-    {"alarm_x_high", S::alarm_x_high},
-    {"alarm_x_low", S::alarm_x_low},
-    {"alarm_y_high", S::alarm_y_high},
-    {"alarm_y_low", S::alarm_y_low},
-    {"alarm_tilt", S::alarm_tilt},
-    {"alarm_rate", S::alarm_rate},
-    {"age_ms", S::age_ms},
-    {"polls_ok", S::polls_ok},
-    {"polls_failed", S::polls_failed},
-    {"transactions", S::transactions},
-    {"timeouts", S::timeouts},
-    {"checksum_errors", S::checksum_errors},
-    {"io_errors", S::io_errors},
-    {"late_replies", S::late_replies},
-    {"reply_timeout_ms", S::reply_timeout_ms},
-    {"last_nak", S::last_nak},
-    {"lock_level", S::lock_level},
-    {"bus_address", S::bus_address},
-    {"sample_seq", S::sample_seq},
-    {"serial", S::serial},
-    {"firmware", S::firmware},
-    {"model_code", S::model_code},
-    {"written", S::written},
-    {"setting", S::setting},
-}};
-
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kInt32Min = std::numeric_limits<std::int32_t>::min();
+constexpr double kInt32Max = std::numeric_limits<std::int32_t>::max();
+constexpr double kUint32Max = std::numeric_limits<std::uint32_t>::max();
 // Upside down (mapping/tilt.h): the largest angle from vertical there is.
 constexpr double kMaxTilt = 180.0;
 
-ValueRange range(double min, double max) { return ValueRange{min, max, true}; }
+// What a source is, one row per source in the enum's order: what a map file calls it, whether
+// reading it needs a fresh measurement, whether it is one bit, a whole number or degrees, and
+// the range its value is documented to have (in degrees for the angles).
+enum Kind : std::uint8_t {
+  kMeasurement = 1 << 0,
+  kBit = 1 << 1,
+  kInteger = 1 << 2,  // bits included
+  kAngle = 1 << 3,
+  kRanged = 1 << 4,
+};
 
-ValueRange angle_range(double min_deg, double max_deg, AngleUnit unit) {
-  if (unit == AngleUnit::percent_grade) return range(min_deg < 0 ? -kInfinity : 0, kInfinity);
-  return range(convert_angle(min_deg, unit), convert_angle(max_deg, unit));
+struct SourceRow {
+  std::string_view name;  // empty: not named in map files
+  ValueSource source;
+  std::uint8_t kind;
+  double min = 0;
+  double max = 0;
+};
+
+constexpr std::uint8_t kFlag = kBit | kInteger | kRanged;
+constexpr std::uint8_t kCounter = kInteger | kRanged;
+
+constexpr SourceRow kRows[] = {
+    {"angle_x", S::angle_x, kMeasurement | kAngle | kRanged, -180, 180},  // any sensor's range
+    {"angle_y", S::angle_y, kMeasurement | kAngle | kRanged, -180, 180},
+    {"angle_x_cdeg", S::angle_x_cdeg, kMeasurement | kRanged, -18000, 18000},
+    {"angle_y_cdeg", S::angle_y_cdeg, kMeasurement | kRanged, -18000, 18000},
+    {"tilt", S::tilt, kMeasurement | kAngle | kRanged, 0, kMaxTilt},
+    // The driver reports int32.
+    {"raw_counts", S::raw_counts, kMeasurement | kCounter, kInt32Min, kInt32Max},
+    {"raw_temperature", S::raw_temperature, kMeasurement | kCounter, kInt32Min, kInt32Max},
+    {"status", S::status, kCounter, 0, 63},  // six status bits
+    {"online", S::online, kFlag, 0, 1},
+    {"stale", S::stale, kFlag, 0, 1},
+    {"last_write_failed", S::last_write_failed, kFlag, 0, 1},
+    {"identity_unknown", S::identity_unknown, kFlag, 0, 1},
+    {"alarm_active", S::alarm_active, kFlag, 0, 1},
+    {"answers_late", S::answers_late, kFlag, 0, 1},
+    {"alarms", S::alarms, kCounter, 0, 63},  // six alarm bits
+    {"alarm_x_high", S::alarm_x_high, kFlag, 0, 1},
+    {"alarm_x_low", S::alarm_x_low, kFlag, 0, 1},
+    {"alarm_y_high", S::alarm_y_high, kFlag, 0, 1},
+    {"alarm_y_low", S::alarm_y_low, kFlag, 0, 1},
+    {"alarm_tilt", S::alarm_tilt, kFlag, 0, 1},
+    {"alarm_rate", S::alarm_rate, kFlag, 0, 1},
+    // Saturating or 16-bit by nature; bus addresses fit 16 bits on every protocol
+    // (driver/family.h).
+    {"age_ms", S::age_ms, kCounter, 0, 65535},
+    {"polls_ok", S::polls_ok, kCounter, 0, kUint32Max},
+    {"polls_failed", S::polls_failed, kCounter, 0, kUint32Max},
+    {"transactions", S::transactions, kCounter, 0, kUint32Max},
+    {"timeouts", S::timeouts, kCounter, 0, kUint32Max},
+    {"checksum_errors", S::checksum_errors, kCounter, 0, kUint32Max},
+    {"io_errors", S::io_errors, kCounter, 0, kUint32Max},
+    {"late_replies", S::late_replies, kCounter, 0, kUint32Max},
+    {"reply_timeout_ms", S::reply_timeout_ms, kCounter, 0, 65535},
+    {"last_nak", S::last_nak, kCounter, 0, 65535},
+    {"lock_level", S::lock_level, kCounter, 0, 65535},
+    {"bus_address", S::bus_address, kCounter, 0, 65535},
+    {"sample_seq", S::sample_seq, kCounter, 0, 65535},
+    {"serial", S::serial, 0},
+    {"firmware", S::firmware, 0},
+    {"model_code", S::model_code, kCounter, 0, 65535},
+    {"written", S::written, 0},
+    {"setting", S::setting, 0},
+    // Polled with the measurement, stale with it; its range is the device's.
+    {"", S::device_value, kMeasurement},
+    {"", S::bits, kInteger},
+};
+
+constexpr const SourceRow& row_of(ValueSource source) {
+  return kRows[static_cast<std::size_t>(source)];
 }
+
+// The table is in the enum's order, every source once.
+constexpr bool rows_in_enum_order() {
+  for (std::size_t i = 0; i < std::size(kRows); ++i)
+    if (static_cast<std::size_t>(kRows[i].source) != i) return false;
+  return static_cast<std::size_t>(S::bits) + 1 == std::size(kRows);
+}
+static_assert(rows_in_enum_order());
+
+bool has(ValueSource source, std::uint8_t kind) { return (row_of(source).kind & kind) != 0; }
+
+ValueRange range(double min, double max) { return ValueRange{min, max, true}; }
 
 }  // namespace
 
-std::span<const Named<ValueSource>> source_names() { return kSources; }
+std::span<const Named<ValueSource>> source_names() {
+  static const std::vector<Named<ValueSource>> names = [] {
+    std::vector<Named<ValueSource>> out;
+    for (const SourceRow& row : kRows)
+      if (!row.name.empty()) out.push_back({row.name, row.source});
+    return out;
+  }();
+  return names;
+}
 
 const char* to_string(ValueSource source) {
   if (source == S::bits) return "bits";
   if (source == S::device_value) return "the device's value";
-  return name_of(source_names(), source).data();
+  return row_of(source).name.data();
 }
 
-bool is_measurement(ValueSource source) {
-  switch (source) {
-    case S::angle_x:
-    case S::angle_y:
-    case S::angle_x_cdeg:
-    case S::angle_y_cdeg:
-    case S::tilt:
-    case S::raw_counts:
-    case S::raw_temperature:
-    case S::device_value:  // polled with the measurement, stale with it
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool is_bit_source(ValueSource source) {
-  switch (source) {
-    case S::online:
-    case S::stale:
-    case S::last_write_failed:
-    case S::identity_unknown:
-    case S::alarm_active:
-    case S::answers_late:
-    case S::alarm_x_high:
-    case S::alarm_x_low:
-    case S::alarm_y_high:
-    case S::alarm_y_low:
-    case S::alarm_tilt:
-    case S::alarm_rate:
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool is_integer_source(ValueSource source) {
-  if (is_bit_source(source)) return true;
-  switch (source) {
-    case S::raw_counts:
-    case S::raw_temperature:
-    case S::status:
-    case S::alarms:
-    case S::age_ms:
-    case S::polls_ok:
-    case S::polls_failed:
-    case S::transactions:
-    case S::timeouts:
-    case S::checksum_errors:
-    case S::io_errors:
-    case S::late_replies:
-    case S::reply_timeout_ms:
-    case S::last_nak:
-    case S::lock_level:
-    case S::bus_address:
-    case S::sample_seq:
-    case S::model_code:
-    case S::bits:
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool is_angle_source(ValueSource source) {
-  return source == S::angle_x || source == S::angle_y || source == S::tilt;
-}
+bool is_measurement(ValueSource source) { return has(source, kMeasurement); }
+bool is_bit_source(ValueSource source) { return has(source, kBit); }
+bool is_integer_source(ValueSource source) { return has(source, kInteger); }
+bool is_angle_source(ValueSource source) { return has(source, kAngle); }
 
 double convert_angle(double degrees, AngleUnit unit) {
   switch (unit) {
@@ -155,46 +142,11 @@ double convert_angle(double degrees, AngleUnit unit) {
 }
 
 ValueRange source_range(ValueSource source, AngleUnit unit) {
-  constexpr double kInt32Min = std::numeric_limits<std::int32_t>::min();
-  constexpr double kInt32Max = std::numeric_limits<std::int32_t>::max();
-  constexpr double kUint32Max = std::numeric_limits<std::uint32_t>::max();
-  if (is_bit_source(source)) return range(0, 1);
-  switch (source) {
-    case S::angle_x:
-    case S::angle_y:
-      return angle_range(-180, 180, unit);  // the measuring range of any sensor
-    case S::angle_x_cdeg:
-    case S::angle_y_cdeg:
-      return range(-18000, 18000);
-    case S::tilt:
-      return angle_range(0, kMaxTilt, unit);
-    case S::raw_counts:
-    case S::raw_temperature:
-      return range(kInt32Min, kInt32Max);  // the driver reports int32
-    case S::status:
-      return range(0, 63);  // six status bits
-    case S::alarms:
-      return range(0, 63);  // six alarm bits
-    case S::polls_ok:
-    case S::polls_failed:
-    case S::transactions:
-    case S::timeouts:
-    case S::checksum_errors:
-    case S::io_errors:
-    case S::late_replies:
-      return range(0, kUint32Max);
-    // Saturating or 16-bit by nature; bus addresses fit 16 bits on every protocol (driver/family.h).
-    case S::age_ms:
-    case S::reply_timeout_ms:
-    case S::last_nak:
-    case S::lock_level:
-    case S::bus_address:
-    case S::sample_seq:
-    case S::model_code:
-      return range(0, 65535);
-    default:
-      return ValueRange{};
-  }
+  const SourceRow& row = row_of(source);
+  if (!has(source, kRanged)) return ValueRange{};
+  if (!has(source, kAngle)) return range(row.min, row.max);
+  if (unit == AngleUnit::percent_grade) return range(row.min < 0 ? -kInfinity : 0, kInfinity);
+  return range(convert_angle(row.min, unit), convert_angle(row.max, unit));
 }
 
 }  // namespace tiltgate
