@@ -44,6 +44,8 @@ std::chrono::microseconds frame_gap(std::uint32_t baud, Framing framing) {
 
 const ProtocolDescriptor kProtocols[] = {{
     .name = "modbus-rtu",
+    .short_name = "rtu",
+    .title = "Modbus RTU",
     .framing = Framing::eight_even_one,  // Serial Line 2.5.1: even parity is the default
     .bauds = kBauds,
     .default_baud = 19200,               // Serial Line 2.5.1: the default rate
@@ -83,7 +85,7 @@ const ModelDescriptor kModels[] = {{
     .settings = {},
 }};
 
-constexpr std::string_view kSensorKeys[] = {"device"};
+constexpr SensorKey kSensorKeys[] = {{.name = "device", .required = true}};
 
 // device = "FILE": the device profile, loaded and checked with the configuration so that
 // `tiltgate check` reports its problems at their own file:line.
@@ -202,21 +204,22 @@ constexpr std::string_view kDemoExamples[] = {
 
 const FamilyDescriptor kFamily{
     .name = "modbus-rtu",
-    .title = "Modbus RTU",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = kSensorKeys,
-    .required_sensor_keys = kSensorKeys,
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+};
+
+const FamilyCommands kCommands{
+    .family = &kFamily,
+    .title = "Modbus RTU",
     .simulator =
         {
             .command = "modbus-rtu",
             .help = "Modbus RTU inclinometers (examples/devices/rtu-inclinometer.toml)",
             .default_sensors = "modbus-rtu:1",
             .sensors_help = "modbus-rtu:slave[,modbus-rtu:slave...]",
-            .protocols = {},
-            .protocols_help = "",
             .make = make_simulator,
         },
     .demo =
@@ -224,7 +227,6 @@ const FamilyDescriptor kFamily{
             .bus_name = "demo-rtu-bus",
             .protocol = "modbus-rtu",
             .baud = 19200,
-            .simulator = {.sensors = "modbus-rtu:1", .protocol = "", .link = "", .pace_baud = 0},
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },

@@ -31,6 +31,8 @@ constexpr std::uint32_t kFactoryAddresses[] = {kFactoryAddress};
 
 const ProtocolDescriptor kProtocols[] = {{
     .name = "rieker",
+    .short_name = "rieker",
+    .title = "Rieker",
     .framing = Framing::eight_none_one,
     .bauds = kBauds,
     .default_baud = 125000,                 // the factory rate
@@ -175,20 +177,22 @@ constexpr std::string_view kDemoExamples[] = {
 
 const FamilyDescriptor kFamily{
     .name = "rieker",
-    .title = "Rieker Flex",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = {},
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+};
+
+const FamilyCommands kCommands{
+    .family = &kFamily,
+    .title = "Rieker Flex",
     .simulator =
         {
             .command = "rieker",
             .help = "Rieker Flex H6 / H4360 sensors",
             .default_sensors = "h6:223",
             .sensors_help = "model:address[,model:address...]",
-            .protocols = {},
-            .protocols_help = "",
             .make = make_simulator,
         },
     .demo =
@@ -196,7 +200,6 @@ const FamilyDescriptor kFamily{
             .bus_name = "demo-bus",
             .protocol = "rieker",
             .baud = 125000,
-            .simulator = {.sensors = "h6:223,h6:224,h4360:101", .protocol = "", .link = "", .pace_baud = 0},
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },

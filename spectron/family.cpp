@@ -34,6 +34,8 @@ constexpr std::uint32_t kNineBitFactoryAddresses[] = {0};
 const ProtocolDescriptor kProtocols[] = {
     {
         .name = "spectron-9bit",
+        .short_name = "9bit",
+        .title = "9-bit",
         .framing = Framing::nine_bit,
         .bauds = kBauds,
         .default_baud = std::nullopt,
@@ -49,6 +51,8 @@ const ProtocolDescriptor kProtocols[] = {
     },
     {
         .name = "spectron-modbus",
+        .short_name = "modbus",
+        .title = "Modbus-ASCII",
         .framing = Framing::eight_even_one,
         .bauds = kBauds,
         .default_baud = std::nullopt,
@@ -84,8 +88,8 @@ const ModelDescriptor kModels[] = {{
     .settings = kDynaSettings,
 }};
 
-constexpr std::string_view kSensorKeys[] = {"counts_per_degree", "zero_counts",
-                                            "eeprom_reserved_writes"};
+constexpr SensorKey kSensorKeys[] = {
+    {"counts_per_degree"}, {"zero_counts"}, {"eeprom_reserved_writes"}};
 
 // Raw-count conversion and the EEPROM window: [[sensor]] keys only the Dyna has.
 void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
@@ -151,12 +155,11 @@ class Simulator final : public BusSimulator {
   DynaSimulator simulator_;
 };
 
-// `tiltgate sim spectron --protocol`: "9bit" (the default) or "modbus" (Modbus-ASCII).
-constexpr std::string_view kSimulatorProtocols[] = {"9bit", "modbus"};
-
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
-  const Protocol protocol = setup.protocol == "modbus" ? Protocol::modbus_ascii : Protocol::nine_bit;
+  // `tiltgate sim spectron --protocol`: 9bit (the first protocol, the default) or modbus.
+  const Protocol protocol =
+      setup.protocol == "spectron-modbus" ? Protocol::modbus_ascii : Protocol::nine_bit;
   auto sensors = parse_sensor_spec(setup.sensors, protocol, setup.shared_addresses);
   if (!sensors) return Unexpected{sensors.error()};
   DynaSimulatorOptions options;
@@ -202,20 +205,22 @@ constexpr std::string_view kDemoExamples[] = {
 
 const FamilyDescriptor kFamily{
     .name = "spectron",
-    .title = "Spectron Dyna",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = kSensorKeys,
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+};
+
+const FamilyCommands kCommands{
+    .family = &kFamily,
+    .title = "Spectron Dyna",
     .simulator =
         {
             .command = "spectron",
             .help = "Spectron SPECTROTILT Dyna modules",
             .default_sensors = "dyna:1",
             .sensors_help = "dyna:address[,dyna:address...]",
-            .protocols = kSimulatorProtocols,
-            .protocols_help = "9bit or modbus (Modbus-ASCII)",
             .make = make_simulator,
         },
     .demo =
@@ -223,7 +228,6 @@ const FamilyDescriptor kFamily{
             .bus_name = "demo-dyna-bus",
             .protocol = "spectron-modbus",
             .baud = 28800,
-            .simulator = {.sensors = "dyna:1", .protocol = "modbus", .link = "", .pace_baud = 0},
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },
