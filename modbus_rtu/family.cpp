@@ -137,21 +137,6 @@ Expected<SimulatedSlave, std::string> parse_slave(std::string_view item, std::si
   return slave;
 }
 
-class Simulator final : public BusSimulator {
- public:
-  Simulator(boost::asio::io_context& io, RtuSimulatorOptions options)
-      : count_(options.devices.size()), simulator_(io, std::move(options)) {}
-  Expected<Done, std::string> start() override { return simulator_.start(); }
-  void stop() override { simulator_.stop(); }
-  const std::string& slave_path() const override { return simulator_.slave_path(); }
-  std::size_t sensor_count() const override { return count_; }
-  std::string what() const override { return "Modbus RTU inclinometer(s)"; }
-
- private:
-  std::size_t count_;
-  RtuSimulator simulator_;
-};
-
 // Inclinometers matching examples/devices/rtu-inclinometer.toml, 8E1 like the protocol's
 // default framing.
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
@@ -180,7 +165,7 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
   options.link_path = setup.link;
   if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
   if (setup.listen_baud > 0) options.listen_baud = setup.listen_baud;
-  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+  return std::unique_ptr<BusSimulator>(std::make_unique<RtuSimulator>(io, std::move(options)));
 }
 
 // A generic device's baud rate and commands are not known to the family; its settings are the

@@ -1,10 +1,7 @@
 #include "spectron/family.h"
 
 #include <array>
-#include <cmath>
 #include <string>
-
-#include "driver/simulator_command.h"
 
 #include "mapping/register_map.h"
 #include "mapping/value_source.h"
@@ -119,42 +116,6 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   return std::make_unique<DynaDriver>(options);
 }
 
-class Simulator final : public BusSimulator {
- public:
-  Simulator(boost::asio::io_context& io, DynaSimulatorOptions options)
-      : protocol_(options.protocol), simulator_(io, std::move(options)) {}
-  Expected<Done, std::string> start() override { return simulator_.start(); }
-  void stop() override { simulator_.stop(); }
-  const std::string& slave_path() const override { return simulator_.slave_path(); }
-  std::size_t sensor_count() const override { return simulator_.sensor_count(); }
-  std::string what() const override {
-    return std::string(protocol_name(protocol_)) + " Dyna module(s)";
-  }
-  // "counts ADDRESS N": the module's raw counts (-32768..32767), fixed from now on.
-  Expected<Done, std::string> command(std::string_view line) override {
-    auto parsed = parse_simulator_command(line);
-    if (!parsed) return Unexpected{parsed.error()};
-    if (parsed->verb != "counts") {
-      return Unexpected{"unknown command \"" + parsed->verb + "\" (try: counts ADDRESS N)"};
-    }
-    SimulatedDyna* module = parsed->address > 0xFF
-                                ? nullptr
-                                : simulator_.sensor_by_address(std::uint8_t(parsed->address));
-    if (module == nullptr) return Unexpected{"no module at address " + std::to_string(parsed->address)};
-    const std::vector<double>& values = parsed->values;
-    if (values.size() != 1 || values[0] != std::floor(values[0]) || values[0] < -32768 ||
-        values[0] > 32767) {
-      return Unexpected{std::string("counts takes one whole number, -32768..32767")};
-    }
-    module->set_counts(std::int16_t(values[0]));
-    return Done{};
-  }
-
- private:
-  Protocol protocol_;
-  DynaSimulator simulator_;
-};
-
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
   // `tiltgate sim spectron --protocol`: 9bit (the first protocol, the default) or modbus.
@@ -168,7 +129,7 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
   options.link_path = setup.link;
   if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
   if (setup.listen_baud > 0) options.listen_baud = setup.listen_baud;
-  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+  return std::unique_ptr<BusSimulator>(std::make_unique<DynaSimulator>(io, std::move(options)));
 }
 
 // `tiltgate set baud RATE`: the code EEPROM location 22 takes for the rate.
