@@ -1,6 +1,7 @@
 #include "driver/family_commands.h"
 
-#include <algorithm>
+#include <fmt/format.h>
+
 #include <cctype>
 
 namespace tiltgate {
@@ -17,6 +18,25 @@ std::string folded(std::string_view text) {
 }
 
 }  // namespace
+
+LineRequest RawExchange::request() {
+  LineRequest line_request;
+  line_request.bytes = bytes_;
+  line_request.address_bytes = address_bytes_;
+  line_request.framer = &framer();
+  return line_request;
+}
+
+Expected<Done, std::string> check_raw_setup(const RawSetup& setup, const RawLimits& limits) {
+  if (setup.function < limits.first_function || setup.function > limits.last_function)
+    return Unexpected{fmt::format("--function: {} is not a {} {}..{}", setup.function,
+                                  limits.function_kind, limits.first_function,
+                                  limits.last_function)};
+  if (setup.data.size() > limits.max_data)
+    return Unexpected{
+        fmt::format("--data: {} bytes, at most {}", setup.data.size(), limits.max_data)};
+  return Done{};
+}
 
 const FamilyCommands* find_commands(FamilyCommandsList commands, const FamilyDescriptor* family) {
   for (const FamilyCommands* c : commands)

@@ -100,19 +100,44 @@ struct RawReply {
   std::string text;  // one or more "name: value" lines, without a trailing newline
 };
 
+// One raw request and its reply: a family's exchange gives the bytes and its framer, and decodes
+// what the framer accepted.
 class RawExchange {
  public:
   virtual ~RawExchange() = default;
   // The request as the Line sends it; its framer belongs to this exchange.
-  virtual LineRequest request() = 0;
+  LineRequest request();
   // What the reply the framer accepted says.
   virtual RawReply decode() const = 0;
+
+ protected:
+  // `address_bytes`: how many leading bytes go with the 9th bit set (LineRequest).
+  explicit RawExchange(std::vector<std::uint8_t> bytes, std::size_t address_bytes = 0)
+      : bytes_(std::move(bytes)), address_bytes_(address_bytes) {}
+
+ private:
+  virtual ReplyFramer& framer() = 0;
+
+  std::vector<std::uint8_t> bytes_;
+  std::size_t address_bytes_;
 };
+
+// What one protocol takes as --function and --data.
+struct RawLimits {
+  std::string_view function_kind;  // "command code", "Modbus function code"
+  std::int64_t first_function = 0;
+  std::int64_t last_function = 0;
+  std::size_t max_data = 0;  // data bytes a request carries at most
+};
+
+// A usage error when the setup's function or data are outside the limits.
+Expected<Done, std::string> check_raw_setup(const RawSetup& setup, const RawLimits& limits);
 
 struct RawDescriptor {
   // What --function and --data mean on the family's protocols, for the command's help.
   std::string_view function_help;
-  // The exchange, or why the function or data cannot be sent (a usage error).
+  // The exchange, or why the function or data cannot be sent (a usage error: the family
+  // checks them with check_raw_setup and its protocol's limits).
   Expected<std::unique_ptr<RawExchange>, std::string> (*make)(const RawSetup& setup) = nullptr;
 };
 
