@@ -165,7 +165,8 @@ int main(int argc, char** argv) {
     const std::vector<std::string> choices = tiltgate::simulator_protocol_choices(family);
     if (!choices.empty()) {
       sim_protocols[i] = choices.front();
-      command->add_option("--protocol", sim_protocols[i], tiltgate::simulator_protocols_help(family))
+      command
+          ->add_option("--protocol", sim_protocols[i], tiltgate::simulator_protocols_help(family))
           ->check(CLI::IsMember(choices))
           ->capture_default_str();
     }

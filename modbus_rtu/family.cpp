@@ -162,9 +162,7 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
                               base->second.second + 0.25 * std::cos(phase));
     };
   }
-  options.link_path = setup.link;
-  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
-  if (setup.listen_baud > 0) options.listen_baud = setup.listen_baud;
+  use_setup(setup, options);
   return std::unique_ptr<BusSimulator>(std::make_unique<RtuSimulator>(io, std::move(options)));
 }
 

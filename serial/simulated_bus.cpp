@@ -2,6 +2,12 @@
 
 namespace tiltgate {
 
+void use_setup(const SimulatorSetup& setup, SimulatedBusOptions& options) {
+  options.link_path = setup.link;
+  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
+  if (setup.listen_baud > 0) options.listen_baud = setup.listen_baud;
+}
+
 SimulatedBus::SimulatedBus(boost::asio::io_context& io, const SimulatedBusOptions& options,
                            unsigned bits_per_byte)
     : reply_latency_(options.reply_latency),

@@ -35,6 +35,10 @@ struct SimulatedBusOptions {
   std::string link_path;
 };
 
+// The options every family's simulator takes from `tiltgate sim` and the demo: the link, the
+// pacing and the listening rate (0 in the setup: off).
+void use_setup(const SimulatorSetup& setup, SimulatedBusOptions& options);
+
 struct SimulatedBusCounters {
   std::uint64_t requests_seen = 0;   // well-formed requests, whoever they were for
   std::uint64_t replies_sent = 0;
