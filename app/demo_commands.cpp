@@ -37,6 +37,7 @@ void run_until_signal(boost::asio::io_context& io, Stop stop) {
 // Every family's demo bus, its sensors numbered from unit id 1 in family order. The files
 // the sensors' own keys name are written into `folder`.
 Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList families,
+                                          FamilyCommandsList demos,
                                           const std::vector<std::string>& ttys,
                                           const std::filesystem::path& folder) {
   Config config;
@@ -55,8 +56,8 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
     config.mqtt.topic_prefix = "tiltgate/demo";
   }
   std::uint8_t unit = 1;
-  for (std::size_t i = 0; i < families.size(); ++i) {
-    const DemoBus& demo = families[i]->demo;
+  for (std::size_t i = 0; i < demos.size(); ++i) {
+    const DemoBus& demo = demos[i]->demo;
     BusConfig bus;
     bus.name = demo.bus_name;
     bus.port = ttys[i];
@@ -70,7 +71,7 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
       sensor.model = s.model;
       sensor.address = s.address;
       sensor.unit_id = unit++;
-      auto family_options = demo_sensor_options(families, *families[i], s, folder);
+      auto family_options = demo_sensor_options(families, *demos[i]->family, s, folder);
       if (!family_options) return Unexpected{family_options.error()};
       sensor.family_options = std::move(*family_options);
       config.sensors.push_back(sensor);
@@ -79,7 +80,7 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   return config;
 }
 
-void print_demo_help(const Config& config, const Gateway& gateway, FamilyList families) {
+void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommandsList demos) {
   std::cout << export_markdown(gateway.unit_maps());
   const auto port = gateway.port();
   const auto host = config.server.listen == "0.0.0.0" ? std::string("127.0.0.1") : config.server.listen;
@@ -87,7 +88,7 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyList fa
       "tiltgate demo: {} simulated sensors served on {}:{} (writes enabled). Try:\n",
       config.sensors.size(), host, port);
   int first_unit = 1;
-  for (const FamilyDescriptor* family : families) {
+  for (const FamilyCommands* family : demos) {
     const int last_unit = first_unit + int(family->demo.sensors.size()) - 1;
     for (std::string_view example : family->demo.examples)
       std::cout << fmt::format(fmt::runtime(example), fmt::arg("port", port),
@@ -102,7 +103,7 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyList fa
 
 }  // namespace
 
-int demo_command(const DemoOptions& options, FamilyList all_families) {
+int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
   boost::asio::io_context io;
   // Declared first, so it goes last: the sensors' drivers read their files while they run.
   auto folder = DemoFolder::create();
@@ -112,15 +113,19 @@ int demo_command(const DemoOptions& options, FamilyList all_families) {
   }
   // A family whose demo has no sensor gets no bus: an empty simulated bus would only be noise
   // in the demo.
+  std::vector<const FamilyCommands*> demo_commands;
   std::vector<const FamilyDescriptor*> demo_families;
-  for (const FamilyDescriptor* family : all_families) {
-    if (!family->demo.sensors.empty()) demo_families.push_back(family);
+  for (const FamilyCommands* family : all_commands) {
+    if (family->demo.sensors.empty()) continue;
+    demo_commands.push_back(family);
+    demo_families.push_back(family->family);
   }
+  const FamilyCommandsList demos = demo_commands;
   const FamilyList families = demo_families;
   std::vector<std::unique_ptr<BusSimulator>> simulators;
   std::vector<std::string> ttys;
-  for (const FamilyDescriptor* family : families) {
-    SimulatorSetup setup = family->demo.simulator;
+  for (const FamilyCommands* family : demos) {
+    SimulatorSetup setup = demo_simulator_setup(*family);
     setup.pace_baud = family->demo.baud;  // real wire time, so the demo behaves like a plant
     setup.sway = true;
     auto simulator = family->simulator.make(io, setup);
@@ -135,7 +140,7 @@ int demo_command(const DemoOptions& options, FamilyList all_families) {
     ttys.push_back((*simulator)->slave_path());
     simulators.push_back(std::move(*simulator));
   }
-  const auto demo = demo_config(options, families, ttys, folder->path());
+  const auto demo = demo_config(options, families, demos, ttys, folder->path());
   if (!demo) {
     spdlog::critical("demo: {}", demo.error());
     return 1;
@@ -147,7 +152,7 @@ int demo_command(const DemoOptions& options, FamilyList all_families) {
     spdlog::critical("demo: {}", started.error());
     return 1;
   }
-  print_demo_help(config, gateway, families);
+  print_demo_help(config, gateway, demos);
   run_until_signal(io, [&] {
     gateway.stop();
     for (auto& simulator : simulators) simulator->stop();
@@ -155,7 +160,7 @@ int demo_command(const DemoOptions& options, FamilyList all_families) {
   return 0;
 }
 
-int sim_command(const FamilyDescriptor& family, const SimulatorSetup& setup) {
+int sim_command(const FamilyCommands& family, const SimulatorSetup& setup) {
   const std::string command(family.simulator.command);
   boost::asio::io_context io;
   auto simulator = family.simulator.make(io, setup);

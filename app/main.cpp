@@ -25,7 +25,7 @@ void set_up_logging(const std::string& level) {
 }
 
 // "A, B and C": the families' titles.
-std::string family_titles(tiltgate::FamilyList families) {
+std::string family_titles(tiltgate::FamilyCommandsList families) {
   std::string titles;
   for (std::size_t i = 0; i < families.size(); ++i) {
     if (i > 0) titles += i + 1 == families.size() ? " and " : ", ";
@@ -37,9 +37,11 @@ std::string family_titles(tiltgate::FamilyList families) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The sensor families this build serves: asked for here, once, and handed to every command.
+  // The sensor families this build serves: asked for here, once, and handed to every command;
+  // what the gateway runs of them, and what the command line shows and runs.
   const tiltgate::FamilyList families = tiltgate::registered_families();
-  CLI::App app{"tiltgate: Modbus/TCP gateway for " + family_titles(families) + " inclinometers"};
+  const tiltgate::FamilyCommandsList commands = tiltgate::registered_family_commands();
+  CLI::App app{"tiltgate: Modbus/TCP gateway for " + family_titles(commands) + " inclinometers"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tiltgate ") + TILTGATE_VERSION);
   std::string log_level = "info";
@@ -81,7 +83,7 @@ int main(int argc, char** argv) {
   auto* info = app.add_subcommand("info", "show a sensor's address, model, serial, firmware, "
                                           "lock level and angles (the User App's Sensor Info)");
   tiltgate::add_bus_options(*info, info_bus, families);
-  info->footer(tiltgate::info_help_footer(families));
+  info->footer(tiltgate::info_help_footer(commands));
 
   tiltgate::BusOptions watch_bus;
   tiltgate::WatchOptions watch_options;
@@ -96,7 +98,7 @@ int main(int argc, char** argv) {
   watch->add_option("--log", watch_options.log,
                     "append every reading to this CSV file (time, address, serial, x_deg, "
                     "y_deg, tilt_deg, status)");
-  watch->footer(tiltgate::watch_help_footer(families));
+  watch->footer(tiltgate::watch_help_footer(commands));
 
   tiltgate::BusOptions scan_bus;
   tiltgate::ScanOptions scan_options;
@@ -124,7 +126,7 @@ int main(int argc, char** argv) {
           "+ 10 ms)")
       ->check(CLI::Range(1, 10'000))
       ->group("Scan");
-  scan->footer(tiltgate::scan_help_footer(families));
+  scan->footer(tiltgate::scan_help_footer(commands));
 
   tiltgate::BusOptions set_bus;
   tiltgate::SetArguments set_arguments;
@@ -135,7 +137,7 @@ int main(int argc, char** argv) {
   set->get_option("--address")->allow_extra_args(false);
   set->add_option("setting", set_arguments.words, "SETTING [VALUE...]")->required();
   set->add_flag("--permanent", set_arguments.permanent, "zero-here: keep the zero after a restart");
-  set->footer(tiltgate::set_help_footer(families));
+  set->footer(tiltgate::set_help_footer(commands));
 
   tiltgate::BusOptions raw_bus;
   tiltgate::RawOptions raw_options;
@@ -146,21 +148,25 @@ int main(int argc, char** argv) {
   raw->add_option("--function", raw_options.function, "the function / command number (see below)")
       ->required();
   raw->add_option("--data", raw_options.data, "the request's data bytes in hex, e.g. \"00 10\"");
-  raw->footer(tiltgate::raw_help_footer(families));
+  raw->footer(tiltgate::raw_help_footer(commands));
 
   auto* sim = app.add_subcommand("sim", "run a simulated sensor bus on a pseudo-terminal");
   sim->require_subcommand(1);
   // One `sim` subcommand per family.
-  std::vector<tiltgate::SimulatorSetup> sim_setups(families.size());
+  std::vector<tiltgate::SimulatorSetup> sim_setups(commands.size());
+  std::vector<std::string> sim_protocols(commands.size());
   std::vector<CLI::App*> sim_commands;
-  for (std::size_t i = 0; i < families.size(); ++i) {
-    const tiltgate::SimulatorDescriptor& simulator = families[i]->simulator;
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    const tiltgate::SimulatorDescriptor& simulator = commands[i]->simulator;
+    const tiltgate::FamilyDescriptor& family = *commands[i]->family;
     tiltgate::SimulatorSetup& setup = sim_setups[i];
     auto* command = sim->add_subcommand(std::string(simulator.command), std::string(simulator.help));
-    if (!simulator.protocols.empty()) {
-      setup.protocol = simulator.protocols.front();
-      const std::vector<std::string> choices(simulator.protocols.begin(), simulator.protocols.end());
-      command->add_option("--protocol", setup.protocol, std::string(simulator.protocols_help))
+    // A family of several protocols chooses one by its short name, the first by default.
+    const std::vector<std::string> choices = tiltgate::simulator_protocol_choices(family);
+    if (!choices.empty()) {
+      sim_protocols[i] = choices.front();
+      command
+          ->add_option("--protocol", sim_protocols[i], tiltgate::simulator_protocols_help(family))
           ->check(CLI::IsMember(choices))
           ->capture_default_str();
     }
@@ -194,13 +200,16 @@ int main(int argc, char** argv) {
   if (*run) return tiltgate::run_command(config_path, families);
   if (*check) return tiltgate::check_command(config_path, families);
   if (*map) return tiltgate::map_command(config_path, format, families);
-  if (*demo) return tiltgate::demo_command(demo_options, families);
+  if (*demo) return tiltgate::demo_command(demo_options, commands);
   if (*info) return tiltgate::info_command(info_bus, families);
   if (*watch) return tiltgate::watch_command(watch_bus, watch_options, families);
   if (*scan) return tiltgate::scan_command(scan_bus, scan_options, families);
-  if (*set) return tiltgate::set_command(set_bus, set_arguments, families);
-  if (*raw) return tiltgate::raw_command(raw_bus, raw_options, families);
-  for (std::size_t i = 0; i < families.size(); ++i)
-    if (*sim_commands[i]) return tiltgate::sim_command(*families[i], sim_setups[i]);
+  if (*set) return tiltgate::set_command(set_bus, set_arguments, families, commands);
+  if (*raw) return tiltgate::raw_command(raw_bus, raw_options, families, commands);
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    if (!*sim_commands[i]) continue;
+    sim_setups[i].protocol = tiltgate::protocol_of_choice(*commands[i]->family, sim_protocols[i]);
+    return tiltgate::sim_command(*commands[i], sim_setups[i]);
+  }
   return 2;
 }

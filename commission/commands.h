@@ -5,6 +5,7 @@
 #include <string>
 
 #include "driver/family.h"
+#include "driver/family_commands.h"
 #include "commission/commission_options.h"
 #include "commission/scan_plan.h"
 #include "commission/set_plan.h"
@@ -22,10 +23,11 @@ struct DemoOptions {
   std::string mqtt_host;           // the MQTT feed's broker, under tiltgate/demo/; empty: off
   std::uint16_t mqtt_port = 1883;
 };
-int demo_command(const DemoOptions& options, FamilyList families);
+// The demo serves each family of `commands` that has demo sensors.
+int demo_command(const DemoOptions& options, FamilyCommandsList commands);
 
 // `tiltgate sim FAMILY`: the family's simulator on a pseudo-terminal until SIGINT/SIGTERM.
-int sim_command(const FamilyDescriptor& family, const SimulatorSetup& setup);
+int sim_command(const FamilyCommands& family, const SimulatorSetup& setup);
 
 // Commissioning (docs/commissioning.md, "Commissioning"): exit 0 on success, 1 when a sensor does not answer
 // or the tty cannot be used, 2 on a usage error.
@@ -43,13 +45,17 @@ int watch_command(const BusOptions& bus, const WatchOptions& options, FamilyList
 // `tiltgate scan`: every address of a range probed, one row per sensor that answered.
 int scan_command(const BusOptions& bus, const ScanOptions& options, FamilyList families);
 // `tiltgate set`: one setting of one sensor, then its state read back.
-int set_command(const BusOptions& bus, const SetArguments& arguments, FamilyList families);
+// `commands`: the families' set helpers.
+int set_command(const BusOptions& bus, const SetArguments& arguments, FamilyList families,
+                FamilyCommandsList commands);
 
 struct RawOptions {
   std::int64_t function = 0;
   std::string data;  // hex bytes; empty: none
 };
 // `tiltgate raw`: one request by function number, the bytes each way and the reply decoded.
-int raw_command(const BusOptions& bus, const RawOptions& raw, FamilyList families);
+// `commands`: the families' raw request builders.
+int raw_command(const BusOptions& bus, const RawOptions& raw, FamilyList families,
+                FamilyCommandsList commands);
 
 }  // namespace tiltgate

@@ -22,19 +22,25 @@ std::string protocol_names(FamilyList families) {
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
+// The protocol of the family's demo bus.
+const ProtocolDescriptor* demo_protocol(const FamilyCommands& family) {
+  const FamilyDescriptor* const own[] = {family.family};
+  return find_protocol(own, family.demo.protocol).protocol;
+}
+
 // "--port /dev/ttyUSB0 --protocol P [--baud B] --address A" for each family's demo bus, with
 // the keys its sensors must give.
-std::vector<std::string> example_buses(FamilyList families) {
+std::vector<std::string> example_buses(FamilyCommandsList families) {
   std::vector<std::string> examples;
-  for (const FamilyDescriptor* family : families) {
+  for (const FamilyCommands* family : families) {
     if (family->demo.sensors.empty()) continue;
     std::string example = fmt::format("--port /dev/ttyUSB0 --protocol {}", family->demo.protocol);
     // A protocol without a factory rate needs the one its sensors were set to.
-    const ProtocolEntry protocol = find_protocol(families, family->demo.protocol);
-    if (protocol.protocol && !protocol.protocol->default_baud)
+    const ProtocolDescriptor* protocol = demo_protocol(*family);
+    if (protocol && !protocol->default_baud)
       example += fmt::format(" --baud {}", family->demo.baud);
     example += fmt::format(" --address {}", family->demo.sensors.front().address);
-    for (std::string_view key : family->required_sensor_keys)
+    for (std::string_view key : required_sensor_keys(*family->family))
       if (key == "device") example += " --device profile.toml";
     examples.push_back(std::move(example));
   }
@@ -43,7 +49,7 @@ std::vector<std::string> example_buses(FamilyList families) {
 
 }  // namespace
 
-std::string info_help_footer(FamilyList families) {
+std::string info_help_footer(FamilyCommandsList families) {
   std::string text = "Examples:\n";
   for (const std::string& bus : example_buses(families))
     text += fmt::format("  tiltgate info {}\n", bus);
@@ -55,7 +61,7 @@ std::string info_help_footer(FamilyList families) {
   return text;
 }
 
-std::string watch_help_footer(FamilyList families) {
+std::string watch_help_footer(FamilyCommandsList families) {
   std::string text = "Examples:\n";
   for (const std::string& bus : example_buses(families))
     text += fmt::format("  tiltgate watch {}\n", bus);
@@ -70,17 +76,17 @@ std::string watch_help_footer(FamilyList families) {
   return text;
 }
 
-std::string scan_help_footer(FamilyList families) {
+std::string scan_help_footer(FamilyCommandsList families) {
   std::string text = "Examples:\n";
-  for (const FamilyDescriptor* family : families) {
+  for (const FamilyCommands* family : families) {
     if (family->demo.sensors.empty()) continue;
     std::string example = fmt::format("  tiltgate scan --port /dev/ttyUSB0 --protocol {}",
                                       family->demo.protocol);
-    const ProtocolEntry protocol = find_protocol(families, family->demo.protocol);
-    example += protocol.protocol && !protocol.protocol->default_baud
+    const ProtocolDescriptor* protocol = demo_protocol(*family);
+    example += protocol && !protocol->default_baud
                    ? std::string(" --baud auto")
                    : fmt::format(" --config-out {}.toml", family->demo.protocol);
-    for (std::string_view key : family->required_sensor_keys)
+    for (std::string_view key : required_sensor_keys(*family->family))
       if (key == "device") example += " --device profile.toml";
     text += example + "\n";
   }
@@ -96,7 +102,7 @@ std::string scan_help_footer(FamilyList families) {
   return text;
 }
 
-std::string set_help_footer(FamilyList families) {
+std::string set_help_footer(FamilyCommandsList families) {
   std::string text = "Settings (the sensor's model decides which it has; an unknown one lists them):\n";
   text +=
       "  address N            move the sensor to bus address N (refused when one answers there)\n"
@@ -106,7 +112,7 @@ std::string set_help_footer(FamilyList families) {
       "  zero-here [--permanent]  zero to the current angle (temporary unless --permanent)\n"
       "  restart              restart the sensor and wait for it\n"
       "  NAME VALUE...        the model's own settings by name (an unknown SETTING lists them)\n";
-  for (const FamilyDescriptor* family : families)
+  for (const FamilyCommands* family : families)
     for (const CompoundSetting& compound : family->set.compound_settings)
       text += fmt::format("  {:<20} {} sensors: writes {}\n",
                           fmt::format("{} {}", compound.name, compound.values), family->title,
@@ -119,7 +125,7 @@ std::string set_help_footer(FamilyList families) {
   }
   // A family without a restart command has only its sensors' own settings, named by them.
   std::size_t bus = 1;
-  for (const FamilyDescriptor* family : families) {
+  for (const FamilyCommands* family : families) {
     if (family->demo.sensors.empty() || family == families.front()) continue;
     const bool restarts = family->set.command_value &&
                           family->set.command_value(SensorCommand::restart).has_value();
@@ -136,9 +142,9 @@ std::string set_help_footer(FamilyList families) {
   return text;
 }
 
-std::string raw_help_footer(FamilyList families) {
+std::string raw_help_footer(FamilyCommandsList families) {
   std::string text = "--function and --data on each protocol:\n";
-  for (const FamilyDescriptor* family : families)
+  for (const FamilyCommands* family : families)
     if (!family->raw.function_help.empty())
       text += fmt::format("  {}\n", family->raw.function_help);
   text += "Examples:\n";

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commission/commission_options.h"
+#include "driver/family_commands.h"
 
 namespace tiltgate {
 
@@ -14,11 +15,11 @@ namespace tiltgate {
 void add_bus_options(CLI::App& command, BusOptions& options, FamilyList families,
                      bool* auto_baud = nullptr);
 
-// The commands' --help footers: examples for each of `families`' buses, and the exit status.
-std::string info_help_footer(FamilyList families);
-std::string watch_help_footer(FamilyList families);
-std::string scan_help_footer(FamilyList families);
-std::string set_help_footer(FamilyList families);
-std::string raw_help_footer(FamilyList families);
+// The commands' --help footers: examples for each family's demo bus, and the exit status.
+std::string info_help_footer(FamilyCommandsList families);
+std::string watch_help_footer(FamilyCommandsList families);
+std::string scan_help_footer(FamilyCommandsList families);
+std::string set_help_footer(FamilyCommandsList families);
+std::string raw_help_footer(FamilyCommandsList families);
 
 }  // namespace tiltgate

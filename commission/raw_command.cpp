@@ -1,5 +1,5 @@
 // `tiltgate raw`: the vendor User App's command section. One request built by the bus's family
-// from a function number and data (RawDescriptor, driver/family.h), sent once; the exact bytes
+// from a function number and data (RawDescriptor, driver/family_commands.h), sent once; the exact bytes
 // each way in hex, the checksum's verdict from the family's framer, and the reply decoded.
 #include <fmt/format.h>
 #include <iostream>
@@ -23,14 +23,16 @@ std::string sent_text(const LineRequest& request) {
   return text;
 }
 
-asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const RawOptions& raw) {
+asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const RawOptions& raw,
+                              FamilyCommandsList commands) {
   if (bus.sensors().size() != 1) {
     std::cerr << "tiltgate raw: give one sensor (--address A, or --config FILE --sensor NAME)\n";
     co_return 2;
   }
   const CommissionedSensor& sensor = bus.sensors().front();
   const ProtocolEntry protocol = find_protocol(bus.families(), bus.config().protocol);
-  if (!protocol.family || !protocol.family->raw.make) {
+  const FamilyCommands* family = find_commands(commands, protocol.family);
+  if (!family || !family->raw.make) {
     std::cerr << fmt::format("tiltgate raw: no raw requests on a {} bus\n", bus.config().protocol);
     co_return 2;
   }
@@ -41,7 +43,7 @@ asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const Ra
   }
   const RawSetup setup{bus.config().protocol, sensor.config.address, bus.config().master_address,
                        raw.function, *data};
-  auto exchange = protocol.family->raw.make(setup);
+  auto exchange = family->raw.make(setup);
   if (!exchange) {
     std::cerr << "tiltgate raw: " << exchange.error() << "\n";
     co_return 2;
@@ -69,10 +71,11 @@ asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const Ra
 
 }  // namespace
 
-int raw_command(const BusOptions& options, const RawOptions& raw, FamilyList families) {
+int raw_command(const BusOptions& options, const RawOptions& raw, FamilyList families,
+                FamilyCommandsList commands) {
   return run_commissioning("raw", options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
-                             co_return co_await raw_work(bus, stopping, raw);
+                             co_return co_await raw_work(bus, stopping, raw, commands);
                            });
 }
 

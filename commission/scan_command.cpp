@@ -200,7 +200,7 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
   }
   if (!options.config_out.empty()) {
     std::vector<SensorKeyValue> keys;
-    for (std::string_view key : protocol.family->required_sensor_keys)
+    for (std::string_view key : required_sensor_keys(*protocol.family))
       keys.push_back({std::string(key), target.model_sensor->family_options.text(key)});
     BusConfig written = bus.config();
     std::ofstream out(options.config_out, std::ios::trunc);
@@ -244,7 +244,7 @@ int scan_command(const BusOptions& bus_options, const ScanOptions& options, Fami
       errors.push_back(fmt::format(
           "--config-out: {} sensors need {} in the configuration: give them (e.g. --device "
           "FILE) so that it names them",
-          protocol.family->name, fmt::join(protocol.family->required_sensor_keys, ", ")));
+          protocol.family->name, fmt::join(required_sensor_keys(*protocol.family), ", ")));
   }
   if (!errors.empty()) return report_usage_errors("scan", errors);
 

@@ -51,13 +51,17 @@ std::string descriptor_range(const SetTarget& target, WriteTarget id) {
   return "";
 }
 
-Expected<SetTarget, std::string> set_target(FamilyList families, const BusConfig& bus,
+Expected<SetTarget, std::string> set_target(FamilyList families, FamilyCommandsList commands,
+                                            const BusConfig& bus,
                                             const SensorConfig& sensor) {
   const ModelEntry model = find_model(families, sensor.model);
   const ProtocolEntry protocol = find_protocol(families, bus.protocol);
   if (!model.model || !protocol.protocol)
     return Unexpected{fmt::format("no family has model {} on a {} bus", sensor.model, bus.protocol)};
-  return SetTarget{model.family, protocol.protocol, model.model,
+  const FamilyCommands* family_commands = find_commands(commands, model.family);
+  if (!family_commands)
+    return Unexpected{fmt::format("no commands for model {}'s family", sensor.model)};
+  return SetTarget{family_commands, protocol.protocol, model.model,
                    sensor.family_options.device_values()};
 }
 
@@ -82,9 +86,10 @@ asio::awaitable<PollOutcome> read_back(CommissionBus& bus, CommissionedSensor& s
 
 // The writes the words stand for on this sensor's model, every value checked before anything
 // is sent; an exit code (2) with the reason printed when they cannot be made.
-Expected<SetPlan, int> plan_for(const CommissionBus& bus, const CommissionedSensor& sensor,
+Expected<SetPlan, int> plan_for(const CommissionBus& bus, FamilyCommandsList commands,
+                                const CommissionedSensor& sensor,
                                 const SetArguments& arguments) {
-  const auto target = set_target(bus.families(), bus.config(), sensor.config);
+  const auto target = set_target(bus.families(), commands, bus.config(), sensor.config);
   if (!target) {
     std::cerr << "tiltgate set: " << target.error() << "\n";
     return Unexpected{2};
@@ -140,14 +145,14 @@ void print_settings(const SetPlan& plan, const SensorState& state) {
 }
 
 asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const BusOptions& options,
-                              const SetArguments& arguments) {
+                              const SetArguments& arguments, FamilyCommandsList commands) {
   if (bus.sensors().size() != 1) {
     std::cerr << "tiltgate set: give one sensor (--address A, or --config FILE --sensor NAME)\n";
     co_return 2;
   }
   CommissionedSensor& sensor = bus.sensors().front();
   // Checked as the model the options give first, so that a usage error costs no bus time.
-  auto plan = plan_for(bus, sensor, arguments);
+  auto plan = plan_for(bus, commands, sensor, arguments);
   if (!plan) co_return plan.error();
   const std::uint32_t old_address = sensor.config.address;
 
@@ -162,7 +167,7 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
     co_return 1;
   }
   if (check.adopted) {
-    plan = plan_for(bus, sensor, arguments);
+    plan = plan_for(bus, commands, sensor, arguments);
     if (!plan) co_return plan.error();
   }
   if (plan->new_address) {
@@ -247,10 +252,12 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
 
 }  // namespace
 
-int set_command(const BusOptions& options, const SetArguments& arguments, FamilyList families) {
+int set_command(const BusOptions& options, const SetArguments& arguments, FamilyList families,
+                FamilyCommandsList commands) {
   return run_commissioning("set", options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
-                             co_return co_await set_work(bus, stopping, options, arguments);
+                             co_return co_await set_work(bus, stopping, options, arguments,
+                                                         commands);
                            });
 }
 

@@ -42,8 +42,8 @@ bool is_common(const SettingDescriptor& setting) {
 }
 
 std::optional<double> command_value(const SetTarget& t, SensorCommand command) {
-  if (!t.family->set.command_value || !find_setting(*t.model, WriteTarget::command)) return {};
-  return t.family->set.command_value(command);
+  if (!t.commands->set.command_value || !find_setting(*t.model, WriteTarget::command)) return {};
+  return t.commands->set.command_value(command);
 }
 
 std::vector<Entry> entries(const SetTarget& t) {
@@ -51,7 +51,7 @@ std::vector<Entry> entries(const SetTarget& t) {
   std::vector<Entry> out;
   const auto has = [&](WriteTarget id) { return find_setting(model, id) != nullptr; };
   if (has(WriteTarget::bus_address)) out.push_back({"address", "N", 1, Kind::address});
-  if (has(WriteTarget::baud_code) && t.family->set.baud_code)
+  if (has(WriteTarget::baud_code) && t.commands->set.baud_code)
     out.push_back({"baud", "RATE", 1, Kind::baud});
   if (has(WriteTarget::filter)) out.push_back({"filter", "N", 1, Kind::filter});
   if (has(WriteTarget::zero_x)) out.push_back({"zero-x", "DEG", 1, Kind::zero_x});
@@ -59,8 +59,8 @@ std::vector<Entry> entries(const SetTarget& t) {
   if (command_value(t, SensorCommand::zero_temporary))
     out.push_back({"zero-here", "[--permanent]", 0, Kind::zero_here});
   if (command_value(t, SensorCommand::restart)) out.push_back({"restart", "", 0, Kind::restart});
-  for (std::size_t i = 0; i < t.family->set.compound_settings.size(); ++i) {
-    const CompoundSetting& c = t.family->set.compound_settings[i];
+  for (std::size_t i = 0; i < t.commands->set.compound_settings.size(); ++i) {
+    const CompoundSetting& c = t.commands->set.compound_settings[i];
     const bool all_parts = std::all_of(c.parts.begin(), c.parts.end(), [&](std::string_view p) {
       return find_setting(model, p) != nullptr;
     });
@@ -165,7 +165,7 @@ Expected<SetPlan, std::string> plan_setting(const SetTarget& t, const SetArgumen
       const bool offered = std::find(t.protocol->bauds.begin(), t.protocol->bauds.end(), rate) !=
                            t.protocol->bauds.end();
       const std::optional<std::int64_t> code =
-          offered ? t.family->set.baud_code(std::int64_t(rate)) : std::nullopt;
+          offered ? t.commands->set.baud_code(std::int64_t(rate)) : std::nullopt;
       if (!code)
         return Unexpected{fmt::format("baud: {} is not a {} baud rate, expected one of {}",
                                       text_values[0], t.protocol->name,
@@ -196,7 +196,7 @@ Expected<SetPlan, std::string> plan_setting(const SetTarget& t, const SetArgumen
       plan.restarts = true;
       break;
     case Kind::compound: {
-      const CompoundSetting& c = t.family->set.compound_settings[entry->index];
+      const CompoundSetting& c = t.commands->set.compound_settings[entry->index];
       for (std::size_t i = 0; i < c.parts.size(); ++i)
         add(find_setting(*t.model, c.parts[i])->id, values[i]);
       break;

@@ -1,7 +1,7 @@
 // `tiltgate set SETTING VALUE...` as the writes a model's driver carries out: the engineer's
 // words (address, baud, filter, zero-x, zero-y, zero-here, restart, the model's own settings
 // and the family's compound ones) turned into SettingWrites through the family's descriptor
-// (driver/family.h, SetDescriptor). Pure: nothing is sent; the driver checks the values.
+// (driver/family_commands.h, SetDescriptor). Pure: nothing is sent; the driver checks the values.
 #pragma once
 
 #include <cstdint>
@@ -13,14 +13,15 @@
 #include "driver/device_value.h"
 #include "driver/expected.h"
 #include "driver/family.h"
+#include "driver/family_commands.h"
 #include "driver/sensor_driver.h"
 
 namespace tiltgate {
 
-// The sensor a setting is for: its family, its bus's protocol, its model and, for a family whose
-// sensors describe their own values, those (FamilyOptions::device_values).
+// The sensor a setting is for: its family's commands, its bus's protocol, its model and, for a
+// family whose sensors describe their own values, those (FamilyOptions::device_values).
 struct SetTarget {
-  const FamilyDescriptor* family = nullptr;
+  const FamilyCommands* commands = nullptr;
   const ProtocolDescriptor* protocol = nullptr;
   const ModelDescriptor* model = nullptr;
   std::span<const DeviceValue> device_values;

@@ -105,15 +105,15 @@ void read_family_keys(TableReader& in, SensorConfig& sensor, FamilyList families
     if (family == model.family) sensor.family_options = std::move(options);
   }
   if (model.family == nullptr) return;
-  for (std::string_view key : model.family->required_sensor_keys)
-    if (!in.has(key))
-      in.error(key, fmt::format("required key is missing on {} sensors", model.family->name));
+  for (const SensorKey& key : model.family->sensor_keys)
+    if (key.required && !in.has(key.name))
+      in.error(key.name, fmt::format("required key is missing on {} sensors", model.family->name));
   for (const FamilyDescriptor* family : families) {
     if (family == model.family) continue;
-    for (std::string_view key : family->sensor_keys)
-      if (in.has(key))
-        in.error(key, fmt::format("applies to model {} only, not \"{}\"", quoted_models(*family),
-                                  sensor.model));
+    for (const SensorKey& key : family->sensor_keys)
+      if (in.has(key.name))
+        in.error(key.name, fmt::format("applies to model {} only, not \"{}\"",
+                                       quoted_models(*family), sensor.model));
   }
 }
 

@@ -28,4 +28,16 @@ std::vector<std::string_view> model_setting_names(FamilyList families) {
   return names;
 }
 
+std::vector<std::string_view> required_sensor_keys(const FamilyDescriptor& family) {
+  std::vector<std::string_view> keys;
+  for (const SensorKey& key : family.sensor_keys)
+    if (key.required) keys.push_back(key.name);
+  return keys;
+}
+
+bool has_sensor_key(const FamilyDescriptor& family, std::string_view key) {
+  return std::any_of(family.sensor_keys.begin(), family.sensor_keys.end(),
+                     [&](const SensorKey& k) { return k.name == key; });
+}
+
 }  // namespace tiltgate

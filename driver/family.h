@@ -1,7 +1,8 @@
-// A sensor family as one descriptor: what the core asks a family instead of knowing a vendor.
-// Each family folder fills in one FamilyDescriptor and families/families.cmake names the
-// folder; the config loader, the register maps, the gateway and the serial transport read
-// only these.
+// A sensor family as the gateway runs it: what the core asks a family instead of knowing a
+// vendor. Each family folder fills in one FamilyDescriptor (and one FamilyCommands,
+// driver/family_commands.h, for what the command line shows of it) and families/families.cmake
+// names the folder; the config loader, the register maps, the gateway and the serial transport
+// read only these.
 // The shape follows a plug-in table (name, what it accepts, factories), with no optional
 // members left null: every family answers every question.
 #pragma once
@@ -22,7 +23,6 @@
 #include "driver/scan.h"
 #include "driver/forwarded_exchange.h"
 #include "driver/sensor_driver.h"
-#include "driver/bus_simulator.h"
 
 namespace tiltgate {
 
@@ -39,6 +39,11 @@ struct AddressRange {
 // One protocol a bus of the family can speak ([[bus]] protocol = "...").
 struct ProtocolDescriptor {
   std::string_view name;  // as written in the config
+  // Its name within the family, for a choice among the family's protocols: `tiltgate sim
+  // FAMILY --protocol SHORT_NAME` ("9bit", "modbus").
+  std::string_view short_name;
+  // What it is called in messages and help texts ("9-bit", "Modbus-ASCII").
+  std::string_view title;
   Framing framing = Framing::eight_none_one;
   // The rates its sensors can be set to; a [[bus]] baud must be one of them.
   std::span<const std::int64_t> bauds;
@@ -110,59 +115,6 @@ inline constexpr SettingDescriptor kCommonSettings[] = {
     common_setting::filter,  common_setting::zero_x,    common_setting::zero_y,
     common_setting::command, common_setting::baud_code, common_setting::bus_address};
 
-// A setting `tiltgate set` writes as several of a model's settings in order, one value each:
-// `tiltgate set NAME V1 V2 ...` writes parts[0] := V1, then parts[1] := V2. Offered on the
-// models that have every part among their settings.
-struct CompoundSetting {
-  std::string_view name;
-  std::span<const std::string_view> parts;  // SettingDescriptor names, in write order
-  std::string_view values;                  // the values' names for the usage: "LOCATION VALUE"
-};
-
-// What `tiltgate set` asks a family to turn the engineer's words into its own settings' values.
-struct SetDescriptor {
-  // The value of the models' baud_code setting that sets a sensor to `baud`, one of the
-  // protocol's rates; none when the family's sensors cannot be set to it.
-  std::optional<std::int64_t> (*baud_code)(std::int64_t baud);
-  // The value of the models' command setting that carries out `command`; none when the
-  // family's sensors have no such command.
-  std::optional<double> (*command_value)(SensorCommand command);
-  std::span<const CompoundSetting> compound_settings;
-};
-
-// `tiltgate raw`: one request of a family's protocol built from a function number and data
-// bytes as the engineer gives them (the vendor tools' command section), and its reply decoded as
-// far as the family's codec can.
-struct RawSetup {
-  std::string_view protocol;  // a ProtocolDescriptor name of the family
-  std::uint32_t address = 0;  // the sensor's bus address
-  std::uint32_t master_address = 0;
-  std::int64_t function = 0;  // what it means on each protocol: RawDescriptor::function_help
-  std::vector<std::uint8_t> data;
-};
-
-// What a reply says: `refused` for a NAK or an exception, with its meaning in `text`.
-struct RawReply {
-  bool refused = false;
-  std::string text;  // one or more "name: value" lines, without a trailing newline
-};
-
-class RawExchange {
- public:
-  virtual ~RawExchange() = default;
-  // The request as the Line sends it; its framer belongs to this exchange.
-  virtual LineRequest request() = 0;
-  // What the reply the framer accepted says.
-  virtual RawReply decode() const = 0;
-};
-
-struct RawDescriptor {
-  // What --function and --data mean on the family's protocols, for the command's help.
-  std::string_view function_help;
-  // The exchange, or why the function or data cannot be sent (a usage error).
-  Expected<std::unique_ptr<RawExchange>, std::string> (*make)(const RawSetup& setup) = nullptr;
-};
-
 // One sensor model ([[sensor]] model = "...").
 struct ModelDescriptor {
   std::string_view name;     // as written in the config; SensorDriver::model()
@@ -208,35 +160,30 @@ struct DriverSetup {
   FamilyOptions options;          // the family's own [[sensor]] keys
 };
 
+// One of the family's own [[sensor]] keys.
+struct SensorKey {
+  std::string_view name;
+  bool required = false;  // a sensor of the family must give it
+};
+
 struct FamilyDescriptor {
-  std::string_view name;   // for messages, e.g. "too short for NAME sensors"
-  std::string_view title;  // for the command line's help: "Vendor Product"
+  std::string_view name;  // for messages, e.g. "too short for NAME sensors"
   std::span<const ProtocolDescriptor> protocols;
   std::span<const ModelDescriptor> models;
   // The family's own [[sensor]] keys: every name read_sensor_keys asks for. A sensor of
   // another family that has one is refused ("applies to model ... only").
-  std::span<const std::string_view> sensor_keys;
-  // Those of them a sensor of the family must give.
-  std::span<const std::string_view> required_sensor_keys = {};
+  std::span<const SensorKey> sensor_keys;
   // Reads them into `options`, with defaults for those not given, which the driver factory
   // then finds in DriverSetup::options.
   void (*read_sensor_keys)(SensorKeyReader& in, FamilyOptions& options);
   // A driver for one sensor of the family; the setup has been validated by the config loader.
   std::unique_ptr<SensorDriver> (*make_driver)(const DriverSetup& setup);
-  // `tiltgate sim`, and the family's bus in `tiltgate demo`.
-  SimulatorDescriptor simulator;
-  DemoBus demo;
-  // `tiltgate set`: baud codes, commands and the settings written together. Every family fills
-  // it in; a family without it (a test's) offers only its models' plain settings.
-  SetDescriptor set{};
-  // `tiltgate raw`: requests by function number. Every family fills it in; without it (a
-  // test's family) raw refuses the family's buses.
-  RawDescriptor raw{};
 };
 
 using FamilyList = std::span<const FamilyDescriptor* const>;
 
 // The families this build serves, generated from the folders families/families.cmake names.
+// app/main.cpp asks for them once and hands them down.
 FamilyList registered_families();
 
 struct ProtocolEntry {
@@ -253,5 +200,9 @@ ProtocolEntry find_protocol(FamilyList families, std::string_view name);
 ModelEntry find_model(FamilyList families, std::string_view name);
 // Every model's own settings' names (SettingDescriptor::name), each once, in family order.
 std::vector<std::string_view> model_setting_names(FamilyList families);
+// The family's keys a sensor of it must give, in the family's order.
+std::vector<std::string_view> required_sensor_keys(const FamilyDescriptor& family);
+// Whether `key` is one of the family's own [[sensor]] keys.
+bool has_sensor_key(const FamilyDescriptor& family, std::string_view key);
 
 }  // namespace tiltgate

@@ -44,6 +44,8 @@ std::chrono::microseconds frame_gap(std::uint32_t baud, Framing framing) {
 
 const ProtocolDescriptor kProtocols[] = {{
     .name = "modbus-rtu",
+    .short_name = "rtu",
+    .title = "Modbus RTU",
     .framing = Framing::eight_even_one,  // Serial Line 2.5.1: even parity is the default
     .bauds = kBauds,
     .default_baud = 19200,               // Serial Line 2.5.1: the default rate
@@ -83,7 +85,7 @@ const ModelDescriptor kModels[] = {{
     .settings = {},
 }};
 
-constexpr std::string_view kSensorKeys[] = {"device"};
+constexpr SensorKey kSensorKeys[] = {{.name = "device", .required = true}};
 
 // device = "FILE": the device profile, loaded and checked with the configuration so that
 // `tiltgate check` reports its problems at their own file:line.
@@ -135,21 +137,6 @@ Expected<SimulatedSlave, std::string> parse_slave(std::string_view item, std::si
   return slave;
 }
 
-class Simulator final : public BusSimulator {
- public:
-  Simulator(boost::asio::io_context& io, RtuSimulatorOptions options)
-      : count_(options.devices.size()), simulator_(io, std::move(options)) {}
-  Expected<Done, std::string> start() override { return simulator_.start(); }
-  void stop() override { simulator_.stop(); }
-  const std::string& slave_path() const override { return simulator_.slave_path(); }
-  std::size_t sensor_count() const override { return count_; }
-  std::string what() const override { return "Modbus RTU inclinometer(s)"; }
-
- private:
-  std::size_t count_;
-  RtuSimulator simulator_;
-};
-
 // Inclinometers matching examples/devices/rtu-inclinometer.toml, 8E1 like the protocol's
 // default framing.
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
@@ -175,10 +162,8 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
                               base->second.second + 0.25 * std::cos(phase));
     };
   }
-  options.link_path = setup.link;
-  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
-  if (setup.listen_baud > 0) options.listen_baud = setup.listen_baud;
-  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+  use_setup(setup, options);
+  return std::unique_ptr<BusSimulator>(std::make_unique<RtuSimulator>(io, std::move(options)));
 }
 
 // A generic device's baud rate and commands are not known to the family; its settings are the
@@ -202,21 +187,22 @@ constexpr std::string_view kDemoExamples[] = {
 
 const FamilyDescriptor kFamily{
     .name = "modbus-rtu",
-    .title = "Modbus RTU",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = kSensorKeys,
-    .required_sensor_keys = kSensorKeys,
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+};
+
+const FamilyCommands kCommands{
+    .family = &kFamily,
+    .title = "Modbus RTU",
     .simulator =
         {
             .command = "modbus-rtu",
             .help = "Modbus RTU inclinometers (examples/devices/rtu-inclinometer.toml)",
             .default_sensors = "modbus-rtu:1",
             .sensors_help = "modbus-rtu:slave[,modbus-rtu:slave...]",
-            .protocols = {},
-            .protocols_help = "",
             .make = make_simulator,
         },
     .demo =
@@ -224,7 +210,6 @@ const FamilyDescriptor kFamily{
             .bus_name = "demo-rtu-bus",
             .protocol = "modbus-rtu",
             .baud = 19200,
-            .simulator = {.sensors = "modbus-rtu:1", .protocol = "", .link = "", .pace_baud = 0},
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },

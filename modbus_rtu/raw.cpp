@@ -11,16 +11,12 @@ namespace tiltgate::modbus_rtu {
 
 namespace {
 
+// A function code (the exception bit clear) and the rest of a PDU of at most 253 bytes.
+constexpr RawLimits kLimits{"Modbus function code", 1, 127, kMaxPduSize - 1};
+
 class Exchange final : public RawExchange {
  public:
-  explicit Exchange(Request request) : request_(request), framer_(std::move(request)) {}
-
-  LineRequest request() override {
-    LineRequest line_request;
-    line_request.bytes = request_.frame;
-    line_request.framer = &framer_;
-    return line_request;
-  }
+  explicit Exchange(Request request) : RawExchange(request.frame), framer_(std::move(request)) {}
 
   RawReply decode() const override {
     const Expected<Reply, CodecError>& reply = *framer_.reply();
@@ -37,15 +33,15 @@ class Exchange final : public RawExchange {
   }
 
  private:
-  Request request_;
+  ReplyFramer& framer() override { return framer_; }
+
   RtuReplyFramer framer_;
 };
 
 }  // namespace
 
 Expected<std::unique_ptr<RawExchange>, std::string> make_raw_exchange(const RawSetup& setup) {
-  if (setup.function < 1 || setup.function > 127)
-    return Unexpected{fmt::format("--function: {} is not a Modbus function code 1..127", setup.function)};
+  if (auto checked = check_raw_setup(setup, kLimits); !checked) return Unexpected{checked.error()};
   Bytes pdu{std::uint8_t(setup.function)};
   pdu.insert(pdu.end(), setup.data.begin(), setup.data.end());
   auto request = raw_request(std::uint8_t(setup.address), pdu);

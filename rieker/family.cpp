@@ -1,11 +1,7 @@
 #include "rieker/family.h"
 
-#include <fmt/format.h>
-
 #include <array>
-#include <limits>
 
-#include "driver/simulator_command.h"
 #include "mapping/register_map.h"
 #include "rieker/codec.h"
 #include "rieker/raw.h"
@@ -31,6 +27,8 @@ constexpr std::uint32_t kFactoryAddresses[] = {kFactoryAddress};
 
 const ProtocolDescriptor kProtocols[] = {{
     .name = "rieker",
+    .short_name = "rieker",
+    .title = "Rieker",
     .framing = Framing::eight_none_one,
     .bauds = kBauds,
     .default_baud = 125000,                 // the factory rate
@@ -93,59 +91,14 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   return std::make_unique<RiekerDriver>(options);
 }
 
-class Simulator final : public BusSimulator {
- public:
-  Simulator(boost::asio::io_context& io, RiekerSimulatorOptions options)
-      : simulator_(io, std::move(options)) {}
-  Expected<Done, std::string> start() override { return simulator_.start(); }
-  void stop() override { simulator_.stop(); }
-  const std::string& slave_path() const override { return simulator_.slave_path(); }
-  std::size_t sensor_count() const override { return simulator_.sensor_count(); }
-  std::string what() const override { return "Rieker sensor(s)"; }
-  // "angle ADDRESS X [Y]": the sensor's raw angles in degrees, fixed from now on.
-  // "silent ADDRESS": the sensor stops answering (unpowered, its drop cut) until "answer ADDRESS".
-  Expected<Done, std::string> command(std::string_view line) override {
-    auto parsed = parse_simulator_command(line);
-    if (!parsed) return Unexpected{parsed.error()};
-    const bool known = parsed->verb == "angle" || parsed->verb == "silent" || parsed->verb == "answer";
-    if (!known) {
-      return Unexpected{"unknown command \"" + parsed->verb +
-                        "\" (try: angle ADDRESS X [Y], silent ADDRESS, answer ADDRESS)"};
-    }
-    SimulatedSensor* sensor = parsed->address > 0xFFFF
-                                  ? nullptr
-                                  : simulator_.sensor_by_address(std::uint16_t(parsed->address));
-    if (sensor == nullptr) return Unexpected{fmt::format("no sensor at address {}", parsed->address)};
-    if (parsed->verb != "angle") {
-      if (!parsed->values.empty())
-        return Unexpected{fmt::format("{} takes only an address", parsed->verb)};
-      sensor->faults().silent = parsed->verb == "silent" ? std::numeric_limits<int>::max() : 0;
-      return Done{};
-    }
-    const std::size_t axes = sensor->model() == Model::h6 ? 2 : 1;
-    const std::vector<double>& angles = parsed->values;
-    if (angles.empty() || angles.size() > axes) {
-      return Unexpected{fmt::format("the sensor at address {} takes {} angle(s)", parsed->address,
-                                    axes == 2 ? "1 or 2" : "1")};
-    }
-    sensor->set_angles(angles[0], angles.size() > 1 ? angles[1] : 0.0);
-    return Done{};
-  }
-
- private:
-  RiekerSimulator simulator_;
-};
-
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
   auto sensors = parse_sensor_spec(setup.sensors, setup.shared_addresses);
   if (!sensors) return Unexpected{sensors.error()};
   RiekerSimulatorOptions options;
   options.sensors = std::move(*sensors);
-  options.link_path = setup.link;
-  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
-  if (setup.listen_baud > 0) options.listen_baud = setup.listen_baud;
-  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+  use_setup(setup, options);
+  return std::unique_ptr<BusSimulator>(std::make_unique<RiekerSimulator>(io, std::move(options)));
 }
 
 // `tiltgate set baud RATE`: Set Baud's type code for the rate (rieker/codec.h).
@@ -175,20 +128,22 @@ constexpr std::string_view kDemoExamples[] = {
 
 const FamilyDescriptor kFamily{
     .name = "rieker",
-    .title = "Rieker Flex",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = {},
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+};
+
+const FamilyCommands kCommands{
+    .family = &kFamily,
+    .title = "Rieker Flex",
     .simulator =
         {
             .command = "rieker",
             .help = "Rieker Flex H6 / H4360 sensors",
             .default_sensors = "h6:223",
             .sensors_help = "model:address[,model:address...]",
-            .protocols = {},
-            .protocols_help = "",
             .make = make_simulator,
         },
     .demo =
@@ -196,7 +151,6 @@ const FamilyDescriptor kFamily{
             .bus_name = "demo-bus",
             .protocol = "rieker",
             .baud = 125000,
-            .simulator = {.sensors = "h6:223,h6:224,h4360:101", .protocol = "", .link = "", .pace_baud = 0},
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },

@@ -44,16 +44,13 @@ std::string typed_value(const Frame& request, const Frame& reply) {
   return "";
 }
 
+// The command code and DATA fit the frame's FUNCT word and one-byte DL.
+constexpr RawLimits kLimits{"command code", 0, 0xFFFF, kMaxDataSize};
+
 class Exchange final : public RawExchange {
  public:
-  explicit Exchange(Frame request) : request_(std::move(request)), framer_(request_) {}
-
-  LineRequest request() override {
-    LineRequest line_request;
-    line_request.bytes = encode(request_);
-    line_request.framer = &framer_;
-    return line_request;
-  }
+  explicit Exchange(Frame request)
+      : RawExchange(encode(request)), request_(std::move(request)), framer_(request_) {}
 
   RawReply decode() const override {
     const Frame& reply = *framer_.reply();
@@ -71,6 +68,8 @@ class Exchange final : public RawExchange {
   }
 
  private:
+  ReplyFramer& framer() override { return framer_; }
+
   Frame request_;
   RiekerReplyFramer framer_;
 };
@@ -78,10 +77,7 @@ class Exchange final : public RawExchange {
 }  // namespace
 
 Expected<std::unique_ptr<RawExchange>, std::string> make_raw_exchange(const RawSetup& setup) {
-  if (setup.function < 0 || setup.function > 0xFFFF)
-    return Unexpected{fmt::format("--function: {} is not a command code 0..65535", setup.function)};
-  if (setup.data.size() > kMaxDataSize)
-    return Unexpected{fmt::format("--data: {} bytes, at most {}", setup.data.size(), kMaxDataSize)};
+  if (auto checked = check_raw_setup(setup, kLimits); !checked) return Unexpected{checked.error()};
   Frame request;
   request.dest = std::uint16_t(setup.address);
   request.src = std::uint16_t(setup.master_address);

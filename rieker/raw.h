@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "driver/family.h"
+#include "driver/family_commands.h"
 
 namespace tiltgate::rieker {
 

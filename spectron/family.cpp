@@ -1,10 +1,7 @@
 #include "spectron/family.h"
 
 #include <array>
-#include <cmath>
 #include <string>
-
-#include "driver/simulator_command.h"
 
 #include "mapping/register_map.h"
 #include "mapping/value_source.h"
@@ -34,6 +31,8 @@ constexpr std::uint32_t kNineBitFactoryAddresses[] = {0};
 const ProtocolDescriptor kProtocols[] = {
     {
         .name = "spectron-9bit",
+        .short_name = "9bit",
+        .title = "9-bit",
         .framing = Framing::nine_bit,
         .bauds = kBauds,
         .default_baud = std::nullopt,
@@ -49,6 +48,8 @@ const ProtocolDescriptor kProtocols[] = {
     },
     {
         .name = "spectron-modbus",
+        .short_name = "modbus",
+        .title = "Modbus-ASCII",
         .framing = Framing::eight_even_one,
         .bauds = kBauds,
         .default_baud = std::nullopt,
@@ -84,8 +85,8 @@ const ModelDescriptor kModels[] = {{
     .settings = kDynaSettings,
 }};
 
-constexpr std::string_view kSensorKeys[] = {"counts_per_degree", "zero_counts",
-                                            "eeprom_reserved_writes"};
+constexpr SensorKey kSensorKeys[] = {
+    {"counts_per_degree"}, {"zero_counts"}, {"eeprom_reserved_writes"}};
 
 // Raw-count conversion and the EEPROM window: [[sensor]] keys only the Dyna has.
 void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
@@ -115,57 +116,18 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   return std::make_unique<DynaDriver>(options);
 }
 
-class Simulator final : public BusSimulator {
- public:
-  Simulator(boost::asio::io_context& io, DynaSimulatorOptions options)
-      : protocol_(options.protocol), simulator_(io, std::move(options)) {}
-  Expected<Done, std::string> start() override { return simulator_.start(); }
-  void stop() override { simulator_.stop(); }
-  const std::string& slave_path() const override { return simulator_.slave_path(); }
-  std::size_t sensor_count() const override { return simulator_.sensor_count(); }
-  std::string what() const override {
-    return std::string(protocol_name(protocol_)) + " Dyna module(s)";
-  }
-  // "counts ADDRESS N": the module's raw counts (-32768..32767), fixed from now on.
-  Expected<Done, std::string> command(std::string_view line) override {
-    auto parsed = parse_simulator_command(line);
-    if (!parsed) return Unexpected{parsed.error()};
-    if (parsed->verb != "counts") {
-      return Unexpected{"unknown command \"" + parsed->verb + "\" (try: counts ADDRESS N)"};
-    }
-    SimulatedDyna* module = parsed->address > 0xFF
-                                ? nullptr
-                                : simulator_.sensor_by_address(std::uint8_t(parsed->address));
-    if (module == nullptr) return Unexpected{"no module at address " + std::to_string(parsed->address)};
-    const std::vector<double>& values = parsed->values;
-    if (values.size() != 1 || values[0] != std::floor(values[0]) || values[0] < -32768 ||
-        values[0] > 32767) {
-      return Unexpected{std::string("counts takes one whole number, -32768..32767")};
-    }
-    module->set_counts(std::int16_t(values[0]));
-    return Done{};
-  }
-
- private:
-  Protocol protocol_;
-  DynaSimulator simulator_;
-};
-
-// `tiltgate sim spectron --protocol`: "9bit" (the default) or "modbus" (Modbus-ASCII).
-constexpr std::string_view kSimulatorProtocols[] = {"9bit", "modbus"};
-
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
-  const Protocol protocol = setup.protocol == "modbus" ? Protocol::modbus_ascii : Protocol::nine_bit;
+  // `tiltgate sim spectron --protocol`: 9bit (the first protocol, the default) or modbus.
+  const Protocol protocol =
+      setup.protocol == "spectron-modbus" ? Protocol::modbus_ascii : Protocol::nine_bit;
   auto sensors = parse_sensor_spec(setup.sensors, protocol, setup.shared_addresses);
   if (!sensors) return Unexpected{sensors.error()};
   DynaSimulatorOptions options;
   options.protocol = protocol;
   options.sensors = std::move(*sensors);
-  options.link_path = setup.link;
-  if (setup.pace_baud > 0) options.pace_baud = setup.pace_baud;
-  if (setup.listen_baud > 0) options.listen_baud = setup.listen_baud;
-  return std::unique_ptr<BusSimulator>(std::make_unique<Simulator>(io, std::move(options)));
+  use_setup(setup, options);
+  return std::unique_ptr<BusSimulator>(std::make_unique<DynaSimulator>(io, std::move(options)));
 }
 
 // `tiltgate set baud RATE`: the code EEPROM location 22 takes for the rate.
@@ -202,20 +164,22 @@ constexpr std::string_view kDemoExamples[] = {
 
 const FamilyDescriptor kFamily{
     .name = "spectron",
-    .title = "Spectron Dyna",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = kSensorKeys,
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
+};
+
+const FamilyCommands kCommands{
+    .family = &kFamily,
+    .title = "Spectron Dyna",
     .simulator =
         {
             .command = "spectron",
             .help = "Spectron SPECTROTILT Dyna modules",
             .default_sensors = "dyna:1",
             .sensors_help = "dyna:address[,dyna:address...]",
-            .protocols = kSimulatorProtocols,
-            .protocols_help = "9bit or modbus (Modbus-ASCII)",
             .make = make_simulator,
         },
     .demo =
@@ -223,7 +187,6 @@ const FamilyDescriptor kFamily{
             .bus_name = "demo-dyna-bus",
             .protocol = "spectron-modbus",
             .baud = 28800,
-            .simulator = {.sensors = "dyna:1", .protocol = "modbus", .link = "", .pace_baud = 0},
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
         },

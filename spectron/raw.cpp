@@ -4,6 +4,7 @@
 
 #include "driver/hex.h"
 #include "spectron/ascii_codec.h"
+#include "spectron/assumptions.h"
 #include "spectron/nine_bit_codec.h"
 #include "spectron/reply_framers.h"
 
@@ -11,16 +12,16 @@ namespace tiltgate::spectron {
 
 namespace {
 
+// A command byte each; as much data as a request the module reads can carry: a Modbus-ASCII
+// frame (':', address, command, two hex digits a byte, LRC, CR LF) or a 9-bit line (the command
+// character and the argument characters) of at most 64 characters (spectron/assumptions.h).
+constexpr RawLimits kAsciiLimits{"command code", 0, 0xFF, (kMaxFrameLength - 9) / 2};
+constexpr RawLimits kNineBitLimits{"command code", 0, 0xFF, kMaxLineLength - 1};
+
 class AsciiExchange final : public RawExchange {
  public:
-  explicit AsciiExchange(AsciiFrame request) : request_(request), framer_(std::move(request)) {}
-
-  LineRequest request() override {
-    LineRequest line_request;
-    line_request.bytes = encode(request_);
-    line_request.framer = &framer_;
-    return line_request;
-  }
+  explicit AsciiExchange(AsciiFrame request)
+      : RawExchange(encode(request)), framer_(std::move(request)) {}
 
   // The module refuses by not answering (spectron/assumptions.h): every reply is an answer.
   RawReply decode() const override {
@@ -39,44 +40,40 @@ class AsciiExchange final : public RawExchange {
   }
 
  private:
-  AsciiFrame request_;
+  ReplyFramer& framer() override { return framer_; }
+
   AsciiReplyFramer framer_;
 };
 
 class NineBitExchange final : public RawExchange {
  public:
-  explicit NineBitExchange(NineBitRequest request) : request_(std::move(request)) {}
-
-  LineRequest request() override {
-    LineRequest line_request;
-    line_request.bytes = wire_bytes(request_);
-    line_request.address_bytes = kNineBitAddressBytes;
-    line_request.framer = &framer_;
-    return line_request;
-  }
+  explicit NineBitExchange(const NineBitRequest& request)
+      : RawExchange(wire_bytes(request), kNineBitAddressBytes) {}
 
   RawReply decode() const override {
     return {false, fmt::format("reply:    \"{}\"", *framer_.reply())};
   }
 
  private:
-  NineBitRequest request_;
+  ReplyFramer& framer() override { return framer_; }
+
   NineBitReplyFramer framer_;
 };
 
 }  // namespace
 
 Expected<std::unique_ptr<RawExchange>, std::string> make_raw_exchange(const RawSetup& setup) {
-  if (setup.function < 0 || setup.function > 0xFF)
-    return Unexpected{fmt::format("--function: {} is not a command code 0..255", setup.function)};
-  if (setup.protocol == "spectron-9bit") {
+  const bool nine_bit = setup.protocol == "spectron-9bit";
+  if (auto checked = check_raw_setup(setup, nine_bit ? kNineBitLimits : kAsciiLimits); !checked)
+    return Unexpected{checked.error()};
+  if (nine_bit) {
     NineBitRequest request;
     request.address = std::uint8_t(setup.address);
     request.body.push_back(std::uint8_t(setup.function));
-    request.body.insert(request.body.end(), setup.data.begin(), setup.data.end());
+    for (std::uint8_t byte : setup.data) request.body.push_back(byte);
     request.body.push_back('\r');
     request.body.push_back('\n');
-    return std::unique_ptr<RawExchange>(std::make_unique<NineBitExchange>(std::move(request)));
+    return std::unique_ptr<RawExchange>(std::make_unique<NineBitExchange>(request));
   }
   AsciiFrame request;
   request.address = std::uint8_t(setup.address);

@@ -1,6 +1,9 @@
 #include "spectron/simulator.h"
 
+#include <cmath>
 #include <span>
+
+#include "driver/simulator_command.h"
 
 #include "spectron/ascii_frame_parser.h"
 #include "spectron/assumptions.h"
@@ -82,23 +85,37 @@ struct DynaSimulator::Framing {
 };
 
 DynaSimulator::DynaSimulator(boost::asio::io_context& io, DynaSimulatorOptions options)
-    : options_(std::move(options)),
-      started_(Clock::now()),
-      framing_(std::make_unique<Framing>()),
-      server_(io, PtyBusServerOptions{options_.link_path, options_.pace_baud, kBitsPerByte,
-                                              options_.listen_baud},
-              [this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
-              [this] { ++counters_.replies_sent; }) {
+    : SimulatedBus(io, options, kBitsPerByte),
+      options_(std::move(options)),
+      framing_(std::make_unique<Framing>()) {
   sensors_.reserve(options_.sensors.size());
   for (const auto& sensor : options_.sensors) sensors_.emplace_back(sensor);
 }
 
-DynaSimulator::~DynaSimulator() { stop(); }
+DynaSimulator::~DynaSimulator() = default;
 
-Expected<Done, std::string> DynaSimulator::start() {
-  server_.unplug();  // before the framing is replaced: no handler of the old port feeds it
-  framing_ = std::make_unique<Framing>();
-  return server_.start();
+void DynaSimulator::reset_framing() { framing_ = std::make_unique<Framing>(); }
+
+std::string DynaSimulator::what() const {
+  return std::string(protocol_name(options_.protocol)) + " Dyna module(s)";
+}
+
+Expected<Done, std::string> DynaSimulator::command(std::string_view line) {
+  auto parsed = parse_simulator_command(line);
+  if (!parsed) return Unexpected{parsed.error()};
+  if (parsed->verb != "counts") {
+    return Unexpected{"unknown command \"" + parsed->verb + "\" (try: counts ADDRESS N)"};
+  }
+  SimulatedDyna* module =
+      parsed->address > 0xFF ? nullptr : sensor_by_address(std::uint8_t(parsed->address));
+  if (module == nullptr) return Unexpected{"no module at address " + std::to_string(parsed->address)};
+  const std::vector<double>& values = parsed->values;
+  if (values.size() != 1 || values[0] != std::floor(values[0]) || values[0] < -32768 ||
+      values[0] > 32767) {
+    return Unexpected{std::string("counts takes one whole number, -32768..32767")};
+  }
+  module->set_counts(std::int16_t(values[0]));
+  return Done{};
 }
 
 SimulatedDyna* DynaSimulator::sensor_by_address(std::uint8_t address) {
@@ -108,8 +125,14 @@ SimulatedDyna* DynaSimulator::sensor_by_address(std::uint8_t address) {
   return nullptr;
 }
 
-void DynaSimulator::on_bytes(std::span<const std::uint8_t> bytes) {
-  counters_.bytes_received += bytes.size();
+DynaSimulatorCounters DynaSimulator::counters() const {
+  DynaSimulatorCounters own;
+  own.lrc_errors = lrc_errors_;
+  own.malformed = malformed_;
+  return with_bus_counters(own);
+}
+
+void DynaSimulator::receive(std::span<const std::uint8_t> bytes) {
   if (options_.protocol == Protocol::nine_bit) {
     on_nine_bit_bytes(bytes);
   } else {
@@ -119,21 +142,21 @@ void DynaSimulator::on_bytes(std::span<const std::uint8_t> bytes) {
 
 void DynaSimulator::on_nine_bit_bytes(std::span<const std::uint8_t> bytes) {
   std::vector<NineBitPtyRequest> requests;
-  counters_.malformed += framing_->nine_bit.feed(bytes, Clock::now(), requests);
-  const SimTime at = now();
+  malformed_ += framing_->nine_bit.feed(bytes, Clock::now(), requests);
+  const SimTime at = elapsed();
   for (const auto& request : requests) {
     if (!parse_nine_bit_body(request.body)) {
-      ++counters_.malformed;
+      ++malformed_;
       continue;
     }
-    ++counters_.requests_seen;
+    count_request();
     const AsciiCommand command = counterpart(parse_nine_bit_body(request.body)->command);
-    Replies replies;
+    Answers answers;
     for (auto& sensor : sensors_) {
       if (auto reply = sensor.respond_nine_bit(request.address, request.body, at))
-        replies.add(std::move(*reply), sensor.reply_delay(command));
+        answers.add(std::move(*reply), sensor.reply_delay(command));
     }
-    send(std::move(replies));
+    send(std::move(answers));
   }
 }
 
@@ -141,38 +164,24 @@ void DynaSimulator::on_ascii_bytes(std::span<const std::uint8_t> bytes) {
   AsciiFrameParser& parser = framing_->ascii;
   const AsciiParserCounters before = parser.counters();
   parser.feed(bytes);
-  counters_.lrc_errors += parser.counters().lrc_errors - before.lrc_errors;
-  counters_.malformed += parser.counters().malformed - before.malformed;
-  const SimTime at = now();
+  lrc_errors_ += parser.counters().lrc_errors - before.lrc_errors;
+  malformed_ += parser.counters().malformed - before.malformed;
+  const SimTime at = elapsed();
   while (auto request = parser.next()) {
-    ++counters_.requests_seen;
-    Replies replies;
+    count_request();
+    Answers answers;
     for (auto& sensor : sensors_) {
       if (auto reply = sensor.respond_ascii(*request, at))
-        replies.add(std::move(*reply),
+        answers.add(std::move(*reply),
                     sensor.reply_delay(static_cast<AsciiCommand>(request->command)));
     }
-    send(std::move(replies));
+    send(std::move(answers));
   }
 }
 
-void DynaSimulator::send(Replies replies) {
-  if (!replies.first) return;
-  // Two modules that answer one request (two at one address) drive the bus at once: the master
-  // receives one reply, garbled. The first stands for it, its second character replaced by one
-  // that neither protocol sends there (a 9-bit number, a Modbus-ASCII hex digit).
-  if (replies.count > 1) {
-    ++counters_.collisions;
-    if (replies.first->size() > 1) (*replies.first)[1] = '#';
-  }
-  queue_reply(std::move(*replies.first), replies.delay);
+// Two modules that answer one request (two at one address) drive the bus at once.
+void DynaSimulator::garble(std::vector<std::uint8_t>& reply) const {
+  if (reply.size() > 1) reply[1] = '#';
 }
-
-void DynaSimulator::queue_reply(std::vector<std::uint8_t> bytes,
-                                std::chrono::milliseconds extra_delay) {
-  server_.send_after(options_.reply_latency + extra_delay, std::move(bytes));
-}
-
-SimTime DynaSimulator::now() const { return Clock::now() - started_; }
 
 }  // namespace tiltgate::spectron

@@ -43,8 +43,8 @@ class TmpdirFor {
 // The demo numbers its sensors from unit 1 in family order, skipping families without any.
 int first_demo_unit_of(const FamilyDescriptor& wanted) {
   int unit = 1;
-  for (const FamilyDescriptor* family : registered_families()) {
-    if (family == &wanted) return unit;
+  for (const FamilyCommands* family : registered_family_commands()) {
+    if (family->family == &wanted) return unit;
     unit += int(family->demo.sensors.size());
   }
   return 0;

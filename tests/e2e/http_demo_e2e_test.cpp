@@ -10,8 +10,7 @@
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/http_client.h"
 #include "e2e/support/http_demo.h"
-#include "driver/family.h"
-#include "driver/bus_simulator.h"
+#include "driver/family_commands.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
@@ -22,7 +21,7 @@ TEST_CASE("HTTP: the demo serves every sensor's angles in the API and the metric
   GatewayProcess& demo = started.process;
   const std::uint16_t http_port = started.http_port;
   std::vector<std::string> names;
-  for (const FamilyDescriptor* family : registered_families())
+  for (const FamilyCommands* family : registered_family_commands())
     for (const DemoSensor& sensor : family->demo.sensors) names.push_back(std::string(sensor.name));
   REQUIRE(names.size() > 1);
 

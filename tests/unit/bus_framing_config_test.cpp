@@ -28,6 +28,8 @@ std::chrono::microseconds gap_from(std::uint32_t baud, Framing framing) {
 const ProtocolDescriptor kProtocols[] = {
     {
         .name = "chosen-bus",
+        .short_name = "chosen",
+        .title = "Chosen",
         .framing = Framing::eight_even_one,
         .bauds = kBauds,
         .default_baud = 19200,
@@ -39,6 +41,8 @@ const ProtocolDescriptor kProtocols[] = {
     },
     {
         .name = "fixed-bus",
+        .short_name = "fixed",
+        .title = "Fixed",
         .framing = Framing::eight_none_one,
         .bauds = kBauds,
         .default_baud = 19200,
@@ -64,32 +68,14 @@ const ModelDescriptor kModels[] = {{
 
 void read_no_keys(SensorKeyReader&, FamilyOptions&) {}
 std::unique_ptr<SensorDriver> make_no_driver(const DriverSetup&) { return nullptr; }
-Expected<std::unique_ptr<BusSimulator>, std::string> make_no_simulator(boost::asio::io_context&,
-                                                                       const SimulatorSetup&) {
-  return Unexpected{std::string("no simulator in this test")};
-}
 
 const FamilyDescriptor kFamily{
     .name = "acme",
-    .title = "Acme",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = {},
     .read_sensor_keys = read_no_keys,
     .make_driver = make_no_driver,
-    .simulator = {.command = "acme",
-                  .help = "Acme sensors",
-                  .default_sensors = "plain:1",
-                  .sensors_help = "model:address",
-                  .protocols = {},
-                  .protocols_help = "",
-                  .make = make_no_simulator},
-    .demo = {.bus_name = "acme-bus",
-             .protocol = "chosen-bus",
-             .baud = 19200,
-             .simulator = {.sensors = "plain:1", .protocol = "", .link = "", .pace_baud = 0},
-             .sensors = {},
-             .examples = {}},
 };
 
 const FamilyDescriptor* const kList[] = {&kFamily};

@@ -41,6 +41,8 @@ constexpr std::array<std::int64_t, 2> kBauds{19200, 57600};
 
 const ProtocolDescriptor kProtocols[] = {{
     .name = "fake-bus",
+    .short_name = "fake",
+    .title = "Fake",
     .framing = Framing::eight_even_one,
     .bauds = kBauds,
     .default_baud = std::nullopt,
@@ -72,7 +74,7 @@ const ModelDescriptor kModels[] = {{
     .settings = kSettings,
 }};
 
-constexpr std::string_view kSensorKeys[] = {"gain"};
+constexpr SensorKey kSensorKeys[] = {{"gain"}};
 
 void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
   options.set("gain", 1.0);
@@ -89,32 +91,13 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   return std::make_unique<FakeDriver>();
 }
 
-Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context&,
-                                                                    const SimulatorSetup&) {
-  return Unexpected{std::string("no simulator in this test")};
-}
-
 const FamilyDescriptor kFakeFamily{
     .name = "acme",
-    .title = "Acme X",
     .protocols = kProtocols,
     .models = kModels,
     .sensor_keys = kSensorKeys,
     .read_sensor_keys = read_sensor_keys,
     .make_driver = make_driver,
-    .simulator = {.command = "acme",
-                  .help = "Acme X sensors",
-                  .default_sensors = "tilt-x1:1",
-                  .sensors_help = "model:address",
-                  .protocols = {},
-                  .protocols_help = "",
-                  .make = make_simulator},
-    .demo = {.bus_name = "acme-bus",
-             .protocol = "fake-bus",
-             .baud = 19200,
-             .simulator = {.sensors = "tilt-x1:1", .protocol = "", .link = "", .pace_baud = 0},
-             .sensors = {},
-             .examples = {}},
 };
 
 const FamilyDescriptor* const kFakeList[] = {&kFakeFamily};

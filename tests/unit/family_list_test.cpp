@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "driver/family.h"
+#include "driver/family_commands.h"
 #include "mapping/register_map.h"
 
 using namespace tiltgate;
@@ -39,12 +40,17 @@ TEST_CASE("the registered families are every family the build names, each once")
   std::set<const FamilyDescriptor*> descriptors;
   std::set<std::string_view> names;
   std::set<std::string_view> sim_commands;
-  for (const FamilyDescriptor* family : families) {
+  const FamilyCommandsList commands = registered_family_commands();
+  REQUIRE(commands.size() == families.size());
+  for (std::size_t i = 0; i < families.size(); ++i) {
+    const FamilyDescriptor* family = families[i];
     REQUIRE(family != nullptr);
     INFO("family ", std::string(family->name));
     CHECK(descriptors.insert(family).second);
     CHECK(names.insert(family->name).second);
-    CHECK(sim_commands.insert(family->simulator.command).second);
+    REQUIRE(commands[i] != nullptr);
+    CHECK(commands[i]->family == family);
+    CHECK(sim_commands.insert(commands[i]->simulator.command).second);
   }
 }
 
@@ -89,9 +95,10 @@ TEST_CASE("a setting name means one id and an id one name, in every family") {
 }
 
 TEST_CASE("each family's demo sensors are its own models, with files only for its own keys") {
-  for (const FamilyDescriptor* family : registered_families()) {
+  for (const FamilyCommands* commands : registered_family_commands()) {
+    const FamilyDescriptor* family = commands->family;
     INFO("family ", std::string(family->name));
-    const DemoBus& demo = family->demo;
+    const DemoBus& demo = commands->demo;
     if (demo.sensors.empty()) continue;  // the demo gives such a family no bus
     const ProtocolEntry protocol = find_protocol(registered_families(), demo.protocol);
     CHECK(protocol.family == family);
@@ -101,13 +108,12 @@ TEST_CASE("each family's demo sensors are its own models, with files only for it
       CHECK(find_model(registered_families(), sensor.model).family == family);
       std::set<std::string_view> keys;
       for (const DemoFile& file : sensor.files) {
-        CHECK(std::find(family->sensor_keys.begin(), family->sensor_keys.end(), file.key) !=
-              family->sensor_keys.end());
+        CHECK(has_sensor_key(*family, file.key));
         CHECK(keys.insert(file.key).second);
         CHECK_FALSE(file.contents.empty());
       }
       // A key the family requires has nothing else to come from in the demo.
-      for (std::string_view required : family->required_sensor_keys)
+      for (std::string_view required : required_sensor_keys(*family))
         CHECK(keys.count(required) == 1);
     }
   }

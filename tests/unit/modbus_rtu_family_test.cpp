@@ -67,7 +67,7 @@ TEST_CASE("Modbus RTU slave ids are 1..247 and bauds the standard rates") {
 
 TEST_CASE("the Modbus RTU simulator factory takes a list of slave ids") {
   boost::asio::io_context io;
-  const SimulatorDescriptor& sim = modbus_rtu::kFamily.simulator;
+  const SimulatorDescriptor& sim = modbus_rtu::kCommands.simulator;
   auto two = sim.make(io, SimulatorSetup{"modbus-rtu:1, modbus-rtu:7", "", "", 0});
   REQUIRE(two.has_value());
   CHECK((*two)->sensor_count() == 2);
@@ -77,11 +77,11 @@ TEST_CASE("the Modbus RTU simulator factory takes a list of slave ids") {
 }
 
 TEST_CASE("the Modbus RTU demo reads slave 1 of its simulator through the example profile") {
-  const DemoBus& demo = modbus_rtu::kFamily.demo;
+  const DemoBus& demo = modbus_rtu::kCommands.demo;
   REQUIRE(demo.sensors.size() == 1);
   const DemoSensor& sensor = demo.sensors[0];
   CHECK(sensor.address == 1);
-  CHECK(demo.simulator.sensors == "modbus-rtu:1");
+  CHECK(demo_simulator_setup(modbus_rtu::kCommands).sensors == "modbus-rtu:1");
   REQUIRE(sensor.files.size() == 1);
   CHECK(sensor.files[0].key == "device");
   // Compiled in from the example at build time: the demo serves the example itself.

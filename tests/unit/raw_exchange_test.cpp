@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "driver/family.h"
+#include "driver/family_commands.h"
 #include "driver/hex.h"
 #include "modbus_rtu/codec.h"
 #include "rieker/codec.h"
@@ -20,9 +21,11 @@ std::unique_ptr<RawExchange> exchange(std::string_view protocol, std::uint32_t a
                                       std::uint32_t master = 0) {
   const ProtocolEntry entry = find_protocol(registered_families(), protocol);
   REQUIRE(entry.family);
-  const bool has_raw = entry.family->raw.make != nullptr;
+  const FamilyCommands* commands = find_commands(registered_family_commands(), entry.family);
+  REQUIRE(commands);
+  const bool has_raw = commands->raw.make != nullptr;
   REQUIRE(has_raw);
-  auto made = entry.family->raw.make(RawSetup{protocol, address, master, function, std::move(data)});
+  auto made = commands->raw.make(RawSetup{protocol, address, master, function, std::move(data)});
   REQUIRE_MESSAGE(made, (made ? "" : made.error()));
   return std::move(*made);
 }
@@ -30,7 +33,9 @@ std::unique_ptr<RawExchange> exchange(std::string_view protocol, std::uint32_t a
 std::string usage_error(std::string_view protocol, std::int64_t function,
                         std::vector<std::uint8_t> data = {}) {
   const ProtocolEntry entry = find_protocol(registered_families(), protocol);
-  auto made = entry.family->raw.make(RawSetup{protocol, 1, 0, function, std::move(data)});
+  const FamilyCommands* commands = find_commands(registered_family_commands(), entry.family);
+  REQUIRE(commands);
+  auto made = commands->raw.make(RawSetup{protocol, 1, 0, function, std::move(data)});
   REQUIRE_FALSE(made);
   return made.error();
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "driver/family.h"
+#include "driver/family_commands.h"
 #include "commission/set_plan.h"
 #include "spectron/setting_ids.h"
 
@@ -21,7 +22,8 @@ SetTarget target_for(std::string_view protocol, std::string_view model,
   REQUIRE(p.protocol);
   REQUIRE(m.model);
   REQUIRE(p.family == m.family);
-  return SetTarget{m.family, p.protocol, m.model, device_values};
+  return SetTarget{find_commands(registered_family_commands(), m.family), p.protocol, m.model,
+                   device_values};
 }
 
 SetPlan plan(const SetTarget& target, std::vector<std::string> words, bool permanent = false) {
