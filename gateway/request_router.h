@@ -1,6 +1,7 @@
 // Answers checked Modbus requests: routes by unit id to a sensor, reads from its cache through
-// its register map, turns register writes into queued sensor writes, and lists the sensor's
-// identification objects for Read Device Identification (43 / 14).
+// its register map, turns register writes into queued sensor writes, lists the sensor's
+// identification objects for Read Device Identification (43 / 14), and forwards requests for
+// unit ids a bus passes through.
 //
 // Threads: handle(), passes_through() and forward() may run on any Modbus TCP thread, many at
 // once. Reads are answered there, from the sensors' snapshots; writes and forwarded requests
@@ -61,8 +62,8 @@ class RequestRouter : public ModbusRequestHandler {
 
   boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) override;
 
-  // Pass-through (gateway/request_forwarding.cpp): requests for `unit_id` go to the device
-  // with that address on `bus`. The unit id must be no sensor's.
+  // Pass-through: requests for `unit_id` go to the device with that address on `bus`, under
+  // the same write rule as the cached sensors. The unit id must be no sensor's.
   void pass_through(std::uint8_t unit_id, BusScheduler& bus);
   // Asked of every request: a look under the lock, without taking a copy of the table.
   bool passes_through(std::uint8_t unit_id) const override {
