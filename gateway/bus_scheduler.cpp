@@ -35,6 +35,8 @@ boost::asio::awaitable<bool> wait_for_result(std::deque<std::shared_ptr<Pending>
   co_return true;
 }
 
+WriteError stopping_write() { return WriteError{WriteErrorKind::no_response, "gateway stopping"}; }
+
 CommandExchangeResult failed_exchange(LineError error) {
   CommandExchangeResult result;
   result.done = Unexpected{error};
@@ -94,7 +96,7 @@ void BusScheduler::stop() {
   stopping_ = true;
   wake_.cancel();
   for (auto& pending : writes_) {
-    pending->result = Unexpected(WriteError{WriteErrorKind::no_response, "gateway stopping"});
+    pending->result = pending->write.fail(stopping_write());
     pending->done.cancel();
   }
   writes_.clear();
@@ -225,30 +227,23 @@ void BusScheduler::process_new_reading(GatewaySensor& sensor) {
 
 asio::awaitable<void> BusScheduler::run_write(std::shared_ptr<PendingWrite> pending) {
   pending->started = true;
-  // Again now: a write queued before this one may have moved a sensor to this address.
-  WriteResult result = check_address_free(*pending->sensor, pending->target, pending->value);
-  if (result) {
-    result = co_await pending->sensor->driver->write(line_, pending->target, pending->value);
-    ++stats_.writes;
-    pending->sensor->publish();
-  }
-  pending->result = std::move(result);
+  pending->result = co_await pending->write.run(line_, *this, stats_.writes);
   pending->done.cancel();
 }
 
-asio::awaitable<WriteResult> BusScheduler::write(GatewaySensor& sensor, WriteTarget target,
-                                                 double value, SteadyClock::time_point deadline) {
-  if (stopping_) {
-    co_return Unexpected(WriteError{WriteErrorKind::no_response, "gateway stopping"});
-  }
+asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
+                                                 SteadyClock::time_point deadline) {
+  if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
+  if (stopping_) co_return write.fail(stopping_write());
   auto pending = std::make_shared<PendingWrite>(
-      PendingWrite{&sensor, target, value, false, std::nullopt, asio::steady_timer(executor_)});
+      PendingWrite{std::move(write), false, std::nullopt, asio::steady_timer(executor_)});
   writes_.push_back(pending);
   wake_.cancel();
 
   if (!co_await wait_for_result(writes_, pending, deadline)) {
     ++stats_.writes_expired;
-    co_return Unexpected(WriteError{WriteErrorKind::busy, "bus too busy: write not started in time"});
+    co_return pending->write.fail(
+        WriteError{WriteErrorKind::busy, "bus too busy: write not started in time"});
   }
   co_return std::move(*pending->result);
 }

@@ -19,6 +19,7 @@
 #include "driver/sensor_driver.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/poll_schedule.h"
+#include "gateway/sensor_write.h"
 
 namespace tiltgate {
 
@@ -71,7 +72,7 @@ class BusScheduler {
   // reload may drop every other reference meanwhile).
   void add(std::shared_ptr<GatewaySensor> sensor);
   // Polls `sensor` no more (a reload removed or replaced it). Its writes already queued are
-  // still carried out and answered: their callers hold the sensor.
+  // still carried out and answered: they hold the sensor.
   void remove(const GatewaySensor& sensor);
   // Winds the bus down for a reload that removed or changed it: no more polls; forwarded
   // requests and commands still queued are answered as at stop(); the writes already queued
@@ -82,15 +83,16 @@ class BusScheduler {
   boost::asio::awaitable<void> run();
   void stop();
 
-  // Queues a write ahead of every poll and waits for it. A write still queued when `deadline`
-  // passes is dropped and answered busy; one already on the wire is always waited for (its
-  // transactions are bounded by the bus time-outs).
-  boost::asio::awaitable<WriteResult> write(GatewaySensor& sensor, WriteTarget target,
-                                            double value, SteadyClock::time_point deadline);
+  // Checks `write` (a refusal is answered at once, before anything is queued), queues it
+  // ahead of every poll and waits for it: all its settings, one after another. A write still
+  // queued when `deadline` passes is dropped and answered busy; one already on the wire is
+  // always waited for (its transactions are bounded by the bus time-outs).
+  boost::asio::awaitable<WriteResult> write(SensorWrite write, SteadyClock::time_point deadline);
 
   // Refuses (bad_value: Modbus 0x03) a write that would move `sensor` to the address another
   // sensor on this bus has now: both would answer it, the bus would collide, and moving one
-  // back would move both. write() checks again when the write starts.
+  // back would move both. SensorWrite asks before the write is queued and again as each of
+  // its settings starts.
   WriteResult check_address_free(const GatewaySensor& sensor, WriteTarget target,
                                  double value) const;
 
@@ -142,9 +144,7 @@ class BusScheduler {
     std::optional<SteadyClock::time_point> held_until{};  // hold(): not polled before then
   };
   struct PendingWrite {
-    GatewaySensor* sensor;
-    WriteTarget target;
-    double value;
+    SensorWrite write;
     bool started = false;
     std::optional<WriteResult> result;
     boost::asio::steady_timer done;  // cancelled when result is set

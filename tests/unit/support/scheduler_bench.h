@@ -16,10 +16,23 @@
 #include <vector>
 
 #include "gateway/bus_scheduler.h"
+#include "gateway/sensor_write.h"
 #include "unit/support/fake_bus.h"
 #include "unit/support/fake_forwarding.h"
 
 namespace tiltgate::test {
+
+// A write of `value` to the holding point of `sensor`'s map that sets `target`, planned as the
+// router plans a one-register write (the built-in H6 map's settings are single words).
+inline SensorWrite planned_write(GatewaySensor& sensor, WriteTarget target, double value) {
+  const Point* point = nullptr;
+  for (const Point& p : sensor.map.points())
+    if (p.table == RegisterTable::holding && p.write == target) point = &p;
+  std::vector<PlannedWrite> plan{{point, value, {std::uint16_t(value)}}};
+  // An empty owner: the bench keeps the sensor alive.
+  return SensorWrite(std::shared_ptr<GatewaySensor>(std::shared_ptr<GatewaySensor>(), &sensor),
+                     std::move(plan));
+}
 
 struct SchedulerBench {
   SchedulerBench() {
@@ -55,7 +68,7 @@ struct SchedulerBench {
   void write(GatewaySensor& sensor, WriteTarget target, double value,
              SteadyClock::time_point deadline, std::optional<WriteResult>& result) {
     spawn(result, [this, &sensor, target, value, deadline] {
-      return scheduler.write(sensor, target, value, deadline);
+      return scheduler.write(planned_write(sensor, target, value), deadline);
     });
   }
   // A forwarded request for slave 30: PDU {tag, 0, 1}.
