@@ -8,45 +8,10 @@
 
 namespace tiltgate {
 
-namespace {
-
-// Waits until the bus has carried out `pending` (a queued write or forwarded request): true
-// once its result is set. False when `deadline` passed before it started: it is taken out of
-// `queue` and never sent. One already on the wire is always waited for, since the bus's own
-// time-outs bound it.
-template <class Pending>
-boost::asio::awaitable<bool> wait_for_result(std::deque<std::shared_ptr<Pending>>& queue,
-                                             std::shared_ptr<Pending> pending,
-                                             SteadyClock::time_point deadline) {
-  pending->done.expires_at(deadline);
-  while (!pending->result) {
-    boost::system::error_code ec;
-    co_await pending->done.async_wait(
-        boost::asio::redirect_error(boost::asio::use_awaitable, ec));
-    if (pending->result) break;
-    if (ec != boost::asio::error::operation_aborted) {  // the deadline passed
-      if (!pending->started) {
-        std::erase(queue, pending);
-        co_return false;
-      }
-      pending->done.expires_at(SteadyClock::time_point::max());
-    }
-  }
-  co_return true;
-}
-
-CommandExchangeResult failed_exchange(LineError error) {
-  CommandExchangeResult result;
-  result.done = Unexpected{error};
-  return result;
-}
-
-}  // namespace
-
 namespace asio = boost::asio;
 
 BusScheduler::BusScheduler(asio::any_io_executor executor, Line& line, std::string name)
-    : executor_(executor), line_(line), name_(std::move(name)), wake_(executor) {}
+    : line_(line), name_(std::move(name)), jobs_(executor), wake_(executor) {}
 
 void BusScheduler::add(GatewaySensor& sensor) {
   // An empty owner: a pointer that keeps nothing alive.
@@ -70,7 +35,7 @@ void BusScheduler::remove(const GatewaySensor& sensor) {
 void BusScheduler::retire() {
   retiring_ = true;
   sensors_.clear();
-  refuse_queued_turns();
+  jobs_.refuse_turns();
   wake_.cancel();
 }
 
@@ -80,38 +45,10 @@ BusScheduler::Polled* BusScheduler::find_polled(const GatewaySensor* sensor) {
   return nullptr;
 }
 
-const char* to_string(ForwardFailure failure) {
-  switch (failure) {
-    case ForwardFailure::busy: return "bus too busy: forward queue full";
-    case ForwardFailure::expired: return "bus too busy: not sent in time";
-    case ForwardFailure::no_response: return "no reply";
-    case ForwardFailure::unframed: return "cannot be forwarded on this bus";
-  }
-  return "unknown";
-}
-
 void BusScheduler::stop() {
   stopping_ = true;
   wake_.cancel();
-  for (auto& pending : writes_) {
-    pending->result = Unexpected(WriteError{WriteErrorKind::no_response, "gateway stopping"});
-    pending->done.cancel();
-  }
-  writes_.clear();
-  refuse_queued_turns();
-}
-
-void BusScheduler::refuse_queued_turns() {
-  for (auto& pending : forwards_) {
-    pending->result = Unexpected{ForwardFailure::no_response};
-    pending->done.cancel();
-  }
-  forwards_.clear();
-  for (auto& pending : commands_) {
-    pending->result = failed_exchange(LineError::cancelled);
-    pending->done.cancel();
-  }
-  commands_.clear();
+  jobs_.refuse_all();
 }
 
 void BusScheduler::enable_forwarding(ForwardFactory make, std::size_t max_queued) {
@@ -169,51 +106,43 @@ WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteT
 
 asio::awaitable<void> BusScheduler::run() {
   while (!stopping_) {
-    if (!writes_.empty()) {
-      auto pending = writes_.front();
-      writes_.pop_front();
-      const BusyTime busy(stats_.busy);
-      co_await run_write(pending);
+    Polled* polled = next_due();
+    const auto now = SteadyClock::now();
+    if (polled && polled->held_until && *polled->held_until <= now) polled->held_until.reset();
+    const auto due = polled ? due_of(polled->schedule, polled->held_until) : now;
+    const bool poll_due = polled != nullptr && due <= now;
+    if (const std::shared_ptr<BusJob> job = jobs_.take(poll_due)) {
+      co_await carry_out(*job);
       continue;
     }
     if (retiring_) {  // its last queued write is done
       stop();
       break;
     }
-    Polled* polled = next_due();
-    auto now = SteadyClock::now();
-    if (polled && polled->held_until && *polled->held_until <= now) polled->held_until.reset();
-    const auto due = polled ? due_of(polled->schedule, polled->held_until) : now;
-    const bool poll_due = polled != nullptr && due <= now;
-    // Forwarded requests and due polls take turns: a client hammering a passed-through device
-    // cannot starve the cached sensors, and a busy poll schedule cannot starve the client.
-    if ((!forwards_.empty() || !commands_.empty()) && (!poll_due || !forwarded_last_)) {
-      const BusyTime busy(stats_.busy);
-      co_await run_turn();
-      forwarded_last_ = true;
+    if (poll_due) {
+      co_await poll(polled->sensor);
       continue;
     }
-    if (!poll_due) {
-      wake_.expires_at(polled ? due : now + std::chrono::hours(1));
-      boost::system::error_code ec;
-      co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-      continue;
-    }
-    // Held here: a reload may remove the sensor, or add others, while its poll is on the wire.
-    const std::shared_ptr<GatewaySensor> sensor = polled->sensor;
-    {
-      const BusyTime busy(stats_.busy);
-      co_await sensor->driver->poll(line_);
-    }
-    ++stats_.polls;
-    forwarded_last_ = false;
-    process_new_reading(*sensor);
-    sensor->publish();
-    polled = find_polled(sensor.get());
-    if (polled == nullptr) continue;  // removed meanwhile
-    polled->schedule = after_poll(polled->schedule, sensor->driver->state().online,
-                                  sensor->config.poll, max_backoff, SteadyClock::now());
+    wake_.expires_at(polled ? due : now + std::chrono::hours(1));
+    boost::system::error_code ec;
+    co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
   }
+}
+
+// Holds the sensor: a reload may remove it, or add others, while its poll is on the wire.
+asio::awaitable<void> BusScheduler::poll(std::shared_ptr<GatewaySensor> sensor) {
+  {
+    const BusyTime busy(stats_.busy);
+    co_await sensor->driver->poll(line_);
+  }
+  ++stats_.polls;
+  jobs_.polled();
+  process_new_reading(*sensor);
+  sensor->publish();
+  Polled* polled = find_polled(sensor.get());
+  if (polled == nullptr) co_return;  // removed meanwhile
+  polled->schedule = after_poll(polled->schedule, sensor->driver->state().online,
+                                sensor->config.poll, max_backoff, SteadyClock::now());
 }
 
 void BusScheduler::process_new_reading(GatewaySensor& sensor) {
@@ -223,45 +152,62 @@ void BusScheduler::process_new_reading(GatewaySensor& sensor) {
   sensor.processed_seq = state.sample_seq;
 }
 
-asio::awaitable<void> BusScheduler::run_write(std::shared_ptr<PendingWrite> pending) {
-  pending->started = true;
-  // Again now: a write queued before this one may have moved a sensor to this address.
-  WriteResult result = check_address_free(*pending->sensor, pending->target, pending->value);
-  if (result) {
-    result = co_await pending->sensor->driver->write(line_, pending->target, pending->value);
-    ++stats_.writes;
-    pending->sensor->publish();
-  }
-  pending->result = std::move(result);
-  pending->done.cancel();
-}
-
-asio::awaitable<WriteResult> BusScheduler::write(GatewaySensor& sensor, WriteTarget target,
-                                                 double value, SteadyClock::time_point deadline) {
-  if (stopping_) {
-    co_return Unexpected(WriteError{WriteErrorKind::no_response, "gateway stopping"});
-  }
-  auto pending = std::make_shared<PendingWrite>(
-      PendingWrite{&sensor, target, value, false, std::nullopt, asio::steady_timer(executor_)});
-  writes_.push_back(pending);
+template <class Result>
+asio::awaitable<Result> BusScheduler::queue(BusWork work, SteadyClock::time_point deadline,
+                                            std::uint64_t& expired) {
+  // A retiring bus still carries out writes, those queued meanwhile too; nothing else.
+  if (stopping_ || (retiring_ && !std::holds_alternative<SensorWrite>(work)))
+    co_return std::get<Result>(refusal(work));
+  const std::shared_ptr<BusJob> job = jobs_.push(std::move(work));
   wake_.cancel();
-
-  if (!co_await wait_for_result(writes_, pending, deadline)) {
-    ++stats_.writes_expired;
-    co_return Unexpected(WriteError{WriteErrorKind::busy, "bus too busy: write not started in time"});
-  }
-  co_return std::move(*pending->result);
+  if (!co_await jobs_.wait(job, deadline)) ++expired;
+  co_return std::get<Result>(std::move(*job->answer));
 }
 
-asio::awaitable<ForwardResult> BusScheduler::exchange(const PendingForward& pending) {
+asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
+                                                 SteadyClock::time_point deadline) {
+  if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
+  BusWork work = std::move(write);  // named: g++ 12 destroys a temporary in co_await twice
+  co_return co_await queue<WriteResult>(std::move(work), deadline, stats_.writes_expired);
+}
+
+asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
+                                                     std::vector<std::uint8_t> pdu,
+                                                     SteadyClock::time_point deadline) {
+  if (jobs_.queued_forwards() >= max_queued_forwards_) {
+    ++stats_.forwards_busy;
+    co_return Unexpected{ForwardFailure::busy};
+  }
+  BusWork work = ForwardRequest{slave, std::move(pdu)};  // named, as in write()
+  co_return co_await queue<ForwardResult>(std::move(work), deadline, stats_.forwards_expired);
+}
+
+asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
+    LineRequest request, SteadyClock::time_point deadline) {
+  BusWork work = CommandTransaction{std::move(request)};  // named, as in write()
+  co_return co_await queue<CommandExchangeResult>(std::move(work), deadline,
+                                                  stats_.command_exchanges_expired);
+}
+
+asio::awaitable<void> BusScheduler::carry_out(BusJob& job) {
+  const BusyTime busy(stats_.busy);
+  if (auto* write = std::get_if<SensorWrite>(&job.work))
+    job.answer_with(co_await write->run(line_, *this, stats_.writes));
+  else if (auto* forward = std::get_if<ForwardRequest>(&job.work))
+    job.answer_with(co_await exchange(*forward));
+  else
+    job.answer_with(co_await transact(std::get<CommandTransaction>(job.work)));
+}
+
+asio::awaitable<ForwardResult> BusScheduler::exchange(const ForwardRequest& forward) {
   if (make_forward_ == nullptr) {
     ++stats_.forwards_unframed;
     co_return Unexpected{ForwardFailure::unframed};
   }
-  auto made = make_forward_(pending.slave, pending.pdu);
+  auto made = make_forward_(forward.slave, forward.pdu);
   if (!made) {
     ++stats_.forwards_unframed;
-    spdlog::warn("{}: request for slave {} not forwarded: {}", name_, pending.slave, made.error());
+    spdlog::warn("{}: request for slave {} not forwarded: {}", name_, forward.slave, made.error());
     co_return Unexpected{ForwardFailure::unframed};
   }
   ForwardedExchange& forwarded = **made;
@@ -273,55 +219,28 @@ asio::awaitable<ForwardResult> BusScheduler::exchange(const PendingForward& pend
   auto done = co_await line_.transact(std::move(request));
   if (!done) {
     ++stats_.forward_timeouts;
-    spdlog::debug("{}: forwarded request to slave {}: {}", name_, pending.slave,
+    spdlog::debug("{}: forwarded request to slave {}: {}", name_, forward.slave,
                   to_string(done.error()));
     co_return Unexpected{ForwardFailure::no_response};
   }
   auto reply = forwarded.reply_pdu();
   if (!reply) {
     ++stats_.forward_timeouts;
-    spdlog::debug("{}: forwarded request to slave {}: {}", name_, pending.slave, reply.error());
+    spdlog::debug("{}: forwarded request to slave {}: {}", name_, forward.slave, reply.error());
     co_return Unexpected{ForwardFailure::no_response};
   }
   ++stats_.forwarded;
   co_return std::move(*reply);
 }
 
-asio::awaitable<void> BusScheduler::run_turn() {
-  if (!commands_.empty() && (forwards_.empty() || !command_last_)) {
-    auto pending = commands_.front();
-    commands_.pop_front();
-    command_last_ = true;
-    pending->started = true;
-    CommandExchangeResult result;
-    result.done = co_await line_.transact(pending->request);
-    result.timing = line_.last_timing();
-    result.generation = line_.generation();
-    ++stats_.command_exchanges;
-    pending->result = std::move(result);
-    pending->done.cancel();
-    co_return;
-  }
-  auto pending = forwards_.front();
-  forwards_.pop_front();
-  command_last_ = false;
-  co_await run_forward(pending);
-}
-
-asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
-    LineRequest request, SteadyClock::time_point deadline) {
-  if (stopping_ || retiring_) co_return failed_exchange(LineError::cancelled);
-  auto pending = std::make_shared<PendingCommand>(
-      PendingCommand{std::move(request), false, std::nullopt, asio::steady_timer(executor_)});
-  commands_.push_back(pending);
-  wake_.cancel();
-  if (!co_await wait_for_result(commands_, pending, deadline)) {
-    ++stats_.command_exchanges_expired;
-    CommandExchangeResult expired = failed_exchange(LineError::timeout);
-    expired.expired = true;
-    co_return expired;
-  }
-  co_return std::move(*pending->result);
+asio::awaitable<CommandExchangeResult> BusScheduler::transact(
+    const CommandTransaction& command) {
+  CommandExchangeResult result;
+  result.done = co_await line_.transact(command.request);
+  result.timing = line_.last_timing();
+  result.generation = line_.generation();
+  ++stats_.command_exchanges;
+  co_return result;
 }
 
 std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std::uint32_t to) {
@@ -357,32 +276,6 @@ void BusScheduler::release(std::uint32_t address) {
       polled.held_until.reset();
       wake_.cancel();
     }
-}
-
-asio::awaitable<void> BusScheduler::run_forward(std::shared_ptr<PendingForward> pending) {
-  pending->started = true;
-  pending->result = co_await exchange(*pending);
-  pending->done.cancel();
-}
-
-asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
-                                                     std::vector<std::uint8_t> pdu,
-                                                     SteadyClock::time_point deadline) {
-  if (stopping_ || retiring_) co_return Unexpected{ForwardFailure::no_response};
-  if (forwards_.size() >= max_queued_forwards_) {
-    ++stats_.forwards_busy;
-    co_return Unexpected{ForwardFailure::busy};
-  }
-  auto pending = std::make_shared<PendingForward>(PendingForward{
-      slave, std::move(pdu), false, std::nullopt, asio::steady_timer(executor_)});
-  forwards_.push_back(pending);
-  wake_.cancel();
-
-  if (!co_await wait_for_result(forwards_, pending, deadline)) {
-    ++stats_.forwards_expired;
-    co_return Unexpected{ForwardFailure::expired};
-  }
-  co_return std::move(*pending->result);
 }
 
 }  // namespace tiltgate

@@ -1,14 +1,16 @@
-// One serial bus: the only owner of its Line. Polls each sensor at its poll period, runs queued
-// writes ahead of polls, and backs off from sensors that do not answer so they cannot starve
-// the others. Requests forwarded to devices passed through ([[bus]] pass_through) and the
-// transactions of commissioning commands (the control socket) take turns with the polls. Everything runs on the event loop thread; nothing here blocks.
+// One serial bus: the only owner of its Line. Polls each sensor at its poll period, and backs
+// off from sensors that do not answer so they cannot starve the others. Between polls it
+// carries out the jobs its callers queue and wait for (gateway/bus_job.h): writes of its
+// sensors ahead of polls, requests forwarded to devices passed through ([[bus]] pass_through)
+// and the transactions of commissioning commands (the control socket) taking turns with the
+// polls, in the order gateway/bus_queue.h gives them. Everything runs on the event loop
+// thread; nothing here blocks.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,8 +19,11 @@
 #include "driver/forwarded_exchange.h"
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
+#include "gateway/bus_job.h"
+#include "gateway/bus_queue.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/poll_schedule.h"
+#include "gateway/sensor_write.h"
 
 namespace tiltgate {
 
@@ -40,27 +45,6 @@ struct BusSchedulerStats {
   std::chrono::nanoseconds busy{0};
 };
 
-// What a commissioning command's transaction through the control socket came to: the Line's
-// outcome, its timing and generation, as the command's own Line would report them.
-struct CommandExchangeResult {
-  Expected<Done, LineError> done = Done{};
-  bool expired = false;  // never sent: still queued at its deadline
-  LineTiming timing;
-  std::uint64_t generation = 0;
-};
-
-// Why a forwarded request got no reply PDU to relay.
-enum class ForwardFailure {
-  busy,         // the bus's forward queue was full (Modbus 0x06)
-  expired,      // still queued at its deadline (0x0B)
-  no_response,  // sent, but no reply: time-out, port closed or failed; or stopping (0x0B)
-  unframed,     // the bus's protocol cannot frame it, or cannot forward at all (0x04)
-};
-const char* to_string(ForwardFailure failure);
-
-// The reply PDU (function code and data, exception replies included) or why there is none.
-using ForwardResult = Expected<std::vector<std::uint8_t>, ForwardFailure>;
-
 class BusScheduler {
  public:
   BusScheduler(boost::asio::any_io_executor executor, Line& line, std::string name);
@@ -71,7 +55,7 @@ class BusScheduler {
   // reload may drop every other reference meanwhile).
   void add(std::shared_ptr<GatewaySensor> sensor);
   // Polls `sensor` no more (a reload removed or replaced it). Its writes already queued are
-  // still carried out and answered: their callers hold the sensor.
+  // still carried out and answered: they hold the sensor.
   void remove(const GatewaySensor& sensor);
   // Winds the bus down for a reload that removed or changed it: no more polls; forwarded
   // requests and commands still queued are answered as at stop(); the writes already queued
@@ -82,15 +66,16 @@ class BusScheduler {
   boost::asio::awaitable<void> run();
   void stop();
 
-  // Queues a write ahead of every poll and waits for it. A write still queued when `deadline`
-  // passes is dropped and answered busy; one already on the wire is always waited for (its
-  // transactions are bounded by the bus time-outs).
-  boost::asio::awaitable<WriteResult> write(GatewaySensor& sensor, WriteTarget target,
-                                            double value, SteadyClock::time_point deadline);
+  // Checks `write` (a refusal is answered at once, before anything is queued), queues it
+  // ahead of every poll and waits for it: all its settings, one after another. A write still
+  // queued when `deadline` passes is dropped and answered busy; one already on the wire is
+  // always waited for (its transactions are bounded by the bus time-outs).
+  boost::asio::awaitable<WriteResult> write(SensorWrite write, SteadyClock::time_point deadline);
 
   // Refuses (bad_value: Modbus 0x03) a write that would move `sensor` to the address another
   // sensor on this bus has now: both would answer it, the bus would collide, and moving one
-  // back would move both. write() checks again when the write starts.
+  // back would move both. SensorWrite asks before the write is queued and again as each of
+  // its settings starts.
   WriteResult check_address_free(const GatewaySensor& sensor, WriteTarget target,
                                  double value) const;
 
@@ -141,55 +126,28 @@ class BusScheduler {
     PollSchedule schedule;
     std::optional<SteadyClock::time_point> held_until{};  // hold(): not polled before then
   };
-  struct PendingWrite {
-    GatewaySensor* sensor;
-    WriteTarget target;
-    double value;
-    bool started = false;
-    std::optional<WriteResult> result;
-    boost::asio::steady_timer done;  // cancelled when result is set
-  };
-
-  struct PendingForward {
-    std::uint8_t slave;
-    std::vector<std::uint8_t> pdu;
-    bool started = false;
-    std::optional<ForwardResult> result;
-    boost::asio::steady_timer done;  // cancelled when result is set
-  };
-
-  struct PendingCommand {
-    LineRequest request;
-    bool started = false;
-    std::optional<CommandExchangeResult> result;
-    boost::asio::steady_timer done;  // cancelled when result is set
-  };
-
   Polled* next_due();
   Polled* find_polled(const GatewaySensor* sensor);
-  // Answers every queued forwarded request and command's transaction: not carried out.
-  void refuse_queued_turns();
-  // Takes the next forwarded request or command transaction, alternating between the two when
-  // both wait. Called only when one of them waits.
-  boost::asio::awaitable<void> run_turn();
+  // Polls `sensor` and publishes what it read.
+  boost::asio::awaitable<void> poll(std::shared_ptr<GatewaySensor> sensor);
   // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
   static void process_new_reading(GatewaySensor& sensor);
-  boost::asio::awaitable<void> run_write(std::shared_ptr<PendingWrite> pending);
-  boost::asio::awaitable<void> run_forward(std::shared_ptr<PendingForward> pending);
-  boost::asio::awaitable<ForwardResult> exchange(const PendingForward& pending);
+  // Queues `work` (unless the bus stops, or retires and it is no write: then it is answered
+  // refusal() at once), waits for its answer and counts it in `expired` when it expired unsent.
+  template <class Result>
+  boost::asio::awaitable<Result> queue(BusWork work, SteadyClock::time_point deadline,
+                                       std::uint64_t& expired);
+  // Carries out a job taken from the queue and answers it.
+  boost::asio::awaitable<void> carry_out(BusJob& job);
+  boost::asio::awaitable<ForwardResult> exchange(const ForwardRequest& forward);
+  boost::asio::awaitable<CommandExchangeResult> transact(const CommandTransaction& command);
 
-  boost::asio::any_io_executor executor_;
   Line& line_;
   std::string name_;
   std::vector<Polled> sensors_;
-  std::deque<std::shared_ptr<PendingWrite>> writes_;
-  std::deque<std::shared_ptr<PendingForward>> forwards_;
-  std::deque<std::shared_ptr<PendingCommand>> commands_;
-  bool command_last_ = false;  // of the turns given to forwards and commands, the last was a command's
+  BusQueue jobs_;
   ForwardFactory make_forward_ = nullptr;
   std::size_t max_queued_forwards_ = kMaxQueuedForwards;
-  // The last exchange was a forwarded request or a command's: a due poll goes next.
-  bool forwarded_last_ = false;
   boost::asio::steady_timer wake_;
   bool stopping_ = false;
   bool retiring_ = false;  // retire(): the queued writes, then stop

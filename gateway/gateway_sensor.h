@@ -36,7 +36,9 @@ struct GatewaySensor {
   SensorProcessing processing{MountingConfig{}, AlarmConfig{}};
   std::uint16_t processed_seq = 0;
   RegisterMap map;
-  std::vector<std::uint16_t> written;  // holding shadow, sized to map.holding_end()
+  // Holding shadow, sized to map.holding_end(): what was written through the gateway, kept by
+  // SensorWrite (gateway/sensor_write.h).
+  std::vector<std::uint16_t> written;
   std::chrono::milliseconds stale_after{1000};
   BusScheduler* bus = nullptr;
 

@@ -4,11 +4,11 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
-#include <span>
 #include <string_view>
 #include <vector>
 
 #include "gateway/bus_scheduler.h"
+#include "gateway/sensor_write.h"
 #include "modbus_tcp/device_identification.h"
 #include "modbus_tcp/modbus_request.h"
 
@@ -191,51 +191,67 @@ ModbusResponse RequestRouter::identify(const GatewaySensor& sensor,
   return response;
 }
 
-boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<GatewaySensor> held,
+// The router plans the registers into settings; the sensor's bus checks them, carries them
+// out and answers (gateway/sensor_write.h).
+boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<GatewaySensor> sensor,
                                                             ModbusRequest request,
                                                             RouterOptions options) {
-  GatewaySensor& sensor = *held;
   if (request.table != ModbusTable::holding) {
     const auto table = table_of(request.table);
-    co_return failure(sensor.map.has_table(table) ? ModbusException::illegal_address
-                                                  : ModbusException::illegal_function);
+    co_return failure(sensor->map.has_table(table) ? ModbusException::illegal_address
+                                                   : ModbusException::illegal_function);
   }
-  auto plan = plan_register_write(sensor.map, options.word_order, request.address,
+  auto plan = plan_register_write(sensor->map, options.word_order, request.address,
                                   request.registers);
   if (!plan) co_return failure(exception_for(plan.error()));
-  // Checked together, before anything is queued: a value may depend on a setting written
-  // before it in the same request (an EEPROM window's location).
-  std::vector<SettingWrite> settings;
-  for (const PlannedWrite& step : *plan) settings.push_back({*step.point->write, step.value});
-  auto checked = sensor.driver->check_writes(settings);
-  for (const PlannedWrite& step : *plan) {
-    if (!checked) break;
-    // Checked again when the write starts: an earlier write may move a sensor meanwhile.
-    if (sensor.bus != nullptr) {
-      checked = sensor.bus->check_address_free(sensor, *step.point->write, step.value);
-    }
-  }
-  if (!checked) {
-    spdlog::warn("{}: write refused: {}", sensor.config.name, checked.error().detail);
-    co_return failure(exception_for(checked.error()));
-  }
+  // As for a read of a sensor never polled: no bus has taken it up.
+  BusScheduler* bus = sensor->bus;
+  if (bus == nullptr) co_return failure(ModbusException::gateway_target_failed);
   const auto deadline = SteadyClock::now() + options.write_timeout;
-  for (std::size_t i = 0; i < plan->size(); ++i) {
-    const PlannedWrite& step = (*plan)[i];
-    auto done = co_await sensor.bus->write(sensor, *step.point->write, step.value, deadline);
-    if (!done) {
-      spdlog::warn("{}: write {} = {} failed: {}", sensor.config.name, step.point->name,
-                   step.value, done.error().detail);
-      sensor.driver->abandon(std::span(settings).first(i));
-      sensor.publish();
-      co_return failure(exception_for(done.error()));
-    }
-    spdlog::info("{}: wrote {} = {}", sensor.config.name, step.point->name, step.value);
-    std::copy(step.words.begin(), step.words.end(),
-              sensor.written.begin() + step.point->address);
-    sensor.publish();
-  }
+  SensorWrite write(std::move(sensor), std::move(*plan));  // named: see BusScheduler::write()
+  auto done = co_await bus->write(std::move(write), deadline);
+  if (!done) co_return failure(exception_for(done.error()));
   co_return ModbusResponse{};
+}
+
+ModbusException exception_for(ForwardFailure failure) {
+  switch (failure) {
+    case ForwardFailure::busy: return ModbusException::busy;
+    case ForwardFailure::expired:
+    case ForwardFailure::no_response: return ModbusException::gateway_target_failed;
+    case ForwardFailure::unframed: return ModbusException::device_failure;
+  }
+  return ModbusException::device_failure;
+}
+
+boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_id,
+                                                              std::vector<std::uint8_t> pdu) {
+  const std::shared_ptr<const Routes> routes = this->routes();
+  BusScheduler* bus = routes->forwarded[unit_id];
+  if (bus == nullptr) co_return Unexpected{ModbusException::gateway_path_unavailable};
+  // As for the cached sensors: nobody on the plant network changes a device by default.
+  if (!routes->options.writes && !reads_only(pdu)) {
+    spdlog::debug("unit {}: function {:02X} not passed through: [server] writes is false",
+                  unit_id, pdu.empty() ? 0 : pdu[0]);
+    co_return Unexpected{ModbusException::illegal_function};
+  }
+  if (stopping_) co_return Unexpected{ModbusException::gateway_target_failed};
+  // The server's write_timeout bounds the wait for the bus, as it does for writes.
+  const auto deadline = SteadyClock::now() + routes->options.write_timeout;
+  std::optional<ForwardedReply> reply = co_await boost::asio::co_spawn(
+      bus_executor_, forward_on_bus(*bus, unit_id, std::move(pdu), deadline),
+      boost::asio::use_awaitable);
+  co_return std::move(*reply);
+}
+
+// On the buses' executor: the scheduler is theirs. In an optional only because co_spawn wants
+// a result it can default-construct.
+boost::asio::awaitable<std::optional<ForwardedReply>> RequestRouter::forward_on_bus(
+    BusScheduler& bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
+    SteadyClock::time_point deadline) {
+  auto reply = co_await bus.forward(unit_id, std::move(pdu), deadline);
+  if (!reply) co_return ForwardedReply{Unexpected{exception_for(reply.error())}};
+  co_return ForwardedReply{std::move(*reply)};
 }
 
 }  // namespace tiltgate

@@ -1,6 +1,8 @@
 // Answers checked Modbus requests: routes by unit id to a sensor, reads from its cache through
-// its register map, turns register writes into queued sensor writes, and lists the sensor's
-// identification objects for Read Device Identification (43 / 14).
+// its register map, plans register writes into the sensor's settings and hands each request to
+// its bus as one write (gateway/sensor_write.h), lists the sensor's identification objects for
+// Read Device Identification (43 / 14), and forwards requests for unit ids a bus passes
+// through.
 //
 // Threads: handle(), passes_through() and forward() may run on any Modbus TCP thread, many at
 // once. Reads are answered there, from the sensors' snapshots; writes and forwarded requests
@@ -61,8 +63,8 @@ class RequestRouter : public ModbusRequestHandler {
 
   boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) override;
 
-  // Pass-through (gateway/request_forwarding.cpp): requests for `unit_id` go to the device
-  // with that address on `bus`. The unit id must be no sensor's.
+  // Pass-through: requests for `unit_id` go to the device with that address on `bus`, under
+  // the same write rule as the cached sensors. The unit id must be no sensor's.
   void pass_through(std::uint8_t unit_id, BusScheduler& bus);
   // Asked of every request: a look under the lock, without taking a copy of the table.
   bool passes_through(std::uint8_t unit_id) const override {
@@ -88,7 +90,7 @@ class RequestRouter : public ModbusRequestHandler {
   static ModbusResponse read(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
                              const ModbusRequest& request, WordOrder order);
   static ModbusResponse identify(const GatewaySensor& sensor, const SensorSnapshot& snapshot);
-  // Runs on the buses' executor; holds the sensor to the end.
+  // Runs on the buses' executor; the write holds the sensor to the end.
   boost::asio::awaitable<ModbusResponse> write(std::shared_ptr<GatewaySensor> sensor,
                                                ModbusRequest request, RouterOptions options);
   boost::asio::awaitable<std::optional<ForwardedReply>> forward_on_bus(BusScheduler& bus, std::uint8_t unit_id,

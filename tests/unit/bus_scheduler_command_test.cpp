@@ -1,96 +1,21 @@
-// BusScheduler carrying commissioning commands' transactions (the control socket), with the
-// fake line and drivers of unit/support/fake_bus.h: each transaction is sent as the command
+// BusScheduler carrying commissioning commands' transactions (the control socket), on the
+// bench of unit/support/scheduler_bench.h: each transaction is sent as the command
 // gave it, takes turns with due polls and with forwarded requests, expires unsent at its
 // deadline; and a sensor moved by a command is followed.
 #include <doctest/doctest.h>
 
-#include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
 #include <optional>
 
 #include "gateway/bus_scheduler.h"
-#include "unit/support/fake_bus.h"
-#include "unit/support/fake_forwarding.h"
+#include "unit/support/scheduler_bench.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
-namespace asio = boost::asio;
-
-namespace {
-
-// Takes whatever arrives as the whole reply, as a command's framer would take its sensor's.
-class AnyReply final : public ReplyFramer {
- public:
-  void reset() override { received.clear(); }
-  bool feed(std::span<const std::uint8_t> bytes) override {
-    received.assign(bytes.begin(), bytes.end());
-    return !received.empty();
-  }
-  std::vector<std::uint8_t> received;
-};
-
-struct Bus {
-  asio::io_context io;
-  FakeLine line{io.get_executor()};
-  BusScheduler scheduler{io.get_executor(), line, "bus"};
-  BusEvents events;
-  std::vector<std::unique_ptr<GatewaySensor>> sensors;
-  std::vector<LineRequest> sent;  // command and forwarded requests as the line got them
-  AnyReply framer;
-
-  Bus() {
-    scheduler.enable_forwarding(echo_forward);
-    // Polls pass no framer, so only commands' and forwarded exchanges reach this. A command's
-    // request starts with 0xC0, a forwarded one with its slave (30).
-    line.reply = [this](const LineRequest& request) {
-      events.push_back((request.bytes.at(0) == 0xC0 ? "command " : "forward ") +
-                       std::to_string(request.bytes.at(1)));
-      sent.push_back(LineRequest{request.bytes, request.address_bytes, nullptr, request.timeout,
-                                 request.retries, request.settle});
-      return std::vector<std::uint8_t>{0xAC, request.bytes.at(1)};
-    };
-  }
-  GatewaySensor& add(std::string name, std::uint32_t address,
-                     std::chrono::milliseconds poll = 100ms) {
-    sensors.push_back(fake_sensor(std::move(name), std::uint8_t(sensors.size() + 1), address,
-                                  events, poll));
-    scheduler.add(*sensors.back());
-    return *sensors.back();
-  }
-  void start() { asio::co_spawn(io, scheduler.run(), asio::detached); }
-  // A command's transaction {0xC0, tag}, from its own coroutine as a control session's.
-  void command(std::uint8_t tag, SteadyClock::time_point deadline,
-               std::optional<CommandExchangeResult>& result) {
-    asio::co_spawn(
-        io,
-        [this, tag, deadline, &result]() -> asio::awaitable<void> {
-          LineRequest request{{0xC0, tag}, 0, &framer, 7ms, 0, 3ms};
-          result = co_await scheduler.exchange_for_command(std::move(request), deadline);
-        },
-        asio::detached);
-  }
-  void forward(std::uint8_t tag, std::optional<ForwardResult>& result) {
-    asio::co_spawn(
-        io,
-        [this, tag, &result]() -> asio::awaitable<void> {
-          std::vector<std::uint8_t> pdu{tag, 0, 1};
-          result = co_await scheduler.forward(30, std::move(pdu), SteadyClock::now() + 10s);
-        },
-        asio::detached);
-  }
-  ~Bus() {
-    scheduler.stop();
-    io.restart();
-    io.run_for(100ms);
-  }
-};
-
-}  // namespace
 
 TEST_CASE("a command's transaction is sent as given and its framer sees the reply") {
   std::optional<CommandExchangeResult> result;
-  Bus bus;
+  SchedulerBench bus;
   bus.command(9, SteadyClock::now() + 10s, result);
   bus.start();
   REQUIRE(run_until(bus.io, [&] { return result.has_value(); }));
@@ -108,7 +33,7 @@ TEST_CASE("a command's transaction is sent as given and its framer sees the repl
 
 TEST_CASE("a command's transactions and due polls take turns, so the sensors keep being polled") {
   std::vector<std::optional<CommandExchangeResult>> results(6);
-  Bus bus;
+  SchedulerBench bus;
   bus.add("a", 1, 10s);  // both due once, at start
   bus.add("b", 2, 10s);
   for (std::size_t i = 0; i < results.size(); ++i)
@@ -126,10 +51,10 @@ TEST_CASE("a command's transactions and due polls take turns, so the sensors kee
 TEST_CASE("a command and a pass-through client both waiting take turns with each other") {
   std::vector<std::optional<CommandExchangeResult>> commands(3);
   std::vector<std::optional<ForwardResult>> forwards(3);
-  Bus bus;
+  SchedulerBench bus;
   for (std::size_t i = 0; i < 3; ++i) {
     bus.command(std::uint8_t(i), SteadyClock::now() + 10s, commands[i]);
-    bus.forward(std::uint8_t(i), forwards[i]);
+    bus.forward(std::uint8_t(i), SteadyClock::now() + 10s, forwards[i]);
   }
   bus.io.restart();
   bus.io.poll();
@@ -141,7 +66,7 @@ TEST_CASE("a command and a pass-through client both waiting take turns with each
 
 TEST_CASE("a command's transaction still queued at its deadline expires and is never sent") {
   std::optional<CommandExchangeResult> result;
-  Bus bus;
+  SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 1, 10s));
   a.poll_time = 200ms;  // holds the line past the deadline
   bus.start();
@@ -155,7 +80,7 @@ TEST_CASE("a command's transaction still queued at its deadline expires and is n
 }
 
 TEST_CASE("a sensor a command moved is followed to its new address and polled there at once") {
-  Bus bus;
+  SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 223, 10s));
   bus.add("b", 5, 10s);
   bus.start();
@@ -168,7 +93,7 @@ TEST_CASE("a sensor a command moved is followed to its new address and polled th
 }
 
 TEST_CASE("a sensor a command is moving is not polled until it is followed, released or the hold ends") {
-  Bus bus;
+  SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 223, 20ms));
   bus.start();
   REQUIRE(run_until(bus.io, [&] { return a.polls >= 1; }));

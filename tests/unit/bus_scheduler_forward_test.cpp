@@ -1,6 +1,6 @@
-// BusScheduler forwarding requests to devices passed through ([[bus]] pass_through), with the
-// fake line and drivers of unit/support/fake_bus.h and a fake protocol that frames a PDU as
-// slave + PDU and takes any bytes back as the reply: forwarded exchanges and due polls
+// BusScheduler forwarding requests to devices passed through ([[bus]] pass_through), on the
+// bench of unit/support/scheduler_bench.h, whose fake protocol frames a PDU as slave + PDU and
+// takes any bytes back as the reply: forwarded exchanges and due polls
 // alternate, writes stay ahead, the queue is bounded, queued requests expire, and each
 // exchange is sent once.
 #include <doctest/doctest.h>
@@ -10,80 +10,30 @@
 #include <optional>
 
 #include "gateway/bus_scheduler.h"
-#include "unit/support/fake_bus.h"
-#include "unit/support/fake_forwarding.h"
+#include "unit/support/scheduler_bench.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
 namespace asio = boost::asio;
 
-namespace {
-
-struct Bus {
-  asio::io_context io;
-  FakeLine line{io.get_executor()};
-  BusScheduler scheduler{io.get_executor(), line, "bus"};
-  BusEvents events;
-  std::vector<std::unique_ptr<GatewaySensor>> sensors;
-  std::vector<LineRequest> forwarded;  // what the line was asked to forward
-  bool device_answers = true;
-
-  Bus() {
-    scheduler.enable_forwarding(echo_forward);
-    // Polls pass no framer, so only forwarded exchanges reach this.
-    line.reply = [this](const LineRequest& request) {
-      events.push_back("forward " + std::to_string(request.bytes.at(1)));
-      forwarded.push_back(LineRequest{request.bytes, 0, nullptr, request.timeout,
-                                      request.retries, request.settle});
-      return device_answers ? request.bytes : std::vector<std::uint8_t>{};
-    };
-  }
-  GatewaySensor& add(std::string name, std::uint32_t address,
-                     std::chrono::milliseconds poll = 100ms) {
-    sensors.push_back(fake_sensor(std::move(name), std::uint8_t(sensors.size() + 1), address,
-                                  events, poll));
-    scheduler.add(*sensors.back());
-    return *sensors.back();
-  }
-  void start() { asio::co_spawn(io, scheduler.run(), asio::detached); }
-  // Forwards from its own coroutine, as a Modbus connection would: PDU {tag, 0, 1}.
-  void forward(std::uint8_t tag, SteadyClock::time_point deadline,
-               std::optional<ForwardResult>& result) {
-    asio::co_spawn(
-        io,
-        [this, tag, deadline, &result]() -> asio::awaitable<void> {
-          std::vector<std::uint8_t> pdu{tag, 0, 1};  // g++ 12 takes no braced list in co_await
-          result = co_await scheduler.forward(30, std::move(pdu), deadline);
-        },
-        asio::detached);
-  }
-  ~Bus() {
-    scheduler.stop();
-    io.restart();
-    io.run_for(100ms);
-  }
-};
-
-}  // namespace
-
 TEST_CASE("a forwarded request is sent once to its slave and answered with the reply PDU") {
-  Bus bus;
+  SchedulerBench bus;
   std::optional<ForwardResult> result;
   bus.forward(3, SteadyClock::now() + 10s, result);
   bus.start();
   REQUIRE(run_until(bus.io, [&] { return result.has_value(); }));
   REQUIRE(result->has_value());
   CHECK(**result == std::vector<std::uint8_t>{3, 0, 1});
-  REQUIRE(bus.forwarded.size() == 1);
-  CHECK(bus.forwarded[0].bytes == std::vector<std::uint8_t>{30, 3, 0, 1});
-  CHECK(bus.forwarded[0].retries == 0);  // never twice: the client retries
-  CHECK(bus.forwarded[0].timeout == 0ms);  // the bus's reply time-out
+  REQUIRE(bus.sent.size() == 1);
+  CHECK(bus.sent[0].bytes == std::vector<std::uint8_t>{30, 3, 0, 1});
+  CHECK(bus.sent[0].retries == 0);  // never twice: the client retries
+  CHECK(bus.sent[0].timeout == 0ms);  // the bus's reply time-out
   CHECK(bus.scheduler.stats().forwarded == 1);
 }
 
 TEST_CASE("a forwarded request nobody answers fails as no response, without a retry") {
-  Bus bus;
+  SchedulerBench bus;
   bus.device_answers = false;
   std::optional<ForwardResult> result;
   bus.forward(3, SteadyClock::now() + 10s, result);
@@ -97,7 +47,7 @@ TEST_CASE("a forwarded request nobody answers fails as no response, without a re
 }
 
 TEST_CASE("forwarded requests and due polls take turns, one exchange each") {
-  Bus bus;
+  SchedulerBench bus;
   bus.add("a", 1, 10s);  // both due once, at start
   bus.add("b", 2, 10s);
   std::vector<std::optional<ForwardResult>> results(10);
@@ -115,7 +65,7 @@ TEST_CASE("forwarded requests and due polls take turns, one exchange each") {
 }
 
 TEST_CASE("a sensor due all the time and a hammered pass-through unit share the bus evenly") {
-  Bus bus;
+  SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 1, 10ms));
   a.poll_time = 20ms;  // longer than its period: always due
   int answered = 0;
@@ -139,18 +89,12 @@ TEST_CASE("a sensor due all the time and a hammered pass-through unit share the 
 }
 
 TEST_CASE("writes of cached sensors go ahead of queued forwarded requests") {
-  Bus bus;
+  SchedulerBench bus;
   auto& sensor = bus.add("a", 1, 10s);
   std::optional<ForwardResult> forwarded;
   std::optional<WriteResult> written;
   bus.forward(3, SteadyClock::now() + 10s, forwarded);
-  asio::co_spawn(
-      bus.io,
-      [&]() -> asio::awaitable<void> {
-        written = co_await bus.scheduler.write(sensor, WriteTarget::filter, 3,
-                                               SteadyClock::now() + 10s);
-      },
-      asio::detached);
+  bus.write(sensor, WriteTarget::filter, 3, SteadyClock::now() + 10s, written);
   bus.io.restart();
   bus.io.poll();
   bus.start();
@@ -163,7 +107,7 @@ TEST_CASE("writes of cached sensors go ahead of queued forwarded requests") {
 TEST_CASE("a full forward queue answers busy at once") {
   // Declared before the bus: its destructor ends the queued requests, which then set these.
   std::vector<std::optional<ForwardResult>> queued(BusScheduler::kMaxQueuedForwards);
-  Bus bus;  // not started: nothing leaves the queue
+  SchedulerBench bus;  // not started: nothing leaves the queue
   for (auto& result : queued) bus.forward(1, SteadyClock::now() + 10s, result);
   std::optional<ForwardResult> one_more;
   bus.forward(2, SteadyClock::now() + 10s, one_more);
@@ -175,7 +119,7 @@ TEST_CASE("a full forward queue answers busy at once") {
 }
 
 TEST_CASE("a forwarded request still queued at its deadline fails and is never sent") {
-  Bus bus;
+  SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 1, 10s));
   a.poll_time = 1000ms;  // holds the line far past the request's deadline
   std::optional<ForwardResult> result;
@@ -186,6 +130,6 @@ TEST_CASE("a forwarded request still queued at its deadline fails and is never s
   CHECK(result->error() == ForwardFailure::expired);
   bus.io.restart();
   bus.io.run_for(1200ms);  // the poll ends; the expired request must not follow it
-  CHECK(bus.forwarded.empty());
+  CHECK(bus.sent.empty());
   CHECK(bus.scheduler.stats().forwards_expired == 1);
 }

@@ -1,60 +1,20 @@
-// BusScheduler on an io_context with a fake line and fake drivers (unit/support/fake_bus.h):
-// back-off from a dead sensor, writes ahead of due polls but never into a running poll, and
-// the write deadline. Assertions are on counts and order; where time matters the bounds are
-// wide.
+// BusScheduler on an io_context with a fake line and fake drivers (the bench of
+// unit/support/scheduler_bench.h): back-off from a dead sensor, writes ahead of due polls but
+// never into a running poll, the write deadline, and the address check. Assertions are on
+// counts and order; where time matters the bounds are wide.
 #include <doctest/doctest.h>
 
-#include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
 #include <optional>
 
 #include "gateway/bus_scheduler.h"
-#include "unit/support/fake_bus.h"
+#include "unit/support/scheduler_bench.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
-namespace asio = boost::asio;
-
-namespace {
-
-struct Bus {
-  asio::io_context io;
-  FakeLine line{io.get_executor()};
-  BusScheduler scheduler{io.get_executor(), line, "bus"};
-  BusEvents events;
-  std::vector<std::unique_ptr<GatewaySensor>> sensors;
-
-  GatewaySensor& add(std::string name, std::uint32_t address,
-                     std::chrono::milliseconds poll = 100ms) {
-    sensors.push_back(fake_sensor(std::move(name), std::uint8_t(sensors.size() + 1), address,
-                                  events, poll));
-    scheduler.add(*sensors.back());
-    return *sensors.back();
-  }
-  void start() { asio::co_spawn(io, scheduler.run(), asio::detached); }
-  // Queues a write from its own coroutine, as a Modbus connection would; `result` is set
-  // when it is answered.
-  void write(GatewaySensor& sensor, WriteTarget target, double value,
-             SteadyClock::time_point deadline, std::optional<WriteResult>& result) {
-    asio::co_spawn(
-        io,
-        [this, &sensor, target, value, deadline, &result]() -> asio::awaitable<void> {
-          result = co_await scheduler.write(sensor, target, value, deadline);
-        },
-        asio::detached);
-  }
-  ~Bus() {
-    scheduler.stop();
-    io.restart();
-    io.run_for(100ms);  // lets the loop and any transaction in flight end
-  }
-};
-
-}  // namespace
 
 TEST_CASE("a dead sensor is polled far less often than a live one on the same bus") {
-  Bus bus;
+  SchedulerBench bus;
   auto& live = fake_driver(bus.add("live", 1, 10ms));
   auto& dead = fake_driver(bus.add("dead", 2, 10ms));
   dead.answers = false;
@@ -70,7 +30,7 @@ TEST_CASE("a dead sensor is polled far less often than a live one on the same bu
 }
 
 TEST_CASE("a write queued during a poll waits for it, then runs before the polls that are due") {
-  Bus bus;
+  SchedulerBench bus;
   auto& first = bus.add("a", 1);
   auto& second = bus.add("b", 2);
   auto& a = fake_driver(first);
@@ -88,7 +48,7 @@ TEST_CASE("a write queued during a poll waits for it, then runs before the polls
 }
 
 TEST_CASE("a write still queued at its deadline is answered busy and never runs") {
-  Bus bus;
+  SchedulerBench bus;
   auto& first = bus.add("a", 1);
   auto& second = bus.add("b", 2);
   auto& a = fake_driver(first);
@@ -108,7 +68,7 @@ TEST_CASE("a write still queued at its deadline is answered busy and never runs"
 }
 
 TEST_CASE("a write already on the wire at its deadline is waited for and succeeds") {
-  Bus bus;
+  SchedulerBench bus;
   auto& sensor = bus.add("a", 1, 10s);
   auto& a = fake_driver(sensor);
   a.write_time = 500ms;
@@ -123,7 +83,7 @@ TEST_CASE("a write already on the wire at its deadline is waited for and succeed
 }
 
 TEST_CASE("the bus refuses to give a sensor the address another sensor on it has now") {
-  Bus bus;
+  SchedulerBench bus;
   auto& left = bus.add("left", 223);
   auto& right = bus.add("right", 101);
   auto taken = bus.scheduler.check_address_free(right, WriteTarget::bus_address, 223);
@@ -145,7 +105,7 @@ TEST_CASE("the bus refuses to give a sensor the address another sensor on it has
 }
 
 TEST_CASE("a queued address write is checked again when it starts, and refused if taken by then") {
-  Bus bus;
+  SchedulerBench bus;
   auto& left = bus.add("left", 223);
   auto& right = bus.add("right", 101);
   std::optional<WriteResult> first, second;

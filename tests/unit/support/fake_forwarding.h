@@ -12,24 +12,31 @@
 
 namespace tiltgate::test {
 
-class EchoExchange final : public ForwardedExchange, private ReplyFramer {
+// Takes whatever arrives as the whole reply: the fake protocol's framer, and a command's that
+// takes its sensor's reply.
+class AnyReply final : public ReplyFramer {
+ public:
+  void reset() override { received.clear(); }
+  bool feed(std::span<const std::uint8_t> bytes) override {
+    received.assign(bytes.begin(), bytes.end());
+    return !received.empty();
+  }
+  std::vector<std::uint8_t> received;
+};
+
+class EchoExchange final : public ForwardedExchange {
  public:
   explicit EchoExchange(std::vector<std::uint8_t> bytes) : bytes_(std::move(bytes)) {}
   const std::vector<std::uint8_t>& request_bytes() const override { return bytes_; }
-  ReplyFramer& framer() override { return *this; }
+  ReplyFramer& framer() override { return reply_; }
   Expected<std::vector<std::uint8_t>, std::string> reply_pdu() const override {
-    if (reply_.empty()) return Unexpected{std::string("no reply")};
-    return std::vector<std::uint8_t>(reply_.begin() + 1, reply_.end());
+    if (reply_.received.empty()) return Unexpected{std::string("no reply")};
+    return std::vector<std::uint8_t>(reply_.received.begin() + 1, reply_.received.end());
   }
 
  private:
-  void reset() override { reply_.clear(); }
-  bool feed(std::span<const std::uint8_t> bytes) override {
-    reply_.assign(bytes.begin(), bytes.end());
-    return !reply_.empty();
-  }
   std::vector<std::uint8_t> bytes_;
-  std::vector<std::uint8_t> reply_;
+  AnyReply reply_;
 };
 
 inline Expected<std::unique_ptr<ForwardedExchange>, std::string> echo_forward(
