@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "config/config_loader.h"
-#include "commission/commands.h"
+#include "app/config_commands.h"
 #include "app/served_gateway.h"
 #include "app/run_as_user.h"
 #include "app/service_notify.h"
@@ -62,8 +62,6 @@ std::optional<UnitMap> aggregate_unit(const Config& config, const AggregateConfi
                              fmt::join(starts, ", "))};
 }
 
-}  // namespace
-
 int check_command(const std::string& config_path, FamilyList families) {
   auto config = load_or_report(config_path, families);
   if (!config) return 1;
@@ -93,8 +91,6 @@ int map_command(const std::string& config_path, const std::string& format, Famil
   return 0;
 }
 
-namespace {
-
 // SIGHUP: the file again, through the loader `check` uses. A valid file is applied to the
 // running gateway; an invalid one is refused with every error logged, as `check` prints them.
 void reload_or_refuse(Gateway& gateway, const std::string& config_path, FamilyList families) {
@@ -123,8 +119,6 @@ void reload_on_sighup(boost::asio::signal_set& hangups, Gateway& gateway,
     reload_on_sighup(hangups, gateway, config_path, families, notifier);
   });
 }
-
-}  // namespace
 
 int run_command(const std::string& config_path, FamilyList families) {
   auto config = load_or_report(config_path, families);
@@ -166,6 +160,39 @@ int run_command(const std::string& config_path, FamilyList families) {
   io.run();
   finish_stopped(io);
   return 0;
+}
+
+}  // namespace
+
+Subcommand add_run(CLI::App& app, FamilyList families) {
+  auto config_path = std::make_shared<std::string>();
+  CLI::App* run = app.add_subcommand("run", "serve the sensors of a configuration file");
+  run->footer(
+      "SIGHUP (systemctl reload tiltgate) re-reads the configuration file: a valid one applies "
+      "without dropping connected Modbus clients or queued writes (unchanged buses and sensors "
+      "are kept as they are); an invalid one is refused, its errors logged, and the running "
+      "configuration keeps serving. SIGINT or SIGTERM stops.");
+  run->add_option("-c,--config", *config_path, "configuration file")->required();
+  return {run, [config_path, families] { return run_command(*config_path, families); }};
+}
+
+Subcommand add_check(CLI::App& app, FamilyList families) {
+  auto config_path = std::make_shared<std::string>();
+  CLI::App* check = app.add_subcommand("check", "validate a configuration file; exit 0 or 1");
+  check->add_option("-c,--config", *config_path, "configuration file")->required();
+  return {check, [config_path, families] { return check_command(*config_path, families); }};
+}
+
+Subcommand add_map(CLI::App& app, FamilyList families) {
+  auto config_path = std::make_shared<std::string>();
+  auto format = std::make_shared<std::string>("csv");
+  CLI::App* map = app.add_subcommand("map", "print the register map of every configured sensor");
+  map->add_option("-c,--config", *config_path, "configuration file")->required();
+  map->add_option("--format", *format, "csv or markdown")
+      ->check(CLI::IsMember({"csv", "markdown"}))
+      ->capture_default_str();
+  return {map,
+          [config_path, format, families] { return map_command(*config_path, *format, families); }};
 }
 
 }  // namespace tiltgate

@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "commission/commands.h"
+#include "app/demo_commands.h"
 #include "app/simulator_console.h"
 #include "app/demo_sensor_keys.h"
 #include "app/served_gateway.h"
@@ -19,6 +19,14 @@
 namespace tiltgate {
 
 namespace {
+
+struct DemoOptions {
+  std::string listen = "127.0.0.1";
+  std::uint16_t port = 1502;
+  std::uint16_t http_port = 8080;  // the HTTP status API and metrics, on `listen`; 0: off
+  std::string mqtt_host;           // the MQTT feed's broker, under tiltgate/demo/; empty: off
+  std::uint16_t mqtt_port = 1883;
+};
 
 // Runs `io` until SIGINT/SIGTERM, then calls `stop` and returns.
 template <class Stop>
@@ -100,8 +108,6 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommand
   std::cout << "Ctrl-C stops.\n";
   std::cout.flush();
 }
-
-}  // namespace
 
 int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
   boost::asio::io_context io;
@@ -185,6 +191,73 @@ int sim_command(const FamilyCommands& family, const SimulatorSetup& setup) {
     running.stop();
   });
   return 0;
+}
+
+}  // namespace
+
+Subcommand add_demo(CLI::App& app, FamilyCommandsList commands) {
+  auto options = std::make_shared<DemoOptions>();
+  CLI::App* demo = app.add_subcommand("demo", "serve built-in simulated sensors (writes enabled)");
+  demo->add_option("--listen", options->listen, "address to bind")->capture_default_str();
+  demo->add_option("--port", options->port, "Modbus TCP port")->capture_default_str();
+  demo->add_option("--http-port", options->http_port,
+                   "HTTP status API and metrics port (0: off)")
+      ->capture_default_str();
+  demo->add_option("--mqtt-host", options->mqtt_host,
+                   "MQTT broker to publish the sensors to, under tiltgate/demo/ (default: off)");
+  demo->add_option("--mqtt-port", options->mqtt_port, "MQTT broker port")->capture_default_str();
+  return {demo, [options, commands] { return demo_command(*options, commands); }};
+}
+
+Subcommand add_sim(CLI::App& app, FamilyCommandsList commands) {
+  CLI::App* sim = app.add_subcommand("sim", "run a simulated sensor bus on a pseudo-terminal");
+  sim->require_subcommand(1);
+  // One `sim` subcommand per family, each with its own setup.
+  struct FamilySim {
+    const FamilyCommands* family = nullptr;
+    CLI::App* cli = nullptr;
+    SimulatorSetup setup;
+    std::string protocol;  // the short name chosen with --protocol; empty: the family has one
+  };
+  auto sims = std::make_shared<std::vector<FamilySim>>(commands.size());
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    FamilySim& entry = (*sims)[i];
+    entry.family = commands[i];
+    const SimulatorDescriptor& simulator = commands[i]->simulator;
+    const FamilyDescriptor& family = *commands[i]->family;
+    SimulatorSetup& setup = entry.setup;
+    CLI::App* command =
+        sim->add_subcommand(std::string(simulator.command), std::string(simulator.help));
+    // A family of several protocols chooses one by its short name, the first by default.
+    const std::vector<std::string> choices = simulator_protocol_choices(family);
+    if (!choices.empty()) {
+      entry.protocol = choices.front();
+      command->add_option("--protocol", entry.protocol, simulator_protocols_help(family))
+          ->check(CLI::IsMember(choices))
+          ->capture_default_str();
+    }
+    setup.sensors = simulator.default_sensors;
+    command->add_option("--sensors", setup.sensors, std::string(simulator.sensors_help))
+        ->capture_default_str();
+    command->add_option("--link", setup.link, "also make this symlink to the pty");
+    command->add_option("--pace-baud", setup.pace_baud,
+                        "pace replies at this baud rate (0: no pacing)");
+    command->add_option("--baud", setup.listen_baud,
+                        "answer only requests sent at this baud rate, as sensors set to it do "
+                        "(0: any rate)");
+    command->add_flag("--shared-addresses", setup.shared_addresses,
+                      "let sensors share an address, as on a bus commissioned by mistake: "
+                      "their replies collide and arrive garbled");
+    entry.cli = command;
+  }
+  return {sim, [sims] {
+            for (FamilySim& entry : *sims) {
+              if (!*entry.cli) continue;
+              entry.setup.protocol = protocol_of_choice(*entry.family->family, entry.protocol);
+              return sim_command(*entry.family, entry.setup);
+            }
+            return 2;
+          }};
 }
 
 }  // namespace tiltgate

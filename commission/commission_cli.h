@@ -3,11 +3,24 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 
 #include "commission/commission_options.h"
 #include "driver/family_commands.h"
 
 namespace tiltgate {
+
+// One subcommand of the executable, as its add_<command>() function left it on the command
+// line: CLI11 records in `cli` whether it was chosen, and `run` carries it out with the options
+// parsed into it, returning the process's exit code.
+struct Subcommand {
+  CLI::App* cli = nullptr;
+  std::function<int()> run;
+  // Warnings off unless --log-level asks for them: a commissioning command's own output is the
+  // point, and the drivers' warnings about a silent sensor would only repeat it (and break the
+  // redrawn table).
+  bool quiet = false;
+};
 
 // --port, --protocol, --baud, --parity, --stop-bits, --master-address, --model, --device,
 // --config, --sensor, --bus and --address, filling `options`; the protocols are `families'`.

@@ -11,6 +11,8 @@
 
 namespace tiltgate {
 
+namespace {
+
 int info_command(const BusOptions& options, FamilyList families) {
   return run_commissioning(
       "info", options, families, [](CommissionBus& bus, const bool& stopping) -> boost::asio::awaitable<int> {
@@ -45,6 +47,17 @@ int info_command(const BusOptions& options, FamilyList families) {
         std::cout.flush();
         co_return exit_code;
       });
+}
+
+}  // namespace
+
+Subcommand add_info(CLI::App& app, FamilyList families, FamilyCommandsList commands) {
+  auto bus = std::make_shared<BusOptions>();
+  CLI::App* info = app.add_subcommand("info", "show a sensor's address, model, serial, firmware, "
+                                              "lock level and angles (the User App's Sensor Info)");
+  add_bus_options(*info, *bus, families);
+  info->footer(info_help_footer(commands));
+  return {info, [bus, families] { return info_command(*bus, families); }, true};
 }
 
 }  // namespace tiltgate

@@ -14,6 +14,11 @@ namespace {
 
 namespace asio = boost::asio;
 
+struct RawOptions {
+  std::int64_t function = 0;
+  std::string data;  // hex bytes; empty: none
+};
+
 std::string sent_text(const LineRequest& request) {
   std::string text = "sent:     " + hex_bytes(request.bytes);
   if (request.address_bytes > 0)
@@ -69,14 +74,33 @@ asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const Ra
   co_return reply.refused ? 1 : 0;
 }
 
-}  // namespace
-
 int raw_command(const BusOptions& options, const RawOptions& raw, FamilyList families,
                 FamilyCommandsList commands) {
   return run_commissioning("raw", options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
                              co_return co_await raw_work(bus, stopping, raw, commands);
                            });
+}
+
+}  // namespace
+
+Subcommand add_raw(CLI::App& app, FamilyList families, FamilyCommandsList commands) {
+  auto bus = std::make_shared<BusOptions>();
+  auto options = std::make_shared<RawOptions>();
+  CLI::App* raw = app.add_subcommand("raw", "send one request by function number and show the "
+                                            "bytes each way and the reply (the User App's "
+                                            "command section)");
+  add_bus_options(*raw, *bus, families);
+  raw->get_option("--address")->allow_extra_args(false);
+  raw->add_option("--function", options->function, "the function / command number (see below)")
+      ->required();
+  raw->add_option("--data", options->data, "the request's data bytes in hex, e.g. \"00 10\"");
+  raw->footer(raw_help_footer(commands));
+  return {raw,
+          [bus, options, families, commands] {
+            return raw_command(*bus, *options, families, commands);
+          },
+          true};
 }
 
 }  // namespace tiltgate

@@ -215,8 +215,6 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
   co_return 0;
 }
 
-}  // namespace
-
 int scan_command(const BusOptions& bus_options, const ScanOptions& options, FamilyList families) {
   auto target = resolve_scan_target(bus_options, options.auto_baud, families);
   if (!target) return report_usage_errors("scan", target.error());
@@ -266,6 +264,41 @@ int scan_command(const BusOptions& bus_options, const ScanOptions& options, Fami
       [&](CommissionBus& commission_bus, const bool& stopping) -> boost::asio::awaitable<int> {
         co_return co_await scan(commission_bus, stopping, options, *target, protocol, *addresses);
       });
+}
+
+}  // namespace
+
+Subcommand add_scan(CLI::App& app, FamilyList families, FamilyCommandsList commands) {
+  auto bus = std::make_shared<BusOptions>();
+  auto options = std::make_shared<ScanOptions>();
+  CLI::App* scan = app.add_subcommand("scan", "find the sensors on a bus: one row per address "
+                                              "that answers, and a configuration of them");
+  add_bus_options(*scan, *bus, families, &options->auto_baud);
+  scan->add_option_function<std::int64_t>(
+          "--from", [options](const std::int64_t& v) { options->from = v; },
+          "first address to probe (default: the protocol's usual range)")
+      ->group("Scan");
+  scan->add_option_function<std::int64_t>(
+          "--to", [options](const std::int64_t& v) { options->to = v; }, "last address to probe")
+      ->group("Scan");
+  scan->add_option("--config-out", options->config_out,
+                   "write a configuration of the sensors found to this file")
+      ->group("Scan");
+  scan->add_flag("--force", options->force, "with --config-out: overwrite the file")
+      ->group("Scan");
+  scan->add_flag("--broadcast", options->broadcast,
+                 "ask every sensor at once for its address (one sensor on the bus only)")
+      ->group("Scan");
+  scan->add_option_function<std::int64_t>(
+          "--probe-timeout-ms",
+          [options](const std::int64_t& v) { options->probe_timeout_ms = v; },
+          "how long to wait for each address (default: the protocol's reply time at the baud "
+          "+ 10 ms)")
+      ->check(CLI::Range(1, 10'000))
+      ->group("Scan");
+  scan->footer(scan_help_footer(commands));
+  return {scan, [bus, options, families] { return scan_command(*bus, *options, families); },
+          true};
 }
 
 }  // namespace tiltgate

@@ -250,8 +250,6 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
   co_return exit_code;
 }
 
-}  // namespace
-
 int set_command(const BusOptions& options, const SetArguments& arguments, FamilyList families,
                 FamilyCommandsList commands) {
   return run_commissioning("set", options, families,
@@ -259,6 +257,27 @@ int set_command(const BusOptions& options, const SetArguments& arguments, Family
                              co_return co_await set_work(bus, stopping, options, arguments,
                                                          commands);
                            });
+}
+
+}  // namespace
+
+Subcommand add_set(CLI::App& app, FamilyList families, FamilyCommandsList commands) {
+  auto bus = std::make_shared<BusOptions>();
+  auto arguments = std::make_shared<SetArguments>();
+  CLI::App* set = app.add_subcommand("set", "change one setting of a sensor (address, baud, "
+                                            "filter, zero, restart, the model's own) and read it "
+                                            "back");
+  add_bus_options(*set, *bus, families);
+  // One address, so that the SETTING words after it are not taken for more addresses.
+  set->get_option("--address")->allow_extra_args(false);
+  set->add_option("setting", arguments->words, "SETTING [VALUE...]")->required();
+  set->add_flag("--permanent", arguments->permanent, "zero-here: keep the zero after a restart");
+  set->footer(set_help_footer(commands));
+  return {set,
+          [bus, arguments, families, commands] {
+            return set_command(*bus, *arguments, families, commands);
+          },
+          true};
 }
 
 }  // namespace tiltgate

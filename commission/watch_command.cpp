@@ -23,6 +23,12 @@ namespace {
 
 namespace asio = boost::asio;
 
+struct WatchOptions {
+  int count = 0;  // rounds before stopping; 0: until SIGINT/SIGTERM
+  int interval_ms = 500;
+  std::string log;  // CSV file every reading is appended to; empty: none
+};
+
 // The pause between rounds is waited out in slices, so a signal ends it promptly.
 constexpr std::chrono::milliseconds kWaitSlice{50};
 
@@ -97,8 +103,6 @@ asio::awaitable<void> pause_until(SteadyClock::time_point until, const bool& sto
   }
 }
 
-}  // namespace
-
 int watch_command(const BusOptions& bus_options, const WatchOptions& options,
                   FamilyList families) {
   std::ofstream log;
@@ -155,6 +159,27 @@ int watch_command(const BusOptions& bus_options, const WatchOptions& options,
         }
         co_return 0;
       });
+}
+
+}  // namespace
+
+Subcommand add_watch(CLI::App& app, FamilyList families, FamilyCommandsList commands) {
+  auto bus = std::make_shared<BusOptions>();
+  auto options = std::make_shared<WatchOptions>();
+  CLI::App* watch = app.add_subcommand("watch", "poll sensors in turn and show their angles, one "
+                                                "row each (the Multi-Unit Angle Display)");
+  add_bus_options(*watch, *bus, families);
+  watch->add_option("--count", options->count, "stop after this many rounds (plain lines)")
+      ->check(CLI::Range(1, 100'000'000));
+  watch->add_option("--interval", options->interval_ms, "ms from one round to the next")
+      ->check(CLI::Range(10, 3'600'000))
+      ->capture_default_str();
+  watch->add_option("--log", options->log,
+                    "append every reading to this CSV file (time, address, serial, x_deg, "
+                    "y_deg, tilt_deg, status)");
+  watch->footer(watch_help_footer(commands));
+  return {watch, [bus, options, families] { return watch_command(*bus, *options, families); },
+          true};
 }
 
 }  // namespace tiltgate
