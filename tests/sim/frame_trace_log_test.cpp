@@ -22,7 +22,7 @@
 #include "sim/support/run_coroutine.h"
 #include "sim/support/serial_line_bench.h"
 #include "spectron/reply_framers.h"
-#include "unit/modbus_rtu_test_vectors.h"
+#include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
 
 namespace asio = boost::asio;
 using namespace std::chrono_literals;

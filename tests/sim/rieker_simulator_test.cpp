@@ -12,7 +12,7 @@
 #include "rieker/frame_parser.h"
 #include "rieker/simulator.h"
 #include "sim/support/raw_tty_client.h"
-#include "unit/rieker_test_vectors.h"
+#include "unit/rieker/rieker_test_vectors.h"
 #include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;

@@ -15,7 +15,7 @@
 #include "spectron/nine_bit_codec.h"
 #include "spectron/reply_framers.h"
 #include "spectron/simulator.h"
-#include "unit/spectron_test_vectors.h"
+#include "unit/spectron/spectron_test_vectors.h"
 #include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;

@@ -6,7 +6,7 @@
 #include "driver/family.h"
 #include "modbus_rtu/family.h"
 #include "modbus_rtu/forwarding.h"
-#include "unit/modbus_rtu_test_vectors.h"
+#include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;

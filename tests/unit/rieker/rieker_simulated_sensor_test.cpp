@@ -7,7 +7,7 @@
 #include "rieker/frame_parser.h"
 #include "rieker/sensor_spec.h"
 #include "rieker/simulated_sensor.h"
-#include "unit/rieker_test_vectors.h"
+#include "unit/rieker/rieker_test_vectors.h"
 
 using namespace tiltgate::rieker;
 using test::hex;

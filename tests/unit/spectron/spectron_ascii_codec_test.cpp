@@ -3,7 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "spectron/ascii_codec.h"
-#include "unit/spectron_test_vectors.h"
+#include "unit/spectron/spectron_test_vectors.h"
 
 using namespace tiltgate::spectron;
 using test::kDocumentFrames;

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "modbus_rtu/crc.h"
-#include "unit/modbus_rtu_test_vectors.h"
+#include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
 
 using namespace tiltgate::modbus_rtu;
 using test::hex;

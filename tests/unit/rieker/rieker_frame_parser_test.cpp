@@ -6,7 +6,7 @@
 #include <random>
 
 #include "rieker/frame_parser.h"
-#include "unit/rieker_test_vectors.h"
+#include "unit/rieker/rieker_test_vectors.h"
 
 using namespace tiltgate::rieker;
 using test::hex;

@@ -6,7 +6,7 @@
 
 #include "modbus_rtu/codec.h"
 #include "modbus_rtu/frame_length.h"
-#include "unit/modbus_rtu_test_vectors.h"
+#include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;

@@ -6,7 +6,7 @@
 
 #include "spectron/nine_bit_codec.h"
 #include "spectron/reply_framers.h"
-#include "unit/spectron_test_vectors.h"
+#include "unit/spectron/spectron_test_vectors.h"
 
 using namespace tiltgate::spectron;
 using test::bytes;

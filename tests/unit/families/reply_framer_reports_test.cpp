@@ -11,9 +11,9 @@
 #include "modbus_rtu/reply_framer.h"
 #include "rieker/reply_framer.h"
 #include "spectron/reply_framers.h"
-#include "unit/modbus_rtu_test_vectors.h"
-#include "unit/rieker_test_vectors.h"
-#include "unit/spectron_test_vectors.h"
+#include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
+#include "unit/rieker/rieker_test_vectors.h"
+#include "unit/spectron/spectron_test_vectors.h"
 
 using namespace tiltgate;
 using Bytes = std::vector<std::uint8_t>;

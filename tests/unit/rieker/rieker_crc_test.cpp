@@ -3,7 +3,7 @@
 #include <random>
 
 #include "rieker/crc16.h"
-#include "unit/rieker_test_vectors.h"
+#include "unit/rieker/rieker_test_vectors.h"
 
 using tiltgate::rieker::crc16;
 using tiltgate::rieker::test::hex;

@@ -7,7 +7,7 @@
 
 #include "spectron/ascii_frame_parser.h"
 #include "spectron/reply_framers.h"
-#include "unit/spectron_test_vectors.h"
+#include "unit/spectron/spectron_test_vectors.h"
 
 using namespace tiltgate::spectron;
 using test::bytes;

@@ -6,7 +6,7 @@
 
 #include "rieker/codec.h"
 #include "rieker/crc16.h"
-#include "unit/rieker_test_vectors.h"
+#include "unit/rieker/rieker_test_vectors.h"
 
 using namespace tiltgate::rieker;
 using test::hex;

@@ -7,7 +7,7 @@
 
 #include "modbus_rtu/frame_parser.h"
 #include "modbus_rtu/reply_framer.h"
-#include "unit/modbus_rtu_test_vectors.h"
+#include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;

@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "rieker/codec.h"
-#include "unit/rieker_test_vectors.h"
+#include "unit/rieker/rieker_test_vectors.h"
 
 using namespace tiltgate::rieker;
 using test::hex;

@@ -8,7 +8,7 @@
 #include "modbus_rtu/crc.h"
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/simulated_device.h"
-#include "unit/modbus_rtu_test_vectors.h"
+#include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;
