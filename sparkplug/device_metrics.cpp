@@ -1,0 +1,129 @@
+#include "sparkplug/device_metrics.h"
+
+#include <algorithm>
+
+namespace tiltgate::sparkplug {
+namespace {
+
+MetricSlot slot(DeviceMetric metric, std::string name, DataType type, bool angle = false) {
+  return MetricSlot{static_cast<std::uint8_t>(metric), std::move(name), type, angle, false};
+}
+
+Value optional_value(const std::optional<double>& v) { return v ? Value{*v} : Value{}; }
+
+Value identity_value(const std::string& s) { return s.empty() ? Value{} : Value{s}; }
+
+Value measured_value(DeviceMetric metric, const DeviceSample& s) {
+  switch (metric) {
+    case DeviceMetric::angle_x: return optional_value(s.angle_x);
+    case DeviceMetric::angle_y: return optional_value(s.angle_y);
+    case DeviceMetric::tilt: return optional_value(s.tilt);
+    case DeviceMetric::status: return Value{std::uint32_t{s.status}};
+    case DeviceMetric::online: return Value{s.online};
+    case DeviceMetric::stale: return Value{s.stale};
+    case DeviceMetric::alarms: return Value{std::uint32_t{s.alarms}};
+    case DeviceMetric::age_ms: return s.age_ms ? Value{*s.age_ms} : Value{};
+    case DeviceMetric::model: return identity_value(s.model);
+    case DeviceMetric::serial: return identity_value(s.serial);
+    case DeviceMetric::firmware: return identity_value(s.firmware);
+  }
+  return Value{};
+}
+
+}  // namespace
+
+std::uint64_t device_alias(std::size_t device, std::uint8_t number) {
+  return 256 * (static_cast<std::uint64_t>(device) + 1) + number;
+}
+
+std::vector<MetricSlot> device_layout(const DeviceSample& sample) {
+  std::vector<MetricSlot> layout;
+  layout.push_back(slot(DeviceMetric::angle_x, "angle_x", DataType::Double, true));
+  if (!sample.single_axis) {
+    layout.push_back(slot(DeviceMetric::angle_y, "angle_y", DataType::Double, true));
+  }
+  layout.push_back(slot(DeviceMetric::tilt, "tilt", DataType::Double, true));
+  layout.push_back(slot(DeviceMetric::status, "status", DataType::UInt16));
+  layout.push_back(slot(DeviceMetric::online, "online", DataType::Boolean));
+  layout.push_back(slot(DeviceMetric::stale, "stale", DataType::Boolean));
+  layout.push_back(slot(DeviceMetric::alarms, "alarms", DataType::UInt16));
+  layout.push_back(slot(DeviceMetric::age_ms, "age_ms", DataType::Int64));
+  layout.push_back(slot(DeviceMetric::model, "Properties/model", DataType::String));
+  layout.push_back(slot(DeviceMetric::serial, "Properties/serial", DataType::String));
+  layout.push_back(slot(DeviceMetric::firmware, "Properties/firmware", DataType::String));
+  const std::size_t settings = std::min(sample.settings.size(), kMaxSettings);
+  for (std::size_t i = 0; i < settings; ++i) {
+    layout.push_back(MetricSlot{static_cast<std::uint8_t>(kFirstSettingNumber + i),
+                                std::string(kSettingsFolder) + sample.settings[i].name,
+                                DataType::Double, false, true});
+  }
+  return layout;
+}
+
+std::vector<Value> device_values(const std::vector<MetricSlot>& layout,
+                                 const DeviceSample& sample) {
+  std::vector<Value> values;
+  values.reserve(layout.size());
+  for (const MetricSlot& s : layout) {
+    if (s.setting) {
+      values.push_back(optional_value(sample.settings[s.number - kFirstSettingNumber].value));
+    } else {
+      values.push_back(measured_value(static_cast<DeviceMetric>(s.number), sample));
+    }
+  }
+  return values;
+}
+
+Metric device_metric(const MetricSlot& slot, std::size_t device, Value value,
+                     std::uint64_t timestamp, bool birth) {
+  Metric m;
+  if (birth) m.name = slot.name;
+  m.alias = device_alias(device, slot.number);
+  m.timestamp = timestamp;
+  m.datatype = slot.datatype;
+  m.value = std::move(value);
+  if (birth && slot.angle)
+    m.properties.push_back({"engUnit", DataType::String, std::string("deg")});
+  return m;
+}
+
+Metric bd_seq_metric(std::uint8_t bd_seq, std::uint64_t now_unix_ms) {
+  // Int64, as tck-id-message-flow-edge-node-birth-publish-will-message-payload-bdSeq says.
+  return Metric{std::string(kBdSeqMetric),
+                std::nullopt,
+                now_unix_ms,
+                DataType::Int64,
+                false,
+                Value{std::int64_t{bd_seq}},
+                {}};
+}
+
+std::vector<Metric> node_birth_metrics(const NodeInfo& info, std::uint8_t bd_seq,
+                                       std::uint64_t now_unix_ms) {
+  return {
+      bd_seq_metric(bd_seq, now_unix_ms),
+      Metric{std::string(kRebirthMetric),
+             std::nullopt,
+             now_unix_ms,
+             DataType::Boolean,
+             false,
+             Value{false},
+             {}},
+      Metric{std::string(kVersionMetric),
+             kVersionAlias,
+             now_unix_ms,
+             DataType::String,
+             false,
+             Value{info.version},
+             {}},
+      Metric{std::string(kBusesMetric),
+             kBusesAlias,
+             now_unix_ms,
+             DataType::UInt32,
+             false,
+             Value{info.buses},
+             {}},
+  };
+}
+
+}  // namespace tiltgate::sparkplug
