@@ -1,6 +1,6 @@
 // CRC-32 as zlib, PNG and Ethernet compute it (IEEE 802.3: polynomial 0x04C11DB7, reflected,
-// initial value and final XOR 0xFFFFFFFF; check value of "123456789" 0xCBF43926), table-driven.
-// The store's check on every record; pure.
+// initial value and final XOR 0xFFFFFFFF; check value of "123456789" 0xCBF43926): zlib's own
+// crc32(), under a name that takes a span. The store's check on every record; pure.
 #pragma once
 
 #include <cstdint>

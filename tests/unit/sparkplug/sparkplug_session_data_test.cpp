@@ -2,7 +2,7 @@
 // when a DDATA goes out, what it holds, and what happens to a sensor that falls silent.
 #include <doctest/doctest.h>
 
-#include "unit/sparkplug_session_support.h"
+#include "unit/sparkplug/sparkplug_session_support.h"
 
 using namespace tiltgate::sparkplug;
 using namespace tiltgate::sparkplug::test;

@@ -1,5 +1,5 @@
 // Our payloads decoded by another decoder: protoc's Python output of sparkplug/sparkplug_b.proto
-// with Debian's python3-protobuf (tests/unit/sparkplug_decode.py), which shares no code with
+// with Debian's python3-protobuf (tests/unit/sparkplug/sparkplug_decode.py), which shares no code with
 // protobuf-c. What it prints is compared with what the session meant to send.
 #include <doctest/doctest.h>
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "unit/sparkplug_session_support.h"
+#include "unit/sparkplug/sparkplug_session_support.h"
 
 using namespace tiltgate::sparkplug;
 using namespace tiltgate::sparkplug::test;
@@ -36,7 +36,7 @@ class PythonDecoder {
         .write(reinterpret_cast<const char*>(bytes.data()),
                static_cast<std::streamsize>(bytes.size()));
     return run("/usr/bin/python3 " + std::string(TILTGATE_SOURCE_DIR) +
-               "/tests/unit/sparkplug_decode.py " + dir_.string() + " " + file.string());
+               "/tests/unit/sparkplug/sparkplug_decode.py " + dir_.string() + " " + file.string());
   }
 
  private:

@@ -4,7 +4,7 @@
 
 #include <set>
 
-#include "unit/sparkplug_session_support.h"
+#include "unit/sparkplug/sparkplug_session_support.h"
 
 using namespace tiltgate::sparkplug;
 using namespace tiltgate::sparkplug::test;

@@ -2,7 +2,7 @@
 // the data cannot be published, and how a kept DDATA is replayed after the births.
 #include <doctest/doctest.h>
 
-#include "unit/sparkplug_session_support.h"
+#include "unit/sparkplug/sparkplug_session_support.h"
 
 using namespace tiltgate::sparkplug;
 using namespace tiltgate::sparkplug::test;

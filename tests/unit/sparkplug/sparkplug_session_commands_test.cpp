@@ -2,7 +2,7 @@
 // and off, NCMD other than a rebirth, malformed payloads, and births gated on the host's STATE.
 #include <doctest/doctest.h>
 
-#include "unit/sparkplug_session_support.h"
+#include "unit/sparkplug/sparkplug_session_support.h"
 
 using namespace tiltgate::sparkplug;
 using namespace tiltgate::sparkplug::test;
