@@ -6,24 +6,24 @@ namespace tiltgate::toml_input {
 
 void ErrorList::add(Place where, std::string key, std::string message) {
   errors_.push_back(
-      ConfigError{file_, where.line, where.column, std::move(key), std::move(message)});
+      FileError{file_, where.line, where.column, std::move(key), std::move(message)});
 }
 
-ConfigErrors ErrorList::take() {
-  auto order = [](const ConfigError& e) {
+FileErrors ErrorList::take() {
+  auto order = [](const FileError& e) {
     // Errors without a line (a missing section) read best after the located ones.
     return std::pair(e.line == 0 ? 1 : 0, std::pair(e.line, e.column));
   };
   std::stable_sort(errors_.begin(), errors_.end(),
-                   [&](const ConfigError& a, const ConfigError& b) { return order(a) < order(b); });
+                   [&](const FileError& a, const FileError& b) { return order(a) < order(b); });
   // One map file checked for two models reports the problems they share twice.
-  auto same = [](const ConfigError& a, const ConfigError& b) {
+  auto same = [](const FileError& a, const FileError& b) {
     return a.line == b.line && a.column == b.column && a.key == b.key && a.message == b.message;
   };
   errors_.erase(std::unique(errors_.begin(), errors_.end(), same), errors_.end());
   // A profile named by two sensors reports its problems twice.
-  for (ConfigError& error : elsewhere_) {
-    const bool seen = std::any_of(errors_.begin(), errors_.end(), [&](const ConfigError& e) {
+  for (FileError& error : elsewhere_) {
+    const bool seen = std::any_of(errors_.begin(), errors_.end(), [&](const FileError& e) {
       return e.file == error.file && same(e, error);
     });
     if (!seen) errors_.push_back(std::move(error));

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "config/config_loader.h"
+#include "driver/file_error.h"
 
 namespace tiltgate::toml_input {
 
@@ -32,17 +32,17 @@ class ErrorList {
 
   void add(Place where, std::string key, std::string message);
   // An error in another file (a device profile): kept after this file's own, in given order.
-  void add_elsewhere(ConfigError error) { elsewhere_.push_back(std::move(error)); }
+  void add_elsewhere(FileError error) { elsewhere_.push_back(std::move(error)); }
   const std::string& file() const { return file_; }
   bool empty() const { return errors_.empty() && elsewhere_.empty(); }
   std::size_t size() const { return errors_.size() + elsewhere_.size(); }
   // The errors ordered by place; those without a line come last.
-  ConfigErrors take();
+  FileErrors take();
 
  private:
   std::string file_;
-  ConfigErrors errors_;
-  ConfigErrors elsewhere_;
+  FileErrors errors_;
+  FileErrors elsewhere_;
   AcceptedKeys* accepted_keys_ = nullptr;
 };
 
