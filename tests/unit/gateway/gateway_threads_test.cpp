@@ -91,12 +91,14 @@ struct ThreadedPlant {
     router.commit_update();
   }
 
+  // Before io: io is stopped with the server's cancelled accept still queued, and destroying
+  // that accept destroys its peer socket, which lives on a worker's io_context.
+  TcpWorkerPool workers{2};
   asio::io_context io;
   asio::executor_work_guard<asio::io_context::executor_type> guard{io.get_executor()};
   FakeLine line{io.get_executor()};
   BusScheduler scheduler{io.get_executor(), line, "bus"};
   RequestRouter router{io.get_executor(), RouterOptions{true, WordOrder::big, 3000ms}};
-  TcpWorkerPool workers{2};
   BusEvents events;
   std::vector<std::shared_ptr<GatewaySensor>> sensors;
   std::unique_ptr<ModbusTcpServer> server;
