@@ -26,6 +26,7 @@ from spb_e2e.sparkplug import device_views, seq_violations, topic  # noqa: E402
 GROUP, NODE, CLIENT, HOST = "plant2", "gw2", "tg-e2e-host", "scada"
 STATE = "spBv1.0/STATE/" + HOST
 WAIT = 20
+COMMANDS = "tiltgate_sparkplug_commands_total"
 QUIET = 3  # seconds in which something must not happen (the gateway's tick is 0.1 s or so)
 
 
@@ -82,12 +83,12 @@ def scenario(t):
 
     # An offline STATE older than the online one, and one that is not JSON: neither is acted on.
     since = observer.count()
-    key = 'tiltgate_sparkplug_commands_total{result="malformed"}'
-    malformed = gateway.metric(key, 0)
+    malformed = gateway.metric(COMMANDS, 0, result="malformed")
     host_says(observer, False, online_at - 60000)
     observer.publish(STATE, b"{not json", qos=1, retain=False)
     t.check("a STATE that is not JSON is counted as malformed",
-            wait_until(lambda: gateway.metric(key, 0) > malformed, WAIT),
+            wait_until(lambda: gateway.metric(COMMANDS, 0, result="malformed") > malformed,
+                       WAIT),
             {k: v for k, v in gateway.metrics().items() if "commands" in k})
     time.sleep(QUIET)
     t.check("tck-id-operational-behavior-edge-node-termination-host-offline-timestamp: an offline "
@@ -145,8 +146,7 @@ def scenario(t):
 
 
 def commands_off(t, observer, gateway, codec):
-    key = 'tiltgate_sparkplug_commands_total{result="ignored"}'
-    ignored = gateway.metric(key, 0)
+    ignored = gateway.metric(COMMANDS, 0, result="ignored")
     birth = observer.messages("DBIRTH", "boom")[-1]
     zero = birth.metric("Settings/zero_x")
     metric = {"alias": zero["alias"]} if zero else {"name": "Settings/zero_x"}
@@ -154,7 +154,8 @@ def commands_off(t, observer, gateway, codec):
     observer.publish(topic(GROUP, NODE, "DCMD", "boom"), codec.command(now_ms(), [metric]))
     t.check("commands = false: a DCMD is ignored and counted in "
             "tiltgate_sparkplug_commands_total{result=\"ignored\"}",
-            wait_until(lambda: gateway.metric(key, 0) > ignored, WAIT),
+            wait_until(lambda: gateway.metric(COMMANDS, 0, result="ignored") > ignored,
+                       WAIT),
             {k: v for k, v in gateway.metrics().items() if "commands" in k})
     since = observer.count()
 

@@ -25,6 +25,7 @@ from spb_e2e.sparkplug import birth_value, device_views, seq_violations, topic  
 
 GROUP, NODE, CLIENT = "plant1", "gw1", "tg-e2e-session"
 WAIT = 20  # seconds: generous, never a measurement
+COMMANDS = "tiltgate_sparkplug_commands_total"
 
 
 def now_ms():
@@ -225,7 +226,8 @@ def silent_and_back(t, observer, sim):
     answer_at = now_ms()
     sim.command("answer 223")
     dbirth = observer.wait_for(WAIT, "DBIRTH", "boom", since)
-    if t.check("the sensor answers again: a new DBIRTH", dbirth, observer.messages(device="boom", since=since)[-3:]):
+    if t.check("the sensor answers again: a new DBIRTH", dbirth,
+               observer.messages(device="boom", since=since)[-3:]):
         online = dbirth.metric("online")
         angle = dbirth.metric("angle_x")
         t.check("the new DBIRTH says online, with a reading taken after it answered",
@@ -265,20 +267,21 @@ def commands_on(t, observer, sim, gateway, codec):
         {"name": "Settings/filter", "datatype": spb_codec.DOUBLE, "value": 3.0}]))
     t.check("DCMD Settings/filter = 3 (by name) shows in DDATA as Settings/filter = 3",
             wait_until(lambda: setting_is("Settings/filter", 3.0), WAIT))
-    key = 'tiltgate_sparkplug_commands_total{result="%s"}'
     t.check("/metrics counts the writes: tiltgate_sparkplug_commands_total{result=\"write\"} >= 2",
-            wait_until(lambda: gateway.metric(key % "write", 0) >= 2, WAIT),
+            wait_until(lambda: gateway.metric(COMMANDS, 0, result="write") >= 2, WAIT),
             {k: v for k, v in gateway.metrics().items() if "sparkplug" in k})
-    refused_before = gateway.metric(key % "refused", 0)
+    refused_before = gateway.metric(COMMANDS, 0, result="refused")
     observer.publish(dcmd, codec.command(now_ms(), [
         {"name": "Settings/filter", "datatype": spb_codec.DOUBLE, "value": 9.0}]))
     t.check("a DCMD out of the setting's range (filter 9) is refused and counted",
-            wait_until(lambda: gateway.metric(key % "refused", 0) > refused_before, WAIT),
+            wait_until(lambda: gateway.metric(COMMANDS, 0, result="refused") > refused_before,
+                       WAIT),
             {k: v for k, v in gateway.metrics().items() if "commands" in k})
-    malformed_before = gateway.metric(key % "malformed", 0)
+    malformed_before = gateway.metric(COMMANDS, 0, result="malformed")
     observer.publish(topic(GROUP, NODE, "NCMD"), b"\xff\xff\xff\xff not protobuf")
     t.check("a malformed NCMD payload is counted (result=\"malformed\")",
-            wait_until(lambda: gateway.metric(key % "malformed", 0) > malformed_before, WAIT),
+            wait_until(lambda: gateway.metric(COMMANDS, 0, result="malformed") >
+                       malformed_before, WAIT),
             {k: v for k, v in gateway.metrics().items() if "commands" in k})
     after = observer.count()
     t.check("the gateway goes on after the malformed payload",

@@ -124,8 +124,18 @@ class Gateway:
                 values[m.group(1)] = float(m.group(2))
         return values
 
-    def metric(self, name, default=None):
-        return self.metrics().get(name, default)
+    def metric(self, name, default=None, **labels):
+        """The sum of the series of `name` that have these labels (and maybe more, such as the
+        store's feed); `default` when there is none."""
+        found = None
+        for series, value in self.metrics().items():
+            base, _, rest = series.partition("{")
+            if base != name:
+                continue
+            have = dict(re.findall(r'(\w+)="([^"]*)"', rest))
+            if all(have.get(k) == v for k, v in labels.items()):
+                found = (found or 0) + value
+        return default if found is None else found
 
     def sensor_api(self, name):
         import json
