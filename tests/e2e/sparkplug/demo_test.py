@@ -77,6 +77,9 @@ def scenario(t):
     t.check("Ctrl-C (SIGTERM) stops the demo cleanly", demo.wait(timeout=20) == 0)
     t.check("tck-id-operational-behavior-edge-node-intentional-disconnect-ndeath: the stopping "
             "demo publishes its NDEATH", observer.wait_for(WAIT, "NDEATH", since=since))
+    left = [n for n in os.listdir(t.dir) if n.startswith("tiltgate-demo")]
+    t.check("the demo's edge node state (bdSeq, store) stays in its private folder, removed at "
+            "exit", not left, left)
 
 
 if __name__ == "__main__":

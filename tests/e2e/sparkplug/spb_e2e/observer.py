@@ -27,8 +27,12 @@ class Message:
         self.type = parts[2] if len(parts) > 2 and parts[1] != "STATE" else "STATE"
         self.device = parts[4] if len(parts) > 4 else None
         self.payload = None
+        self.undecodable = None  # why the payload is not a Sparkplug B payload
         if self.type != "STATE":
-            self.payload = codec.decode(payload)
+            try:
+                self.payload = codec.decode(payload)
+            except Exception as e:  # a test's own malformed command, or the gateway's bug
+                self.undecodable = "%s: %s" % (type(e).__name__, e)
 
     @property
     def seq(self):

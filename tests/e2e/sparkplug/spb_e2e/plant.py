@@ -49,8 +49,9 @@ class Gateway:
     """`tiltgate run` on the simulator's bus; `sparkplug` gives the [sparkplug] keys."""
 
     def __init__(self, tiltgate, scratch_dir, simulators, sparkplug, sensor_keys=None,
-                 name="gateway"):
-        """`simulators`: one Simulator, or several, each its own [[bus]]."""
+                 bus_keys=None, name="gateway"):
+        """`simulators`: one Simulator, or several, each its own [[bus]]; `sensor_keys` and
+        `bus_keys` go into every [[sensor]] and [[bus]]."""
         if isinstance(simulators, Simulator):
             simulators = [simulators]
         self.tiltgate = tiltgate
@@ -66,6 +67,7 @@ class Gateway:
             bus = "line%d" % (i + 1)
             lines += ["", "[[bus]]", 'name = "%s"' % bus, 'port = "%s"' % simulator.link,
                       'protocol = "rieker"']
+            lines += ["%s = %s" % (k, toml_value(v)) for k, v in (bus_keys or {}).items()]
             for name_, sensor in simulator.sensors.items():
                 lines += ["", "[[sensor]]", 'name = "%s"' % name_, 'bus = "%s"' % bus,
                           'model = "%s"' % sensor["model"], "address = %d" % sensor["address"],

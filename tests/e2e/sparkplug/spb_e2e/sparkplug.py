@@ -8,15 +8,18 @@ def topic(group, node, type, device=None):
 
 
 def seq_violations(messages):
-    """tck-id-payloads-sequence-num-incrementing: every message of the node but NDEATH has a
-    seq, 0 in each NBIRTH and one more (mod 256) than the message before it otherwise, in the
-    order they arrived. Returns what breaks the rule (empty: none) and how many times it
-    wrapped from 255 to 0."""
+    """tck-id-payloads-sequence-num-incrementing: every message of the node (each a Sparkplug B
+    payload) but NDEATH has a seq, 0 in each NBIRTH and one more (mod 256) than the message
+    before it otherwise, in the order they arrived. Returns what breaks the rule (empty: none)
+    and how many times it wrapped from 255 to 0."""
     broken = []
     wraps = 0
     previous = None
     for m in messages:
         if m.type in ("STATE", "NCMD", "DCMD"):
+            continue
+        if m.undecodable:
+            broken.append("not a Sparkplug B payload (%s): %r" % (m.undecodable, m))
             continue
         if m.type == "NDEATH":
             if m.seq is not None:
