@@ -26,6 +26,9 @@ struct DemoOptions {
   std::uint16_t http_port = 8080;  // the HTTP status API and metrics, on `listen`; 0: off
   std::string mqtt_host;           // the MQTT feed's broker, under tiltgate/demo/; empty: off
   std::uint16_t mqtt_port = 1883;
+  // The Sparkplug B edge node's broker, group "tiltgate-demo", edge node "demo"; empty: off.
+  std::string sparkplug_host;
+  std::uint16_t sparkplug_port = 1883;
 };
 
 // Runs `io` until SIGINT/SIGTERM, then calls `stop` and returns.
@@ -62,6 +65,18 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
     config.mqtt.port = options.mqtt_port;
     config.mqtt.client_id = fmt::format("tiltgate-demo-{}", ::getpid());
     config.mqtt.topic_prefix = "tiltgate/demo";
+  }
+  if (!options.sparkplug_host.empty()) {
+    config.sparkplug.enabled = true;
+    config.sparkplug.host = options.sparkplug_host;
+    config.sparkplug.port = options.sparkplug_port;
+    config.sparkplug.group_id = "tiltgate-demo";
+    config.sparkplug.edge_node_id = "demo";
+    config.sparkplug.client_id = fmt::format("tiltgate-demo-sparkplug-{}", ::getpid());
+    // The demo's own temporary folder, gone when it stops: a demo needs no /var/lib, and
+    // its bdSeq starts at 0 every run.
+    config.sparkplug.state_dir = (folder / "state").string();
+    config.sparkplug.commands = true;  // as Modbus writes are on in the demo
   }
   std::uint8_t unit = 1;
   for (std::size_t i = 0; i < demos.size(); ++i) {
@@ -206,6 +221,10 @@ Subcommand add_demo(CLI::App& app, FamilyCommandsList commands) {
   demo->add_option("--mqtt-host", options->mqtt_host,
                    "MQTT broker to publish the sensors to, under tiltgate/demo/ (default: off)");
   demo->add_option("--mqtt-port", options->mqtt_port, "MQTT broker port")->capture_default_str();
+  demo->add_option("--sparkplug-host", options->sparkplug_host,
+                   "MQTT broker to run a Sparkplug B edge node on: group tiltgate-demo, edge node "
+                   "demo, DCMD writes on (default: off)");
+  demo->add_option("--sparkplug-port", options->sparkplug_port, "its port")->capture_default_str();
   return {demo, [options, commands] { return demo_command(*options, commands); }};
 }
 

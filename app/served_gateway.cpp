@@ -7,16 +7,20 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
     : gateway_(io, config, families),
       http_(gateway_, [this] { return status(SteadyClock::now()); }),
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
+      sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
       control_(gateway_) {
   gateway_.attach(control_);
   gateway_.attach(http_);
   gateway_.attach(mqtt_);
+  gateway_.attach(sparkplug_);
 }
 
 GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   GatewayStatus status = gateway_.status(now);
   status.http_connections_denied = http_.connections_denied();
   status.mqtt = mqtt_.stats();
+  status.sparkplug = sparkplug_.stats();
+  if (auto store = sparkplug_.store_stats()) status.stores.push_back(*store);
   return status;
 }
 

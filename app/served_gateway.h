@@ -1,6 +1,6 @@
 // The gateway as `tiltgate run` and `tiltgate demo` serve it: the core (gateway/gateway.h) and
 // every service beside it, made here and attached to it: the HTTP status API and its history,
-// the MQTT feed and the control socket, each on or off as its configuration says. The one
+// the MQTT feed, the Sparkplug B edge node and the control socket, each on or off as its configuration says. The one
 // place that knows every service.
 #pragma once
 
@@ -10,6 +10,7 @@
 #include "control/control_service.h"
 #include "gateway/gateway.h"
 #include "mqtt/mqtt_service.h"
+#include "sparkplug/sparkplug_service.h"
 #include "status/status_service.h"
 
 namespace tiltgate {
@@ -28,6 +29,7 @@ class ServedGateway {
   Gateway gateway_;  // first: the services refer to it, and go before it
   StatusService http_;
   MqttService mqtt_;
+  SparkplugService sparkplug_;
   ControlService control_;
 };
 

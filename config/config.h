@@ -98,6 +98,33 @@ struct MqttConfig {
   bool operator==(const MqttConfig&) const = default;
 };
 
+// The Sparkplug B edge node (sparkplug/sparkplug_service.h, docs/northbound.md "Sparkplug B"):
+// off unless the file has a [sparkplug] table; the loader fills in the hostname defaults and
+// resolves state_dir, so these are the values used.
+struct SparkplugConfig {
+  bool enabled = false;
+  std::string host;                   // required with the table
+  std::uint16_t port = 1883;
+  std::string group_id;               // required with the table
+  std::string edge_node_id;           // default: the host name
+  std::string client_id;              // default "tiltgate-sparkplug-<edge_node_id>"
+  std::string username;               // empty: none
+  std::string password;
+  std::string ca_file;                // TLS when set (cert_file/key_file: client certificate)
+  std::string cert_file;
+  std::string key_file;
+  int keepalive_s = 30;
+  std::string state_dir = "/var/lib/tiltgate";  // bdSeq and the store, under sparkplug/
+  double on_change_deg = 0.01;        // DDATA when an angle moved this much; 0: every reading
+  std::chrono::milliseconds min_interval{100};
+  std::chrono::milliseconds max_interval{10000};
+  std::optional<std::string> primary_host_id;
+  bool commands = false;              // DCMD writes settings; off: every DCMD ignored, counted
+  double buffer_mb = 64;              // the store's budget on disk, MiB (a fraction for tests)
+
+  bool operator==(const SparkplugConfig&) const = default;
+};
+
 // The floor of late_guard's default: a few adapter round trips (USB-RS485 adapters add up to
 // 16 ms each way) on top of a sensor's own slowness.
 inline constexpr std::chrono::milliseconds kMinDefaultLateGuard{100};
@@ -206,6 +233,7 @@ struct Config {
   ServerConfig server;
   HttpConfig http;
   MqttConfig mqtt;
+  SparkplugConfig sparkplug;
   std::vector<BusConfig> buses;
   std::vector<SensorConfig> sensors;
   std::vector<AggregateConfig> aggregates;

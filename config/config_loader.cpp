@@ -28,11 +28,12 @@ namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
 constexpr std::string_view kTopLevel =
-    "[server], [http], [mqtt], [[bus]], [[sensor]] and [[aggregate]]";
+    "[server], [http], [mqtt], [sparkplug], [[bus]], [[sensor]] and [[aggregate]]";
 
 std::string table_header(std::string_view name) {
-  return name == "server" || name == "http" || name == "mqtt" ? fmt::format("[{}]", name)
-                                                               : fmt::format("[[{}]]", name);
+  return name == "server" || name == "http" || name == "mqtt" || name == "sparkplug"
+             ? fmt::format("[{}]", name)
+             : fmt::format("[[{}]]", name);
 }
 
 // [[bus]], [[sensor]] and [[aggregate]]: an array whose every element is a table.
@@ -59,7 +60,8 @@ void read_table_array(std::string_view name, const toml::key& key, const toml::n
 
 void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
   const bool is_table = node.is_table() || node.is_array_of_tables();
-  const std::vector<std::string> known{"server", "http", "mqtt", "bus", "sensor", "aggregate"};
+  const std::vector<std::string> known{"server", "http",   "mqtt",     "sparkplug",
+                                       "bus",    "sensor", "aggregate"};
   const std::string guess = closest_key(key.str(), known);
   std::string message = is_table ? "unknown table" : "unknown key at the top level";
   if (!guess.empty())
@@ -124,6 +126,8 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   ServerConfig server;
   HttpConfig http;
   MqttConfig mqtt;
+  SparkplugConfig sparkplug;
+  std::optional<Place> sparkplug_at;
   std::vector<ParsedBus> buses;
   std::vector<ParsedSensor> sensors;
   std::vector<ParsedAggregate> aggregates;
@@ -146,6 +150,13 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
       else
         errors.add(place_of(key.source()), "mqtt",
                    fmt::format("expected a table ([mqtt]), got {}", type_name(node.type())));
+    } else if (key == "sparkplug") {
+      sparkplug_at = place_of(key.source());
+      if (const toml::table* table = node.as_table())
+        sparkplug = read_sparkplug(*table, errors);
+      else
+        errors.add(*sparkplug_at, "sparkplug",
+                   fmt::format("expected a table ([sparkplug]), got {}", type_name(node.type())));
     } else if (key == "bus") {
       read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
         buses.push_back(read_bus(table, std::move(path), errors, families));
@@ -170,6 +181,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   check_tcp_ports(buses, server, errors);
   check_sensors(sensors, buses, errors, families);
   check_pass_through(buses, sensors, errors);
+  if (sparkplug.enabled) check_feeds(mqtt, sparkplug, sparkplug_at.value_or(Place{}), errors);
   const std::size_t errors_before_maps = errors.size();
   ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors, families);
   check_aggregates(aggregates, sensors, buses,
@@ -183,6 +195,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   Config config = assemble(std::string(source_name), server, std::move(http), std::move(buses),
                            std::move(sensors), std::move(aggregates));
   config.mqtt = std::move(mqtt);
+  config.sparkplug = std::move(sparkplug);
   return config;
 }
 

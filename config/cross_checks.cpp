@@ -189,4 +189,14 @@ void check_sensors(const std::vector<ParsedSensor>& sensors, const std::vector<P
     check_against_bus(sensors[i], all.first(i), buses, errors, families);
 }
 
+void check_feeds(const MqttConfig& mqtt, const SparkplugConfig& sparkplug,
+                 toml_input::Place sparkplug_at, ErrorList& errors) {
+  if (!mqtt.enabled || mqtt.client_id != sparkplug.client_id) return;
+  if (mqtt.host != sparkplug.host || mqtt.port != sparkplug.port) return;
+  errors.add(sparkplug_at, "sparkplug.client_id",
+             fmt::format("\"{}\" is [mqtt]'s client_id on the same broker, expected another: "
+                         "the broker would disconnect one client for the other",
+                         sparkplug.client_id));
+}
+
 }  // namespace tiltgate::config

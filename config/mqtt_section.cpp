@@ -1,14 +1,12 @@
 // [mqtt]: the MQTT feed's broker, names and pacing (docs/northbound.md, "MQTT"). The table's presence turns
 // the feed on (enabled = false keeps it written but off); host is then required.
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <array>
-#include <filesystem>
 #include <string>
 #include <string_view>
 
+#include "config/broker_keys.h"
 #include "config/sections.h"
 #include "toml/toml_reader.h"
 
@@ -16,15 +14,8 @@ namespace tiltgate::config {
 
 using toml_input::ErrorList;
 using toml_input::TableReader;
-using toml_input::Presence;
 
 namespace {
-
-std::string hostname() {
-  std::array<char, 256> name{};
-  if (gethostname(name.data(), name.size() - 1) != 0 || name[0] == '\0') return "localhost";
-  return name.data();
-}
 
 // An MQTT topic's levels are separated by '/'; '+' and '#' are subscription wildcards a
 // published topic must not hold (MQTT 3.1.1, 4.7.1), and an empty level would make the feed's
@@ -42,30 +33,23 @@ void check_topic_prefix(TableReader& in, const std::string& prefix) {
                          prefix));
 }
 
-void read_file_key(TableReader& in, std::string_view key, std::string& out) {
-  auto path = in.string(key);
-  if (!path) return;
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(*path, ec))
-    in.error(key, fmt::format("\"{}\" is not a file", *path));
-  else
-    out = *path;
-}
-
 }  // namespace
 
 MqttConfig read_mqtt(const toml::table& table, ErrorList& errors) {
   TableReader in(table, "mqtt", errors);
   MqttConfig mqtt;
   mqtt.enabled = in.boolean("enabled").value_or(true);
-  if (auto host = in.string("host", mqtt.enabled ? Presence::required : Presence::optional)) {
-    if (host->empty())
-      in.error("host", "empty, expected the broker's host name or IP address");
-    else
-      mqtt.host = *host;
-  }
-  if (auto port = in.integer("port", 1, 65535)) mqtt.port = std::uint16_t(*port);
-  const std::string host_name = hostname();
+  BrokerKeys broker;
+  read_broker_keys(in, mqtt.enabled, broker);
+  mqtt.host = broker.host;
+  mqtt.port = broker.port;
+  mqtt.keepalive_s = broker.keepalive_s;
+  mqtt.username = broker.username;
+  mqtt.password = broker.password;
+  mqtt.ca_file = broker.ca_file;
+  mqtt.cert_file = broker.cert_file;
+  mqtt.key_file = broker.key_file;
+  const std::string host_name = config::host_name();
   mqtt.client_id = "tiltgate-" + host_name;
   mqtt.topic_prefix = "tiltgate/" + host_name;
   if (auto client_id = in.string("client_id")) {
@@ -83,24 +67,6 @@ MqttConfig read_mqtt(const toml::table& table, ErrorList& errors) {
   if (auto interval = in.integer("interval_ms", 100, 3600000))
     mqtt.interval = std::chrono::milliseconds(*interval);
   if (auto on_change = in.number_in("on_change_deg", 0.0, 360.0)) mqtt.on_change_deg = *on_change;
-  // libmosquitto refuses a keep-alive under 5 s (mosquitto_connect: MOSQ_ERR_INVAL).
-  if (auto keepalive = in.integer("keepalive_s", 5, 65535)) mqtt.keepalive_s = int(*keepalive);
-  if (auto username = in.string("username")) mqtt.username = *username;
-  if (auto password = in.string("password")) {
-    if (!in.has("username"))
-      in.error("password", "a password needs a username");
-    else
-      mqtt.password = *password;
-  }
-  read_file_key(in, "ca_file", mqtt.ca_file);
-  read_file_key(in, "cert_file", mqtt.cert_file);
-  read_file_key(in, "key_file", mqtt.key_file);
-  if (in.has("cert_file") != in.has("key_file"))
-    in.error(in.has("cert_file") ? "cert_file" : "key_file",
-             "a client certificate needs both cert_file and key_file");
-  if ((in.has("cert_file") || in.has("key_file")) && !in.has("ca_file"))
-    in.error(in.has("cert_file") ? "cert_file" : "key_file",
-             "a client certificate is sent over TLS only: give ca_file too");
   if (auto backlog = in.integer("backlog", 0, 1000000)) mqtt.backlog = std::size_t(*backlog);
   in.reject_unknown_keys();
   return mqtt;

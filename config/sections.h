@@ -1,5 +1,5 @@
 // Reading the kinds of table: [server], [http] and [[sensor]] (sections.cpp), [mqtt]
-// (mqtt_section.cpp), [[bus]] (bus_section.cpp). Each is checked on its own (types, ranges,
+// (mqtt_section.cpp), [sparkplug] (sparkplug_section.cpp), [[bus]] (bus_section.cpp). Each is checked on its own (types, ranges,
 // keys that depend on another key of the same table); checks across tables are in
 // config/cross_checks.h.
 #pragma once
@@ -50,6 +50,8 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors);
 void read_server_tls(TableReader& in, ServerConfig& server, ErrorList& errors);
 HttpConfig read_http(const toml::table& table, ErrorList& errors);
 MqttConfig read_mqtt(const toml::table& table, ErrorList& errors);
+// [sparkplug] (sparkplug_section.cpp); state_dir as written, resolved by the loader.
+SparkplugConfig read_sparkplug(const toml::table& table, ErrorList& errors);
 // Protocols, bauds, addresses and models come from the families' descriptors.
 ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors,
                    FamilyList families);

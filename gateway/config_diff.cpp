@@ -71,6 +71,7 @@ ConfigDiff diff_configs(const Config& running, const Config& loaded) {
   diff.control_socket_changed = running.server.control_socket != loaded.server.control_socket;
   diff.http_changed = !(running.http == loaded.http);
   diff.mqtt_changed = !(running.mqtt == loaded.mqtt);
+  diff.sparkplug_changed = !(running.sparkplug == loaded.sparkplug);
   return diff;
 }
 

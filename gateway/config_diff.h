@@ -26,6 +26,7 @@ struct ConfigDiff {
   bool control_socket_changed = false;  // [server] control_socket
   bool http_changed = false;
   bool mqtt_changed = false;
+  bool sparkplug_changed = false;
 
   // No bus reopened, added or removed.
   bool buses_unchanged() const {

@@ -72,6 +72,30 @@ struct MqttStats {
   std::uint64_t reconnects = 0;  // connections after the first
 };
 
+// The Sparkplug B edge node's counters (sparkplug/edge_node.h), for the metrics
+// (tiltgate_sparkplug_*). Commands by result: rebirth requests carried out, setting writes
+// taken by the sensor or under way, refused ones (not a setting, or refused by the write path),
+// whole messages ignored (commands off) and malformed ones.
+struct SparkplugStats {
+  bool connected = false;
+  std::uint64_t published = 0;  // messages handed to the broker connection
+  std::uint64_t rebirth = 0;
+  std::uint64_t write = 0;
+  std::uint64_t refused = 0;
+  std::uint64_t ignored = 0;
+  std::uint64_t malformed = 0;
+};
+
+// An on-disk store-and-forward's counters (store/record_store.h), for the metrics
+// (tiltgate_store_*, labelled by the feed that keeps it).
+struct StoreStats {
+  std::string feed;              // "sparkplug", "mqtt"
+  std::uint64_t bytes = 0;       // its files' size
+  std::uint64_t records = 0;     // kept, not yet replayed
+  std::uint64_t dropped = 0;     // dropped when full, oldest first
+  std::uint64_t replayed = 0;    // published again
+};
+
 struct GatewayStatus {
   std::vector<SensorStatus> sensors;
   std::vector<BusStatus> buses;
@@ -86,6 +110,8 @@ struct GatewayStatus {
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;
   std::optional<MqttStats> mqtt;      // none without [mqtt]
+  std::optional<SparkplugStats> sparkplug;  // none without [sparkplug]
+  std::vector<StoreStats> stores;     // the feeds' stores on disk
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
 };
 

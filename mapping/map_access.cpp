@@ -141,4 +141,17 @@ Expected<std::vector<PlannedWrite>, MapFault> plan_register_write(
   return plan;
 }
 
+Expected<std::vector<PlannedWrite>, MapFault> plan_point_write(const RegisterMap& map,
+                                                               WordOrder order, const Point& point,
+                                                               double value) {
+  if (point.table != RegisterTable::holding || !point.write || point.type == PointType::string)
+    return Unexpected(MapFault::illegal_address);
+  // Checked before encoding: an integer register would saturate a value beyond its type.
+  if (!(value >= point.min && value <= point.max)) return Unexpected(MapFault::illegal_value);
+  std::vector<std::uint16_t> words(point.words());
+  encode_number(words, point.type, value * point.scale + point.offset, order_of(point, order),
+                point.rounding, point.nan_value);
+  return plan_register_write(map, order, point.address, words);
+}
+
 }  // namespace tiltgate

@@ -47,4 +47,11 @@ Expected<std::vector<PlannedWrite>, MapFault> plan_register_write(
     const RegisterMap& map, WordOrder order, std::uint16_t address,
     std::span<const std::uint16_t> words);
 
+// The same write for one writable holding point of `map` given its value (before scaling), as
+// a Sparkplug DCMD asks for a setting: the value's range is checked, then it is encoded as
+// the point's registers and planned like a Modbus write of them, with the same checks.
+Expected<std::vector<PlannedWrite>, MapFault> plan_point_write(const RegisterMap& map,
+                                                               WordOrder order, const Point& point,
+                                                               double value);
+
 }  // namespace tiltgate

@@ -30,7 +30,8 @@ MqttClient& client_of(void* self) { return *static_cast<MqttClient*>(self); }
 
 }  // namespace
 
-MqttClient::MqttClient(MqttClientOptions options) : options_(std::move(options)) {}
+MqttClient::MqttClient(MqttClientOptions options, MqttClientHooks hooks)
+    : options_(std::move(options)), hooks_(std::move(hooks)) {}
 
 MqttClient::~MqttClient() {
   stop();
@@ -46,11 +47,15 @@ Expected<Done, std::string> MqttClient::start() {
   mosquitto_disconnect_callback_set(mosq_, &MqttClient::on_disconnect);
   mosquitto_publish_callback_set(mosq_, &MqttClient::on_publish);
   mosquitto_log_callback_set(mosq_, &MqttClient::on_log);
-  const std::string_view offline = kMqttOffline;
-  int rc = mosquitto_will_set(mosq_, options_.status_topic.c_str(), int(offline.size()),
-                              offline.data(), options_.qos, true);
-  if (rc != MOSQ_ERR_SUCCESS)
-    return Unexpected{fmt::format("last will: {}", mosquitto_strerror(rc))};
+  mosquitto_message_callback_set(mosq_, &MqttClient::on_message);
+  int rc = MOSQ_ERR_SUCCESS;
+  if (!options_.status_topic.empty()) {
+    const std::string_view offline = kMqttOffline;
+    rc = mosquitto_will_set(mosq_, options_.status_topic.c_str(), int(offline.size()),
+                            offline.data(), options_.qos, true);
+    if (rc != MOSQ_ERR_SUCCESS)
+      return Unexpected{fmt::format("last will: {}", mosquitto_strerror(rc))};
+  }
   if (!options_.username.empty()) {
     rc = mosquitto_username_pw_set(mosq_, options_.username.c_str(), or_null(options_.password));
     if (rc != MOSQ_ERR_SUCCESS)
@@ -85,8 +90,8 @@ void MqttClient::run() {
       if (!stop_seen) stop_seen = now;
       if (!socket_open || now - *stop_seen > std::chrono::seconds(1)) break;
     }
-    if (!socket_open) {
-      spdlog::debug("MQTT: connecting to {}:{}", options_.host, options_.port);
+    if (!socket_open && prepare_connect()) {
+      spdlog::debug("{}: connecting to {}:{}", options_.log_name, options_.host, options_.port);
       // Non-blocking TCP connect; only the name lookup can wait, and it waits on this thread.
       const int rc = first ? mosquitto_connect_async(mosq_, options_.host.c_str(), options_.port,
                                                      options_.keepalive_s)
@@ -97,11 +102,11 @@ void MqttClient::run() {
         continue;
       }
       if (rc != MOSQ_ERR_INVAL) first = false;  // connect_async stored the host: reconnect now
-      spdlog::debug("MQTT: broker {}:{} not reached ({}); next attempt in {} s", options_.host,
-                    options_.port,
+      spdlog::debug("{}: broker {}:{} not reached ({}); next attempt in {} s", options_.log_name,
+                    options_.host, options_.port,
                     rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
                     delay.count());
-    } else {
+    } else if (socket_open) {
       // 100 ms at most in select(): a publish from the event loop wakes it sooner.
       const int rc = mosquitto_loop(mosq_, 100, 1);
       if (rc == MOSQ_ERR_SUCCESS) {
@@ -110,8 +115,8 @@ void MqttClient::run() {
       }
       socket_open = false;
       if (stopping_.load()) break;
-      spdlog::debug("MQTT: connection to {}:{} ended ({}); next attempt in {} s", options_.host,
-                    options_.port,
+      spdlog::debug("{}: connection to {}:{} ended ({}); next attempt in {} s",
+                    options_.log_name, options_.host, options_.port,
                     rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
                     delay.count());
     }
@@ -121,27 +126,71 @@ void MqttClient::run() {
   }
 }
 
+bool MqttClient::prepare_connect() {
+  if (!hooks_.before_connect) return true;
+  const std::optional<MqttWill> will = hooks_.before_connect();
+  if (!will) return false;
+  const int rc = mosquitto_will_set(mosq_, will->topic.c_str(), int(will->payload.size()),
+                                    will->payload.data(), will->qos, will->retain);
+  if (rc != MOSQ_ERR_SUCCESS) {
+    spdlog::warn("{}: last will on {}: {}", options_.log_name, will->topic,
+                 mosquitto_strerror(rc));
+    return false;
+  }
+  return true;
+}
+
+bool MqttClient::send(const std::string& topic, int length, const void* payload, int qos,
+                      bool retain) {
+  int mid = 0;
+  if (mosquitto_publish(mosq_, &mid, topic.c_str(), length, payload, qos, retain) !=
+      MOSQ_ERR_SUCCESS)
+    return false;
+  // Recorded after the publish (an acknowledgement that came first has set
+  // last_published_mid_ to it already), not around it: libmosquitto's thread takes its own
+  // locks before on_publish takes this one.
+  if (qos > 0) {
+    std::lock_guard lock(published_mutex_);
+    last_sent_mid_ = mid;
+  }
+  return true;
+}
+
 bool MqttClient::publish(const MqttMessage& message) {
   if (!connected_.load()) return false;
-  const int rc =
-      mosquitto_publish(mosq_, nullptr, message.topic.c_str(), int(message.payload.size()),
-                        message.payload.data(), options_.qos, message.retain);
-  return rc == MOSQ_ERR_SUCCESS;
+  return send(message.topic, int(message.payload.size()), message.payload.data(), options_.qos,
+              message.retain);
+}
+
+bool MqttClient::publish(std::string_view topic, std::span<const std::uint8_t> payload, int qos,
+                         bool retain) {
+  if (!connected_.load()) return false;
+  return send(std::string(topic), int(payload.size()), payload.data(), qos, retain);
+}
+
+bool MqttClient::subscribe(std::string_view topic, int qos) {
+  if (!connected_.load()) return false;
+  return mosquitto_subscribe(mosq_, nullptr, std::string(topic).c_str(), qos) == MOSQ_ERR_SUCCESS;
+}
+
+void MqttClient::disconnect() {
+  if (connected_.load()) mosquitto_disconnect(mosq_);
 }
 
 void MqttClient::stop() {
   if (!thread_.joinable()) return;
   if (connected_.load()) {
-    const std::string_view offline = kMqttOffline;
-    int mid = 0;
-    if (mosquitto_publish(mosq_, &mid, options_.status_topic.c_str(), int(offline.size()),
-                          offline.data(), options_.qos, true) == MOSQ_ERR_SUCCESS &&
-        options_.qos > 0) {
+    if (!options_.status_topic.empty()) {
+      const std::string_view offline = kMqttOffline;
+      send(options_.status_topic, int(offline.size()), offline.data(), options_.qos, true);
+    }
+    {
       // Acknowledged before the DISCONNECT, or given up on after a second: shutting down must
       // not hang on a broker that stopped answering.
       std::unique_lock lock(published_mutex_);
-      published_changed_.wait_for(lock, std::chrono::seconds(1),
-                                  [&] { return last_published_mid_ == mid; });
+      if (last_sent_mid_ != 0)
+        published_changed_.wait_for(lock, std::chrono::seconds(1),
+                                    [&] { return last_published_mid_ == last_sent_mid_; });
     }
     mosquitto_disconnect(mosq_);  // run() sends it, then its mosquitto_loop() ends
   }
@@ -159,29 +208,34 @@ void MqttClient::on_connect(struct mosquitto* mosq, void* self, int rc) {
   if (rc != 0) {
     // A refusal (bad credentials, client id) repeats at every attempt: logged when it changes.
     if (rc != client.last_refusal_)
-      spdlog::warn("MQTT: broker {}:{} refused the connection: {}", client.options_.host,
-                   client.options_.port, mosquitto_connack_string(rc));
+      spdlog::warn("{}: broker {}:{} refused the connection: {}", client.options_.log_name,
+                   client.options_.host, client.options_.port, mosquitto_connack_string(rc));
     client.last_refusal_ = rc;
     return;
   }
   client.last_refusal_ = 0;
-  const std::string_view online = kMqttOnline;
-  mosquitto_publish(mosq, nullptr, client.options_.status_topic.c_str(), int(online.size()),
-                    online.data(), client.options_.qos, true);
+  if (!client.options_.status_topic.empty()) {
+    const std::string_view online = kMqttOnline;
+    mosquitto_publish(mosq, nullptr, client.options_.status_topic.c_str(), int(online.size()),
+                      online.data(), client.options_.qos, true);
+  }
   ++client.connections_;
   client.connected_ = true;
-  spdlog::info("MQTT: connected to {}:{} as {}", client.options_.host, client.options_.port,
-               client.options_.client_id);
+  spdlog::info("{}: connected to {}:{} as {}", client.options_.log_name, client.options_.host,
+               client.options_.port, client.options_.client_id);
+  if (client.hooks_.connection) client.hooks_.connection(true);
 }
 
 void MqttClient::on_disconnect(struct mosquitto*, void* self, int rc) {
   MqttClient& client = client_of(self);
   if (!client.connected_.exchange(false)) return;  // a failed attempt: run() logs it
+  if (client.hooks_.connection) client.hooks_.connection(false);
   if (rc == 0)
-    spdlog::info("MQTT: disconnected from {}:{}", client.options_.host, client.options_.port);
+    spdlog::info("{}: disconnected from {}:{}", client.options_.log_name, client.options_.host,
+                 client.options_.port);
   else
-    spdlog::warn("MQTT: lost the broker {}:{} ({}); reconnecting", client.options_.host,
-                 client.options_.port,
+    spdlog::warn("{}: lost the broker {}:{} ({}); reconnecting", client.options_.log_name,
+                 client.options_.host, client.options_.port,
                  rc == MOSQ_ERR_ERRNO ? "connection closed" : mosquitto_strerror(rc));
 }
 
@@ -194,15 +248,24 @@ void MqttClient::on_publish(struct mosquitto*, void* self, int mid) {
   client.published_changed_.notify_all();
 }
 
-void MqttClient::on_log(struct mosquitto*, void*, int level, const char* text) {
+void MqttClient::on_message(struct mosquitto*, void* self,
+                            const struct mosquitto_message* message) {
+  MqttClient& client = client_of(self);
+  if (!client.hooks_.message || message == nullptr || message->topic == nullptr) return;
+  const auto* bytes = static_cast<const std::uint8_t*>(message->payload);
+  client.hooks_.message(std::string(message->topic),
+                        std::vector<std::uint8_t>(bytes, bytes + std::max(message->payloadlen, 0)));
+}
+
+void MqttClient::on_log(struct mosquitto*, void* self, int level, const char* text) {
   // Each connection attempt ("sending CONNECT") and libmosquitto's own complaints at debug
   // level, so a broker away for hours does not fill the log; every other packet at trace.
   const std::string_view line = text;
   if (level == MOSQ_LOG_ERR || level == MOSQ_LOG_WARNING ||
       line.find("sending CONNECT") != std::string_view::npos)
-    spdlog::debug("MQTT: libmosquitto: {}", line);
+    spdlog::debug("{}: libmosquitto: {}", client_of(self).options_.log_name, line);
   else
-    spdlog::trace("MQTT: libmosquitto: {}", line);
+    spdlog::trace("{}: libmosquitto: {}", client_of(self).options_.log_name, line);
 }
 
 }  // namespace tiltgate

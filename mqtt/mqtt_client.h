@@ -1,16 +1,24 @@
-// The MQTT feed's transport: one libmosquitto client whose network side runs on a thread of
-// its own, so no network wait (name lookup, connect, send) ever happens on the gateway's event
-// loop. A missing broker does not hold up start-up; every failure is retried with back-off
-// (reconnect_min_s doubling up to reconnect_max_s). It keeps <prefix>/status retained "online" while connected with a last will of
-// "offline". publish() only hands a message over: it never blocks on the network.
+// The transport of the MQTT feed and of the Sparkplug B edge node: one libmosquitto client
+// whose network side runs on a thread of its own, so no network wait (name lookup, connect,
+// send) ever happens on the gateway's event loop. A missing broker does not hold up start-up;
+// every failure is retried with back-off (reconnect_min_s doubling up to reconnect_max_s).
+// With a status topic (the JSON feed) it keeps <prefix>/status retained "online" while
+// connected with a last will of "offline"; with a before_connect hook (Sparkplug) the hook
+// gives the will of each CONNECT instead. publish() and subscribe() only hand a packet over:
+// they never block on the network.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <mutex>
+#include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <vector>
 
 #include "driver/expected.h"
 #include "mqtt/mqtt_publisher.h"
@@ -21,10 +29,12 @@ struct mosquitto_message;
 namespace tiltgate {
 
 struct MqttClientOptions {
+  std::string log_name = "MQTT";  // what its log lines start with
   std::string host;
   std::uint16_t port = 1883;
   std::string client_id;
-  std::string status_topic;  // <prefix>/status: "online", and "offline" as the last will
+  // <prefix>/status: "online", and "offline" as the last will; empty: no status messages
+  std::string status_topic;
   int qos = 1;
   int keepalive_s = 30;
   std::string username;      // empty: none
@@ -36,11 +46,31 @@ struct MqttClientOptions {
   int reconnect_max_s = 30;
 };
 
+// A CONNECT's last will.
+struct MqttWill {
+  std::string topic;
+  std::vector<std::uint8_t> payload;
+  int qos = 1;
+  bool retain = false;
+};
+
+// What the client tells its owner, each on the network thread (the owner posts to its own
+// event loop): none of them may call stop().
+struct MqttClientHooks {
+  // Before each connection attempt: the will of that CONNECT, or none to skip this attempt
+  // (tried again after the back-off).
+  std::function<std::optional<MqttWill>()> before_connect;
+  // The broker accepted a CONNECT (true) or the connection ended (false).
+  std::function<void(bool connected)> connection;
+  // A message on one of the subscriptions.
+  std::function<void(std::string topic, std::vector<std::uint8_t> payload)> message;
+};
+
 // publish() and the accessors may be called from one thread (the gateway's event loop) while
 // libmosquitto's thread runs the callbacks.
 class MqttClient {
  public:
-  explicit MqttClient(MqttClientOptions options);
+  explicit MqttClient(MqttClientOptions options, MqttClientHooks hooks = {});
   ~MqttClient();
   MqttClient(const MqttClient&) = delete;
   MqttClient& operator=(const MqttClient&) = delete;
@@ -49,8 +79,9 @@ class MqttClient {
   // is a setting libmosquitto refused (e.g. an unreadable TLS file); a broker that cannot be
   // reached is not an error: it is retried.
   Expected<Done, std::string> start();
-  // Publishes "offline" (retained) when connected, disconnects and joins the thread (a name
-  // lookup under way is waited for).
+  // Publishes "offline" (retained) when connected and there is a status topic, waits (a second
+  // at most) for the last QoS 1 or 2 message to be acknowledged, disconnects and joins the
+  // thread (a name lookup under way is waited for).
   void stop();
 
   bool connected() const { return connected_.load(); }
@@ -58,6 +89,14 @@ class MqttClient {
   // Hands `message` to libmosquitto at the configured QoS; false when not connected (the
   // caller keeps it for later).
   bool publish(const MqttMessage& message);
+  // Any message, at its own QoS; false when not connected.
+  bool publish(std::string_view topic, std::span<const std::uint8_t> payload, int qos,
+               bool retain);
+  // false when not connected.
+  bool subscribe(std::string_view topic, int qos);
+  // Ends the connection now (a clean DISCONNECT: no will); the next attempt follows the
+  // back-off.
+  void disconnect();
 
  private:
   void run();  // the network thread: connect, loop, back off, until stop()
@@ -66,8 +105,14 @@ class MqttClient {
   static void on_disconnect(struct mosquitto*, void* self, int rc);
   static void on_publish(struct mosquitto*, void* self, int mid);
   static void on_log(struct mosquitto*, void* self, int level, const char* text);
+  static void on_message(struct mosquitto*, void* self,
+                         const struct mosquitto_message* message);
+  // The hook's will for the next CONNECT; false: no attempt now.
+  bool prepare_connect();
+  bool send(const std::string& topic, int length, const void* payload, int qos, bool retain);
 
   MqttClientOptions options_;
+  MqttClientHooks hooks_;
   struct mosquitto* mosq_ = nullptr;
   std::thread thread_;
   std::atomic<bool> stopping_{false};
@@ -76,10 +121,12 @@ class MqttClient {
   std::atomic<bool> connected_{false};
   std::atomic<std::uint64_t> connections_{0};
   int last_refusal_ = 0;  // the CONNACK code last logged, so a refusing broker logs once
-  // stop() waits (briefly) for its "offline" to be acknowledged before disconnecting.
+  // stop() waits (briefly) for its "offline", or the last QoS 1 or 2 message, to be
+  // acknowledged before disconnecting.
   std::mutex published_mutex_;
   std::condition_variable published_changed_;
   int last_published_mid_ = 0;
+  int last_sent_mid_ = 0;  // of a QoS 1 or 2 message; 0: none waiting
 };
 
 }  // namespace tiltgate

@@ -167,6 +167,65 @@ const MqttSingle kMqttSingles[] = {
      [](const MqttStats& m) { return double(m.reconnects); }},
 };
 
+struct SparkplugSingle {
+  const char* name;
+  const char* type;
+  const char* help;
+  double (*value)(const SparkplugStats&);
+};
+
+const SparkplugSingle kSparkplugSingles[] = {
+    {"tiltgate_sparkplug_connected", "gauge",
+     "1 while the Sparkplug B edge node is connected to its broker, else 0",
+     [](const SparkplugStats& s) { return s.connected ? 1.0 : 0.0; }},
+    {"tiltgate_sparkplug_published_total", "counter",
+     "Sparkplug B messages handed to the broker connection (births, data, deaths, replayed)",
+     [](const SparkplugStats& s) { return double(s.published); }},
+};
+
+void add_sparkplug_families(Exposition& out, const SparkplugStats& stats) {
+  for (const SparkplugSingle& single : kSparkplugSingles)
+    out.single(single.name, single.type, single.help, single.value(stats));
+  out.family("tiltgate_sparkplug_commands_total", "counter",
+             "Sparkplug B commands received, by result: rebirth, write (a setting written or "
+             "under way), refused (not a writable setting, or refused by the write), ignored "
+             "(commands off), malformed");
+  out.sample("result=\"rebirth\"", double(stats.rebirth));
+  out.sample("result=\"write\"", double(stats.write));
+  out.sample("result=\"refused\"", double(stats.refused));
+  out.sample("result=\"ignored\"", double(stats.ignored));
+  out.sample("result=\"malformed\"", double(stats.malformed));
+}
+
+struct StoreFamily {
+  const char* name;
+  const char* type;
+  const char* help;
+  double (*value)(const StoreStats&);
+};
+
+const StoreFamily kStoreFamilies[] = {
+    {"tiltgate_store_bytes", "gauge", "Size of a feed's store-and-forward files on disk in bytes",
+     [](const StoreStats& s) { return double(s.bytes); }},
+    {"tiltgate_store_records", "gauge", "Messages kept in a feed's store, not yet replayed",
+     [](const StoreStats& s) { return double(s.records); }},
+    {"tiltgate_store_dropped_total", "counter",
+     "Messages dropped from a feed's full store, oldest first",
+     [](const StoreStats& s) { return double(s.dropped); }},
+    {"tiltgate_store_replayed_total", "counter",
+     "Messages of a feed's store published again once the broker was back",
+     [](const StoreStats& s) { return double(s.replayed); }},
+};
+
+void add_store_families(Exposition& out, const std::vector<StoreStats>& stores) {
+  if (stores.empty()) return;
+  for (const StoreFamily& f : kStoreFamilies) {
+    out.family(f.name, f.type, f.help);
+    for (const StoreStats& store : stores)
+      out.sample(fmt::format("feed=\"{}\"", metrics_label_value(store.feed)), f.value(store));
+  }
+}
+
 // The sensors' families, the ones with labels of their own (axis, result, reason, code) first.
 void add_sensor_families(Exposition& out, const std::vector<SensorStatus>& sensors) {
   out.family("tiltgate_angle_degrees", "gauge",
@@ -228,6 +287,8 @@ std::string metrics_text(const GatewayStatus& status) {
   if (status.mqtt)
     for (const MqttSingle& single : kMqttSingles)
       out.single(single.name, single.type, single.help, single.value(*status.mqtt));
+  if (status.sparkplug) add_sparkplug_families(out, *status.sparkplug);
+  add_store_families(out, status.stores);
   out.single("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds",
              status.process_start_seconds);

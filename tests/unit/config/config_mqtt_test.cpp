@@ -1,9 +1,7 @@
 // The [mqtt] table: off without it, on with it (host required), each key read, the hostname
 // defaults, and its mistakes reported like every other table's.
 #include <doctest/doctest.h>
-#include <unistd.h>
 
-#include <array>
 #include <string>
 
 #include "config/config_loader.h"
@@ -12,16 +10,6 @@
 
 using namespace tiltgate;
 using namespace tiltgate::test;
-
-namespace {
-
-std::string this_host() {
-  std::array<char, 256> name{};
-  REQUIRE(gethostname(name.data(), name.size() - 1) == 0);
-  return name.data();
-}
-
-}  // namespace
 
 TEST_CASE("config: [mqtt] left out publishes nothing") {
   CHECK_FALSE(loads(valid_plus("")).mqtt.enabled);

@@ -35,6 +35,7 @@ const std::map<std::string, std::string> kSections{
     {"server", "## `[server]`"},
     {"http", "## `[http]`"},
     {"mqtt", "## `[mqtt]`"},
+    {"sparkplug", "## `[sparkplug]`"},
     {"bus", "## `[[bus]]`"},
     {"sensor", "## `[[sensor]]`"},
     {"sensor.mounting", "### `mounting`"},

@@ -3,6 +3,7 @@
 // offset and range are applied; zero and ordinary values pass.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <limits>
 
 #include "mapping/default_maps.h"
@@ -82,4 +83,33 @@ TEST_CASE("float writes of zero, the smallest normal and ordinary values are acc
     REQUIRE(plan.has_value());
     CHECK(plan->front().value == good);
   }
+}
+
+TEST_CASE("a write of one point by value (a Sparkplug DCMD) is planned like the Modbus write of "
+          "its registers, with the same range check") {
+  Point zero = holding_point("zero_x", 10, PointType::int16, WriteTarget::zero_x, -90, 90, "deg",
+                             "");
+  zero.scale = 100;  // centidegrees, as the built-in maps show an angle
+  const RegisterMap map({zero});
+  const Point& point = map.points().front();
+  auto plan = plan_point_write(map, WordOrder::big, point, 1.25);
+  REQUIRE(plan.has_value());
+  REQUIRE(plan->size() == 1);
+  CHECK((*plan)[0].point == &point);
+  CHECK((*plan)[0].value == doctest::Approx(1.25));
+  CHECK((*plan)[0].words == Words{125});
+  auto same = plan_register_write(map, WordOrder::big, 10, Words{125});
+  REQUIRE(same.has_value());
+  CHECK((*same)[0].value == (*plan)[0].value);
+  // Out of range before encoding: 400 degrees would saturate an int16 into the range otherwise.
+  CHECK(plan_point_write(map, WordOrder::big, point, 400).error() == MapFault::illegal_value);
+  CHECK(plan_point_write(map, WordOrder::big, point, -90.5).error() == MapFault::illegal_value);
+  CHECK(plan_point_write(map, WordOrder::big, point, std::nan("")).error() ==
+        MapFault::illegal_value);
+}
+
+TEST_CASE("a write by value of a point that is not writable is an illegal address") {
+  const RegisterMap map({input_point("angle_x", 0, PointType::int16, ValueSource::angle_x, "deg", "")});
+  CHECK(plan_point_write(map, WordOrder::big, map.points().front(), 1).error() ==
+        MapFault::illegal_address);
 }

@@ -198,6 +198,32 @@ TEST_CASE("metrics: the MQTT feed's series only when [mqtt] is on") {
   CHECK(text.find("tiltgate_mqtt_reconnects_total 1\n") != std::string::npos);
 }
 
+TEST_CASE("metrics: the Sparkplug edge node's series only when [sparkplug] is on, its store's "
+          "labelled by feed") {
+  GatewayStatus status = plant();
+  CHECK(metrics_text(status).find("tiltgate_sparkplug_") == std::string::npos);
+  CHECK(metrics_text(status).find("tiltgate_store_") == std::string::npos);
+  status.sparkplug = SparkplugStats{true, 42, 1, 2, 3, 4, 5};
+  status.stores.push_back(StoreStats{"sparkplug", 4096, 7, 8, 9});
+  const std::string text = metrics_text(status);
+  CHECK(text.find("tiltgate_sparkplug_connected 1\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sparkplug_published_total 42\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sparkplug_commands_total{result=\"rebirth\"} 1\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sparkplug_commands_total{result=\"write\"} 2\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sparkplug_commands_total{result=\"refused\"} 3\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sparkplug_commands_total{result=\"ignored\"} 4\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sparkplug_commands_total{result=\"malformed\"} 5\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_store_bytes{feed=\"sparkplug\"} 4096\n") != std::string::npos);
+  CHECK(text.find("tiltgate_store_records{feed=\"sparkplug\"} 7\n") != std::string::npos);
+  CHECK(text.find("tiltgate_store_dropped_total{feed=\"sparkplug\"} 8\n") != std::string::npos);
+  CHECK(text.find("tiltgate_store_replayed_total{feed=\"sparkplug\"} 9\n") != std::string::npos);
+}
+
 TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the 0.0.4 format") {
   const std::regex help(R"(# HELP (tiltgate_[a-z_]+) .+)");
   const std::regex type(R"(# TYPE (tiltgate_[a-z_]+) (gauge|counter))");
@@ -206,6 +232,8 @@ TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the
       R"((-?[0-9.]+(e[-+]?[0-9]+)?|NaN|[+-]Inf))");
   GatewayStatus status = plant();
   status.mqtt = MqttStats{12, 3, 5, true, 1};
+  status.sparkplug = SparkplugStats{true, 42, 1, 2, 3, 4, 5};
+  status.stores.push_back(StoreStats{"sparkplug", 4096, 7, 8, 9});
   std::istringstream lines(metrics_text(status));
   std::string line, helped, typed;
   std::set<std::string> families;

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <doctest/doctest.h>
+#include <unistd.h>
 
+#include <array>
 #include <string>
 #include <string_view>
 
@@ -15,6 +17,13 @@ inline std::string joined(const ConfigErrors& errors) {
   std::string out;
   for (const ConfigError& e : errors) out += e.to_string() + "\n";
   return out;
+}
+
+// The machine's host name: what the [mqtt] and [sparkplug] defaults are made of.
+inline std::string this_host() {
+  std::array<char, 256> name{};
+  REQUIRE(gethostname(name.data(), name.size() - 1) == 0);
+  return name.data();
 }
 
 inline ConfigErrors errors_of(std::string_view text) {

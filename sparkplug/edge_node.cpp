@@ -1,0 +1,280 @@
+#include "sparkplug/edge_node.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/post.hpp>
+#include <future>
+#include <system_error>
+
+#include "sparkplug/bd_seq_file.h"
+#include "store/file_io.h"
+
+namespace tiltgate::sparkplug {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::chrono::milliseconds kTick{100};
+constexpr std::uint64_t kSyncEveryTicks = 10;  // the store's fsync once a second
+// Refused writes, malformed messages and store errors are logged at most this often.
+constexpr std::chrono::seconds kLogInterval{30};
+// A broker not reached this long after the start is warned about (once): libmosquitto reports
+// failed attempts at debug level only.
+constexpr std::chrono::seconds kFirstConnectWarning{10};
+// How often a CONNECT waiting for its will looks whether the edge node is stopping.
+constexpr std::chrono::milliseconds kWillPoll{50};
+
+EdgeNodeOptions session_options(const SparkplugConfig& config, const Gateway& gateway) {
+  EdgeNodeOptions options;
+  options.group_id = config.group_id;
+  options.edge_node_id = config.edge_node_id;
+  options.primary_host_id = config.primary_host_id;
+  options.node.version = TILTGATE_VERSION;
+  options.node.buses = static_cast<std::uint32_t>(gateway.config().buses.size());
+  options.on_change_deg = config.on_change_deg;
+  options.min_interval = config.min_interval;
+  options.max_interval = config.max_interval;
+  options.commands = config.commands;
+  return options;
+}
+
+MqttClientOptions client_options(const SparkplugConfig& config) {
+  MqttClientOptions options;
+  options.log_name = "Sparkplug";
+  options.host = config.host;
+  options.port = config.port;
+  options.client_id = config.client_id;
+  options.keepalive_s = config.keepalive_s;
+  options.username = config.username;
+  options.password = config.password;
+  options.ca_file = config.ca_file;
+  options.cert_file = config.cert_file;
+  options.key_file = config.key_file;
+  return options;  // no status topic: NDEATH is the will, set before each CONNECT
+}
+
+bool due(std::chrono::steady_clock::time_point& last, std::chrono::steady_clock::time_point now) {
+  if (last != std::chrono::steady_clock::time_point{} && now - last < kLogInterval) return false;
+  last = now;
+  return true;
+}
+
+}  // namespace
+
+EdgeNode::EdgeNode(boost::asio::any_io_executor executor, const Gateway& gateway,
+                   FamilyList families, const SparkplugConfig& config)
+    : executor_(executor),
+      timer_(executor),
+      gateway_(gateway),
+      config_(config),
+      dir_(fs::path(config.state_dir) / "sparkplug"),
+      sampler_(gateway, families),
+      writer_(gateway, families) {}
+
+EdgeNode::~EdgeNode() { stop(); }
+
+template <class Handler>
+void EdgeNode::post(Handler handler) {
+  boost::asio::post(executor_, [alive = alive_, handler = std::move(handler)]() mutable {
+    if (alive->load()) handler();
+  });
+}
+
+Expected<Done, std::string> EdgeNode::start() {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec)
+    return Unexpected(fmt::format("state_dir: cannot create {}: {}", dir_.string(), ec.message()));
+  // Said now rather than at the first CONNECT: a state_dir the service user cannot write.
+  const fs::path probe = dir_ / "write-check";
+  if (auto written = store::replace_file(probe, {}); !written)
+    return Unexpected(fmt::format("state_dir {} is not writable: {}", dir_.string(),
+                                  written.error()));
+  fs::remove(probe, ec);
+  auto last = read_bd_seq(dir_ / "bdSeq");
+  if (!last) spdlog::warn("Sparkplug: {}; bdSeq starts again at 0", last.error());
+  auto backlog =
+      DdataBacklog::open(dir_ / "store", std::uint64_t(config_.buffer_mb * 1024 * 1024));
+  if (!backlog) return Unexpected(fmt::format("state_dir: the store: {}", backlog.error()));
+  for (const std::string& repair : backlog->store().repairs())
+    spdlog::warn("Sparkplug: store repaired: {}", repair);
+  if (backlog->store().records() > 0)
+    spdlog::info("Sparkplug: {} DDATA kept from before, replayed after the births",
+                 backlog->store().records());
+  std::vector<std::string> devices;
+  for (const SensorConfig& sensor : gateway_.config().sensors) devices.push_back(sensor.name);
+  auto session = EdgeNodeSession::create(session_options(config_, gateway_), std::move(devices),
+                                         last ? *last : std::nullopt);
+  if (!session) return Unexpected(session.error());
+  session_.emplace(std::move(*session));
+  backlog_.emplace(std::move(*backlog));
+
+  MqttClientHooks hooks;
+  hooks.before_connect = [this] { return prepare_connect(); };
+  hooks.connection = [this](bool connected) {
+    post([this, connected] {
+      if (connected)
+        carry_out(session_->on_connected(now()));
+      else
+        session_->on_connection_lost();
+    });
+  };
+  hooks.message = [this](std::string topic, std::vector<std::uint8_t> payload) {
+    post([this, topic = std::move(topic), payload = std::move(payload)] {
+      const std::uint64_t malformed = session_->commands().malformed;
+      carry_out(session_->on_message(topic, payload, now()));
+      if (session_->commands().malformed != malformed &&
+          due(malformed_logged_at_, std::chrono::steady_clock::now()))
+        spdlog::warn("Sparkplug: a malformed message on {} ignored ({} so far)", topic,
+                     session_->commands().malformed);
+    });
+  };
+  client_ = std::make_unique<MqttClient>(client_options(config_), std::move(hooks));
+  if (auto started = client_->start(); !started) return started;
+  running_ = true;
+  started_at_ = std::chrono::steady_clock::now();
+  schedule();
+  return Done{};
+}
+
+std::optional<MqttWill> EdgeNode::prepare_connect() {
+  auto promise = std::make_shared<std::promise<std::optional<MqttWill>>>();
+  std::future<std::optional<MqttWill>> will = promise->get_future();
+  post([this, promise] { promise->set_value(begin_connect()); });
+  while (will.wait_for(kWillPoll) != std::future_status::ready)
+    if (!alive_->load()) return std::nullopt;
+  return will.get();
+}
+
+std::optional<MqttWill> EdgeNode::begin_connect() {
+  const Will will = session_->begin_connect(now());
+  // Stored before the CONNECT that uses it: after a restart the next one is one more
+  // (tck-id-topics-nbirth-bdseq-increment).
+  if (auto stored = write_bd_seq(dir_ / "bdSeq", will.bd_seq); !stored) {
+    if (due(store_error_logged_at_, std::chrono::steady_clock::now()))
+      spdlog::error("Sparkplug: bdSeq not stored, not connecting: {}", stored.error());
+    session_->on_connection_lost();
+    return std::nullopt;
+  }
+  spdlog::debug("Sparkplug: connecting with bdSeq {}", will.bd_seq);
+  return MqttWill{will.topic, encode(will.payload), will.qos, will.retain};
+}
+
+void EdgeNode::stop() {
+  if (!running_) return;
+  running_ = false;
+  timer_.cancel();
+  // NDEATH (QoS 1) before the DISCONNECT (tck-id-operational-behavior-edge-node-intentional-
+  // disconnect-ndeath); client_->stop() waits for its acknowledgement, then disconnects.
+  for (const Action& action : session_->stop(now()))
+    if (const auto* message = std::get_if<Publish>(&action)) publish(*message);
+  alive_->store(false);
+  client_->stop();
+  if (auto synced = backlog_->sync(); !synced)
+    spdlog::warn("Sparkplug: store not synced: {}", synced.error());
+}
+
+Instant EdgeNode::now() const {
+  using namespace std::chrono;
+  return Instant{steady_clock::now(),
+                 duration_cast<milliseconds>(system_clock::now().time_since_epoch()).count()};
+}
+
+void EdgeNode::schedule() {
+  timer_.expires_after(kTick);
+  timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec || !running_) return;
+    tick();
+    schedule();
+  });
+}
+
+void EdgeNode::tick() {
+  const Instant at = now();
+  if (client_->connections() == 0 && !warned_unreached_ &&
+      at.steady - started_at_ >= kFirstConnectWarning) {
+    spdlog::warn("Sparkplug: broker {}:{} not reached in {} s; still trying, keeping the data "
+                 "in {}",
+                 config_.host, config_.port, kFirstConnectWarning.count(), dir_.string());
+    warned_unreached_ = true;
+  }
+  carry_out(session_->update(sampler_.sample(at.steady, at.unix_ms), at));
+  // After the live data of this tick: the replay never holds it up.
+  if (client_->connected()) {
+    auto replayed = backlog_->replay(*session_, at, kReplayPerTick,
+                                     [this](const Publish& message) { return publish(message); });
+    if (!replayed && due(store_error_logged_at_, at.steady))
+      spdlog::error("Sparkplug: store replay: {}", replayed.error());
+  }
+  if (++ticks_ % kSyncEveryTicks == 0) {
+    if (auto synced = backlog_->sync(); !synced && due(store_error_logged_at_, at.steady))
+      spdlog::error("Sparkplug: store not synced: {}", synced.error());
+  }
+}
+
+bool EdgeNode::publish(const Publish& message) {
+  const std::vector<std::uint8_t> bytes = message.bytes();
+  if (!client_->publish(message.topic, bytes, message.qos, message.retain)) return false;
+  ++published_;
+  return true;
+}
+
+void EdgeNode::carry_out(std::vector<Action> actions) {
+  for (Action& action : actions) {
+    if (const auto* subscribe = std::get_if<Subscribe>(&action)) {
+      client_->subscribe(subscribe->topic, subscribe->qos);
+    } else if (const auto* message = std::get_if<Publish>(&action)) {
+      if (!publish(*message))
+        spdlog::debug("Sparkplug: {} not sent: not connected", message->topic);
+    } else if (const auto* keep = std::get_if<Keep>(&action)) {
+      if (auto kept = backlog_->keep(*keep);
+          !kept && due(store_error_logged_at_, std::chrono::steady_clock::now()))
+        spdlog::error("Sparkplug: a DDATA not kept: {}", kept.error());
+    } else if (auto* write = std::get_if<Write>(&action)) {
+      write_setting(std::move(*write));
+    } else if (std::holds_alternative<Disconnect>(action)) {
+      client_->disconnect();  // the primary host went offline: connect again later
+    }
+  }
+}
+
+void EdgeNode::write_setting(Write write) {
+  spdlog::info("Sparkplug: DCMD writes {} = {} on {}", write.setting, write.value, write.device);
+  boost::asio::co_spawn(
+      executor_, writer_.write(write),
+      [this, alive = alive_, write](std::exception_ptr error, std::optional<std::string> refusal) {
+        if (!alive->load()) return;
+        if (error) refusal = "failed";
+        if (!refusal) return;
+        ++writes_refused_;
+        if (due(refusal_logged_at_, std::chrono::steady_clock::now()))
+          spdlog::warn("Sparkplug: DCMD write of {} = {} on {} refused: {} ({} refused so far)",
+                       write.setting, write.value, write.device, *refusal, writes_refused_);
+      });
+}
+
+SparkplugStats EdgeNode::stats() const {
+  SparkplugStats stats;
+  stats.connected = client_ && client_->connected();
+  stats.published = published_;
+  if (session_) {
+    const CommandCounts& commands = session_->commands();
+    stats.rebirth = commands.rebirth;
+    stats.write = commands.write - std::min(commands.write, writes_refused_);
+    stats.refused = commands.refused + writes_refused_;
+    stats.ignored = commands.ignored;
+    stats.malformed = commands.malformed;
+  }
+  return stats;
+}
+
+std::optional<StoreStats> EdgeNode::store_stats() const {
+  if (!backlog_) return std::nullopt;
+  const BacklogCounts counts = backlog_->counts();
+  return StoreStats{"sparkplug", counts.bytes, counts.records, counts.dropped, counts.replayed};
+}
+
+}  // namespace tiltgate::sparkplug

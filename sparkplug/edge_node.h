@@ -1,0 +1,92 @@
+// The Sparkplug B edge node at work (docs/northbound.md, "Sparkplug B"): the session rules
+// (sparkplug/edge_node_session.h) driven from the gateway's event loop, with the sensors'
+// samples every 100 ms, the libmosquitto client (mqtt/mqtt_client.h) on its own network
+// thread, bdSeq kept in state_dir, the DDATA kept on disk while the broker is away and
+// replayed after the births, and DCMD setting writes on the sensors' buses.
+//
+// Threads: every session call is made on the event loop. The client's hooks run on its
+// network thread and post there; before a CONNECT the network thread waits for the loop's
+// will (begin_connect) and its bdSeq on disk.
+#pragma once
+
+#include <atomic>
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "config/config.h"
+#include "driver/expected.h"
+#include "gateway/gateway.h"
+#include "gateway/gateway_status.h"
+#include "mqtt/mqtt_client.h"
+#include "sparkplug/ddata_backlog.h"
+#include "sparkplug/device_sampler.h"
+#include "sparkplug/edge_node_session.h"
+#include "sparkplug/setting_writer.h"
+
+namespace tiltgate::sparkplug {
+
+// At most this many kept DDATA are replayed per 100 ms tick (500 a second): after the tick's
+// live data, so a long backlog never delays it.
+inline constexpr std::size_t kReplayPerTick = 50;
+
+class EdgeNode {
+ public:
+  EdgeNode(boost::asio::any_io_executor executor, const Gateway& gateway, FamilyList families,
+           const SparkplugConfig& config);
+  ~EdgeNode();
+  EdgeNode(const EdgeNode&) = delete;
+  EdgeNode& operator=(const EdgeNode&) = delete;
+
+  // Opens state_dir (created if missing: an error when it cannot be created or written), reads
+  // the last bdSeq and starts the client, which connects on its own.
+  Expected<Done, std::string> start();
+  // NDEATH and a clean DISCONNECT when connected; call before the event loop is stopped.
+  void stop();
+
+  SparkplugStats stats() const;
+  std::optional<StoreStats> store_stats() const;
+
+ private:
+  void schedule();
+  void tick();
+  void carry_out(std::vector<Action> actions);
+  bool publish(const Publish& message);  // false: not connected
+  void write_setting(Write write);
+  Instant now() const;
+  // On the network thread, before each CONNECT.
+  std::optional<MqttWill> prepare_connect();
+  // On the event loop: the will of the next CONNECT, its bdSeq stored first.
+  std::optional<MqttWill> begin_connect();
+  template <class Handler>
+  void post(Handler handler);
+
+  boost::asio::any_io_executor executor_;
+  boost::asio::steady_timer timer_;
+  const Gateway& gateway_;
+  const SparkplugConfig config_;
+  std::filesystem::path dir_;  // state_dir/sparkplug
+  DeviceSampler sampler_;
+  SettingWriter writer_;
+  std::optional<EdgeNodeSession> session_;
+  std::optional<DdataBacklog> backlog_;
+  std::unique_ptr<MqttClient> client_;
+  // False once stop() began: posted handlers then leave the session alone, and a CONNECT
+  // waiting for its will gives up.
+  std::shared_ptr<std::atomic<bool>> alive_ = std::make_shared<std::atomic<bool>>(true);
+  bool running_ = false;
+  std::chrono::steady_clock::time_point started_at_{};
+  bool warned_unreached_ = false;
+  std::uint64_t ticks_ = 0;
+  std::uint64_t published_ = 0;
+  std::uint64_t writes_refused_ = 0;
+  std::chrono::steady_clock::time_point malformed_logged_at_{};
+  std::chrono::steady_clock::time_point refusal_logged_at_{};
+  std::chrono::steady_clock::time_point store_error_logged_at_{};
+};
+
+}  // namespace tiltgate::sparkplug

@@ -1,0 +1,34 @@
+#include "sparkplug/sensor_settings.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tiltgate::sparkplug {
+
+std::vector<SensorSetting> sensor_settings(const RegisterMap& map, FamilyList families) {
+  std::vector<SensorSetting> settings;
+  for (const Point& point : map.points()) {
+    if (point.table != RegisterTable::holding || !point.write || point.type == PointType::string)
+      continue;
+    std::string name = point.write->is_device_value() ? point.device_setting
+                                                      : setting_name(families, *point.write);
+    if (name.empty() || *point.write == kUnresolvedDeviceValue) continue;
+    const bool listed = std::any_of(settings.begin(), settings.end(),
+                                    [&](const SensorSetting& s) { return s.name == name; });
+    if (!listed) settings.push_back({std::move(name), &point});
+  }
+  return settings;
+}
+
+std::optional<double> setting_value(const SensorSetting& setting, const SensorState& state) {
+  const WriteTarget target = *setting.point->write;
+  if (!target.is_device_value()) return state.settings.get(target);
+  // A sensor's own values are read with every poll, not kept among the settings.
+  if (!state.reading || target.device_index() >= state.reading->device_values.size())
+    return std::nullopt;
+  const double value = state.reading->device_values[target.device_index()];
+  if (std::isnan(value)) return std::nullopt;
+  return value;
+}
+
+}  // namespace tiltgate::sparkplug
