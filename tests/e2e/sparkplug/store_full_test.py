@@ -3,8 +3,8 @@
 broker away long enough to fill it, the store's files never exceed the budget, the oldest
 records are dropped (whole segments, docs/northbound.md "The store") and counted in
 tiltgate_store_dropped_total, and once the broker is back what is left (the newest) is replayed
-in time order. Twenty sensors on two simulated buses, polled every 50 ms, fill a MiB in well
-under a minute.
+in time order. Twenty sensors on two simulated buses, polled every 50 ms, fill a MiB in about
+30 s: the longest of the Sparkplug e2e tests, about 75 s in all.
 
 Usage: /usr/bin/python3 store_full_test.py path/to/tiltgate
 """
@@ -24,7 +24,10 @@ from spb_e2e.sparkplug import device_views  # noqa: E402
 
 GROUP, NODE, CLIENT = "plant4", "gw4", "tg-e2e-full"
 WAIT = 20
-FILL_WAIT = 120  # seconds for 1 MiB of DDATA: generous, never a measurement
+# Seconds for 1 MiB of DDATA (about 30 here), and for the replay, which starts once the
+# gateway's reconnect back-off (up to 30 s after an outage this long) has found the broker again:
+# generous, never a measurement.
+FILL_WAIT = 120
 BUDGET = 1024 * 1024
 
 
