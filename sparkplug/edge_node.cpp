@@ -209,6 +209,13 @@ void EdgeNode::tick() {
     if (!replayed && due(store_error_logged_at_, at.steady))
       spdlog::error("Sparkplug: store replay: {}", replayed.error());
   }
+  const std::uint64_t dropped = backlog_->counts().dropped;
+  if (dropped != drops_logged_ && due(drops_logged_at_, at.steady)) {
+    spdlog::warn("Sparkplug: store full ({} MiB) while the broker is away: {} DDATA dropped so "
+                 "far (oldest first)",
+                 config_.buffer_mb, dropped);
+    drops_logged_ = dropped;
+  }
   if (++ticks_ % kSyncEveryTicks == 0) {
     if (auto synced = backlog_->sync(); !synced && due(store_error_logged_at_, at.steady))
       spdlog::error("Sparkplug: store not synced: {}", synced.error());
