@@ -10,9 +10,11 @@
 #include <fmt/format.h>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_thread.h"
@@ -80,75 +82,21 @@ struct MixedPlant {
     const auto nine_bit_link = (dir.path() / "ttyDyna9bit").string();
     nine_bit_sim = std::make_unique<DynaSimulatorThread>(
         dyna_bus(spectron::Protocol::nine_bit, 0, 4343, nine_bit_link));
-    const auto config = dir.write("mixed.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-writes = true
-
-[[bus]]
-name = "rieker-line"
-port = "{}"
-protocol = "rieker"
-timeout_ms = 100
-retries = 1
-
-[[bus]]
-name = "dyna-modbus"
-port = "{}"
-protocol = "spectron-modbus"
-baud = 28800
-timeout_ms = 100
-retries = 1
-
-[[bus]]
-name = "dyna-9bit"
-port = "{}"
-protocol = "spectron-9bit"
-baud = 28800
-timeout_ms = 100
-retries = 1
-
-[[sensor]]
-name = "boom"
-bus = "rieker-line"
-model = "h6"
-address = 223
-unit_id = {}
-poll_ms = 50
-
-[[sensor]]
-name = "luffing"
-bus = "rieker-line"
-model = "h4360"
-address = 224
-unit_id = {}
-poll_ms = 50
-
-[[sensor]]
-name = "slewing-ring"
-bus = "dyna-modbus"
-model = "dyna"
-address = 1
-unit_id = {}
-poll_ms = 50
-counts_per_degree = 100
-zero_counts = 1
-
-[[sensor]]
-name = "jib"
-bus = "dyna-9bit"
-model = "dyna"
-address = 0
-unit_id = {}
-poll_ms = 50
-counts_per_degree = 200.0
-eeprom_reserved_writes = true
-)",
-                                                            port, rieker_options.link_path,
-                                                            modbus_link, nine_bit_link, kRiekerUnit,
-                                                            kH4360Unit, kModbusDynaUnit,
-                                                            kNineBitDynaUnit));
+    const std::string_view retry = "timeout_ms = 100\nretries = 1";
+    const auto config = dir.write(
+        "mixed.toml",
+        server_table(port, "writes = true") +
+            bus_table("rieker-line", rieker_options.link_path, fmt::format("protocol = \"rieker\"\n{}", retry)) +
+            bus_table("dyna-modbus", modbus_link,
+                      fmt::format("protocol = \"spectron-modbus\"\nbaud = 28800\n{}", retry)) +
+            bus_table("dyna-9bit", nine_bit_link,
+                      fmt::format("protocol = \"spectron-9bit\"\nbaud = 28800\n{}", retry)) +
+            sensor_table("boom", "rieker-line", "h6", 223, kRiekerUnit, "poll_ms = 50") +
+            sensor_table("luffing", "rieker-line", "h4360", 224, kH4360Unit, "poll_ms = 50") +
+            sensor_table("slewing-ring", "dyna-modbus", "dyna", 1, kModbusDynaUnit,
+                         "poll_ms = 50\ncounts_per_degree = 100\nzero_counts = 1") +
+            sensor_table("jib", "dyna-9bit", "dyna", 0, kNineBitDynaUnit,
+                         "poll_ms = 50\ncounts_per_degree = 200.0\neeprom_reserved_writes = true"));
     gateway = std::make_unique<GatewayProcess>(
         std::vector<std::string>{"--log-level", "debug", "run", "--config", config.string()},
         dir.path());

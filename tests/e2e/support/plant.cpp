@@ -4,9 +4,11 @@
 
 #include <fmt/format.h>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/modbus_client.h"
 #include "rieker/simulator.h"
 
@@ -34,51 +36,17 @@ Plant::Plant(bool writes, int max_clients, const std::string& more_config) {
                      sensor(rieker::Model::h4360, 101, -30.5, 0, "777001")};
   options.link_path = (dir.path() / "ttyUSB0").string();
   sim = std::make_unique<SimulatorThread>(options);
-  const auto config = dir.write("plant.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-max_clients = {}
-max_clients_per_host = {}
-writes = {}
-
-[[bus]]
-name = "line1"
-port = "{}"
-protocol = "rieker"
-baud = 125000
-timeout_ms = 100
-retries = 1
-reopen_min_ms = 50
-reopen_max_ms = 200
-
-[[sensor]]
-name = "boom-left"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-poll_ms = 50
-stale_ms = 1000
-
-[[sensor]]
-name = "boom-right"
-bus = "line1"
-model = "h6"
-address = 224
-unit_id = 2
-poll_ms = 50
-stale_ms = 1000
-
-[[sensor]]
-name = "mast"
-bus = "line1"
-model = "h4360"
-address = 101
-unit_id = 3
-poll_ms = 50
-stale_ms = 1000
-)", port, max_clients, max_clients, writes ? "true" : "false", options.link_path) + more_config);
+  std::string text = server_table(port, fmt::format("max_clients = {0}\nmax_clients_per_host = {0}\n"
+                                                    "writes = {1}",
+                                                    max_clients, writes ? "true" : "false")) +
+                     bus_table("line1", options.link_path,
+                               "protocol = \"rieker\"\nbaud = 125000\ntimeout_ms = 100\nretries = 1\n"
+                               "reopen_min_ms = 50\nreopen_max_ms = 200");
+  const std::string_view timing = "poll_ms = 50\nstale_ms = 1000";
+  text += sensor_table("boom-left", "line1", "h6", 223, 1, timing) +
+          sensor_table("boom-right", "line1", "h6", 224, 2, timing) +
+          sensor_table("mast", "line1", "h4360", 101, 3, timing);
+  const auto config = dir.write("plant.toml", text + more_config);
   gateway = std::make_unique<GatewayProcess>(
       std::vector<std::string>{"--log-level", "debug", "run", "--config", config.string()}, dir.path());
   REQUIRE_MESSAGE(gateway->wait_listening(port), gateway->log());
