@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_thread.h"
@@ -50,27 +51,20 @@ std::unique_ptr<SimulatorThread> rieker_bus(const TempDir& dir, const std::strin
 
 // [server] on 127.0.0.1:`port`, no control socket, no HTTP: nothing shared between tests.
 std::string server_text(std::uint16_t port) {
-  return fmt::format(
-      "[server]\nlisten = \"127.0.0.1\"\nport = {}\ncontrol_socket = \"\"\n\n[http]\n"
-      "enabled = false\n\n",
-      port);
+  return server_table(port, "control_socket = \"\"") + "\n[http]\nenabled = false\n";
 }
 
 std::string bus_text(const std::string& name, const std::string& tty, std::uint16_t tcp_port) {
-  std::string text = fmt::format(
-      "[[bus]]\nname = \"{}\"\nport = \"{}\"\nprotocol = \"rieker\"\nbaud = 125000\n"
-      "timeout_ms = 100\nretries = 1\nreopen_min_ms = 50\nreopen_max_ms = 200\n",
-      name, tty);
-  if (tcp_port != 0) text += fmt::format("tcp_port = {}\n", tcp_port);
-  return text + "\n";
+  std::string extra =
+      "protocol = \"rieker\"\nbaud = 125000\ntimeout_ms = 100\nretries = 1\nreopen_min_ms = 50\n"
+      "reopen_max_ms = 200\n";
+  if (tcp_port != 0) extra += fmt::format("tcp_port = {}\n", tcp_port);
+  return bus_table(name, tty, extra);
 }
 
 std::string sensor_text(const std::string& name, const std::string& bus, int address,
                         int unit_id, const std::string& more = "") {
-  return fmt::format(
-      "[[sensor]]\nname = \"{}\"\nbus = \"{}\"\nmodel = \"h6\"\naddress = {}\nunit_id = {}\n"
-      "poll_ms = 50\nstale_ms = 1000\n{}\n",
-      name, bus, address, unit_id, more);
+  return sensor_table(name, bus, "h6", address, unit_id, "poll_ms = 50\nstale_ms = 1000\n" + more);
 }
 
 // Reads until the range answers (the first polls take a moment); empty on time-out.

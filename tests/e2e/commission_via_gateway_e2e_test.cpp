@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/output_checks.h"
 #include "e2e/support/modbus_client.h"
@@ -39,26 +40,11 @@ struct RunningGateway {
   std::unique_ptr<GatewayProcess> process;
 
   explicit RunningGateway(std::chrono::milliseconds poll = kPollPeriod) {
-    const auto config = dir.write("gateway.toml", fmt::format(R"([server]
-listen = "127.0.0.1"
-port = {}
-writes = true
-control_socket = "{}"
-
-[[bus]]
-name = "line1"
-port = "{}"
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-address = 5
-unit_id = 1
-model = "h6"
-poll_ms = {}
-)",
-                                                              port, socket, sim.tty(),
-                                                              poll.count()));
+    const auto config = dir.write(
+        "gateway.toml",
+        server_table(port, fmt::format("writes = true\ncontrol_socket = \"{}\"", socket)) +
+            bus_table("line1", sim.tty()) +
+            sensor_table("boom", "line1", "h6", 5, 1, fmt::format("poll_ms = {}", poll.count())));
     process = std::make_unique<GatewayProcess>(
         std::vector<std::string>{"run", "--config", config.string()}, dir.path());
     REQUIRE_MESSAGE(process->wait_listening(port), process->log());

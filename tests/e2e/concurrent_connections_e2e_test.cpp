@@ -1,12 +1,12 @@
 // A write waits for its sensor, and only its own connection waits with it: reads on another
 // connection are answered from the cache meanwhile (docs/operations.md, "How the gateway behaves").
 #include <doctest/doctest.h>
-#include <fmt/format.h>
 
 #include <atomic>
 #include <chrono>
 #include <thread>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_thread.h"
@@ -33,40 +33,12 @@ TEST_CASE("a read on another connection is answered while a write waits on a sil
   const std::uint16_t port = free_tcp_port();
   // Each transaction on line2 waits 5 s for a reply that never comes: the write to unit 2
   // takes at least that long, long after the reads below are answered.
-  const auto config = dir.write("plant.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-writes = true
-write_timeout_ms = 60000
-
-[[bus]]
-name = "line1"
-port = "{}"
-timeout_ms = 100
-
-[[bus]]
-name = "line2"
-port = "{}"
-timeout_ms = 5000
-retries = 0
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-poll_ms = 50
-
-[[sensor]]
-name = "ghost"
-bus = "line2"
-model = "h6"
-address = 225
-unit_id = 2
-)",
-                                                          port, live.link_path, silent.link_path));
+  const auto config = dir.write(
+      "plant.toml", server_table(port, "writes = true\nwrite_timeout_ms = 60000") +
+                        bus_table("line1", live.link_path, "timeout_ms = 100") +
+                        bus_table("line2", silent.link_path, "timeout_ms = 5000\nretries = 0") +
+                        sensor_table("boom", "line1", "h6", 223, 1, "poll_ms = 50") +
+                        sensor_table("ghost", "line2", "h6", 225, 2));
   GatewayProcess gateway({"run", "--config", config.string()}, dir.path());
   REQUIRE_MESSAGE(gateway.wait_listening(port), gateway.log());
   ModbusClient reader(port, 1);

@@ -1,13 +1,13 @@
 // build/tiltgate serving a map file, read with libmodbus' own decoders: a float in all four
 // word/byte orders, a float64, scaled integers, bits, and a write through a scaled point.
 #include <doctest/doctest.h>
-#include <fmt/format.h>
 #include <sys/stat.h>
 
 #include <bit>
 #include <cstring>
 #include <thread>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_thread.h"
@@ -118,29 +118,12 @@ struct MapPlant {
     options.link_path = (dir.path() / "ttyUSB0").string();
     sim = std::make_unique<SimulatorThread>(options);
     dir.write("orders.toml", std::string(kMap));
-    const auto config = dir.write("plant.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-writes = true
-
-[[bus]]
-name = "line1"
-port = "{}"
-timeout_ms = 100
-reopen_min_ms = 50
-reopen_max_ms = 200
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-poll_ms = 50
-map = "orders.toml"
-)",
-                                                            port, options.link_path));
+    const auto config = dir.write(
+        "plant.toml",
+        server_table(port, "writes = true") +
+            bus_table("line1", options.link_path,
+                      "timeout_ms = 100\nreopen_min_ms = 50\nreopen_max_ms = 200") +
+            sensor_table("boom", "line1", "h6", 223, 1, "poll_ms = 50\nmap = \"orders.toml\""));
     gateway = std::make_unique<GatewayProcess>(
         std::vector<std::string>{"run", "--config", config.string()}, dir.path());
     REQUIRE_MESSAGE(gateway->wait_listening(port), gateway->log());

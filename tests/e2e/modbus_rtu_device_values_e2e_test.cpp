@@ -6,7 +6,6 @@
 
 #include <chrono>
 #include <cstdint>
-#include <fmt/format.h>
 #include <string>
 #include <thread>
 #include <vector>
@@ -56,30 +55,12 @@ TEST_CASE("a device profile's values are shown and written through a map file") 
   RtuSimulatorThread sim(options);
   dir.write("device.toml", kRtuTestProfile);
   dir.write("map.toml", kMap);
-  const auto config = dir.write("rtu.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-writes = true
-
-[[bus]]
-name = "rtu-line"
-port = "{}"
-protocol = "modbus-rtu"
-timeout_ms = 100
-retries = 1
-
-[[sensor]]
-name = "mast"
-bus = "rtu-line"
-model = "modbus-rtu"
-address = 9
-unit_id = 4
-poll_ms = 50
-device = "device.toml"
-map = "map.toml"
-)",
-                                                        port, options.link_path));
+  const auto config = dir.write(
+      "rtu.toml", server_table(port, "writes = true") +
+                      bus_table("rtu-line", options.link_path,
+                                "protocol = \"modbus-rtu\"\ntimeout_ms = 100\nretries = 1") +
+                      sensor_table("mast", "rtu-line", "modbus-rtu", 9, 4,
+                                   "poll_ms = 50\ndevice = \"device.toml\"\nmap = \"map.toml\""));
   GatewayProcess gateway({"run", "--config", config.string()}, dir.path());
   REQUIRE_MESSAGE(gateway.wait_listening(port), gateway.log());
   ModbusClient client(port, 4);

@@ -25,30 +25,14 @@ TEST_CASE("a Modbus RTU inclinometer's angles reach the common block through the
   modbus_rtu::set_inclinometer_angles(options.devices.back(), 12.5, -7.25);
   options.link_path = (dir.path() / "ttyRtu").string();
   RtuSimulatorThread sim(options);
-  const auto config = dir.write("rtu.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-
-[[bus]]
-name = "rtu-line"
-port = "{}"
-protocol = "modbus-rtu"
-baud = 19200
-timeout_ms = 100
-retries = 1
-
-[[sensor]]
-name = "boom"
-bus = "rtu-line"
-model = "modbus-rtu"
-address = 17
-unit_id = 3
-poll_ms = 50
-device = "{}/examples/devices/rtu-inclinometer.toml"
-)",
-                                                        port, options.link_path,
-                                                        TILTGATE_SOURCE_DIR));
+  const auto config = dir.write(
+      "rtu.toml",
+      server_table(port) +
+          bus_table("rtu-line", options.link_path,
+                    "protocol = \"modbus-rtu\"\nbaud = 19200\ntimeout_ms = 100\nretries = 1") +
+          sensor_table("boom", "rtu-line", "modbus-rtu", 17, 3,
+                       fmt::format("poll_ms = 50\ndevice = \"{}/examples/devices/rtu-inclinometer.toml\"",
+                                   TILTGATE_SOURCE_DIR)));
   GatewayProcess gateway({"--log-level", "debug", "run", "--config", config.string()}, dir.path());
   REQUIRE_MESSAGE(gateway.wait_listening(port), gateway.log());
   ModbusClient client(port, 3);

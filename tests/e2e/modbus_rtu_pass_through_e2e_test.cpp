@@ -50,33 +50,16 @@ struct PassThroughPlant {
   }
 
   std::filesystem::path config(bool writes) const {
-    return dir.write("pass.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-writes = {}
-
-[[bus]]
-name = "rtu-line"
-port = "{}"
-protocol = "modbus-rtu"
-baud = 19200
-timeout_ms = 100
-retries = 1
-pass_through = [{}, {}]
-
-[[sensor]]
-name = "boom"
-bus = "rtu-line"
-model = "modbus-rtu"
-address = 17
-unit_id = {}
-poll_ms = 50
-device = "{}/examples/devices/rtu-inclinometer.toml"
-)",
-                                              port, writes ? "true" : "false",
-                                              (dir.path() / "ttyRtu").string(), kPassedUnit,
-                                              kSilentUnit, kCachedUnit, TILTGATE_SOURCE_DIR));
+    return dir.write(
+        "pass.toml",
+        server_table(port, fmt::format("writes = {}", writes ? "true" : "false")) +
+            bus_table("rtu-line", (dir.path() / "ttyRtu").string(),
+                      fmt::format("protocol = \"modbus-rtu\"\nbaud = 19200\ntimeout_ms = 100\nretries = 1\n"
+                                  "pass_through = [{}, {}]",
+                                  kPassedUnit, kSilentUnit)) +
+            sensor_table("boom", "rtu-line", "modbus-rtu", 17, kCachedUnit,
+                         fmt::format("poll_ms = 50\ndevice = \"{}/examples/devices/rtu-inclinometer.toml\"",
+                                     TILTGATE_SOURCE_DIR)));
   }
 
   std::vector<std::uint16_t> device_holding() {

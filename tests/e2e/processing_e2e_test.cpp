@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <thread>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_thread.h"
@@ -29,31 +30,16 @@ struct MountedPlant {
     options.sensors = {h6};
     options.link_path = (dir.path() / "ttyUSB0").string();
     sim = std::make_unique<SimulatorThread>(options);
-    const auto config = dir.write("plant.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-
-[[bus]]
-name = "line1"
-port = "{}"
-timeout_ms = 100
-retries = 0
-reopen_min_ms = 50
-reopen_max_ms = 200
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-poll_ms = 50
-stale_ms = 300
-{}
-mounting = {{ swap_axes = true, invert_x = true }}
-alarms = {{ x_high = 2.0, hysteresis_deg = 0.1 }}
-)", port, options.link_path, offline));
+    const auto config = dir.write(
+        "plant.toml",
+        server_table(port) +
+            bus_table("line1", options.link_path,
+                      "timeout_ms = 100\nretries = 0\nreopen_min_ms = 50\nreopen_max_ms = 200") +
+            sensor_table("boom", "line1", "h6", 223, 1,
+                         fmt::format("poll_ms = 50\nstale_ms = 300\n{}\n"
+                                     "mounting = {{ swap_axes = true, invert_x = true }}\n"
+                                     "alarms = {{ x_high = 2.0, hysteresis_deg = 0.1 }}",
+                                     offline)));
     gateway = std::make_unique<GatewayProcess>(
         std::vector<std::string>{"run", "--config", config.string()}, dir.path());
     REQUIRE_MESSAGE(gateway->wait_listening(port), gateway->log());

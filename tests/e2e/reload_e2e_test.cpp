@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/http_client.h"
 #include "e2e/support/modbus_client.h"
@@ -48,27 +49,13 @@ struct ReloadPlant {
   // A file: [server], `http`, bus "line1" (with `retries`), then `sensors`.
   std::string file(const std::string& server_more, const std::string& sensors, int retries = 0,
                    const std::string& http = "[http]\nenabled = false") const {
-    return fmt::format(R"([server]
-listen = "127.0.0.1"
-port = {}
-writes = true
-control_socket = ""
-{}
-
-{}
-
-[[bus]]
-name = "line1"
-port = "{}"
-protocol = "rieker"
-timeout_ms = 2500
-max_timeout_ms = 2500
-retries = {}
-reopen_min_ms = 50
-reopen_max_ms = 200
-{})",
-                       port, server_more, http, (dir.path() / "ttyUSB0").string(), retries,
-                       sensors);
+    return server_table(port, "writes = true\ncontrol_socket = \"\"\n" + server_more) + "\n" + http +
+           "\n" +
+           bus_table("line1", (dir.path() / "ttyUSB0").string(),
+                     fmt::format("protocol = \"rieker\"\ntimeout_ms = 2500\nmax_timeout_ms = 2500\n"
+                                 "retries = {}\nreopen_min_ms = 50\nreopen_max_ms = 200",
+                                 retries)) +
+           sensors;
   }
 
   void start(const std::string& text) {
@@ -104,12 +91,10 @@ reopen_max_ms = 200
   std::unique_ptr<GatewayProcess> gateway;
 };
 
-std::string sensor_table(const std::string& name, int address, int unit_id, int poll_ms,
-                         const std::string& more = "") {
-  return fmt::format(
-      "\n[[sensor]]\nname = \"{}\"\nbus = \"line1\"\nmodel = \"h6\"\naddress = {}\nunit_id = {}\n"
-      "poll_ms = {}\nstale_ms = 2000\n{}",
-      name, address, unit_id, poll_ms, more);
+std::string h6_sensor(const std::string& name, int address, int unit_id, int poll_ms,
+                      const std::string& more = "") {
+  return sensor_table(name, "line1", "h6", address, unit_id,
+                      fmt::format("poll_ms = {}\nstale_ms = 2000\n{}", poll_ms, more));
 }
 
 // Reads `count` input registers at `address` of `unit` until they read, for up to 10 s.
@@ -141,8 +126,8 @@ bool accepts(std::uint16_t port) {
 TEST_CASE("SIGHUP: an invalid file is refused, a valid one applies, one connection throughout") {
   ReloadPlant plant;
   const std::string first = plant.file(
-      "", sensor_table("left", 221, 1, 50) + sensor_table("right", 222, 2, 50) +
-              sensor_table("mast", 223, 3, 50));
+      "", h6_sensor("left", 221, 1, 50) + h6_sensor("right", 222, 2, 50) +
+              h6_sensor("mast", 223, 3, 50));
   plant.start(first);
   ModbusClient client(plant.port, 1);
   const int socket = modbus_get_socket(client.raw());
@@ -155,8 +140,8 @@ TEST_CASE("SIGHUP: an invalid file is refused, a valid one applies, one connecti
 
   {  // An invalid edit: every error logged, nothing changed, and `check` agrees.
     const std::string broken =
-        plant.file("", sensor_table("left", 221, 1, 50) + sensor_table("right", 222, 2, 5) +
-                           sensor_table("mast", 223, 3, 50, "colour = \"red\"\n"));
+        plant.file("", h6_sensor("left", 221, 1, 50) + h6_sensor("right", 222, 2, 5) +
+                           h6_sensor("mast", 223, 3, 50, "colour = \"red\"\n"));
     plant.reload(broken, "reload refused");
     const std::string log = plant.gateway->log();
     CHECK(log.find("reload refused: 2 error(s); still serving the configuration loaded at ") !=
@@ -184,10 +169,10 @@ TEST_CASE("SIGHUP: an invalid file is refused, a valid one applies, one connecti
     // right (unit 2) goes; mast gets a new poll and a map without its status register; a new
     // sensor "spare" answers as unit 4; left is unchanged.
     const std::string second = plant.file(
-        "", sensor_table("left", 221, 1, 50) +
-                sensor_table("mast", 223, 3, 80,
-                             "[sensor.map]\nextends = \"default\"\nremove = [\"status\"]\n") +
-                sensor_table("spare", 224, 4, 50));
+        "", h6_sensor("left", 221, 1, 50) +
+                h6_sensor("mast", 223, 3, 80,
+                          "[sensor.map]\nextends = \"default\"\nremove = [\"status\"]\n") +
+                h6_sensor("spare", 224, 4, 50));
     plant.reload(second, "configuration reloaded");
     const std::string log = plant.gateway->log();
     CHECK(log.find("buses kept: line1; reopened: -; added: -; removed: -. sensors kept: left; "
@@ -219,7 +204,7 @@ TEST_CASE("SIGHUP: writes queued before the reload are carried out and answered 
     return 0;
   });
   plant.start(plant.file("write_timeout_ms = 10000",
-                         sensor_table("left", 221, 1, 50) + sensor_table("right", 222, 2, 50)));
+                         h6_sensor("left", 221, 1, 50) + h6_sensor("right", 222, 2, 50)));
   ModbusClient watcher(plant.port, 1);  // kept open across the reload
   REQUIRE_MESSAGE(read_when_online(watcher, 1, 0, 4).size() == 4, plant.gateway->log());
   REQUIRE(read_when_online(watcher, 2, 0, 4).size() == 4);
@@ -238,7 +223,7 @@ TEST_CASE("SIGHUP: writes queued before the reload are carried out and answered 
   std::this_thread::sleep_for(200ms);
   // The bus changes (retries), so it is reopened and left replaced; right is removed. The old
   // bus carries out the queued writes before it lets the tty go to the new one.
-  plant.reload(plant.file("write_timeout_ms = 10000", sensor_table("left", 221, 1, 70), 1),
+  plant.reload(plant.file("write_timeout_ms = 10000", h6_sensor("left", 221, 1, 70), 1),
                "configuration reloaded");
   CHECK(plant.gateway->log().find("buses kept: -; reopened: line1; added: -; removed: -. "
                                   "sensors kept: -; changed: left; added: -; removed: right") !=
@@ -276,7 +261,7 @@ TEST_CASE("SIGHUP: a changed [http] table restarts the status API; kept sensors 
                        "history_seconds = 60",
                        port);
   };
-  const std::string sensors = sensor_table("left", 221, 1, 50) + sensor_table("right", 222, 2, 50);
+  const std::string sensors = h6_sensor("left", 221, 1, 50) + h6_sensor("right", 222, 2, 50);
   plant.start(plant.file("", sensors, 0, http(first_port)));
   ModbusClient client(plant.port, 1);
   REQUIRE_MESSAGE(read_when_online(client, 1, 0, 4).size() == 4, plant.gateway->log());
@@ -290,7 +275,7 @@ TEST_CASE("SIGHUP: a changed [http] table restarts the status API; kept sensors 
 
   // right goes, and the API moves to another port: left's graph comes along.
   const std::uint16_t second_port = free_tcp_port();
-  plant.reload(plant.file("", sensor_table("left", 221, 1, 50), 0, http(second_port)),
+  plant.reload(plant.file("", h6_sensor("left", 221, 1, 50), 0, http(second_port)),
                "configuration reloaded");
   CHECK(plant.gateway->log().find("restarted: http") != std::string::npos);
   const std::size_t kept = samples(second_port);

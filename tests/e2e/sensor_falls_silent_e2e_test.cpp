@@ -4,11 +4,11 @@
 // out the late-reply guard (3 x (50 + 450) ms).
 #include <doctest/doctest.h>
 
-#include <fmt/format.h>
 
 #include <chrono>
 #include <thread>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/http_client.h"
 #include "e2e/support/modbus_client.h"
@@ -34,28 +34,10 @@ struct DefaultsPlant {
     options.link_path = (dir.path() / "ttyUSB0").string();
     sim = std::make_unique<SimulatorThread>(options);
     // Nothing but what a bus and a sensor must say: every timing key at its default.
-    const auto config = dir.write("plant.toml", fmt::format(R"(
-[server]
-listen = "127.0.0.1"
-port = {}
-
-[http]
-listen = "127.0.0.1"
-port = {}
-
-[[bus]]
-name = "line1"
-port = "{}"
-protocol = "rieker"
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-)",
-                                                           port, http_port, options.link_path));
+    const auto config = dir.write("plant.toml", server_table(port) + http_table(http_port) +
+                                                    bus_table("line1", options.link_path,
+                                                              "protocol = \"rieker\"") +
+                                                    sensor_table("boom", "line1", "h6", 223, 1));
     gateway = std::make_unique<GatewayProcess>(
         std::vector<std::string>{"run", "--config", config.string()}, dir.path());
     REQUIRE_MESSAGE(gateway->wait_listening(port), gateway->log());
