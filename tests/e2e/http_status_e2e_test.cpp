@@ -5,13 +5,13 @@
 
 #include <unistd.h>
 
-#include <fmt/format.h>
 #include <map>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <string>
 
+#include "e2e/support/gateway_config.h"
 #include "e2e/support/http_client.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/plant.h"
@@ -24,7 +24,7 @@ namespace {
 struct HttpPlant {
   HttpPlant()
       : http_port(free_tcp_port()),
-        plant(true, 40, fmt::format("\n[http]\nlisten = \"127.0.0.1\"\nport = {}\n", http_port)) {
+        plant(true, 40, http_table(http_port)) {
     REQUIRE_MESSAGE(plant.gateway->wait_listening(http_port), plant.gateway->log());
     for (int unit = 1; unit <= 3; ++unit) REQUIRE(plant.wait_online(unit));
   }

@@ -257,9 +257,7 @@ TEST_CASE("SIGHUP: a changed [http] table restarts the status API; kept sensors 
   ReloadPlant plant;
   const std::uint16_t first_port = free_tcp_port();
   auto http = [](std::uint16_t port) {
-    return fmt::format("[http]\nlisten = \"127.0.0.1\"\nport = {}\nhistory_interval_ms = 100\n"
-                       "history_seconds = 60",
-                       port);
+    return http_table(port, "history_interval_ms = 100\nhistory_seconds = 60");
   };
   const std::string sensors = h6_sensor("left", 221, 1, 50) + h6_sensor("right", 222, 2, 50);
   plant.start(plant.file("", sensors, 0, http(first_port)));
