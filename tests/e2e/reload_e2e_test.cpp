@@ -253,7 +253,7 @@ TEST_CASE("SIGHUP: writes queued before the reload are carried out and answered 
   CHECK(watcher.exception() == 0x0A);
 }
 
-TEST_CASE("SIGHUP: a changed [http] table restarts the status API; kept sensors keep their history") {
+TEST_CASE("SIGHUP: a changed [http] table restarts the status API, kept sensors keep their history") {
   ReloadPlant plant;
   const std::uint16_t first_port = free_tcp_port();
   auto http = [](std::uint16_t port) {

@@ -45,7 +45,7 @@ TEST_CASE("a refusal code past the counted ones still counts as a refusal when i
   CHECK(outcome_since(before, state).result == PollResult::refused);
 }
 
-TEST_CASE("a poll with no valid reply is silence; an old reading does not make it a reading") {
+TEST_CASE("a poll with no valid reply is silence, an old reading does not make it a reading") {
   SensorState state = with_reading(3);
   const PollMark before = mark_before_poll(state);
   state.online = false;

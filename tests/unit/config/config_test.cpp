@@ -199,7 +199,7 @@ TEST_CASE("config: a file that cannot be opened says why") {
         "/nonexistent/tiltgate.toml: cannot open: No such file or directory");
 }
 
-TEST_CASE("config: [server] threads is read, 1..64; left out it is 0, one per core") {
+TEST_CASE("config: [server] threads is read, 1..64, left out it is 0, one per core") {
   CHECK(loads(valid_plus("")).server.threads == 0);
   CHECK(loads("[server]\nthreads = 3\n" + valid_plus("")).server.threads == 3);
   expect_error("[server]\nthreads = 0\n" + valid_plus(""), 2, "server.threads",

@@ -178,7 +178,7 @@ TEST_CASE("a payload over 1 MiB is refused unread") {
   CHECK(decoded.error().find("bytes") != std::string::npos);
 }
 
-TEST_CASE("a command's value as a number: integers, floats, Booleans; not null or text") {
+TEST_CASE("a command's value as a number: integers, floats, Booleans, not null or text") {
   CHECK(numeric_value(Value{std::int32_t{-3}}) == -3.0);
   CHECK(numeric_value(Value{std::uint64_t{7}}) == 7.0);
   CHECK(numeric_value(Value{2.5f}) == 2.5);

@@ -118,7 +118,7 @@ TEST_CASE("on_change_deg 0: a DDATA at every new reading, spaced by min_interval
   CHECK(step(live, boom(1.0, 0.0, 250), 300).size() == 1);
 }
 
-TEST_CASE("tck-id-operational-behavior-device-ddeath: a sensor gone offline gets a DDEATH; back, a new DBIRTH") {
+TEST_CASE("tck-id-operational-behavior-device-ddeath: a sensor gone offline gets a DDEATH, back, a new DBIRTH") {
   LiveSession live;
   const auto death = step(live, offline(boom(1.0, 0.0, 0)), 500);
   REQUIRE(death.size() == 1);

@@ -137,7 +137,7 @@ TEST_CASE("a single-axis sensor's DBIRTH has no angle_y") {
   CHECK(find_metric(dbirth, "Properties/serial")->value == Value{});  // not reported yet
 }
 
-TEST_CASE("DBIRTH angles carry the engineering unit deg; identity is Properties/model, serial, firmware") {
+TEST_CASE("DBIRTH angles carry the engineering unit deg, identity is Properties/model, serial, firmware") {
   LiveSession live;
   const Payload dbirth = publishes(live.connected).at(1).payload;
   for (const char* angle : {"angle_x", "angle_y", "tilt"}) {

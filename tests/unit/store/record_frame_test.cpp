@@ -45,7 +45,7 @@ TEST_CASE("a record's frame is its length, CRC, format, QoS, topic length, time,
   CHECK(read.record == sample());
 }
 
-TEST_CASE("a frame cut anywhere is cut short; a flipped bit anywhere is corrupt") {
+TEST_CASE("a frame cut anywhere is cut short, a flipped bit anywhere is corrupt") {
   const auto bytes = frame(sample());
   for (std::size_t n = 0; n < bytes.size(); ++n) {
     CAPTURE(n);
