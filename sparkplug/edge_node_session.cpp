@@ -1,7 +1,6 @@
 #include "sparkplug/edge_node_session.h"
 
 #include <algorithm>
-#include <cmath>
 #include <set>
 
 #include "sparkplug/host_state.h"
@@ -20,23 +19,6 @@ std::uint64_t reading_time(const DeviceSample& sample, Instant now) {
   return sample.reading_unix_ms
              ? static_cast<std::uint64_t>(std::max<std::int64_t>(*sample.reading_unix_ms, 0))
              : unix_ms(now);
-}
-
-bool is_axis(const MetricSlot& slot) {
-  return slot.number == static_cast<std::uint8_t>(DeviceMetric::angle_x) ||
-         slot.number == static_cast<std::uint8_t>(DeviceMetric::angle_y);
-}
-
-bool is_measurement(const MetricSlot& slot) {
-  return slot.angle || slot.number == static_cast<std::uint8_t>(DeviceMetric::age_ms);
-}
-
-// An angle moved: it appeared, vanished, or changed by `threshold` (> 0) or more.
-bool moved(const Value& now, const Value& before, double threshold) {
-  const auto* a = std::get_if<double>(&now);
-  const auto* b = std::get_if<double>(&before);
-  if ((a == nullptr) != (b == nullptr)) return true;
-  return a != nullptr && threshold > 0 && std::fabs(*a - *b) >= threshold;
 }
 
 }  // namespace
@@ -63,7 +45,7 @@ Expected<EdgeNodeSession, std::string> EdgeNodeSession::create(
   for (std::string& name : devices) {
     if (auto problem = check_id("the device id", name)) return Unexpected(*problem);
     if (!seen.insert(name).second) return Unexpected("the device id \"" + name + "\" repeats");
-    list.push_back(Device{std::move(name), {}, false, {}, {}, {}, {}});
+    list.push_back(Device{std::move(name), {}, false, {}, {}});
   }
   return EdgeNodeSession(std::move(options), std::move(list), last_bd_seq);
 }
@@ -173,9 +155,7 @@ void EdgeNodeSession::device_birth(std::vector<Action>& out, Device& device, Ins
   out.push_back(Publish{device_topic_for(MessageType::DBIRTH, device),
                         Payload{unix_ms(now), next_seq(), std::move(metrics)}, 0, false});
   device.born = true;
-  device.published = std::move(values);
-  device.published_reading = sample.reading_unix_ms;
-  device.published_at = now.steady;
+  device.last = LastReport{std::move(values), sample.reading_unix_ms, now.steady};
 }
 
 std::vector<Action> EdgeNodeSession::update(std::span<const DeviceSample> samples, Instant now) {
@@ -213,19 +193,19 @@ void EdgeNodeSession::device_update(std::vector<Action>& out, Device& device,
     if (!sample.online) return;
     if (layout != device.layout) {
       device.layout = std::move(layout);
-      device.published.clear();
+      device.last.values.clear();
     }
   }
-  const std::vector<Value> values = device_values(device.layout, sample);
-  if (!due(device, values, sample, now)) return;
-  // The angles and the age go out as well on the max_interval heartbeat, and with
-  // on_change_deg 0 at every new reading: a reading, not a change, is then what is reported.
-  const bool measurements =
-      (device.published_at && now.steady - *device.published_at >= options_.max_interval) ||
-      (options_.on_change_deg == 0 && sample.reading_unix_ms != device.published_reading);
+  std::vector<Value> values = device_values(device.layout, sample);
+  const ExceptionRules rules = exception_rules();
+  if (!ddata_due(rules, device.layout, device.last, values, sample.reading_unix_ms, now.steady))
+    return;
   const bool live = state_ == SessionState::live;
   const std::uint64_t timestamp = reading_time(sample, now);
-  std::vector<Metric> metrics = data_metrics(device, values, measurements, !live, timestamp);
+  std::vector<Metric> metrics = data_metrics(
+      device, values,
+      ddata_slots(rules, device.layout, device.last, values, sample.reading_unix_ms, now.steady),
+      !live, timestamp);
   if (metrics.empty()) return;
   if (live) {
     out.push_back(Publish{device_topic_for(MessageType::DDATA, device),
@@ -235,44 +215,22 @@ void EdgeNodeSession::device_update(std::vector<Action>& out, Device& device,
                        Payload{unix_ms(now), std::nullopt, std::move(metrics)},
                        static_cast<std::int64_t>(timestamp)});
   }
-  device.published = values;
-  device.published_reading = sample.reading_unix_ms;
-  device.published_at = now.steady;
+  device.last = LastReport{std::move(values), sample.reading_unix_ms, now.steady};
 }
 
-bool EdgeNodeSession::due(const Device& device, const std::vector<Value>& values,
-                          const DeviceSample& sample, Instant now) const {
-  if (!device.published_at || device.published.size() != values.size()) return true;
-  const auto elapsed = now.steady - *device.published_at;
-  if (elapsed < options_.min_interval) return false;
-  if (elapsed >= options_.max_interval) return true;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const MetricSlot& slot = device.layout[i];
-    if (is_axis(slot)) {
-      if (moved(values[i], device.published[i], options_.on_change_deg)) return true;
-    } else if (!is_measurement(slot) && values[i] != device.published[i]) {
-      return true;  // status, online, stale, alarms, identity, a setting
-    }
-  }
-  return options_.on_change_deg == 0 && sample.reading_unix_ms != device.published_reading;
+ExceptionRules EdgeNodeSession::exception_rules() const {
+  return ExceptionRules{options_.on_change_deg, options_.min_interval, options_.max_interval};
 }
 
 std::vector<Metric> EdgeNodeSession::data_metrics(const Device& device,
                                                   const std::vector<Value>& values,
-                                                  bool measurements, bool named,
-                                                  std::uint64_t timestamp) const {
-  // By exception (tck-id-topics-ddata-payload): what changed since the last message, and the
-  // angles and the age when `measurements`.
+                                                  const std::vector<std::size_t>& slots,
+                                                  bool named, std::uint64_t timestamp) const {
   std::vector<Metric> metrics;
-  const bool all = device.published.size() != values.size();
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const MetricSlot& slot = device.layout[i];
-    if (!all && values[i] == device.published[i] && !(measurements && is_measurement(slot))) {
-      continue;
-    }
-    Metric m = device_metric(slot, index_of(device), values[i], timestamp, false);
+  for (std::size_t i : slots) {
+    Metric m = device_metric(device.layout[i], index_of(device), values[i], timestamp, false);
     if (named) {  // kept for the store: by name, since the aliases belong to a birth
-      m.name = slot.name;
+      m.name = device.layout[i].name;
       m.alias.reset();
       m.is_historical = true;
     }

@@ -31,6 +31,7 @@
 #include "driver/expected.h"
 #include "sparkplug/device_metrics.h"
 #include "sparkplug/payload.h"
+#include "sparkplug/report_by_exception.h"
 #include "sparkplug/topic.h"
 
 namespace tiltgate::sparkplug {
@@ -166,9 +167,7 @@ class EdgeNodeSession {
     std::optional<DeviceSample> sample;  // the latest
     bool born = false;                   // a DBIRTH in this session, no DDEATH since
     std::vector<MetricSlot> layout;      // of the last message
-    std::vector<Value> published;        // the values of the last message, by layout slot
-    std::optional<std::int64_t> published_reading;
-    std::optional<std::chrono::steady_clock::time_point> published_at;
+    LastReport last;                     // what the last message reported, by layout slot
   };
 
   EdgeNodeSession(EdgeNodeOptions options, std::vector<Device> devices,
@@ -185,10 +184,10 @@ class EdgeNodeSession {
   void device_birth(std::vector<Action>& out, Device& device, Instant now);
   void device_update(std::vector<Action>& out, Device& device, const DeviceSample& sample,
                      Instant now);
-  bool due(const Device& device, const std::vector<Value>& values, const DeviceSample& sample,
-           Instant now) const;
+  ExceptionRules exception_rules() const;
   std::vector<Metric> data_metrics(const Device& device, const std::vector<Value>& values,
-                                   bool measurements, bool named, std::uint64_t timestamp) const;
+                                   const std::vector<std::size_t>& slots, bool named,
+                                   std::uint64_t timestamp) const;
 
   void node_command(std::vector<Action>& out, std::span<const std::uint8_t> payload, Instant now);
   void device_command(std::vector<Action>& out, std::string_view device,
