@@ -17,6 +17,7 @@ GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   GatewayStatus status = gateway_.status(now);
   status.http_connections_denied = http_.connections_denied();
   status.mqtt = mqtt_.stats();
+  if (status.mqtt) status.stores.push_back({"mqtt", status.mqtt->store});
   return status;
 }
 

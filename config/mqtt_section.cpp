@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "config/sections.h"
+#include "config/state_dir_check.h"
 #include "toml/toml_reader.h"
 
 namespace tiltgate::config {
@@ -50,6 +51,31 @@ void read_file_key(TableReader& in, std::string_view key, std::string& out) {
     in.error(key, fmt::format("\"{}\" is not a file", *path));
   else
     out = *path;
+}
+
+// Where and how much of the backlog is kept (docs/northbound.md, "MQTT", "Backlog"). The
+// store takes at least two segments of 512 KiB, hence 1 MiB at the least.
+void read_backlog_keys(TableReader& in, MqttConfig& mqtt) {
+  if (auto state_dir = in.string("state_dir")) {
+    const std::filesystem::path dir = *state_dir;
+    if (!dir.is_absolute()) {
+      in.error("state_dir", fmt::format("\"{}\" is not an absolute path, expected a directory such "
+                                        "as \"/var/lib/tiltgate\"",
+                                        *state_dir));
+    } else if (auto problem = state_dir_problem(dir / "mqtt")) {
+      // Given on purpose, it must work: a backlog silently kept in memory would be lost on the
+      // restart the setting was written for.
+      in.error("state_dir", fmt::format("the backlog cannot be kept in {}: {}",
+                                        (dir / "mqtt").string(), *problem));
+    } else {
+      mqtt.state_dir = *state_dir;
+      mqtt.state_dir_given = true;
+    }
+  }
+  if (auto buffer_mb = in.integer("buffer_mb", 1, 65536)) mqtt.buffer_mb = std::uint64_t(*buffer_mb);
+  // Before the store, the most messages kept in memory; now, when written, still the most kept
+  // (an upgraded configuration keeps its meaning).
+  if (auto backlog = in.integer("backlog", 0, 100000000)) mqtt.backlog = std::size_t(*backlog);
 }
 
 }  // namespace
@@ -101,7 +127,7 @@ MqttConfig read_mqtt(const toml::table& table, ErrorList& errors) {
   if ((in.has("cert_file") || in.has("key_file")) && !in.has("ca_file"))
     in.error(in.has("cert_file") ? "cert_file" : "key_file",
              "a client certificate is sent over TLS only: give ca_file too");
-  if (auto backlog = in.integer("backlog", 0, 1000000)) mqtt.backlog = std::size_t(*backlog);
+  read_backlog_keys(in, mqtt);
   in.reject_unknown_keys();
   return mqtt;
 }

@@ -63,6 +63,24 @@ struct BusStatus {
   std::optional<double> utilisation;
 };
 
+// A feed's store-and-forward backlog (store/record_store.h), for the metrics
+// (tiltgate_store_*{feed}): what it holds now, and since the feed started what it dropped and
+// what it replayed.
+struct StoreStats {
+  std::uint64_t bytes = 0;     // on disk (in memory for a backlog kept there)
+  std::uint64_t records = 0;   // not yet replayed
+  std::uint64_t dropped = 0;   // the oldest, dropped for the budget (or lost to a failed write)
+  std::uint64_t replayed = 0;  // published after the broker came back, and acknowledged
+
+  bool operator==(const StoreStats&) const = default;
+};
+
+// One feed's store, labelled feed="mqtt" or feed="sparkplug".
+struct FeedStoreStats {
+  std::string feed;
+  StoreStats stats;
+};
+
 // The MQTT feed's counters (mqtt/mqtt_feed.h), for the metrics (tiltgate_mqtt_*).
 struct MqttStats {
   std::uint64_t published = 0;   // messages handed to the broker connection
@@ -70,6 +88,7 @@ struct MqttStats {
   std::size_t backlog = 0;       // waiting for the broker now
   bool connected = false;
   std::uint64_t reconnects = 0;  // connections after the first
+  StoreStats store;              // its backlog
 };
 
 struct GatewayStatus {
@@ -86,6 +105,7 @@ struct GatewayStatus {
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;
   std::optional<MqttStats> mqtt;      // none without [mqtt]
+  std::vector<FeedStoreStats> stores;  // each feed's store that is on
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
 };
 

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "mqtt/mqtt_payload.h"
 
@@ -39,7 +40,8 @@ MqttClient::~MqttClient() {
 
 Expected<Done, std::string> MqttClient::start() {
   init_library_once();
-  // clean session: a restarted gateway starts afresh; what it missed is in its own backlog.
+  // clean session: a restarted gateway starts afresh; what it missed is in its own backlog
+  // (on disk, mqtt/stored_backlog.h).
   mosq_ = mosquitto_new(options_.client_id.c_str(), true, this);
   if (mosq_ == nullptr) return Unexpected{std::string("libmosquitto: cannot create a client")};
   mosquitto_connect_callback_set(mosq_, &MqttClient::on_connect);
@@ -121,12 +123,19 @@ void MqttClient::run() {
   }
 }
 
-bool MqttClient::publish(const MqttMessage& message) {
-  if (!connected_.load()) return false;
+std::optional<int> MqttClient::publish(const MqttMessage& message) {
+  if (!connected_.load()) return std::nullopt;
+  int mid = 0;
   const int rc =
-      mosquitto_publish(mosq_, nullptr, message.topic.c_str(), int(message.payload.size()),
+      mosquitto_publish(mosq_, &mid, message.topic.c_str(), int(message.payload.size()),
                         message.payload.data(), options_.qos, message.retain);
-  return rc == MOSQ_ERR_SUCCESS;
+  if (rc != MOSQ_ERR_SUCCESS) return std::nullopt;
+  return mid;
+}
+
+std::vector<int> MqttClient::take_acknowledged() {
+  std::lock_guard lock(published_mutex_);
+  return std::exchange(acknowledged_, {});
 }
 
 void MqttClient::stop() {
@@ -190,6 +199,7 @@ void MqttClient::on_publish(struct mosquitto*, void* self, int mid) {
   {
     std::lock_guard lock(client.published_mutex_);
     client.last_published_mid_ = mid;
+    client.acknowledged_.push_back(mid);
   }
   client.published_changed_.notify_all();
 }

@@ -9,11 +9,13 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "driver/expected.h"
-#include "mqtt/mqtt_publisher.h"
+#include "mqtt/mqtt_message.h"
 
 struct mosquitto;
 struct mosquitto_message;
@@ -55,9 +57,12 @@ class MqttClient {
 
   bool connected() const { return connected_.load(); }
   std::uint64_t connections() const { return connections_.load(); }  // accepted CONNECTs so far
-  // Hands `message` to libmosquitto at the configured QoS; false when not connected (the
-  // caller keeps it for later).
-  bool publish(const MqttMessage& message);
+  // Hands `message` to libmosquitto at the configured QoS: its message id, none when not
+  // connected (the caller keeps it for later).
+  std::optional<int> publish(const MqttMessage& message);
+  // The ids of the messages acknowledged since the last call (QoS 1: PUBACK received; QoS 0:
+  // written to the socket), in the order they came.
+  std::vector<int> take_acknowledged();
 
  private:
   void run();  // the network thread: connect, loop, back off, until stop()
@@ -80,6 +85,7 @@ class MqttClient {
   std::mutex published_mutex_;
   std::condition_variable published_changed_;
   int last_published_mid_ = 0;
+  std::vector<int> acknowledged_;  // under published_mutex_, until take_acknowledged()
 };
 
 }  // namespace tiltgate

@@ -2,55 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <optional>
 #include <vector>
 
+#include "status/store_metrics.h"
+
 namespace tiltgate {
 
-std::string metrics_label_value(std::string_view value) {
-  std::string out;
-  for (const char c : value) {
-    if (c == '\\') out += "\\\\";
-    else if (c == '"') out += "\\\"";
-    else if (c == '\n') out += "\\n";
-    else out += c;
-  }
-  return out;
-}
-
-std::string metrics_value(double value) {
-  if (std::isnan(value)) return "NaN";
-  if (std::isinf(value)) return value > 0 ? "+Inf" : "-Inf";
-  return fmt::format("{}", value);
-}
-
 namespace {
-
-// Builds one metric family at a time: its HELP and TYPE lines, then its samples.
-class Exposition {
- public:
-  void family(std::string_view name, std::string_view type, std::string_view help) {
-    text_ += fmt::format("# HELP {} {}\n# TYPE {} {}\n", name, help, name, type);
-    name_ = name;
-  }
-  // A family of one unlabelled sample.
-  void single(std::string_view name, std::string_view type, std::string_view help, double value) {
-    family(name, type, help);
-    sample("", value);
-  }
-  // `labels` as written between the braces, already escaped; empty for none.
-  void sample(const std::string& labels, double value) {
-    text_ += name_;
-    if (!labels.empty()) text_ += "{" + labels + "}";
-    text_ += " " + metrics_value(value) + "\n";
-  }
-  std::string take() { return std::move(text_); }
-
- private:
-  std::string text_;
-  std::string_view name_;
-};
 
 std::string sensor_labels(const SensorStatus& s) {
   return fmt::format("sensor=\"{}\",bus=\"{}\",unit=\"{}\"", metrics_label_value(s.name),
@@ -168,7 +127,7 @@ const MqttSingle kMqttSingles[] = {
 };
 
 // The sensors' families, the ones with labels of their own (axis, result, reason, code) first.
-void add_sensor_families(Exposition& out, const std::vector<SensorStatus>& sensors) {
+void add_sensor_families(MetricsExposition& out, const std::vector<SensorStatus>& sensors) {
   out.family("tiltgate_angle_degrees", "gauge",
              "Latest angle per axis in degrees, after mounting, as the register map serves it");
   for (const SensorStatus& s : sensors) {
@@ -207,7 +166,7 @@ void add_sensor_families(Exposition& out, const std::vector<SensorStatus>& senso
 }  // namespace
 
 std::string metrics_text(const GatewayStatus& status) {
-  Exposition out;
+  MetricsExposition out;
   add_sensor_families(out, status.sensors);
   for (const BusFamily& f : kBusFamilies) {
     out.family(f.name, f.type, f.help);
@@ -228,6 +187,7 @@ std::string metrics_text(const GatewayStatus& status) {
   if (status.mqtt)
     for (const MqttSingle& single : kMqttSingles)
       out.single(single.name, single.type, single.help, single.value(*status.mqtt));
+  add_store_families(out, status.stores);
   out.single("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds",
              status.process_start_seconds);

@@ -6,16 +6,12 @@
 #include <string_view>
 
 #include "gateway/gateway_status.h"
+#include "status/metrics_exposition.h"
 
 namespace tiltgate {
 
 // The Content-Type Prometheus expects for this format.
 inline constexpr std::string_view kMetricsContentType = "text/plain; version=0.0.4; charset=utf-8";
-
-// A label value as the format writes it between its quotes: \ " and line feed escaped.
-std::string metrics_label_value(std::string_view value);
-// A sample value: the shortest form that reads back the same double; NaN, +Inf, -Inf.
-std::string metrics_value(double value);
 
 std::string metrics_text(const GatewayStatus& status);
 

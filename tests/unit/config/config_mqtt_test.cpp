@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <filesystem>
 #include <string>
 
 #include "config/config_loader.h"
@@ -38,7 +39,10 @@ TEST_CASE("config: [mqtt] with a host publishes with the defaults") {
   CHECK(config.mqtt.interval == std::chrono::milliseconds(1000));
   CHECK(config.mqtt.on_change_deg == doctest::Approx(0.01));
   CHECK(config.mqtt.keepalive_s == 30);
-  CHECK(config.mqtt.backlog == 1000);
+  CHECK_FALSE(config.mqtt.backlog.has_value());  // buffer_mb alone bounds it
+  CHECK(config.mqtt.state_dir == "/var/lib/tiltgate");
+  CHECK_FALSE(config.mqtt.state_dir_given);
+  CHECK(config.mqtt.buffer_mb == 64);
   CHECK(config.mqtt.username.empty());
   CHECK(config.mqtt.ca_file.empty());
 }
@@ -59,6 +63,34 @@ TEST_CASE("config: [mqtt] keys are read") {
   CHECK(config.mqtt.username == "gw");
   CHECK(config.mqtt.password == "secret");
   CHECK(config.mqtt.backlog == 0);
+}
+
+TEST_CASE("config: [mqtt] state_dir, buffer_mb and backlog say where and how much is kept") {
+  ScratchDir dir;
+  const Config config =
+      loads("[mqtt]\nhost = \"b\"\nstate_dir = \"" + dir.path("state") +
+            "\"\nbuffer_mb = 2\nbacklog = 5000\n" + valid_plus(""));
+  CHECK(config.mqtt.state_dir == dir.path("state"));
+  CHECK(config.mqtt.state_dir_given);
+  CHECK(config.mqtt.buffer_mb == 2);
+  CHECK(config.mqtt.backlog == std::size_t{5000});
+  // Checking creates nothing: `tiltgate check` leaves the disk as it was.
+  CHECK_FALSE(std::filesystem::exists(dir.path("state")));
+}
+
+TEST_CASE("config: [mqtt] a state_dir given that cannot be used is an error at its key") {
+  ScratchDir dir;
+  const std::string file = dir.write("a-file", "x");
+  expect_error("[mqtt]\nhost = \"b\"\nstate_dir = \"" + file + "/state\"\n" + valid_plus(""),
+               3, "mqtt.state_dir",
+               "the backlog cannot be kept in " + file + "/state/mqtt: " + file +
+                   " is not a directory");
+  expect_error("[mqtt]\nhost = \"b\"\nstate_dir = \"var/lib\"\n" + valid_plus(""), 3,
+               "mqtt.state_dir",
+               "\"var/lib\" is not an absolute path, expected a directory such as "
+               "\"/var/lib/tiltgate\"");
+  expect_error("[mqtt]\nhost = \"b\"\nbuffer_mb = 0\n" + valid_plus(""), 3, "mqtt.buffer_mb",
+               "0 is out of range, expected 1..65536");
 }
 
 TEST_CASE("config: [mqtt] enabled = false keeps the table but publishes nothing") {
@@ -92,7 +124,7 @@ TEST_CASE("config: [mqtt] mistakes are reported at their key") {
   expect_error("[mqtt]\nhost = \"b\"\nkeepalive_s = 2\n" + valid_plus(""), 3, "mqtt.keepalive_s",
                "2 is out of range, expected 5..65535");
   expect_error("[mqtt]\nhost = \"b\"\nbacklog = -1\n" + valid_plus(""), 3, "mqtt.backlog",
-               "-1 is out of range, expected 0..1000000");
+               "-1 is out of range, expected 0..100000000");
   expect_error("[mqtt]\nhost = \"b\"\nclient_id = \"\"\n" + valid_plus(""), 3, "mqtt.client_id",
                "empty, expected a name unique among the broker's clients");
   expect_error("[mqtt]\nhost = \"b\"\npassword = \"p\"\n" + valid_plus(""), 3, "mqtt.password",
