@@ -65,6 +65,8 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
     config.mqtt.port = options.mqtt_port;
     config.mqtt.client_id = fmt::format("tiltgate-demo-{}", ::getpid());
     config.mqtt.topic_prefix = "tiltgate/demo";
+    // In memory: a demo on a gateway must not take (or be refused) the service's store.
+    config.mqtt.state_dir.clear();
   }
   if (!options.sparkplug_host.empty()) {
     config.sparkplug.enabled = true;

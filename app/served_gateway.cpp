@@ -19,6 +19,7 @@ GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   GatewayStatus status = gateway_.status(now);
   status.http_connections_denied = http_.connections_denied();
   status.mqtt = mqtt_.stats();
+  if (status.mqtt) status.stores.push_back(status.mqtt->store);
   status.sparkplug = sparkplug_.stats();
   if (auto store = sparkplug_.store_stats()) status.stores.push_back(*store);
   return status;

@@ -76,6 +76,11 @@ struct HttpConfig {
 // their history in under 5 MB.
 inline constexpr std::int64_t kMaxHistorySamples = 600;
 
+// Where the feeds keep what must survive a restart (the MQTT backlog, Sparkplug's store and
+// bdSeq); the Debian package's service has it as its StateDirectory (docs/operations.md,
+// "The state directory").
+inline constexpr std::string_view kDefaultStateDir = "/var/lib/tiltgate";
+
 // The MQTT feed (mqtt/mqtt_feed.h): each sensor's state to a broker. Off unless the file has
 // an [mqtt] table; the loader fills in the hostname defaults, so these are the values used.
 struct MqttConfig {
@@ -93,7 +98,13 @@ struct MqttConfig {
   std::string ca_file;                   // TLS when set (cert_file/key_file: client certificate)
   std::string cert_file;
   std::string key_file;
-  std::size_t backlog = 1000;            // messages kept while the broker is away
+  // While the broker is away, the states not published are kept in <state_dir>/mqtt/ (the
+  // store, mqtt/stored_backlog.h) within buffer_mb, and at most `backlog` of them when given.
+  // An empty state_dir (only `tiltgate demo` makes one), or one that cannot be written, keeps
+  // them in memory.
+  std::string state_dir = std::string(kDefaultStateDir);
+  double buffer_mb = 64;                 // MiB (a fraction for tests)
+  std::optional<std::size_t> backlog;    // none: buffer_mb alone bounds it
 
   bool operator==(const MqttConfig&) const = default;
 };
@@ -114,7 +125,7 @@ struct SparkplugConfig {
   std::string cert_file;
   std::string key_file;
   int keepalive_s = 30;
-  std::string state_dir = "/var/lib/tiltgate";  // bdSeq and the store, under sparkplug/
+  std::string state_dir = std::string(kDefaultStateDir);  // bdSeq and the store, under sparkplug/
   double on_change_deg = 0.01;        // DDATA when an angle moved this much; 0: every reading
   std::chrono::milliseconds min_interval{100};
   std::chrono::milliseconds max_interval{10000};

@@ -33,6 +33,26 @@ void check_topic_prefix(TableReader& in, const std::string& prefix) {
                          prefix));
 }
 
+// Where and how much of the backlog is kept (docs/northbound.md, "MQTT"), as [sparkplug] reads
+// its own: a relative state_dir is taken from the file's directory; whether it can be written
+// is found when the feed starts (the service user's rights, not those of who runs check).
+void read_backlog_keys(TableReader& in, const std::string& file, MqttConfig& mqtt) {
+  if (auto dir = in.string("state_dir")) {
+    if (dir->empty())
+      in.error("state_dir", "empty, expected a directory the gateway may write, e.g. "
+                            "\"/var/lib/tiltgate\"");
+    else if (std::filesystem::path path(*dir); path.is_relative())
+      mqtt.state_dir = (std::filesystem::path(file).parent_path() / path).string();
+    else
+      mqtt.state_dir = *dir;
+  }
+  // A fraction is allowed, as for [sparkplug]: a test fills a store of 0.05 MiB in seconds.
+  if (auto buffer = in.number_in("buffer_mb", 0.01, 65536)) mqtt.buffer_mb = *buffer;
+  // Before the store, the most messages kept in memory; written, still the most kept (an
+  // upgraded configuration keeps its meaning).
+  if (auto backlog = in.integer("backlog", 0, 100000000)) mqtt.backlog = std::size_t(*backlog);
+}
+
 }  // namespace
 
 MqttConfig read_mqtt(const toml::table& table, ErrorList& errors) {
@@ -67,7 +87,7 @@ MqttConfig read_mqtt(const toml::table& table, ErrorList& errors) {
   if (auto interval = in.integer("interval_ms", 100, 3600000))
     mqtt.interval = std::chrono::milliseconds(*interval);
   if (auto on_change = in.number_in("on_change_deg", 0.0, 360.0)) mqtt.on_change_deg = *on_change;
-  if (auto backlog = in.integer("backlog", 0, 1000000)) mqtt.backlog = std::size_t(*backlog);
+  read_backlog_keys(in, errors.file(), mqtt);
   in.reject_unknown_keys();
   return mqtt;
 }

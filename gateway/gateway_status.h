@@ -63,6 +63,16 @@ struct BusStatus {
   std::optional<double> utilisation;
 };
 
+// An on-disk store-and-forward's counters (store/record_store.h), for the metrics
+// (tiltgate_store_*, labelled by the feed that keeps it).
+struct StoreStats {
+  std::string feed;              // "sparkplug", "mqtt"
+  std::uint64_t bytes = 0;       // its files' size
+  std::uint64_t records = 0;     // kept, not yet replayed
+  std::uint64_t dropped = 0;     // dropped when full, oldest first
+  std::uint64_t replayed = 0;    // published again
+};
+
 // The MQTT feed's counters (mqtt/mqtt_feed.h), for the metrics (tiltgate_mqtt_*).
 struct MqttStats {
   std::uint64_t published = 0;   // messages handed to the broker connection
@@ -70,6 +80,7 @@ struct MqttStats {
   std::size_t backlog = 0;       // waiting for the broker now
   bool connected = false;
   std::uint64_t reconnects = 0;  // connections after the first
+  StoreStats store;              // its backlog
 };
 
 // The Sparkplug B edge node's counters (sparkplug/edge_node.h), for the metrics
@@ -84,16 +95,6 @@ struct SparkplugStats {
   std::uint64_t refused = 0;
   std::uint64_t ignored = 0;
   std::uint64_t malformed = 0;
-};
-
-// An on-disk store-and-forward's counters (store/record_store.h), for the metrics
-// (tiltgate_store_*, labelled by the feed that keeps it).
-struct StoreStats {
-  std::string feed;              // "sparkplug", "mqtt"
-  std::uint64_t bytes = 0;       // its files' size
-  std::uint64_t records = 0;     // kept, not yet replayed
-  std::uint64_t dropped = 0;     // dropped when full, oldest first
-  std::uint64_t replayed = 0;    // published again
 };
 
 struct GatewayStatus {

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "mqtt/mqtt_payload.h"
 
@@ -40,7 +41,8 @@ MqttClient::~MqttClient() {
 
 Expected<Done, std::string> MqttClient::start() {
   init_library_once();
-  // clean session: a restarted gateway starts afresh; what it missed is in its own backlog.
+  // clean session: a restarted gateway starts afresh; what it missed is in its own backlog
+  // (on disk, mqtt/stored_backlog.h).
   mosq_ = mosquitto_new(options_.client_id.c_str(), true, this);
   if (mosq_ == nullptr) return Unexpected{std::string("libmosquitto: cannot create a client")};
   mosquitto_connect_callback_set(mosq_, &MqttClient::on_connect);
@@ -140,12 +142,12 @@ bool MqttClient::prepare_connect() {
   return true;
 }
 
-bool MqttClient::send(const std::string& topic, int length, const void* payload, int qos,
-                      bool retain) {
+std::optional<int> MqttClient::send(const std::string& topic, int length, const void* payload,
+                                    int qos, bool retain) {
   int mid = 0;
   if (mosquitto_publish(mosq_, &mid, topic.c_str(), length, payload, qos, retain) !=
       MOSQ_ERR_SUCCESS)
-    return false;
+    return std::nullopt;
   // Recorded after the publish (an acknowledgement that came first has set
   // last_published_mid_ to it already), not around it: libmosquitto's thread takes its own
   // locks before on_publish takes this one.
@@ -153,11 +155,11 @@ bool MqttClient::send(const std::string& topic, int length, const void* payload,
     std::lock_guard lock(published_mutex_);
     last_sent_mid_ = mid;
   }
-  return true;
+  return mid;
 }
 
-bool MqttClient::publish(const MqttMessage& message) {
-  if (!connected_.load()) return false;
+std::optional<int> MqttClient::publish(const MqttMessage& message) {
+  if (!connected_.load()) return std::nullopt;
   return send(message.topic, int(message.payload.size()), message.payload.data(), options_.qos,
               message.retain);
 }
@@ -165,7 +167,12 @@ bool MqttClient::publish(const MqttMessage& message) {
 bool MqttClient::publish(std::string_view topic, std::span<const std::uint8_t> payload, int qos,
                          bool retain) {
   if (!connected_.load()) return false;
-  return send(std::string(topic), int(payload.size()), payload.data(), qos, retain);
+  return send(std::string(topic), int(payload.size()), payload.data(), qos, retain).has_value();
+}
+
+std::vector<int> MqttClient::take_acknowledged() {
+  std::lock_guard lock(published_mutex_);
+  return std::exchange(acknowledged_, {});
 }
 
 bool MqttClient::subscribe(std::string_view topic, int qos) {
@@ -244,6 +251,7 @@ void MqttClient::on_publish(struct mosquitto*, void* self, int mid) {
   {
     std::lock_guard lock(client.published_mutex_);
     client.last_published_mid_ = mid;
+    if (client.options_.keep_acknowledged) client.acknowledged_.push_back(mid);
   }
   client.published_changed_.notify_all();
 }

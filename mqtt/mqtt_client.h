@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "driver/expected.h"
-#include "mqtt/mqtt_publisher.h"
+#include "mqtt/mqtt_message.h"
 
 struct mosquitto;
 struct mosquitto_message;
@@ -44,6 +44,8 @@ struct MqttClientOptions {
   std::string key_file;
   int reconnect_min_s = 1;   // back-off between attempts, growing up to reconnect_max_s
   int reconnect_max_s = 30;
+  // Collect the ids of acknowledged messages for take_acknowledged(); off, none are kept.
+  bool keep_acknowledged = false;
 };
 
 // A CONNECT's last will.
@@ -86,12 +88,15 @@ class MqttClient {
 
   bool connected() const { return connected_.load(); }
   std::uint64_t connections() const { return connections_.load(); }  // accepted CONNECTs so far
-  // Hands `message` to libmosquitto at the configured QoS; false when not connected (the
-  // caller keeps it for later).
-  bool publish(const MqttMessage& message);
+  // Hands `message` to libmosquitto at the configured QoS: its message id, none when not
+  // connected (the caller keeps it for later).
+  std::optional<int> publish(const MqttMessage& message);
   // Any message, at its own QoS; false when not connected.
   bool publish(std::string_view topic, std::span<const std::uint8_t> payload, int qos,
                bool retain);
+  // With `keep_acknowledged`: the ids of the messages acknowledged since the last call (QoS 1:
+  // PUBACK received; QoS 0: written to the socket), in the order they came.
+  std::vector<int> take_acknowledged();
   // false when not connected.
   bool subscribe(std::string_view topic, int qos);
   // Ends the connection now (a clean DISCONNECT: no will); the next attempt follows the
@@ -109,7 +114,9 @@ class MqttClient {
                          const struct mosquitto_message* message);
   // The hook's will for the next CONNECT; false: no attempt now.
   bool prepare_connect();
-  bool send(const std::string& topic, int length, const void* payload, int qos, bool retain);
+  // The message id, none when libmosquitto refused it.
+  std::optional<int> send(const std::string& topic, int length, const void* payload, int qos,
+                          bool retain);
 
   MqttClientOptions options_;
   MqttClientHooks hooks_;
@@ -127,6 +134,7 @@ class MqttClient {
   std::condition_variable published_changed_;
   int last_published_mid_ = 0;
   int last_sent_mid_ = 0;  // of a QoS 1 or 2 message; 0: none waiting
+  std::vector<int> acknowledged_;  // under published_mutex_, until take_acknowledged()
 };
 
 }  // namespace tiltgate

@@ -2,7 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
+
+#include "mqtt/memory_backlog.h"
 #include "mqtt/mqtt_payload.h"
+#include "mqtt/stored_backlog.h"
 
 namespace tiltgate {
 
@@ -10,11 +14,14 @@ namespace {
 
 // The soonest one sensor's state follows its previous one, and the timer's period.
 constexpr std::chrono::milliseconds kMinSpacing{100};
-// At most this many backlog messages go to libmosquitto per tick, so a long backlog is handed
-// over in slices and the event loop is never held for long.
-constexpr std::size_t kFlushPerTick = 1000;
-// Drops are logged at most this often while the broker is away.
+// At most this many backlog messages are replayed per tick (500 a second), after the tick's
+// live messages: a full 64 MiB backlog of ~250-byte states is sent again in about 9 minutes,
+// and a live state never queues behind more than one tick's replay.
+constexpr std::size_t kReplayPerTick = 50;
+// Drops and backlog errors are logged at most this often while the broker is away.
 constexpr std::chrono::seconds kDropLogInterval{30};
+// What was appended to the backlog is synced to the disk this often (and every 64 appends).
+constexpr std::chrono::seconds kSyncInterval{1};
 // A broker not reached this long after start-up is warned about (once): libmosquitto only
 // reports failed attempts at debug level.
 constexpr std::chrono::seconds kFirstConnectWarning{10};
@@ -25,7 +32,6 @@ MqttPublisherOptions publisher_options(const MqttConfig& config) {
   options.pacing.interval = config.interval;
   options.pacing.on_change_deg = config.on_change_deg;
   options.pacing.min_spacing = kMinSpacing;
-  options.backlog = config.backlog;
   return options;
 }
 
@@ -42,7 +48,13 @@ MqttClientOptions client_options(const MqttConfig& config) {
   options.ca_file = config.ca_file;
   options.cert_file = config.cert_file;
   options.key_file = config.key_file;
+  // What is acknowledged leaves the feed's watch (mqtt/unacknowledged_messages.h).
+  options.keep_acknowledged = true;
   return options;
+}
+
+BacklogLimits backlog_limits(const MqttConfig& config) {
+  return {std::uint64_t(config.buffer_mb * 1024 * 1024), config.backlog};
 }
 
 std::int64_t unix_ms_now() {
@@ -56,17 +68,18 @@ MqttFeed::MqttFeed(boost::asio::any_io_executor executor, StatusSource status,
                    const MqttConfig& config)
     : timer_(executor),
       status_(std::move(status)),
+      config_(config),
       publisher_(publisher_options(config)),
       client_(client_options(config)),
-      period_(kMinSpacing),
-      backlog_capacity_(config.backlog) {}
+      replay_(kReplayPerTick),
+      period_(kMinSpacing) {}
 
 MqttFeed::~MqttFeed() { stop(); }
 
 Expected<Done, std::string> MqttFeed::start() {
   if (auto started = client_.start(); !started) return started;
   running_ = true;
-  started_at_ = std::chrono::steady_clock::now();
+  started_at_ = Clock::now();
   schedule();
   return Done{};
 }
@@ -76,12 +89,21 @@ void MqttFeed::stop() {
   running_ = false;
   timer_.cancel();
   client_.stop();
+  if (!backlog_) return;
+  // What the broker acknowledged before the DISCONNECT is done; the rest is kept for the next
+  // start, synced before the store closes.
+  take_acknowledgements();
+  keep_unacknowledged();
+  if (auto synced = backlog_->sync(); !synced) report_backlog_error(synced.error());
+  backlog_.reset();
 }
 
 MqttStats MqttFeed::stats() const {
   const std::uint64_t connections = client_.connections();
-  return {published_, publisher_.backlog().dropped(), publisher_.backlog().size(),
-          client_.connected(), connections > 0 ? connections - 1 : 0};
+  StoreStats store = backlog_ ? backlog_->stats() : StoreStats{};
+  store.feed = "mqtt";
+  return {published_, store.dropped, static_cast<std::size_t>(store.records), client_.connected(),
+          connections > 0 ? connections - 1 : 0, store};
 }
 
 void MqttFeed::schedule() {
@@ -93,44 +115,127 @@ void MqttFeed::schedule() {
   });
 }
 
+void MqttFeed::open_backlog() {
+  const BacklogLimits limits = backlog_limits(config_);
+  if (!config_.state_dir.empty()) {
+    const std::filesystem::path dir = std::filesystem::path(config_.state_dir) / "mqtt";
+    auto stored = StoredBacklog::open(dir, limits, config_.qos);
+    if (stored) {
+      for (const std::string& repair : stored->repairs())
+        spdlog::warn("MQTT: backlog {}: {}", dir.string(), repair);
+      if (!stored->empty())
+        spdlog::info("MQTT: {} messages kept in {} from before the start", stored->stats().records,
+                     dir.string());
+      backlog_ = std::make_unique<StoredBacklog>(std::move(*stored));
+      return;
+    }
+    // The default directory missing (a run without the package, not as root) must not stop
+    // the feed: it runs as before the store, in memory (docs/operations.md, "The state
+    // directory"). One given in the file was checked when it was loaded.
+    if (config_.state_dir_given)
+      spdlog::error("MQTT: {}; the backlog is kept in memory and lost on a restart",
+                    stored.error());
+    else
+      spdlog::warn("MQTT: {}; the backlog is kept in memory and lost on a restart (set [mqtt] "
+                   "state_dir to a directory this user may write)",
+                   stored.error());
+  }
+  backlog_ = std::make_unique<MemoryBacklog>(limits);
+}
+
 void MqttFeed::tick() {
-  const auto now = std::chrono::steady_clock::now();
+  const auto now = Clock::now();
+  if (!backlog_) open_backlog();
+  // Acknowledgements first: they came for messages of the connection they were sent on.
+  take_acknowledgements();
   const std::uint64_t connections = client_.connections();
+  const bool connected = client_.connected();
+  if (!connected || connections != connections_seen_) keep_unacknowledged();
   if (connections != connections_seen_) {
     // A broker restarted without persistence has lost the retained info: send it again.
     publisher_.forget_info();
     connections_seen_ = connections;
-    if (!publisher_.backlog().empty())
+    if (!backlog_->empty())
       spdlog::info("MQTT: sending {} messages kept while the broker was away ({} dropped so far)",
-                   publisher_.backlog().size(), publisher_.backlog().dropped());
+                   backlog_->stats().records, backlog_->stats().dropped);
   }
   if (connections == 0 && !warned_unreached_ && now - started_at_ >= kFirstConnectWarning) {
-    spdlog::warn("MQTT: broker not reached in {} s; still trying, keeping up to {} messages",
-                 kFirstConnectWarning.count(), backlog_capacity_);
+    spdlog::warn("MQTT: broker not reached in {} s; still trying, keeping what is due in the "
+                 "backlog",
+                 kFirstConnectWarning.count());
     warned_unreached_ = true;
   }
-  publisher_.take(status_(), now, unix_ms_now());
-  flush();
+  for (MqttMessage& message : publisher_.take(status_(), now, unix_ms_now()))
+    send_or_keep(std::move(message));
+  if (connected) replay();
+  sync_backlog(now);
   report_drops(now);
 }
 
-void MqttFeed::flush() {
-  MqttBacklog& backlog = publisher_.backlog();
-  for (std::size_t sent = 0; sent < kFlushPerTick && !backlog.empty(); ++sent) {
-    if (!client_.publish(backlog.front())) return;  // kept for the next connection
-    backlog.pop();
-    ++published_;
+void MqttFeed::take_acknowledgements() {
+  for (const int mid : client_.take_acknowledged()) {
+    if (unacknowledged_.acknowledged(mid)) continue;
+    auto replayed = replay_.acknowledged(mid, *backlog_);
+    if (!replayed) report_backlog_error(replayed.error());
   }
 }
 
-void MqttFeed::report_drops(std::chrono::steady_clock::time_point now) {
-  const std::uint64_t dropped = publisher_.backlog().dropped();
+void MqttFeed::keep_unacknowledged() {
+  replay_.cancel();
+  for (const MqttMessage& message : unacknowledged_.take_all()) keep(message);
+}
+
+void MqttFeed::send_or_keep(MqttMessage message) {
+  if (const std::optional<int> mid = client_.publish(message)) {
+    ++published_;
+    if (message.retain) return;  // the info is sent again after a reconnect, never replayed
+    for (const MqttMessage& given_up : unacknowledged_.sent(*mid, std::move(message)))
+      keep(given_up);
+    return;
+  }
+  keep(message);
+}
+
+void MqttFeed::keep(const MqttMessage& message) {
+  if (message.retain) return;
+  // An append may drop the oldest, which a batch being replayed may hold.
+  replay_.cancel();
+  MqttMessage kept = message;
+  kept.payload = mqtt_historical_state_json(message.payload);
+  if (auto appended = backlog_->append(kept); !appended) report_backlog_error(appended.error());
+}
+
+void MqttFeed::replay() {
+  const std::uint64_t before = replay_.published();
+  auto stepped = replay_.step(*backlog_, [this](const MqttMessage& message) {
+    return client_.publish(message);
+  });
+  if (!stepped) report_backlog_error(stepped.error());
+  published_ += replay_.published() - before;
+}
+
+void MqttFeed::sync_backlog(Clock::time_point now) {
+  if (now - synced_at_ < kSyncInterval) return;
+  synced_at_ = now;
+  if (auto synced = backlog_->sync(); !synced) report_backlog_error(synced.error());
+}
+
+void MqttFeed::report_drops(Clock::time_point now) {
+  const std::uint64_t dropped = backlog_->stats().dropped;
   if (dropped == drops_reported_ || now - drops_reported_at_ < kDropLogInterval) return;
   spdlog::warn("MQTT: backlog full while the broker is away: {} messages dropped so far "
                "(oldest first)",
                dropped);
   drops_reported_ = dropped;
   drops_reported_at_ = now;
+}
+
+void MqttFeed::report_backlog_error(const std::string& error) {
+  const auto now = Clock::now();
+  if (error_logged_at_ != Clock::time_point{} && now - error_logged_at_ < kDropLogInterval)
+    return;
+  error_logged_at_ = now;
+  spdlog::error("MQTT: backlog: {}", error);
 }
 
 }  // namespace tiltgate

@@ -1,8 +1,11 @@
-// The MQTT feed (docs/northbound.md, "MQTT"): on the gateway's event loop, a timer takes a status copy,
-// the publisher decides what is due into its bounded backlog, and the backlog is handed to the
-// libmosquitto client while it is connected. The copy is taken between bus events and the
-// network is the client's own thread's business, so neither a Modbus reply nor a bus
-// transaction ever waits for the broker.
+// The MQTT feed (docs/northbound.md, "MQTT"): on the gateway's event loop, a timer takes a status
+// copy, the publisher decides what is due, and that goes to the libmosquitto client while it is
+// connected; what it could not send (the broker away, or a connection lost before the
+// broker acknowledged it) goes to the backlog, on disk in <state_dir>/mqtt/ (mqtt/mqtt_backlog.h),
+// which is replayed after the live messages of each tick once the broker is back
+// (mqtt/backlog_replay.h). The copy is taken between bus events and the network is the client's
+// own thread's business, so neither a Modbus reply nor a bus transaction ever waits for the
+// broker.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -14,8 +17,11 @@
 #include "config/config.h"
 #include "driver/expected.h"
 #include "gateway/gateway_status.h"
+#include "mqtt/backlog_replay.h"
+#include "mqtt/mqtt_backlog.h"
 #include "mqtt/mqtt_client.h"
 #include "mqtt/mqtt_publisher.h"
+#include "mqtt/unacknowledged_messages.h"
 
 namespace tiltgate {
 
@@ -25,28 +31,45 @@ class MqttFeed {
   ~MqttFeed();
 
   Expected<Done, std::string> start();
-  // Cancels the timer and sends "offline"; call before the event loop is stopped.
+  // Cancels the timer, sends "offline", keeps what was not acknowledged and closes the
+  // backlog (a feed made by a reload opens it again); call before the event loop is stopped.
   void stop();
   MqttStats stats() const;
 
  private:
+  using Clock = std::chrono::steady_clock;
+
   void schedule();
   void tick();
-  void flush();
-  void report_drops(std::chrono::steady_clock::time_point now);
+  void open_backlog();
+  void take_acknowledgements();
+  void keep_unacknowledged();
+  void send_or_keep(MqttMessage message);
+  void keep(const MqttMessage& message);
+  void replay();
+  void sync_backlog(Clock::time_point now);
+  void report_drops(Clock::time_point now);
+  void report_backlog_error(const std::string& error);
 
   boost::asio::steady_timer timer_;
   StatusSource status_;
+  MqttConfig config_;
   MqttPublisher publisher_;
   MqttClient client_;
+  // Opened at the first tick, on the event loop: as the user the gateway serves as
+  // ([server] user), so the files are that user's.
+  std::unique_ptr<MqttBacklog> backlog_;
+  UnacknowledgedMessages unacknowledged_;
+  BacklogReplay replay_;
   std::chrono::milliseconds period_;
-  std::size_t backlog_capacity_;
-  std::chrono::steady_clock::time_point started_at_{};
+  Clock::time_point started_at_{};
   bool warned_unreached_ = false;
   std::uint64_t published_ = 0;
   std::uint64_t connections_seen_ = 0;
   std::uint64_t drops_reported_ = 0;
-  std::chrono::steady_clock::time_point drops_reported_at_{};
+  Clock::time_point drops_reported_at_{};
+  Clock::time_point synced_at_{};
+  Clock::time_point error_logged_at_{};
   bool running_ = false;
 };
 

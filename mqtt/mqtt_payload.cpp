@@ -25,6 +25,12 @@ std::string mqtt_state_json(const SensorStatus& s, std::int64_t now_unix_ms) {
       s.age_ms ? std::to_string(*s.age_ms) : "null", s.alarms);
 }
 
+std::string mqtt_historical_state_json(std::string_view state_json) {
+  if (state_json.empty() || state_json.back() != '}') return std::string(state_json);
+  state_json.remove_suffix(1);
+  return fmt::format("{},\"historical\":true}}", state_json);
+}
+
 std::string mqtt_info_json(const SensorStatus& s) {
   return fmt::format(
       "{{\"name\":{},\"bus\":{},\"unit_id\":{},\"address\":{},\"model\":{},\"serial\":{},"

@@ -25,6 +25,10 @@ inline constexpr std::string_view kMqttOffline = "offline";
 // `now_unix_ms` when there is none yet (x, y and tilt are then null).
 std::string mqtt_state_json(const SensorStatus& sensor, std::int64_t now_unix_ms);
 
+// A state kept in the backlog, as it is replayed: `state_json` with "historical":true added, so a
+// subscriber that shows the latest state can tell a replayed, older one from a live one.
+std::string mqtt_historical_state_json(std::string_view state_json);
+
 // The sensor's identity: name, bus, unit_id, address, model, serial, firmware. Retained, and
 // published again whenever it changes (the serial arrives after the first poll).
 std::string mqtt_info_json(const SensorStatus& sensor);

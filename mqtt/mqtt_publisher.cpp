@@ -6,18 +6,6 @@
 
 namespace tiltgate {
 
-void MqttBacklog::push(MqttMessage message) {
-  if (capacity_ == 0) {
-    ++dropped_;
-    return;
-  }
-  if (messages_.size() == capacity_) {
-    messages_.pop_front();
-    ++dropped_;
-  }
-  messages_.push_back(std::move(message));
-}
-
 namespace {
 
 // An angle appearing or disappearing counts as a change of any size.
@@ -48,24 +36,26 @@ void StatePacer::published(const StateSample& sample, Clock::time_point now) {
 }
 
 MqttPublisher::MqttPublisher(MqttPublisherOptions options)
-    : options_(std::move(options)), backlog_(options_.backlog) {}
+    : options_(std::move(options)) {}
 
-void MqttPublisher::take(const GatewayStatus& status, Clock::time_point now,
-                         std::int64_t now_unix_ms) {
+std::vector<MqttMessage> MqttPublisher::take(const GatewayStatus& status, Clock::time_point now,
+                                             std::int64_t now_unix_ms) {
+  std::vector<MqttMessage> due;
   for (const SensorStatus& sensor : status.sensors) {
     std::string info = mqtt_info_json(sensor);
     auto known = info_.find(sensor.name);
     if (known == info_.end() || known->second != info) {
-      backlog_.push({mqtt_info_topic(options_.topic_prefix, sensor.name), info, true});
+      due.push_back({mqtt_info_topic(options_.topic_prefix, sensor.name), info, true, now_unix_ms});
       info_[sensor.name] = std::move(info);
     }
     const StateSample sample{sensor.x, sensor.y, sensor.online, sensor.polls_ok};
     StatePacer& pacer = pacers_.try_emplace(sensor.name, options_.pacing).first->second;
     if (!pacer.due(sample, now)) continue;
-    backlog_.push({mqtt_state_topic(options_.topic_prefix, sensor.name),
-                   mqtt_state_json(sensor, now_unix_ms), false});
+    due.push_back({mqtt_state_topic(options_.topic_prefix, sensor.name),
+                   mqtt_state_json(sensor, now_unix_ms), false, now_unix_ms});
     pacer.published(sample, now);
   }
+  return due;
 }
 
 }  // namespace tiltgate

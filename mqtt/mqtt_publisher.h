@@ -1,45 +1,20 @@
-// The MQTT feed's decisions, without a broker (docs/northbound.md, "MQTT"): when a sensor's state is due,
-// which identity has changed, and the bounded backlog that holds messages while the broker is
-// away. Pure: time is passed in; mqtt/mqtt_client.h sends what this produces.
+// The MQTT feed's decisions, without a broker (docs/northbound.md, "MQTT"): when a sensor's state
+// is due and which identity has changed. Pure: time is passed in; mqtt/mqtt_feed.h sends what
+// this produces, or keeps it in its backlog (mqtt/mqtt_backlog.h).
 #pragma once
 
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "gateway/gateway_status.h"
+#include "mqtt/mqtt_message.h"
 
 namespace tiltgate {
-
-struct MqttMessage {
-  std::string topic;
-  std::string payload;
-  bool retain = false;
-};
-
-// Messages waiting for the broker, oldest first, at most `capacity`. When full, the oldest is
-// dropped and counted: a subscriber that comes back wants the latest states, and an old state
-// is superseded by a newer one of the same sensor anyway.
-class MqttBacklog {
- public:
-  explicit MqttBacklog(std::size_t capacity) : capacity_(capacity) {}
-
-  void push(MqttMessage message);
-  const MqttMessage& front() const { return messages_.front(); }
-  void pop() { messages_.pop_front(); }
-  bool empty() const { return messages_.empty(); }
-  std::size_t size() const { return messages_.size(); }
-  std::uint64_t dropped() const { return dropped_; }
-
- private:
-  std::size_t capacity_;
-  std::deque<MqttMessage> messages_;
-  std::uint64_t dropped_ = 0;
-};
 
 struct MqttPacing {
   std::chrono::milliseconds interval{1000};  // a sensor's state at least this often
@@ -78,30 +53,27 @@ class StatePacer {
 struct MqttPublisherOptions {
   std::string topic_prefix;
   MqttPacing pacing;
-  std::size_t backlog = 1000;
 };
 
-// Turns status copies into messages in the backlog: each sensor's state when its pacer says
-// so, and its info (retained) when it differs from the last one queued.
+// Turns status copies into messages: each sensor's state when its pacer says so, and its info
+// (retained) when it differs from the last one made.
 class MqttPublisher {
  public:
   using Clock = std::chrono::steady_clock;
 
   explicit MqttPublisher(MqttPublisherOptions options);
 
-  void take(const GatewayStatus& status, Clock::time_point now, std::int64_t now_unix_ms);
+  // The messages due now, in the order to send them.
+  std::vector<MqttMessage> take(const GatewayStatus& status, Clock::time_point now,
+                                std::int64_t now_unix_ms);
   // After a (re)connect: the broker may have restarted without its retained messages, so every
-  // sensor's info is queued again at the next take().
+  // sensor's info is made again at the next take().
   void forget_info() { info_.clear(); }
-
-  MqttBacklog& backlog() { return backlog_; }
-  const MqttBacklog& backlog() const { return backlog_; }
 
  private:
   MqttPublisherOptions options_;
   std::map<std::string, StatePacer> pacers_;  // by sensor name
-  std::map<std::string, std::string> info_;   // the last info payload queued, by sensor name
-  MqttBacklog backlog_;
+  std::map<std::string, std::string> info_;   // the last info payload made, by sensor name
 };
 
 }  // namespace tiltgate

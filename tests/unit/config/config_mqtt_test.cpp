@@ -2,6 +2,7 @@
 // defaults, and its mistakes reported like every other table's.
 #include <doctest/doctest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "config/config_loader.h"
@@ -26,7 +27,9 @@ TEST_CASE("config: [mqtt] with a host publishes with the defaults") {
   CHECK(config.mqtt.interval == std::chrono::milliseconds(1000));
   CHECK(config.mqtt.on_change_deg == doctest::Approx(0.01));
   CHECK(config.mqtt.keepalive_s == 30);
-  CHECK(config.mqtt.backlog == 1000);
+  CHECK_FALSE(config.mqtt.backlog.has_value());  // buffer_mb alone bounds it
+  CHECK(config.mqtt.state_dir == "/var/lib/tiltgate");
+  CHECK(config.mqtt.buffer_mb == 64);
   CHECK(config.mqtt.username.empty());
   CHECK(config.mqtt.ca_file.empty());
 }
@@ -47,6 +50,34 @@ TEST_CASE("config: [mqtt] keys are read") {
   CHECK(config.mqtt.username == "gw");
   CHECK(config.mqtt.password == "secret");
   CHECK(config.mqtt.backlog == 0);
+}
+
+TEST_CASE("config: [mqtt] state_dir, buffer_mb and backlog say where and how much is kept") {
+  ScratchDir dir;
+  const Config config =
+      loads("[mqtt]\nhost = \"b\"\nstate_dir = \"" + dir.path("state") +
+            "\"\nbuffer_mb = 0.5\nbacklog = 5000\n" + valid_plus(""));
+  CHECK(config.mqtt.state_dir == dir.path("state"));
+  CHECK(config.mqtt.buffer_mb == doctest::Approx(0.5));
+  CHECK(config.mqtt.backlog == std::size_t{5000});
+  // Checking creates nothing: `tiltgate check` leaves the disk as it was.
+  CHECK_FALSE(std::filesystem::exists(dir.path("state")));
+}
+
+TEST_CASE("config: [mqtt] a relative state_dir is taken from the file's directory") {
+  ScratchDir dir;
+  const std::string file =
+      dir.write("tiltgate.toml", "[mqtt]\nhost = \"b\"\nstate_dir = \"state\"\n" + valid_plus(""));
+  auto loaded = load_config_file(file, registered_families());
+  REQUIRE(loaded);
+  CHECK(loaded->mqtt.state_dir == (std::filesystem::path(file).parent_path() / "state").string());
+}
+
+TEST_CASE("config: [mqtt] state_dir and buffer_mb mistakes are reported at their key") {
+  expect_error("[mqtt]\nhost = \"b\"\nstate_dir = \"\"\n" + valid_plus(""), 3, "mqtt.state_dir",
+               "empty, expected a directory the gateway may write, e.g. \"/var/lib/tiltgate\"");
+  expect_error("[mqtt]\nhost = \"b\"\nbuffer_mb = 0\n" + valid_plus(""), 3, "mqtt.buffer_mb",
+               "0 is out of range, expected 0.01..65536");
 }
 
 TEST_CASE("config: [mqtt] enabled = false keeps the table but publishes nothing") {
@@ -80,7 +111,7 @@ TEST_CASE("config: [mqtt] mistakes are reported at their key") {
   expect_error("[mqtt]\nhost = \"b\"\nkeepalive_s = 2\n" + valid_plus(""), 3, "mqtt.keepalive_s",
                "2 is out of range, expected 5..65535");
   expect_error("[mqtt]\nhost = \"b\"\nbacklog = -1\n" + valid_plus(""), 3, "mqtt.backlog",
-               "-1 is out of range, expected 0..1000000");
+               "-1 is out of range, expected 0..100000000");
   expect_error("[mqtt]\nhost = \"b\"\nclient_id = \"\"\n" + valid_plus(""), 3, "mqtt.client_id",
                "empty, expected a name unique among the broker's clients");
   expect_error("[mqtt]\nhost = \"b\"\npassword = \"p\"\n" + valid_plus(""), 3, "mqtt.password",

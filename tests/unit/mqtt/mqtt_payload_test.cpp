@@ -62,3 +62,7 @@ TEST_CASE("mqtt: info is the sensor's identity, strings escaped") {
   s.firmware = "A\"8";
   CHECK(mqtt_info_json(s).find(R"("firmware":"A\"8")") != std::string::npos);
 }
+
+TEST_CASE("mqtt payload: a state kept for a replay says it is historical, and nothing else changes") {
+  CHECK(mqtt_historical_state_json(R"({"ts":1,"x":null})") == R"({"ts":1,"x":null,"historical":true})");
+}

@@ -1,5 +1,5 @@
-// The MQTT feed's decisions: when a sensor's state is due (interval, on_change_deg, online),
-// when its info is sent again, and the bounded backlog that drops its oldest messages.
+// The MQTT feed's decisions: when a sensor's state is due (interval, on_change_deg, online), and
+// when its info is sent again.
 #include <doctest/doctest.h>
 
 #include <string>
@@ -38,13 +38,10 @@ SensorStatus sensor(std::string name, double x) {
   return s;
 }
 
-std::vector<std::string> drain(MqttBacklog& backlog) {
-  std::vector<std::string> topics;
-  while (!backlog.empty()) {
-    topics.push_back(backlog.front().topic);
-    backlog.pop();
-  }
-  return topics;
+std::vector<std::string> topics(const std::vector<MqttMessage>& messages) {
+  std::vector<std::string> out;
+  for (const MqttMessage& message : messages) out.push_back(message.topic);
+  return out;
 }
 
 }  // namespace
@@ -92,71 +89,37 @@ TEST_CASE("mqtt pacing: a sensor going offline, or its first reading, is due at 
   CHECK(fresh.due(StateSample{1.0, 0.0, false, 1}, t0 + 100ms));
 }
 
-TEST_CASE("mqtt backlog: full, it drops the oldest and counts each drop") {
-  MqttBacklog backlog(3);
-  for (int i = 0; i < 5; ++i) backlog.push({"t" + std::to_string(i), "", false});
-  CHECK(backlog.size() == 3);
-  CHECK(backlog.dropped() == 2);
-  CHECK(drain(backlog) == std::vector<std::string>{"t2", "t3", "t4"});
-}
-
-TEST_CASE("mqtt backlog: a capacity of 0 keeps nothing and counts every message") {
-  MqttBacklog backlog(0);
-  backlog.push({"t", "", false});
-  CHECK(backlog.empty());
-  CHECK(backlog.dropped() == 1);
-}
-
 TEST_CASE("mqtt publisher: each sensor's info (retained) then state, then states as they come due") {
-  MqttPublisher publisher({"gw", pacing(0.5), 100});
+  MqttPublisher publisher({"gw", pacing(0.5)});
   GatewayStatus status;
   status.sensors = {sensor("boom", 1.0), sensor("mast", 2.0)};
-  publisher.take(status, t0, 1000);
-  MqttBacklog& backlog = publisher.backlog();
-  REQUIRE(backlog.size() == 4);
-  CHECK(backlog.front().topic == "gw/boom/info");
-  CHECK(backlog.front().retain);
-  backlog.pop();
-  CHECK(backlog.front().topic == "gw/boom/state");
-  CHECK_FALSE(backlog.front().retain);
-  CHECK(drain(backlog) == std::vector<std::string>{"gw/boom/state", "gw/mast/info", "gw/mast/state"});
+  const std::vector<MqttMessage> first = publisher.take(status, t0, 1000);
+  REQUIRE(first.size() == 4);
+  CHECK(first[0].retain);
+  CHECK_FALSE(first[1].retain);
+  CHECK(first[1].time_unix_ms == 1000);
+  CHECK(topics(first) ==
+        std::vector<std::string>{"gw/boom/info", "gw/boom/state", "gw/mast/info", "gw/mast/state"});
 
   status.sensors[1].x = 3.0;  // mast moved; boom did not
-  publisher.take(status, t0 + 200ms, 1200);
-  CHECK(drain(backlog) == std::vector<std::string>{"gw/mast/state"});
-  publisher.take(status, t0 + 1100ms, 2100);  // boom's interval is over
-  CHECK(drain(backlog) == std::vector<std::string>{"gw/boom/state"});
+  CHECK(topics(publisher.take(status, t0 + 200ms, 1200)) ==
+        std::vector<std::string>{"gw/mast/state"});
+  // boom's interval is over
+  CHECK(topics(publisher.take(status, t0 + 1100ms, 2100)) ==
+        std::vector<std::string>{"gw/boom/state"});
 }
 
 TEST_CASE("mqtt publisher: info is sent again when it changes, and after forget_info") {
-  MqttPublisher publisher({"gw", pacing(0.5), 100});
+  MqttPublisher publisher({"gw", pacing(0.5)});
   GatewayStatus status;
   status.sensors = {sensor("boom", 1.0)};
   publisher.take(status, t0, 1000);
-  drain(publisher.backlog());
   status.sensors[0].serial = "9600223";  // arrives after the first poll
-  publisher.take(status, t0 + 10ms, 1010);
-  REQUIRE(publisher.backlog().size() == 1);
-  CHECK(publisher.backlog().front().payload.find("9600223") != std::string::npos);
-  drain(publisher.backlog());
-  publisher.take(status, t0 + 20ms, 1020);
-  CHECK(publisher.backlog().empty());
+  const std::vector<MqttMessage> changed = publisher.take(status, t0 + 10ms, 1010);
+  REQUIRE(changed.size() == 1);
+  CHECK(changed[0].payload.find("9600223") != std::string::npos);
+  CHECK(publisher.take(status, t0 + 20ms, 1020).empty());
   publisher.forget_info();
-  publisher.take(status, t0 + 30ms, 1030);
-  CHECK(drain(publisher.backlog()) == std::vector<std::string>{"gw/boom/info"});
-}
-
-TEST_CASE("mqtt publisher: a small backlog keeps the latest messages while nothing drains it") {
-  MqttPublisher publisher({"gw", pacing(0.0), 2});
-  GatewayStatus status;
-  status.sensors = {sensor("boom", 1.0)};
-  for (int i = 0; i < 5; ++i) {
-    status.sensors[0].polls_ok = std::uint64_t(i + 1);
-    status.sensors[0].x = double(i);
-    publisher.take(status, t0 + i * 200ms, 1000 + i * 200);
-  }
-  // info + 5 states queued, 2 kept: the last two states.
-  CHECK(publisher.backlog().dropped() == 4);
-  REQUIRE(publisher.backlog().size() == 2);
-  CHECK(publisher.backlog().front().payload.find(R"("x":3)") != std::string::npos);
+  CHECK(topics(publisher.take(status, t0 + 30ms, 1030)) ==
+        std::vector<std::string>{"gw/boom/info"});
 }
