@@ -129,16 +129,12 @@ void MqttFeed::open_backlog() {
       backlog_ = std::make_unique<StoredBacklog>(std::move(*stored));
       return;
     }
-    // The default directory missing (a run without the package, not as root) must not stop
-    // the feed: it runs as before the store, in memory (docs/operations.md, "The state
-    // directory"). One given in the file was checked when it was loaded.
-    if (config_.state_dir_given)
-      spdlog::error("MQTT: {}; the backlog is kept in memory and lost on a restart",
-                    stored.error());
-    else
-      spdlog::warn("MQTT: {}; the backlog is kept in memory and lost on a restart (set [mqtt] "
-                   "state_dir to a directory this user may write)",
-                   stored.error());
+    // A state directory this user cannot write (a run without the package, not as root) must
+    // not stop the live feed: the backlog is then kept in memory, as before the store, and
+    // said loudly (docs/operations.md, "The state directory").
+    spdlog::error("MQTT: {}; the backlog is kept in memory and lost on a restart (set [mqtt] "
+                  "state_dir to a directory this user may write)",
+                  stored.error());
   }
   backlog_ = std::make_unique<MemoryBacklog>(limits);
 }

@@ -90,6 +90,7 @@ topic_prefix = "$prefix"
 interval_ms = 500
 keepalive_s = 5
 backlog = 5
+state_dir = "$dir/state"
 
 [[bus]]
 name = "line1"

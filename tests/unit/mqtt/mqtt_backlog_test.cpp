@@ -50,7 +50,7 @@ std::vector<int> range(int from, int to) {
   return out;
 }
 
-std::unique_ptr<MqttBacklog> stored(const ScratchDir& dir, BacklogLimits limits) {
+std::unique_ptr<StoredBacklog> stored(const ScratchDir& dir, BacklogLimits limits) {
   auto backlog = StoredBacklog::open(dir.path("mqtt"), limits, 1);
   REQUIRE(backlog.has_value());
   return std::make_unique<StoredBacklog>(std::move(*backlog));

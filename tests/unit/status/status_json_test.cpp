@@ -189,7 +189,7 @@ TEST_CASE("JSON: /api/modbus counts the connections and who was kept out") {
 TEST_CASE("metrics: the MQTT feed's series only when [mqtt] is on") {
   GatewayStatus status = plant();
   CHECK(metrics_text(status).find("tiltgate_mqtt_") == std::string::npos);
-  status.mqtt = MqttStats{12, 3, 5, true, 1};
+  status.mqtt = MqttStats{12, 3, 5, true, 1, {}};
   const std::string text = metrics_text(status);
   CHECK(text.find("tiltgate_mqtt_connected 1\n") != std::string::npos);
   CHECK(text.find("tiltgate_mqtt_published_total 12\n") != std::string::npos);
@@ -231,7 +231,7 @@ TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the
       R"((tiltgate_[a-z_]+)(\{([a-z_]+="([^"\\\n]|\\[\\"n])*")(,[a-z_]+="([^"\\\n]|\\[\\"n])*")*\})? )"
       R"((-?[0-9.]+(e[-+]?[0-9]+)?|NaN|[+-]Inf))");
   GatewayStatus status = plant();
-  status.mqtt = MqttStats{12, 3, 5, true, 1};
+  status.mqtt = MqttStats{12, 3, 5, true, 1, {}};
   status.sparkplug = SparkplugStats{true, 42, 1, 2, 3, 4, 5};
   status.stores.push_back(StoreStats{"sparkplug", 4096, 7, 8, 9});
   std::istringstream lines(metrics_text(status));

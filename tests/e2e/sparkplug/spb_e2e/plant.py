@@ -1,7 +1,7 @@
 """The plant under test: `tiltgate sim rieker` with an H6 (boom, address 223) and an H4360
 (mast, address 101) on one pseudo-terminal, taking console commands (angle, silent, answer) on
 its standard input (or other sensors, on more buses), and `tiltgate run` on them with a
-[sparkplug] table, its /metrics read over HTTP."""
+[sparkplug] table (or an [mqtt] one, or both), its /metrics read over HTTP."""
 import os
 import re
 import signal
@@ -46,10 +46,11 @@ class Simulator:
 
 
 class Gateway:
-    """`tiltgate run` on the simulator's bus; `sparkplug` gives the [sparkplug] keys."""
+    """`tiltgate run` on the simulator's bus; `sparkplug` gives the [sparkplug] keys (None: no
+    such table), `mqtt` those of an [mqtt] table."""
 
     def __init__(self, tiltgate, scratch_dir, simulators, sparkplug, sensor_keys=None,
-                 bus_keys=None, name="gateway"):
+                 bus_keys=None, name="gateway", mqtt=None):
         """`simulators`: one Simulator, or several, each its own [[bus]]; `sensor_keys` and
         `bus_keys` go into every [[sensor]] and [[bus]]."""
         if isinstance(simulators, Simulator):
@@ -61,8 +62,11 @@ class Gateway:
         self.config_path = os.path.join(scratch_dir, name + ".toml")
         lines = ["[server]", 'listen = "127.0.0.1"', "port = %d" % self.modbus_port,
                  'control_socket = ""', "", "[http]", 'listen = "127.0.0.1"',
-                 "port = %d" % self.http_port, "", "[sparkplug]"]
-        lines += ["%s = %s" % (k, toml_value(v)) for k, v in sparkplug.items()]
+                 "port = %d" % self.http_port]
+        for table, keys in (("sparkplug", sparkplug), ("mqtt", mqtt)):
+            if keys is not None:
+                lines += ["", "[%s]" % table]
+                lines += ["%s = %s" % (k, toml_value(v)) for k, v in keys.items()]
         for i, simulator in enumerate(simulators):
             bus = "line%d" % (i + 1)
             lines += ["", "[[bus]]", 'name = "%s"' % bus, 'port = "%s"' % simulator.link,
