@@ -13,17 +13,13 @@ Usage: /usr/bin/python3 mqtt_store_test.py path/to/tiltgate
 import json
 import os
 import sys
-import threading
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sparkplug"))
-import paho.mqtt.client as mqtt  # noqa: E402
-from paho.mqtt.packettypes import PacketTypes  # noqa: E402
-from paho.mqtt.properties import Properties  # noqa: E402
-
 from spb_e2e import store_files  # noqa: E402
 from spb_e2e.broker import Broker  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
+from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.plant import Gateway, Simulator  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
 
@@ -39,29 +35,13 @@ def now_ms():
     return int(time.time() * 1000)
 
 
-class JsonObserver:
-    """A subscriber to <prefix>/# with a persistent MQTT 5 session: every state it got, in the
-    order the broker delivered them, as (index, sensor, state dict)."""
+class JsonObserver(Observer):
+    """A subscriber to <prefix>/# with a persistent MQTT 5 session (spb_e2e/observer.py's): every
+    state it got, in the order the broker delivered them, as (index, sensor, state dict, raw)."""
 
     def __init__(self, broker):
-        self.broker = broker
-        self._lock = threading.Lock()
+        super().__init__(broker, None, client_id="json-observer", topic=PREFIX + "/#")
         self._states = []
-        self._subscribed = threading.Event()
-        self.client = mqtt.Client(client_id="json-observer", protocol=mqtt.MQTTv5)
-        self.client.on_connect = lambda c, *a, **k: c.subscribe(PREFIX + "/#", qos=1)
-        self.client.on_subscribe = lambda *args: self._subscribed.set()
-        self.client.on_message = self._on_message
-        self.client.reconnect_delay_set(min_delay=0.1, max_delay=0.5)
-
-    def start(self):
-        properties = Properties(PacketTypes.CONNECT)
-        properties.SessionExpiryInterval = 3600
-        self.client.connect("127.0.0.1", self.broker.port, keepalive=5, clean_start=False,
-                            properties=properties)
-        self.client.loop_start()
-        if not self._subscribed.wait(10):
-            raise RuntimeError("the observer did not get its SUBACK")
 
     def _on_message(self, client, userdata, msg):
         parts = msg.topic.split("/")
