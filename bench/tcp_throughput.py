@@ -6,7 +6,8 @@ For 1, 8, 32 and 64 clients x function 03 / 04 x 10 / 125 registers, runs of the
 alternate (reference, tiltgate, reference, ...), each run bench_modbus_load for a few seconds;
 the table shows medians over the runs: requests/s of each, the ratio tiltgate / reference, and
 the p50 / p99 / p99.9 latency of each (us), and each server's CPU time per request (us; user +
-system, from /proc, so it holds up better than requests/s when other work shares the cores).
+system, from /proc, so it holds up better than requests/s when other work shares the cores)
+with its ratio to the reference's.
 
 tiltgate runs as `tiltgate run` on one simulated Rieker H6 (`tiltgate sim rieker`, polled every
 50 ms at 125000 baud, so the bus works meanwhile as in a plant), unit 1, with a map that extends
@@ -200,6 +201,7 @@ def main():
             header += f" {name} req/s | {name}/reference |"
         header += " reference p50/p99/p99.9 |" + "".join(f" {n} p50/p99/p99.9 |" for n in others)
         header += " CPU us/req " + " / ".join(["reference"] + others) + " |"
+        header += "".join(f" {n} CPU/reference |" for n in others)
         print(header)
         print("|" + " ---: |" * (header.count("|") - 1))
         for clients in client_counts:
@@ -220,6 +222,8 @@ def main():
                         m = med[name]
                         row += f" {m['p50_us']:.0f} / {m['p99_us']:.0f} / {m['p999_us']:.0f} |"
                     row += " " + " / ".join(f"{med[n]['cpu_us']:.1f}" for n in ["reference"] + others) + " |"
+                    for name in others:
+                        row += f" {med[name]['cpu_us'] / max(ref['cpu_us'], 1e-9):.2f} |"
                     print(row, flush=True)
     finally:
         for server in running.values():

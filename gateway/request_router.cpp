@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "gateway/bus_scheduler.h"
+#include "gateway/router_reader.h"
+#include "gateway/sensor_read.h"
 #include "gateway/sensor_write.h"
 #include "modbus_tcp/device_identification.h"
 #include "modbus_tcp/modbus_request.h"
@@ -21,18 +23,6 @@ ModbusResponse failure(ModbusException code) {
   response.exception = code;
   return response;
 }
-
-RegisterTable table_of(ModbusTable table) {
-  switch (table) {
-    case ModbusTable::coil: return RegisterTable::coil;
-    case ModbusTable::discrete: return RegisterTable::discrete;
-    case ModbusTable::input: return RegisterTable::input;
-    case ModbusTable::holding: return RegisterTable::holding;
-  }
-  return RegisterTable::holding;
-}
-
-ModbusException exception_for(MapFault fault) { return ModbusException(std::uint8_t(fault)); }
 
 }  // namespace
 
@@ -78,9 +68,13 @@ std::vector<DeviceObject> device_objects(const GatewaySensor& sensor, const Sens
 RequestRouter::RequestRouter(boost::asio::any_io_executor bus_executor, RouterOptions options)
     : bus_executor_(std::move(bus_executor)), routes_(std::make_shared<const Routes>(Routes{options})) {}
 
-std::shared_ptr<const RequestRouter::Routes> RequestRouter::routes() const {
+std::shared_ptr<const UnitRoutes> RequestRouter::routes() const {
   std::lock_guard lock(routes_mutex_);
   return routes_;
+}
+
+std::unique_ptr<ModbusReader> RequestRouter::reader() {
+  return std::make_unique<RouterReader>(*this);
 }
 
 template <class Change>
@@ -95,6 +89,7 @@ void RequestRouter::edit(Change change) {
   std::shared_ptr<const Routes> next = std::move(edited);
   std::lock_guard lock(routes_mutex_);
   routes_.swap(next);
+  generation_.fetch_add(1, std::memory_order_release);
 }
 
 void RequestRouter::begin_update() {
@@ -107,6 +102,7 @@ void RequestRouter::commit_update() {
   draft_.reset();
   std::lock_guard lock(routes_mutex_);
   routes_.swap(next);
+  generation_.fetch_add(1, std::memory_order_release);
 }
 
 void RequestRouter::add(GatewaySensor& sensor) {
@@ -156,7 +152,9 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest
     if (snapshot == nullptr) co_return failure(ModbusException::gateway_target_failed);
     if (request.function == modbus_function::encapsulated_interface)
       co_return identify(*sensor, *snapshot);
-    co_return read(*sensor, *snapshot, request, order);
+    ModbusResponse response;
+    read_sensor(*sensor, *snapshot, request, order, response);
+    co_return response;
   }
   // A gateway must not let anyone on the plant network re-address a sensor by default.
   if (!routes->options.writes) co_return failure(ModbusException::illegal_function);
@@ -164,23 +162,6 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest
   co_return co_await boost::asio::co_spawn(
       bus_executor_, write(std::move(sensor), request, routes->options),
       boost::asio::use_awaitable);
-}
-
-ModbusResponse RequestRouter::read(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
-                                   const ModbusRequest& request, WordOrder order) {
-  const auto view = sensor.view(snapshot, SteadyClock::now(), order);
-  const auto table = table_of(request.table);
-  ModbusResponse response;
-  if (table == RegisterTable::coil || table == RegisterTable::discrete) {
-    auto bits = read_bits(sensor.map, view, table, request.address, request.count);
-    if (!bits) return failure(exception_for(bits.error()));
-    response.bits = std::move(*bits);
-  } else {
-    auto words = read_registers(sensor.map, view, table, request.address, request.count);
-    if (!words) return failure(exception_for(words.error()));
-    response.registers = std::move(*words);
-  }
-  return response;
 }
 
 ModbusResponse RequestRouter::identify(const GatewaySensor& sensor,

@@ -22,18 +22,12 @@
 #include "config/config.h"
 #include "gateway/gateway_aggregate.h"
 #include "gateway/gateway_sensor.h"
+#include "gateway/unit_routes.h"
 #include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
 
-class BusScheduler;
 enum class ForwardFailure;
-
-struct RouterOptions {
-  bool writes = false;
-  WordOrder word_order = WordOrder::big;
-  std::chrono::milliseconds write_timeout{3000};
-};
 
 class RequestRouter : public ModbusRequestHandler {
  public:
@@ -62,6 +56,13 @@ class RequestRouter : public ModbusRequestHandler {
   void stop() { stopping_ = true; }
 
   boost::asio::awaitable<ModbusResponse> handle(const ModbusRequest& request) override;
+  // A connection's cached reader of this router (gateway/router_reader.h).
+  std::unique_ptr<ModbusReader> reader() override;
+
+  // The table now, and how many tables came before it: a reader takes a new table only when
+  // the generation moved (read it first: the table got is then at least that new).
+  std::shared_ptr<const UnitRoutes> routes() const;
+  std::uint64_t generation() const { return generation_.load(std::memory_order_acquire); }
 
   // Pass-through: requests for `unit_id` go to the device with that address on `bus`, under
   // the same write rule as the cached sensors. The unit id must be no sensor's.
@@ -75,20 +76,12 @@ class RequestRouter : public ModbusRequestHandler {
                                                  std::vector<std::uint8_t> pdu) override;
 
  private:
-  struct Routes {
-    RouterOptions options;
-    std::array<std::shared_ptr<GatewaySensor>, 256> units{};
-    std::array<std::shared_ptr<GatewayAggregate>, 256> aggregates{};
-    std::array<BusScheduler*, 256> forwarded{};
-  };
+  using Routes = UnitRoutes;
 
-  std::shared_ptr<const Routes> routes() const;
   // Replaces the table with a copy `change` has edited (the buses' thread only).
   template <class Change>
   void edit(Change change);
 
-  static ModbusResponse read(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
-                             const ModbusRequest& request, WordOrder order);
   static ModbusResponse identify(const GatewaySensor& sensor, const SensorSnapshot& snapshot);
   // Runs on the buses' executor; the write holds the sensor to the end.
   boost::asio::awaitable<ModbusResponse> write(std::shared_ptr<GatewaySensor> sensor,
@@ -100,6 +93,7 @@ class RequestRouter : public ModbusRequestHandler {
   boost::asio::any_io_executor bus_executor_;
   mutable std::mutex routes_mutex_;  // guards the pointer only
   std::shared_ptr<const Routes> routes_;
+  std::atomic<std::uint64_t> generation_ = 0;  // tables swapped in so far
   std::shared_ptr<Routes> draft_;  // between begin_update() and commit_update()
   std::atomic<bool> stopping_ = false;
 };

@@ -4,6 +4,8 @@
 // lock is held while it is built.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
@@ -37,15 +39,22 @@ class SnapshotSlot {
 
   SnapshotSlot() = default;
   // Only while nobody else uses the slot (a sensor being built and returned).
-  SnapshotSlot(SnapshotSlot&& other) noexcept : current_(other.get()) {}
+  SnapshotSlot(SnapshotSlot&& other) noexcept
+      : current_(other.get()), generation_(other.generation()) {}
 
   void publish(std::shared_ptr<const SensorSnapshot> next) {
     {
       std::unique_lock lock(mutex());
       current_.swap(next);
+      generation_.fetch_add(1, std::memory_order_release);
     }
     // `next` now holds the old snapshot: freed here, outside the lock, when nobody reads it.
   }
+  // Goes up with every publish(): a reader that keeps a snapshot (a connection's, see
+  // gateway/router_reader.h) takes a new one only when this moved, so a read of an unchanged
+  // sensor takes no lock and touches no reference count another thread touches too. Read
+  // before get(): the snapshot got is then at least that new.
+  std::uint64_t generation() const { return generation_.load(std::memory_order_acquire); }
   std::shared_ptr<const SensorSnapshot> get() const {
     std::shared_lock lock(mutex());
     return current_;
@@ -59,6 +68,7 @@ class SnapshotSlot {
   }
 
   std::shared_ptr<const SensorSnapshot> current_;
+  std::atomic<std::uint64_t> generation_ = 0;
 };
 
 }  // namespace tiltgate

@@ -12,16 +12,16 @@ namespace {
 
 // Covered points in address order, or illegal_address when a register in the range is not
 // mapped or a point sticks out of it (a read that splits a 32-bit value).
-Expected<std::vector<const Point*>, MapFault> covering_points(const RegisterMap& map,
-                                                              RegisterTable table,
-                                                              std::uint32_t address,
-                                                              std::uint32_t count) {
+Expected<std::span<const Point>, MapFault> covering_points(const RegisterMap& map,
+                                                           RegisterTable table,
+                                                           std::uint32_t address,
+                                                           std::uint32_t count) {
   if (!map.has_table(table)) return Unexpected(MapFault::no_such_table);
-  auto points = map.overlapping(table, address, count);
+  const std::span<const Point> points = map.overlapping(table, address, count);
   std::uint32_t next = address;
-  for (const Point* p : points) {
-    if (p->address != next) return Unexpected(MapFault::illegal_address);
-    next = p->end();
+  for (const Point& p : points) {
+    if (p.address != next) return Unexpected(MapFault::illegal_address);
+    next = p.end();
   }
   if (next != address + count) return Unexpected(MapFault::illegal_address);
   return points;
@@ -34,10 +34,10 @@ bool is_measurement_point(const Point& p) {
 // How measurement points read in this request.
 enum class Measurements { fresh, substituted };
 
-Expected<Measurements, MapFault> measurements_for(const std::vector<const Point*>& points,
+Expected<Measurements, MapFault> measurements_for(std::span<const Point> points,
                                                   const SensorView& v) {
   const bool needed = std::any_of(points.begin(), points.end(),
-                                  [](const Point* p) { return is_measurement_point(*p); });
+                                  [](const Point& p) { return is_measurement_point(p); });
   if (!needed || (v.online() && !v.stale())) return Measurements::fresh;
   switch (v.offline) {
     case OfflineRead::exception:
@@ -93,32 +93,48 @@ bool bit_value(const Point& p, const SensorView& v, Measurements measurements) {
 
 }  // namespace
 
+Expected<Done, MapFault> read_registers(const RegisterMap& map, const SensorView& sensor,
+                                        RegisterTable table, std::uint16_t address,
+                                        std::span<std::uint16_t> words) {
+  const auto count = std::uint32_t(words.size());
+  auto points = covering_points(map, table, address, count);
+  if (!points) return Unexpected(points.error());
+  auto measurements = measurements_for(*points, sensor);
+  if (!measurements) return Unexpected(measurements.error());
+  for (const Point& p : *points)
+    encode_point(p, sensor, *measurements, words.subspan(p.address - address, p.words()));
+  return Done{};
+}
+
 Expected<std::vector<std::uint16_t>, MapFault> read_registers(const RegisterMap& map,
                                                               const SensorView& sensor,
                                                               RegisterTable table,
                                                               std::uint16_t address,
                                                               std::uint16_t count) {
+  std::vector<std::uint16_t> words(count);
+  if (auto read = read_registers(map, sensor, table, address, std::span(words)); !read)
+    return Unexpected(read.error());
+  return words;
+}
+
+Expected<Done, MapFault> read_bits(const RegisterMap& map, const SensorView& sensor,
+                                   RegisterTable table, std::uint16_t address,
+                                   std::uint16_t count, std::vector<bool>& bits) {
   auto points = covering_points(map, table, address, count);
   if (!points) return Unexpected(points.error());
   auto measurements = measurements_for(*points, sensor);
   if (!measurements) return Unexpected(measurements.error());
-  std::vector<std::uint16_t> words(count);
-  for (const Point* p : *points) {
-    encode_point(*p, sensor, *measurements,
-                 std::span(words).subspan(p->address - address, p->words()));
-  }
-  return words;
+  bits.assign(count, false);  // within its capacity once a first read has grown it
+  for (const Point& p : *points) bits[p.address - address] = bit_value(p, sensor, *measurements);
+  return Done{};
 }
 
 Expected<std::vector<bool>, MapFault> read_bits(const RegisterMap& map, const SensorView& sensor,
                                                 RegisterTable table, std::uint16_t address,
                                                 std::uint16_t count) {
-  auto points = covering_points(map, table, address, count);
-  if (!points) return Unexpected(points.error());
-  auto measurements = measurements_for(*points, sensor);
-  if (!measurements) return Unexpected(measurements.error());
-  std::vector<bool> bits(count);
-  for (const Point* p : *points) bits[p->address - address] = bit_value(*p, sensor, *measurements);
+  std::vector<bool> bits;
+  if (auto read = read_bits(map, sensor, table, address, count, bits); !read)
+    return Unexpected(read.error());
   return bits;
 }
 
@@ -128,15 +144,15 @@ Expected<std::vector<PlannedWrite>, MapFault> plan_register_write(
   auto points = covering_points(map, RegisterTable::holding, address, std::uint32_t(words.size()));
   if (!points) return Unexpected(points.error());
   std::vector<PlannedWrite> plan;
-  for (const Point* p : *points) {
-    if (!p->write) return Unexpected(MapFault::illegal_address);
-    const auto mine = words.subspan(p->address - address, p->words());
-    const double decoded = decode_number(mine, p->type, order_of(*p, order));
-    if (!is_ordinary_float(decoded, p->type)) return Unexpected{MapFault::illegal_value};
+  for (const Point& p : *points) {
+    if (!p.write) return Unexpected(MapFault::illegal_address);
+    const auto mine = words.subspan(p.address - address, p.words());
+    const double decoded = decode_number(mine, p.type, order_of(p, order));
+    if (!is_ordinary_float(decoded, p.type)) return Unexpected{MapFault::illegal_value};
     // The inverse of a read's "value * scale + offset"; the loader rejects scale 0.
-    const double value = (decoded - p->offset) / p->scale;
-    if (!(value >= p->min && value <= p->max)) return Unexpected(MapFault::illegal_value);
-    plan.push_back({p, value, {mine.begin(), mine.end()}});
+    const double value = (decoded - p.offset) / p.scale;
+    if (!(value >= p.min && value <= p.max)) return Unexpected(MapFault::illegal_value);
+    plan.push_back({&p, value, {mine.begin(), mine.end()}});
   }
   return plan;
 }

@@ -23,12 +23,22 @@ enum class MapFault : std::uint8_t {
 // A measurement of an offline or stale sensor reads as the view's OfflineRead says:
 // exception: unavailable; last_value: the last reading (unavailable if there never was one);
 // substitute: numeric points show view.substitute as is (no scale), bit points 0.
+// The registers [address, address + words.size()) into `words`: the Modbus read path, which
+// allocates nothing (a connection hands in its own buffer).
+Expected<Done, MapFault> read_registers(const RegisterMap& map, const SensorView& sensor,
+                                        RegisterTable table, std::uint16_t address,
+                                        std::span<std::uint16_t> words);
+// The same into a new vector of `count`.
 Expected<std::vector<std::uint16_t>, MapFault> read_registers(const RegisterMap& map,
                                                               const SensorView& sensor,
                                                               RegisterTable table,
                                                               std::uint16_t address,
                                                               std::uint16_t count);
 
+// The bits into `bits` (resized to `count`; its capacity kept), and into a new vector.
+Expected<Done, MapFault> read_bits(const RegisterMap& map, const SensorView& sensor,
+                                   RegisterTable table, std::uint16_t address,
+                                   std::uint16_t count, std::vector<bool>& bits);
 Expected<std::vector<bool>, MapFault> read_bits(const RegisterMap& map, const SensorView& sensor,
                                                 RegisterTable table, std::uint16_t address,
                                                 std::uint16_t count);

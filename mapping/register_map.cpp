@@ -13,21 +13,23 @@ RegisterMap::RegisterMap(std::vector<Point> points) : points_(std::move(points))
   std::stable_sort(points_.begin(), points_.end(), [](const Point& a, const Point& b) {
     return std::tie(a.table, a.address) < std::tie(b.table, b.address);
   });
+  for (const Point& p : points_) has_table_[std::size_t(p.table)] = true;
 }
 
-bool RegisterMap::has_table(RegisterTable table) const {
-  return std::any_of(points_.begin(), points_.end(),
-                     [&](const Point& p) { return p.table == table; });
-}
-
-std::vector<const Point*> RegisterMap::overlapping(RegisterTable table, std::uint32_t address,
-                                                   std::uint32_t count) const {
-  std::vector<const Point*> found;
+std::span<const Point> RegisterMap::overlapping(RegisterTable table, std::uint32_t address,
+                                                std::uint32_t count) const {
   const std::uint32_t end = address + count;
-  for (const Point& p : points_) {
-    if (p.table == table && p.address < end && p.end() > address) found.push_back(&p);
+  const auto before = [](const Point& p, std::pair<RegisterTable, std::uint32_t> at) {
+    return std::pair(p.table, std::uint32_t(p.address)) < at;
+  };
+  // The first point starting at or after `address`; the one before it may still reach in.
+  auto first = std::lower_bound(points_.begin(), points_.end(), std::pair(table, address), before);
+  if (first != points_.begin()) {
+    const auto previous = std::prev(first);
+    if (previous->table == table && previous->end() > address) first = previous;
   }
-  return found;
+  auto last = std::lower_bound(first, points_.end(), std::pair(table, end), before);
+  return {first, last};
 }
 
 const Point* RegisterMap::find(std::string_view name) const {

@@ -186,16 +186,23 @@ Expected<std::size_t, FramingError> adu_size(
   return std::size_t{6} + length;
 }
 
-ParsedAdu parse_adu(std::span<const std::uint8_t> adu) {
+std::optional<AduProblem> parse_adu_into(std::span<const std::uint8_t> adu,
+                                         ModbusRequest& request) {
   if (adu.size() < mbap_header_size) return FramingError::length;
   auto size = adu_size(adu.first<mbap_header_size>());
   if (!size) return size.error();
   if (*size != adu.size()) return FramingError::length;
 
-  ModbusRequest request;
+  // Every field set again (the object is reused), its vectors cleared within their capacity.
   request.transaction_id = be16(adu, 0);
   request.unit_id = adu[6];
   request.function = adu[7];
+  request.address = 0;
+  request.count = 0;
+  request.registers.clear();
+  request.bits.clear();
+  request.read_device_id_code = 0;
+  request.object_id = 0;
   const FunctionRule* rule = rule_for(request.function);
   // Unknown functions (07, 08, 11, 17, 23, ...) never reach the handler or the reply formatter.
   if (rule == nullptr) return reject(adu, ModbusException::illegal_function);
@@ -205,6 +212,15 @@ ParsedAdu parse_adu(std::span<const std::uint8_t> adu) {
     return reject(adu, *bad);
   }
   request.adu.assign(adu.begin(), adu.end());
+  return std::nullopt;
+}
+
+ParsedAdu parse_adu(std::span<const std::uint8_t> adu) {
+  ModbusRequest request;
+  if (auto problem = parse_adu_into(adu, request)) {
+    if (auto* rejected = std::get_if<RejectedRequest>(&*problem)) return std::move(*rejected);
+    return std::get<FramingError>(*problem);
+  }
   return request;
 }
 

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <variant>
 #include <vector>
@@ -57,6 +58,12 @@ struct RejectedRequest {
 // What one whole ADU turns out to be.
 using ParsedAdu = std::variant<ModbusRequest, RejectedRequest, FramingError>;
 ParsedAdu parse_adu(std::span<const std::uint8_t> adu);
+// Why an ADU is not a request for the handler.
+using AduProblem = std::variant<RejectedRequest, FramingError>;
+// The same into `request`, reusing its vectors: a connection parses every request into one
+// object, so a read allocates nothing. None when `request` now holds the accepted request.
+std::optional<AduProblem> parse_adu_into(std::span<const std::uint8_t> adu,
+                                         ModbusRequest& request);
 
 // Whether a request PDU only reads, so that it may pass through while [server] writes is
 // false, and come from a host outside [server] write_allow: 01, 02, 03, 04 (reads), 07 (read

@@ -54,6 +54,14 @@ asio::awaitable<void> ModbusStream::write(asio::const_buffer buffer,
   co_await asio::async_write(*plain_, buffer, asio::redirect_error(asio::use_awaitable, ec));
 }
 
+std::size_t ModbusStream::write_now(asio::const_buffer buffer, boost::system::error_code& ec) {
+  ec = {};
+  if (tls_) return 0;
+  const std::size_t sent = plain_->write_some(buffer, ec);
+  if (ec == asio::error::would_block || ec == asio::error::try_again) ec = {};
+  return ec ? 0 : sent;
+}
+
 void ModbusStream::close() {
   boost::system::error_code ec;
   socket().close(ec);

@@ -31,6 +31,9 @@ class ModbusStream {
                                                 boost::system::error_code& ec);
   boost::asio::awaitable<void> write(boost::asio::const_buffer buffer,
                                      boost::system::error_code& ec);
+  // What of `buffer` the socket takes now, without waiting: 0 when it is full, and always 0
+  // over TLS (whose records go through write()). `ec` only for a broken connection.
+  std::size_t write_now(boost::asio::const_buffer buffer, boost::system::error_code& ec);
   // Closes the socket: what is pending ends with operation_aborted.
   void close();
 

@@ -78,9 +78,16 @@ class ModbusTcpConnection : public std::enable_shared_from_this<ModbusTcpConnect
   // The TLS handshake, if it is TLS: false when the connection is to close.
   boost::asio::awaitable<bool> handshake();
   boost::asio::awaitable<void> serve();
+  // A read the reader answers from its cache: true with the reply in reply_, without a
+  // coroutine or an allocation (docs/performance.md, "The Modbus read path"); false for
+  // everything else, which answer() takes.
+  bool answer_at_once(std::span<const std::uint8_t> adu);
   // One framed request, answered: false when the connection is to close.
   boost::asio::awaitable<bool> answer(std::span<const std::uint8_t> adu);
-  boost::asio::awaitable<bool> send(const std::vector<std::uint8_t>& reply);
+  // Counts `reply` and sends it; send_rest() only sends, under the reply deadline. False when
+  // the connection is to close.
+  boost::asio::awaitable<bool> send(std::span<const std::uint8_t> reply);
+  boost::asio::awaitable<bool> send_rest(std::span<const std::uint8_t> reply);
   // Closes the connection when its deadline passes.
   boost::asio::awaitable<void> watch();
   // Sets what the watchdog enforces next.
@@ -96,6 +103,11 @@ class ModbusTcpConnection : public std::enable_shared_from_this<ModbusTcpConnect
   std::vector<std::uint8_t> reply_;  // formatted here, so a reply allocates nothing
   const std::string peer_;
   const std::string address_;
+  // The handler's reader for this connection, and the request and response it fills, reused
+  // request after request.
+  std::unique_ptr<ModbusReader> reader_;
+  ModbusRequest request_;
+  ModbusResponse response_;
   std::atomic<ModbusWait> waiting_for_ = ModbusWait::idle;
   // When it last became idle (or connected), as Clock ticks.
   std::atomic<Clock::rep> idle_since_ = Clock::now().time_since_epoch().count();

@@ -1,0 +1,54 @@
+#include "gateway/router_reader.h"
+
+#include "gateway/sensor_read.h"
+#include "modbus_tcp/modbus_request.h"
+
+namespace tiltgate {
+
+const UnitRoutes& RouterReader::routes() {
+  // The generation first: the table then got is at least that new, so a table swapped in
+  // between is taken at the next read.
+  const std::uint64_t generation = router_.generation();
+  if (routes_ == nullptr || generation != routes_generation_) {
+    routes_ = router_.routes();
+    routes_generation_ = generation;
+    // The sensors kept may be the old table's, alive only through it.
+    kept_.fill(KeptSnapshot{});
+  }
+  return *routes_;
+}
+
+const SensorSnapshot* RouterReader::snapshot_of(const GatewaySensor& sensor,
+                                                std::uint8_t unit_id) {
+  KeptSnapshot& kept = kept_[unit_id % kept_.size()];
+  const std::uint64_t generation = sensor.published.generation();
+  if (kept.sensor != &sensor || kept.generation != generation || kept.snapshot == nullptr) {
+    kept.snapshot = sensor.snapshot();
+    kept.sensor = &sensor;
+    kept.generation = generation;
+  }
+  return kept.snapshot.get();
+}
+
+bool RouterReader::passes_through(std::uint8_t unit_id) {
+  return routes().forwarded[unit_id] != nullptr;
+}
+
+bool RouterReader::read(const ModbusRequest& request, ModbusResponse& response) {
+  if (request.is_write || request.function == modbus_function::encapsulated_interface)
+    return false;
+  const UnitRoutes& table = routes();
+  const WordOrder order = table.options.word_order;
+  if (const auto& aggregate = table.aggregates[request.unit_id]) {
+    response = read_aggregate_unit(*aggregate, request, order, SteadyClock::now());
+    return true;
+  }
+  const GatewaySensor* sensor = table.units[request.unit_id].get();
+  if (sensor == nullptr) return false;  // handle() answers 0A, as for every unit not routed
+  const SensorSnapshot* snapshot = snapshot_of(*sensor, request.unit_id);
+  if (snapshot == nullptr) return false;  // never published: handle() answers 0B
+  read_sensor(*sensor, *snapshot, request, order, response);
+  return true;
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,49 @@
+// One Modbus TCP connection's reader of a RequestRouter (modbus_tcp/modbus_types.h,
+// ModbusReader): answers reads at once, on the connection's thread, from a table and snapshots
+// it keeps between requests. Each read compares two generation numbers (the router's table,
+// the sensor's snapshot) with the ones it kept, and takes a new table or snapshot only when
+// one moved: a read of a sensor that did not change since the last takes no lock and touches
+// no reference count the bus thread or another connection touches too
+// (docs/performance.md, "The Modbus read path").
+//
+// What it keeps lives on until its next read or its end: an idle connection may hold a
+// sensor a reload dropped, which holds no I/O (gateway/gateway_sensor.h).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "gateway/request_router.h"
+#include "gateway/unit_routes.h"
+
+namespace tiltgate {
+
+class RouterReader : public ModbusReader {
+ public:
+  explicit RouterReader(const RequestRouter& router) : router_(router) {}
+
+  // Reads (01 to 04) of a sensor or an aggregate; the rest (writes, 43/14, pass-through) is
+  // left to RequestRouter::handle().
+  bool read(const ModbusRequest& request, ModbusResponse& response) override;
+  bool passes_through(std::uint8_t unit_id) override;
+
+ private:
+  // The snapshot of one sensor as last taken, and the generation it was taken at.
+  struct KeptSnapshot {
+    const GatewaySensor* sensor = nullptr;
+    std::uint64_t generation = 0;
+    std::shared_ptr<const SensorSnapshot> snapshot;
+  };
+
+  const UnitRoutes& routes();
+  const SensorSnapshot* snapshot_of(const GatewaySensor& sensor, std::uint8_t unit_id);
+
+  const RequestRouter& router_;
+  std::shared_ptr<const UnitRoutes> routes_;
+  std::uint64_t routes_generation_ = 0;
+  // By unit id modulo 16: a client that polls up to 16 consecutive units keeps all of them.
+  std::array<KeptSnapshot, 16> kept_{};
+};
+
+}  // namespace tiltgate

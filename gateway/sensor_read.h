@@ -1,0 +1,22 @@
+// A Modbus read of one sensor's registers or bits, answered from one snapshot through its
+// register map: what RequestRouter::handle() and a connection's reader (gateway/router_reader.h)
+// both do. Pure but for the clock; it fills a response the caller owns, so a connection that
+// reuses one allocates nothing.
+#pragma once
+
+#include "gateway/gateway_sensor.h"
+#include "gateway/sensor_snapshot.h"
+#include "mapping/map_access.h"
+#include "modbus_tcp/modbus_types.h"
+
+namespace tiltgate {
+
+RegisterTable table_of(ModbusTable table);
+ModbusException exception_for(MapFault fault);
+
+// Replaces `response` with the answer to `request` (a read: 01 to 04) from `snapshot`: the
+// values, or the map's exception. Its vectors keep their capacity.
+void read_sensor(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
+                 const ModbusRequest& request, WordOrder order, ModbusResponse& response);
+
+}  // namespace tiltgate
