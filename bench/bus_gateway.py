@@ -89,6 +89,42 @@ def stop(process):
             process.wait()
 
 
+def start_simulator(binary, link, baud, sensors, commands=False):
+    """`tiltgate sim rieker` with H6 sensors at addresses 1..sensors on one pty (`link`), its
+    replies paced at `baud`: the bus every table polls, the gateway's and the tight master's."""
+    spec = ",".join(f"h6:{a}" for a in range(1, sensors + 1))
+    sim = subprocess.Popen(
+        [binary, "sim", "rieker", "--sensors", spec, "--link", link, "--pace-baud", str(baud)],
+        stderr=subprocess.DEVNULL, text=True,
+        stdin=subprocess.PIPE if commands else subprocess.DEVNULL,
+        stdout=subprocess.PIPE if commands else subprocess.DEVNULL)
+    if commands:
+        sim.stdout.readline()  # the pty's path
+    for _ in range(200):
+        if os.path.exists(link):
+            break
+        time.sleep(0.05)
+    return sim
+
+
+def tight_master(binary, build, folder, baud, sensors, seconds):
+    """bench_tight_master's polls/s and time-outs over `seconds`, round robin over addresses
+    1..sensors of a fresh simulator started with the gateway's options (start_simulator)."""
+    sub = tempfile.mkdtemp(dir=folder)
+    link = os.path.join(sub, "tty")
+    sim = start_simulator(binary, link, baud, sensors)
+    try:
+        out = subprocess.run([os.path.join(build, "bench", "bench_tight_master"), link, str(baud),
+                              str(seconds), f"1-{sensors}"],
+                             stdout=subprocess.PIPE, text=True, check=True).stdout
+    finally:
+        stop(sim)
+    fields = dict(item.split("=") for item in out.split() if "=" in item)
+    if int(fields["bad_replies"]):
+        sys.exit(f"bench_tight_master read bad replies: {out.strip()}")
+    return float(fields["polls_per_s"]), int(fields["timeouts"])
+
+
 class Gateway:
     """Simulated buses (one `tiltgate sim rieker` each) and one `tiltgate run` polling them."""
 
@@ -111,18 +147,7 @@ port = {self.http_port}
 """]
         for b in range(buses):
             link = os.path.join(folder, f"tty{b}")
-            spec = ",".join(f"h6:{a}" for a in range(1, sensors + 1))
-            self.sims.append(subprocess.Popen(
-                [binary, "sim", "rieker", "--sensors", spec, "--link", link,
-                 "--pace-baud", str(baud)], stderr=subprocess.DEVNULL, text=True,
-                stdin=subprocess.PIPE if commands else subprocess.DEVNULL,
-                stdout=subprocess.PIPE if commands else subprocess.DEVNULL))
-            if commands:
-                self.sims[-1].stdout.readline()  # the pty's path
-            for _ in range(200):
-                if os.path.exists(link):
-                    break
-                time.sleep(0.05)
+            self.sims.append(start_simulator(binary, link, baud, sensors, commands))
             config.append(f'[[bus]]\nname = "line{b}"\nport = "{link}"\nbaud = {baud}\n' +
                           (f"tcp_port = {distinct_port()}\n" if own_ports else ""))
             for a in range(1, sensors + 1):
@@ -186,7 +211,22 @@ port = {self.http_port}
         if answer != "ok":
             sys.exit(f"tiltgate sim answered {answer!r} to {line!r}")
 
+    def pause(self):
+        """SIGSTOP to the gateway and its simulators, so that the tight master has the cores
+        to itself: stopped, they neither run nor wake up."""
+        for process in [self.process] + self.sims:
+            process.send_signal(signal.SIGSTOP)
+
+    def resume(self):
+        """SIGCONT, then time for the poll that was in flight to finish (its time-out may have
+        run out while stopped: that one, if any, falls before the next window)."""
+        for process in self.sims + [self.process]:
+            process.send_signal(signal.SIGCONT)
+        time.sleep(0.5)
+
     def stop(self):
+        for process in [self.process] + self.sims:
+            process.send_signal(signal.SIGCONT)  # a paused one cannot handle SIGTERM
         stop(self.process)
         for sim in self.sims:
             stop(sim)
@@ -198,31 +238,40 @@ def rates(before, after):
     return {name: (p1[name] - p0[name]) / (t1 - t0) for name in p1}
 
 
-def efficiency(binary, folder, windows, seconds):
+def efficiency(binary, folder, build, windows, seconds):
     print(f"Bus efficiency: `tiltgate run`, every sensor at poll_ms = 10 (the bus saturated); "
-          f"polls/s is the median of {windows} consecutive windows, fairness over all of them")
+          f"polls/s is the median of {windows} windows, fairness over all of them; at 125000 "
+          f"baud with 10 and 60 sensors each window alternates with one of bench_tight_master "
+          f"(the gateway stopped meanwhile), the median of those beside it")
     print()
     print("| baud | sensors | asked (polls/s) | wire limit (polls/s) | median polls/s | ratio "
           "| overhead per poll (us) | ratio without the simulator's 200 us | per-sensor min/max "
-          "| per-sensor CV |")
-    print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+          "| per-sensor CV | tight master polls/s | gateway / tight master |")
+    print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     for baud in (9600, 125000):
         for count in (1, 10, 60):
+            # The issue's comparison: a saturated bus at the factory rate.
+            with_tight = baud == 125000 and count > 1
             sub = tempfile.mkdtemp(dir=folder)
             gateway = Gateway(binary, sub, baud, 1, count, 10)
+            spans, tight = [], []
             try:
                 gateway.wait_all_polled()
                 # At 9600 baud 60 sensors get under one poll each a second: windows long enough
                 # for about ten polls per sensor each, so the spread is not rounding.
                 window = max(seconds, min(10.0, 10 * count / wire_limit(baud)))
                 time.sleep(0.5)
-                marks = [gateway.polls()]
                 for _ in range(windows):
+                    before = gateway.polls()
                     time.sleep(window)
-                    marks.append(gateway.polls())
+                    spans.append((before, gateway.polls()))
+                    if with_tight:
+                        gateway.pause()
+                        tight.append(tight_master(binary, build, sub, baud, count, window)[0])
+                        gateway.resume()
             finally:
                 gateway.stop()
-            totals = [sum(rates(a, b).values()) for a, b in zip(marks, marks[1:])]
+            totals = [sum(rates(a, b).values()) for a, b in spans]
             median = statistics.median(totals)
             limit = wire_limit(baud)
             # One sensor at 125000 baud asks for fewer polls than the wire carries: no overhead
@@ -231,61 +280,86 @@ def efficiency(binary, folder, windows, seconds):
             with_sim = 1 / (1 / limit + SIM_LATENCY_S)
             fair_min_max = fair_cv = "-"
             if count > 1:
-                per_sensor = list(rates(marks[0], marks[-1]).values())
+                # Each sensor's polls over the time of all windows (not the pauses between).
+                span_time = sum(b[0] - a[0] for a, b in spans)
+                per_sensor = [sum(b[1][name] - a[1][name] for a, b in spans) / span_time
+                              for name in spans[-1][1][1]]
                 mean = statistics.mean(per_sensor)
                 fair_min_max = f"{min(per_sensor) / max(per_sensor):.2f}"
                 fair_cv = f"{statistics.pstdev(per_sensor) / mean:.3f}"
+            tight_cells = "- | -"
+            if tight:
+                reference = statistics.median(tight)
+                tight_cells = f"{reference:.1f} | {median / reference:.3f}"
             print(f"| {baud} | {count} | {count * 100} | {limit:.1f} | {median:.1f} | {median / limit:.2f} | "
-                  f"{overhead} | {median / with_sim:.2f} | {fair_min_max} | {fair_cv} |",
-                  flush=True)
+                  f"{overhead} | {median / with_sim:.2f} | {fair_min_max} | {fair_cv} | "
+                  f"{tight_cells} |", flush=True)
     print()
 
 
 def flood(binary, folder, build, rounds, seconds):
     load = os.path.join(build, "bench", "bench_modbus_load")
-    print(f"Bus under a Modbus TCP flood: 10 sensors at 125000 baud, poll_ms = 10, timeout_ms = 50; "
-          f"{rounds} rounds of {seconds:g} s idle then {seconds:g} s with 64 clients "
-          f"(function 04 x 10, unit 1), medians")
+    print(f"Bus under a Modbus TCP flood: 10 and 60 sensors at 125000 baud, poll_ms = 10, "
+          f"timeout_ms = 50; {rounds} rounds of {seconds:g} s idle, {seconds:g} s with 64 clients "
+          f"(function 04 x 10, unit 1), then {seconds:g} s of bench_tight_master with the gateway "
+          f"stopped; medians")
     print()
-    print("| bus polls/s idle | bus polls/s flooded | ratio | Modbus req/s during the flood "
-          "| stopped answering idle | stopped answering flooded | time-outs idle | time-outs flooded |")
-    print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
-    sub = tempfile.mkdtemp(dir=folder)
-    gateway = Gateway(binary, sub, 125000, 1, 10, 10)
-    idle, flooded, requests = [], [], []
-    offline_idle = offline_flooded = timeouts_idle = timeouts_flooded = 0
-    try:
-        gateway.wait_all_polled()
-        time.sleep(0.5)
-        for _ in range(rounds):
-            before, offline, timeouts = gateway.polls(), gateway.stopped_answering(), gateway.timeouts()
-            time.sleep(seconds)
-            after = gateway.polls()
-            offline_idle += gateway.stopped_answering() - offline
-            timeouts_idle += gateway.timeouts() - timeouts
-            timeouts = gateway.timeouts()
-            idle.append(sum(rates(before, after).values()))
-            offline = gateway.stopped_answering()
-            result = subprocess.Popen([load, "--port", str(gateway.modbus_port), "--clients", "64",
-                                       "--function", "4", "--quantity", "10", "--unit", "1",
-                                       "--seconds", str(seconds)],
-                                      stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-            time.sleep(0.3)  # the clients connected and the flood under way
-            before = gateway.polls()
-            time.sleep(max(0.5, seconds - 0.6))
-            after = gateway.polls()
-            out, _ = result.communicate()
-            offline_flooded += gateway.stopped_answering() - offline
-            timeouts_flooded += gateway.timeouts() - timeouts
-            flooded.append(sum(rates(before, after).values()))
-            fields = dict(item.split("=") for item in out.split() if "=" in item)
-            requests.append(float(fields.get("req_per_s", 0)))
-    finally:
-        gateway.stop()
-    i, f = statistics.median(idle), statistics.median(flooded)
-    print(f"| {i:.1f} | {f:.1f} | {f / i:.3f} | {statistics.median(requests):.0f} | "
-          f"{offline_idle} | {offline_flooded} | {timeouts_idle} | {timeouts_flooded} |")
+    print("| sensors | bus polls/s idle | bus polls/s flooded | ratio | tight master polls/s "
+          "| idle / tight | flooded / tight | Modbus req/s during the flood "
+          "| stopped answering idle | stopped answering flooded | time-outs idle | time-outs flooded "
+          "| tight master time-outs |")
+    print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    paused_timeouts = 0
+    for count in (10, 60):
+        sub = tempfile.mkdtemp(dir=folder)
+        gateway = Gateway(binary, sub, 125000, 1, count, 10)
+        idle, flooded, tight, requests = [], [], [], []
+        offline_idle = offline_flooded = timeouts_idle = timeouts_flooded = timeouts_tight = 0
+        try:
+            gateway.wait_all_polled()
+            time.sleep(0.5)
+            for _ in range(rounds):
+                before, offline, timeouts = gateway.polls(), gateway.stopped_answering(), gateway.timeouts()
+                time.sleep(seconds)
+                after = gateway.polls()
+                offline_idle += gateway.stopped_answering() - offline
+                timeouts_idle += gateway.timeouts() - timeouts
+                timeouts = gateway.timeouts()
+                idle.append(sum(rates(before, after).values()))
+                offline = gateway.stopped_answering()
+                result = subprocess.Popen([load, "--port", str(gateway.modbus_port), "--clients", "64",
+                                           "--function", "4", "--quantity", "10", "--unit", "1",
+                                           "--seconds", str(seconds)],
+                                          stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+                time.sleep(0.3)  # the clients connected and the flood under way
+                before = gateway.polls()
+                time.sleep(max(0.5, seconds - 0.6))
+                after = gateway.polls()
+                out, _ = result.communicate()
+                offline_flooded += gateway.stopped_answering() - offline
+                timeouts_flooded += gateway.timeouts() - timeouts
+                flooded.append(sum(rates(before, after).values()))
+                fields = dict(item.split("=") for item in out.split() if "=" in item)
+                requests.append(float(fields.get("req_per_s", 0)))
+                # The reference, on a simulator of its own while the gateway is stopped.
+                timeouts = gateway.timeouts()
+                gateway.pause()
+                polls_per_s, lost = tight_master(binary, build, sub, 125000, count, seconds)
+                tight.append(polls_per_s)
+                timeouts_tight += lost
+                gateway.resume()
+                paused_timeouts += gateway.timeouts() - timeouts
+        finally:
+            gateway.stop()
+        i, f, t = statistics.median(idle), statistics.median(flooded), statistics.median(tight)
+        print(f"| {count} | {i:.1f} | {f:.1f} | {f / i:.3f} | {t:.1f} | {i / t:.3f} | {f / t:.3f} | "
+              f"{statistics.median(requests):.0f} | {offline_idle} | {offline_flooded} | "
+              f"{timeouts_idle} | {timeouts_flooded} | {timeouts_tight} |", flush=True)
     print()
+    if paused_timeouts:
+        print(f"({paused_timeouts} gateway time-out(s) across the pauses for the tight master, "
+              f"outside every window)")
+        print()
 
 
 def read_angle_x_cdeg(connection):
@@ -381,7 +455,7 @@ def main():
         print(f"({os.cpu_count()} cores)\n")
         wanted = lambda table: args.only in (None, table)
         if wanted("efficiency"):
-            efficiency(binary, folder, args.windows, args.seconds)
+            efficiency(binary, folder, args.build, args.windows, args.seconds)
         if wanted("flood"):
             flood(binary, folder, args.build, args.windows, args.seconds)
         if wanted("freshness"):
