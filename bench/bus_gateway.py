@@ -13,11 +13,18 @@ sensor asks for only 100 polls/s, the "asked" column). Counters come from the HT
    poll, as bench/bus_throughput.cpp computes it); polls/s is the median over consecutive
    windows of one gateway run. Fairness (10 and 60 sensors): the spread of the sensors' update
    rates over the whole measured time, as min/max and the coefficient of variation.
-2. The same saturated bus (10 sensors, 125000 baud, the default `timeout_ms = 50`) idle and
+   At 125000 baud with 10 and 60 sensors, the tight master too (bench/tight_master.cpp: write
+   the request, read exactly the reply, repeat), in the same run: after each gateway window the
+   gateway and its simulator are stopped (SIGSTOP, so they take no CPU) and the tight master
+   polls a fresh simulator started with the same options and addresses for as long; then the
+   gateway resumes, 0.5 s before its next window. A fresh simulator rather than the gateway's,
+   since a stopped gateway still holds that pty open.
+2. The same saturated bus (10 and 60 sensors, 125000 baud, the default `timeout_ms = 50`) idle and
    under a 64-client Modbus TCP flood (bench_modbus_load, function 04 x 10 on unit 1),
    alternating; polls/s medians, their ratio, and how often a sensor stopped answering (the
    gateway's "stopped answering" log line; the simulator never stops, so each one is false),
    summed over the rounds, with the reply time-outs (retried ones included) beside them.
+   Each round ends with the tight master as in 1; idle/tight and flooded/tight are ratios of medians.
 3. Freshness: the time from a simulated angle change (`angle ADDRESS X Y` on `tiltgate sim
    rieker`'s standard input, timed from its "ok") to the new value read over Modbus (input
    register 4, angle_x_cdeg, read back to back by one client), for 1 and 10 sensors at poll_ms
