@@ -31,10 +31,10 @@ asio::awaitable<void> ModbusStream::handshake(boost::system::error_code& ec) {
 
 asio::awaitable<std::size_t> ModbusStream::read_some(asio::mutable_buffer buffer,
                                                      boost::system::error_code& ec) {
-  if (tls_)
-    co_return co_await tls_->async_read_some(buffer, asio::redirect_error(asio::use_awaitable, ec));
-  co_return co_await plain_->async_read_some(buffer,
-                                             asio::redirect_error(asio::use_awaitable, ec));
+  // The socket's own operation, not a coroutine around it: a coroutine frame less per read,
+  // which Boost 1.74 would allocate (docs/performance.md, "The Modbus read path").
+  if (tls_) return tls_->async_read_some(buffer, asio::redirect_error(asio::use_awaitable, ec));
+  return plain_->async_read_some(buffer, asio::redirect_error(asio::use_awaitable, ec));
 }
 
 asio::awaitable<void> ModbusStream::write(asio::const_buffer buffer,
@@ -46,10 +46,8 @@ asio::awaitable<void> ModbusStream::write(asio::const_buffer buffer,
   // A reply almost always fits the socket's send buffer: one send() now. An async_write that
   // completes at once still posts its completion, and the event loop polls epoll once more
   // before running it; only what did not fit waits for the socket.
-  const std::size_t sent = plain_->write_some(buffer, ec);
-  if (!ec && sent == buffer.size()) co_return;
-  if (ec && ec != asio::error::would_block && ec != asio::error::try_again) co_return;
-  ec = {};
+  const std::size_t sent = write_now(buffer, ec);
+  if (ec || sent == buffer.size()) co_return;
   buffer += sent;
   co_await asio::async_write(*plain_, buffer, asio::redirect_error(asio::use_awaitable, ec));
 }

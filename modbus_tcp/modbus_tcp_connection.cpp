@@ -151,14 +151,8 @@ asio::awaitable<void> ModbusTcpConnection::serve() {
     }
     boost::system::error_code ec;
     const std::span<std::uint8_t> space = frames.space();
-    const asio::mutable_buffer buffer(space.data(), space.size());
-    // The plain socket's own operation, without ModbusStream's coroutine around it: one
-    // coroutine frame less to allocate per request.
     const std::size_t n =
-        stream_.is_tls()
-            ? co_await stream_.read_some(buffer, ec)
-            : co_await stream_.socket().async_read_some(
-                  buffer, asio::redirect_error(asio::use_awaitable, ec));
+        co_await stream_.read_some(asio::buffer(space.data(), space.size()), ec);
     if (ec) {
       if (!closed_) spdlog::debug("Modbus TCP client {}: {}", peer_, ec.message());
       break;

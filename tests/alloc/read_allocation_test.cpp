@@ -7,28 +7,16 @@
 #include <doctest/doctest.h>
 #include <modbus.h>
 
-#include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
-#include <boost/asio/executor_work_guard.hpp>
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/post.hpp>
 #include <chrono>
 #include <cstdint>
-#include <future>
 #include <memory>
-#include <thread>
 
 #include "alloc/allocation_count.h"
-#include "gateway/bus_scheduler.h"
-#include "gateway/request_router.h"
-#include "modbus_tcp/modbus_tcp_server.h"
-#include "modbus_tcp/tcp_worker_pool.h"
-#include "unit/support/fake_bus.h"
+#include "unit/support/served_plant.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
-namespace asio = boost::asio;
 
 namespace {
 
@@ -37,50 +25,13 @@ constexpr int kRounds = 200;
 
 // One fake H6 polled once (then not for an hour, so the bus thread sleeps while reads are
 // counted), its router and a server; `tcp_threads` 0 serves on the buses' thread.
-struct QuietPlant {
-  explicit QuietPlant(std::size_t tcp_threads) {
-    if (tcp_threads > 0) workers = std::make_unique<TcpWorkerPool>(tcp_threads);
-    sensor = std::shared_ptr<GatewaySensor>(fake_sensor("s1", kUnit, 1, events, 1h));
-    scheduler.add(sensor);
-    router.add(sensor);
-    ModbusServerOptions options;
-    options.listen = "127.0.0.1";
-    options.port = 0;
-    server = std::make_unique<ModbusTcpServer>(io.get_executor(), router, options, workers.get());
-    REQUIRE(server->start().has_value());
-    port = server->local_port();
-    asio::co_spawn(io, scheduler.run(), asio::detached);
-    bus_thread = std::thread([this] { io.run(); });
-    while (!sensor->snapshot() || !sensor->snapshot()->state.reading)
-      std::this_thread::sleep_for(1ms);
+struct QuietPlant : ServedPlant {
+  explicit QuietPlant(std::size_t tcp_threads) : ServedPlant(tcp_threads, false) {
+    sensors.push_back(std::shared_ptr<GatewaySensor>(fake_sensor("s1", kUnit, 1, events, 1h)));
+    scheduler.add(sensors.back());
+    router.add(sensors.back());
+    serve();
   }
-
-  ~QuietPlant() {
-    std::promise<void> stopped;
-    asio::post(io, [&] {
-      router.stop();
-      server->stop();
-      scheduler.stop();
-      stopped.set_value();
-    });
-    stopped.get_future().wait();
-    if (workers) workers->stop();
-    guard.reset();
-    io.stop();
-    bus_thread.join();
-  }
-
-  std::unique_ptr<TcpWorkerPool> workers;  // before io, as in gateway_threads_test.cpp
-  asio::io_context io;
-  asio::executor_work_guard<asio::io_context::executor_type> guard{io.get_executor()};
-  FakeLine line{io.get_executor()};
-  BusScheduler scheduler{io.get_executor(), line, "bus"};
-  RequestRouter router{io.get_executor(), RouterOptions{false, WordOrder::big, 3000ms}};
-  BusEvents events;
-  std::shared_ptr<GatewaySensor> sensor;
-  std::unique_ptr<ModbusTcpServer> server;
-  std::uint16_t port = 0;
-  std::thread bus_thread;
 };
 
 // One round of every read the reader answers at once: input registers (10 and all 38),

@@ -24,6 +24,7 @@
 #include "gateway/request_router.h"
 #include "modbus_tcp/tcp_worker_pool.h"
 #include "unit/support/fake_bus.h"
+#include "unit/support/served_plant.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
@@ -37,8 +38,8 @@ constexpr std::uint8_t kAggregateUnit = 200;
 
 // Three counting sensors polled every millisecond on a fake bus, the router and a server with
 // two TCP threads; the bus's io_context runs on a thread of its own, as in `tiltgate run`.
-struct ThreadedPlant {
-  ThreadedPlant() {
+struct ThreadedPlant : ServedPlant {
+  ThreadedPlant() : ServedPlant(2, true) {
     for (int i = 1; i <= kSensors; ++i) {
       auto sensor = fake_sensor("s" + std::to_string(i), std::uint8_t(i), std::uint32_t(i),
                                 events, 1ms);
@@ -47,32 +48,7 @@ struct ThreadedPlant {
       scheduler.add(sensors.back());
     }
     route();
-    ModbusServerOptions options;
-    options.listen = "127.0.0.1";
-    options.port = 0;
-    server = std::make_unique<ModbusTcpServer>(io.get_executor(), router, options, &workers);
-    REQUIRE(server->start().has_value());
-    port = server->local_port();
-    asio::co_spawn(io, scheduler.run(), asio::detached);
-    bus_thread = std::thread([this] { io.run(); });
-    // Until each sensor has a reading: before it, reads are rightly answered 0x0B.
-    for (const auto& sensor : sensors)
-      while (!sensor->snapshot()->state.reading) std::this_thread::sleep_for(1ms);
-  }
-
-  ~ThreadedPlant() {
-    std::promise<void> stopped;
-    asio::post(io, [&] {
-      router.stop();
-      server->stop();
-      scheduler.stop();
-      stopped.set_value();
-    });
-    stopped.get_future().wait();
-    workers.stop();
-    guard.reset();
-    io.stop();
-    bus_thread.join();
+    serve();
   }
 
   // The sensors and an aggregate of their angles on unit 200, all routed in one update, as a
@@ -90,20 +66,6 @@ struct ThreadedPlant {
     router.add(*aggregate);
     router.commit_update();
   }
-
-  // Before io: io is stopped with the server's cancelled accept still queued, and destroying
-  // that accept destroys its peer socket, which lives on a worker's io_context.
-  TcpWorkerPool workers{2};
-  asio::io_context io;
-  asio::executor_work_guard<asio::io_context::executor_type> guard{io.get_executor()};
-  FakeLine line{io.get_executor()};
-  BusScheduler scheduler{io.get_executor(), line, "bus"};
-  RequestRouter router{io.get_executor(), RouterOptions{true, WordOrder::big, 3000ms}};
-  BusEvents events;
-  std::vector<std::shared_ptr<GatewaySensor>> sensors;
-  std::unique_ptr<ModbusTcpServer> server;
-  std::uint16_t port = 0;
-  std::thread bus_thread;
 };
 
 struct ClientTally {
