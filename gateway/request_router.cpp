@@ -134,42 +134,54 @@ void RequestRouter::pass_through(std::uint8_t unit_id, BusScheduler& bus) {
   edit([&](Routes& routes) { routes.forwarded[unit_id] = &bus; });
 }
 
+bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
+                       const SensorSnapshot* snapshot, ModbusResponse& response) {
+  response.exception.reset();
+  response.registers.clear();
+  response.bits.clear();
+  response.device_objects.clear();
+  const auto fail = [&](ModbusException code) {
+    response.exception = code;
+    return true;
+  };
+  const WordOrder order = routes.options.word_order;
+  // An aggregate's reply is built in one call that does not suspend: one instant for all.
+  if (const auto& aggregate = routes.aggregates[request.unit_id]) {
+    response = read_aggregate_unit(*aggregate, request, order, SteadyClock::now());
+    return true;
+  }
+  const GatewaySensor* sensor = routes.units[request.unit_id].get();
+  if (sensor == nullptr) return fail(ModbusException::gateway_path_unavailable);
+  if (request.is_write && request.function != modbus_function::encapsulated_interface) {
+    // A gateway must not let anyone on the plant network re-address a sensor by default.
+    if (!routes.options.writes) return fail(ModbusException::illegal_function);
+    return false;
+  }
+  // Published when its bus takes it up: only a sensor routed but never polled has none.
+  if (snapshot == nullptr) return fail(ModbusException::gateway_target_failed);
+  if (request.function == modbus_function::encapsulated_interface) {
+    // The encoder picks the objects the request asks for and pages them.
+    response.device_objects = device_objects(*sensor, snapshot->state);
+    return true;
+  }
+  read_sensor(*sensor, *snapshot, request, order, response);
+  return true;
+}
+
 boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest& request) {
   // One table for the whole request, whatever a reload routes meanwhile.
   const std::shared_ptr<const Routes> routes = this->routes();
-  const WordOrder order = routes->options.word_order;
-  // An aggregate's reply is built in one call that does not suspend: one instant for all.
-  if (const auto& aggregate = routes->aggregates[request.unit_id])
-    co_return read_aggregate_unit(*aggregate, request, order, SteadyClock::now());
   // Held until the request is done: a write waits for its bus, and a reload may drop the sensor
   // meanwhile; the write is still carried out and answered with its real outcome. A write
   // takes it along to the buses' thread, where it is then let go.
   std::shared_ptr<GatewaySensor> sensor = routes->units[request.unit_id];
-  if (sensor == nullptr) co_return failure(ModbusException::gateway_path_unavailable);
-  if (request.function == modbus_function::encapsulated_interface || !request.is_write) {
-    const std::shared_ptr<const SensorSnapshot> snapshot = sensor->snapshot();
-    // Published when its bus takes it up: only a sensor routed but never polled has none.
-    if (snapshot == nullptr) co_return failure(ModbusException::gateway_target_failed);
-    if (request.function == modbus_function::encapsulated_interface)
-      co_return identify(*sensor, *snapshot);
-    ModbusResponse response;
-    read_sensor(*sensor, *snapshot, request, order, response);
-    co_return response;
-  }
-  // A gateway must not let anyone on the plant network re-address a sensor by default.
-  if (!routes->options.writes) co_return failure(ModbusException::illegal_function);
+  const std::shared_ptr<const SensorSnapshot> snapshot = sensor ? sensor->snapshot() : nullptr;
+  ModbusResponse response;
+  if (answer_from_cache(*routes, request, snapshot.get(), response)) co_return response;
   if (stopping_) co_return failure(ModbusException::gateway_target_failed);
   co_return co_await boost::asio::co_spawn(
       bus_executor_, write(std::move(sensor), request, routes->options),
       boost::asio::use_awaitable);
-}
-
-ModbusResponse RequestRouter::identify(const GatewaySensor& sensor,
-                                       const SensorSnapshot& snapshot) {
-  // The encoder picks the objects the request asks for and pages them.
-  ModbusResponse response;
-  response.device_objects = device_objects(sensor, snapshot.state);
-  return response;
 }
 
 // The router plans the registers into settings; the sensor's bus checks them, carries them

@@ -4,9 +4,10 @@
 // Read Device Identification (43 / 14), and forwards requests for unit ids a bus passes
 // through.
 //
-// Threads: handle(), passes_through() and forward() may run on any Modbus TCP thread, many at
-// once. Reads are answered there, from the sensors' snapshots; writes and forwarded requests
-// run on the buses' executor and the request awaits them. The routing table is replaced whole
+// Threads: reader() and passes_through() may run on any Modbus TCP thread, many at once: each
+// connection's reader answers reads there, from the sensors' snapshots. handle() and
+// forward() take what needs a bus (writes, forwarded requests), which runs on the buses'
+// executor while the request awaits it. The routing table is replaced whole
 // (add(), clear(), set_options() on the buses' thread), so a request sees one table throughout.
 #pragma once
 
@@ -82,7 +83,6 @@ class RequestRouter : public ModbusRequestHandler {
   template <class Change>
   void edit(Change change);
 
-  static ModbusResponse identify(const GatewaySensor& sensor, const SensorSnapshot& snapshot);
   // Runs on the buses' executor; the write holds the sensor to the end.
   boost::asio::awaitable<ModbusResponse> write(std::shared_ptr<GatewaySensor> sensor,
                                                ModbusRequest request, RouterOptions options);
@@ -99,6 +99,14 @@ class RequestRouter : public ModbusRequestHandler {
 };
 
 ModbusException exception_for(ForwardFailure failure);
+
+// What `request` gets from `routes` without a bus, into `response` (its vectors keep their
+// capacity): an aggregate's values; a sensor's values or identification from `snapshot`, its
+// latest (null when it was never polled); or the exception for a unit not routed, a sensor
+// never polled or a write [server] writes refuses. False for a write its bus carries out.
+// RequestRouter::handle() and every connection's reader answer through this.
+bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
+                       const SensorSnapshot* snapshot, ModbusResponse& response);
 
 ModbusException exception_for(WriteErrorKind kind);
 // The same, but a device's own Modbus exception is relayed with its code.

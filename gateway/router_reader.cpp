@@ -1,6 +1,5 @@
 #include "gateway/router_reader.h"
 
-#include "gateway/sensor_read.h"
 #include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate {
@@ -35,20 +34,11 @@ bool RouterReader::passes_through(std::uint8_t unit_id) {
 }
 
 bool RouterReader::read(const ModbusRequest& request, ModbusResponse& response) {
-  if (request.is_write || request.function == modbus_function::encapsulated_interface)
-    return false;
   const UnitRoutes& table = routes();
-  const WordOrder order = table.options.word_order;
-  if (const auto& aggregate = table.aggregates[request.unit_id]) {
-    response = read_aggregate_unit(*aggregate, request, order, SteadyClock::now());
-    return true;
-  }
   const GatewaySensor* sensor = table.units[request.unit_id].get();
-  if (sensor == nullptr) return false;  // handle() answers 0A, as for every unit not routed
-  const SensorSnapshot* snapshot = snapshot_of(*sensor, request.unit_id);
-  if (snapshot == nullptr) return false;  // never published: handle() answers 0B
-  read_sensor(*sensor, *snapshot, request, order, response);
-  return true;
+  const SensorSnapshot* snapshot =
+      sensor != nullptr ? snapshot_of(*sensor, request.unit_id) : nullptr;
+  return answer_from_cache(table, request, snapshot, response);
 }
 
 }  // namespace tiltgate

@@ -23,8 +23,8 @@ class RouterReader : public ModbusReader {
  public:
   explicit RouterReader(const RequestRouter& router) : router_(router) {}
 
-  // Reads (01 to 04) of a sensor or an aggregate; the rest (writes, 43/14, pass-through) is
-  // left to RequestRouter::handle().
+  // Everything answer_from_cache() answers (gateway/request_router.h): all but a write that
+  // goes to its bus and a unit passed through, which RequestRouter::handle() and forward() take.
   bool read(const ModbusRequest& request, ModbusResponse& response) override;
   bool passes_through(std::uint8_t unit_id) override;
 

@@ -246,20 +246,29 @@ std::vector<std::uint8_t> relayed_reply(std::span<const std::uint8_t> adu,
 }
 
 ModbusFrameAssembler::Next ModbusFrameAssembler::next() const {
-  if (size_ < mbap_header_size) return NeedMore{};
-  auto size = adu_size(std::span(buffer_).first<mbap_header_size>());
+  if (buffered() < mbap_header_size) return NeedMore{};
+  auto size = adu_size(std::span(buffer_).subspan(start_).first<mbap_header_size>());
   if (!size) return size.error();
-  if (size_ < *size) return NeedMore{};
-  return std::span<const std::uint8_t>(buffer_.data(), *size);
+  if (buffered() < *size) return NeedMore{};
+  return std::span<const std::uint8_t>(buffer_.data() + start_, *size);
 }
 
 void ModbusFrameAssembler::pop() {
   auto front = next();
   auto* adu = std::get_if<std::span<const std::uint8_t>>(&front);
   if (adu == nullptr) return;
-  const std::size_t used = adu->size();
-  std::memmove(buffer_.data(), buffer_.data() + used, size_ - used);
-  size_ -= used;
+  start_ += adu->size();
+  if (start_ == end_) start_ = end_ = 0;
+}
+
+std::span<std::uint8_t> ModbusFrameAssembler::space() {
+  // What is left of the stream moves to the front once there is less room than a frame.
+  if (buffer_.size() - end_ < max_adu_size) {
+    std::memmove(buffer_.data(), buffer_.data() + start_, buffered());
+    end_ -= start_;
+    start_ = 0;
+  }
+  return std::span(buffer_).subspan(end_);
 }
 
 // Application Protocol V1.1b3 section 6.21: MEI type 14 reads the device identification.

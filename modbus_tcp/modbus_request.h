@@ -83,25 +83,27 @@ std::vector<std::uint8_t> relayed_reply(std::span<const std::uint8_t> adu,
 
 // Cuts a TCP byte stream into ADUs by the MBAP length field. Resumable and I/O-free: the
 // connection reads into space(), commits what arrived, and takes whole frames from next().
+// Its buffer holds many requests, so one read takes in every request a client pipelined.
 class ModbusFrameAssembler {
  public:
   struct NeedMore {};
   using Next = std::variant<NeedMore, std::span<const std::uint8_t>, FramingError>;
 
-  // The front of the stream: a whole ADU (valid until pop() or commit()), a need for more
+  // The front of the stream: a whole ADU (valid until pop() or space()), a need for more
   // bytes, or a header that makes framing impossible.
   Next next() const;
   // Drops the ADU next() returned.
   void pop();
-  // Where the next read goes; never empty while next() says NeedMore, since an incomplete
-  // frame is always shorter than the buffer.
-  std::span<std::uint8_t> space() { return std::span(buffer_).subspan(size_); }
-  void commit(std::size_t n) { size_ += n; }
-  std::size_t buffered() const { return size_; }
+  // Where the next read goes: at least max_adu_size bytes, never empty while next() says
+  // NeedMore (an incomplete frame is always shorter than that).
+  std::span<std::uint8_t> space();
+  void commit(std::size_t n) { end_ += n; }
+  std::size_t buffered() const { return end_ - start_; }
 
  private:
-  std::array<std::uint8_t, max_adu_size> buffer_{};
-  std::size_t size_ = 0;
+  std::array<std::uint8_t, 16 * max_adu_size> buffer_{};
+  std::size_t start_ = 0;  // the front of the stream
+  std::size_t end_ = 0;    // the end of what was read
 };
 
 }  // namespace tiltgate

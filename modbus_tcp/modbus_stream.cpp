@@ -1,68 +1,102 @@
 #include "modbus_tcp/modbus_stream.h"
 
-#include <openssl/ssl.h>
+#include <fcntl.h>
+#include <openssl/err.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
-#include <boost/asio/redirect_error.hpp>
-#include <boost/asio/ssl/error.hpp>
-#include <boost/asio/use_awaitable.hpp>
-#include <boost/asio/write.hpp>
+#include <cerrno>
+#include <cstring>
 
 namespace tiltgate {
 
 namespace asio = boost::asio;
-using asio::ip::tcp;
 
-ModbusStream::ModbusStream(tcp::socket socket) : plain_(std::move(socket)) {
-  // write() tries the socket at once and must not block when the client's window is full.
-  boost::system::error_code ec;
-  plain_->non_blocking(true, ec);
-}
-
-ModbusStream::ModbusStream(tcp::socket socket, asio::ssl::context& tls)
-    : tls_(std::in_place, std::move(socket), tls) {}
-
-tcp::socket& ModbusStream::socket() { return tls_ ? tls_->next_layer() : *plain_; }
-
-asio::awaitable<void> ModbusStream::handshake(boost::system::error_code& ec) {
-  if (!tls_) co_return;
-  co_await tls_->async_handshake(asio::ssl::stream_base::server,
-                                 asio::redirect_error(asio::use_awaitable, ec));
-}
-
-asio::awaitable<std::size_t> ModbusStream::read_some(asio::mutable_buffer buffer,
-                                                     boost::system::error_code& ec) {
-  // The socket's own operation, not a coroutine around it: a coroutine frame less per read,
-  // which Boost 1.74 would allocate (docs/performance.md, "The Modbus read path").
-  if (tls_) return tls_->async_read_some(buffer, asio::redirect_error(asio::use_awaitable, ec));
-  return plain_->async_read_some(buffer, asio::redirect_error(asio::use_awaitable, ec));
-}
-
-asio::awaitable<void> ModbusStream::write(asio::const_buffer buffer,
-                                          boost::system::error_code& ec) {
-  if (tls_) {
-    co_await asio::async_write(*tls_, buffer, asio::redirect_error(asio::use_awaitable, ec));
-    co_return;
+ModbusStream::ModbusStream(int fd, SSL_CTX* tls) : fd_(fd) {
+  ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);
+  if (tls == nullptr) return;
+  ssl_ = SSL_new(tls);
+  if (ssl_ == nullptr) {
+    error_ = "TLS: out of memory";
+    return;
   }
-  // A reply almost always fits the socket's send buffer: one send() now. An async_write that
-  // completes at once still posts its completion, and the event loop polls epoll once more
-  // before running it; only what did not fit waits for the socket.
-  const std::size_t sent = write_now(buffer, ec);
-  if (ec || sent == buffer.size()) co_return;
-  buffer += sent;
-  co_await asio::async_write(*plain_, buffer, asio::redirect_error(asio::use_awaitable, ec));
+  SSL_set_fd(ssl_, fd_);
+  SSL_set_accept_state(ssl_);
+  // A reply the socket takes in part is written on from where it stopped, from the
+  // connection's buffer, which may have moved by then.
+  SSL_set_mode(ssl_, SSL_MODE_ENABLE_PARTIAL_WRITE | SSL_MODE_ACCEPT_MOVING_WRITE_BUFFER);
 }
 
-std::size_t ModbusStream::write_now(asio::const_buffer buffer, boost::system::error_code& ec) {
-  ec = {};
-  if (tls_) return 0;
-  const std::size_t sent = plain_->write_some(buffer, ec);
-  if (ec == asio::error::would_block || ec == asio::error::try_again) ec = {};
-  return ec ? 0 : sent;
-}
+ModbusStream::~ModbusStream() { close(); }
 
 void ModbusStream::close() {
-  boost::system::error_code ec;
-  socket().close(ec);
+  if (ssl_ != nullptr) SSL_free(ssl_);
+  ssl_ = nullptr;
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+}
+
+StreamResult ModbusStream::socket_failure() {
+  if (errno == EAGAIN || errno == EWOULDBLOCK) return {StreamStatus::would_block};
+  error_ = std::strerror(errno);
+  return {errno == ECONNRESET || errno == EPIPE ? StreamStatus::closed : StreamStatus::failed};
+}
+
+StreamResult ModbusStream::tls_result(int returned) {
+  if (returned > 0) return {StreamStatus::ok, std::size_t(returned)};
+  switch (SSL_get_error(ssl_, returned)) {
+    case SSL_ERROR_WANT_READ:
+    case SSL_ERROR_WANT_WRITE: return {StreamStatus::would_block};
+    case SSL_ERROR_ZERO_RETURN: return {StreamStatus::closed};
+    case SSL_ERROR_SYSCALL:
+      if (ERR_peek_error() == 0) {
+        if (errno == 0) return {StreamStatus::closed};  // end of file without close_notify
+        return socket_failure();
+      }
+      [[fallthrough]];
+    default: {
+      char text[256];
+      ERR_error_string_n(ERR_get_error(), text, sizeof text);
+      error_ = text;
+      ERR_clear_error();
+      return {StreamStatus::failed};
+    }
+  }
+}
+
+StreamResult ModbusStream::handshake() {
+  if (ssl_ == nullptr) return {error_.empty() ? StreamStatus::ok : StreamStatus::failed};
+  ERR_clear_error();
+  errno = 0;
+  const int done = SSL_do_handshake(ssl_);
+  return done == 1 ? StreamResult{StreamStatus::ok} : tls_result(done);
+}
+
+StreamResult ModbusStream::read(std::span<std::uint8_t> into) {
+  if (ssl_ != nullptr) {
+    ERR_clear_error();
+    errno = 0;
+    return tls_result(SSL_read(ssl_, into.data(), int(into.size())));
+  }
+  for (;;) {
+    const ssize_t n = ::recv(fd_, into.data(), into.size(), 0);
+    if (n > 0) return {StreamStatus::ok, std::size_t(n)};
+    if (n == 0) return {StreamStatus::closed};
+    if (errno != EINTR) return socket_failure();
+  }
+}
+
+StreamResult ModbusStream::write(std::span<const std::uint8_t> bytes) {
+  if (ssl_ != nullptr) {
+    ERR_clear_error();
+    errno = 0;
+    return tls_result(SSL_write(ssl_, bytes.data(), int(bytes.size())));
+  }
+  for (;;) {
+    const ssize_t n = ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+    if (n >= 0) return {StreamStatus::ok, std::size_t(n)};
+    if (errno != EINTR) return socket_failure();
+  }
 }
 
 Expected<std::unique_ptr<asio::ssl::context>, std::string> make_tls_context(

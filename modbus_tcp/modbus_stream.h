@@ -1,45 +1,64 @@
-// The byte stream a Modbus TCP connection is served over: the plain socket (port 502) or TLS
-// on it (Modbus/TCP Security, port 802). The server's connection logic reads and writes
-// through this, so both are served by the same code.
+// The bytes of one Modbus TCP connection over its socket: plain TCP (port 502), or TLS on it
+// (Modbus/TCP Security, port 802) through OpenSSL. It never waits: the socket is non-blocking,
+// and what cannot be done now comes back as would_block, for the connection to try again at
+// the socket's next event in its ConnectionLoop (modbus_tcp/connection_loop.h).
 #pragma once
 
-#include <boost/asio/awaitable.hpp>
-#include <boost/asio/buffer.hpp>
-#include <boost/asio/ip/tcp.hpp>
+#include <openssl/ssl.h>
+
 #include <boost/asio/ssl/context.hpp>
-#include <boost/asio/ssl/stream.hpp>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
-#include <optional>
+#include <span>
 #include <string>
 
 #include "driver/expected.h"
 
 namespace tiltgate {
 
+enum class StreamStatus {
+  ok,           // `bytes` moved (a read: at least one)
+  would_block,  // nothing can move until the socket's next event
+  closed,       // the client ended the connection
+  failed,       // a socket or TLS error: ModbusStream::error() says which
+};
+
+struct StreamResult {
+  StreamStatus status = StreamStatus::ok;
+  std::size_t bytes = 0;
+};
+
 class ModbusStream {
  public:
-  explicit ModbusStream(boost::asio::ip::tcp::socket socket);
-  ModbusStream(boost::asio::ip::tcp::socket socket, boost::asio::ssl::context& tls);
+  // Takes `fd`, a connected TCP socket, and makes it non-blocking; `tls` (a server context
+  // from make_tls_context) makes it a TLS stream whose handshake() comes first.
+  explicit ModbusStream(int fd, SSL_CTX* tls = nullptr);
+  // Closes the socket, if close() did not.
+  ~ModbusStream();
+  ModbusStream(const ModbusStream&) = delete;
+  ModbusStream& operator=(const ModbusStream&) = delete;
 
-  bool is_tls() const { return tls_.has_value(); }
-  boost::asio::ip::tcp::socket& socket();
+  int fd() const { return fd_; }
+  bool is_tls() const { return ssl_ != nullptr; }
 
-  // The TLS handshake (nothing for a plain socket): the client's certificate is checked here.
-  boost::asio::awaitable<void> handshake(boost::system::error_code& ec);
-  boost::asio::awaitable<std::size_t> read_some(boost::asio::mutable_buffer buffer,
-                                                boost::system::error_code& ec);
-  boost::asio::awaitable<void> write(boost::asio::const_buffer buffer,
-                                     boost::system::error_code& ec);
-  // What of `buffer` the socket takes now, without waiting: 0 when it is full, and always 0
-  // over TLS (whose records go through write()). `ec` only for a broken connection.
-  std::size_t write_now(boost::asio::const_buffer buffer, boost::system::error_code& ec);
-  // Closes the socket: what is pending ends with operation_aborted.
+  // TLS: ok once the handshake is done and the client's certificate checked. A plain stream
+  // has none: ok at once.
+  StreamResult handshake();
+  StreamResult read(std::span<std::uint8_t> into);
+  StreamResult write(std::span<const std::uint8_t> bytes);
+  // What failed last (failed), for the log.
+  const std::string& error() const { return error_; }
   void close();
 
  private:
-  std::optional<boost::asio::ip::tcp::socket> plain_;
-  std::optional<boost::asio::ssl::stream<boost::asio::ip::tcp::socket>> tls_;
+  // An OpenSSL call's outcome, from SSL_get_error.
+  StreamResult tls_result(int returned);
+  StreamResult socket_failure();
+
+  int fd_ = -1;
+  SSL* ssl_ = nullptr;
+  std::string error_;
 };
 
 // What Modbus/TCP Security needs of the server ([server] tls): its certificate chain and key,

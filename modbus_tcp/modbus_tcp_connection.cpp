@@ -1,16 +1,13 @@
 #include "modbus_tcp/modbus_tcp_connection.h"
 
+#include <sys/epoll.h>
+
 #include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
-#include <boost/asio/dispatch.hpp>
-#include <boost/asio/redirect_error.hpp>
-#include <boost/asio/use_awaitable.hpp>
 #include <exception>
 #include <spdlog/spdlog.h>
 #include <variant>
 
 #include "modbus_tcp/modbus_reply_format.h"
-#include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate {
 
@@ -18,34 +15,10 @@ namespace asio = boost::asio;
 
 namespace {
 
-// A throwing handler is a bug, but it must cost one 04 reply, not the connection.
-asio::awaitable<ModbusResponse> ask_handler(ModbusRequestHandler& handler,
-                                            const ModbusRequest& request) {
-  try {
-    co_return co_await handler.handle(request);
-  } catch (const std::exception& e) {
-    spdlog::warn("Modbus handler failed on function {:02X}: {}", request.function, e.what());
-  }
-  ModbusResponse failed;
-  failed.exception = ModbusException::device_failure;
-  co_return failed;
-}
+// A turn's replies go out together, but no more than this waits for the send.
+constexpr std::size_t kMaxQueuedReplies = 16 * 1024;
 
-asio::awaitable<std::vector<std::uint8_t>> forward_to_device(ModbusRequestHandler& handler,
-                                                             std::vector<std::uint8_t> adu) {
-  const std::uint8_t unit_id = adu[6];
-  ForwardedReply relayed = Unexpected{ModbusException::device_failure};
-  // As ask_handler(): a throwing handler costs one 04 reply, not the connection.
-  try {
-    relayed = co_await handler.forward(unit_id, {adu.begin() + mbap_header_size, adu.end()});
-  } catch (const std::exception& e) {
-    spdlog::warn("Modbus pass-through to unit {} failed: {}", unit_id, e.what());
-  }
-  if (!relayed) co_return exception_reply(adu, relayed.error());
-  co_return relayed_reply(adu, *relayed);
-}
-
-// The reply into `reply` (a connection's own buffer, reused request after request).
+// The reply into `reply` (reused request after request).
 void encode_reply(const ModbusRequest& request, const ModbusResponse& response,
                   std::vector<std::uint8_t>& reply) {
   if (!response.exception && !response_fits(request, response)) {
@@ -58,195 +31,282 @@ void encode_reply(const ModbusRequest& request, const ModbusResponse& response,
   format_reply(request, response, reply);
 }
 
+// On the handler's executor. A throwing handler is a bug, but it must cost one 04 reply, not
+// the connection.
+asio::awaitable<std::vector<std::uint8_t>> handler_reply(ModbusRequestHandler& handler,
+                                                         ModbusRequest request) {
+  try {
+    const ModbusResponse response = co_await handler.handle(request);
+    std::vector<std::uint8_t> reply;
+    encode_reply(request, response, reply);
+    co_return reply;
+  } catch (const std::exception& e) {
+    spdlog::warn("Modbus handler failed on function {:02X}: {}", request.function, e.what());
+  }
+  co_return exception_reply(request.adu, ModbusException::device_failure);
+}
+
+// The same for a unit passed through: the device's reply relayed under the request's header.
+asio::awaitable<std::vector<std::uint8_t>> forwarded_reply(ModbusRequestHandler& handler,
+                                                           std::vector<std::uint8_t> adu) {
+  const std::uint8_t unit_id = adu[6];
+  ForwardedReply relayed = Unexpected{ModbusException::device_failure};
+  try {
+    relayed = co_await handler.forward(unit_id, {adu.begin() + mbap_header_size, adu.end()});
+  } catch (const std::exception& e) {
+    spdlog::warn("Modbus pass-through to unit {} failed: {}", unit_id, e.what());
+  }
+  if (!relayed) co_return exception_reply(adu, relayed.error());
+  co_return relayed_reply(adu, *relayed);
+}
+
 }  // namespace
 
-ModbusTcpConnection::ModbusTcpConnection(ModbusStream stream, std::string peer,
+ModbusTcpConnection::ModbusTcpConnection(int fd, SSL_CTX* tls, std::string peer,
                                          std::string address,
-                                         const ModbusConnectionContext& context)
+                                         const ModbusConnectionContext& context,
+                                         ConnectionLoop& loop)
     : context_(context),
-      stream_(std::move(stream)),
-      timer_(stream_.socket().get_executor()),
+      loop_(loop),
+      stream_(fd, tls),
       peer_(std::move(peer)),
       address_(std::move(address)),
       reader_(context.handler.reader()),
       options_(context.options) {}
 
 void ModbusTcpConnection::start() {
-  // On the socket's thread (a worker's), as everything of this connection from here on. Each
-  // coroutine holds the connection until it ends.
-  const asio::any_io_executor serving = timer_.get_executor();
-  asio::co_spawn(serving, [self = shared_from_this()] { return self->watch(); }, asio::detached);
-  asio::co_spawn(serving, [self = shared_from_this()] { return self->serve(); }, asio::detached);
+  loop_.post([self = shared_from_this()] { self->begin(); });
 }
 
 void ModbusTcpConnection::close() {
   closed_ = true;
-  asio::dispatch(timer_.get_executor(), [self = shared_from_this()] {
-    self->stream_.close();
-    self->timer_.cancel();
-  });
+  loop_.post([self = shared_from_this()] { self->end(); });
 }
 
-// Serving thread. A deadline before the watchdog's timer wakes it; one after does not need to
-// (it re-reads the deadline when its timer fires). Compared with the timer, not the last
-// deadline: each request moves the deadline from "none while the handler works" back to the
-// reply's, and waking the watchdog for that every time costs a handler run and a timer re-arm
-// per request.
-void ModbusTcpConnection::expect(ModbusWait what, Clock::time_point when) {
-  if (what == ModbusWait::idle && waiting_for_ != ModbusWait::idle)
-    idle_since_ = Clock::now().time_since_epoch().count();
-  waiting_for_ = what;
-  if (when < timer_.expiry()) timer_.cancel();
-  deadline_ = when;
+void ModbusTcpConnection::begin() {
+  if (ended_) return;
+  if (closed_) {  // closed before its loop took it up
+    end();
+    return;
+  }
+  if (auto watched = loop_.add(stream_.fd(), shared_from_this()); !watched) {
+    log_closing(spdlog::level::warn, watched.error());
+    end();
+    return;
+  }
+  watched_ = true;
+  shaken_ = !stream_.is_tls();
+  // The client proves itself in the handshake, which may take as long as a request.
+  if (!shaken_) expect(ModbusWait::request, loop_.now() + options_.latest().request_timeout);
+  else expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
+  // What the client sent before the socket was watched comes as its first event.
 }
 
-asio::awaitable<bool> ModbusTcpConnection::handshake() {
-  if (!stream_.is_tls()) co_return true;
-  // The client proves itself here; a handshake is as long as a request may take.
-  expect(ModbusWait::request, Clock::now() + options_.latest().request_timeout);
-  boost::system::error_code ec;
-  co_await stream_.handshake(ec);
-  if (ec && !closed_) {
+void ModbusTcpConnection::on_events(std::uint32_t events) {
+  if (ended_) return;
+  if (events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP | EPOLLERR)) drained_ = false;
+  if (!shaken_ && !shake_hands()) return;
+  serve();
+}
+
+bool ModbusTcpConnection::shake_hands() {
+  const StreamResult done = stream_.handshake();
+  if (done.status == StreamStatus::would_block) return false;
+  if (done.status != StreamStatus::ok) {
     ++context_.counters.tls_refused;
-    log_closing(spdlog::level::warn, "TLS handshake failed: " + ec.message());
+    log_closing(spdlog::level::warn,
+                "TLS handshake failed: " + (done.status == StreamStatus::closed
+                                                ? std::string("the client closed the connection")
+                                                : stream_.error()));
+    end();
+    return false;
   }
-  co_return !ec && !closed_;
-}
-
-asio::awaitable<void> ModbusTcpConnection::serve() {
-  if (!co_await handshake()) {
-    finish();
-    co_return;
-  }
-  ModbusFrameAssembler frames;
-  Clock::time_point first_byte_at = Clock::now();
-  while (!closed_) {
-    const auto next = frames.next();
-    if (const auto* error = std::get_if<FramingError>(&next)) {
-      log_closing(spdlog::level::warn, to_string(*error));
-      ++context_.counters.framing_errors;
-      break;
-    }
-    if (const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next)) {
-      if (answer_at_once(*adu)) {
-        // Written at once when the socket takes it whole (nearly always): no deadline moved,
-        // no coroutine; only the rest of a reply the client is slow to take waits.
-        boost::system::error_code ec;
-        const std::size_t sent = stream_.write_now(asio::buffer(reply_), ec);
-        if (ec || closed_) break;
-        if (sent < reply_.size() && !co_await send_rest(std::span(reply_).subspan(sent))) break;
-      } else if (!co_await answer(*adu)) {
-        break;
-      }
-      frames.pop();
-      // Pipelined bytes already buffered start their request clock now.
-      first_byte_at = Clock::now();
-      continue;
-    }
-    const ModbusServerOptions& options = options_.latest();
-    if (frames.buffered() == 0) {
-      expect(ModbusWait::idle, Clock::now() + options.idle_timeout);
-    } else {
-      expect(ModbusWait::request, first_byte_at + options.request_timeout);
-    }
-    boost::system::error_code ec;
-    const std::span<std::uint8_t> space = frames.space();
-    const std::size_t n =
-        co_await stream_.read_some(asio::buffer(space.data(), space.size()), ec);
-    if (ec) {
-      if (!closed_) spdlog::debug("Modbus TCP client {}: {}", peer_, ec.message());
-      break;
-    }
-    if (frames.buffered() == 0) first_byte_at = Clock::now();
-    frames.commit(n);
-  }
-  finish();
-}
-
-bool ModbusTcpConnection::answer_at_once(std::span<const std::uint8_t> adu) {
-  if (reader_ == nullptr || adu.size() <= mbap_header_size) return false;
-  // Reads only (writes pass write_allow in answer()), and no unit passed through.
-  if (!reads_only(adu.subspan(mbap_header_size)) || reader_->passes_through(adu[6])) return false;
-  if (parse_adu_into(adu, request_)) return false;  // answer() answers what the parser refuses
-  // As in answer(): no deadline while the handler works (here, this call), then idle again.
-  expect(ModbusWait::handler, Clock::time_point::max());
-  try {
-    if (!reader_->read(request_, response_)) return false;
-  } catch (const std::exception& e) {
-    // As ask_handler(): a throwing reader costs one 04 reply, not the connection.
-    spdlog::warn("Modbus reader failed on function {:02X}: {}", request_.function, e.what());
-    response_ = ModbusResponse{};
-    response_.exception = ModbusException::device_failure;
-  }
-  ++context_.counters.requests;
-  encode_reply(request_, response_, reply_);
-  context_.request_counts.note_reply(reply_);
+  shaken_ = true;
+  drained_ = false;  // the client's first request may have come with the handshake's end
   return true;
 }
 
-asio::awaitable<bool> ModbusTcpConnection::answer(std::span<const std::uint8_t> adu) {
+void ModbusTcpConnection::serve() {
+  if (with_handler_) return;  // take_reply() serves on, in order
+  bool answered = false;
+  while (!ended_) {
+    // Every whole request buffered, in order; their replies go out together.
+    while (!blocked_ && out_.size() < kMaxQueuedReplies) {
+      const auto next = frames_.next();
+      if (const auto* error = std::get_if<FramingError>(&next)) {
+        log_closing(spdlog::level::warn, to_string(*error));
+        ++context_.counters.framing_errors;
+        end();
+        return;
+      }
+      const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next);
+      if (adu == nullptr) break;  // need more
+      const Answer answer = this->answer(*adu);
+      if (answer == Answer::close) {
+        end();
+        return;
+      }
+      frames_.pop();
+      answered = true;
+      // Pipelined bytes already buffered start their request clock now.
+      if (frames_.buffered() > 0) first_byte_at_ = loop_.now();
+      if (answer == Answer::with_handler) {
+        flush();  // the replies before it go first
+        return;   // take_reply() serves on
+      }
+    }
+    if (!flush()) return;
+    if (blocked_) {
+      // From the first reply the client did not take, not from its last progress.
+      if (waiting_for_ != ModbusWait::reply)
+        expect(ModbusWait::reply, loop_.now() + options_.latest().request_timeout);
+      return;
+    }
+    // Cut short by kMaxQueuedReplies: more whole requests wait in the buffer.
+    if (std::holds_alternative<std::span<const std::uint8_t>>(frames_.next())) continue;
+    if (drained_) break;
+    const std::span<std::uint8_t> space = frames_.space();
+    const StreamResult got = stream_.read(space);
+    if (got.status == StreamStatus::would_block) {
+      drained_ = true;
+      break;
+    }
+    if (got.status != StreamStatus::ok) {
+      if (got.status == StreamStatus::failed)
+        spdlog::debug("Modbus TCP client {}: {}", peer_, stream_.error());
+      end();
+      return;
+    }
+    if (frames_.buffered() == 0) first_byte_at_ = loop_.now();
+    frames_.commit(got.bytes);
+    // A short read emptied the socket: its next event says when more comes. TLS may hold
+    // decrypted bytes back, so it reads until there is nothing.
+    drained_ = !stream_.is_tls() && got.bytes < space.size();
+  }
+  if (ended_) return;
+  const ModbusServerOptions& options = options_.latest();
+  if (frames_.buffered() > 0) {
+    expect(ModbusWait::request, first_byte_at_ + options.request_timeout);
+  } else {
+    if (answered) idle_since_ = loop_.now().time_since_epoch().count();
+    expect(ModbusWait::idle, loop_.now() + options.idle_timeout);
+  }
+}
+
+ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uint8_t> adu) {
+  const std::span<const std::uint8_t> pdu = adu.subspan(mbap_header_size);
   // As with [server] writes = false, passed-through units included: 01, nothing sent anywhere.
-  if (!reads_only(adu.subspan(mbap_header_size)) &&
-      !options_.latest().write_allow.allows(address_)) {
+  if (!reads_only(pdu) && !options_.latest().write_allow.allows(address_)) {
     ++context_.counters.writes_denied;
     context_.problem_log.log_problem(
         peer_, address_,
         fmt::format("function {:02X} refused with 01: address not in [server] write_allow",
                     adu[mbap_header_size]));
-    co_return co_await send(exception_reply(adu, ModbusException::illegal_function));
+    queue_reply(exception_reply(adu, ModbusException::illegal_function));
+    return Answer::sent;
   }
   // The assembler hands out whole ADUs with a valid MBAP header only, so a unit passed
   // through gets any function, unchecked: the device judges it.
-  if (adu.size() > mbap_header_size && context_.handler.passes_through(adu[6])) {
+  const bool passed = adu.size() > mbap_header_size &&
+                      (reader_ ? reader_->passes_through(adu[6])
+                               : context_.handler.passes_through(adu[6]));
+  if (passed) {
     ++context_.counters.forwarded;
-    expect(ModbusWait::handler, Clock::time_point::max());
-    const std::vector<std::uint8_t> reply =
-        co_await forward_to_device(context_.handler, {adu.begin(), adu.end()});
-    co_return co_await send(reply);
+    hand_over(forwarded_reply(context_.handler, {adu.begin(), adu.end()}));
+    return Answer::with_handler;
   }
-  ParsedAdu parsed = parse_adu(adu);
-  if (auto* rejected = std::get_if<RejectedRequest>(&parsed)) {
+  if (auto problem = parse_adu_into(adu, request_)) {
+    const auto* rejected = std::get_if<RejectedRequest>(&*problem);
+    if (rejected == nullptr) return Answer::close;  // unreachable: the ADU is framed
     ++context_.counters.rejected;
     spdlog::debug("Modbus TCP client {}: function {:02X} answered with exception {:02X}", peer_,
                   adu[7], std::uint8_t(rejected->exception));
-    co_return co_await send(rejected->reply);
+    queue_reply(rejected->reply);
+    return Answer::sent;
   }
-  if (auto* request = std::get_if<ModbusRequest>(&parsed)) {
-    ++context_.counters.requests;
-    expect(ModbusWait::handler, Clock::time_point::max());
-    const ModbusResponse response = co_await ask_handler(context_.handler, *request);
-    encode_reply(*request, response, reply_);
-    co_return co_await send(reply_);
-  }
-  co_return false;  // unreachable: the assembler only hands out framed ADUs
+  ++context_.counters.requests;
+  if (answer_at_once()) return Answer::sent;
+  hand_over(handler_reply(context_.handler, request_));
+  return Answer::with_handler;
 }
 
-asio::awaitable<bool> ModbusTcpConnection::send(std::span<const std::uint8_t> reply) {
-  if (closed_) co_return false;  // stop() while the handler worked
+bool ModbusTcpConnection::answer_at_once() {
+  if (reader_ == nullptr) return false;
+  try {
+    if (!reader_->read(request_, response_)) return false;
+  } catch (const std::exception& e) {
+    // As handler_reply(): a throwing reader costs one 04 reply, not the connection.
+    spdlog::warn("Modbus reader failed on function {:02X}: {}", request_.function, e.what());
+    response_ = ModbusResponse{};
+    response_.exception = ModbusException::device_failure;
+  }
+  encode_reply(request_, response_, reply_);
+  queue_reply(reply_);
+  return true;
+}
+
+void ModbusTcpConnection::hand_over(asio::awaitable<std::vector<std::uint8_t>> reply) {
+  with_handler_ = true;
+  expect(ModbusWait::handler, Clock::time_point::max());
+  asio::co_spawn(context_.handler_executor, std::move(reply),
+                 [self = shared_from_this()](std::exception_ptr, std::vector<std::uint8_t> reply) {
+                   self->loop_.post(
+                       [self, reply = std::move(reply)] { self->take_reply(reply); });
+                 });
+}
+
+void ModbusTcpConnection::take_reply(const std::vector<std::uint8_t>& reply) {
+  if (ended_) return;  // closed while the handler worked
+  with_handler_ = false;
+  if (reply.empty()) {  // the handler's coroutine failed where it cannot (out of memory)
+    log_closing(spdlog::level::warn, "no reply from the handler");
+    end();
+    return;
+  }
+  queue_reply(reply);
+  serve();
+}
+
+void ModbusTcpConnection::queue_reply(std::span<const std::uint8_t> reply) {
   context_.request_counts.note_reply(reply);
-  co_return co_await send_rest(reply);
+  out_.insert(out_.end(), reply.begin(), reply.end());
 }
 
-asio::awaitable<bool> ModbusTcpConnection::send_rest(std::span<const std::uint8_t> reply) {
-  if (closed_) co_return false;
-  expect(ModbusWait::reply, Clock::now() + options_.latest().request_timeout);
-  boost::system::error_code ec;
-  co_await stream_.write(asio::buffer(reply.data(), reply.size()), ec);
-  co_return !ec;
-}
-
-// Sleeps on the connection's timer, which expect() cancels when it moves the deadline earlier.
-asio::awaitable<void> ModbusTcpConnection::watch() {
-  while (!closed_) {
-    if (Clock::now() >= deadline_) {
-      expire();
-      close();
-      co_return;
+bool ModbusTcpConnection::flush() {
+  while (out_sent_ < out_.size()) {
+    const StreamResult sent = stream_.write(std::span(out_).subspan(out_sent_));
+    if (sent.status == StreamStatus::would_block) {
+      blocked_ = true;
+      return true;
     }
-    timer_.expires_at(deadline_);
-    boost::system::error_code ec;
-    co_await timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+    if (sent.status != StreamStatus::ok) {
+      if (sent.status == StreamStatus::failed)
+        spdlog::debug("Modbus TCP client {}: {}", peer_, stream_.error());
+      end();
+      return false;
+    }
+    out_sent_ += sent.bytes;
   }
+  out_.clear();
+  out_sent_ = 0;
+  blocked_ = false;
+  return true;
+}
+
+void ModbusTcpConnection::expect(ModbusWait what, Clock::time_point when) {
+  if (what == ModbusWait::idle && waiting_for_ != ModbusWait::idle)
+    idle_since_ = loop_.now().time_since_epoch().count();
+  waiting_for_ = what;
+  deadline_ = when;
+  loop_.wake_by(when);
+}
+
+ConnectionLoop::Clock::time_point ModbusTcpConnection::on_deadline(Clock::time_point now) {
+  if (ended_) return Clock::time_point::max();
+  if (now < deadline_) return deadline_;
+  expire();
+  end();
+  return Clock::time_point::max();
 }
 
 void ModbusTcpConnection::expire() {
@@ -272,8 +332,12 @@ void ModbusTcpConnection::expire() {
   }
 }
 
-void ModbusTcpConnection::finish() {
-  close();
+void ModbusTcpConnection::end() {
+  if (ended_) return;
+  ended_ = true;
+  closed_ = true;
+  if (watched_) loop_.remove(stream_.fd(), *this);
+  stream_.close();
   context_.finished(shared_from_this());
 }
 

@@ -1,11 +1,21 @@
-// One Modbus TCP client connection, from its admission to its close: it reads the client's
-// bytes, frames them, checks each request (write_allow, pass-through, the parser), asks the
-// handler and sends the reply, each step under a deadline (idle_timeout, request_timeout) that
-// a watchdog coroutine enforces. ModbusTcpServer accepts it and keeps the set of them.
+// One Modbus TCP client connection, from its admission to its close, served on one
+// ConnectionLoop (modbus_tcp/connection_loop.h): it reads the client's bytes, frames them,
+// checks each request (write_allow, pass-through, the parser), answers reads at once through
+// the handler's reader and hands the rest to the handler, and sends the replies, each step
+// under a deadline (idle_timeout, request_timeout). ModbusTcpServer accepts it and keeps the
+// set of them.
+//
+// A turn of its loop answers every whole request that arrived and sends their replies with one
+// send (docs/performance.md, "The Modbus read path"). A request for the handler (a write, a
+// pass-through, anything the reader declines) runs as a coroutine on the handler's executor;
+// the connection reads nothing more meanwhile, and takes up its buffered requests again when
+// the reply comes back.
 #pragma once
 
+#include <openssl/ssl.h>
+
+#include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
-#include <boost/asio/steady_timer.hpp>
 #include <spdlog/common.h>
 #include <atomic>
 #include <chrono>
@@ -18,6 +28,8 @@
 #include <vector>
 
 #include "modbus_tcp/client_problem_log.h"
+#include "modbus_tcp/connection_loop.h"
+#include "modbus_tcp/modbus_request.h"
 #include "modbus_tcp/modbus_request_counts.h"
 #include "modbus_tcp/modbus_server_options.h"
 #include "modbus_tcp/modbus_server_stats.h"
@@ -32,12 +44,14 @@ class ModbusTcpConnection;
 // may be used from any thread, and outlives the connections (ModbusTcpServer is destroyed only
 // after they ended).
 struct ModbusConnectionContext {
-  ModbusRequestHandler& handler;  // takes requests from every connection's thread at once
+  ModbusRequestHandler& handler;  // its reader() and passes_through(): every connection's thread
+  // Where handle() and forward() run: the server's own executor, one thread.
+  boost::asio::any_io_executor handler_executor;
   ModbusServerCounters& counters;
   ModbusRequestCounts& request_counts;
   const ModbusOptionsInForce& options;  // read through the connection's own Reader
   ClientProblemLog& problem_log;
-  // Called once, on the connection's thread, when it is closed and its serving ends.
+  // Called once, on the connection's loop, when it is closed and its serving ends.
   std::function<void(const std::shared_ptr<ModbusTcpConnection>&)> finished;
 };
 
@@ -49,22 +63,23 @@ enum class ModbusWait {
   reply,    // the client taking its reply: request_timeout
 };
 
-// Its stream, timer and buffers belong to the thread serving it (the stream's executor); the
-// accepting thread reads only the atomics (admission) and asks it to close().
-class ModbusTcpConnection : public std::enable_shared_from_this<ModbusTcpConnection> {
+// Its stream, buffers and deadline belong to its loop's thread; the accepting thread reads
+// only the atomics (admission) and asks it to close().
+class ModbusTcpConnection final : public ConnectionLoop::Client,
+                                  public std::enable_shared_from_this<ModbusTcpConnection> {
  public:
-  using Clock = std::chrono::steady_clock;
+  using Clock = ConnectionLoop::Clock;
 
-  ModbusTcpConnection(ModbusStream stream, std::string peer, std::string address,
-                      const ModbusConnectionContext& context);
+  // Takes `fd`, the accepted socket; `tls` (none: plain TCP) is the server's TLS context.
+  ModbusTcpConnection(int fd, SSL_CTX* tls, std::string peer, std::string address,
+                      const ModbusConnectionContext& context, ConnectionLoop& loop);
   ModbusTcpConnection(const ModbusTcpConnection&) = delete;
   ModbusTcpConnection& operator=(const ModbusTcpConnection&) = delete;
 
-  // Serves it, and watches its deadline, on its stream's thread until it closes; then it tells
+  // Any thread: it is served on its loop from now until it closes; then it tells
   // context.finished.
   void start();
-  // Any thread: marks it closed at once (admission no longer counts it) and closes its stream
-  // on its own thread.
+  // Any thread: marks it closed at once (admission no longer counts it) and ends it on its loop.
   void close();
 
   // Any thread.
@@ -75,45 +90,68 @@ class ModbusTcpConnection : public std::enable_shared_from_this<ModbusTcpConnect
   const std::string& address() const { return address_; }  // peer without the port
 
  private:
-  // The TLS handshake, if it is TLS: false when the connection is to close.
-  boost::asio::awaitable<bool> handshake();
-  boost::asio::awaitable<void> serve();
-  // A read the reader answers from its cache: true with the reply in reply_, without a
-  // coroutine or an allocation (docs/performance.md, "The Modbus read path"); false for
-  // everything else, which answer() takes.
-  bool answer_at_once(std::span<const std::uint8_t> adu);
-  // One framed request, answered: false when the connection is to close.
-  boost::asio::awaitable<bool> answer(std::span<const std::uint8_t> adu);
-  // Counts `reply` and sends it; send_rest() only sends, under the reply deadline. False when
-  // the connection is to close.
-  boost::asio::awaitable<bool> send(std::span<const std::uint8_t> reply);
-  boost::asio::awaitable<bool> send_rest(std::span<const std::uint8_t> reply);
-  // Closes the connection when its deadline passes.
-  boost::asio::awaitable<void> watch();
-  // Sets what the watchdog enforces next.
+  enum class Answer { sent, with_handler, close };
+
+  void on_events(std::uint32_t events) override;
+  Clock::time_point on_deadline(Clock::time_point now) override;
+
+  // Watched by its loop from now; a TLS connection's handshake begins.
+  void begin();
+  // TLS: the handshake goes on; true once it is done.
+  bool shake_hands();
+  // Reads what arrived, answers every whole request and sends the replies, until it has to
+  // wait: for the socket, the client or the handler.
+  void serve();
+  // One framed request: its reply queued, or handed to the handler.
+  Answer answer(std::span<const std::uint8_t> adu);
+  // request_ answered by the reader from its cache (a read: without an allocation); false
+  // for what needs the handler.
+  bool answer_at_once();
+  // Runs `reply`, the handler's coroutine, on its executor; the reply comes back through
+  // take_reply(), and the connection answers nothing more meanwhile.
+  void hand_over(boost::asio::awaitable<std::vector<std::uint8_t>> reply);
+  void take_reply(const std::vector<std::uint8_t>& reply);
+  // Counts a reply and queues it behind the others of this turn.
+  void queue_reply(std::span<const std::uint8_t> reply);
+  // Sends what is queued; false when the connection ended.
+  bool flush();
+  // Sets what the deadline guards next, and when it passes.
   void expect(ModbusWait what, Clock::time_point when);
   // Counts and logs why the deadline closes it.
   void expire();
-  void finish();
+  // Stops watching its socket, closes it and tells the server.
+  void end();
   void log_closing(spdlog::level::level_enum level, std::string_view why);
 
   const ModbusConnectionContext& context_;
+  ConnectionLoop& loop_;
   ModbusStream stream_;
-  boost::asio::steady_timer timer_;  // the watchdog's
-  std::vector<std::uint8_t> reply_;  // formatted here, so a reply allocates nothing
   const std::string peer_;
   const std::string address_;
+  ModbusFrameAssembler frames_;
+  // Replies queued in a turn, sent together; kept, so a reply allocates nothing.
+  std::vector<std::uint8_t> out_;
+  std::size_t out_sent_ = 0;        // of out_, what the socket took
+  std::vector<std::uint8_t> reply_;  // one reply formatted, then queued
   // The handler's reader for this connection, and the request and response it fills, reused
   // request after request.
   std::unique_ptr<ModbusReader> reader_;
   ModbusRequest request_;
   ModbusResponse response_;
+  ModbusOptionsInForce::Reader options_;
   std::atomic<ModbusWait> waiting_for_ = ModbusWait::idle;
   // When it last became idle (or connected), as Clock ticks.
   std::atomic<Clock::rep> idle_since_ = Clock::now().time_since_epoch().count();
-  Clock::time_point deadline_ = Clock::time_point::max();  // serving thread
-  ModbusOptionsInForce::Reader options_;                   // serving thread
   std::atomic<bool> closed_ = false;
+  // Its loop's thread only.
+  Clock::time_point deadline_ = Clock::time_point::max();
+  Clock::time_point first_byte_at_{};  // of the request being received
+  bool watched_ = false;    // added to its loop
+  bool ended_ = false;
+  bool shaken_ = false;     // the TLS handshake is done (a plain stream needs none)
+  bool drained_ = false;    // read until the socket had nothing more, since its last event
+  bool blocked_ = false;    // the socket took only part of out_: wait until it is writable
+  bool with_handler_ = false;  // a request is with the handler: answer nothing else
 };
 
 }  // namespace tiltgate

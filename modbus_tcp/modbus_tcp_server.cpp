@@ -46,13 +46,15 @@ std::string address_of(const tcp::socket& socket) {
 ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHandler& handler,
                                  ModbusServerOptions options, TcpWorkerPool* workers)
     : executor_(executor),
-      workers_(workers),
+      own_workers_(workers == nullptr ? std::make_unique<TcpWorkerPool>(1) : nullptr),
+      workers_(workers != nullptr ? workers : own_workers_.get()),
       options_(std::move(options)),
       acceptor_(executor),
       tls_acceptor_(executor),
       problem_log_(executor, options_),
       connection_context_{
           .handler = handler,
+          .handler_executor = executor,
           .counters = stats_,
           .request_counts = request_counts_,
           .options = options_,
@@ -62,7 +64,13 @@ ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHa
           },
       } {}
 
-ModbusTcpServer::~ModbusTcpServer() = default;
+ModbusTcpServer::~ModbusTcpServer() {
+  // Its own thread ends first: the connections on it refer to the server.
+  if (own_workers_) {
+    if (running_) stop();
+    own_workers_->stop();
+  }
+}
 
 std::shared_ptr<const ModbusServerOptions> ModbusTcpServer::options() const {
   return options_.current();
@@ -199,10 +207,8 @@ asio::awaitable<void> ModbusTcpServer::accept_clients(tcp::acceptor& acceptor, b
   // A rebind (apply()) moves a new plain acceptor into acceptor_ and starts a newer loop.
   while (acceptor.is_open() && (tls || generation == accept_generation_)) {
     boost::system::error_code ec;
-    // The socket is made on the thread that will serve it.
-    const asio::any_io_executor serving = workers_ ? workers_->next() : executor_;
     tcp::socket socket =
-        co_await acceptor.async_accept(serving, asio::redirect_error(asio::use_awaitable, ec));
+        co_await acceptor.async_accept(asio::redirect_error(asio::use_awaitable, ec));
     if (ec == asio::error::operation_aborted || !acceptor.is_open()) co_return;
     if (ec) {
       spdlog::warn("Modbus TCP accept failed: {}", ec.message());
@@ -278,10 +284,15 @@ void ModbusTcpServer::admit(tcp::socket socket, bool tls) {
   socket.set_option(tcp::no_delay(true), ec);
   std::string peer = peer_of(socket);
   std::string address = address_of(socket);
-  ModbusStream stream = tls ? ModbusStream(std::move(socket), *tls_context_)
-                            : ModbusStream(std::move(socket));
-  auto connection = std::make_shared<ModbusTcpConnection>(std::move(stream), std::move(peer),
-                                                          std::move(address), connection_context_);
+  // The socket leaves Asio here: its connection serves it on a worker's loop.
+  const int fd = socket.release(ec);
+  if (ec) {
+    spdlog::warn("Modbus TCP client {} dropped: {}", peer, ec.message());
+    return;
+  }
+  auto connection = std::make_shared<ModbusTcpConnection>(
+      fd, tls ? tls_context_->native_handle() : nullptr, std::move(peer), std::move(address),
+      connection_context_, workers_->next());
   std::size_t count = 0;
   {
     std::lock_guard lock(connections_mutex_);

@@ -1,9 +1,9 @@
 // The Modbus TCP server: its listeners (plain and TLS) accept clients, admit, refuse or replace
 // them, and it keeps the set of their connections (modbus_tcp_connection.h), which frame and
-// check the requests, ask the handler and send the replies. One coroutine per connection
-// (epoll, so no FD_SETSIZE limit); a slow, silent or half-sent client only ever holds up
-// itself. Accepting runs on the server's executor; each connection is served on one of the
-// worker pool's threads, if there is one.
+// check the requests, ask the handler and send the replies. Connections are served on the
+// worker pool's event loops (epoll, so no FD_SETSIZE limit); a slow, silent or half-sent client
+// only ever holds up itself. Accepting, and the handler's coroutines (writes, pass-through),
+// run on the server's executor.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -30,8 +30,9 @@ namespace tiltgate {
 class TcpWorkerPool;
 
 // The listeners, admission, start(), stop() and apply() run on `executor`, which must be
-// single-threaded (an io_context run by one thread). Connections are served on `workers`'
-// threads (without workers: on `executor` too), so the handler must take requests from any
+// single-threaded (an io_context run by one thread), and so do the handler's handle() and
+// forward(). Connections are served on `workers`' threads (without workers: on one thread of
+// the server's own), so the handler's reader() and passes_through() must take calls from any
 // of them at once; stats(), request_counts() and client_count() may be read from `executor`
 // meanwhile. Call stop() and let the connections end (the event loop and the workers) before
 // destroying the server.
@@ -79,7 +80,8 @@ class ModbusTcpServer {
   void forget(const std::shared_ptr<ModbusTcpConnection>& connection);
 
   boost::asio::any_io_executor executor_;
-  TcpWorkerPool* workers_;  // none: connections on executor_
+  std::unique_ptr<TcpWorkerPool> own_workers_;  // when none were given
+  TcpWorkerPool* workers_;
   ModbusOptionsInForce options_;
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::ip::tcp::acceptor tls_acceptor_;

@@ -67,22 +67,24 @@ struct ModbusResponse {
 // sent, to relay unchanged, or the exception the gateway answers instead.
 using ForwardedReply = Expected<std::vector<std::uint8_t>, ModbusException>;
 
-// One connection's way to answer reads at once, on its own thread, without a coroutine: what a
-// read needs of the handler's tables it may keep between requests, as long as it notices when
-// they change (docs/performance.md, "The Modbus read path"). Used by one connection only.
+// One connection's way to answer requests at once, on its own thread, without a coroutine:
+// what a read needs of the handler's tables it may keep between requests, as long as it
+// notices when they change (docs/performance.md, "The Modbus read path"). Used by one
+// connection only.
 class ModbusReader {
  public:
   virtual ~ModbusReader() = default;
-  // True with `response` filled (its buffers reused: no allocation once they have grown) when
-  // the request is answered from what is cached; false when it needs handle() instead (a
-  // write, a pass-through or anything that waits).
+  // True with `response` filled (its buffers reused: a read allocates nothing once they have
+  // grown) when the request is answered from what is cached; false when it needs handle()
+  // instead (a write that waits for its device).
   virtual bool read(const ModbusRequest& request, ModbusResponse& response) = 0;
   // The handler's passes_through(), from what is cached.
   virtual bool passes_through(std::uint8_t unit_id) = 0;
 };
 
-// Answers checked requests. Runs on the server's event loop: a read should return at once; a
-// write may take as long as the sensor needs (other connections are served meanwhile).
+// Answers checked requests. handle() and forward() run on the server's executor: a write may
+// take as long as the sensor needs (other connections are served meanwhile); reader() and
+// passes_through() are called from every connection's thread.
 class ModbusRequestHandler {
  public:
   virtual ~ModbusRequestHandler() = default;

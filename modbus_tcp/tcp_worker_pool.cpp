@@ -1,5 +1,8 @@
 #include "modbus_tcp/tcp_worker_pool.h"
 
+#include <pthread.h>
+#include <signal.h>
+
 #include <spdlog/spdlog.h>
 
 #include <exception>
@@ -15,12 +18,18 @@ TcpWorkerPool::TcpWorkerPool(std::size_t threads) {
   if (threads == 0) threads = 1;
   for (std::size_t i = 0; i < threads; ++i) {
     auto worker = std::make_unique<Worker>();
-    boost::asio::io_context& io = worker->io;
-    worker->thread = std::thread([&io, i] {
-      // A handler that throws is a bug; it costs the one connection, not the thread.
+    ConnectionLoop& loop = worker->loop;
+    worker->thread = std::thread([&loop, i] {
+      // OpenSSL writes a TLS connection's socket with write(): a client gone away must cost
+      // an EPIPE there, not the process. Plain sockets are sent to with MSG_NOSIGNAL.
+      sigset_t pipe;
+      sigemptyset(&pipe);
+      sigaddset(&pipe, SIGPIPE);
+      pthread_sigmask(SIG_BLOCK, &pipe, nullptr);
+      // A connection that throws is a bug; it costs that turn of the loop, not the thread.
       for (;;) {
         try {
-          io.run();
+          loop.run();
           return;
         } catch (const std::exception& e) {
           spdlog::error("Modbus TCP thread {}: {}", i, e.what());
@@ -33,24 +42,24 @@ TcpWorkerPool::TcpWorkerPool(std::size_t threads) {
 
 TcpWorkerPool::~TcpWorkerPool() { stop(); }
 
-boost::asio::any_io_executor TcpWorkerPool::next() {
+ConnectionLoop& TcpWorkerPool::next() {
   const std::size_t i = next_.fetch_add(1, std::memory_order_relaxed) % workers_.size();
-  return workers_[i]->io.get_executor();
+  return workers_[i]->loop;
 }
 
 void TcpWorkerPool::stop(std::chrono::milliseconds grace) {
   if (stopped_) return;
   stopped_ = true;
-  for (auto& worker : workers_) worker->guard.reset();
+  for (auto& worker : workers_) worker->loop.stop();
   // run() returns by itself once a thread's connections have all ended.
   const auto deadline = std::chrono::steady_clock::now() + grace;
   for (auto& worker : workers_)
-    while (!worker->io.stopped() && std::chrono::steady_clock::now() < deadline)
+    while (!worker->loop.stopped() && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
   for (auto& worker : workers_) {
-    if (!worker->io.stopped())
+    if (!worker->loop.stopped())
       spdlog::warn("Modbus TCP thread still busy {} ms after stop: stopped", grace.count());
-    worker->io.stop();
+    worker->loop.stop(true);
     if (worker->thread.joinable()) worker->thread.join();
   }
 }

@@ -1,18 +1,16 @@
-// The threads that serve Modbus TCP connections ([server] threads): one io_context and one
-// thread each, so each connection's socket, timers and coroutines live on one thread and need
-// no strand. The buses stay on the main event loop, which no TCP work reaches but writes and
+// The threads that serve Modbus TCP connections ([server] threads): one ConnectionLoop and one
+// thread each, so each connection's socket, buffers and deadlines live on one thread and need
+// no lock. The buses stay on the main event loop, which no TCP work reaches but writes and
 // forwarded requests (gateway/request_router.h).
 #pragma once
 
-#include <boost/asio/any_io_executor.hpp>
-#include <boost/asio/executor_work_guard.hpp>
-#include <boost/asio/io_context.hpp>
-#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <memory>
 #include <thread>
 #include <vector>
+
+#include "modbus_tcp/connection_loop.h"
 
 namespace tiltgate {
 
@@ -25,8 +23,8 @@ class TcpWorkerPool {
   TcpWorkerPool(const TcpWorkerPool&) = delete;
   TcpWorkerPool& operator=(const TcpWorkerPool&) = delete;
 
-  // The next thread's executor, round robin: where the next connection is served.
-  boost::asio::any_io_executor next();
+  // The next thread's loop, round robin: where the next connection is served.
+  ConnectionLoop& next();
   std::size_t size() const { return workers_.size(); }
 
   // Lets each thread end once its connections have ended (their sockets closed by the
@@ -36,9 +34,7 @@ class TcpWorkerPool {
 
  private:
   struct Worker {
-    boost::asio::io_context io{1};  // one thread: the concurrency hint lets asio skip locks
-    boost::asio::executor_work_guard<boost::asio::io_context::executor_type> guard{
-        io.get_executor()};
+    ConnectionLoop loop;
     std::thread thread;
   };
 

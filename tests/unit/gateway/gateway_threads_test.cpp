@@ -168,7 +168,7 @@ TEST_CASE("threads: the worker pool ends its threads once their connections are 
   TcpWorkerPool pool(3);
   CHECK(pool.size() == 3);
   std::atomic<int> ran{0};
-  for (int i = 0; i < 9; ++i) asio::post(pool.next(), [&] { ++ran; });
+  for (int i = 0; i < 9; ++i) pool.next().post([&] { ++ran; });
   pool.stop(10s);  // returns as soon as the threads ran out of work
   CHECK(ran == 9);
   pool.stop();  // again: nothing happens

@@ -328,7 +328,7 @@ TEST_CASE("the frame assembler takes frames whole, a byte at a time, or several 
     ModbusFrameAssembler frames;
     const Bytes biggest = frame(Bytes(253, 0x03));
     REQUIRE(biggest.size() == max_adu_size);
-    REQUIRE(frames.space().size() == max_adu_size);
+    REQUIRE(frames.space().size() >= max_adu_size);
     std::copy(biggest.begin(), biggest.end(), frames.space().begin());
     frames.commit(biggest.size());
     CHECK(std::holds_alternative<std::span<const std::uint8_t>>(frames.next()));
