@@ -29,40 +29,54 @@ Expected<std::shared_ptr<GatewayAggregate>, std::string> make_gateway_aggregate(
 ModbusResponse read_aggregate_unit(const GatewayAggregate& aggregate, const ModbusRequest& request,
                                    WordOrder order, SteadyClock::time_point now) {
   ModbusResponse response;
+  AggregateScratch scratch;
+  read_aggregate_unit(aggregate, request, order, now, response, scratch);
+  return response;
+}
+
+void read_aggregate_unit(const GatewayAggregate& aggregate, const ModbusRequest& request,
+                         WordOrder order, SteadyClock::time_point now, ModbusResponse& response,
+                         AggregateScratch& scratch) {
+  response.exception.reset();
+  response.registers.clear();
+  response.bits.clear();
+  response.device_objects.clear();
   const bool registers =
       request.table == ModbusTable::input || request.table == ModbusTable::holding;
   if (request.is_write || !registers ||
       request.function == modbus_function::encapsulated_interface) {
     response.exception = ModbusException::illegal_function;
-    return response;
+    return;
   }
   const MemberRange range = members_in(aggregate.layout, request.address, request.count);
   // Every sensor's snapshot first, taken at one instant (no poll published between them),
   // then the reply from them without a lock.
-  std::vector<std::shared_ptr<const SensorSnapshot>> snapshots;
-  snapshots.reserve(range.last - range.first);
+  scratch.snapshots.clear();
+  scratch.sources.clear();
   {
     const SnapshotSlot::Instant instant;
     for (std::size_t i = range.first; i < range.last; ++i) {
-      snapshots.push_back(aggregate.members[i]->snapshot(instant));
-      if (snapshots.back() == nullptr) {  // a sensor routed but not yet taken up by its bus
+      scratch.snapshots.push_back(aggregate.members[i]->snapshot(instant));
+      if (scratch.snapshots.back() == nullptr) {  // a sensor routed but not yet taken up by its bus
         response.exception = ModbusException::gateway_target_failed;
-        return response;
+        return;
       }
     }
   }
-  std::vector<AggregateSource> sources;
-  sources.reserve(snapshots.size());
   for (std::size_t i = range.first; i < range.last; ++i) {
     const GatewaySensor& sensor = *aggregate.members[i];
-    sources.push_back({&sensor.map, sensor.view(*snapshots[i - range.first], now, order)});
+    scratch.sources.push_back(
+        {&sensor.map, sensor.view(*scratch.snapshots[i - range.first], now, order)});
   }
-  auto words = read_aggregate(aggregate.layout, range, sources, request.address, request.count);
-  if (!words)
-    response.exception = ModbusException(std::uint8_t(words.error()));
-  else
-    response.registers = std::move(*words);
-  return response;
+  response.registers.resize(request.count);  // within its capacity after the first reads
+  auto read = read_aggregate(aggregate.layout, range, scratch.sources, request.address,
+                             response.registers);
+  if (!read) {
+    response.registers.clear();
+    response.exception = ModbusException(std::uint8_t(read.error()));
+  }
+  // Not kept past the read: a reload may drop these sensors.
+  scratch.snapshots.clear();
 }
 
 }  // namespace tiltgate

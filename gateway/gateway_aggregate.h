@@ -32,4 +32,15 @@ Expected<std::shared_ptr<GatewayAggregate>, std::string> make_gateway_aggregate(
 ModbusResponse read_aggregate_unit(const GatewayAggregate& aggregate, const ModbusRequest& request,
                                    WordOrder order, SteadyClock::time_point now);
 
+// What one reader keeps between aggregate reads, so that a read allocates nothing once these
+// have grown: the members' snapshots and views of the read in hand.
+struct AggregateScratch {
+  std::vector<std::shared_ptr<const SensorSnapshot>> snapshots;
+  std::vector<AggregateSource> sources;
+};
+// The same into `response`, whose vectors keep their capacity.
+void read_aggregate_unit(const GatewayAggregate& aggregate, const ModbusRequest& request,
+                         WordOrder order, SteadyClock::time_point now, ModbusResponse& response,
+                         AggregateScratch& scratch);
+
 }  // namespace tiltgate

@@ -23,6 +23,7 @@
 #include "config/config.h"
 #include "gateway/gateway_aggregate.h"
 #include "gateway/gateway_sensor.h"
+#include "mapping/register_image.h"
 #include "gateway/unit_routes.h"
 #include "modbus_tcp/modbus_types.h"
 
@@ -100,13 +101,22 @@ class RequestRouter : public ModbusRequestHandler {
 
 ModbusException exception_for(ForwardFailure failure);
 
+// What a caller of answer_from_cache() keeps from one request to the next, so that a read
+// allocates nothing: an aggregate read's scratch, and the register image of the snapshot read
+// (none: the read converts its points one by one).
+struct CachedReadScratch {
+  AggregateScratch aggregate;
+  RegisterImage* image = nullptr;
+};
+
 // What `request` gets from `routes` without a bus, into `response` (its vectors keep their
 // capacity): an aggregate's values; a sensor's values or identification from `snapshot`, its
 // latest (null when it was never polled); or the exception for a unit not routed, a sensor
 // never polled or a write [server] writes refuses. False for a write its bus carries out.
 // RequestRouter::handle() and every connection's reader answer through this.
 bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
-                       const SensorSnapshot* snapshot, ModbusResponse& response);
+                       const SensorSnapshot* snapshot, ModbusResponse& response,
+                       CachedReadScratch& scratch);
 
 ModbusException exception_for(WriteErrorKind kind);
 // The same, but a device's own Modbus exception is relayed with its code.

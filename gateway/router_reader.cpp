@@ -12,21 +12,25 @@ const UnitRoutes& RouterReader::routes() {
     routes_ = router_.routes();
     routes_generation_ = generation;
     // The sensors kept may be the old table's, alive only through it.
-    kept_.fill(KeptSnapshot{});
+    for (KeptSnapshot& kept : kept_) {
+      kept.sensor = nullptr;
+      kept.snapshot.reset();
+    }
   }
   return *routes_;
 }
 
-const SensorSnapshot* RouterReader::snapshot_of(const GatewaySensor& sensor,
-                                                std::uint8_t unit_id) {
+RouterReader::KeptSnapshot& RouterReader::snapshot_of(const GatewaySensor& sensor,
+                                                      std::uint8_t unit_id) {
   KeptSnapshot& kept = kept_[unit_id % kept_.size()];
   const std::uint64_t generation = sensor.published.generation();
   if (kept.sensor != &sensor || kept.generation != generation || kept.snapshot == nullptr) {
     kept.snapshot = sensor.snapshot();
     kept.sensor = &sensor;
     kept.generation = generation;
+    kept.image.clear();
   }
-  return kept.snapshot.get();
+  return kept;
 }
 
 bool RouterReader::passes_through(std::uint8_t unit_id) {
@@ -36,9 +40,13 @@ bool RouterReader::passes_through(std::uint8_t unit_id) {
 bool RouterReader::read(const ModbusRequest& request, ModbusResponse& response) {
   const UnitRoutes& table = routes();
   const GatewaySensor* sensor = table.units[request.unit_id].get();
-  const SensorSnapshot* snapshot =
-      sensor != nullptr ? snapshot_of(*sensor, request.unit_id) : nullptr;
-  return answer_from_cache(table, request, snapshot, response);
+  if (sensor == nullptr) {
+    scratch_.image = nullptr;
+    return answer_from_cache(table, request, nullptr, response, scratch_);
+  }
+  KeptSnapshot& kept = snapshot_of(*sensor, request.unit_id);
+  scratch_.image = &kept.image;
+  return answer_from_cache(table, request, kept.snapshot.get(), response, scratch_);
 }
 
 }  // namespace tiltgate

@@ -29,21 +29,25 @@ class RouterReader : public ModbusReader {
   bool passes_through(std::uint8_t unit_id) override;
 
  private:
-  // The snapshot of one sensor as last taken, and the generation it was taken at.
+  // The snapshot of one sensor as last taken, the generation it was taken at, and its
+  // registers as rendered for reads (kept across snapshots: it only grows once).
   struct KeptSnapshot {
     const GatewaySensor* sensor = nullptr;
     std::uint64_t generation = 0;
     std::shared_ptr<const SensorSnapshot> snapshot;
+    RegisterImage image;
   };
 
   const UnitRoutes& routes();
-  const SensorSnapshot* snapshot_of(const GatewaySensor& sensor, std::uint8_t unit_id);
+  // The kept snapshot of `sensor` (its snapshot null: never polled).
+  KeptSnapshot& snapshot_of(const GatewaySensor& sensor, std::uint8_t unit_id);
 
   const RequestRouter& router_;
   std::shared_ptr<const UnitRoutes> routes_;
   std::uint64_t routes_generation_ = 0;
   // By unit id modulo 16: a client that polls up to 16 consecutive units keeps all of them.
   std::array<KeptSnapshot, 16> kept_{};
+  CachedReadScratch scratch_;
 };
 
 }  // namespace tiltgate

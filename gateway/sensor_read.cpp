@@ -15,7 +15,8 @@ RegisterTable table_of(ModbusTable table) {
 ModbusException exception_for(MapFault fault) { return ModbusException(std::uint8_t(fault)); }
 
 void read_sensor(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
-                 const ModbusRequest& request, WordOrder order, ModbusResponse& response) {
+                 const ModbusRequest& request, WordOrder order, ModbusResponse& response,
+                 RegisterImage* image) {
   response.exception.reset();
   response.registers.clear();
   response.bits.clear();
@@ -31,7 +32,9 @@ void read_sensor(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
     return;
   }
   response.registers.resize(request.count);  // within its capacity after the first reads
-  auto read = read_registers(sensor.map, view, table, request.address, response.registers);
+  auto read = image != nullptr
+                  ? image->read(sensor.map, view, table, request.address, response.registers)
+                  : read_registers(sensor.map, view, table, request.address, response.registers);
   if (!read) {
     response.registers.clear();
     response.exception = exception_for(read.error());

@@ -7,6 +7,7 @@
 #include "gateway/gateway_sensor.h"
 #include "gateway/sensor_snapshot.h"
 #include "mapping/map_access.h"
+#include "mapping/register_image.h"
 #include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
@@ -15,8 +16,11 @@ RegisterTable table_of(ModbusTable table);
 ModbusException exception_for(MapFault fault);
 
 // Replaces `response` with the answer to `request` (a read: 01 to 04) from `snapshot`: the
-// values, or the map's exception. Its vectors keep their capacity.
+// values, or the map's exception. Its vectors keep their capacity. `image`, when given, is the
+// caller's rendering of this snapshot's registers (mapping/register_image.h), which a register
+// read copies from.
 void read_sensor(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
-                 const ModbusRequest& request, WordOrder order, ModbusResponse& response);
+                 const ModbusRequest& request, WordOrder order, ModbusResponse& response,
+                 RegisterImage* image = nullptr);
 
 }  // namespace tiltgate

@@ -65,13 +65,12 @@ MemberRange members_in(const AggregateLayout& layout, std::uint16_t address,
   return {std::min(first, layout.sensors), std::min(last, layout.sensors)};
 }
 
-Expected<std::vector<std::uint16_t>, MapFault> read_aggregate(
-    const AggregateLayout& layout, MemberRange members, std::span<const AggregateSource> sources,
-    std::uint16_t address, std::uint16_t count) {
-  const std::uint32_t end = std::uint32_t(address) + count;
-  if (count == 0 || end > layout.end()) return Unexpected{MapFault::illegal_address};
+Expected<Done, MapFault> read_aggregate(const AggregateLayout& layout, MemberRange members,
+                                        std::span<const AggregateSource> sources,
+                                        std::uint16_t address, std::span<std::uint16_t> words) {
+  const std::uint32_t end = std::uint32_t(address) + std::uint32_t(words.size());
+  if (words.empty() || end > layout.end()) return Unexpected{MapFault::illegal_address};
   if (sources.size() != members.last - members.first) return Unexpected{MapFault::illegal_address};
-  std::vector<std::uint16_t> words(count);
   for (std::size_t i = members.first; i < members.last; ++i) {
     const AggregateSource& source = sources[i - members.first];
     const std::uint32_t base = layout.block_start(i);
@@ -83,11 +82,20 @@ Expected<std::vector<std::uint16_t>, MapFault> read_aggregate(
       if (start < address || stop > end) return Unexpected{MapFault::illegal_address};
       const Point* p = source.map->find(slot.point);
       if (p == nullptr) return Unexpected{MapFault::illegal_address};  // the loader checks
-      auto read = read_registers(*source.map, source.view, p->table, p->address, p->words());
+      auto read = read_registers(*source.map, source.view, p->table, p->address,
+                                 words.subspan(start - address, p->words()));
       if (!read) return Unexpected{read.error()};
-      std::copy(read->begin(), read->end(), words.begin() + (start - address));
     }
   }
+  return Done{};
+}
+
+Expected<std::vector<std::uint16_t>, MapFault> read_aggregate(
+    const AggregateLayout& layout, MemberRange members, std::span<const AggregateSource> sources,
+    std::uint16_t address, std::uint16_t count) {
+  std::vector<std::uint16_t> words(count);
+  auto read = read_aggregate(layout, members, sources, address, words);
+  if (!read) return Unexpected{read.error()};
   return words;
 }
 

@@ -66,7 +66,11 @@ struct AggregateSource {
 // members_in(layout, address, count), in order. Each point reads as it would on the sensor's
 // own unit (read_registers: the same offline, stale and substitute rules), so a point that
 // would be an exception there makes the request that exception. A range outside the layout
-// or splitting a point is illegal_address.
+// or splitting a point is illegal_address. Into `words` ([address, address + words.size()),
+// the Modbus read path, which allocates nothing), or into a new vector of `count`.
+Expected<Done, MapFault> read_aggregate(const AggregateLayout& layout, MemberRange members,
+                                        std::span<const AggregateSource> sources,
+                                        std::uint16_t address, std::span<std::uint16_t> words);
 Expected<std::vector<std::uint16_t>, MapFault> read_aggregate(
     const AggregateLayout& layout, MemberRange members, std::span<const AggregateSource> sources,
     std::uint16_t address, std::uint16_t count);
