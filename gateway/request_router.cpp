@@ -135,8 +135,8 @@ void RequestRouter::pass_through(std::uint8_t unit_id, BusScheduler& bus) {
 }
 
 bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
-                       const SensorSnapshot* snapshot, ModbusResponse& response,
-                       CachedReadScratch& scratch) {
+                       const SensorSnapshot* snapshot, SteadyClock::time_point now,
+                       ModbusResponse& response, CachedReadScratch& scratch) {
   response.exception.reset();
   response.registers.clear();
   response.bits.clear();
@@ -148,8 +148,7 @@ bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
   const WordOrder order = routes.options.word_order;
   // An aggregate's reply is built in one call that does not suspend: one instant for all.
   if (const auto& aggregate = routes.aggregates[request.unit_id]) {
-    read_aggregate_unit(*aggregate, request, order, SteadyClock::now(), response,
-                        scratch.aggregate);
+    read_aggregate_unit(*aggregate, request, order, now, response, scratch.aggregate);
     return true;
   }
   const GatewaySensor* sensor = routes.units[request.unit_id].get();
@@ -166,7 +165,7 @@ bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
     response.device_objects = device_objects(*sensor, snapshot->state);
     return true;
   }
-  read_sensor(*sensor, *snapshot, request, order, response, scratch.image);
+  read_sensor(*sensor, *snapshot, request, order, now, response, scratch.image);
   return true;
 }
 
@@ -180,7 +179,8 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest
   const std::shared_ptr<const SensorSnapshot> snapshot = sensor ? sensor->snapshot() : nullptr;
   ModbusResponse response;
   CachedReadScratch scratch;
-  if (answer_from_cache(*routes, request, snapshot.get(), response, scratch)) co_return response;
+  if (answer_from_cache(*routes, request, snapshot.get(), SteadyClock::now(), response, scratch))
+    co_return response;
   if (stopping_) co_return failure(ModbusException::gateway_target_failed);
   co_return co_await boost::asio::co_spawn(
       bus_executor_, write(std::move(sensor), request, routes->options),

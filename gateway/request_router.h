@@ -109,14 +109,14 @@ struct CachedReadScratch {
   RegisterImage* image = nullptr;
 };
 
-// What `request` gets from `routes` without a bus, into `response` (its vectors keep their
-// capacity): an aggregate's values; a sensor's values or identification from `snapshot`, its
-// latest (null when it was never polled); or the exception for a unit not routed, a sensor
-// never polled or a write [server] writes refuses. False for a write its bus carries out.
-// RequestRouter::handle() and every connection's reader answer through this.
+// What `request` gets from `routes` without a bus at `now`, into `response` (its vectors keep
+// their capacity): an aggregate's values; a sensor's values or identification from
+// `snapshot`, its latest (null when it was never polled); or the exception for a unit not
+// routed, a sensor never polled or a write [server] writes refuses. False for a write its bus
+// carries out. RequestRouter::handle() and every connection's reader answer through this.
 bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
-                       const SensorSnapshot* snapshot, ModbusResponse& response,
-                       CachedReadScratch& scratch);
+                       const SensorSnapshot* snapshot, SteadyClock::time_point now,
+                       ModbusResponse& response, CachedReadScratch& scratch);
 
 ModbusException exception_for(WriteErrorKind kind);
 // The same, but a device's own Modbus exception is relayed with its code.

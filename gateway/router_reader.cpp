@@ -37,16 +37,17 @@ bool RouterReader::passes_through(std::uint8_t unit_id) {
   return routes().forwarded[unit_id] != nullptr;
 }
 
-bool RouterReader::read(const ModbusRequest& request, ModbusResponse& response) {
+bool RouterReader::read(const ModbusRequest& request, ModbusResponse& response,
+                        SteadyClock::time_point now) {
   const UnitRoutes& table = routes();
   const GatewaySensor* sensor = table.units[request.unit_id].get();
   if (sensor == nullptr) {
     scratch_.image = nullptr;
-    return answer_from_cache(table, request, nullptr, response, scratch_);
+    return answer_from_cache(table, request, nullptr, now, response, scratch_);
   }
   KeptSnapshot& kept = snapshot_of(*sensor, request.unit_id);
   scratch_.image = &kept.image;
-  return answer_from_cache(table, request, kept.snapshot.get(), response, scratch_);
+  return answer_from_cache(table, request, kept.snapshot.get(), now, response, scratch_);
 }
 
 }  // namespace tiltgate

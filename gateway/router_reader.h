@@ -25,7 +25,8 @@ class RouterReader : public ModbusReader {
 
   // Everything answer_from_cache() answers (gateway/request_router.h): all but a write that
   // goes to its bus and a unit passed through, which RequestRouter::handle() and forward() take.
-  bool read(const ModbusRequest& request, ModbusResponse& response) override;
+  bool read(const ModbusRequest& request, ModbusResponse& response,
+            SteadyClock::time_point now) override;
   bool passes_through(std::uint8_t unit_id) override;
 
  private:

@@ -15,13 +15,13 @@ RegisterTable table_of(ModbusTable table) {
 ModbusException exception_for(MapFault fault) { return ModbusException(std::uint8_t(fault)); }
 
 void read_sensor(const GatewaySensor& sensor, const SensorSnapshot& snapshot,
-                 const ModbusRequest& request, WordOrder order, ModbusResponse& response,
-                 RegisterImage* image) {
+                 const ModbusRequest& request, WordOrder order, SteadyClock::time_point now,
+                 ModbusResponse& response, RegisterImage* image) {
   response.exception.reset();
   response.registers.clear();
   response.bits.clear();
   response.device_objects.clear();
-  const auto view = sensor.view(snapshot, SteadyClock::now(), order);
+  const auto view = sensor.view(snapshot, now, order);
   const auto table = table_of(request.table);
   if (table == RegisterTable::coil || table == RegisterTable::discrete) {
     auto read = read_bits(sensor.map, view, table, request.address, request.count, response.bits);

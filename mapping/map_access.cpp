@@ -106,6 +106,16 @@ Expected<Done, MapFault> read_registers(const RegisterMap& map, const SensorView
   return Done{};
 }
 
+Expected<Done, MapFault> read_point(const Point& point, const SensorView& sensor,
+                                    std::span<std::uint16_t> words) {
+  // How measurements read depends on whether the range holds one: for a point alone, on
+  // whether it is one, and in any range that holds it, such a point makes it so.
+  auto measurements = measurements_for(std::span(&point, 1), sensor);
+  if (!measurements) return Unexpected(measurements.error());
+  encode_point(point, sensor, *measurements, words);
+  return Done{};
+}
+
 Expected<std::vector<std::uint16_t>, MapFault> read_registers(const RegisterMap& map,
                                                               const SensorView& sensor,
                                                               RegisterTable table,

@@ -28,6 +28,10 @@ enum class MapFault : std::uint8_t {
 Expected<Done, MapFault> read_registers(const RegisterMap& map, const SensorView& sensor,
                                         RegisterTable table, std::uint16_t address,
                                         std::span<std::uint16_t> words);
+// One point of `map`'s registers into `words` (its words() long), as read_registers() reads
+// them in any range that holds the point whole: what mapping/register_image.h renders from.
+Expected<Done, MapFault> read_point(const Point& point, const SensorView& sensor,
+                                    std::span<std::uint16_t> words);
 // The same into a new vector of `count`.
 Expected<std::vector<std::uint16_t>, MapFault> read_registers(const RegisterMap& map,
                                                               const SensorView& sensor,

@@ -12,7 +12,6 @@ constexpr std::uint8_t kFirst = 2;        // its point's first register
 constexpr std::uint8_t kLast = 4;         // its point's last register
 constexpr std::uint8_t kUnavailable = 8;  // its point reads as unavailable in this state
 constexpr std::uint8_t kLive = 16;        // its point is read at every read (age_ms)
-constexpr std::uint8_t kUnusual = 32;     // its point failed otherwise: read_registers() judges
 
 // The tables rendered, by their index in tables_.
 std::size_t index_of(RegisterTable table) { return table == RegisterTable::input ? 0 : 1; }
@@ -44,14 +43,12 @@ Expected<Done, MapFault> RegisterImage::read(const RegisterMap& map, const Senso
     if (!(kind & kMapped)) return Unexpected(MapFault::illegal_address);
     seen |= kind;
   }
-  if (seen & kUnusual) return read_registers(map, view, table, address, words);
   if (seen & kUnavailable) return Unexpected(MapFault::unavailable);
   std::copy_n(rendered.words.begin() + at, count, words.begin());
   if (seen & kLive) {
     for (const Point* p : live_) {
       if (p->table != table || p->address < address || p->end() > address + count) continue;
-      (void)read_registers(map, view, table, p->address,
-                           words.subspan(p->address - address, p->words()));
+      (void)read_point(*p, view, words.subspan(p->address - address, p->words()));
     }
   }
   return Done{};
@@ -82,12 +79,9 @@ void RegisterImage::render_table(const RegisterMap& map, const SensorView& view,
     if (points[i].address < points[i - 1].end()) overlapping_ = true;
   for (const Point& p : points) {
     const std::uint32_t at = p.address - rendered.first;
-    // Each point alone reads as it does within any range: read_registers() decides how
-    // measurements read from the view's state, the same for one point as for many.
-    const auto read = read_registers(map, view, table, p.address,
-                                     std::span(rendered.words).subspan(at, p.words()));
+    const auto read = read_point(p, view, std::span(rendered.words).subspan(at, p.words()));
     std::uint8_t kind = kMapped;
-    if (!read) kind |= read.error() == MapFault::unavailable ? kUnavailable : kUnusual;
+    if (!read) kind |= kUnavailable;  // a measurement of a sensor offline or stale
     if (p.source == ValueSource::age_ms) {
       kind |= kLive;
       live_.push_back(&p);

@@ -139,7 +139,8 @@ void ConnectionLoop::sweep() {
 int ConnectionLoop::wait_ms() const {
   if (stopping_now_ || (stopping_ && clients_.empty())) return 0;
   if (next_sweep_ == Clock::time_point::max()) return -1;
-  const auto left = std::chrono::ceil<std::chrono::milliseconds>(next_sweep_ - Clock::now());
+  // From the turn's start: a turn is microseconds, a deadline milliseconds.
+  const auto left = std::chrono::ceil<std::chrono::milliseconds>(next_sweep_ - now_);
   return int(std::clamp<std::chrono::milliseconds::rep>(left.count(), 0, INT_MAX));
 }
 

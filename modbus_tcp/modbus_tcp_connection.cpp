@@ -131,7 +131,12 @@ void ModbusTcpConnection::serve() {
   bool answered = false;
   while (!ended_) {
     // Every whole request buffered, in order; their replies go out together.
-    while (!blocked_ && out_.size() < kMaxQueuedReplies) {
+    bool capped = false;  // stopped by kMaxQueuedReplies, with more whole requests buffered
+    while (!blocked_) {
+      if (out_.size() >= kMaxQueuedReplies) {
+        capped = true;
+        break;
+      }
       const auto next = frames_.next();
       if (const auto* error = std::get_if<FramingError>(&next)) {
         log_closing(spdlog::level::warn, to_string(*error));
@@ -162,8 +167,7 @@ void ModbusTcpConnection::serve() {
         expect(ModbusWait::reply, loop_.now() + options_.latest().request_timeout);
       return;
     }
-    // Cut short by kMaxQueuedReplies: more whole requests wait in the buffer.
-    if (std::holds_alternative<std::span<const std::uint8_t>>(frames_.next())) continue;
+    if (capped) continue;
     if (drained_) break;
     const std::span<std::uint8_t> space = frames_.space();
     const StreamResult got = stream_.read(space);
@@ -188,7 +192,9 @@ void ModbusTcpConnection::serve() {
   if (frames_.buffered() > 0) {
     expect(ModbusWait::request, first_byte_at_ + options.request_timeout);
   } else {
-    if (answered) idle_since_ = loop_.now().time_since_epoch().count();
+    // A hint for admission on the accepting thread: relaxed, and no locked instruction.
+    if (answered)
+      idle_since_.store(loop_.now().time_since_epoch().count(), std::memory_order_relaxed);
     expect(ModbusWait::idle, loop_.now() + options.idle_timeout);
   }
 }
@@ -233,7 +239,7 @@ ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uin
 bool ModbusTcpConnection::answer_at_once() {
   if (reader_ == nullptr) return false;
   try {
-    if (!reader_->read(request_, response_)) return false;
+    if (!reader_->read(request_, response_, loop_.now())) return false;
   } catch (const std::exception& e) {
     // As handler_reply(): a throwing reader costs one 04 reply, not the connection.
     spdlog::warn("Modbus reader failed on function {:02X}: {}", request_.function, e.what());
@@ -294,9 +300,13 @@ bool ModbusTcpConnection::flush() {
 }
 
 void ModbusTcpConnection::expect(ModbusWait what, Clock::time_point when) {
-  if (what == ModbusWait::idle && waiting_for_ != ModbusWait::idle)
-    idle_since_ = loop_.now().time_since_epoch().count();
-  waiting_for_ = what;
+  // Admission reads both as hints from the accepting thread: relaxed stores, made only on a
+  // change, since this runs for every request.
+  if (waiting_for_.load(std::memory_order_relaxed) != what) {
+    if (what == ModbusWait::idle)
+      idle_since_.store(loop_.now().time_since_epoch().count(), std::memory_order_relaxed);
+    waiting_for_.store(what, std::memory_order_relaxed);
+  }
   deadline_ = when;
   loop_.wake_by(when);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -75,9 +76,10 @@ class ModbusReader {
  public:
   virtual ~ModbusReader() = default;
   // True with `response` filled (its buffers reused: a read allocates nothing once they have
-  // grown) when the request is answered from what is cached; false when it needs handle()
-  // instead (a write that waits for its device).
-  virtual bool read(const ModbusRequest& request, ModbusResponse& response) = 0;
+  // grown) when the request is answered from what is cached, as it is at `now`; false when it
+  // needs handle() instead (a write that waits for its device).
+  virtual bool read(const ModbusRequest& request, ModbusResponse& response,
+                    std::chrono::steady_clock::time_point now) = 0;
   // The handler's passes_through(), from what is cached.
   virtual bool passes_through(std::uint8_t unit_id) = 0;
 };
