@@ -1,6 +1,7 @@
 #include "gateway/bus_scheduler.h"
 
 #include <algorithm>
+#include <boost/asio/post.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <fmt/format.h>
@@ -137,8 +138,13 @@ asio::awaitable<void> BusScheduler::poll(std::shared_ptr<GatewaySensor> sensor) 
   }
   ++stats_.polls;
   jobs_.polled();
-  process_new_reading(*sensor);
-  sensor->publish();
+  // Processed and published once the bus's next request is out: posted, this runs after the
+  // handler going on from here has written that request (the write is where it first waits),
+  // so the next transaction does not wait for the reading's tilt, alarms and snapshot.
+  asio::post(wake_.get_executor(), [sensor] {
+    process_new_reading(*sensor);
+    sensor->publish();
+  });
   Polled* polled = find_polled(sensor.get());
   if (polled == nullptr) co_return;  // removed meanwhile
   polled->schedule = after_poll(polled->schedule, sensor->driver->state().online,
