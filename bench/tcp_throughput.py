@@ -16,9 +16,10 @@ quantities read mapped registers. The reference maps 200 of each.
 
 Usage: bench/tcp_throughput.py [--runs N] [--seconds S] [--quick] [--clients 1,8,...]
                                [--tiltgate PATH] [--also NAME=PATH ...] [--threads 1,2]
-                               [--build DIR]
+                               [--floor] [--build DIR]
 --also adds another tiltgate binary (an older build, say) to the same alternation; --threads
-adds the gateway with those [server] threads.
+adds the gateway with those [server] threads; --floor adds bench/floor_server.cpp, the least a
+server can spend on a read on this machine (one epoll loop, canned replies, no checks).
 """
 import argparse
 import os
@@ -124,6 +125,8 @@ map = "bench-map.toml"
 
 
 class Reference:
+    """The plainest libmodbus server, or the floor server: a binary that takes its port."""
+
     def __init__(self, binary):
         self.port = free_port()
         self.process = subprocess.Popen([binary, str(self.port)], stdout=subprocess.DEVNULL)
@@ -171,17 +174,23 @@ def main():
     parser.add_argument("--also", action="append", default=[], metavar="NAME=PATH")
     parser.add_argument("--threads", help="also run the gateway with these [server] threads, "
                                           "e.g. 1,2 (the default run has one per core)")
+    parser.add_argument("--floor", action="store_true",
+                        help="also run bench_floor_server, the least a server can spend on a read")
     args = parser.parse_args()
     if args.quick:
         args.runs, args.seconds = 1, 1.0
     load_binary = os.path.join(args.build, "bench", "bench_modbus_load")
     reference_binary = os.path.join(args.build, "bench", "bench_reference_server")
+    floor_binary = os.path.join(args.build, "bench", "bench_floor_server")
     servers = [("reference", None), ("tiltgate", args.tiltgate or os.path.join(args.build, "tiltgate"))]
     servers += [tuple(a.split("=", 1)) for a in args.also]
     threads = {}  # server name -> [server] threads
     for n in (args.threads.split(",") if args.threads else []):
         servers.append((f"tiltgate t{n}", servers[1][1]))
         threads[f"tiltgate t{n}"] = int(n)
+    if args.floor:
+        servers.append(("floor", floor_binary))
+    plain = {"reference": reference_binary, "floor": floor_binary}  # Reference-like servers
     client_counts = [int(c) for c in args.clients.split(",")]
 
     folder = tempfile.mkdtemp(prefix="tiltgate-bench-")
@@ -190,7 +199,7 @@ def main():
         for name, binary in servers:
             sub = os.path.join(folder, name)
             os.mkdir(sub)
-            running[name] = (Reference(reference_binary) if binary is None
+            running[name] = (Reference(plain[name]) if name in plain
                              else Tiltgate(binary, sub, max(client_counts), threads.get(name)))
         time.sleep(1)  # the sensor's first readings
         print(f"Modbus TCP, medians of {args.runs} runs of {args.seconds:g} s "

@@ -141,7 +141,8 @@ void ModbusTcpConnection::serve() {
       if (const auto* error = std::get_if<FramingError>(&next)) {
         log_closing(spdlog::level::warn, to_string(*error));
         ++context_.counters.framing_errors;
-        end();
+        // The requests before the bad header are answered (if the socket takes it now).
+        if (flush()) end();
         return;
       }
       const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next);

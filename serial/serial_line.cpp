@@ -3,10 +3,14 @@
 // the port is TtyPort's (serial/tty_port.cpp).
 #include "serial/serial_line.h"
 
+#include <unistd.h>
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <cstring>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/asio/write.hpp>
@@ -260,17 +264,23 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
     std::span<const std::uint8_t> bytes, Parity parity) {
   const auto wire =
       wire_time(bytes.size(), options_.baud, parity, stop_bits_of(options_.framing));
-  error_code ec;
-  bool stalled = false;
-  {
-    // One write for the whole packet: some protocols need a packet's bytes within 125 us of
-    // each other (docs/protocols.md, "Packet timing").
-    PortDeadline deadline(port_.stream(), Clock::now() + wire + kStalledWrite);
-    co_await asio::async_write(port_.stream(), asio::buffer(bytes.data(), bytes.size()),
-                               asio::redirect_error(asio::use_awaitable, ec));
-    stalled = deadline.passed();
+  // One write for the whole packet: some protocols need a packet's bytes within 125 us of
+  // each other (docs/protocols.md, "Packet timing"). The driver nearly always takes a short
+  // packet at once: written now, the request leaves as soon as the reply before it was read,
+  // with no timer to arm; only what the driver does not take waits, under the stall deadline.
+  const Expected<std::size_t, std::string> taken = write_now(bytes);
+  if (!taken) co_return port_failure(taken.error());
+  if (const auto rest = bytes.subspan(*taken); !rest.empty()) {
+    error_code ec;
+    bool stalled = false;
+    {
+      PortDeadline deadline(port_.stream(), Clock::now() + wire + kStalledWrite);
+      co_await asio::async_write(port_.stream(), asio::buffer(rest.data(), rest.size()),
+                                 asio::redirect_error(asio::use_awaitable, ec));
+      stalled = deadline.passed();
+    }
+    if (ec) co_return port_failure(stalled ? std::string("write stalled") : ec.message());
   }
-  if (ec) co_return port_failure(stalled ? std::string("write stalled") : ec.message());
   // The driver has the bytes; they are on the wire for `wire` more (its buffer was empty).
   packet_end_ = Clock::now() + wire;
   if (write_observer_) {
@@ -278,6 +288,15 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
     if (in_force) write_observer_(bytes, parity, *in_force);
   }
   co_return std::nullopt;
+}
+
+Expected<std::size_t, std::string> SerialLine::write_now(std::span<const std::uint8_t> bytes) {
+  for (;;) {  // the port is non-blocking (serial/tty_port.cpp)
+    const ssize_t written = ::write(port_.fd(), bytes.data(), bytes.size());
+    if (written >= 0) return std::size_t(written);
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
+    if (errno != EINTR) return Unexpected(std::string(std::strerror(errno)));
+  }
 }
 
 asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& request,

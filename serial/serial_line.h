@@ -134,6 +134,8 @@ class SerialLine final : public Line {
   boost::asio::awaitable<std::optional<Attempt>> send(const LineRequest& request);
   boost::asio::awaitable<std::optional<Attempt>> write_segment(std::span<const std::uint8_t> bytes,
                                                                Parity parity);
+  // What of `bytes` the port takes now, without waiting (0 when its buffer is full).
+  Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes);
   boost::asio::awaitable<Attempt> receive(const LineRequest& request, Clock::time_point deadline);
   // One read that gives up at `deadline`: how many bytes came, or timed_out when none came in
   // time, or the outcome of a failed port or a stopped line.

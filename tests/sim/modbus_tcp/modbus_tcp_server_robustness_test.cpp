@@ -121,6 +121,18 @@ TEST_CASE("a client sending garbage is closed and the others are still served") 
   CHECK(stats.framing_errors == 2);
 }
 
+TEST_CASE("a request and garbage behind it in one send: the request is answered, then closed") {
+  RunningServer server;
+  RawSocket raw(server.port);
+  Bytes stream = read_holding_frame(7, 7);
+  const Bytes garbage{'G', 'E', 'T', ' ', '/', ' ', 'H'};
+  stream.insert(stream.end(), garbage.begin(), garbage.end());
+  raw.send(stream);
+  CHECK(raw.receive(11) == holding_reply(7, 1007));
+  CHECK(raw.closed_by_server());
+  CHECK(server.stats().framing_errors == 1);
+}
+
 TEST_CASE("a half-sent request is dropped after request_timeout, a silent client after idle") {
   ModbusServerOptions options = test_options();
   options.request_timeout = 200ms;

@@ -81,7 +81,9 @@ void check_every_state(const RegisterMap& map) {
       {"never read", sensor(now, 0ms, false, false)},
   };
   const Words written = {0, 0, 0, 0x1234, 0x5678};
-  for (const auto& [name, state] : states) {
+  for (const auto& named : states) {  // not a structured binding: clang 14's INFO cannot take one
+    const std::string& name = named.first;
+    const SensorState& state = named.second;
     for (const OfflineRead policy :
          {OfflineRead::exception, OfflineRead::last_value, OfflineRead::substitute}) {
       for (const WordOrder order : {WordOrder::big, WordOrder::little}) {
