@@ -4,6 +4,7 @@
 // forwarded requests (gateway/request_router.h).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <memory>

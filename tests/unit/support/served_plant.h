@@ -1,6 +1,6 @@
 // The gateway's threads as `tiltgate run` has them, around a fake bus (fake_bus.h): the
 // sensors a test adds, the router, a Modbus TCP server on loopback served on `tcp_threads`
-// worker threads (0: on the buses' thread, as `threads = 1`), and the buses' io_context on a
+// worker threads (0: on the one thread of the server's own), and the buses' io_context on a
 // thread of its own. A test adds and routes its sensors, then calls serve().
 #pragma once
 
@@ -69,8 +69,7 @@ struct ServedPlant {
     if (bus_thread.joinable()) bus_thread.join();
   }
 
-  // Before io: io is stopped with the server's cancelled accept still queued, and destroying
-  // that accept destroys its peer socket, which lives on a worker's io_context.
+  // Declared first, destroyed last: the connections the server holds refer to its loops.
   std::unique_ptr<TcpWorkerPool> workers;
   boost::asio::io_context io;
   boost::asio::executor_work_guard<boost::asio::io_context::executor_type> guard{
