@@ -49,6 +49,16 @@ std::vector<Bytes> replies(int fd, std::size_t count) {
   return whole;
 }
 
+int connect_to(std::uint16_t port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  REQUIRE(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+  return fd;
+}
+
 struct OneSensorPlant : ServedPlant {
   OneSensorPlant() : ServedPlant(1, true) {
     sensors.push_back(std::shared_ptr<GatewaySensor>(fake_sensor("s1", 1, 1, events, 100ms)));
@@ -62,12 +72,7 @@ struct OneSensorPlant : ServedPlant {
 
 TEST_CASE("pipelined reads, exceptions and a write are all answered, in the order sent") {
   OneSensorPlant plant;
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(plant.port);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  REQUIRE(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+  const int fd = connect_to(plant.port);
 
   // 60 requests in one send: reads of 4 and 10 input registers, a read past the map (02),
   // and a write to the filter setting (holding 0) in the middle, which waits for the bus.
@@ -98,3 +103,4 @@ TEST_CASE("pipelined reads, exceptions and a write are all answered, in the orde
   }
   CHECK(plant.server->stats().requests == 60);
 }
+
