@@ -164,6 +164,10 @@ void ModbusTcpConnection::serve() {
         return;   // take_reply() serves on
       }
     }
+    // Nothing left to answer: idle before the replies leave, since admission, on the
+    // accepting thread, must not find busy a connection whose client already has its answer.
+    if (!out_.empty() && frames_.buffered() == 0)
+      expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
     if (!flush()) return;
     if (blocked_) {
       // From the first reply the client did not take, not from its last progress.
