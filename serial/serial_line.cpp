@@ -105,7 +105,8 @@ class PortDeadline {
 SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options)
     : options_(std::move(options)),
       port_(executor, port_options_of(options_), [this] { ++stats_.reopens; }),
-      quiet_timer_(executor) {}
+      quiet_timer_(executor),
+      read_deadline_(executor, port_.stream()) {}
 
 SerialLine::~SerialLine() { stop(); }
 
@@ -114,6 +115,7 @@ bool SerialLine::start() { return port_.open(); }
 void SerialLine::stop() {
   port_.stop();
   quiet_timer_.cancel();
+  read_deadline_.cancel();
 }
 
 SerialLine::Attempt SerialLine::port_failure(const std::string& why) {
@@ -337,14 +339,10 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
 asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_before(
     std::span<std::uint8_t> buffer, Clock::time_point deadline) {
   error_code ec;
-  std::size_t received = 0;
-  bool passed = false;
-  {
-    PortDeadline guard(port_.stream(), deadline);
-    received = co_await port_.stream().async_read_some(
-        asio::buffer(buffer.data(), buffer.size()), asio::redirect_error(asio::use_awaitable, ec));
-    passed = guard.passed();
-  }
+  read_deadline_.start(deadline);
+  const std::size_t received = co_await port_.stream().async_read_some(
+      asio::buffer(buffer.data(), buffer.size()), asio::redirect_error(asio::use_awaitable, ec));
+  const bool passed = read_deadline_.finish();
   if (ec) {
     if (!port_.stopped() && passed && ec == asio::error::operation_aborted) {
       co_return Unexpected(Attempt::timed_out);
