@@ -14,17 +14,20 @@ sensor asks for only 100 polls/s, the "asked" column). Counters come from the HT
    windows of one gateway run. Fairness (10 and 60 sensors): the spread of the sensors' update
    rates over the whole measured time, as min/max and the coefficient of variation.
    At 125000 baud with 10 and 60 sensors, the tight master too (bench/tight_master.cpp: write
-   the request, read exactly the reply, repeat), in the same run: after each gateway window the
-   gateway and its simulator are stopped (SIGSTOP, so they take no CPU) and the tight master
-   polls a fresh simulator started with the same options and addresses for as long; then the
-   gateway resumes, 0.5 s before its next window. A fresh simulator rather than the gateway's,
-   since a stopped gateway still holds that pty open.
+   the request, read exactly the reply, repeat), in the same run, in rounds: each round a
+   gateway and its simulator started for one window (measured once every sensor answered, and
+   0.5 s more) and stopped, and the tight master polling a fresh simulator started with the same
+   options and addresses for as long, the gateway first in every other round. Both start
+   afresh each round: a gateway stopped with SIGSTOP for the master's turn and continued ran
+   some windows 20-40 % slow on the development machine, a fresh one at most 9 % (once in
+   about 20 windows).
 2. The same saturated bus (10 and 60 sensors, 125000 baud, the default `timeout_ms = 50`) idle and
    under a 64-client Modbus TCP flood (bench_modbus_load, function 04 x 10 on unit 1),
    alternating; polls/s medians, their ratio, and how often a sensor stopped answering (the
    gateway's "stopped answering" log line; the simulator never stops, so each one is false),
    summed over the rounds, with the reply time-outs (retried ones included) beside them.
-   Each round ends with the tight master as in 1; idle/tight and flooded/tight are ratios of medians.
+   Each round is a fresh gateway's idle and flooded windows and a tight master's, as in 1;
+   idle/tight and flooded/tight are ratios of medians.
 3. Freshness: the time from a simulated angle change (`angle ADDRESS X Y` on `tiltgate sim
    rieker`'s standard input, timed from its "ok") to the new value read over Modbus (input
    register 4, angle_x_cdeg, read back to back by one client), for 1 and 10 sensors at poll_ms
@@ -223,22 +226,7 @@ port = {self.http_port}
         if answer != "ok":
             sys.exit(f"tiltgate sim answered {answer!r} to {line!r}")
 
-    def pause(self):
-        """SIGSTOP to the gateway and its simulators, so that the tight master has the cores
-        to itself: stopped, they neither run nor wake up."""
-        for process in [self.process] + self.sims:
-            process.send_signal(signal.SIGSTOP)
-
-    def resume(self):
-        """SIGCONT, then time for the poll that was in flight to finish (its time-out may have
-        run out while stopped: that one, if any, falls before the next window)."""
-        for process in self.sims + [self.process]:
-            process.send_signal(signal.SIGCONT)
-        time.sleep(0.5)
-
     def stop(self):
-        for process in [self.process] + self.sims:
-            process.send_signal(signal.SIGCONT)  # a paused one cannot handle SIGTERM
         stop(self.process)
         for sim in self.sims:
             stop(sim)
@@ -250,11 +238,25 @@ def rates(before, after):
     return {name: (p1[name] - p0[name]) / (t1 - t0) for name in p1}
 
 
+def fresh_gateway_window(binary, folder, baud, count, window):
+    """One window of a gateway started for it (and stopped after), once every sensor answered
+    and 0.5 s more: the polls before and after, as Gateway.polls() gives them."""
+    gateway = Gateway(binary, tempfile.mkdtemp(dir=folder), baud, 1, count, 10)
+    try:
+        gateway.wait_all_polled()
+        time.sleep(0.5)
+        before = gateway.polls()
+        time.sleep(window)
+        return before, gateway.polls()
+    finally:
+        gateway.stop()
+
+
 def efficiency(binary, folder, build, windows, seconds):
     print(f"Bus efficiency: `tiltgate run`, every sensor at poll_ms = 10 (the bus saturated); "
           f"polls/s is the median of {windows} windows, fairness over all of them; at 125000 "
-          f"baud with 10 and 60 sensors each window alternates with one of bench_tight_master "
-          f"(the gateway stopped meanwhile), the median of those beside it")
+          f"baud with 10 and 60 sensors each window is a fresh gateway's, alternating with one of "
+          f"bench_tight_master on a fresh simulator, the median of those beside it")
     print()
     print("| baud | sensors | asked (polls/s) | wire limit (polls/s) | median polls/s | ratio "
           "| overhead per poll (us) | ratio without the simulator's 200 us | per-sensor min/max "
@@ -265,24 +267,30 @@ def efficiency(binary, folder, build, windows, seconds):
             # The issue's comparison: a saturated bus at the factory rate.
             with_tight = baud == 125000 and count > 1
             sub = tempfile.mkdtemp(dir=folder)
-            gateway = Gateway(binary, sub, baud, 1, count, 10)
+            # At 9600 baud 60 sensors get under one poll each a second: windows long enough
+            # for about ten polls per sensor each, so the spread is not rounding.
+            window = max(seconds, min(10.0, 10 * count / wire_limit(baud)))
             spans, tight = [], []
-            try:
-                gateway.wait_all_polled()
-                # At 9600 baud 60 sensors get under one poll each a second: windows long enough
-                # for about ten polls per sensor each, so the spread is not rounding.
-                window = max(seconds, min(10.0, 10 * count / wire_limit(baud)))
-                time.sleep(0.5)
-                for _ in range(windows):
-                    before = gateway.polls()
-                    time.sleep(window)
-                    spans.append((before, gateway.polls()))
-                    if with_tight:
-                        gateway.pause()
+            if with_tight:
+                # Each round a fresh gateway and a fresh tight master, in turn, the first of the
+                # two alternating, so that neither is measured as the one that keeps running.
+                for round_ in range(windows):
+                    if round_ % 2:
                         tight.append(tight_master(binary, build, sub, baud, count, window)[0])
-                        gateway.resume()
-            finally:
-                gateway.stop()
+                    spans.append(fresh_gateway_window(binary, sub, baud, count, window))
+                    if not round_ % 2:
+                        tight.append(tight_master(binary, build, sub, baud, count, window)[0])
+            else:
+                gateway = Gateway(binary, sub, baud, 1, count, 10)
+                try:
+                    gateway.wait_all_polled()
+                    time.sleep(0.5)
+                    for _ in range(windows):
+                        before = gateway.polls()
+                        time.sleep(window)
+                        spans.append((before, gateway.polls()))
+                finally:
+                    gateway.stop()
             totals = [sum(rates(a, b).values()) for a, b in spans]
             median = statistics.median(totals)
             limit = wire_limit(baud)
@@ -313,24 +321,28 @@ def flood(binary, folder, build, rounds, seconds):
     load = os.path.join(build, "bench", "bench_modbus_load")
     print(f"Bus under a Modbus TCP flood: 10 and 60 sensors at 125000 baud, poll_ms = 10, "
           f"timeout_ms = 50; {rounds} rounds of {seconds:g} s idle, {seconds:g} s with 64 clients "
-          f"(function 04 x 10, unit 1), then {seconds:g} s of bench_tight_master with the gateway "
-          f"stopped; medians")
+          f"(function 04 x 10, unit 1), each round a fresh gateway, and {seconds:g} s of "
+          f"bench_tight_master before or after it; medians")
     print()
     print("| sensors | bus polls/s idle | bus polls/s flooded | ratio | tight master polls/s "
           "| idle / tight | flooded / tight | Modbus req/s during the flood "
           "| stopped answering idle | stopped answering flooded | time-outs idle | time-outs flooded "
           "| tight master time-outs and late replies |")
     print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
-    paused_timeouts = 0
     for count in (10, 60):
         sub = tempfile.mkdtemp(dir=folder)
-        gateway = Gateway(binary, sub, 125000, 1, count, 10)
         idle, flooded, tight, requests = [], [], [], []
         offline_idle = offline_flooded = timeouts_idle = timeouts_flooded = timeouts_tight = 0
-        try:
-            gateway.wait_all_polled()
-            time.sleep(0.5)
-            for _ in range(rounds):
+        for round_ in range(rounds):
+            # The reference first every other round, as in the efficiency table.
+            if round_ % 2:
+                polls_per_s, lost = tight_master(binary, build, sub, 125000, count, seconds)
+                tight.append(polls_per_s)
+                timeouts_tight += lost
+            gateway = Gateway(binary, tempfile.mkdtemp(dir=sub), 125000, 1, count, 10)
+            try:
+                gateway.wait_all_polled()
+                time.sleep(0.5)
                 before, offline, timeouts = gateway.polls(), gateway.stopped_answering(), gateway.timeouts()
                 time.sleep(seconds)
                 after = gateway.polls()
@@ -353,25 +365,17 @@ def flood(binary, folder, build, rounds, seconds):
                 flooded.append(sum(rates(before, after).values()))
                 fields = dict(item.split("=") for item in out.split() if "=" in item)
                 requests.append(float(fields.get("req_per_s", 0)))
-                # The reference, on a simulator of its own while the gateway is stopped.
-                timeouts = gateway.timeouts()
-                gateway.pause()
+            finally:
+                gateway.stop()
+            if not round_ % 2:
                 polls_per_s, lost = tight_master(binary, build, sub, 125000, count, seconds)
                 tight.append(polls_per_s)
                 timeouts_tight += lost
-                gateway.resume()
-                paused_timeouts += gateway.timeouts() - timeouts
-        finally:
-            gateway.stop()
         i, f, t = statistics.median(idle), statistics.median(flooded), statistics.median(tight)
         print(f"| {count} | {i:.1f} | {f:.1f} | {f / i:.3f} | {t:.1f} | {i / t:.3f} | {f / t:.3f} | "
               f"{statistics.median(requests):.0f} | {offline_idle} | {offline_flooded} | "
               f"{timeouts_idle} | {timeouts_flooded} | {timeouts_tight} |", flush=True)
     print()
-    if paused_timeouts:
-        print(f"({paused_timeouts} gateway time-out(s) across the pauses for the tight master, "
-              f"outside every window)")
-        print()
 
 
 def read_angle_x_cdeg(connection):
