@@ -66,47 +66,13 @@ std::chrono::milliseconds whole_ms(std::chrono::steady_clock::duration d) {
   return std::max(std::chrono::ceil<std::chrono::milliseconds>(d), std::chrono::milliseconds{0});
 }
 
-// Cancels the port's pending operation if it is still running at `deadline`: the race between
-// an I/O operation and a timer that Boost 1.74 cannot express (no awaitable operators, no
-// cancel_after). Lives in the coroutine frame around one co_await.
-class PortDeadline {
- public:
-  PortDeadline(asio::posix::stream_descriptor& port, std::chrono::steady_clock::time_point at)
-      : timer_(port.get_executor(), at) {
-    timer_.async_wait([&port, state = state_](const error_code& ec) {
-      // `finished`: the operation won and this guard is gone; the port must not be touched
-      // (the handler may run after the line itself is destroyed).
-      if (ec || state->finished) return;
-      state->passed = true;
-      error_code ignored;
-      port.cancel(ignored);
-    });
-  }
-  ~PortDeadline() {
-    state_->finished = true;
-    timer_.cancel();
-  }
-  PortDeadline(const PortDeadline&) = delete;
-  PortDeadline& operator=(const PortDeadline&) = delete;
-
-  bool passed() const { return state_->passed; }
-
- private:
-  struct State {
-    bool finished = false;
-    bool passed = false;
-  };
-  std::shared_ptr<State> state_ = std::make_shared<State>();
-  asio::steady_timer timer_;
-};
-
 }  // namespace
 
 SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options)
     : options_(std::move(options)),
       port_(executor, port_options_of(options_), [this] { ++stats_.reopens; }),
       quiet_timer_(executor),
-      read_deadline_(executor, port_.stream()) {}
+      deadline_(executor, port_.stream()) {}
 
 SerialLine::~SerialLine() { stop(); }
 
@@ -115,7 +81,7 @@ bool SerialLine::start() { return port_.open(); }
 void SerialLine::stop() {
   port_.stop();
   quiet_timer_.cancel();
-  read_deadline_.cancel();
+  deadline_.cancel();
 }
 
 SerialLine::Attempt SerialLine::port_failure(const std::string& why) {
@@ -274,13 +240,10 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   if (!taken) co_return port_failure(taken.error());
   if (const auto rest = bytes.subspan(*taken); !rest.empty()) {
     error_code ec;
-    bool stalled = false;
-    {
-      PortDeadline deadline(port_.stream(), Clock::now() + wire + kStalledWrite);
-      co_await asio::async_write(port_.stream(), asio::buffer(rest.data(), rest.size()),
-                                 asio::redirect_error(asio::use_awaitable, ec));
-      stalled = deadline.passed();
-    }
+    deadline_.start(Clock::now() + wire + kStalledWrite);
+    co_await asio::async_write(port_.stream(), asio::buffer(rest.data(), rest.size()),
+                               asio::redirect_error(asio::use_awaitable, ec));
+    const bool stalled = deadline_.finish();
     if (ec) co_return port_failure(stalled ? std::string("write stalled") : ec.message());
   }
   // The driver has the bytes; they are on the wire for `wire` more (its buffer was empty).
@@ -339,10 +302,10 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
 asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_before(
     std::span<std::uint8_t> buffer, Clock::time_point deadline) {
   error_code ec;
-  read_deadline_.start(deadline);
+  deadline_.start(deadline);
   const std::size_t received = co_await port_.stream().async_read_some(
       asio::buffer(buffer.data(), buffer.size()), asio::redirect_error(asio::use_awaitable, ec));
-  const bool passed = read_deadline_.finish();
+  const bool passed = deadline_.finish();
   if (ec) {
     if (!port_.stopped() && passed && ec == asio::error::operation_aborted) {
       co_return Unexpected(Attempt::timed_out);

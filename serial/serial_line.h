@@ -47,7 +47,7 @@
 #include "driver/framing.h"
 #include "driver/line.h"
 #include "serial/low_latency.h"
-#include "serial/read_deadline.h"
+#include "serial/port_deadline.h"
 #include "serial/termios_settings.h"
 #include "serial/tty_port.h"
 
@@ -147,7 +147,7 @@ class SerialLine final : public Line {
   std::chrono::milliseconds request_late_guard_{0};  // this transaction's (LineRequest::late_guard)
   TtyPort port_;
   boost::asio::steady_timer quiet_timer_;
-  ReadDeadline read_deadline_;  // after port_: it cancels reads on port_'s descriptor
+  PortDeadline deadline_;  // after port_: it cancels reads and writes on port_'s descriptor
   Clock::time_point packet_end_{};   // when the last byte written leaves the UART
   Clock::time_point last_byte_at_{}; // when the last byte was received
   Clock::time_point quiet_until_{};  // earliest start of the next master packet

@@ -176,6 +176,17 @@ TEST_CASE("input received before a request is discarded") {
   CHECK(framer.text == "fresh\n");
 }
 
+TEST_CASE("a packet the port does not take within its wire time and a second fails as stalled") {
+  // Nobody reads the far end: the pty's buffer fills and the rest of the packet waits, under
+  // the stall deadline (the line's one deadline timer, also set for the reads before it).
+  Bench bench([](SerialLineOptions& o) { o.baud = 4000000; });  // 256 kB: 0.64 s on the wire
+  CountFramer framer(1);
+  const auto started = Clock::now();
+  CHECK(bench.transact(request_of(Bytes(256 * 1024, 0x55), &framer)).error() == LineError::io);
+  CHECK(Clock::now() - started >= 1600ms);
+  CHECK(bench.line->stats().io_errors == 1);
+}
+
 TEST_CASE("stop cancels a pending transaction and every later one") {
   Bench bench([](SerialLineOptions& o) { o.timeout = 10000ms; });
   CountFramer framer(1);

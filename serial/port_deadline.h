@@ -1,6 +1,8 @@
-// The deadline of a line's reads: a read still waiting at its deadline is cancelled, as a
-// timer per read would do it, but with one timer that is set again only when it fires or when
-// a read must end sooner than it is set for.
+// The deadline of a line's reads and writes: an operation on the port still waiting at its
+// deadline is cancelled, as a timer per operation would do it (Boost 1.74 has no awaitable
+// operators or cancel_after to race one against a timer), but with one timer that is set again
+// only when it fires or when an operation must end sooner than it is set for. A line has one
+// operation on its port at a time.
 //
 // Why not a timer per read: a new reply deadline is always the event loop's earliest, so
 // arming one cost a timerfd_settime on every poll, and cancelling it a handler of its own. On
@@ -18,19 +20,20 @@
 
 namespace tiltgate {
 
-class ReadDeadline {
+class PortDeadline {
  public:
   using Clock = std::chrono::steady_clock;
 
-  // `port` is the descriptor whose pending read is cancelled at a deadline; it outlives this.
-  ReadDeadline(boost::asio::any_io_executor executor, boost::asio::posix::stream_descriptor& port);
-  ~ReadDeadline();
-  ReadDeadline(const ReadDeadline&) = delete;
-  ReadDeadline& operator=(const ReadDeadline&) = delete;
+  // `port` is the descriptor whose pending operation is cancelled at a deadline; it outlives
+  // this.
+  PortDeadline(boost::asio::any_io_executor executor, boost::asio::posix::stream_descriptor& port);
+  ~PortDeadline();
+  PortDeadline(const PortDeadline&) = delete;
+  PortDeadline& operator=(const PortDeadline&) = delete;
 
-  // A read on the port starts now and must end by `deadline`.
+  // An operation on the port (a read, a write) starts now and must end by `deadline`.
   void start(Clock::time_point deadline);
-  // That read ended (completed, failed or cancelled): true if its deadline cancelled it.
+  // That operation ended (completed, failed or cancelled): true if its deadline cancelled it.
   bool finish();
   // Unsets the timer, so that a stopped line leaves its event loop nothing to wait for.
   void cancel();
@@ -38,8 +41,8 @@ class ReadDeadline {
  private:
   // Shared with the timer's handler, which may run after this object is gone (`owner` null).
   struct State {
-    ReadDeadline* owner = nullptr;
-    bool reading = false;
+    PortDeadline* owner = nullptr;
+    bool running = false;  // an operation is under this deadline
     bool passed = false;
     Clock::time_point deadline{};
     Clock::time_point armed_for = Clock::time_point::max();  // max: the timer is not waiting

@@ -1,7 +1,7 @@
-// ReadDeadline on a pseudo-terminal: one timer ends each read at its own deadline, whether it
+// PortDeadline on a pseudo-terminal, guarding reads: one timer ends each read at its own deadline, whether it
 // must be set sooner than it is (a short guard after a long reply time-out) or is found set
 // for an earlier read (polls back to back). Timing assertions leave room for a busy machine.
-#include "serial/read_deadline.h"
+#include "serial/port_deadline.h"
 
 #include <doctest/doctest.h>
 #include <fcntl.h>
@@ -18,7 +18,7 @@
 namespace asio = boost::asio;
 using namespace std::chrono_literals;
 using tiltgate::PseudoTerminal;
-using tiltgate::ReadDeadline;
+using tiltgate::PortDeadline;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -70,7 +70,7 @@ struct Reads {
   }
 
   Pty pty;
-  ReadDeadline deadline{pty.io.get_executor(), pty.port};
+  PortDeadline deadline{pty.io.get_executor(), pty.port};
   std::array<std::uint8_t, 16> buffer{};
 };
 
@@ -114,7 +114,7 @@ TEST_CASE("a deadline sooner than the timer is set for ends its read on time") {
 TEST_CASE("a deadline destroyed with its timer set leaves the port alone") {
   Pty pty;
   {
-    ReadDeadline deadline(pty.io.get_executor(), pty.port);
+    PortDeadline deadline(pty.io.get_executor(), pty.port);
     deadline.start(Clock::now() + 20ms);
     deadline.finish();
   }
