@@ -3,8 +3,6 @@
 // answers it at once (a read, an exception) or it waits for the bus (a write) in between.
 #include <doctest/doctest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -12,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "e2e/support/http_client.h"  // connect_to: a loopback socket with a read time limit
 #include "unit/support/served_plant.h"
 
 using namespace tiltgate;
@@ -22,17 +21,15 @@ namespace {
 
 using Bytes = std::vector<std::uint8_t>;
 
-Bytes request(std::uint16_t transaction, std::uint8_t function, std::uint16_t address,
-              std::uint16_t value) {
+Bytes modbus_request(std::uint16_t transaction, std::uint8_t function, std::uint16_t address,
+                     std::uint16_t value) {
   return {std::uint8_t(transaction >> 8), std::uint8_t(transaction), 0, 0, 0, 6, 1, function,
           std::uint8_t(address >> 8), std::uint8_t(address), std::uint8_t(value >> 8),
           std::uint8_t(value)};
 }
 
-// The replies to `sent` requests, read whole by their MBAP lengths (5 s at most).
+// The replies to `count` requests, read whole by their MBAP lengths (until a read times out).
 std::vector<Bytes> replies(int fd, std::size_t count) {
-  timeval timeout{5, 0};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
   Bytes stream;
   std::vector<Bytes> whole;
   std::uint8_t buffer[4096];
@@ -40,23 +37,14 @@ std::vector<Bytes> replies(int fd, std::size_t count) {
     const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
     if (n <= 0) break;
     stream.insert(stream.end(), buffer, buffer + n);
-    while (stream.size() >= 7 && stream.size() >= 6u + ((stream[4] << 8) | stream[5])) {
-      const std::size_t size = 6u + ((stream[4] << 8) | stream[5]);
+    while (stream.size() >= 7) {
+      const std::size_t size = 6u + ((stream[4] << 8) | stream[5]);  // MBAP header + length
+      if (stream.size() < size) break;
       whole.emplace_back(stream.begin(), stream.begin() + std::ptrdiff_t(size));
       stream.erase(stream.begin(), stream.begin() + std::ptrdiff_t(size));
     }
   }
   return whole;
-}
-
-int connect_to(std::uint16_t port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(port);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  REQUIRE(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
-  return fd;
 }
 
 struct OneSensorPlant : ServedPlant {
@@ -72,16 +60,16 @@ struct OneSensorPlant : ServedPlant {
 
 TEST_CASE("pipelined reads, exceptions and a write are all answered, in the order sent") {
   OneSensorPlant plant;
-  const int fd = connect_to(plant.port);
+  const int fd = connect_to(plant.port, 5);
 
   // 60 requests in one send: reads of 4 and 10 input registers, a read past the map (02),
   // and a write to the filter setting (holding 0) in the middle, which waits for the bus.
   Bytes stream;
   std::vector<std::uint8_t> functions;
   for (std::uint16_t t = 1; t <= 60; ++t) {
-    Bytes one = t == 30   ? request(t, 0x06, 0, 2)
-                : t % 7 == 0 ? request(t, 0x04, 9000, 10)
-                             : request(t, 0x04, 0, t % 2 == 0 ? 4 : 10);
+    Bytes one = t == 30      ? modbus_request(t, 0x06, 0, 2)
+                : t % 7 == 0 ? modbus_request(t, 0x04, 9000, 10)
+                             : modbus_request(t, 0x04, 0, t % 2 == 0 ? 4 : 10);
     functions.push_back(one[7]);
     stream.insert(stream.end(), one.begin(), one.end());
   }
