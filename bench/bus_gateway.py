@@ -238,18 +238,33 @@ def rates(before, after):
     return {name: (p1[name] - p0[name]) / (t1 - t0) for name in p1}
 
 
-def fresh_gateway_window(binary, folder, baud, count, window):
-    """One window of a gateway started for it (and stopped after), once every sensor answered
-    and 0.5 s more: the polls before and after, as Gateway.polls() gives them."""
-    gateway = Gateway(binary, tempfile.mkdtemp(dir=folder), baud, 1, count, 10)
-    try:
-        gateway.wait_all_polled()
-        time.sleep(0.5)
+def measured_windows(gateway, windows, window):
+    """`windows` consecutive windows of `window` seconds, once every sensor answered and 0.5 s
+    more: for each, the polls before and after, as Gateway.polls() gives them."""
+    gateway.wait_all_polled()
+    time.sleep(0.5)
+    spans = []
+    for _ in range(windows):
         before = gateway.polls()
         time.sleep(window)
-        return before, gateway.polls()
+        spans.append((before, gateway.polls()))
+    return spans
+
+
+def fresh_gateway_window(binary, folder, baud, count, window):
+    """One window (measured_windows) of a gateway started for it and stopped after."""
+    gateway = Gateway(binary, tempfile.mkdtemp(dir=folder), baud, 1, count, 10)
+    try:
+        return measured_windows(gateway, 1, window)[0]
     finally:
         gateway.stop()
+
+
+def in_turn(round_, gateway_turn, master_turn):
+    """A round's two turns, the gateway's first in even rounds and the tight master's in odd
+    ones, so that neither is always measured on a machine the other just left."""
+    for turn in (gateway_turn, master_turn) if round_ % 2 == 0 else (master_turn, gateway_turn):
+        turn()
 
 
 def efficiency(binary, folder, build, windows, seconds):
@@ -272,23 +287,18 @@ def efficiency(binary, folder, build, windows, seconds):
             window = max(seconds, min(10.0, 10 * count / wire_limit(baud)))
             spans, tight = [], []
             if with_tight:
-                # Each round a fresh gateway and a fresh tight master, in turn, the first of the
-                # two alternating, so that neither is measured as the one that keeps running.
+                # Each round a fresh gateway and a fresh tight master: neither is measured as
+                # the one that keeps running.
                 for round_ in range(windows):
-                    if round_ % 2:
-                        tight.append(tight_master(binary, build, sub, baud, count, window)[0])
-                    spans.append(fresh_gateway_window(binary, sub, baud, count, window))
-                    if not round_ % 2:
-                        tight.append(tight_master(binary, build, sub, baud, count, window)[0])
+                    in_turn(round_,
+                            lambda: spans.append(
+                                fresh_gateway_window(binary, sub, baud, count, window)),
+                            lambda: tight.append(
+                                tight_master(binary, build, sub, baud, count, window)[0]))
             else:
                 gateway = Gateway(binary, sub, baud, 1, count, 10)
                 try:
-                    gateway.wait_all_polled()
-                    time.sleep(0.5)
-                    for _ in range(windows):
-                        before = gateway.polls()
-                        time.sleep(window)
-                        spans.append((before, gateway.polls()))
+                    spans = measured_windows(gateway, windows, window)
                 finally:
                     gateway.stop()
             totals = [sum(rates(a, b).values()) for a, b in spans]
@@ -331,51 +341,61 @@ def flood(binary, folder, build, rounds, seconds):
     print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     for count in (10, 60):
         sub = tempfile.mkdtemp(dir=folder)
-        idle, flooded, tight, requests = [], [], [], []
-        offline_idle = offline_flooded = timeouts_idle = timeouts_flooded = timeouts_tight = 0
+        gateway_rounds, tight, tight_lost = [], [], []
+
+        def master_turn():
+            polls_per_s, lost = tight_master(binary, build, sub, 125000, count, seconds)
+            tight.append(polls_per_s)
+            tight_lost.append(lost)
+
         for round_ in range(rounds):
-            # The reference first every other round, as in the efficiency table.
-            if round_ % 2:
-                polls_per_s, lost = tight_master(binary, build, sub, 125000, count, seconds)
-                tight.append(polls_per_s)
-                timeouts_tight += lost
-            gateway = Gateway(binary, tempfile.mkdtemp(dir=sub), 125000, 1, count, 10)
-            try:
-                gateway.wait_all_polled()
-                time.sleep(0.5)
-                before, offline, timeouts = gateway.polls(), gateway.stopped_answering(), gateway.timeouts()
-                time.sleep(seconds)
-                after = gateway.polls()
-                offline_idle += gateway.stopped_answering() - offline
-                timeouts_idle += gateway.timeouts() - timeouts
-                timeouts = gateway.timeouts()
-                idle.append(sum(rates(before, after).values()))
-                offline = gateway.stopped_answering()
-                result = subprocess.Popen([load, "--port", str(gateway.modbus_port), "--clients", "64",
-                                           "--function", "4", "--quantity", "10", "--unit", "1",
-                                           "--seconds", str(seconds)],
-                                          stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-                time.sleep(0.3)  # the clients connected and the flood under way
-                before = gateway.polls()
-                time.sleep(max(0.5, seconds - 0.6))
-                after = gateway.polls()
-                out, _ = result.communicate()
-                offline_flooded += gateway.stopped_answering() - offline
-                timeouts_flooded += gateway.timeouts() - timeouts
-                flooded.append(sum(rates(before, after).values()))
-                fields = dict(item.split("=") for item in out.split() if "=" in item)
-                requests.append(float(fields.get("req_per_s", 0)))
-            finally:
-                gateway.stop()
-            if not round_ % 2:
-                polls_per_s, lost = tight_master(binary, build, sub, 125000, count, seconds)
-                tight.append(polls_per_s)
-                timeouts_tight += lost
-        i, f, t = statistics.median(idle), statistics.median(flooded), statistics.median(tight)
+            in_turn(round_, lambda: gateway_rounds.append(flood_round(binary, sub, load, count, seconds)),
+                    master_turn)
+        def median(key):
+            return statistics.median(r[key] for r in gateway_rounds)
+
+        def total(key):
+            return sum(r[key] for r in gateway_rounds)
+
+        i, f, t = median("idle"), median("flooded"), statistics.median(tight)
         print(f"| {count} | {i:.1f} | {f:.1f} | {f / i:.3f} | {t:.1f} | {i / t:.3f} | {f / t:.3f} | "
-              f"{statistics.median(requests):.0f} | {offline_idle} | {offline_flooded} | "
-              f"{timeouts_idle} | {timeouts_flooded} | {timeouts_tight} |", flush=True)
+              f"{median('requests'):.0f} | {total('offline_idle')} | {total('offline_flooded')} | "
+              f"{total('timeouts_idle')} | {total('timeouts_flooded')} | {sum(tight_lost)} |",
+              flush=True)
     print()
+
+
+def flood_round(binary, folder, load, count, seconds):
+    """A fresh gateway's idle window and its window under the 64-client flood: polls/s of each,
+    the flood's Modbus req/s, and the false offlines and reply time-outs in each."""
+    gateway = Gateway(binary, tempfile.mkdtemp(dir=folder), 125000, 1, count, 10)
+    try:
+        gateway.wait_all_polled()
+        time.sleep(0.5)
+        before, offline, timeouts = gateway.polls(), gateway.stopped_answering(), gateway.timeouts()
+        time.sleep(seconds)
+        after = gateway.polls()
+        result = {"idle": sum(rates(before, after).values()),
+                  "offline_idle": gateway.stopped_answering() - offline,
+                  "timeouts_idle": gateway.timeouts() - timeouts}
+        offline, timeouts = gateway.stopped_answering(), gateway.timeouts()
+        flood = subprocess.Popen([load, "--port", str(gateway.modbus_port), "--clients", "64",
+                                  "--function", "4", "--quantity", "10", "--unit", "1",
+                                  "--seconds", str(seconds)],
+                                 stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        time.sleep(0.3)  # the clients connected and the flood under way
+        before = gateway.polls()
+        time.sleep(max(0.5, seconds - 0.6))
+        after = gateway.polls()
+        out, _ = flood.communicate()
+        fields = dict(item.split("=") for item in out.split() if "=" in item)
+        result.update({"flooded": sum(rates(before, after).values()),
+                       "requests": float(fields.get("req_per_s", 0)),
+                       "offline_flooded": gateway.stopped_answering() - offline,
+                       "timeouts_flooded": gateway.timeouts() - timeouts})
+        return result
+    finally:
+        gateway.stop()
 
 
 def read_angle_x_cdeg(connection):
