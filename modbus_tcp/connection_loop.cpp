@@ -2,13 +2,14 @@
 
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
+#include <sys/timerfd.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cerrno>
-#include <climits>
 #include <cstring>
+#include <ctime>
 #include <spdlog/spdlog.h>
 #include <system_error>
 
@@ -25,19 +26,26 @@ ConnectionLoop::ConnectionLoop() {
   epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
   if (epoll_fd_ < 0) throw std::system_error(errno, std::generic_category(), "epoll_create1");
   wake_fd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-  if (wake_fd_ < 0) {
+  timer_fd_ = ::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+  if (wake_fd_ < 0 || timer_fd_ < 0) {
     const int error = errno;
+    if (wake_fd_ >= 0) ::close(wake_fd_);
+    if (timer_fd_ >= 0) ::close(timer_fd_);
     ::close(epoll_fd_);
-    throw std::system_error(error, std::generic_category(), "eventfd");
+    throw std::system_error(error, std::generic_category(), "eventfd/timerfd_create");
   }
   // Level-triggered: readable until run_posted() has read it.
   epoll_event event{};
   event.events = EPOLLIN;
   event.data.ptr = nullptr;
   ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, wake_fd_, &event);
+  // The timer's events carry the loop's own address, which no client has.
+  event.data.ptr = this;
+  ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, timer_fd_, &event);
 }
 
 ConnectionLoop::~ConnectionLoop() {
+  ::close(timer_fd_);
   ::close(wake_fd_);
   ::close(epoll_fd_);
 }
@@ -49,6 +57,7 @@ void ConnectionLoop::run() {
       run_posted();  // what was posted before stop() still runs
       if (clients_.empty()) break;
     }
+    arm_sweep_timer();
     const int n = ::epoll_wait(epoll_fd_, events.data(), int(events.size()), wait_ms());
     now_ = Clock::now();
     if (n < 0 && errno != EINTR) {
@@ -56,11 +65,15 @@ void ConnectionLoop::run() {
       break;
     }
     for (int i = 0; i < n; ++i) {
-      auto* client = static_cast<Client*>(events[std::size_t(i)].data.ptr);
-      if (client == nullptr) {
+      void* owner = events[std::size_t(i)].data.ptr;
+      if (owner == nullptr) {
         run_posted();
+      } else if (owner == this) {
+        std::uint64_t expirations = 0;
+        [[maybe_unused]] const auto read = ::read(timer_fd_, &expirations, sizeof expirations);
+        timer_set_for_ = Clock::time_point::max();  // fired: set again before the wait
       } else {
-        client->on_events(events[std::size_t(i)].events);
+        static_cast<Client*>(owner)->on_events(events[std::size_t(i)].events);
       }
     }
     if (now_ >= next_sweep_) sweep();
@@ -136,12 +149,25 @@ void ConnectionLoop::sweep() {
   sweeping_.clear();
 }
 
+void ConnectionLoop::arm_sweep_timer() {
+  // A sweep wanted later than the timer is set for finds nothing due when the timer fires and
+  // sets it again: deadlines that move later cost nothing until then.
+  if (next_sweep_ >= timer_set_for_) return;
+  const auto since_boot = std::chrono::duration_cast<std::chrono::nanoseconds>(
+      std::max(next_sweep_.time_since_epoch(), Clock::duration{1}));
+  itimerspec when{};
+  when.it_value.tv_sec = std::time_t(since_boot.count() / 1000000000);
+  when.it_value.tv_nsec = long(since_boot.count() % 1000000000);
+  // steady_clock is CLOCK_MONOTONIC, the timerfd's clock: an absolute time on it.
+  if (::timerfd_settime(timer_fd_, TFD_TIMER_ABSTIME, &when, nullptr) != 0) {
+    spdlog::error("Modbus TCP thread: timerfd_settime: {}", std::strerror(errno));
+    return;
+  }
+  timer_set_for_ = next_sweep_;
+}
+
 int ConnectionLoop::wait_ms() const {
-  if (stopping_now_ || (stopping_ && clients_.empty())) return 0;
-  if (next_sweep_ == Clock::time_point::max()) return -1;
-  // From the turn's start: a turn is microseconds, a deadline milliseconds.
-  const auto left = std::chrono::ceil<std::chrono::milliseconds>(next_sweep_ - now_);
-  return int(std::clamp<std::chrono::milliseconds::rep>(left.count(), 0, INT_MAX));
+  return stopping_now_ || (stopping_ && clients_.empty()) ? 0 : -1;
 }
 
 }  // namespace tiltgate
