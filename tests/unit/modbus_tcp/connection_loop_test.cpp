@@ -105,32 +105,40 @@ TEST_CASE("connection loop: a deadline is swept when due, with nothing else to w
   CHECK(*at >= due);
 }
 
-TEST_CASE("connection loop: a deadline brought forward is swept at the sooner time") {
+namespace {
+
+// A client first due `first` from now, its deadline then moved to `moved` from now (with
+// wake_by as a sooner deadline needs, or without as a request moves it later): when it was
+// swept, nothing if not within a second of the moved deadline, which it returns too.
+struct Moved {
+  std::optional<Clock::time_point> swept;
+  Clock::time_point due;
+};
+Moved moved_deadline(Clock::duration first, Clock::duration moved, bool wake_loop) {
   RunningLoop running;
-  const auto later = Clock::now() + 10s;
-  auto client = std::make_shared<DeadlineClient>(later);
+  const auto first_due = Clock::now() + first;
+  auto client = std::make_shared<DeadlineClient>(first_due);
   auto swept = client->swept();
-  running.add(client, later);  // the timer is set for 10 s
-  const auto sooner = Clock::now() + 50ms;
+  running.add(client, first_due);  // the timer is set for `first`
+  const auto due = Clock::now() + moved;
   running.on_loop([&] {
-    client->move_to(sooner);
-    running.loop.wake_by(sooner);
+    client->move_to(due);
+    if (wake_loop) running.loop.wake_by(due);
   });
-  const auto at = swept_by(swept, sooner);
-  REQUIRE(at.has_value());
-  CHECK(*at >= sooner);
+  return {swept_by(swept, due), due};
+}
+
+}  // namespace
+
+TEST_CASE("connection loop: a deadline brought forward is swept at the sooner time") {
+  const Moved moved = moved_deadline(10s, 50ms, true);
+  REQUIRE(moved.swept.has_value());
+  CHECK(*moved.swept >= moved.due);
 }
 
 TEST_CASE("connection loop: a deadline moved later is swept then, after the timer set sooner fired") {
-  RunningLoop running;
-  const auto first = Clock::now() + 50ms;
-  auto client = std::make_shared<DeadlineClient>(first);
-  auto swept = client->swept();
-  running.add(client, first);  // the timer is set for 50 ms
-  // Moved later as a request would move it: no wake_by, the sweep at 50 ms finds it.
-  const auto later = Clock::now() + 300ms;
-  running.on_loop([&] { client->move_to(later); });
-  const auto at = swept_by(swept, later);
-  REQUIRE(at.has_value());
-  CHECK(*at >= later);
+  // No wake_by, as a request moves it: the sweep at 50 ms finds it moved.
+  const Moved moved = moved_deadline(50ms, 300ms, false);
+  REQUIRE(moved.swept.has_value());
+  CHECK(*moved.swept >= moved.due);
 }
