@@ -153,6 +153,7 @@ void ConnectionLoop::arm_sweep_timer() {
   // A sweep wanted later than the timer is set for finds nothing due when the timer fires and
   // sets it again: deadlines that move later cost nothing until then.
   if (next_sweep_ >= timer_set_for_) return;
+  // At least 1 ns: a time of zero would unset the timer instead.
   const auto since_boot = std::chrono::duration_cast<std::chrono::nanoseconds>(
       std::max(next_sweep_.time_since_epoch(), Clock::duration{1}));
   itimerspec when{};

@@ -15,7 +15,7 @@
 // timer is touched per request. The loop's sleep has no time-out of its own: a timerfd in the
 // epoll set wakes it for a sweep, set only when the sweep is wanted sooner than it is set for,
 // or again when it fires. An epoll_wait with a time-out arms and cancels a kernel timer every
-// time it sleeps, which cost about 4 % of a read at one client (docs/performance.md).
+// time it sleeps, which cost about 3 % of a read at one client (docs/performance.md).
 #pragma once
 
 #include <atomic>
