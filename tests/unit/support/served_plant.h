@@ -47,6 +47,14 @@ struct ServedPlant {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 
+  // Returns once the bus's thread has finished what it was doing: it also accepts the
+  // server's clients, and a connection is served before its accept's turn has ended.
+  void wait_for_bus_thread() {
+    std::promise<void> done;
+    boost::asio::post(io, [&] { done.set_value(); });
+    done.get_future().wait();
+  }
+
   ~ServedPlant() {
     const auto stop = [this] {
       router.stop();
