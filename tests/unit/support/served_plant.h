@@ -47,12 +47,22 @@ struct ServedPlant {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 
+  // Runs `task` on the bus's thread, after whatever that thread is doing, and returns once
+  // it has run.
+  template <class Task>
+  void run_on_bus_thread(Task task) {
+    std::promise<void> done;
+    boost::asio::post(io, [&] {
+      task();
+      done.set_value();
+    });
+    done.get_future().wait();
+  }
+
   // Returns once the bus's thread has finished what it was doing: it also accepts the
   // server's clients, and a connection is served before its accept's turn has ended.
   void wait_for_bus_thread() {
-    std::promise<void> done;
-    boost::asio::post(io, [&] { done.set_value(); });
-    done.get_future().wait();
+    run_on_bus_thread([] {});
   }
 
   ~ServedPlant() {
@@ -62,12 +72,7 @@ struct ServedPlant {
       scheduler.stop();
     };
     if (bus_thread.joinable()) {
-      std::promise<void> stopped;
-      boost::asio::post(io, [&] {
-        stop();
-        stopped.set_value();
-      });
-      stopped.get_future().wait();
+      run_on_bus_thread(stop);
     } else {
       stop();  // serve() never ran or failed: nothing runs on io
     }
