@@ -21,6 +21,11 @@ sensor asks for only 100 polls/s, the "asked" column). Counters come from the HT
    afresh each round: a gateway stopped with SIGSTOP for the master's turn and continued ran
    some windows 20-40 % slow on the development machine, a fresh one at most 9 % (once in
    about 20 windows).
+   Side by side: the same comparison with the two polling at the same time, each its own
+   simulator, the tight master's window inside the gateway's; per round the ratio of the two,
+   median and quartiles over the rounds. The machine's speed moves a poll's time by several
+   per cent from one window to the next; measured at the same time, both see the same machine,
+   and the ratio holds to a few tenths of a per cent where the rounds above spread by 5-10 %.
 2. The same saturated bus (10 and 60 sensors, 125000 baud, the default `timeout_ms = 50`) idle and
    under a 64-client Modbus TCP flood (bench_modbus_load, function 04 x 10 on unit 1),
    alternating; polls/s medians, their ratio, and how often a sensor stopped answering (the
@@ -327,6 +332,35 @@ def efficiency(binary, folder, build, windows, seconds):
     print()
 
 
+def side_by_side(binary, folder, build, rounds, seconds):
+    print(f"Side by side: a fresh gateway and bench_tight_master polling at the same time, each "
+          f"its own simulator, 125000 baud, poll_ms = 10; {rounds} rounds of {seconds:g} s; "
+          f"per round gateway polls/s over the master's, their median and quartiles")
+    print()
+    print("| sensors | gateway polls/s | tight master polls/s | gateway / tight master "
+          "| quartiles | lowest round |")
+    print("| ---: | ---: | ---: | ---: | ---: | ---: |")
+    for count in (10, 60):
+        sub = tempfile.mkdtemp(dir=folder)
+        gateway_rates, master_rates = [], []
+        for _ in range(rounds):
+            gateway = Gateway(binary, tempfile.mkdtemp(dir=sub), 125000, 1, count, 10)
+            try:
+                gateway.wait_all_polled()
+                time.sleep(0.5)
+                before = gateway.polls()
+                master_rates.append(tight_master(binary, build, sub, 125000, count, seconds)[0])
+                gateway_rates.append(sum(rates(before, gateway.polls()).values()))
+            finally:
+                gateway.stop()
+        ratios = [g / m for g, m in zip(gateway_rates, master_rates)]
+        quartiles = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else ratios * 3
+        print(f"| {count} | {statistics.median(gateway_rates):.1f} | "
+              f"{statistics.median(master_rates):.1f} | {statistics.median(ratios):.4f} | "
+              f"{quartiles[0]:.4f}-{quartiles[2]:.4f} | {min(ratios):.4f} |", flush=True)
+    print()
+
+
 def flood(binary, folder, build, rounds, seconds):
     load = os.path.join(build, "bench", "bench_modbus_load")
     print(f"Bus under a Modbus TCP flood: 10 and 60 sensors at 125000 baud, poll_ms = 10, "
@@ -480,7 +514,7 @@ def main():
     parser.add_argument("--seconds", type=float, default=3.0)
     parser.add_argument("--quick", action="store_true", help="1 window of 1.5 s each")
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
-    parser.add_argument("--only", choices=["efficiency", "flood", "freshness", "scale"],
+    parser.add_argument("--only", choices=["efficiency", "side", "flood", "freshness", "scale"],
                         help="one table only")
     args = parser.parse_args()
     if args.quick:
@@ -492,6 +526,9 @@ def main():
         wanted = lambda table: args.only in (None, table)
         if wanted("efficiency"):
             efficiency(binary, folder, args.build, args.windows, args.seconds)
+        if wanted("side"):
+            # Short windows are enough: the two share every moment of the machine.
+            side_by_side(binary, folder, args.build, max(args.windows, 5), args.seconds)
         if wanted("flood"):
             flood(binary, folder, args.build, args.windows, args.seconds)
         if wanted("freshness"):
