@@ -14,11 +14,14 @@ std::uint64_t unix_ms(Instant now) {
 }
 
 // The time a device's metrics carry: the reading's (tck-id-payloads-name-birth-data-requirement
-// asks for one on every metric), or now before the first reading.
+// asks for one on every metric), or now before the first reading. Never later than the
+// message's own time: a bus can publish a reading between the moment a sample is timed and
+// the moment its snapshot is read, and the reading's time, carried over from the steady
+// clock, can round 1 ms the other way.
 std::uint64_t reading_time(const DeviceSample& sample, Instant now) {
-  return sample.reading_unix_ms
-             ? static_cast<std::uint64_t>(std::max<std::int64_t>(*sample.reading_unix_ms, 0))
-             : unix_ms(now);
+  if (!sample.reading_unix_ms) return unix_ms(now);
+  return std::min(static_cast<std::uint64_t>(std::max<std::int64_t>(*sample.reading_unix_ms, 0)),
+                  unix_ms(now));
 }
 
 }  // namespace

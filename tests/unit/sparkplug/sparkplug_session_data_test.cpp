@@ -43,6 +43,16 @@ TEST_CASE("tck-id-payloads-alias-data-cmd-requirement: DDATA names its metrics b
   CHECK(find_alias(out[0].payload, kBoomX)->value == Value{2.0});
 }
 
+TEST_CASE("a metric's time is never later than its message's, though the reading came after the sample was timed") {
+  LiveSession live;
+  // Sampled at 200 ms; the bus published a reading stamped 201 ms before the snapshot was read.
+  const auto out = step(live, boom(2.0, 0.0, 201), 200);
+  REQUIRE(out.size() == 1);
+  CHECK(out[0].payload.timestamp == static_cast<std::uint64_t>(kUnixStart + 200));
+  for (const Metric& m : out[0].payload.metrics)
+    CHECK(m.timestamp == static_cast<std::uint64_t>(kUnixStart + 200));
+}
+
 TEST_CASE("tck-id-topics-ddata-payload: a DDATA when an angle moved by on_change_deg, with what changed only") {
   LiveSession live;  // on_change_deg 0.5, boom born at x 1.0 y 0.0
   CHECK(step(live, boom(1.4, 0.0, 200), 200).empty());
