@@ -73,7 +73,8 @@ constexpr std::pair<LineError, std::string_view> kLineErrors[] = {
     {LineError::timeout, "timeout"},
     {LineError::io, "io"},
     {LineError::closed, "closed"},
-    {LineError::cancelled, "cancelled"}};
+    {LineError::cancelled, "cancelled"},
+    {LineError::expired, "expired"}};
 
 std::string_view word_of(LineError error) {
   for (const auto& [e, word] : kLineErrors)
@@ -209,7 +210,7 @@ Expected<GatewayMessage, std::string> parse_gateway(std::string_view line) {
     const auto late_delay = parse_milliseconds_or_dash(w[4]);
     const auto generation = number<std::uint64_t>(w[5]);
     if (!delay || !late || !late_delay || !generation) return malformed(line);
-    ended.timing = LineTiming{*delay, *late, *late_delay};
+    ended.timing = LineTiming{*delay, *late, *late_delay, false, std::nullopt};
     ended.generation = *generation;
     return GatewayMessage{ended};
   }

@@ -42,6 +42,7 @@ class RemoteLine final : public Line {
   boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override;
   std::uint64_t generation() const override { return generation_; }
   bool is_open() const override { return socket_.is_open(); }
+  int retries() const override { return defaults_.retries; }
   const std::string& name() const override { return name_; }
   const LineStats& stats() const override { return stats_; }
   const LineTiming& last_timing() const override { return timing_; }

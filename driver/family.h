@@ -55,6 +55,11 @@ struct ProtocolDescriptor {
   std::optional<AddressRange> master_addresses;
   // The shortest quiet time between master packets the sensors accept ([[bus]] gap_us).
   std::chrono::microseconds min_gap{0};
+  // Whether a reply names the device that sends it (its address), so a reply from one device
+  // is never taken for another's: a line may then be given to the next sensor before a
+  // silent one's late-reply window has closed (serial/serial_line.h). False: every time-out
+  // keeps the whole window.
+  bool replies_name_sender = false;
   // Whether a bus chooses its character framing ([[bus]] parity and stop_bits, as the Modbus
   // serial line spec lets it); `framing` above is then the default. False: the framing is fixed and a bus that
   // gives either key is refused.

@@ -8,6 +8,7 @@ const char* to_string(LineError e) {
     case LineError::io: return "port I/O error";
     case LineError::closed: return "port not open";
     case LineError::cancelled: return "cancelled";
+    case LineError::expired: return "not sent: its deadline would pass first";
   }
   return "unknown";
 }

@@ -19,7 +19,10 @@ enum class LineError {
   timeout,  // no complete reply within the reply timeout (after every retry)
   io,       // the port failed (unplugged adapter, I/O error); the line reopens by itself
   closed,   // the port is not open right now (reopening with back-off)
-  cancelled // shutdown
+  cancelled, // shutdown
+  // Not sent: the one it was sent for must have its answer before the attempt could end (a
+  // write's write_timeout_ms, gateway/line_claimant.h). The sensor was not asked.
+  expired
 };
 
 const char* to_string(LineError e);
@@ -72,6 +75,11 @@ struct LineRequest {
   // LineTiming). None: the bus's own guard. A scan's probes of empty addresses give a short
   // one: nothing is late there, and the bus's guard would cost every probe half a second.
   std::optional<std::chrono::milliseconds> late_guard{};
+  // After a time-out with nothing heard at all, the line may be given up after a short look
+  // (one bus reply wait past the deadline) instead of the whole late-reply window; a byte in
+  // the look holds the whole window. LineTiming::late_window_end then says when the window
+  // would have closed: nothing may be sent to this device before (gateway/line_claimant.h).
+  bool release_when_silent = false;
 };
 
 struct LineStats {
@@ -93,12 +101,18 @@ struct LineTiming {
   // From the end of the request to the completion of the reply that answered it; none when no
   // reply came in time.
   std::optional<std::chrono::milliseconds> reply_delay;
-  // Bursts of bytes discarded after a time-out: at most one per timed-out attempt, because a
-  // burst ends only when the line has been quiet for the guard time.
+  // Bursts of bytes discarded after a time-out (serial/serial_line.h: a burst ends when the
+  // line has been quiet for 50 ms): one per late reply.
   std::uint32_t late_replies = 0;
   // The longest time from the end of the timed-out request to the last byte of its late burst:
   // how long the sensor really took. None without late replies.
   std::optional<std::chrono::milliseconds> late_delay;
+  // The last attempt timed out with bytes received that made no reply (a broken checksum, a
+  // collision): the device answered, garbled.
+  bool garbled = false;
+  // The last attempt timed out silent and the line was given up after a short look
+  // (LineRequest::release_when_silent): until then the device's late reply may still come.
+  std::optional<std::chrono::steady_clock::time_point> late_window_end;
 };
 
 class Line {
@@ -110,10 +124,21 @@ class Line {
   // been replaced or power-cycled and re-read its identity.
   virtual std::uint64_t generation() const = 0;
   virtual bool is_open() const = 0;
+  // The extra attempts after a time-out that a request leaving them to the bus (retries = -1)
+  // gets: the bus's retries.
+  virtual int retries() const = 0;
   virtual const std::string& name() const = 0;
   virtual const LineStats& stats() const = 0;
   // The timing of the last transact(), valid once it has returned and until the next one.
   virtual const LineTiming& last_timing() const = 0;
+  // The longest one attempt of a request of `request_bytes` bytes with reply time-out
+  // `timeout` can hold the line: its wire time, the reply wait, and the late-reply guard kept
+  // after a time-out. This default knows no wire time and no guard.
+  virtual std::chrono::milliseconds longest_attempt(std::chrono::milliseconds timeout,
+                                                    std::size_t request_bytes) const {
+    (void)request_bytes;
+    return timeout;
+  }
 };
 
 }  // namespace tiltgate

@@ -42,16 +42,25 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
 
 boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_counted(
     Line& line, LineRequest request, ExchangeOptions options) {
-  request.retries = options.retries;
-  if (request.retries < 0 && probing_ && !state_.online) request.retries = 0;
+  int retries = options.retries >= 0 ? options.retries : line.retries();
+  if (options.retries < 0 && probing_ && !state_.online) retries = 0;
+  request.retries = 0;  // each attempt is a transaction of the line's, its wait adapted
   request.settle = options.settle;
-  request.timeout = reply_timeout_.current();
   ++state_.counters.transactions;
-  auto sent = co_await line.transact(std::move(request));
-  note_timing(line.last_timing(), line.name());
+  Expected<Done, LineError> sent = Unexpected(LineError::timeout);
+  for (int attempt = 0; attempt <= retries; ++attempt) {
+    request.timeout = reply_timeout_.current();
+    // Named: g++ 12 destroys a temporary in co_await twice. Only a retry needs it again.
+    LineRequest sending = attempt < retries ? request : std::move(request);
+    sent = co_await line.transact(std::move(sending));
+    note_timing(line.last_timing(), line.name());
+    if (sent || sent.error() != LineError::timeout) break;
+  }
   if (sent) {
     state_.online = true;
     state_.last_answer = SteadyClock::now();
+  } else if (sent.error() == LineError::expired) {
+    // Never sent: nothing was learnt of the sensor.
   } else {
     if (sent.error() == LineError::timeout) {
       ++state_.counters.timeouts;

@@ -3,9 +3,12 @@
 // then one measurement; and one log line when the sensor stops or starts answering.
 //
 // Every exchange also goes through here, with the sensor's own reply time-out
-// (driver/adaptive_reply_timeout.h), which the Line's timing adapts. A sensor that is offline
-// is probed without retries: each retry after a time-out costs the bus the late-reply guard
-// too, and the scheduler already tries again after its back-off.
+// (driver/adaptive_reply_timeout.h), which the Line's timing adapts after every attempt: the
+// retries are made here, each attempt a transaction of the Line's, so a sensor whose first
+// reply came late gets its retry with the longer wait, and a gateway's bus can give the line
+// to the other sensors between two attempts (gateway/line_claimant.h). A sensor that is
+// offline is probed without retries: each retry after a time-out costs the bus the late-reply
+// guard too, and the scheduler already tries again after its back-off.
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
@@ -43,7 +46,9 @@ class PolledSensorDriver : public SensorDriver {
 
   // One request/reply on the line, keeping the counters every driver keeps the same way:
   // transactions, time-outs, port errors, late replies, and online (whether anything valid
-  // came back). Sends the request with the sensor's reply time-out and adapts it.
+  // came back). Sends the request with the sensor's reply time-out, adapted after each
+  // attempt; `options.retries` -1 retries as the line's retries() says. A request the line
+  // did not send (LineError::expired) changes nothing of the sensor's state.
   boost::asio::awaitable<Expected<Done, LineError>> transact_counted(Line& line,
                                                                     LineRequest request,
                                                                     ExchangeOptions options);

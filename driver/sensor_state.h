@@ -70,6 +70,12 @@ struct SensorState {
   SensorCounters counters;
 };
 
+// The sensor's last exchange ended without a valid reply: offline, not merely not heard from
+// yet (online is false until the first exchange ends).
+inline bool known_offline(const SensorState& state) {
+  return !state.online && state.counters.timeouts + state.counters.io_errors > 0;
+}
+
 // Whether the sensor counts as online at `now`: its last exchange got a valid reply, and it has
 // been heard from within `silence_limit` (its stale_after). The second half matters while a
 // poll of a sensor that fell silent is still running its retries, each with its late-reply

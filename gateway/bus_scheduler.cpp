@@ -1,9 +1,11 @@
 #include "gateway/bus_scheduler.h"
 
 #include <algorithm>
+#include <boost/asio/co_spawn.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <exception>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -11,8 +13,21 @@ namespace tiltgate {
 
 namespace asio = boost::asio;
 
+namespace {
+
+// A sensor that is offline (its polls are probes at the back-off's pace) or answers late: each
+// of its attempts is a turn of its own, one between rounds (gateway/line_turns.h).
+bool failing(const GatewaySensor& sensor) {
+  const SensorState& state = sensor.driver->state();
+  return known_offline(state) || state.answers_late;
+}
+
+}  // namespace
+
 BusScheduler::BusScheduler(asio::any_io_executor executor, Line& line, std::string name)
-    : line_(line), name_(std::move(name)), jobs_(executor), wake_(executor) {}
+    : executor_(executor), line_(line), name_(std::move(name)), wake_(executor) {}
+
+BusScheduler::~BusScheduler() { stop(); }
 
 void BusScheduler::add(GatewaySensor& sensor) {
   // An empty owner: a pointer that keeps nothing alive.
@@ -25,130 +40,223 @@ void BusScheduler::add(std::shared_ptr<GatewaySensor> sensor) {
   sensor->processing = SensorProcessing(sensor->config.mounting, sensor->config.alarms);
   sensor->processed_seq = sensor->driver->state().sample_seq;
   sensor->publish();
-  sensors_.push_back({std::move(sensor), PollSchedule{SteadyClock::now()}});
-  wake_.cancel();
+  auto polled = std::make_shared<Polled>();
+  polled->sensor = std::move(sensor);
+  polled->schedule = PollSchedule{SteadyClock::now()};
+  sensors_.push_back(polled);
+  if (stopping_ || retiring_) return;
+  asio::co_spawn(executor(), keep_polling(polled),
+                 [bus = name_, sensor = polled->sensor->config.name](std::exception_ptr e) {
+                   if (!e) return;
+                   try {
+                     std::rethrow_exception(e);
+                   } catch (const std::exception& what) {
+                     spdlog::error("{}: polling of sensor \"{}\" ended: {}", bus, sensor,
+                                   what.what());
+                   }
+                 });
 }
 
 void BusScheduler::remove(const GatewaySensor& sensor) {
-  std::erase_if(sensors_, [&](const Polled& polled) { return polled.sensor.get() == &sensor; });
+  std::erase_if(sensors_, [&](const std::shared_ptr<Polled>& polled) {
+    if (polled->sensor.get() != &sensor) return false;
+    polled->removed = true;
+    // A poll on the wire finishes first; a poller waiting for its turn ends now.
+    if (polled->poller != nullptr && polled->poller->state_ == LineClaimant::State::waiting)
+      refuse(*polled->poller);
+    return true;
+  });
 }
 
 void BusScheduler::retire() {
   retiring_ = true;
-  sensors_.clear();
-  jobs_.refuse_turns();
-  wake_.cancel();
-}
-
-BusScheduler::Polled* BusScheduler::find_polled(const GatewaySensor* sensor) {
-  for (Polled& polled : sensors_)
-    if (polled.sensor.get() == sensor) return &polled;
-  return nullptr;
+  for (const auto& polled : std::vector(sensors_)) remove(*polled->sensor);
+  for (LineClaimant* claimant : std::vector(waiting_))
+    if (claimant->claim_.kind != TurnKind::write) refuse(*claimant);
+  dispatch();
 }
 
 void BusScheduler::stop() {
+  if (stopping_) return;
   stopping_ = true;
   wake_.cancel();
-  jobs_.refuse_all();
-}
-
-void BusScheduler::enable_forwarding(ForwardFactory make, std::size_t max_queued) {
-  make_forward_ = make;
-  max_queued_forwards_ = max_queued;
-}
-
-namespace {
-
-// When a sensor is next polled: its schedule, or after a command's hold on it.
-SteadyClock::time_point due_of(const PollSchedule& schedule,
-                               const std::optional<SteadyClock::time_point>& held_until) {
-  return held_until ? std::max(schedule.due, *held_until) : schedule.due;
-}
-
-// Adds the time from its construction to its destruction to `total`: wrapped around each
-// turn on the line, it sums the time the bus was busy.
-class BusyTime {
- public:
-  explicit BusyTime(std::chrono::nanoseconds& total) : total_(total) {}
-  ~BusyTime() { total_ += SteadyClock::now() - started_; }
-  BusyTime(const BusyTime&) = delete;
-  BusyTime& operator=(const BusyTime&) = delete;
-
- private:
-  std::chrono::nanoseconds& total_;
-  SteadyClock::time_point started_ = SteadyClock::now();
-};
-
-}  // namespace
-
-BusScheduler::Polled* BusScheduler::next_due() {
-  auto it = std::min_element(sensors_.begin(), sensors_.end(),
-                             [](const Polled& a, const Polled& b) {
-                               return due_of(a.schedule, a.held_until) <
-                                      due_of(b.schedule, b.held_until);
-                             });
-  return it == sensors_.end() ? nullptr : &*it;
-}
-
-WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteTarget target,
-                                             double value) const {
-  const auto address = sensor.driver->address_after(target, value);
-  if (!address) return Done{};
-  for (const Polled& other : sensors_) {
-    // Drivers follow their sensor to a new address, so this is where each one answers now.
-    if (other.sensor.get() == &sensor || other.sensor->driver->state().bus_address != *address) continue;
-    return Unexpected{WriteError{
-        WriteErrorKind::bad_value,
-        fmt::format("address {} is taken by sensor \"{}\" on bus \"{}\"", *address,
-                    other.sensor->config.name, name_)}};
-  }
-  return Done{};
+  for (const auto& polled : sensors_) polled->removed = true;
+  // Nobody touches the bus after this: those waiting are refused, the work holding the line
+  // ends when the line's own stop() cancels it.
+  for (LineClaimant* claimant : std::vector(waiting_)) refuse(*claimant);
+  for (LineClaimant* claimant : engaged_) claimant->bus_ = nullptr;
+  if (holder_ != nullptr) holder_->bus_ = nullptr;
+  holder_ = nullptr;
+  engaged_.clear();
 }
 
 asio::awaitable<void> BusScheduler::run() {
+  running_ = true;
+  dispatch();
   while (!stopping_) {
-    Polled* polled = next_due();
-    const auto now = SteadyClock::now();
-    if (polled && polled->held_until && *polled->held_until <= now) polled->held_until.reset();
-    const auto due = polled ? due_of(polled->schedule, polled->held_until) : now;
-    const bool poll_due = polled != nullptr && due <= now;
-    if (const std::shared_ptr<BusJob> job = jobs_.take(poll_due)) {
-      co_await carry_out(*job);
-      continue;
-    }
-    if (retiring_) {  // its last queued write is done
-      stop();
-      break;
-    }
-    if (poll_due) {
-      co_await poll(polled->sensor);
-      continue;
-    }
-    wake_.expires_at(polled ? due : now + std::chrono::hours(1));
     boost::system::error_code ec;
     co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+    if (ec || stopping_) continue;  // set anew, or stopped
+    // A due time came: nothing to wake for again until dispatch() says.
+    wake_.expires_at(SteadyClock::time_point::max());
+    dispatch();
   }
 }
 
-// Holds the sensor: a reload may remove it, or add others, while its poll is on the wire.
-asio::awaitable<void> BusScheduler::poll(std::shared_ptr<GatewaySensor> sensor) {
-  {
-    const BusyTime busy(stats_.busy);
-    co_await sensor->driver->poll(line_);
+// The claimants' side.
+
+void BusScheduler::enqueue(LineClaimant& claimant) {
+  // A retiring bus still carries out writes, those queued meanwhile too; nothing else.
+  if (stopping_ || (retiring_ && claimant.claim_.kind != TurnKind::write)) {
+    refuse(claimant);
+    return;
   }
+  claimant.claim_.order = next_order_++;
+  waiting_.push_back(&claimant);
+  dispatch();
+}
+
+void BusScheduler::refuse(LineClaimant& claimant) {
+  std::erase(waiting_, &claimant);
+  claimant.state_ = LineClaimant::State::idle;
+  claimant.outcome_ = TurnGrant::refused;
+  if (stopping_) claimant.bus_ = nullptr;
+  claimant.wake_.cancel();
+}
+
+void BusScheduler::withdraw(LineClaimant& claimant) {
+  std::erase(waiting_, &claimant);
+  claimant.state_ = LineClaimant::State::idle;
+  dispatch();
+}
+
+void BusScheduler::end_turn(LineClaimant& claimant) {
+  const auto now = SteadyClock::now();
+  const auto held = now - claimant.turn_started_;
+  stats_.busy += held;
+  if (claimant.sensor_ != nullptr) claimant.sensor_->line_time += held;
+  turns_.ended(claimant.claim_, now);
+  holder_ = nullptr;
+  claimant.state_ = LineClaimant::State::idle;
+  dispatch();
+}
+
+void BusScheduler::disengage(LineClaimant& claimant) {
+  std::erase(engaged_, &claimant);
+  claimant.engaged_ = false;
+  dispatch();
+}
+
+bool BusScheduler::engaged_by_other(const GatewaySensor* sensor,
+                                    const LineClaimant& claimant) const {
+  if (sensor == nullptr) return false;
+  return std::any_of(engaged_.begin(), engaged_.end(), [&](const LineClaimant* engaged) {
+    return engaged != &claimant && engaged->sensor_ == sensor;
+  });
+}
+
+void BusScheduler::dispatch() {
+  if (!running_ || stopping_ || holder_ != nullptr) return;
+  if (retiring_ && waiting_.empty() && engaged_.empty()) {  // its last queued write is done
+    stop();
+    return;
+  }
+  const auto now = SteadyClock::now();
+  claims_.clear();
+  claimants_.clear();
+  for (LineClaimant* claimant : waiting_) {
+    if (engaged_by_other(claimant->sensor_, *claimant)) continue;
+    TurnClaim claim = claimant->claim_;
+    claim.failing = claimant->yielded_;
+    if (const GatewaySensor* sensor = claimant->sensor_) {
+      claim.failing = claim.failing || failing(*sensor);
+      claim.due = std::max(claim.due, sensor->quiet_until);
+    }
+    claims_.push_back(claim);
+    claimants_.push_back(claimant);
+  }
+  const TurnChoice choice = turns_.choose(claims_, now);
+  if (choice.held && claimants_[*choice.held]->sensor_ != nullptr)
+    log_held(*claimants_[*choice.held]->sensor_, now);
+  if (choice.turn) {
+    LineClaimant& claimant = *claimants_[*choice.turn];
+    claimant.owed_ = choice.owed;
+    grant(claimant, claims_[*choice.turn].failing, now);
+    return;
+  }
+  const auto wake_at = choice.next_due.value_or(SteadyClock::time_point::max());
+  if (wake_.expiry() != wake_at) wake_.expires_at(wake_at);
+}
+
+void BusScheduler::grant(LineClaimant& claimant, bool failing, SteadyClock::time_point now) {
+  std::erase(waiting_, &claimant);
+  holder_ = &claimant;
+  claimant.state_ = LineClaimant::State::holding;
+  claimant.outcome_ = TurnGrant::granted;
+  claimant.claim_.failing = failing;
+  claimant.turn_started_ = now;
+  if (claimant.sensor_ != nullptr && !claimant.engaged_) {
+    claimant.engaged_ = true;
+    engaged_.push_back(&claimant);
+  }
+  claimant.wake_.cancel();
+}
+
+void BusScheduler::log_held(const GatewaySensor& sensor, SteadyClock::time_point now) {
+  const auto polled = std::find_if(sensors_.begin(), sensors_.end(), [&](const auto& p) {
+    return p->sensor.get() == &sensor;
+  });
+  if (polled == sensors_.end()) return;
+  Polled& p = **polled;
+  if (p.held_logged && now - *p.held_logged < kHeldLogInterval) return;
+  const auto since = p.held_logged.value_or(p.added_at);
+  const double share = std::chrono::duration<double>(sensor.line_time - p.line_time_logged) /
+                       std::max(std::chrono::duration<double>(now - since),
+                                std::chrono::duration<double>(1e-3));
+  p.held_logged = now;
+  p.line_time_logged = sensor.line_time;
+  spdlog::warn("{}: sensor \"{}\" is failing; its attempts wait for the other sensors' polls, one "
+               "turn between their rounds (it took {:.0f} % of the line's time over the last "
+               "{:.0f} s)",
+               name_, sensor.config.name, 100 * std::min(share, 1.0),
+               std::chrono::duration<double>(now - since).count());
+}
+
+// The sensors' pollers.
+
+SteadyClock::time_point BusScheduler::due_of(const Polled& polled) {
+  return polled.held_until ? std::max(polled.schedule.due, *polled.held_until)
+                           : polled.schedule.due;
+}
+
+asio::awaitable<void> BusScheduler::keep_polling(std::shared_ptr<Polled> polled) {
+  LineClaimant line(*this, TurnKind::poll, polled->sensor.get(), std::nullopt);
+  polled->poller = &line;
+  while (!polled->removed) {
+    if (co_await line.wait_turn(due_of(*polled)) != TurnGrant::granted) break;
+    co_await poll(*polled, line);
+  }
+  polled->poller = nullptr;
+}
+
+// Holds the sensor: a reload may remove it, or add others, while its poll is on the wire.
+asio::awaitable<void> BusScheduler::poll(Polled& polled, LineClaimant& line) {
+  const std::shared_ptr<GatewaySensor> sensor = polled.sensor;
+  co_await sensor->driver->poll(line);
   ++stats_.polls;
-  jobs_.polled();
-  // Processed and published once the bus's next request is out: posted, this runs after the
-  // handler going on from here has written that request (the write is where it first waits),
+  line.finish();  // the next turn is given now
+  // Processed and published once the next turn's request is out: posted after that turn's
+  // claimant was woken, this runs after it has written its request (where it first waits),
   // so the next transaction does not wait for the reading's tilt, alarms and snapshot.
-  asio::post(wake_.get_executor(), [sensor] {
+  asio::post(executor(), [sensor] {
     process_new_reading(*sensor);
     sensor->publish();
   });
-  Polled* polled = find_polled(sensor.get());
-  if (polled == nullptr) co_return;  // removed meanwhile
-  polled->schedule = after_poll(polled->schedule, sensor->driver->state().online,
-                                sensor->config.poll, max_backoff, SteadyClock::now());
+  // A poll that found the tty gone says nothing of the sensor: it is polled at its period,
+  // so it reads fresh at the first poll after the tty is back.
+  const bool answered = sensor->driver->state().online || !line_.is_open();
+  polled.schedule = after_poll(polled.schedule, answered, sensor->config.poll, max_backoff,
+                               SteadyClock::now());
 }
 
 void BusScheduler::process_new_reading(GatewaySensor& sensor) {
@@ -158,62 +266,120 @@ void BusScheduler::process_new_reading(GatewaySensor& sensor) {
   sensor.processed_seq = state.sample_seq;
 }
 
-template <class Result>
-asio::awaitable<Result> BusScheduler::queue(BusWork work, SteadyClock::time_point deadline,
-                                            std::uint64_t& expired) {
-  // A retiring bus still carries out writes, those queued meanwhile too; nothing else.
-  if (stopping_ || (retiring_ && !std::holds_alternative<SensorWrite>(work)))
-    co_return std::get<Result>(refusal(work));
-  const std::shared_ptr<BusJob> job = jobs_.push(std::move(work));
-  wake_.cancel();
-  if (!co_await jobs_.wait(job, deadline)) ++expired;
-  co_return std::get<Result>(std::move(*job->answer));
+void BusScheduler::reschedule(Polled& polled) {
+  LineClaimant* poller = polled.poller;
+  if (poller == nullptr || poller->state_ != LineClaimant::State::waiting || poller->yielded_)
+    return;  // it takes its due time when it next waits
+  poller->claim_.due = due_of(polled);
+  dispatch();
+}
+
+BusScheduler::Polled* BusScheduler::find_polled(std::uint32_t address) {
+  for (const auto& polled : sensors_)
+    if (polled->sensor->driver->state().bus_address == address) return polled.get();
+  return nullptr;
+}
+
+// Writes, forwarded requests, commands.
+
+WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteTarget target,
+                                             double value) const {
+  const auto address = sensor.driver->address_after(target, value);
+  if (!address) return Done{};
+  for (const auto& other : sensors_) {
+    // Drivers follow their sensor to a new address, so this is where each one answers now.
+    if (other->sensor.get() == &sensor ||
+        other->sensor->driver->state().bus_address != *address)
+      continue;
+    return Unexpected{WriteError{
+        WriteErrorKind::bad_value,
+        fmt::format("address {} is taken by sensor \"{}\" on bus \"{}\"", *address,
+                    other->sensor->config.name, name_)}};
+  }
+  return Done{};
 }
 
 asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
                                                  SteadyClock::time_point deadline) {
   if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
-  BusWork work = std::move(write);  // named: g++ 12 destroys a temporary in co_await twice
-  co_return co_await queue<WriteResult>(std::move(work), deadline, stats_.writes_expired);
+  const WriteError not_answering{WriteErrorKind::no_response, "sensor not answering: not sent"};
+  if (stopping_) co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
+  // Known offline: its retries would only hold the line and the answer (its probes find it
+  // when it is back).
+  if (known_offline(write.sensor().driver->state())) {
+    ++stats_.writes_offline;
+    co_return write.fail(not_answering);
+  }
+  LineClaimant line(*this, TurnKind::write, &write.sensor(), deadline);
+  const TurnGrant grant = co_await line.wait_turn();
+  if (grant == TurnGrant::refused)
+    co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
+  if (grant == TurnGrant::expired) {
+    ++stats_.writes_expired;
+    co_return write.fail({WriteErrorKind::busy, "bus too busy: write not started in time"});
+  }
+  // Its poll may have found it offline while the write waited.
+  if (known_offline(write.sensor().driver->state())) {
+    line.finish();
+    ++stats_.writes_offline;
+    co_return write.fail(not_answering);
+  }
+  WriteResult result = co_await write.run(line, *this, stats_.writes);
+  line.finish();
+  co_return result;
+}
+
+void BusScheduler::enable_forwarding(ForwardFactory make, std::size_t max_queued) {
+  make_forward_ = make;
+  max_queued_forwards_ = max_queued;
+}
+
+bool BusScheduler::forward_admitted(std::uint64_t client) const {
+  std::size_t queued = 0;
+  std::size_t mine = 0;
+  std::vector<std::uint64_t> clients{client};
+  for (const LineClaimant* waiting : waiting_) {
+    if (waiting->claim_.kind != TurnKind::forward) continue;
+    ++queued;
+    if (waiting->claim_.client == client) ++mine;
+    if (std::find(clients.begin(), clients.end(), waiting->claim_.client) == clients.end())
+      clients.push_back(waiting->claim_.client);
+  }
+  // Full: each client is held to its share, so a new one still gets in.
+  return queued < max_queued_forwards_ || mine < max_queued_forwards_ / clients.size();
 }
 
 asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
                                                      std::vector<std::uint8_t> pdu,
-                                                     SteadyClock::time_point deadline) {
-  if (jobs_.queued_forwards() >= max_queued_forwards_) {
+                                                     SteadyClock::time_point deadline,
+                                                     std::uint64_t client) {
+  if (stopping_ || retiring_) co_return Unexpected{ForwardFailure::no_response};
+  if (!forward_admitted(client)) {
     ++stats_.forwards_busy;
     co_return Unexpected{ForwardFailure::busy};
   }
-  BusWork work = ForwardRequest{slave, std::move(pdu)};  // named, as in write()
-  co_return co_await queue<ForwardResult>(std::move(work), deadline, stats_.forwards_expired);
+  LineClaimant line(*this, TurnKind::forward, nullptr, deadline, client);
+  const TurnGrant grant = co_await line.wait_turn();
+  if (grant == TurnGrant::refused) co_return Unexpected{ForwardFailure::no_response};
+  if (grant == TurnGrant::expired) {
+    ++stats_.forwards_expired;
+    co_return Unexpected{ForwardFailure::expired};
+  }
+  ForwardResult result = co_await exchange(line, slave, pdu);
+  line.finish();
+  co_return result;
 }
 
-asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
-    LineRequest request, SteadyClock::time_point deadline) {
-  BusWork work = CommandTransaction{std::move(request)};  // named, as in write()
-  co_return co_await queue<CommandExchangeResult>(std::move(work), deadline,
-                                                  stats_.command_exchanges_expired);
-}
-
-asio::awaitable<void> BusScheduler::carry_out(BusJob& job) {
-  const BusyTime busy(stats_.busy);
-  if (auto* write = std::get_if<SensorWrite>(&job.work))
-    job.answer_with(co_await write->run(line_, *this, stats_.writes));
-  else if (auto* forward = std::get_if<ForwardRequest>(&job.work))
-    job.answer_with(co_await exchange(*forward));
-  else
-    job.answer_with(co_await transact(std::get<CommandTransaction>(job.work)));
-}
-
-asio::awaitable<ForwardResult> BusScheduler::exchange(const ForwardRequest& forward) {
+asio::awaitable<ForwardResult> BusScheduler::exchange(LineClaimant& line, std::uint8_t slave,
+                                                      const std::vector<std::uint8_t>& pdu) {
   if (make_forward_ == nullptr) {
     ++stats_.forwards_unframed;
     co_return Unexpected{ForwardFailure::unframed};
   }
-  auto made = make_forward_(forward.slave, forward.pdu);
+  auto made = make_forward_(slave, pdu);
   if (!made) {
     ++stats_.forwards_unframed;
-    spdlog::warn("{}: request for slave {} not forwarded: {}", name_, forward.slave, made.error());
+    spdlog::warn("{}: request for slave {} not forwarded: {}", name_, slave, made.error());
     co_return Unexpected{ForwardFailure::unframed};
   }
   ForwardedExchange& forwarded = **made;
@@ -222,65 +388,74 @@ asio::awaitable<ForwardResult> BusScheduler::exchange(const ForwardRequest& forw
   request.framer = &forwarded.framer();
   request.timeout = std::chrono::milliseconds(0);  // the bus's reply time-out
   request.retries = 0;  // the client retries; a forwarded write must never run twice
-  auto done = co_await line_.transact(std::move(request));
+  auto done = co_await line.transact(std::move(request));
   if (!done) {
     ++stats_.forward_timeouts;
-    spdlog::debug("{}: forwarded request to slave {}: {}", name_, forward.slave,
-                  to_string(done.error()));
+    spdlog::debug("{}: forwarded request to slave {}: {}", name_, slave, to_string(done.error()));
     co_return Unexpected{ForwardFailure::no_response};
   }
   auto reply = forwarded.reply_pdu();
   if (!reply) {
     ++stats_.forward_timeouts;
-    spdlog::debug("{}: forwarded request to slave {}: {}", name_, forward.slave, reply.error());
+    spdlog::debug("{}: forwarded request to slave {}: {}", name_, slave, reply.error());
     co_return Unexpected{ForwardFailure::no_response};
   }
   ++stats_.forwarded;
   co_return std::move(*reply);
 }
 
-asio::awaitable<CommandExchangeResult> BusScheduler::transact(
-    const CommandTransaction& command) {
+asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
+    LineRequest request, SteadyClock::time_point deadline) {
   CommandExchangeResult result;
-  result.done = co_await line_.transact(command.request);
-  result.timing = line_.last_timing();
+  result.done = Unexpected{LineError::cancelled};
+  if (stopping_ || retiring_) co_return result;
+  LineClaimant line(*this, TurnKind::command, nullptr, deadline);
+  const TurnGrant grant = co_await line.wait_turn();
+  if (grant == TurnGrant::refused) co_return result;
+  if (grant == TurnGrant::expired) {
+    ++stats_.command_exchanges_expired;
+    result.done = Unexpected{LineError::timeout};
+    result.expired = true;
+    co_return result;
+  }
+  result.done = co_await line.transact(std::move(request));
+  result.timing = line.last_timing();
   result.generation = line_.generation();
   ++stats_.command_exchanges;
+  line.finish();
   co_return result;
 }
 
+// Commissioning commands moving a sensor.
+
 std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std::uint32_t to) {
-  for (Polled& polled : sensors_) {
-    SensorDriver& driver = *polled.sensor->driver;
-    if (driver.state().bus_address != from) continue;
-    driver.follow_address(to);
-    polled.sensor->publish();
-    // Poll it at its new address at once: the command's read-back and the PLC agree sooner.
-    polled.schedule = PollSchedule{SteadyClock::now()};
-    polled.held_until.reset();
-    wake_.cancel();
-    spdlog::info("{}: sensor \"{}\" moved from address {} to {} by a commissioning command",
-                 name_, polled.sensor->config.name, from, to);
-    return polled.sensor->config.name;
-  }
-  return std::nullopt;
+  Polled* polled = find_polled(from);
+  if (polled == nullptr) return std::nullopt;
+  polled->sensor->driver->follow_address(to);
+  polled->sensor->publish();
+  // Poll it at its new address at once: the command's read-back and the PLC agree sooner.
+  polled->schedule = PollSchedule{SteadyClock::now()};
+  polled->held_until.reset();
+  reschedule(*polled);
+  spdlog::info("{}: sensor \"{}\" moved from address {} to {} by a commissioning command", name_,
+               polled->sensor->config.name, from, to);
+  return polled->sensor->config.name;
 }
 
 std::optional<std::string> BusScheduler::hold(std::uint32_t address,
                                               SteadyClock::time_point until) {
-  for (Polled& polled : sensors_) {
-    if (polled.sensor->driver->state().bus_address != address) continue;
-    polled.held_until = until;
-    return polled.sensor->config.name;
-  }
-  return std::nullopt;
+  Polled* polled = find_polled(address);
+  if (polled == nullptr) return std::nullopt;
+  polled->held_until = until;
+  reschedule(*polled);
+  return polled->sensor->config.name;
 }
 
 void BusScheduler::release(std::uint32_t address) {
-  for (Polled& polled : sensors_)
-    if (polled.held_until && polled.sensor->driver->state().bus_address == address) {
-      polled.held_until.reset();
-      wake_.cancel();
+  for (const auto& polled : sensors_)
+    if (polled->held_until && polled->sensor->driver->state().bus_address == address) {
+      polled->held_until.reset();
+      reschedule(*polled);
     }
 }
 

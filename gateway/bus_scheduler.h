@@ -1,10 +1,13 @@
-// One serial bus: the only owner of its Line. Polls each sensor at its poll period, and backs
-// off from sensors that do not answer so they cannot starve the others. Between polls it
-// carries out the jobs its callers queue and wait for (gateway/bus_job.h): writes of its
-// sensors ahead of polls, requests forwarded to devices passed through ([[bus]] pass_through)
-// and the transactions of commissioning commands (the control socket) taking turns with the
-// polls, in the order gateway/bus_queue.h gives them. Everything runs on the event loop
-// thread; nothing here blocks.
+// One serial bus: the only owner of its Line, shared among everyone who needs it. Each sensor
+// has a poller that polls it at its poll period, backing off from a sensor that does not
+// answer; Modbus writes of its sensors, requests forwarded to devices it passes through
+// ([[bus]] pass_through) and the transactions of commissioning commands (the control socket)
+// wait for the line alongside. Each of them is a LineClaimant (gateway/line_claimant.h), and
+// whose turn it is next is decided in one place, gateway/line_turns.h: healthy sensors' polls
+// in rounds, and one other turn (a write, a forwarded request, a command's transaction, a
+// failing sensor's attempt) between rounds, so a failing sensor never takes the line from the
+// others (docs/operations.md, "One failing sensor never takes its line"). Everything runs on
+// the event loop thread; nothing here blocks.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -19,9 +22,10 @@
 #include "driver/forwarded_exchange.h"
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
-#include "gateway/bus_job.h"
-#include "gateway/bus_queue.h"
+#include "gateway/bus_answers.h"
 #include "gateway/gateway_sensor.h"
+#include "gateway/line_claimant.h"
+#include "gateway/line_turns.h"
 #include "gateway/poll_schedule.h"
 #include "gateway/sensor_write.h"
 
@@ -30,7 +34,8 @@ namespace tiltgate {
 struct BusSchedulerStats {
   std::uint64_t polls = 0;
   std::uint64_t writes = 0;
-  std::uint64_t writes_expired = 0;  // still queued at their deadline
+  std::uint64_t writes_expired = 0;  // not started before their deadline
+  std::uint64_t writes_offline = 0;  // refused at once: the sensor was known not to answer
   // Requests forwarded to devices passed through.
   std::uint64_t forwarded = 0;         // answered by the device (exception replies included)
   std::uint64_t forward_timeouts = 0;  // no reply: time-out, port closed or failed
@@ -40,36 +45,43 @@ struct BusSchedulerStats {
   // Transactions of commissioning commands through the control socket.
   std::uint64_t command_exchanges = 0;  // carried out (whatever the line made of them)
   std::uint64_t command_exchanges_expired = 0;  // still queued at their deadline
-  // Time spent in polls, writes, forwarded requests and commands' transactions, waiting for
-  // replies and time-outs included: the share of the wire's time this bus uses.
+  // Time the line was held, by anyone, waiting for replies and time-outs included: the share
+  // of the wire's time this bus uses.
   std::chrono::nanoseconds busy{0};
 };
 
 class BusScheduler {
  public:
   BusScheduler(boost::asio::any_io_executor executor, Line& line, std::string name);
+  // Stops (stop()) if it has not.
+  ~BusScheduler();
+  BusScheduler(const BusScheduler&) = delete;
+  BusScheduler& operator=(const BusScheduler&) = delete;
 
   // Polls `sensor` from now on. This overload does not own it: the caller keeps it alive.
   void add(GatewaySensor& sensor);
   // The same, and keeps the sensor alive while it is polled or its poll is on the wire (a
   // reload may drop every other reference meanwhile).
   void add(std::shared_ptr<GatewaySensor> sensor);
-  // Polls `sensor` no more (a reload removed or replaced it). Its writes already queued are
-  // still carried out and answered: they hold the sensor.
+  // Polls `sensor` no more (a reload removed or replaced it). A poll on the wire finishes;
+  // its writes already queued are still carried out and answered: they hold the sensor.
   void remove(const GatewaySensor& sensor);
   // Winds the bus down for a reload that removed or changed it: no more polls; forwarded
-  // requests and commands still queued are answered as at stop(); the writes already queued
+  // requests and commands still waiting are answered as at stop(); the writes already queued
   // (and any queued meanwhile) are carried out, and then run() returns, as after stop().
   void retire();
   bool retiring() const { return retiring_; }
-  // Runs until stop(). Spawn it once.
+  // Keeps the line's turns going at their due times until stop(). Spawn it once.
   boost::asio::awaitable<void> run();
+  // Everyone still waiting is answered as refused; the work holding the line finishes (the
+  // line's own stop() cancels it).
   void stop();
 
-  // Checks `write` (a refusal is answered at once, before anything is queued), queues it
-  // ahead of every poll and waits for it: all its settings, one after another. A write still
-  // queued when `deadline` passes is dropped and answered busy; one already on the wire is
-  // always waited for (its transactions are bounded by the bus time-outs).
+  // Checks `write` (a refusal is answered at once, before anything is queued) and refuses a
+  // write to a sensor known not to answer (0x0B at once: nothing is sent), then waits for the
+  // line and carries it out: all its settings, one after another. No attempt is sent that
+  // could end after `deadline`: a write that cannot start in time is answered busy, one that
+  // runs out of time on the way as no response.
   boost::asio::awaitable<WriteResult> write(SensorWrite write, SteadyClock::time_point deadline);
 
   // Refuses (bad_value: Modbus 0x03) a write that would move `sensor` to the address another
@@ -79,24 +91,25 @@ class BusScheduler {
   WriteResult check_address_free(const GatewaySensor& sensor, WriteTarget target,
                                  double value) const;
 
-  // Lets forward() frame requests with the bus protocol's factory (driver/forwarded_exchange.h), with
-  // at most `max_queued` of them waiting at once.
+  // Lets forward() frame requests with the bus protocol's factory (driver/forwarded_exchange.h),
+  // with about `max_queued` of them waiting at once (below).
   void enable_forwarding(ForwardFactory make, std::size_t max_queued = kMaxQueuedForwards);
 
-  // Queues `pdu` for the device at `slave` and waits for its reply PDU. When forwarded
-  // requests and polls are both due they alternate, one exchange each, so neither side can
-  // starve the other; writes of the cached sensors stay ahead of both. Each exchange is sent
-  // once (retries = 0: the client retries, and a forwarded write must never run twice) with
-  // the bus's reply time-out. A request still queued at `deadline` is dropped (expired); one
-  // already on the wire is always waited for.
+  // Queues `pdu` for the device at `slave`, from `client` (the Modbus client's address: the
+  // clients' requests are served round robin), and waits for its reply PDU. Sent once
+  // (retries = 0: the client retries, and a forwarded write must never run twice) with the
+  // bus's reply time-out. With `max_queued` waiting, a client is refused busy unless it has
+  // fewer waiting than its share of them, so one client cannot shut the others out. A request
+  // that cannot be sent before `deadline` expires.
   boost::asio::awaitable<ForwardResult> forward(std::uint8_t slave, std::vector<std::uint8_t> pdu,
-                                                SteadyClock::time_point deadline);
+                                                SteadyClock::time_point deadline,
+                                                std::uint64_t client = 0);
 
-  // Runs one transaction of a commissioning command (control/control_server.h) on the line.
-  // It takes turns with the polls as forwarded requests do, so every sensor keeps being polled
-  // while a command scans or sets. The request is sent as given (its time-out, retries and
-  // settle time); its framer must stay alive until this returns. A request still queued at
-  // `deadline` is dropped (expired).
+  // Runs one transaction of a commissioning command (control/control_server.h) on the line,
+  // taking turns as forwarded requests do, so every sensor keeps being polled while a command
+  // scans or sets. The request is sent as given (its time-out, retries and settle time; each
+  // retry a turn of its own); its framer must stay alive until this returns. One that cannot
+  // be sent before `deadline` expires.
   boost::asio::awaitable<CommandExchangeResult> exchange_for_command(
       LineRequest request, SteadyClock::time_point deadline);
 
@@ -113,42 +126,80 @@ class BusScheduler {
   const std::string& name() const { return name_; }
   const BusSchedulerStats& stats() const { return stats_; }
   Line& line() { return line_; }
+  boost::asio::any_io_executor executor() const { return executor_; }
 
   // Longest wait between polls of an offline sensor (gateway/poll_schedule.h).
   static constexpr std::chrono::milliseconds max_backoff{5000};
-  // Forwarded requests waiting per bus; more are answered busy at once. A Modbus client waits
-  // for each reply, so this many means as many clients (or connections) at once.
+  // Forwarded requests waiting per bus before clients are held to their share (a Modbus
+  // connection waits for each reply, so this many means as many connections).
   static constexpr std::size_t kMaxQueuedForwards = 32;
+  // How often a failing sensor held to its turn between rounds is logged, at most.
+  static constexpr std::chrono::seconds kHeldLogInterval{60};
 
  private:
+  friend class LineClaimant;
+
   struct Polled {
     std::shared_ptr<GatewaySensor> sensor;
     PollSchedule schedule;
     std::optional<SteadyClock::time_point> held_until{};  // hold(): not polled before then
+    bool removed = false;
+    LineClaimant* poller = nullptr;  // its poller's, while the poller runs
+    SteadyClock::time_point added_at = SteadyClock::now();
+    // When its wait for the round was last logged (log_held()), and its line time then.
+    std::optional<SteadyClock::time_point> held_logged;
+    std::chrono::nanoseconds line_time_logged{0};
   };
-  Polled* next_due();
-  Polled* find_polled(const GatewaySensor* sensor);
-  // Polls `sensor` and publishes what it read.
-  boost::asio::awaitable<void> poll(std::shared_ptr<GatewaySensor> sensor);
+
+  // The poller of one sensor: waits for its due turn, polls, publishes, schedules the next.
+  boost::asio::awaitable<void> keep_polling(std::shared_ptr<Polled> polled);
+  // Polls the sensor and publishes what it read.
+  boost::asio::awaitable<void> poll(Polled& polled, LineClaimant& line);
   // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
   static void process_new_reading(GatewaySensor& sensor);
-  // Queues `work` (unless the bus stops, or retires and it is no write: then it is answered
-  // refusal() at once), waits for its answer and counts it in `expired` when it expired unsent.
-  template <class Result>
-  boost::asio::awaitable<Result> queue(BusWork work, SteadyClock::time_point deadline,
-                                       std::uint64_t& expired);
-  // Carries out a job taken from the queue and answers it.
-  boost::asio::awaitable<void> carry_out(BusJob& job);
-  boost::asio::awaitable<ForwardResult> exchange(const ForwardRequest& forward);
-  boost::asio::awaitable<CommandExchangeResult> transact(const CommandTransaction& command);
+  // When the sensor's next poll is due: its schedule, or after a command's hold on it.
+  static SteadyClock::time_point due_of(const Polled& polled);
+  // Its poller waits for the poll at its (new) due time.
+  void reschedule(Polled& polled);
+  Polled* find_polled(std::uint32_t address);
 
+  boost::asio::awaitable<ForwardResult> exchange(LineClaimant& line, std::uint8_t slave,
+                                                 const std::vector<std::uint8_t>& pdu);
+  // Whether `client` may queue one more forwarded request now.
+  bool forward_admitted(std::uint64_t client) const;
+
+  // The claimants' side (gateway/line_claimant.h).
+  void enqueue(LineClaimant& claimant);
+  void withdraw(LineClaimant& claimant);
+  void end_turn(LineClaimant& claimant);
+  void disengage(LineClaimant& claimant);
+  void refuse(LineClaimant& claimant);
+
+  // Gives the line to whoever's turn it is, if it is free; else, or with nobody's turn now,
+  // sets the wake-up for the next due time.
+  void dispatch();
+  void grant(LineClaimant& claimant, bool failing, SteadyClock::time_point now);
+  // Whether the claims of `sensor` are held back: another claimant is mid-way through its work.
+  bool engaged_by_other(const GatewaySensor* sensor, const LineClaimant& claimant) const;
+  // One log line, at most every kHeldLogInterval, when a failing sensor waits for the round.
+  void log_held(const GatewaySensor& sensor, SteadyClock::time_point now);
+
+  boost::asio::any_io_executor executor_;
   Line& line_;
   std::string name_;
-  std::vector<Polled> sensors_;
-  BusQueue jobs_;
+  std::vector<std::shared_ptr<Polled>> sensors_;
+  LineTurns turns_;
+  std::vector<LineClaimant*> waiting_;  // in the order they came
+  LineClaimant* holder_ = nullptr;      // holds the line now
+  std::vector<LineClaimant*> engaged_;  // mid-way through their work for a sensor
+  std::uint64_t next_order_ = 0;
+  // dispatch()'s scratch: the claims it shows the rule, and whose they are.
+  std::vector<TurnClaim> claims_;
+  std::vector<LineClaimant*> claimants_;
   ForwardFactory make_forward_ = nullptr;
   std::size_t max_queued_forwards_ = kMaxQueuedForwards;
-  boost::asio::steady_timer wake_;
+  boost::asio::steady_timer wake_;  // run(): the next due time
+  bool running_ = false;   // run() started: the line is given out from then on
   bool stopping_ = false;
   bool retiring_ = false;  // retire(): the queued writes, then stop
   BusSchedulerStats stats_;

@@ -2,9 +2,9 @@
 // what is derived from each of its readings, its register map, the holding-register values
 // written through the gateway, and the snapshot of all that the Modbus TCP threads read.
 //
-// Threads: driver, processing, written and bus belong to the bus's thread (the event loop);
-// config, map and stale_after do not change while the sensor is served; the TCP threads read
-// only those and snapshot(). Its last owner may be a request on a TCP thread (a reload dropped
+// Threads: driver, processing, written, bus, line_time and quiet_until belong to the bus's
+// thread (the event loop); config, map and stale_after do not change while the sensor is served; the TCP
+// threads read only those and snapshot(). Its last owner may be a request on a TCP thread (a reload dropped
 // it meanwhile): it holds no I/O objects, so it may be freed there.
 #pragma once
 
@@ -41,6 +41,12 @@ struct GatewaySensor {
   std::vector<std::uint16_t> written;
   std::chrono::milliseconds stale_after{1000};
   BusScheduler* bus = nullptr;
+  // The line's time its polls, writes and retries took, waiting for replies, time-outs and
+  // late-reply guards included (BusScheduler): who eats the line.
+  std::chrono::nanoseconds line_time{0};
+  // A late reply of the sensor may still come until then (the line was given to others before
+  // its late-reply window closed, gateway/line_claimant.h): nothing is sent to it before.
+  SteadyClock::time_point quiet_until{};
 
   // Bus thread: copies state, derived values and written registers into a new snapshot, after
   // anything changed them (a poll, a write, a moved address).

@@ -4,6 +4,8 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
+#include <functional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -221,7 +223,8 @@ ModbusException exception_for(ForwardFailure failure) {
 }
 
 boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_id,
-                                                              std::vector<std::uint8_t> pdu) {
+                                                              std::vector<std::uint8_t> pdu,
+                                                              std::string client) {
   const std::shared_ptr<const Routes> routes = this->routes();
   BusScheduler* bus = routes->forwarded[unit_id];
   if (bus == nullptr) co_return Unexpected{ModbusException::gateway_path_unavailable};
@@ -234,8 +237,10 @@ boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_
   if (stopping_) co_return Unexpected{ModbusException::gateway_target_failed};
   // The server's write_timeout bounds the wait for the bus, as it does for writes.
   const auto deadline = SteadyClock::now() + routes->options.write_timeout;
+  // The bus serves its clients' requests in turn, each client known by its address.
+  const std::uint64_t client_key = std::hash<std::string>{}(client);
   std::optional<ForwardedReply> reply = co_await boost::asio::co_spawn(
-      bus_executor_, forward_on_bus(*bus, unit_id, std::move(pdu), deadline),
+      bus_executor_, forward_on_bus(*bus, unit_id, std::move(pdu), deadline, client_key),
       boost::asio::use_awaitable);
   co_return std::move(*reply);
 }
@@ -244,8 +249,8 @@ boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_
 // a result it can default-construct.
 boost::asio::awaitable<std::optional<ForwardedReply>> RequestRouter::forward_on_bus(
     BusScheduler& bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
-    SteadyClock::time_point deadline) {
-  auto reply = co_await bus.forward(unit_id, std::move(pdu), deadline);
+    SteadyClock::time_point deadline, std::uint64_t client) {
+  auto reply = co_await bus.forward(unit_id, std::move(pdu), deadline, client);
   if (!reply) co_return ForwardedReply{Unexpected{exception_for(reply.error())}};
   co_return ForwardedReply{std::move(*reply)};
 }

@@ -75,7 +75,8 @@ class RequestRouter : public ModbusRequestHandler {
     return routes_->forwarded[unit_id] != nullptr;
   }
   boost::asio::awaitable<ForwardedReply> forward(std::uint8_t unit_id,
-                                                 std::vector<std::uint8_t> pdu) override;
+                                                 std::vector<std::uint8_t> pdu,
+                                                 std::string client) override;
 
  private:
   using Routes = UnitRoutes;
@@ -87,9 +88,9 @@ class RequestRouter : public ModbusRequestHandler {
   // Runs on the buses' executor; the write holds the sensor to the end.
   boost::asio::awaitable<ModbusResponse> write(std::shared_ptr<GatewaySensor> sensor,
                                                ModbusRequest request, RouterOptions options);
-  boost::asio::awaitable<std::optional<ForwardedReply>> forward_on_bus(BusScheduler& bus, std::uint8_t unit_id,
-                                                        std::vector<std::uint8_t> pdu,
-                                                        SteadyClock::time_point deadline);
+  boost::asio::awaitable<std::optional<ForwardedReply>> forward_on_bus(
+      BusScheduler& bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
+      SteadyClock::time_point deadline, std::uint64_t client);
 
   boost::asio::any_io_executor bus_executor_;
   mutable std::mutex routes_mutex_;  // guards the pointer only

@@ -38,9 +38,11 @@ class SensorWrite {
   // once at the end, and counts each setting it hands to the driver in `sent`.
   boost::asio::awaitable<WriteResult> run(Line& line, const BusScheduler& bus,
                                           std::uint64_t& sent);
-  // Answers a write the bus does not carry out (still queued at its deadline, the bus
-  // stopping) with `why`, logged as its first setting's failure.
+  // Answers a write the bus does not carry out (not started before its deadline, the bus
+  // stopping, the sensor known offline) with `why`, logged as its first setting's failure.
   WriteResult fail(WriteError why) const;
+
+  GatewaySensor& sensor() const { return *sensor_; }
 
  private:
   boost::asio::awaitable<WriteResult> write_setting(Line& line, const BusScheduler& bus,

@@ -17,8 +17,10 @@ SerialLineOptions serial_options_from(FamilyList families, const BusConfig& bus)
   o.reopen_min = bus.reopen_min;
   o.reopen_max = bus.reopen_max;
   // The loader accepts only the families' protocols; 8N1 is the transport's own default.
-  if (const ProtocolEntry protocol = find_protocol(families, bus.protocol); protocol.protocol)
+  if (const ProtocolEntry protocol = find_protocol(families, bus.protocol); protocol.protocol) {
     o.framing = protocol.protocol->framing;
+    o.replies_name_sender = protocol.protocol->replies_name_sender;
+  }
   // A bus that chose its own framing (its parity and stop_bits keys) overrides it.
   if (bus.framing) o.framing = *bus.framing;
   return o;

@@ -52,6 +52,7 @@ const ProtocolDescriptor kProtocols[] = {{
     .addresses = {1, 247},               // Serial Line 2.2: slave addresses
     .master_addresses = std::nullopt,
     .min_gap = std::chrono::microseconds{0},
+    .replies_name_sender = true,  // the slave's address opens every reply
     .bus_chooses_framing = true,
     .default_gap = frame_gap,
     .forward = forward_request,  // [[bus]] pass_through

@@ -98,9 +98,11 @@ class ModbusRequestHandler {
   // of answered by handle(). The server then skips its own function and PDU checks (any
   // function passes through) once the MBAP framing is valid.
   virtual bool passes_through(std::uint8_t /*unit_id*/) const { return false; }
-  // Forwards the request PDU (function code and data) of a unit that passes through.
+  // Forwards the request PDU (function code and data) of a unit that passes through, for the
+  // client at `client` (its address: a bus serves its clients' requests in turn).
   virtual boost::asio::awaitable<ForwardedReply> forward(std::uint8_t /*unit_id*/,
-                                                         std::vector<std::uint8_t> /*pdu*/) {
+                                                         std::vector<std::uint8_t> /*pdu*/,
+                                                         std::string /*client*/) {
     co_return Unexpected{ModbusException::gateway_path_unavailable};
   }
 };

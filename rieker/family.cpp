@@ -35,6 +35,7 @@ const ProtocolDescriptor kProtocols[] = {{
     .addresses = {1, 65000},                // docs/protocols.md, "Rieker addresses"
     .master_addresses = AddressRange{0, 65500},  // the master's own address, never a sensor's
     .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
+    .replies_name_sender = true,                 // SRC: the sensor's own address
     // Addresses up to 65000 are allowed, but a bus of up to 60 sensors rarely goes past 255:
     // a scan checks 1..255 and the factory address unless told a range.
     .scan = {.first = 1,

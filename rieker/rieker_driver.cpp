@@ -159,6 +159,13 @@ asio::awaitable<bool> RiekerDriver::read_identity(Line& line) {
 }
 
 asio::awaitable<void> RiekerDriver::read_measurement(Line& line) {
+  if (relock_owed_) {
+    const bool locked = co_await lock_again(line);
+    if (!locked && relock_owed_) {
+      ++state_.counters.polls_failed;  // still not answering
+      co_return;
+    }
+  }
   auto reply = co_await exchange(line, get_angle_request(route(), angle_type()));
   if (!reply) {
     ++state_.counters.polls_failed;
@@ -197,8 +204,15 @@ asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target,
                          SensorCommand(int(value)) == SensorCommand::restart;
   if (restarted) {
     state_.protection_level = 0;  // a restart always comes back locked
+  } else if (!result && result.error().kind == WriteErrorKind::no_response) {
+    // It stopped answering (or the write's time ran out): the sensor may be unlocked, but a
+    // lock now would only hold the line and the write's answer for another time-out. The next
+    // poll that reaches it locks it first.
+    relock_owed_ = true;
+    spdlog::warn("{}: sensor {} did not answer the write; it is locked again when it answers",
+                 options_.name, options_.address);
   } else {
-    // Also after a failed unlock: the sensor may have unlocked and its ACK been lost, and an
+    // Also after a refused unlock: the sensor may have unlocked and its ACK been lost, and an
     // unlocked sensor accepts any stray setting. Best effort; the write keeps its own error.
     co_await lock_again(line);
   }
@@ -207,13 +221,16 @@ asio::awaitable<WriteResult> RiekerDriver::write(Line& line, WriteTarget target,
   co_return result;
 }
 
-asio::awaitable<void> RiekerDriver::lock_again(Line& line) {
+asio::awaitable<bool> RiekerDriver::lock_again(Line& line) {
   auto locked = co_await exchange(line, change_lock_request(route(), LockLevel::locked));
   if (locked && parse_ack(*locked)) {
     state_.protection_level = 0;
-  } else {
-    spdlog::warn("{}: could not lock the sensor again after a write", options_.name);
+    relock_owed_ = false;
+    co_return true;
   }
+  spdlog::warn("{}: could not lock the sensor again after a write", options_.name);
+  relock_owed_ = !locked && locked.error().kind == ExchangeError::Kind::line;
+  co_return false;
 }
 
 asio::awaitable<WriteResult> RiekerDriver::apply(Line& line, WriteTarget target, double value) {

@@ -1,7 +1,8 @@
 // The Rieker Flex driver: turns polls and register writes into Rieker transactions.
 // Reads angles (type 4 on an H6, type 1 on an H4360), reads identity after start and after
 // every reconnect, and does the lock dance around every setting (unlock, command, check the
-// ACK, lock again) so the caller never sees lock levels.
+// ACK, lock again) so the caller never sees lock levels. A write the sensor stopped answering
+// is answered at once; the sensor is locked again at the next poll that reaches it.
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
@@ -56,12 +57,16 @@ class RiekerDriver : public PolledSensorDriver {
   // The setting itself, between unlock and lock.
   boost::asio::awaitable<WriteResult> apply(Line& line, WriteTarget target, double value);
   boost::asio::awaitable<WriteResult> set_address(Line& line, std::uint16_t new_address);
-  // Lock level 0 again after a write, whatever became of it; a failure is only logged.
-  boost::asio::awaitable<void> lock_again(Line& line);
+  // Lock level 0 again after a write, whatever became of it; a failure is only logged, and
+  // one without an answer is tried again at the next poll (relock_owed_). True when locked.
+  boost::asio::awaitable<bool> lock_again(Line& line);
   Route route() const { return Route{options_.address, options_.master_address}; }
   AngleType angle_type() const;
 
   RiekerDriverOptions options_;
+  // A write ended without the sensor answering (or out of time) after it may have unlocked
+  // it: the next poll locks it before it measures.
+  bool relock_owed_ = false;
 };
 
 // An ExchangeError as the write error the gateway maps to a Modbus exception.

@@ -24,9 +24,20 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct PendingSend {
-  Clock::time_point due;
+  Clock::time_point starts;  // when its first byte would be on the line
+  Clock::time_point due;     // when its last byte has arrived: it is written then
   std::vector<std::uint8_t> bytes;
 };
+
+bool overlap(const PendingSend& a, const PendingSend& b) {
+  return a.starts < b.due && b.starts < a.due;
+}
+
+// What the master reads of a send that another drove the line with at the same time: every
+// byte broken, so no protocol takes any of it for a frame.
+void garble(PendingSend& send) {
+  for (std::uint8_t& byte : send.bytes) byte ^= 0xFF;
+}
 
 }  // namespace
 
@@ -39,8 +50,10 @@ struct PtyBusServer::Port {
   boost::asio::posix::stream_descriptor stream;
   boost::asio::steady_timer send_timer;
   std::array<std::uint8_t, 512> read_buffer{};
-  std::deque<PendingSend> sends;
+  std::deque<PendingSend> sends;  // by due time
   bool writing = false;
+  bool awaiting_due = false;  // the timer waits for the first send's due time
+  Clock::time_point written_until{};  // the due time of the last send written
   PtyBusServer* owner;
 };
 
@@ -82,10 +95,28 @@ void PtyBusServer::send_after(Clock::duration delay, std::vector<std::uint8_t> b
   if (!port_) return;
   // A pty hands over a request the moment it is written; on a real line its last byte
   // arrives only after its own wire time, so an answer cannot start before then.
-  const Clock::time_point due =
-      std::max(Clock::now(), receiving_until_) + delay + transmission_time(bytes.size());
-  port_->sends.push_back({due, std::move(bytes)});
-  if (!port_->writing) write_next(port_);
+  const Clock::time_point starts = std::max(Clock::now(), receiving_until_) + delay;
+  PendingSend send{starts, starts + transmission_time(bytes.size()), std::move(bytes)};
+  // Replies go out at their own times, as devices on a line answer; two that would be on the
+  // line at once collide, and the master receives both broken.
+  bool collided = send.starts < port_->written_until;
+  for (PendingSend& other : port_->sends) {
+    if (!overlap(other, send)) continue;
+    if (!collided) ++counters_.collisions;
+    collided = true;
+    garble(other);
+  }
+  if (collided) garble(send);
+  const auto at = std::upper_bound(
+      port_->sends.begin(), port_->sends.end(), send.due,
+      [](Clock::time_point due, const PendingSend& queued) { return due < queued.due; });
+  const bool first = at == port_->sends.begin();
+  port_->sends.insert(at, std::move(send));
+  if (!port_->writing) {
+    write_next(port_);
+  } else if (first && port_->awaiting_due) {
+    port_->send_timer.cancel();  // it waits for a later one: write_next() again
+  }
 }
 
 bool PtyBusServer::hears(int master_fd) const {
@@ -120,13 +151,20 @@ void PtyBusServer::read_more(const std::shared_ptr<Port>& port) {
       });
 }
 
-// Sends go out one at a time, each once its due time has come.
+// Sends go out one at a time, each once its due time has come, the earliest first.
 void PtyBusServer::write_next(const std::shared_ptr<Port>& port) {
   port->writing = !port->sends.empty();
   if (!port->writing) return;
+  port->awaiting_due = true;
   port->send_timer.expires_at(port->sends.front().due);
   port->send_timer.async_wait([port](const boost::system::error_code& ec) {
-    if (!port->owner || ec) return;
+    if (!port->owner) return;
+    port->awaiting_due = false;
+    if (ec) {  // an earlier send came first
+      port->owner->write_next(port);
+      return;
+    }
+    port->written_until = port->sends.front().due;
     boost::asio::async_write(
         port->stream, boost::asio::buffer(port->sends.front().bytes),
         [port](const boost::system::error_code& write_error, std::size_t written) {

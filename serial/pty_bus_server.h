@@ -1,7 +1,9 @@
 // The device side of a simulated serial bus: serves a pseudo-terminal that the gateway (or a
 // test) opens as if it were a USB-RS485 adapter. It knows no protocol: bytes read from the
-// master side go to a callback, and whatever the simulated devices answer goes back out, one
-// send at a time, each after its delay (and, when pacing, its transmission time at a baud rate).
+// master side go to a callback, and whatever the simulated devices answer goes back out, each
+// send at its own time, after its delay (and, when pacing, its transmission time at a baud
+// rate), as devices on a line answer: a late reply holds up no one else's, and two sends that
+// would be on the line at the same time collide, both arriving with every byte broken.
 // Each sensor family's simulator is a protocol layer on top of it. At trace level it logs the
 // bytes it reads and each send it writes, in hex, named by its pty ("sim /dev/pts/4 <- ...").
 //
@@ -45,6 +47,7 @@ struct PtyBusCounters {
   std::uint64_t bytes_unheard = 0;  // received at another rate than listen_baud, dropped
   std::uint64_t bytes_sent = 0;
   std::uint64_t sends_completed = 0;  // send() / send_after() calls whose bytes were all written
+  std::uint64_t collisions = 0;  // sends that would have been on the line at once, sent broken
 };
 
 class PtyBusServer {
@@ -70,10 +73,11 @@ class PtyBusServer {
   // Stops serving for good; the destructor does it too.
   void stop() { unplug(); }
 
-  // Writes `bytes` once every earlier send is written and `delay` (plus the transmission time,
-  // when pacing) has passed since this call, or, when pacing, since the bytes received so far
-  // would have finished arriving at the baud rate. While unplugged the bytes are dropped, as a
-  // powered device's answer is when no adapter listens.
+  // Writes `bytes` once `delay` (plus the transmission time, when pacing) has passed since this
+  // call, or, when pacing, since the bytes received so far would have finished arriving at the
+  // baud rate; earlier due sends first. One that would overlap another on the line (a late
+  // reply and the next device's) is sent broken, and so is the other. While unplugged the
+  // bytes are dropped, as a powered device's answer is when no adapter listens.
   void send_after(std::chrono::steady_clock::duration delay, std::vector<std::uint8_t> bytes);
   void send(std::vector<std::uint8_t> bytes) { send_after({}, std::move(bytes)); }
 

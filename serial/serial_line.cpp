@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "serial/frame_trace.h"
+#include "serial/late_window.h"
 
 namespace tiltgate {
 
@@ -29,9 +30,6 @@ namespace {
 // (beyond the packet's own wire time) means the port is wedged.
 constexpr std::chrono::seconds kStalledWrite{1};
 
-// The wait for quiet after a time-out ends after this long (or 4 guard times) even if the line
-// keeps receiving: a babbling device must not hold the bus forever.
-constexpr std::chrono::milliseconds kLongestGuardWait{2000};
 
 // The parity of every byte but a 9-bit bus's address bytes, which switch to mark.
 Parity idle_parity(Framing framing) {
@@ -110,15 +108,21 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
         spdlog::trace("{} {}", options_.name,
                       traced_timeout(traced_received_, request.framer->report(), timeout));
       }
-      // From the deadline: an echo mismatch ends the attempt before it.
       timed_out_request_end = packet_end_;
-      const auto guarded = co_await discard_late_replies(
-          std::max(Clock::now(), packet_end_ + timeout), packet_end_);
+      timing_.garbled = heard_;
+      std::optional<Clock::time_point> look_end;
+      if (request.release_when_silent && options_.replies_name_sender && !heard_ &&
+          !request.late_guard) {
+        look_end = std::max(Clock::now(), packet_end_ + timeout) + short_quiet();
+      }
+      const auto guarded =
+          co_await discard_late_replies(late_window_end(request, timeout), packet_end_, look_end);
       if (guarded) outcome = *guarded;
     } else if (outcome == Attempt::replied && timed_out_request_end) {
       // An earlier attempt's answer may still be on its way: let it land here, not in the
       // next transaction.
-      const auto guarded = co_await discard_late_replies(Clock::now(), *timed_out_request_end);
+      const auto guarded = co_await discard_late_replies(Clock::now() + request_late_guard_,
+                                                         *timed_out_request_end);
       if (guarded) outcome = *guarded;
     }
     switch (outcome) {
@@ -132,24 +136,54 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
   }
 }
 
+SerialLine::Clock::time_point SerialLine::late_window_end(const LineRequest& request,
+                                                          std::chrono::milliseconds timeout) const {
+  // From the deadline: an echo mismatch ends the attempt before it.
+  const Clock::time_point deadline = std::max(Clock::now(), packet_end_ + timeout);
+  // A request's own guard (a scan's probe) counts from its deadline, as it always did.
+  if (request.late_guard) return deadline + request_late_guard_;
+  // Its device answered, garbled (a broken checksum, a collision), and says so itself: no late
+  // reply is to come.
+  if (heard_ && options_.replies_name_sender) return deadline + short_quiet();
+  // Anchored at the request: with the defaults, max_timeout_ms after it. A sensor whose reply
+  // wait has adapted past the bus's own still gets one bus reply wait of quiet after its own.
+  return std::max(packet_end_ + options_.timeout + request_late_guard_, deadline + short_quiet());
+}
+
+std::chrono::milliseconds SerialLine::short_quiet() const {
+  return LateWindow{options_.timeout, request_late_guard_}.short_quiet();
+}
+
+std::chrono::milliseconds SerialLine::longest_attempt(std::chrono::milliseconds timeout,
+                                                      std::size_t request_bytes) const {
+  const auto wire = wire_time(request_bytes, options_.baud, idle_parity(options_.framing),
+                              stop_bits_of(options_.framing));
+  const LateWindow window{options_.timeout, options_.late_guard};
+  return std::chrono::ceil<std::chrono::milliseconds>(wire) + window.held_after(timeout);
+}
+
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_replies(
-    Clock::time_point from, Clock::time_point request_end) {
-  const auto guard = request_late_guard_;
-  const Clock::time_point give_up = from + std::max<Clock::duration>(kLongestGuardWait, 4 * guard);
-  Clock::time_point quiet_until = std::max(from, last_byte_at_) + guard;
+    Clock::time_point window_end, Clock::time_point request_end,
+    std::optional<Clock::time_point> look_end) {
+  const auto burst_quiet = LateWindow{options_.timeout, request_late_guard_}.burst_quiet();
+  // A line that never falls quiet (a babbling device) is given up on one guard time later.
+  const Clock::time_point give_up = window_end + request_late_guard_;
+  Clock::time_point quiet_until =
+      look_end ? *look_end : std::max(window_end, last_byte_at_ + burst_quiet);
   bool in_burst = false;
   std::vector<std::uint8_t> discarded;  // kept for the trace log only
   std::array<std::uint8_t, 256> buffer{};
   for (;;) {
     const Clock::time_point until = std::min(quiet_until, give_up);
     if (Clock::now() >= until) break;
+    const Clock::time_point previous_byte = last_byte_at_;
     const Expected<std::size_t, Attempt> received = co_await read_before(buffer, until);
     if (!received && received.error() == Attempt::timed_out) break;  // quiet
     if (!received) co_return received.error();
     if (*received == 0) continue;
     if (tracing_) discarded.insert(discarded.end(), buffer.begin(), buffer.begin() + *received);
-    quiet_until = last_byte_at_ + guard;
-    if (!in_burst) {
+    quiet_until = std::max(window_end, last_byte_at_ + burst_quiet);
+    if (!in_burst || last_byte_at_ - previous_byte > burst_quiet) {
       in_burst = true;
       ++timing_.late_replies;
       ++stats_.late_replies;
@@ -158,9 +192,11 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
                                   whole_ms(last_byte_at_ - request_end));
   }
   if (quiet_until > give_up) {
-    spdlog::debug("{}: still receiving {} ms after a time-out, sending anyway", options_.name,
-                  whole_ms(give_up - from).count());
+    spdlog::debug("{}: still receiving {} ms after the request, sending anyway", options_.name,
+                  whole_ms(give_up - request_end).count());
   }
+  // Nothing came in the look: the line goes on, the device's window stays its own.
+  if (look_end && !in_burst) timing_.late_window_end = window_end;
   if (in_burst) {
     spdlog::debug("{}: discarded a reply {} ms after the request, past its time-out",
                   options_.name, timing_.late_delay->count());
@@ -178,6 +214,7 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
   const bool quiet = co_await keep_quiet();
   if (!quiet) co_return Attempt::cancelled;
   if (request.framer) request.framer->reset();
+  heard_ = false;
   // Bytes that arrived since the last reply (a late answer, line noise) would be taken for
   // the start of this reply.
   auto flushed = discard_input(port_.fd());
@@ -286,6 +323,7 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
       chunk = chunk.subspan(n);
     }
     if (tracing_) traced_received_.insert(traced_received_.end(), chunk.begin(), chunk.end());
+    if (!chunk.empty()) heard_ = true;
     if (!chunk.empty() && request.framer->feed(chunk)) {
       timing_.reply_delay = whole_ms(last_byte_at_ - packet_end_);
       if (tracing_) {

@@ -15,13 +15,23 @@
 //
 // Late replies: an attempt that timed out may still be answered (USB adapters add latency each
 // way; a slow sensor). Before anything else is sent (a retry, or the next transaction), the
-// line waits, within transact(), until no byte has arrived for `late_guard` (counted from the
-// attempt's deadline or the last byte received, whichever is later); what arrives meanwhile is
-// discarded and reported as a late burst (last_timing(), stats().late_replies), so it is never
-// taken as the reply to a later request. The same wait runs before returning from a
-// transaction whose retry succeeded, since the first attempt's answer may still be on its way.
-// A line that never falls quiet (a babbling device) ends the wait after kLongestGuardWait or
-// 4 guard times, whichever is longer, so the bus cannot be held forever.
+// line waits, within transact(), for the late-reply window to pass: until the bus's own reply
+// wait (`timeout`) plus `late_guard` after the end of the request (max_timeout_ms with the
+// defaults, whatever the sensor's adapted reply wait), and at least the bus's reply wait (or
+// the guard, if shorter) after the attempt's own deadline. A request's own guard (a scan's
+// probe) counts from its deadline instead. What arrives meanwhile is discarded and reported
+// as late bursts (last_timing(), stats().late_replies), so it is never taken as the reply to
+// a later request; a burst ends once the line has been quiet for 50 ms (or the guard if
+// shorter; serial/late_window.h), and one that runs past the window keeps the line until it ends. The
+// window is the line's time a failing attempt costs, the same however late the sensor was:
+// docs/operations.md, "One failing sensor". On a protocol whose replies name their sender
+// (replies_name_sender), two shorter cases: an attempt that received a garbled reply keeps only
+// one bus reply wait of quiet (its device did answer), and a request that asks for it
+// (release_when_silent) is given up after that much when nothing at all was heard, the window
+// then reported in LineTiming::late_window_end. After a transaction whose retry succeeded the line
+// also keeps quiet for the guard, since the first attempt's answer may still be on its way. A
+// line that never falls quiet (a babbling device) is given up on one guard time after the
+// window, so the bus cannot be held forever.
 //
 // Echo (an adapter that hears its own transmission): the echo is read back and compared with
 // what was sent. A mismatch means another transmitter collided with ours; that attempt fails
@@ -61,7 +71,8 @@ struct SerialLineOptions {
   std::uint32_t baud = 125000;
   std::chrono::milliseconds timeout{50};  // reply timeout per attempt
   int retries = 2;                        // extra attempts after a time-out
-  // Quiet the line must keep after a time-out before anything is sent (late replies above).
+  // How long past the bus's reply wait the line stays quiet after a time-out (late replies
+  // above): the late-reply window closes timeout + late_guard after the request.
   std::chrono::milliseconds late_guard{450};
   std::chrono::microseconds gap{1000};    // quiet time between master packets
   bool rs485_kernel = false;              // TIOCSRS485; a port without it logs a warning
@@ -74,6 +85,10 @@ struct SerialLineOptions {
   bool exclusive = false;
   // Set the driver's low-latency flag at each open (serial/low_latency.h); false leaves it alone.
   bool low_latency = true;
+  // The protocol's replies name the device that sends them (driver/family.h), so a garbled
+  // reply means that device answered: after it the line keeps one reply wait of quiet, not
+  // the whole late-reply window, and a request may ask to be given up early when silent.
+  bool replies_name_sender = false;
   // Where sysfs is mounted, to read a USB adapter's latency_timer for the log (tests: a fake).
   std::string sysfs_root = "/sys";
 };
@@ -102,9 +117,13 @@ class SerialLine final : public Line {
 
   std::uint64_t generation() const override { return port_.generation(); }
   bool is_open() const override { return port_.is_open(); }
+  int retries() const override { return options_.retries; }
   const std::string& name() const override { return options_.name; }
   const LineStats& stats() const override { return stats_; }
   const LineTiming& last_timing() const override { return timing_; }
+  // A request's wire time, the reply wait, and the late-reply window after a time-out.
+  std::chrono::milliseconds longest_attempt(std::chrono::milliseconds timeout,
+                                            std::size_t request_bytes) const override;
   std::uint64_t echo_mismatches() const { return echo_mismatches_; }
   const SerialLineOptions& options() const { return options_; }
 
@@ -124,11 +143,19 @@ class SerialLine final : public Line {
 
   boost::asio::awaitable<Attempt> attempt(const LineRequest& request,
                                           std::chrono::milliseconds timeout);
-  // Discards what arrives until the line has been quiet for the guard time from `from`, each
-  // burst counted as a late reply to the request that ended at `request_end`. Returns the
-  // attempt's outcome if the port failed or the line stopped meanwhile.
+  // When the late-reply window of an attempt of `request` that just timed out closes.
+  Clock::time_point late_window_end(const LineRequest& request,
+                                    std::chrono::milliseconds timeout) const;
+  // The quiet kept after a time-out at the least: one bus reply wait (or the guard, if shorter).
+  std::chrono::milliseconds short_quiet() const;
+  // Discards what arrives until `window_end` and any late burst then running has ended, each
+  // burst counted as a late reply to the request that ended at `request_end`; with
+  // `look_end`, stops there if nothing has arrived by then (the window is then reported in
+  // LineTiming::late_window_end). Returns the attempt's outcome if the port failed or the line
+  // stopped meanwhile.
   boost::asio::awaitable<std::optional<Attempt>> discard_late_replies(
-      Clock::time_point from, Clock::time_point request_end);
+      Clock::time_point window_end, Clock::time_point request_end,
+      std::optional<Clock::time_point> look_end = std::nullopt);
   // Waits out the quiet time after the previous packet; false once stopped.
   boost::asio::awaitable<bool> keep_quiet();
   // Send steps return the attempt's outcome if it ends there, nothing if it goes on.
@@ -150,6 +177,7 @@ class SerialLine final : public Line {
   PortDeadline deadline_;  // after port_: it cancels reads and writes on port_'s descriptor
   Clock::time_point packet_end_{};   // when the last byte written leaves the UART
   Clock::time_point last_byte_at_{}; // when the last byte was received
+  bool heard_ = false;  // the current attempt received bytes (its reply, or garbage)
   Clock::time_point quiet_until_{};  // earliest start of the next master packet
   std::uint64_t echo_mismatches_ = 0;
   LineStats stats_;

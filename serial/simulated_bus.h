@@ -97,8 +97,8 @@ class SimulatedBus : public BusSimulator {
   // Sends the first answer, if any. Devices that answer one request together drive the bus at
   // once: the master receives one reply, garbled; the first stands for it.
   void send(Answers answers);
-  // A late device's reply waits `extra_delay` more; later replies queue behind it, as on a bus
-  // where the master waits for a late device before anyone else talks.
+  // A late device's reply waits `extra_delay` more; it does not hold up the replies of others,
+  // and collides with one that would be on the line at the same time (serial/pty_bus_server.h).
   void send_reply(std::vector<std::uint8_t> bytes,
                   std::chrono::milliseconds extra_delay = std::chrono::milliseconds{0});
 

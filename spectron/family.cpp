@@ -39,6 +39,8 @@ const ProtocolDescriptor kProtocols[] = {
         .addresses = {0, 255},  // one address byte, factory 0
         .master_addresses = std::nullopt,
         .min_gap = std::chrono::microseconds{0},
+        // A reply is a line of ASCII and CR LF: nothing in it says which module sent it.
+        .replies_name_sender = false,
         .scan = {.first = 0,
                  .last = 255,
                  .factory_addresses = kNineBitFactoryAddresses,
@@ -56,6 +58,7 @@ const ProtocolDescriptor kProtocols[] = {
         .addresses = {1, 250},  // docs/protocols.md, "Dyna protocol 2 frame"
         .master_addresses = std::nullopt,
         .min_gap = std::chrono::microseconds{0},
+        .replies_name_sender = true,  // ':' and the module's address open every reply
         .scan = {.first = 1,
                  .last = 250,
                  .factory_addresses = {},

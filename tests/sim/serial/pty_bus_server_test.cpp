@@ -74,17 +74,37 @@ TEST_CASE("bytes written on the slave reach the receiver and sends reach the sla
   CHECK(run_until(bus.io, [&] { return bus.server->counters().bytes_sent == 4; }));
 }
 
-TEST_CASE("sends go out in the order they were made, each after its own delay") {
+TEST_CASE("sends go out at their own times: a late one holds up no one else's") {
   boost::asio::io_context io;
   std::uint64_t completed = 0;
   PtyBusServer server(io, {}, [](std::span<const std::uint8_t>) {}, [&] { ++completed; });
   REQUIRE(server.start().has_value());
   RawTtyClient client(io, server.slave_path());
   server.send_after(50ms, Bytes{'a'});
-  server.send(Bytes{'b', 'c'});  // due at once, but queued behind 'a'
-  CHECK(receive(client, 3) == Bytes{'a', 'b', 'c'});
+  server.send(Bytes{'b', 'c'});  // due at once, before 'a'
+  CHECK(receive(client, 3) == Bytes{'b', 'c', 'a'});
   CHECK(run_until(io, [&] { return completed == 2; }));
   CHECK(server.counters().sends_completed == 2);
+  CHECK(server.counters().collisions == 0);
+}
+
+TEST_CASE("two paced sends that would be on the line at once collide and arrive broken") {
+  boost::asio::io_context io;
+  PtyBusServerOptions options;
+  options.pace_baud = 9600;  // 10 bits a byte: 1.04 ms each
+  PtyBusServer server(io, options, [](std::span<const std::uint8_t>) {});
+  REQUIRE(server.start().has_value());
+  RawTtyClient client(io, server.slave_path());
+  server.send_after(5ms, Bytes(10, 0x11));  // on the line from 5 to 15 ms
+  server.send_after(10ms, Bytes(4, 0x22));  // from 10 to 14 ms: inside the first
+  server.send_after(40ms, Bytes(2, 0x33));  // well after both
+  CHECK(receive(client, 16) == [] {
+    Bytes expected(4, 0xDD);                // the second, broken, ends first
+    expected.insert(expected.end(), 10, 0xEE);  // then the first, broken
+    expected.insert(expected.end(), 2, 0x33);   // the third as sent
+    return expected;
+  }());
+  CHECK(server.counters().collisions == 1);
 }
 
 TEST_CASE("the link follows the slave over replug, replaces a stale link and goes on unplug") {

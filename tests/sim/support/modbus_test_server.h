@@ -37,8 +37,8 @@ class FakeHandler : public ModbusRequestHandler {
   // Unit kPassedUnit passes through to a device that answers every PDU with itself.
   static constexpr std::uint8_t kPassedUnit = 9;
   bool passes_through(std::uint8_t unit_id) const override { return unit_id == kPassedUnit; }
-  boost::asio::awaitable<ForwardedReply> forward(std::uint8_t,
-                                                 std::vector<std::uint8_t> pdu) override {
+  boost::asio::awaitable<ForwardedReply> forward(std::uint8_t, std::vector<std::uint8_t> pdu,
+                                                 std::string) override {
     co_return pdu;
   }
 

@@ -1,7 +1,8 @@
 // BusScheduler carrying commissioning commands' transactions (the control socket), on the
 // bench of unit/support/scheduler_bench.h: each transaction is sent as the command
-// gave it, takes turns with due polls and with forwarded requests, expires unsent at its
-// deadline; and a sensor moved by a command is followed.
+// gave it, lets the polls that fell due go between two of its turns, takes turns with
+// forwarded requests, expires unsent at its deadline; and a sensor moved by a command is
+// followed.
 #include <doctest/doctest.h>
 
 #include <optional>
@@ -31,7 +32,7 @@ TEST_CASE("a command's transaction is sent as given and its framer sees the repl
   CHECK(bus.scheduler.stats().command_exchanges == 1);
 }
 
-TEST_CASE("a command's transactions and due polls take turns, so the sensors keep being polled") {
+TEST_CASE("between two of a command's transactions the polls that fell due go, so the sensors keep being polled") {
   std::vector<std::optional<CommandExchangeResult>> results(6);
   SchedulerBench bus;
   bus.add("a", 1, 10s);  // both due once, at start
@@ -42,8 +43,9 @@ TEST_CASE("a command's transactions and due polls take turns, so the sensors kee
   bus.io.poll();  // every transaction queued before the loop starts
   bus.start();
   REQUIRE(run_until(bus.io, [&] { return results.back().has_value(); }));
-  const BusEvents expected = {"command 0", "a poll",    "a poll end", "command 1",
-                              "b poll",    "b poll end", "command 2",  "command 3"};
+  // Both polls fell due before the first transaction ended: they go before the next.
+  const BusEvents expected = {"command 0",  "a poll",    "a poll end", "b poll",
+                              "b poll end", "command 1", "command 2",  "command 3"};
   REQUIRE(bus.events.size() >= expected.size());
   CHECK(BusEvents(bus.events.begin(), bus.events.begin() + 8) == expected);
 }

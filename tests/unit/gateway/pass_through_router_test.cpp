@@ -43,7 +43,7 @@ struct Plant {
     std::optional<ForwardedReply> reply;
     asio::co_spawn(
         io,
-        [&]() -> asio::awaitable<void> { reply = co_await router.forward(unit, pdu); },
+        [&]() -> asio::awaitable<void> { reply = co_await router.forward(unit, pdu, "10.0.0.5"); },
         asio::detached);
     REQUIRE(run_until(io, [&] { return reply.has_value(); }));
     return std::move(*reply);

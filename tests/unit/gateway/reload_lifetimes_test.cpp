@@ -104,11 +104,13 @@ TEST_CASE("reload: a dropped sensor's queued write is carried out, answered, the
 
   const std::weak_ptr<GatewaySensor> dropped = bus.drop(0);
   CHECK_FALSE(dropped.expired());  // the request waiting for the bus holds it
-  // `a` is freed by the time the answer is seen: what it wrote is copied while it lives.
+  // `a` is freed by the time the answer is seen: what it wrote is copied while it lives (the
+  // write's transaction is on the wire).
   REQUIRE(run_until(bus.io, [&] {
-    if (!dropped.expired() && happened(bus.events, "a write end")) a_wrote = a.writes;
+    if (!dropped.expired() && happened(bus.events, "a write")) a_wrote = a.writes;
     return a_done.has_value();
   }));
+  CHECK(happened(bus.events, "a write end"));
   CHECK_FALSE(a_done->exception.has_value());
   REQUIRE(a_wrote.size() == 1);
   CHECK(a_wrote[0].second == 5);

@@ -42,6 +42,7 @@ class FakeLine : public Line {
   std::function<std::vector<std::uint8_t>(const LineRequest&)> reply;
   std::uint64_t generation() const override { return 1; }
   bool is_open() const override { return true; }
+  int retries() const override { return 0; }
   const std::string& name() const override { return name_; }
   const LineStats& stats() const override { return stats_; }
   const LineTiming& last_timing() const override { return timing_; }
