@@ -13,6 +13,7 @@
 #include "app/served_gateway.h"
 #include "app/run_as_user.h"
 #include "app/service_notify.h"
+#include "gateway/line_budget.h"
 #include "mapping/aggregate_layout.h"
 
 namespace tiltgate {
@@ -65,6 +66,9 @@ std::optional<UnitMap> aggregate_unit(const Config& config, const AggregateConfi
 int check_command(const std::string& config_path, FamilyList families) {
   auto config = load_or_report(config_path, families);
   if (!config) return 1;
+  // Not errors: the file is valid and runs; the line's settings may not keep its promise.
+  for (const std::string& warning : line_budget_warnings(*config, families))
+    std::cerr << fmt::format("{}: warning: {}\n", config_path, warning);
   std::cout << fmt::format("{}: OK ({} bus(es), {} sensor(s){})\n", config_path,
                            config->buses.size(), config->sensors.size(),
                            config->aggregates.empty()

@@ -149,8 +149,9 @@ class Gateway:
     """Simulated buses (one `tiltgate sim rieker` each) and one `tiltgate run` polling them."""
 
     def __init__(self, binary, folder, baud, buses, sensors, poll_ms, own_ports=False,
-                 commands=False):
-        """commands: the simulators' standard input and output are pipes (sim_command())."""
+                 commands=False, server_keys=""):
+        """commands: the simulators' standard input and output are pipes (sim_command());
+        server_keys: more [server] lines (writes = true); poll_ms None: the default."""
         self.sims = []
         self.http_port = distinct_port()
         self.modbus_port = distinct_port()
@@ -160,6 +161,7 @@ port = {self.modbus_port}
 max_clients = 100
 max_clients_per_host = 100
 control_socket = ""
+{server_keys}
 
 [http]
 listen = "127.0.0.1"
@@ -172,7 +174,8 @@ port = {self.http_port}
                           (f"tcp_port = {distinct_port()}\n" if own_ports else ""))
             for a in range(1, sensors + 1):
                 config.append(f'[[sensor]]\nname = "s{b}_{a}"\nbus = "line{b}"\nmodel = "h6"\n'
-                              f"address = {a}\nunit_id = {a}\npoll_ms = {poll_ms}\n")
+                              f"address = {a}\nunit_id = {a}\n" +
+                              (f"poll_ms = {poll_ms}\n" if poll_ms else ""))
         path = os.path.join(folder, "bench.toml")
         with open(path, "w") as f:
             f.write("\n".join(config))

@@ -36,6 +36,15 @@ struct AddressRange {
   std::int64_t max = 0;
 };
 
+// What one measurement poll of a sensor that answers puts on the line: its exchanges, and the
+// characters of their requests and of their replies, each summed over the exchanges. The
+// line's time budget estimates a poll's time from it (gateway/line_budget.h).
+struct PollSize {
+  int exchanges = 1;
+  int request_characters = 0;
+  int reply_characters = 0;
+};
+
 // One protocol a bus of the family can speak ([[bus]] protocol = "...").
 struct ProtocolDescriptor {
   std::string_view name;  // as written in the config
@@ -60,6 +69,8 @@ struct ProtocolDescriptor {
   // silent one's late-reply window has closed (serial/serial_line.h). False: every time-out
   // keeps the whole window.
   bool replies_name_sender = false;
+  // A measurement poll of its largest model, identity not included.
+  PollSize poll_size{};
   // Whether a bus chooses its character framing ([[bus]] parity and stop_bits, as the Modbus
   // serial line spec lets it); `framing` above is then the default. False: the framing is fixed and a bus that
   // gives either key is refused.

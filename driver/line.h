@@ -76,8 +76,8 @@ struct LineRequest {
   // one: nothing is late there, and the bus's guard would cost every probe half a second.
   std::optional<std::chrono::milliseconds> late_guard{};
   // After a time-out with nothing heard at all, the line may be given up after a short look
-  // (one bus reply wait past the deadline) instead of the whole late-reply window; a byte in
-  // the look holds the whole window. LineTiming::late_window_end then says when the window
+  // (20 ms past the deadline) instead of the whole late-reply window; a byte in the look holds
+  // the whole window. LineTiming::late_window_end then says when the window
   // would have closed: nothing may be sent to this device before (gateway/line_claimant.h).
   bool release_when_silent = false;
 };
@@ -102,7 +102,7 @@ struct LineTiming {
   // reply came in time.
   std::optional<std::chrono::milliseconds> reply_delay;
   // Bursts of bytes discarded after a time-out (serial/serial_line.h: a burst ends when the
-  // line has been quiet for 50 ms): one per late reply.
+  // line has been quiet for 20 ms): one per late reply.
   std::uint32_t late_replies = 0;
   // The longest time from the end of the timed-out request to the last byte of its late burst:
   // how long the sensor really took. None without late replies.

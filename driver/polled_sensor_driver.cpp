@@ -58,6 +58,7 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
   }
   if (sent) {
     state_.online = true;
+    state_.unanswered = false;
     state_.last_answer = SteadyClock::now();
   } else if (sent.error() == LineError::expired) {
     // Never sent: nothing was learnt of the sensor.
@@ -68,6 +69,7 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
       ++state_.counters.io_errors;
     }
     state_.online = false;
+    state_.unanswered = sent.error() == LineError::timeout;
   }
   co_return sent;
 }

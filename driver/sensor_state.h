@@ -49,6 +49,9 @@ struct SensorState {
   std::optional<Reading> reading;   // the last good measurement
   std::uint16_t sample_seq = 0;     // +1 for every new reading (wraps)
   bool online = false;              // the last exchange with the sensor got a valid reply
+  // Its last exchange got no valid reply in time, on a port that worked: the sensor's own
+  // doing (silent, garbled, late), not a tty gone.
+  bool unanswered = false;
   // When the sensor last gave a valid reply (a refusal included); none before the first.
   std::optional<SteadyClock::time_point> last_answer;
   bool identity_known = false;      // serial/firmware read since the last (re)connect
@@ -70,11 +73,9 @@ struct SensorState {
   SensorCounters counters;
 };
 
-// The sensor's last exchange ended without a valid reply: offline, not merely not heard from
-// yet (online is false until the first exchange ends).
-inline bool known_offline(const SensorState& state) {
-  return !state.online && state.counters.timeouts + state.counters.io_errors > 0;
-}
+// The sensor itself did not answer its last exchange: offline, not merely not heard from yet
+// (online is false until the first exchange ends), nor cut off by a tty that is gone.
+inline bool known_offline(const SensorState& state) { return !state.online && state.unanswered; }
 
 // Whether the sensor counts as online at `now`: its last exchange got a valid reply, and it has
 // been heard from within `silence_limit` (its stale_after). The second half matters while a

@@ -215,9 +215,9 @@ void BusScheduler::log_held(const GatewaySensor& sensor, SteadyClock::time_point
                                 std::chrono::duration<double>(1e-3));
   p.held_logged = now;
   p.line_time_logged = sensor.line_time;
-  spdlog::warn("{}: sensor \"{}\" is failing; its attempts wait for the other sensors' polls, one "
-               "turn between their rounds (it took {:.0f} % of the line's time over the last "
-               "{:.0f} s)",
+  spdlog::warn("{}: sensor \"{}\" is failing and held to one turn between rounds of the other "
+               "sensors' polls, so they stay fresh; it had {:.0f} % of the line's time over the "
+               "last {:.1f} s",
                name_, sensor.config.name, 100 * std::min(share, 1.0),
                std::chrono::duration<double>(now - since).count());
 }

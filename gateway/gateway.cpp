@@ -13,6 +13,7 @@
 #include "driver/family.h"
 #include "gateway/config_diff.h"
 #include "gateway/driver_registry.h"
+#include "gateway/line_budget.h"
 #include "gateway/serial_options.h"
 #include "gateway/status_copy.h"
 #include "mapping/map_definition.h"
@@ -133,6 +134,7 @@ Expected<Done, std::string> Gateway::start() {
                tcp_workers_->size(), config_.server.writes ? ", writes enabled" : "");
   for (const BusConfig& bus : config_.buses)
     if (bus.tcp_port) spdlog::info("bus {}: its units on Modbus TCP port {}", bus.name, *bus.tcp_port);
+  for (const std::string& warning : line_budget_warnings(config_, families_)) spdlog::warn("{}", warning);
   for (GatewayService* service : services_) service->start();
   return Done{};
 }
@@ -180,7 +182,7 @@ void Gateway::reload(const Config& loaded) {
 
   if (!diff.buses_unchanged() || !diff.sensors_unchanged()) {
     // The rates are kept per position; positions moved.
-    sensor_poll_rates_ = CounterRates{};
+    sensor_rates_ = CounterRates{};
     bus_rates_ = CounterRates{};
   }
   std::vector<std::string_view> restarted;
@@ -189,6 +191,7 @@ void Gateway::reload(const Config& loaded) {
   loaded_at_ = local_time_now();
   spdlog::info("configuration reloaded from {}: {}{}{}", config_.path, summarize(diff),
                restarted.empty() ? "" : ". restarted: ", fmt::join(restarted, ", "));
+  for (const std::string& warning : line_budget_warnings(config_, families_)) spdlog::warn("{}", warning);
 }
 
 std::vector<std::size_t> Gateway::reload_buses(const Config& loaded, const ConfigDiff& diff) {
@@ -258,12 +261,14 @@ asio::awaitable<void> Gateway::sample_counters() {
 }
 
 void Gateway::record_counters(SteadyClock::time_point now) {
-  std::vector<double> polls;
+  // Each sensor's polls then its line seconds.
+  std::vector<double> sensors;
   for (const auto& sensor : sensors_) {
     const SensorCounters& counters = sensor->driver->state().counters;
-    polls.push_back(double(counters.polls_ok) + double(counters.polls_failed));
+    sensors.push_back(double(counters.polls_ok) + double(counters.polls_failed));
+    sensors.push_back(std::chrono::duration<double>(sensor->line_time).count());
   }
-  sensor_poll_rates_.record(now, std::move(polls));
+  sensor_rates_.record(now, std::move(sensors));
   std::vector<double> buses;
   for (const Bus& bus : buses_) {
     const BusSchedulerStats& stats = bus.scheduler->stats();
@@ -277,7 +282,10 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   GatewayStatus status;
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
     status.sensors.push_back(sensor_status(*sensors_[i], now));
-    status.sensors.back().polls_per_s = rounded(sensor_poll_rates_.rate(i), 100);
+    status.sensors.back().polls_per_s = rounded(sensor_rates_.rate(2 * i), 100);
+    // As for a bus's utilisation, a turn across the sample instant counts wholly later.
+    if (const auto share = rounded(sensor_rates_.rate(2 * i + 1), 1000))
+      status.sensors.back().line_share = std::min(*share, 1.0);
   }
   for (std::size_t i = 0; i < buses_.size(); ++i)
     status.buses.push_back(bus_status(config_.buses[i], buses_[i].scheduler->stats(),

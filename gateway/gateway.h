@@ -114,7 +114,7 @@ class Gateway {
   double start_seconds_ = 0;  // Unix time of construction
   boost::asio::steady_timer sample_timer_;
   bool stopping_ = false;
-  CounterRates sensor_poll_rates_;  // each sensor's polls, ok and failed
+  CounterRates sensor_rates_;       // each sensor's polls (ok and failed), then its line seconds
   CounterRates bus_rates_;          // each bus's polls then its busy seconds
 };
 

@@ -44,6 +44,11 @@ struct SensorStatus {
   std::uint64_t late_replies = 0;     // answers after the time-out, discarded
   // Requests the sensor refused (NAK), by its protocol's refusal code; only codes seen.
   std::vector<std::pair<std::uint8_t, std::uint64_t>> refusals;
+  // Seconds its bus's line spent on this sensor's polls, writes and retries, waiting for
+  // replies, time-outs and late-reply guards included; and its share of the line's time over
+  // the last few seconds (0..1; none until counted): who eats the line.
+  double line_seconds = 0;
+  std::optional<double> line_share;
 };
 
 struct BusStatus {

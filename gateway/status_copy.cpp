@@ -57,6 +57,7 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.checksum_errors = state.counters.checksum_errors;
   s.io_errors = state.counters.io_errors;
   s.late_replies = state.counters.late_replies;
+  s.line_seconds = std::chrono::duration<double>(sensor.line_time).count();
   for (std::size_t code = 0; code < state.counters.refusals.size(); ++code)
     if (state.counters.refusals[code] > 0)
       s.refusals.emplace_back(std::uint8_t(code), state.counters.refusals[code]);

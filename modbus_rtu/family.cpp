@@ -53,6 +53,8 @@ const ProtocolDescriptor kProtocols[] = {{
     .master_addresses = std::nullopt,
     .min_gap = std::chrono::microseconds{0},
     .replies_name_sender = true,  // the slave's address opens every reply
+    // One read of ten registers (8 bytes asked, 25 answered); a profile may read more.
+    .poll_size = {.exchanges = 1, .request_characters = 8, .reply_characters = 25},
     .bus_chooses_framing = true,
     .default_gap = frame_gap,
     .forward = forward_request,  // [[bus]] pass_through

@@ -36,6 +36,8 @@ const ProtocolDescriptor kProtocols[] = {{
     .master_addresses = AddressRange{0, 65500},  // the master's own address, never a sensor's
     .min_gap = std::chrono::microseconds{1000},  // master packets at least 1 ms apart
     .replies_name_sender = true,                 // SRC: the sensor's own address
+    // Get Angle of an H6: 10 bytes asked, 17 answered (the frames in docs/protocols.md).
+    .poll_size = {.exchanges = 1, .request_characters = 10, .reply_characters = 17},
     // Addresses up to 65000 are allowed, but a bus of up to 60 sensors rarely goes past 255:
     // a scan checks 1..255 and the factory address unless told a range.
     .scan = {.first = 1,

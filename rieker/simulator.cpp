@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+#include <cmath>
 #include <limits>
 
 #include "driver/simulator_command.h"
@@ -32,23 +34,53 @@ SimulatorCounters RiekerSimulator::counters() const {
   return with_bus_counters(own);
 }
 
+namespace {
+
+constexpr int kAlways = std::numeric_limits<int>::max();
+
+// "silent", "garbage", "busy" and "answer" (every fault of these and "late" undone): a
+// fault of every reply from now on, or none.
+Expected<Done, std::string> set_fault(SimulatedSensor& sensor, const SimulatorCommand& command) {
+  SensorFaults& faults = sensor.faults();
+  if (command.verb == "late") {
+    if (command.values.size() != 1 || command.values[0] < 0 || command.values[0] > 60000 ||
+        command.values[0] != std::floor(command.values[0]))
+      return Unexpected{std::string("late takes a whole number of milliseconds, 0..60000")};
+    faults.reply_delay = std::chrono::milliseconds(int(command.values[0]));
+    return Done{};
+  }
+  if (!command.values.empty())
+    return Unexpected{fmt::format("{} takes only an address", command.verb)};
+  if (command.verb == "answer") {
+    faults.silent = faults.corrupt_crc = faults.busy = 0;
+    faults.reply_delay = std::chrono::milliseconds(0);
+  } else if (command.verb == "silent") {
+    faults.silent = kAlways;
+  } else if (command.verb == "garbage") {
+    faults.corrupt_crc = kAlways;
+  } else {
+    faults.busy = kAlways;
+  }
+  return Done{};
+}
+
+}  // namespace
+
 Expected<Done, std::string> RiekerSimulator::command(std::string_view line) {
   auto parsed = parse_simulator_command(line);
   if (!parsed) return Unexpected{parsed.error()};
-  const bool known = parsed->verb == "angle" || parsed->verb == "silent" || parsed->verb == "answer";
+  const std::string& verb = parsed->verb;
+  const bool known = verb == "angle" || verb == "silent" || verb == "answer" ||
+                     verb == "garbage" || verb == "late" || verb == "busy";
   if (!known) {
-    return Unexpected{"unknown command \"" + parsed->verb +
-                      "\" (try: angle ADDRESS X [Y], silent ADDRESS, answer ADDRESS)"};
+    return Unexpected{"unknown command \"" + verb +
+                      "\" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late "
+                      "ADDRESS MS, busy ADDRESS, answer ADDRESS)"};
   }
   SimulatedSensor* sensor =
       parsed->address > 0xFFFF ? nullptr : sensor_by_address(std::uint16_t(parsed->address));
   if (sensor == nullptr) return Unexpected{fmt::format("no sensor at address {}", parsed->address)};
-  if (parsed->verb != "angle") {
-    if (!parsed->values.empty())
-      return Unexpected{fmt::format("{} takes only an address", parsed->verb)};
-    sensor->faults().silent = parsed->verb == "silent" ? std::numeric_limits<int>::max() : 0;
-    return Done{};
-  }
+  if (verb != "angle") return set_fault(*sensor, *parsed);
   const std::size_t axes = sensor->model() == Model::h6 ? 2 : 1;
   const std::vector<double>& angles = parsed->values;
   if (angles.empty() || angles.size() > axes) {

@@ -35,7 +35,9 @@ class RiekerSimulator final : public SimulatedBus {
   std::size_t sensor_count() const override { return sensors_.size(); }
   std::string what() const override { return "Rieker sensor(s)"; }
   // "angle ADDRESS X [Y]": the sensor's raw angles in degrees, fixed from now on.
-  // "silent ADDRESS": the sensor stops answering (unpowered, its drop cut) until "answer ADDRESS".
+  // "silent ADDRESS": the sensor stops answering (unpowered, its drop cut); "garbage ADDRESS":
+  // every reply's CRC broken; "late ADDRESS MS": every reply MS ms later; "busy ADDRESS": NAK 5
+  // to every query; "answer ADDRESS" undoes them all.
   Expected<Done, std::string> command(std::string_view line) override;
 
   SimulatedSensor& sensor(std::size_t index) { return sensors_.at(index); }

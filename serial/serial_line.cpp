@@ -113,7 +113,7 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
       std::optional<Clock::time_point> look_end;
       if (request.release_when_silent && options_.replies_name_sender && !heard_ &&
           !request.late_guard) {
-        look_end = std::max(Clock::now(), packet_end_ + timeout) + short_quiet();
+        look_end = std::max(Clock::now(), packet_end_ + timeout) + burst_quiet();
       }
       const auto guarded =
           co_await discard_late_replies(late_window_end(request, timeout), packet_end_, look_end);
@@ -143,15 +143,15 @@ SerialLine::Clock::time_point SerialLine::late_window_end(const LineRequest& req
   // A request's own guard (a scan's probe) counts from its deadline, as it always did.
   if (request.late_guard) return deadline + request_late_guard_;
   // Its device answered, garbled (a broken checksum, a collision), and says so itself: no late
-  // reply is to come.
-  if (heard_ && options_.replies_name_sender) return deadline + short_quiet();
-  // Anchored at the request: with the defaults, max_timeout_ms after it. A sensor whose reply
-  // wait has adapted past the bus's own still gets one bus reply wait of quiet after its own.
-  return std::max(packet_end_ + options_.timeout + request_late_guard_, deadline + short_quiet());
+  // reply is to come, only the garbled one's tail (discard_late_replies waits for it to end).
+  if (heard_ && options_.replies_name_sender) return deadline;
+  // Anchored at the request: with the defaults, max_timeout_ms after it, whatever the sensor's
+  // adapted reply wait (a reply later than max_timeout_ms is as good as none).
+  return std::max(packet_end_ + options_.timeout + request_late_guard_, deadline);
 }
 
-std::chrono::milliseconds SerialLine::short_quiet() const {
-  return LateWindow{options_.timeout, request_late_guard_}.short_quiet();
+std::chrono::milliseconds SerialLine::burst_quiet() const {
+  return LateWindow{options_.timeout, request_late_guard_}.burst_quiet();
 }
 
 std::chrono::milliseconds SerialLine::longest_attempt(std::chrono::milliseconds timeout,
@@ -165,7 +165,7 @@ std::chrono::milliseconds SerialLine::longest_attempt(std::chrono::milliseconds 
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_replies(
     Clock::time_point window_end, Clock::time_point request_end,
     std::optional<Clock::time_point> look_end) {
-  const auto burst_quiet = LateWindow{options_.timeout, request_late_guard_}.burst_quiet();
+  const auto burst_quiet = this->burst_quiet();
   // A line that never falls quiet (a babbling device) is given up on one guard time later.
   const Clock::time_point give_up = window_end + request_late_guard_;
   Clock::time_point quiet_until =

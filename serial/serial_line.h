@@ -15,23 +15,22 @@
 //
 // Late replies: an attempt that timed out may still be answered (USB adapters add latency each
 // way; a slow sensor). Before anything else is sent (a retry, or the next transaction), the
-// line waits, within transact(), for the late-reply window to pass: until the bus's own reply
-// wait (`timeout`) plus `late_guard` after the end of the request (max_timeout_ms with the
-// defaults, whatever the sensor's adapted reply wait), and at least the bus's reply wait (or
-// the guard, if shorter) after the attempt's own deadline. A request's own guard (a scan's
-// probe) counts from its deadline instead. What arrives meanwhile is discarded and reported
-// as late bursts (last_timing(), stats().late_replies), so it is never taken as the reply to
-// a later request; a burst ends once the line has been quiet for 50 ms (or the guard if
-// shorter; serial/late_window.h), and one that runs past the window keeps the line until it ends. The
-// window is the line's time a failing attempt costs, the same however late the sensor was:
-// docs/operations.md, "One failing sensor". On a protocol whose replies name their sender
-// (replies_name_sender), two shorter cases: an attempt that received a garbled reply keeps only
-// one bus reply wait of quiet (its device did answer), and a request that asks for it
-// (release_when_silent) is given up after that much when nothing at all was heard, the window
-// then reported in LineTiming::late_window_end. After a transaction whose retry succeeded the line
-// also keeps quiet for the guard, since the first attempt's answer may still be on its way. A
-// line that never falls quiet (a babbling device) is given up on one guard time after the
-// window, so the bus cannot be held forever.
+// line waits, within transact(), for the late-reply window to close: the bus's own reply wait
+// (`timeout`) plus `late_guard` after the end of the request (max_timeout_ms with the
+// defaults), or the attempt's own deadline if that is later (a reply wait adapted past it). A
+// request's own guard (a scan's probe) counts from its deadline instead. What arrives meanwhile
+// is discarded and reported as late bursts (last_timing(), stats().late_replies), so it is
+// never taken as the reply to a later request; a burst ends once the line has been quiet for
+// 20 ms (serial/late_window.h), and one running when the window closes keeps the line until
+// it ends. The window is the line's time a failing attempt costs, the same however late the
+// sensor was: docs/operations.md, "One failing sensor never takes its line". On a protocol
+// whose replies name their sender (replies_name_sender) two cases end sooner: an attempt that
+// received a garbled reply waits only for it to end (its device did answer), and a request
+// that asks for it (release_when_silent) is given up 20 ms after its deadline when nothing at
+// all was heard, the window then reported in LineTiming::late_window_end. After a transaction
+// whose retry succeeded the line also keeps quiet for the guard, since the first attempt's
+// answer may still be on its way. A line that never falls quiet (a babbling device) is given
+// up on one guard time after the window, so the bus cannot be held forever.
 //
 // Echo (an adapter that hears its own transmission): the echo is read back and compared with
 // what was sent. A mismatch means another transmitter collided with ours; that attempt fails
@@ -146,8 +145,8 @@ class SerialLine final : public Line {
   // When the late-reply window of an attempt of `request` that just timed out closes.
   Clock::time_point late_window_end(const LineRequest& request,
                                     std::chrono::milliseconds timeout) const;
-  // The quiet kept after a time-out at the least: one bus reply wait (or the guard, if shorter).
-  std::chrono::milliseconds short_quiet() const;
+  // How long the line must be quiet for a late burst to have ended (serial/late_window.h).
+  std::chrono::milliseconds burst_quiet() const;
   // Discards what arrives until `window_end` and any late burst then running has ended, each
   // burst counted as a late reply to the request that ended at `request_end`; with
   // `look_end`, stops there if nothing has arrived by then (the window is then reported in

@@ -41,6 +41,9 @@ const ProtocolDescriptor kProtocols[] = {
         .min_gap = std::chrono::microseconds{0},
         // A reply is a line of ASCII and CR LF: nothing in it says which module sent it.
         .replies_name_sender = false,
+        // "A" and "C": an address byte, the command and CR LF each; replies of up to 7
+        // characters ("-12345" and CR LF would be 8; the counts seen are shorter).
+        .poll_size = {.exchanges = 2, .request_characters = 2 * 4, .reply_characters = 2 * 7},
         .scan = {.first = 0,
                  .last = 255,
                  .factory_addresses = kNineBitFactoryAddresses,
@@ -59,6 +62,8 @@ const ProtocolDescriptor kProtocols[] = {
         .master_addresses = std::nullopt,
         .min_gap = std::chrono::microseconds{0},
         .replies_name_sender = true,  // ':' and the module's address open every reply
+        // 0x66 and 0x67: ":AACCLL" and CR LF asked (9), a word answered (13) each.
+        .poll_size = {.exchanges = 2, .request_characters = 2 * 9, .reply_characters = 2 * 13},
         .scan = {.first = 1,
                  .last = 250,
                  .factory_addresses = {},

@@ -85,6 +85,13 @@ const SensorFamily kSensorFamilies[] = {
      }},
     {"tiltgate_alarm_flags", "gauge", "The sensor's alarm bits as the status register shows them",
      [](const SensorStatus& s) -> std::optional<double> { return s.alarms; }},
+    {"tiltgate_sensor_line_seconds_total", "counter",
+     "Seconds its bus's line spent on the sensor's polls, writes and retries, waiting for "
+     "replies, time-outs and late-reply guards included",
+     [](const SensorStatus& s) -> std::optional<double> { return s.line_seconds; }},
+    {"tiltgate_sensor_line_share_ratio", "gauge",
+     "The sensor's share of its bus's line over the last seconds, 0 to 1: who eats the line",
+     [](const SensorStatus& s) { return s.line_share; }},
 };
 
 struct BusFamily {

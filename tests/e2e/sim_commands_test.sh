@@ -46,7 +46,7 @@ check "two angles for a single-axis sensor is an error" \
   test "$(send "angle 101 1 2")" = "error: the sensor at address 101 takes 1 angle(s)"
 check "a word that is not a number is an error" test "$(send "angle 223 x")" = 'error: "x" is not a number'
 check "an unknown command is an error naming the right ones" \
-  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y], silent ADDRESS, answer ADDRESS)'
+  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late ADDRESS MS, busy ADDRESS, answer ADDRESS)'
 check "the simulator still answers after bad commands" test "$(send "angle 223 1 2")" = "ok"
 
 check "silent on an H6 answers ok" test "$(send "silent 223")" = "ok"
@@ -56,6 +56,16 @@ check "silent takes only an address" test "$(send "silent 223 1")" = "error: sil
 check "answer on the silent H6 answers ok" test "$(send "answer 223")" = "ok"
 angles "$dir/tty" 223 04 >"$dir/answers.out"
 check "the H6 answers again" grep -qxF "angle x:  1.000 deg" "$dir/answers.out"
+
+check "garbage on an H6 answers ok" test "$(send "garbage 223")" = "ok"
+angles "$dir/tty" 223 04 >"$dir/garbage.out"
+check "its reply fails its CRC" grep -q "bad CRC" "$dir/garbage.out"
+check "busy on an H6 answers ok" test "$(send "busy 223")" = "ok"
+check "late takes milliseconds" test "$(send "late 223")" = "error: late takes a whole number of milliseconds, 0..60000"
+check "late on an H6 answers ok" test "$(send "late 223 300")" = "ok"
+check "answer undoes them all" test "$(send "answer 223")" = "ok"
+angles "$dir/tty" 223 04 >"$dir/answers_again.out"
+check "the H6 answers again, in time" grep -qxF "angle x:  1.000 deg" "$dir/answers_again.out"
 
 # Spectron: counts.
 mkfifo "$dir/dyna-commands"

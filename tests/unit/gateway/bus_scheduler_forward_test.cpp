@@ -119,6 +119,38 @@ TEST_CASE("a full forward queue answers busy at once") {
   for (const auto& result : queued) CHECK_FALSE(result.has_value());  // still waiting
 }
 
+TEST_CASE("a client that filled the forward queue leaves room for another client's request") {
+  std::vector<std::optional<ForwardResult>> greedy(BusScheduler::kMaxQueuedForwards + 4);
+  std::optional<ForwardResult> other, greedy_more;
+  SchedulerBench bus;  // not started: nothing leaves the queue
+  for (auto& result : greedy) bus.forward(1, SteadyClock::now() + 10s, result, 7);
+  bus.forward(2, SteadyClock::now() + 10s, other, 9);
+  bus.forward(1, SteadyClock::now() + 10s, greedy_more, 7);
+  REQUIRE(run_until(bus.io, [&] { return greedy_more.has_value(); }));
+  // The greedy client got the queue's 32 places and was refused the 4 after them, and again
+  // now that another client waits: it holds more than its half.
+  CHECK(bus.scheduler.stats().forwards_busy == 5);
+  CHECK_FALSE(other.has_value());  // queued, waiting for its turn
+  REQUIRE_FALSE(greedy_more->has_value());
+  CHECK(greedy_more->error() == ForwardFailure::busy);
+}
+
+TEST_CASE("two clients' forwarded requests take turns, however many one of them queued") {
+  std::vector<std::optional<ForwardResult>> greedy(6);
+  std::optional<ForwardResult> other;
+  SchedulerBench bus;
+  for (std::size_t i = 0; i < greedy.size(); ++i)
+    bus.forward(std::uint8_t(i), SteadyClock::now() + 10s, greedy[i], 7);
+  bus.forward(100, SteadyClock::now() + 10s, other, 9);
+  bus.io.restart();
+  bus.io.poll();  // all queued before the loop starts
+  bus.start();
+  REQUIRE(run_until(bus.io, [&] { return other.has_value(); }));
+  // Client 9 is second: one of client 7's, then its own, before 7's others.
+  REQUIRE(bus.events.size() >= 2);
+  CHECK(bus.events[1] == "forward 100");
+}
+
 TEST_CASE("a forwarded request still queued at its deadline fails and is never sent") {
   SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 1, 10s));

@@ -1,9 +1,11 @@
 // BusScheduler on an io_context with a fake line and fake drivers (the bench of
-// unit/support/scheduler_bench.h): back-off from a dead sensor, writes ahead of due polls but
-// never into a running poll, the write deadline, and the address check. Assertions are on
-// counts and order; where time matters the bounds are wide.
+// unit/support/scheduler_bench.h): back-off from a dead sensor, a failing sensor's retries
+// spread between the others' polls, writes ahead of due polls but never into a running poll,
+// a write to a sensor known offline answered at once, the write deadline, a tty gone, and the
+// address check. Assertions are on counts and order; where time matters the bounds are wide.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <optional>
 
 #include "gateway/bus_scheduler.h"
@@ -67,11 +69,11 @@ TEST_CASE("a write still queued at its deadline is answered busy and never runs"
   CHECK(bus.scheduler.stats().writes == 0);
 }
 
-TEST_CASE("a write already on the wire at its deadline is waited for and succeeds") {
+TEST_CASE("a write whose transaction can end before its deadline is sent and succeeds") {
   SchedulerBench bus;
   auto& sensor = bus.add("a", 1, 10s);
   auto& a = fake_driver(sensor);
-  a.write_time = 500ms;
+  a.write_time = 50ms;
   std::optional<WriteResult> result;
   // Queued before the loop starts, so it is the first thing on the wire.
   bus.write(sensor, WriteTarget::filter, 3, SteadyClock::now() + 100ms, result);
@@ -80,6 +82,81 @@ TEST_CASE("a write already on the wire at its deadline is waited for and succeed
   CHECK(result->has_value());
   CHECK(a.writes.size() == 1);
   CHECK(bus.scheduler.stats().writes_expired == 0);
+}
+
+TEST_CASE("a write whose transaction could not end before its deadline is not sent and answered then") {
+  SchedulerBench bus;
+  auto& sensor = bus.add("a", 1, 10s);
+  auto& a = fake_driver(sensor);
+  a.write_time = 500ms;  // the line would hold it that long
+  std::optional<WriteResult> result;
+  const auto queued = SteadyClock::now();
+  bus.write(sensor, WriteTarget::filter, 3, queued + 100ms, result);
+  bus.start();
+  REQUIRE(run_until(bus.io, [&] { return result.has_value(); }));
+  CHECK(SteadyClock::now() - queued < 100ms);
+  REQUIRE_FALSE(result->has_value());
+  CHECK(result->error().kind == WriteErrorKind::no_response);
+  CHECK(bus.line.stats().attempts == 0);  // the write went first, and nothing reached the line
+}
+
+TEST_CASE("a failing sensor's retries each wait for the other sensors' polls") {
+  SchedulerBench bus;
+  bus.line.retries_left_to_the_line = 2;
+  bus.add("a", 1, 10ms);  // due again by the end of each of the dead sensor's attempts
+  bus.add("b", 2, 10ms);
+  auto& dead = fake_driver(bus.add("dead", 3, 10s));
+  dead.poll_time = 50ms;  // each attempt holds the line that long before it times out
+  bus.line.silent = [](const LineRequest& request) { return request.bytes.at(0) == 3; };
+  bus.line.on_attempt = [&](const LineRequest& request) {
+    bus.events.push_back("attempt " + std::to_string(request.bytes.at(0)));
+  };
+  bus.start();
+  REQUIRE(run_until(bus.io, [&] {
+    return std::count(bus.events.begin(), bus.events.end(), "dead poll end") == 1;
+  }));
+  // Between two attempts of the dead sensor, a and b were polled.
+  std::vector<std::size_t> attempts;
+  for (std::size_t i = 0; i < bus.events.size(); ++i)
+    if (bus.events[i] == "attempt 3") attempts.push_back(i);
+  REQUIRE(attempts.size() == 3);
+  for (std::size_t i = 1; i < attempts.size(); ++i) {
+    const BusEvents between(bus.events.begin() + std::ptrdiff_t(attempts[i - 1]),
+                            bus.events.begin() + std::ptrdiff_t(attempts[i]));
+    CHECK(std::count(between.begin(), between.end(), "a poll end") >= 1);
+    CHECK(std::count(between.begin(), between.end(), "b poll end") >= 1);
+  }
+  CHECK(bus.sensors[2]->line_time >= 150ms);  // its three attempts, counted as its own
+}
+
+TEST_CASE("a write to a sensor known offline is answered no response at once, and nothing is sent") {
+  SchedulerBench bus;
+  auto& sensor = bus.add("a", 1, 10s);
+  auto& a = fake_driver(sensor);
+  a.answers = false;
+  bus.start();
+  REQUIRE(run_until(bus.io, [&] { return a.polls == 1 && bus.events.back() == "a poll end"; }));
+  const std::uint64_t attempts = bus.line.stats().attempts;
+  std::optional<WriteResult> result;
+  bus.write(sensor, WriteTarget::filter, 3, SteadyClock::now() + 10s, result);
+  REQUIRE(run_until(bus.io, [&] { return result.has_value(); }));
+  REQUIRE_FALSE(result->has_value());
+  CHECK(result->error().kind == WriteErrorKind::no_response);
+  CHECK(a.writes.empty());
+  CHECK(bus.line.stats().attempts == attempts);
+  CHECK(bus.scheduler.stats().writes_offline == 1);
+}
+
+TEST_CASE("a poll that finds the tty gone does not back off: the sensor is polled at its period") {
+  SchedulerBench bus;
+  auto& a = fake_driver(bus.add("a", 1, 10ms));
+  bus.line.open = false;
+  bus.start();
+  bus.io.run_for(300ms);
+  // At its 10 ms period: about 30 polls; with the dead-sensor back-off (10, 20, 40, ... ms)
+  // it would have had 5.
+  CAPTURE(a.polls);
+  CHECK(a.polls >= 12);
 }
 
 TEST_CASE("the bus refuses to give a sensor the address another sensor on it has now") {

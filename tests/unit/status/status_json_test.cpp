@@ -39,6 +39,8 @@ SensorStatus boom() {
   s.checksum_errors = 1;
   s.late_replies = 4;
   s.refusals = {{3, 2}, {5, 1}};
+  s.line_seconds = 12.5;
+  s.line_share = 0.031;
   return s;
 }
 
@@ -92,7 +94,7 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"("serial":"962285","firmware":"1.2","online":true,"stale":false,"x":1.5,"y":-2.25,)"
         R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
-        R"("naks":{"3":2,"5":1}})");
+        R"("naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031})");
 }
 
 TEST_CASE("status JSON: missing angles and age are null, never NaN") {
@@ -103,7 +105,7 @@ TEST_CASE("status JSON: missing angles and age are null, never NaN") {
   CHECK(none.find(R"("x":null,"y":null,"tilt":null,"age_ms":null,)") != std::string::npos);
   CHECK(none.find(R"("online":false,"stale":true,)") != std::string::npos);
   CHECK(none.find(R"("polls_per_s":null,)") != std::string::npos);
-  CHECK(none.find(R"("naks":{})") != std::string::npos);
+  CHECK(none.find(R"("naks":{},"line_seconds":0,"line_share":null})") != std::string::npos);
   CHECK(json_number(NAN) == "null");
   CHECK(json_number(INFINITY) == "null");
 }
@@ -149,6 +151,18 @@ TEST_CASE("metrics: each sensor's angles, online, age and polls by result") {
   CHECK(text.find("tiltgate_reading_age_seconds{sensor=\"mast\"") == std::string::npos);
   CHECK(text.find("tiltgate_sensor_online{sensor=\"mast\",bus=\"line1\",unit=\"4\"} 0\n") !=
         std::string::npos);
+}
+
+TEST_CASE("metrics: each sensor's line time and its share of the line, none before counted") {
+  const std::string text = metrics_text(plant());
+  const std::string labels = R"(sensor="boom",bus="line1",unit="3")";
+  CHECK(text.find("tiltgate_sensor_line_seconds_total{" + labels + "} 12.5\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sensor_line_share_ratio{" + labels + "} 0.031\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sensor_line_seconds_total{sensor=\"mast\",bus=\"line1\",unit=\"4\"} 0\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_line_share_ratio{sensor=\"mast\"") == std::string::npos);
+  CHECK(text.find("# TYPE tiltgate_sensor_line_seconds_total counter\n") != std::string::npos);
+  CHECK(text.find("# TYPE tiltgate_sensor_line_share_ratio gauge\n") != std::string::npos);
 }
 
 TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus requests by function") {

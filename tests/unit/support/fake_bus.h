@@ -23,15 +23,20 @@ namespace tiltgate::test {
 
 // Every transaction holds the line for its request's `timeout` (zero: just yields to the
 // event loop), then succeeds; with `reply` set, the request's framer is fed what it returns
-// and the transaction times out unless the framer takes it as a whole reply. Counts attempts.
+// and the transaction times out unless the framer takes it as a whole reply; one that `silent`
+// says nobody answers times out. A request leaving its retries to the line gets `retries`.
+// Counts attempts, and tells `on_attempt` of each as it starts.
 class FakeLine : public Line {
  public:
   explicit FakeLine(boost::asio::any_io_executor executor) : executor_(executor) {}
 
   boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override {
     ++stats_.attempts;
+    if (on_attempt) on_attempt(request);
+    if (!open) co_return Unexpected{LineError::closed};
     boost::asio::steady_timer busy(executor_, request.timeout);
     co_await busy.async_wait(boost::asio::use_awaitable);
+    if (silent && silent(request)) co_return Unexpected{LineError::timeout};
     if (!reply || request.framer == nullptr) co_return Done{};
     request.framer->reset();
     const std::vector<std::uint8_t> bytes = reply(request);
@@ -40,9 +45,13 @@ class FakeLine : public Line {
   }
 
   std::function<std::vector<std::uint8_t>(const LineRequest&)> reply;
+  std::function<bool(const LineRequest&)> silent;
+  std::function<void(const LineRequest&)> on_attempt;
+  bool open = true;
+  int retries_left_to_the_line = 0;
   std::uint64_t generation() const override { return 1; }
-  bool is_open() const override { return true; }
-  int retries() const override { return 0; }
+  bool is_open() const override { return open; }
+  int retries() const override { return retries_left_to_the_line; }
   const std::string& name() const override { return name_; }
   const LineStats& stats() const override { return stats_; }
   const LineTiming& last_timing() const override { return timing_; }
@@ -58,8 +67,10 @@ class FakeLine : public Line {
 using BusEvents = std::vector<std::string>;
 
 // An H6 as the core sees it. Each poll and write is one line transaction of poll_time /
-// write_time; a poll brings a reading while `answers`, else the sensor goes offline. A
-// bus_address write moves the sensor, as the real drivers do.
+// write_time, its request the sensor's address, with the line's retries; a poll brings a
+// reading while `answers` and the line answered, else the sensor goes offline (a time-out is
+// counted, as drivers count them). A write fails as no response when the line did not answer.
+// A bus_address write moves the sensor, as the real drivers do.
 class FakeDriver : public SensorDriver {
  public:
   FakeDriver(std::string name, std::uint32_t address, BusEvents& events)
@@ -88,9 +99,11 @@ class FakeDriver : public SensorDriver {
     ++polls;
     events_.push_back(name_ + " poll");
     if (on_poll) on_poll();
-    co_await line.transact(LineRequest{{}, 0, nullptr, poll_time});
-    state_.online = answers;
-    if (answers) {
+    const auto sent = co_await line.transact(request(poll_time));
+    state_.online = answers && sent.has_value();
+    state_.unanswered = !state_.online && (sent || sent.error() == LineError::timeout);
+    if (state_.unanswered) ++state_.counters.timeouts;
+    if (state_.online) {
       const double x = counting ? polls : 1.0;
       state_.reading = Reading{x, counting ? x : 2.0, {}, {}, SteadyClock::now(), {}};
       ++state_.sample_seq;
@@ -101,7 +114,11 @@ class FakeDriver : public SensorDriver {
                                             double value) override {
     events_.push_back(name_ + " write");
     writes.emplace_back(target, value);
-    co_await line.transact(LineRequest{{}, 0, nullptr, write_time});
+    const auto sent = co_await line.transact(request(write_time));
+    if (!sent) {
+      events_.push_back(name_ + " write failed");
+      co_return Unexpected{WriteError{WriteErrorKind::no_response, to_string(sent.error())}};
+    }
     if (target == WriteTarget::bus_address) state_.bus_address = std::uint32_t(value);
     events_.push_back(name_ + " write end");
     co_return Done{};
@@ -109,6 +126,13 @@ class FakeDriver : public SensorDriver {
   const SensorState& state() const override { return state_; }
 
  private:
+  LineRequest request(std::chrono::milliseconds hold) const {
+    LineRequest request;
+    request.bytes = {std::uint8_t(state_.bus_address)};
+    request.timeout = hold;
+    return request;
+  }
+
   std::string name_;
   BusEvents& events_;
   SensorState state_;

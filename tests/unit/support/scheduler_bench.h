@@ -71,11 +71,11 @@ struct SchedulerBench {
       return scheduler.write(planned_write(sensor, target, value), deadline);
     });
   }
-  // A forwarded request for slave 30: PDU {tag, 0, 1}.
+  // A forwarded request for slave 30 from `client`: PDU {tag, 0, 1}.
   void forward(std::uint8_t tag, SteadyClock::time_point deadline,
-               std::optional<ForwardResult>& result) {
-    spawn(result, [this, tag, deadline] {
-      return scheduler.forward(30, std::vector<std::uint8_t>{tag, 0, 1}, deadline);
+               std::optional<ForwardResult>& result, std::uint64_t client = 0) {
+    spawn(result, [this, tag, deadline, client] {
+      return scheduler.forward(30, std::vector<std::uint8_t>{tag, 0, 1}, deadline, client);
     });
   }
   // A command's transaction {0xC0, tag}, as a control session's, read by `framer`.
