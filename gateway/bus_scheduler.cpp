@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/post.hpp>
-#include <boost/asio/redirect_error.hpp>
-#include <boost/asio/use_awaitable.hpp>
 #include <exception>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -13,19 +11,12 @@ namespace tiltgate {
 
 namespace asio = boost::asio;
 
-namespace {
-
-// A sensor that is offline (its polls are probes at the back-off's pace) or answers late: each
-// of its attempts is a turn of its own, one between rounds (gateway/line_turns.h).
-bool failing(const GatewaySensor& sensor) {
-  const SensorState& state = sensor.driver->state();
-  return known_offline(state) || state.answers_late;
-}
-
-}  // namespace
-
 BusScheduler::BusScheduler(asio::any_io_executor executor, Line& line, std::string name)
-    : executor_(executor), line_(line), name_(std::move(name)), wake_(executor) {}
+    : line_(executor, line), name_(std::move(name)) {
+  line_.on_held = [this](const GatewaySensor& sensor, SteadyClock::time_point now) {
+    log_held(sensor, now);
+  };
+}
 
 BusScheduler::~BusScheduler() { stop(); }
 
@@ -44,7 +35,7 @@ void BusScheduler::add(std::shared_ptr<GatewaySensor> sensor) {
   polled->sensor = std::move(sensor);
   polled->schedule = PollSchedule{SteadyClock::now()};
   sensors_.push_back(polled);
-  if (stopping_ || retiring_) return;
+  if (line_.stopped() || retiring_) return;
   asio::co_spawn(executor(), keep_polling(polled),
                  [bus = name_, sensor = polled->sensor->config.name](std::exception_ptr e) {
                    if (!e) return;
@@ -62,8 +53,7 @@ void BusScheduler::remove(const GatewaySensor& sensor) {
     if (polled->sensor.get() != &sensor) return false;
     polled->removed = true;
     // A poll on the wire finishes first; a poller waiting for its turn ends now.
-    if (polled->poller != nullptr && polled->poller->state_ == LineClaimant::State::waiting)
-      refuse(*polled->poller);
+    if (polled->poller != nullptr && polled->poller->waiting()) line_.refuse(*polled->poller);
     return true;
   });
 }
@@ -71,135 +61,20 @@ void BusScheduler::remove(const GatewaySensor& sensor) {
 void BusScheduler::retire() {
   retiring_ = true;
   for (const auto& polled : std::vector(sensors_)) remove(*polled->sensor);
-  for (LineClaimant* claimant : std::vector(waiting_))
-    if (claimant->claim_.kind != TurnKind::write) refuse(*claimant);
-  dispatch();
+  line_.keep_only_writes();
 }
 
 void BusScheduler::stop() {
-  if (stopping_) return;
-  stopping_ = true;
-  wake_.cancel();
   for (const auto& polled : sensors_) polled->removed = true;
-  // Nobody touches the bus after this: those waiting are refused, the work holding the line
-  // ends when the line's own stop() cancels it.
-  for (LineClaimant* claimant : std::vector(waiting_)) refuse(*claimant);
-  for (LineClaimant* claimant : engaged_) claimant->bus_ = nullptr;
-  if (holder_ != nullptr) holder_->bus_ = nullptr;
-  holder_ = nullptr;
-  engaged_.clear();
+  line_.stop();
 }
 
-asio::awaitable<void> BusScheduler::run() {
-  running_ = true;
-  dispatch();
-  while (!stopping_) {
-    boost::system::error_code ec;
-    co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-    if (ec || stopping_) continue;  // set anew, or stopped
-    // A due time came: nothing to wake for again until dispatch() says.
-    wake_.expires_at(SteadyClock::time_point::max());
-    dispatch();
-  }
-}
+asio::awaitable<void> BusScheduler::run() { co_await line_.run(); }
 
-// The claimants' side.
-
-void BusScheduler::enqueue(LineClaimant& claimant) {
-  // A retiring bus still carries out writes, those queued meanwhile too; nothing else.
-  if (stopping_ || (retiring_ && claimant.claim_.kind != TurnKind::write)) {
-    refuse(claimant);
-    return;
-  }
-  claimant.claim_.order = next_order_++;
-  waiting_.push_back(&claimant);
-  dispatch();
-}
-
-void BusScheduler::refuse(LineClaimant& claimant) {
-  std::erase(waiting_, &claimant);
-  claimant.state_ = LineClaimant::State::idle;
-  claimant.outcome_ = TurnGrant::refused;
-  if (stopping_) claimant.bus_ = nullptr;
-  claimant.wake_.cancel();
-}
-
-void BusScheduler::withdraw(LineClaimant& claimant) {
-  std::erase(waiting_, &claimant);
-  claimant.state_ = LineClaimant::State::idle;
-  dispatch();
-}
-
-void BusScheduler::end_turn(LineClaimant& claimant) {
-  const auto now = SteadyClock::now();
-  const auto held = now - claimant.turn_started_;
-  stats_.busy += held;
-  if (claimant.sensor_ != nullptr) claimant.sensor_->line_time += held;
-  turns_.ended(claimant.claim_, now);
-  holder_ = nullptr;
-  claimant.state_ = LineClaimant::State::idle;
-  dispatch();
-}
-
-void BusScheduler::disengage(LineClaimant& claimant) {
-  std::erase(engaged_, &claimant);
-  claimant.engaged_ = false;
-  dispatch();
-}
-
-bool BusScheduler::engaged_by_other(const GatewaySensor* sensor,
-                                    const LineClaimant& claimant) const {
-  if (sensor == nullptr) return false;
-  return std::any_of(engaged_.begin(), engaged_.end(), [&](const LineClaimant* engaged) {
-    return engaged != &claimant && engaged->sensor_ == sensor;
-  });
-}
-
-void BusScheduler::dispatch() {
-  if (!running_ || stopping_ || holder_ != nullptr) return;
-  if (retiring_ && waiting_.empty() && engaged_.empty()) {  // its last queued write is done
-    stop();
-    return;
-  }
-  const auto now = SteadyClock::now();
-  claims_.clear();
-  claimants_.clear();
-  for (LineClaimant* claimant : waiting_) {
-    if (engaged_by_other(claimant->sensor_, *claimant)) continue;
-    TurnClaim claim = claimant->claim_;
-    claim.failing = claimant->yielded_;
-    if (const GatewaySensor* sensor = claimant->sensor_) {
-      claim.failing = claim.failing || failing(*sensor);
-      claim.due = std::max(claim.due, sensor->quiet_until);
-    }
-    claims_.push_back(claim);
-    claimants_.push_back(claimant);
-  }
-  const TurnChoice choice = turns_.choose(claims_, now);
-  if (choice.held && claimants_[*choice.held]->sensor_ != nullptr)
-    log_held(*claimants_[*choice.held]->sensor_, now);
-  if (choice.turn) {
-    LineClaimant& claimant = *claimants_[*choice.turn];
-    claimant.owed_ = choice.owed;
-    grant(claimant, claims_[*choice.turn].failing, now);
-    return;
-  }
-  const auto wake_at = choice.next_due.value_or(SteadyClock::time_point::max());
-  if (wake_.expiry() != wake_at) wake_.expires_at(wake_at);
-}
-
-void BusScheduler::grant(LineClaimant& claimant, bool failing, SteadyClock::time_point now) {
-  std::erase(waiting_, &claimant);
-  holder_ = &claimant;
-  claimant.state_ = LineClaimant::State::holding;
-  claimant.outcome_ = TurnGrant::granted;
-  claimant.claim_.failing = failing;
-  claimant.turn_started_ = now;
-  if (claimant.sensor_ != nullptr && !claimant.engaged_) {
-    claimant.engaged_ = true;
-    engaged_.push_back(&claimant);
-  }
-  claimant.wake_.cancel();
+BusSchedulerStats BusScheduler::stats() const {
+  BusSchedulerStats stats = stats_;
+  stats.busy = line_.busy();
+  return stats;
 }
 
 void BusScheduler::log_held(const GatewaySensor& sensor, SteadyClock::time_point now) {
@@ -209,17 +84,23 @@ void BusScheduler::log_held(const GatewaySensor& sensor, SteadyClock::time_point
   if (polled == sensors_.end()) return;
   Polled& p = **polled;
   if (p.held_logged && now - *p.held_logged < kHeldLogInterval) return;
-  const auto since = p.held_logged.value_or(p.added_at);
-  const double share = std::chrono::duration<double>(sensor.line_time - p.line_time_logged) /
-                       std::max(std::chrono::duration<double>(now - since),
-                                std::chrono::duration<double>(1e-3));
+  // Held again within two intervals: the same episode, logged with its share since the last
+  // line; else a new one.
+  const bool goes_on = p.held_logged && now - *p.held_logged < 2 * kHeldLogInterval;
+  if (goes_on) {
+    const std::chrono::duration<double> over = now - *p.held_logged;
+    const std::chrono::duration<double> took = sensor.line_time - p.line_time_logged;
+    spdlog::warn("{}: sensor \"{}\" still failing, held to one turn between rounds: it had "
+                 "{:.0f} % of the line's time over the last {:.0f} s",
+                 name_, sensor.config.name, 100 * std::min(took / over, 1.0), over.count());
+  } else {
+    spdlog::warn("{}: sensor \"{}\" is failing: its attempts take one turn each between rounds "
+                 "of the other sensors' polls, so they stay fresh (its share of the line: "
+                 "line_share in /api/sensors)",
+                 name_, sensor.config.name);
+  }
   p.held_logged = now;
   p.line_time_logged = sensor.line_time;
-  spdlog::warn("{}: sensor \"{}\" is failing and held to one turn between rounds of the other "
-               "sensors' polls, so they stay fresh; it had {:.0f} % of the line's time over the "
-               "last {:.1f} s",
-               name_, sensor.config.name, 100 * std::min(share, 1.0),
-               std::chrono::duration<double>(now - since).count());
 }
 
 // The sensors' pollers.
@@ -230,7 +111,7 @@ SteadyClock::time_point BusScheduler::due_of(const Polled& polled) {
 }
 
 asio::awaitable<void> BusScheduler::keep_polling(std::shared_ptr<Polled> polled) {
-  LineClaimant line(*this, TurnKind::poll, polled->sensor.get(), std::nullopt);
+  LineClaimant line(line_, TurnKind::poll, polled->sensor.get(), std::nullopt);
   polled->poller = &line;
   while (!polled->removed) {
     if (co_await line.wait_turn(due_of(*polled)) != TurnGrant::granted) break;
@@ -254,7 +135,7 @@ asio::awaitable<void> BusScheduler::poll(Polled& polled, LineClaimant& line) {
   });
   // A poll that found the tty gone says nothing of the sensor: it is polled at its period,
   // so it reads fresh at the first poll after the tty is back.
-  const bool answered = sensor->driver->state().online || !line_.is_open();
+  const bool answered = sensor->driver->state().online || !line_.line().is_open();
   polled.schedule = after_poll(polled.schedule, answered, sensor->config.poll, max_backoff,
                                SteadyClock::now());
 }
@@ -268,10 +149,9 @@ void BusScheduler::process_new_reading(GatewaySensor& sensor) {
 
 void BusScheduler::reschedule(Polled& polled) {
   LineClaimant* poller = polled.poller;
-  if (poller == nullptr || poller->state_ != LineClaimant::State::waiting || poller->yielded_)
-    return;  // it takes its due time when it next waits
-  poller->claim_.due = due_of(polled);
-  dispatch();
+  // Mid-way through a poll, it takes its due time when it next waits.
+  if (poller != nullptr && poller->waiting() && !poller->between_attempts())
+    line_.reschedule(*poller, due_of(polled));
 }
 
 BusScheduler::Polled* BusScheduler::find_polled(std::uint32_t address) {
@@ -303,14 +183,14 @@ asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
                                                  SteadyClock::time_point deadline) {
   if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
   const WriteError not_answering{WriteErrorKind::no_response, "sensor not answering: not sent"};
-  if (stopping_) co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
+  if (line_.stopped()) co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
   // Known offline: its retries would only hold the line and the answer (its probes find it
   // when it is back).
   if (known_offline(write.sensor().driver->state())) {
     ++stats_.writes_offline;
     co_return write.fail(not_answering);
   }
-  LineClaimant line(*this, TurnKind::write, &write.sensor(), deadline);
+  LineClaimant line(line_, TurnKind::write, &write.sensor(), deadline);
   const TurnGrant grant = co_await line.wait_turn();
   if (grant == TurnGrant::refused)
     co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
@@ -335,30 +215,22 @@ void BusScheduler::enable_forwarding(ForwardFactory make, std::size_t max_queued
 }
 
 bool BusScheduler::forward_admitted(std::uint64_t client) const {
-  std::size_t queued = 0;
-  std::size_t mine = 0;
-  std::vector<std::uint64_t> clients{client};
-  for (const LineClaimant* waiting : waiting_) {
-    if (waiting->claim_.kind != TurnKind::forward) continue;
-    ++queued;
-    if (waiting->claim_.client == client) ++mine;
-    if (std::find(clients.begin(), clients.end(), waiting->claim_.client) == clients.end())
-      clients.push_back(waiting->claim_.client);
-  }
+  const SharedLine::ForwardsWaiting waiting = line_.forwards_waiting(client);
   // Full: each client is held to its share, so a new one still gets in.
-  return queued < max_queued_forwards_ || mine < max_queued_forwards_ / clients.size();
+  return waiting.queued < max_queued_forwards_ ||
+         waiting.from_client < max_queued_forwards_ / waiting.clients;
 }
 
 asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
                                                      std::vector<std::uint8_t> pdu,
                                                      SteadyClock::time_point deadline,
                                                      std::uint64_t client) {
-  if (stopping_ || retiring_) co_return Unexpected{ForwardFailure::no_response};
+  if (line_.stopped() || retiring_) co_return Unexpected{ForwardFailure::no_response};
   if (!forward_admitted(client)) {
     ++stats_.forwards_busy;
     co_return Unexpected{ForwardFailure::busy};
   }
-  LineClaimant line(*this, TurnKind::forward, nullptr, deadline, client);
+  LineClaimant line(line_, TurnKind::forward, nullptr, deadline, client);
   const TurnGrant grant = co_await line.wait_turn();
   if (grant == TurnGrant::refused) co_return Unexpected{ForwardFailure::no_response};
   if (grant == TurnGrant::expired) {
@@ -408,8 +280,8 @@ asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
     LineRequest request, SteadyClock::time_point deadline) {
   CommandExchangeResult result;
   result.done = Unexpected{LineError::cancelled};
-  if (stopping_ || retiring_) co_return result;
-  LineClaimant line(*this, TurnKind::command, nullptr, deadline);
+  if (line_.stopped() || retiring_) co_return result;
+  LineClaimant line(line_, TurnKind::command, nullptr, deadline);
   const TurnGrant grant = co_await line.wait_turn();
   if (grant == TurnGrant::refused) co_return result;
   if (grant == TurnGrant::expired) {
@@ -420,7 +292,7 @@ asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
   }
   result.done = co_await line.transact(std::move(request));
   result.timing = line.last_timing();
-  result.generation = line_.generation();
+  result.generation = line_.line().generation();
   ++stats_.command_exchanges;
   line.finish();
   co_return result;

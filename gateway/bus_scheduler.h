@@ -1,18 +1,17 @@
-// One serial bus: the only owner of its Line, shared among everyone who needs it. Each sensor
-// has a poller that polls it at its poll period, backing off from a sensor that does not
-// answer; Modbus writes of its sensors, requests forwarded to devices it passes through
-// ([[bus]] pass_through) and the transactions of commissioning commands (the control socket)
-// wait for the line alongside. Each of them is a LineClaimant (gateway/line_claimant.h), and
-// whose turn it is next is decided in one place, gateway/line_turns.h: healthy sensors' polls
-// in rounds, and one other turn (a write, a forwarded request, a command's transaction, a
-// failing sensor's attempt) between rounds, so a failing sensor never takes the line from the
-// others (docs/operations.md, "One failing sensor never takes its line"). Everything runs on
-// the event loop thread; nothing here blocks.
+// One serial bus: the only owner of its Line, shared (gateway/shared_line.h) among everyone
+// who needs it. Each sensor has a poller that polls it at its poll period, backing off from a
+// sensor that does not answer; Modbus writes of its sensors, requests forwarded to devices it
+// passes through ([[bus]] pass_through) and the transactions of commissioning commands (the
+// control socket) wait for the line alongside. Each of them is a LineClaimant
+// (gateway/line_claimant.h), and whose turn it is next is decided in one place,
+// gateway/line_turns.h: healthy sensors' polls in rounds, and one other turn (a write, a
+// forwarded request, a command's transaction, a failing sensor's attempt) between rounds, so a
+// failing sensor never takes the line from the others (docs/operations.md, "One failing sensor
+// never takes its line"). Everything runs on the event loop thread; nothing here blocks.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
-#include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -25,9 +24,9 @@
 #include "gateway/bus_answers.h"
 #include "gateway/gateway_sensor.h"
 #include "gateway/line_claimant.h"
-#include "gateway/line_turns.h"
 #include "gateway/poll_schedule.h"
 #include "gateway/sensor_write.h"
+#include "gateway/shared_line.h"
 
 namespace tiltgate {
 
@@ -46,7 +45,7 @@ struct BusSchedulerStats {
   std::uint64_t command_exchanges = 0;  // carried out (whatever the line made of them)
   std::uint64_t command_exchanges_expired = 0;  // still queued at their deadline
   // Time the line was held, by anyone, waiting for replies and time-outs included: the share
-  // of the wire's time this bus uses.
+  // of the wire's time this bus uses (SharedLine::busy()).
   std::chrono::nanoseconds busy{0};
 };
 
@@ -71,7 +70,7 @@ class BusScheduler {
   // (and any queued meanwhile) are carried out, and then run() returns, as after stop().
   void retire();
   bool retiring() const { return retiring_; }
-  // Keeps the line's turns going at their due times until stop(). Spawn it once.
+  // Gives the line out, at each due time too, until stop(). Spawn it once.
   boost::asio::awaitable<void> run();
   // Everyone still waiting is answered as refused; the work holding the line finishes (the
   // line's own stop() cancels it).
@@ -124,28 +123,26 @@ class BusScheduler {
   void release(std::uint32_t address);
 
   const std::string& name() const { return name_; }
-  const BusSchedulerStats& stats() const { return stats_; }
-  Line& line() { return line_; }
-  boost::asio::any_io_executor executor() const { return executor_; }
+  BusSchedulerStats stats() const;
+  Line& line() { return line_.line(); }
+  boost::asio::any_io_executor executor() const { return line_.executor(); }
 
   // Longest wait between polls of an offline sensor (gateway/poll_schedule.h).
   static constexpr std::chrono::milliseconds max_backoff{5000};
   // Forwarded requests waiting per bus before clients are held to their share (a Modbus
   // connection waits for each reply, so this many means as many connections).
   static constexpr std::size_t kMaxQueuedForwards = 32;
-  // How often a failing sensor held to its turn between rounds is logged, at most.
+  // How often a failing sensor held to its turn between rounds is logged, at most: once when
+  // it starts, then its share of the line every interval while it goes on.
   static constexpr std::chrono::seconds kHeldLogInterval{60};
 
  private:
-  friend class LineClaimant;
-
   struct Polled {
     std::shared_ptr<GatewaySensor> sensor;
     PollSchedule schedule;
     std::optional<SteadyClock::time_point> held_until{};  // hold(): not polled before then
     bool removed = false;
     LineClaimant* poller = nullptr;  // its poller's, while the poller runs
-    SteadyClock::time_point added_at = SteadyClock::now();
     // When its wait for the round was last logged (log_held()), and its line time then.
     std::optional<SteadyClock::time_point> held_logged;
     std::chrono::nanoseconds line_time_logged{0};
@@ -168,41 +165,17 @@ class BusScheduler {
   // Whether `client` may queue one more forwarded request now.
   bool forward_admitted(std::uint64_t client) const;
 
-  // The claimants' side (gateway/line_claimant.h).
-  void enqueue(LineClaimant& claimant);
-  void withdraw(LineClaimant& claimant);
-  void end_turn(LineClaimant& claimant);
-  void disengage(LineClaimant& claimant);
-  void refuse(LineClaimant& claimant);
-
-  // Gives the line to whoever's turn it is, if it is free; else, or with nobody's turn now,
-  // sets the wake-up for the next due time.
-  void dispatch();
-  void grant(LineClaimant& claimant, bool failing, SteadyClock::time_point now);
-  // Whether the claims of `sensor` are held back: another claimant is mid-way through its work.
-  bool engaged_by_other(const GatewaySensor* sensor, const LineClaimant& claimant) const;
-  // One log line, at most every kHeldLogInterval, when a failing sensor waits for the round.
+  // One log line when a failing sensor starts waiting for the round's polls, then at most
+  // every kHeldLogInterval with its share while it goes on.
   void log_held(const GatewaySensor& sensor, SteadyClock::time_point now);
 
-  boost::asio::any_io_executor executor_;
-  Line& line_;
+  SharedLine line_;
   std::string name_;
   std::vector<std::shared_ptr<Polled>> sensors_;
-  LineTurns turns_;
-  std::vector<LineClaimant*> waiting_;  // in the order they came
-  LineClaimant* holder_ = nullptr;      // holds the line now
-  std::vector<LineClaimant*> engaged_;  // mid-way through their work for a sensor
-  std::uint64_t next_order_ = 0;
-  // dispatch()'s scratch: the claims it shows the rule, and whose they are.
-  std::vector<TurnClaim> claims_;
-  std::vector<LineClaimant*> claimants_;
   ForwardFactory make_forward_ = nullptr;
   std::size_t max_queued_forwards_ = kMaxQueuedForwards;
-  boost::asio::steady_timer wake_;  // run(): the next due time
-  bool running_ = false;   // run() started: the line is given out from then on
-  bool stopping_ = false;
   bool retiring_ = false;  // retire(): the queued writes, then stop
-  BusSchedulerStats stats_;
+  BusSchedulerStats stats_;  // but busy, which the line keeps
 };
 
 }  // namespace tiltgate

@@ -3,7 +3,7 @@
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 
-#include "gateway/bus_scheduler.h"
+#include "gateway/shared_line.h"
 
 namespace tiltgate {
 
@@ -23,9 +23,10 @@ void add_attempt(LineTiming& total, const LineTiming& attempt) {
 
 }  // namespace
 
-LineClaimant::LineClaimant(BusScheduler& bus, TurnKind kind, GatewaySensor* sensor,
+LineClaimant::LineClaimant(SharedLine& line, TurnKind kind, GatewaySensor* sensor,
                            std::optional<SteadyClock::time_point> deadline, std::uint64_t client)
-    : bus_(&bus), line_(bus.line()), sensor_(sensor), deadline_(deadline), wake_(bus.executor()) {
+    : shared_(&line), line_(line.line()), sensor_(sensor), deadline_(deadline),
+      wake_(line.executor()) {
   claim_.kind = kind;
   claim_.client = client;
 }
@@ -47,7 +48,7 @@ asio::awaitable<TurnGrant> LineClaimant::wait_turn(std::optional<SteadyClock::ti
 }
 
 asio::awaitable<TurnGrant> LineClaimant::wait_again(const LineRequest& request) {
-  bus_->end_turn(*this);
+  shared_->end_turn(*this);
   yielded_ = true;
   claim_.due = SteadyClock::now();
   std::optional<SteadyClock::time_point> expiry;
@@ -56,17 +57,17 @@ asio::awaitable<TurnGrant> LineClaimant::wait_again(const LineRequest& request) 
 }
 
 asio::awaitable<TurnGrant> LineClaimant::wait(std::optional<SteadyClock::time_point> expiry) {
-  if (bus_ == nullptr) co_return TurnGrant::refused;
+  if (shared_ == nullptr) co_return TurnGrant::refused;
   outcome_.reset();
   state_ = State::waiting;
-  bus_->enqueue(*this);  // granted or refused at once, it may be
+  shared_->enqueue(*this);  // granted or refused at once, it may be
   wake_.expires_at(expiry.value_or(SteadyClock::time_point::max()));
   while (!outcome_) {
     boost::system::error_code ec;
     co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
     if (outcome_ || ec == asio::error::operation_aborted) continue;
     // The expiry passed while it waited.
-    if (bus_ != nullptr) bus_->withdraw(*this);
+    if (shared_ != nullptr) shared_->withdraw(*this);
     state_ = State::idle;
     outcome_ = TurnGrant::expired;
   }
@@ -74,10 +75,10 @@ asio::awaitable<TurnGrant> LineClaimant::wait(std::optional<SteadyClock::time_po
 }
 
 void LineClaimant::finish() {
-  if (bus_ == nullptr) return;
-  if (engaged_) bus_->disengage(*this);
-  if (state_ == State::waiting) bus_->withdraw(*this);
-  if (state_ == State::holding) bus_->end_turn(*this);
+  if (shared_ == nullptr) return;
+  if (engaged_) shared_->disengage(*this);
+  if (state_ == State::waiting) shared_->withdraw(*this);
+  if (state_ == State::holding) shared_->end_turn(*this);
   state_ = State::idle;
 }
 
@@ -93,7 +94,7 @@ asio::awaitable<Expected<Done, LineError>> LineClaimant::transact(LineRequest re
   request.retries = 0;
   Expected<Done, LineError> sent = Unexpected(LineError::cancelled);
   for (int attempt = 0; attempt <= retries; ++attempt) {
-    if (bus_ == nullptr) co_return Unexpected(LineError::cancelled);
+    if (shared_ == nullptr) co_return Unexpected(LineError::cancelled);
     if (yield_next_) {
       const TurnGrant grant = co_await wait_again(request);
       if (grant == TurnGrant::refused) co_return Unexpected(LineError::cancelled);

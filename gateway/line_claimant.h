@@ -1,6 +1,6 @@
 // One who needs a bus's line: a sensor's poller, a Modbus write, a request forwarded to a
 // device passed through, or a commissioning command's transaction. It waits for its turn
-// (BusScheduler grants them as gateway/line_turns.h decides) and, holding it, is the Line its
+// (gateway/shared_line.h grants them as gateway/line_turns.h decides) and, holding it, is the Line its
 // work runs on: each transaction goes to the bus's line, but before an attempt after one that
 // timed out, and before every attempt but the first of a failing sensor's, it gives the line
 // back and waits for a failing sensor's turn, so its time-outs and late-reply guards take
@@ -30,7 +30,7 @@
 
 namespace tiltgate {
 
-class BusScheduler;
+class SharedLine;
 
 // How a wait for the line ended.
 enum class TurnGrant : std::uint8_t {
@@ -43,7 +43,7 @@ class LineClaimant final : public Line {
  public:
   // `sensor`: whose work it is (none for forwarded requests and commands), kept engaged from
   // the first turn until finish(): no one else's work for it runs in between.
-  LineClaimant(BusScheduler& bus, TurnKind kind, GatewaySensor* sensor,
+  LineClaimant(SharedLine& line, TurnKind kind, GatewaySensor* sensor,
                std::optional<SteadyClock::time_point> deadline, std::uint64_t client = 0);
   // Gives back the line, or its place among those waiting.
   ~LineClaimant() override;
@@ -55,6 +55,9 @@ class LineClaimant final : public Line {
       std::optional<SteadyClock::time_point> due = std::nullopt);
   // The work is done: the line goes to whoever is next. The claimant may wait again.
   void finish();
+  // Waiting for a turn; and for one between two attempts of its work.
+  bool waiting() const { return state_ == State::waiting; }
+  bool between_attempts() const { return yielded_; }
 
   boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override;
   std::uint64_t generation() const override;
@@ -68,7 +71,7 @@ class LineClaimant final : public Line {
                                             std::size_t request_bytes) const override;
 
  private:
-  friend class BusScheduler;
+  friend class SharedLine;
   enum class State : std::uint8_t { idle, waiting, holding, detached };
 
   // Gives the line back between two attempts of `request` and waits for a failing turn.
@@ -77,8 +80,8 @@ class LineClaimant final : public Line {
   // Whether an attempt of `request` could end before the deadline if sent now.
   bool attempt_fits(const LineRequest& request) const;
 
-  BusScheduler* bus_;  // null once detached: the bus stopped
-  Line& line_;
+  SharedLine* shared_;  // null once the line stopped: nothing of it is touched then
+  Line& line_;          // the bus's own
   GatewaySensor* sensor_;
   std::optional<SteadyClock::time_point> deadline_;
   // failing: as it was when its turn was granted, or since an attempt in it timed out.

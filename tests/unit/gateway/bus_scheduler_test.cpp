@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "gateway/bus_scheduler.h"
+#include "sim/support/captured_log.h"
 #include "unit/support/scheduler_bench.h"
 
 using namespace tiltgate;
@@ -127,6 +128,25 @@ TEST_CASE("a failing sensor's retries each wait for the other sensors' polls") {
     CHECK(std::count(between.begin(), between.end(), "b poll end") >= 1);
   }
   CHECK(bus.sensors[2]->line_time >= 150ms);  // its three attempts, counted as its own
+}
+
+TEST_CASE("a failing sensor held to its turn between rounds is logged once, not at each turn") {
+  CapturedLog log(spdlog::level::warn);
+  SchedulerBench bus;
+  bus.line.retries_left_to_the_line = 2;  // its retries wait for the others' polls
+  bus.add("a", 1, 10ms);
+  bus.add("b", 2, 10ms);
+  auto& dead = fake_driver(bus.add("dead", 3, 10ms));
+  dead.poll_time = 20ms;
+  bus.line.silent = [](const LineRequest& request) { return request.bytes.at(0) == 3; };
+  bus.start();
+  bus.io.run_for(1500ms);
+  REQUIRE(dead.polls >= 3);  // probed again and again meanwhile
+  std::size_t held = 0;
+  for (const std::string& line : log.lines())
+    if (line.find("sensor \"dead\" is failing: its attempts take one turn each") != std::string::npos)
+      ++held;
+  CHECK(held == 1);
 }
 
 TEST_CASE("a write to a sensor known offline is answered no response at once, and nothing is sent") {
