@@ -48,7 +48,8 @@ asio::awaitable<TurnGrant> LineClaimant::wait_turn(std::optional<SteadyClock::ti
 }
 
 asio::awaitable<TurnGrant> LineClaimant::wait_again(const LineRequest& request) {
-  shared_->end_turn(*this);
+  // Holding it, unless an earlier wait of this work ended without a turn (expired).
+  if (state_ == State::holding) shared_->end_turn(*this);
   yielded_ = true;
   claim_.due = SteadyClock::now();
   std::optional<SteadyClock::time_point> expiry;

@@ -1,9 +1,9 @@
-// One failing sensor never takes its line with it (docs/operations.md, "What the PLC sees when
-// something fails"): build/tiltgate with every timing key at its default serves a shared line of
-// simulated sensors while one or two of them fall silent, answer garbage, answer late, collide
-// or are written to, or while the tty goes away and comes back; a PLC reading every unit every
-// 30 ms (tests/e2e/support/plc_watch.h) must see each healthy neighbour online, fresh, its angles
-// readable and no reading older than its stale_ms, throughout.
+// One failing sensor never takes its line with it (docs/operations.md, "One failing sensor never
+// takes its line"): build/tiltgate with every timing key at its default serves a shared line of
+// simulated sensors while one or two of them fall silent, answer garbage, answer late, answer
+// NAK, collide or are written to, or while the tty goes away and comes back; a PLC reading every
+// unit every 30 ms (tests/e2e/support/plc_watch.h) must see each healthy neighbour online,
+// fresh, its angles readable and its own, and no reading older than its stale_ms, throughout.
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -183,6 +183,17 @@ TEST_CASE("a sensor that answers 300 ms late leaves its neighbours untouched and
   CHECK(watch.seen(3).worst_age_ms < kStaleMs);
 }
 
+TEST_CASE("a sensor that answers NAK 5 (busy) to everything leaves its five neighbours untouched") {
+  RiekerPlant plant;
+  PlcWatch watch(plant.port, plant.units_but({}));
+  std::this_thread::sleep_for(1s);
+  plant.fault(3, [](rieker::SensorFaults& f) { f.busy = INT_MAX; });
+  std::this_thread::sleep_for(7s);
+  watch.stop();
+  check_untouched(watch, plant.units_but({3}));
+  CHECK(watch.seen(3).unavailable > 0);  // it answers, but brings no reading: stale, 0x0B
+}
+
 TEST_CASE("a silent sensor written once a second: writes answered at once, neighbours untouched") {
   RiekerPlant plant;
   PlcWatch watch(plant.port, plant.units_but({}));
@@ -219,8 +230,8 @@ TEST_CASE("a silent sensor written once a second: writes answered at once, neigh
   }
 }
 
-TEST_CASE("two failing sensors at once, one silent and one colliding, leave the four others untouched") {
-  RiekerPlant plant(6, 125000, {5});  // unit 5's address is answered twice, garbled
+TEST_CASE("two failing sensors at once, one silent and one colliding, leave the five others untouched") {
+  RiekerPlant plant(7, 125000, {5});  // unit 5's address is answered twice, garbled
   // The pair collides from the start: unit 5 never reads; the others must all the same.
   PlcWatch watch(plant.port, plant.units_but({}));
   std::this_thread::sleep_for(1s);

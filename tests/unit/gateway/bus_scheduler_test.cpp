@@ -101,6 +101,33 @@ TEST_CASE("a write whose transaction could not end before its deadline is not se
   CHECK(bus.line.stats().attempts == 0);  // the write went first, and nothing reached the line
 }
 
+TEST_CASE("a write whose sensor stops answering mid-way is answered by its deadline, its later steps unsent") {
+  SchedulerBench bus;
+  bus.line.retries_left_to_the_line = 2;
+  auto& sensor = bus.add("a", 1, 10s);
+  // Polled between the write's attempts, and often holding the line when a step of the write
+  // that ran out of time asks for it again.
+  fake_driver(bus.add("b", 2, 20ms)).poll_time = 30ms;
+  auto& a = fake_driver(sensor);
+  a.write_time = 40ms;
+  a.write_exchanges = 3;
+  bus.start();
+  REQUIRE(run_until(bus.io, [&] { return a.state().online; }));  // its first poll answered
+  bus.line.silent = [&](const LineRequest& request) { return request.bytes.at(0) == 1; };
+  std::optional<WriteResult> result;
+  const auto queued = SteadyClock::now();
+  bus.write(sensor, WriteTarget::filter, 3, queued + 100ms, result);
+  REQUIRE(run_until(bus.io, [&] { return result.has_value(); }));
+  CHECK(SteadyClock::now() - queued <= 110ms);
+  REQUIRE_FALSE(result->has_value());
+  CHECK(result->error().kind == WriteErrorKind::no_response);
+  // b keeps being polled after, one transaction on the line at a time.
+  const int b_polls = fake_driver(*bus.sensors[1]).polls;
+  bus.io.run_for(150ms);
+  CHECK(fake_driver(*bus.sensors[1]).polls > b_polls);
+  CHECK(bus.line.most_at_once == 1);
+}
+
 TEST_CASE("a failing sensor's retries each wait for the other sensors' polls") {
   SchedulerBench bus;
   bus.line.retries_left_to_the_line = 2;

@@ -8,9 +8,11 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +27,8 @@ namespace tiltgate::test {
 // event loop), then succeeds; with `reply` set, the request's framer is fed what it returns
 // and the transaction times out unless the framer takes it as a whole reply; one that `silent`
 // says nobody answers times out. A request leaving its retries to the line gets `retries`.
-// Counts attempts, and tells `on_attempt` of each as it starts.
+// Counts attempts, tells `on_attempt` of each as it starts, and keeps the most that were ever
+// on the line at once (one, unless the bus let two talk over each other).
 class FakeLine : public Line {
  public:
   explicit FakeLine(boost::asio::any_io_executor executor) : executor_(executor) {}
@@ -34,8 +37,10 @@ class FakeLine : public Line {
     ++stats_.attempts;
     if (on_attempt) on_attempt(request);
     if (!open) co_return Unexpected{LineError::closed};
+    most_at_once = std::max(most_at_once, ++on_the_line_);
     boost::asio::steady_timer busy(executor_, request.timeout);
     co_await busy.async_wait(boost::asio::use_awaitable);
+    --on_the_line_;
     if (silent && silent(request)) co_return Unexpected{LineError::timeout};
     if (!reply || request.framer == nullptr) co_return Done{};
     request.framer->reset();
@@ -49,6 +54,7 @@ class FakeLine : public Line {
   std::function<void(const LineRequest&)> on_attempt;
   bool open = true;
   int retries_left_to_the_line = 0;
+  int most_at_once = 0;
   std::uint64_t generation() const override { return 1; }
   bool is_open() const override { return open; }
   int retries() const override { return retries_left_to_the_line; }
@@ -58,6 +64,7 @@ class FakeLine : public Line {
 
  private:
   boost::asio::any_io_executor executor_;
+  int on_the_line_ = 0;
   std::string name_ = "fake";
   LineStats stats_;
   LineTiming timing_;
@@ -81,6 +88,9 @@ class FakeDriver : public SensorDriver {
   bool answers = true;
   std::chrono::milliseconds poll_time{0};
   std::chrono::milliseconds write_time{0};
+  // Transactions of each write, all sent whatever became of those before (as a Rieker write
+  // still sends its re-lock after a failed setting); the write reports the first failure.
+  int write_exchanges = 1;
   std::function<void()> on_poll;  // runs as each poll starts, before it takes the line
   // Each reading's angles: x = y = the poll's number (else 1.0 and 2.0), so a reply that mixes
   // two readings shows.
@@ -114,10 +124,14 @@ class FakeDriver : public SensorDriver {
                                             double value) override {
     events_.push_back(name_ + " write");
     writes.emplace_back(target, value);
-    const auto sent = co_await line.transact(request(write_time));
-    if (!sent) {
+    std::optional<LineError> failed;
+    for (int i = 0; i < write_exchanges; ++i) {
+      const auto sent = co_await line.transact(request(write_time));
+      if (!sent && !failed) failed = sent.error();
+    }
+    if (failed) {
       events_.push_back(name_ + " write failed");
-      co_return Unexpected{WriteError{WriteErrorKind::no_response, to_string(sent.error())}};
+      co_return Unexpected{WriteError{WriteErrorKind::no_response, to_string(*failed)}};
     }
     if (target == WriteTarget::bus_address) state_.bus_address = std::uint32_t(value);
     events_.push_back(name_ + " write end");
