@@ -80,8 +80,8 @@ inline bool known_offline(const SensorState& state) { return !state.online && st
 // Whether the sensor counts as online at `now`: its last exchange got a valid reply, and it has
 // been heard from within `silence_limit` (its stale_after). The second half matters while a
 // poll of a sensor that fell silent is still running its retries, each with its late-reply
-// guard (with the defaults 3 x (50 + 450) ms): it clears the online bit no later than the
-// measurements turn stale, instead of half a second after. Heard from: its last answer, or its
+// window and each a turn of its own between the other sensors' polls (with the defaults well
+// over a second): it clears the online bit no later than the measurements turn stale. Heard from: its last answer, or its
 // last reading, which is taken when the measurement's answer arrived.
 inline bool online_at(const SensorState& state, SteadyClock::time_point now,
                       std::chrono::milliseconds silence_limit) {

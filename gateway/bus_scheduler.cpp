@@ -154,6 +154,14 @@ void BusScheduler::reschedule(Polled& polled) {
     line_.reschedule(*poller, due_of(polled));
 }
 
+bool BusScheduler::not_answering(const GatewaySensor& sensor) const {
+  if (known_offline(sensor.driver->state())) return true;
+  for (const auto& polled : sensors_)
+    if (polled->sensor.get() == &sensor)
+      return polled->poller != nullptr && polled->poller->retrying();
+  return false;
+}
+
 BusScheduler::Polled* BusScheduler::find_polled(std::uint32_t address) {
   for (const auto& polled : sensors_)
     if (polled->sensor->driver->state().bus_address == address) return polled.get();
@@ -182,13 +190,14 @@ WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteT
 asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
                                                  SteadyClock::time_point deadline) {
   if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
-  const WriteError not_answering{WriteErrorKind::no_response, "sensor not answering: not sent"};
+  const WriteError unanswered{WriteErrorKind::no_response, "sensor not answering: not sent"};
   if (line_.stopped()) co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
-  // Known offline: its retries would only hold the line and the answer (its probes find it
-  // when it is back).
-  if (known_offline(write.sensor().driver->state())) {
+  // Known offline, or its poll is between retries after its sensor did not answer: the
+  // write's own retries would only hold the line and the answer (its probes find it when it
+  // is back).
+  if (not_answering(write.sensor())) {
     ++stats_.writes_offline;
-    co_return write.fail(not_answering);
+    co_return write.fail(unanswered);
   }
   LineClaimant line(line_, TurnKind::write, &write.sensor(), deadline);
   const TurnGrant grant = co_await line.wait_turn();
@@ -199,10 +208,10 @@ asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
     co_return write.fail({WriteErrorKind::busy, "bus too busy: write not started in time"});
   }
   // Its poll may have found it offline while the write waited.
-  if (known_offline(write.sensor().driver->state())) {
+  if (not_answering(write.sensor())) {
     line.finish();
     ++stats_.writes_offline;
-    co_return write.fail(not_answering);
+    co_return write.fail(unanswered);
   }
   WriteResult result = co_await write.run(line, *this, stats_.writes);
   line.finish();

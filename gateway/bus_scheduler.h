@@ -77,8 +77,8 @@ class BusScheduler {
   void stop();
 
   // Checks `write` (a refusal is answered at once, before anything is queued) and refuses a
-  // write to a sensor known not to answer (0x0B at once: nothing is sent), then waits for the
-  // line and carries it out: all its settings, one after another. No attempt is sent that
+  // write to a sensor known not to answer, or whose poll waits to retry after it did not
+  // answer (0x0B at once: nothing is sent), then waits for the line and carries it out: all its settings, one after another. No attempt is sent that
   // could end after `deadline`: a write that cannot start in time is answered busy, one that
   // runs out of time on the way as no response.
   boost::asio::awaitable<WriteResult> write(SensorWrite write, SteadyClock::time_point deadline);
@@ -159,6 +159,8 @@ class BusScheduler {
   // Its poller waits for the poll at its (new) due time.
   void reschedule(Polled& polled);
   Polled* find_polled(std::uint32_t address);
+  // Known offline, or its poll waits to retry after an attempt it did not answer.
+  bool not_answering(const GatewaySensor& sensor) const;
 
   boost::asio::awaitable<ForwardResult> exchange(LineClaimant& line, std::uint8_t slave,
                                                  const std::vector<std::uint8_t>& pdu);

@@ -134,7 +134,8 @@ Expected<Done, std::string> Gateway::start() {
                tcp_workers_->size(), config_.server.writes ? ", writes enabled" : "");
   for (const BusConfig& bus : config_.buses)
     if (bus.tcp_port) spdlog::info("bus {}: its units on Modbus TCP port {}", bus.name, *bus.tcp_port);
-  for (const std::string& warning : line_budget_warnings(config_, families_)) spdlog::warn("{}", warning);
+  for (const std::string& warning : line_budget_warnings(config_, families_))
+    spdlog::warn("{}", warning);
   for (GatewayService* service : services_) service->start();
   return Done{};
 }
@@ -191,7 +192,8 @@ void Gateway::reload(const Config& loaded) {
   loaded_at_ = local_time_now();
   spdlog::info("configuration reloaded from {}: {}{}{}", config_.path, summarize(diff),
                restarted.empty() ? "" : ". restarted: ", fmt::join(restarted, ", "));
-  for (const std::string& warning : line_budget_warnings(config_, families_)) spdlog::warn("{}", warning);
+  for (const std::string& warning : line_budget_warnings(config_, families_))
+    spdlog::warn("{}", warning);
 }
 
 std::vector<std::size_t> Gateway::reload_buses(const Config& loaded, const ConfigDiff& diff) {

@@ -19,7 +19,9 @@ constexpr std::chrono::microseconds kTurnaround{1000};
 
 // Bits a character takes on the wire: a start bit, 8 data bits, a parity bit or a second stop
 // bit where the framing has one, and a stop bit.
-unsigned bits_per_character(Framing framing) { return framing == Framing::eight_none_one ? 10 : 11; }
+unsigned bits_per_character(Framing framing) {
+  return framing == Framing::eight_none_one ? 10 : 11;
+}
 
 milliseconds whole_ms(std::chrono::microseconds us) {
   return std::chrono::ceil<milliseconds>(us);
@@ -39,7 +41,8 @@ LineBudget line_budget(const BusConfig& bus, const std::vector<SensorConfig>& se
   const Framing framing = bus.framing.value_or(protocol.framing);
   const unsigned bits = bits_per_character(framing);
   const PollSize& size = protocol.poll_size;
-  const auto per_exchange = std::chrono::duration_cast<std::chrono::microseconds>(bus.gap) + kTurnaround;
+  const auto per_exchange =
+      std::chrono::duration_cast<std::chrono::microseconds>(bus.gap) + kTurnaround;
   budget.poll = whole_ms(
       wire_time(std::size_t(size.request_characters + size.reply_characters), bits, bus.baud) +
       size.exchanges * per_exchange);
@@ -77,10 +80,11 @@ std::vector<std::string> line_budget_warnings(const Config& config, FamilyList f
     if (protocol.protocol == nullptr) continue;  // the loader refuses it
     const LineBudget budget = line_budget(bus, config.sensors, *protocol.protocol);
     if (budget.failing == 0) continue;
+    // The sensor with the least room: its bound furthest past its stale_ms.
+    const auto over = [](const SensorAgeBound& b) { return b.worst_age - b.stale_after; };
     const SensorAgeBound* tightest = nullptr;
     for (const SensorAgeBound& bound : budget.sensors)
-      if (bound.worst_age > bound.stale_after &&
-          (!tightest || bound.worst_age - bound.stale_after > tightest->worst_age - tightest->stale_after))
+      if (over(bound) > milliseconds(0) && (!tightest || over(bound) > over(*tightest)))
         tightest = &bound;
     if (tightest == nullptr) continue;
     warnings.push_back(fmt::format(

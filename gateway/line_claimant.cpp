@@ -41,7 +41,8 @@ asio::awaitable<TurnGrant> LineClaimant::wait_turn(std::optional<SteadyClock::ti
   std::optional<SteadyClock::time_point> expiry;
   if (deadline_) {
     // Its first attempt must be able to end before the deadline.
-    const auto wait = sensor_ ? sensor_->driver->state().reply_timeout : std::chrono::milliseconds(0);
+    const auto wait =
+        sensor_ != nullptr ? sensor_->driver->state().reply_timeout : std::chrono::milliseconds(0);
     expiry = *deadline_ - line_.longest_attempt(wait, 0);
   }
   co_return co_await this->wait(expiry);
@@ -118,6 +119,8 @@ asio::awaitable<Expected<Done, LineError>> LineClaimant::transact(LineRequest re
       // Given up before its late window closed: nothing goes to its device before then.
       if (attempt_timing.late_window_end && sensor_ != nullptr)
         sensor_->quiet_until = std::max(sensor_->quiet_until, *attempt_timing.late_window_end);
+    } else {
+      claim_.retry = RetryAfter::nothing;  // answered: a turn after this one is no retry
     }
     // A failing claim's every attempt is a turn of its own.
     yield_next_ = claim_.failing;

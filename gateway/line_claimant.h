@@ -55,9 +55,11 @@ class LineClaimant final : public Line {
       std::optional<SteadyClock::time_point> due = std::nullopt);
   // The work is done: the line goes to whoever is next. The claimant may wait again.
   void finish();
-  // Waiting for a turn; and for one between two attempts of its work.
+  // Waiting for a turn; and for one between two attempts of its work; and for one to retry
+  // after an attempt its device did not answer (silent or garbled).
   bool waiting() const { return state_ == State::waiting; }
   bool between_attempts() const { return yielded_; }
+  bool retrying() const { return yielded_ && claim_.retry != RetryAfter::nothing; }
 
   boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override;
   std::uint64_t generation() const override;

@@ -127,6 +127,15 @@ void check_detected(const PlcWatch& watch, int unit) {
   CHECK(seen.last_exception == 0x0B);
 }
 
+// `watch` reads on for a second, then `fault` comes, then 7 s more, and stops.
+template <class Fault>
+void watch_through(PlcWatch& watch, Fault fault) {
+  std::this_thread::sleep_for(1s);
+  fault();
+  std::this_thread::sleep_for(7s);
+  watch.stop();
+}
+
 // One write of `value` to holding register 0 (filter) of `unit`: how long its answer took and
 // the exception it carried (0: done).
 struct WriteAnswer {
@@ -148,10 +157,7 @@ WriteAnswer write_filter(ModbusClient& client, int unit, std::uint16_t value) {
 TEST_CASE("a sensor that falls silent leaves its five neighbours on the line online and fresh") {
   RiekerPlant plant;
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.silence(3);
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] { plant.silence(3); });
   check_untouched(watch, plant.units_but({3}));
   check_detected(watch, 3);
 }
@@ -159,10 +165,9 @@ TEST_CASE("a sensor that falls silent leaves its five neighbours on the line onl
 TEST_CASE("a sensor that answers with a broken CRC leaves its five neighbours untouched") {
   RiekerPlant plant;
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.fault(3, [](rieker::SensorFaults& f) { f.corrupt_crc = INT_MAX; });
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] {
+    plant.fault(3, [](rieker::SensorFaults& f) { f.corrupt_crc = INT_MAX; });
+  });
   check_untouched(watch, plant.units_but({3}));
   check_detected(watch, 3);
 }
@@ -170,10 +175,9 @@ TEST_CASE("a sensor that answers with a broken CRC leaves its five neighbours un
 TEST_CASE("a sensor that answers 300 ms late leaves its neighbours untouched and stays online") {
   RiekerPlant plant;
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.fault(3, [](rieker::SensorFaults& f) { f.reply_delay = 300ms; });
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] {
+    plant.fault(3, [](rieker::SensorFaults& f) { f.reply_delay = 300ms; });
+  });
   check_untouched(watch, plant.units_but({3}));
   // Within max_timeout_ms: its reply wait adapts, it keeps answering, status bit 5 says so.
   ModbusClient client(plant.port, 3);
@@ -186,10 +190,9 @@ TEST_CASE("a sensor that answers 300 ms late leaves its neighbours untouched and
 TEST_CASE("a sensor that answers NAK 5 (busy) to everything leaves its five neighbours untouched") {
   RiekerPlant plant;
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.fault(3, [](rieker::SensorFaults& f) { f.busy = INT_MAX; });
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] {
+    plant.fault(3, [](rieker::SensorFaults& f) { f.busy = INT_MAX; });
+  });
   check_untouched(watch, plant.units_but({3}));
   CHECK(watch.seen(3).unavailable > 0);  // it answers, but brings no reading: stale, 0x0B
 }
@@ -220,7 +223,7 @@ TEST_CASE("a silent sensor written once a second: writes answered at once, neigh
     CHECK(write.exception == 0x0B);
     CHECK(write.took <= 3000ms);  // write_timeout_ms
     // Known offline when it arrived: one reply wait (timeout_ms 50) at most.
-    if (write.sent > *offline_since + 100ms) CHECK(write.took <= 100ms);
+    if (write.sent > *offline_since) CHECK(write.took <= 100ms);
   }
   for (const WriteAnswer& write : to_neighbour) {
     CAPTURE(write.took.count());
@@ -234,10 +237,7 @@ TEST_CASE("two failing sensors at once, one silent and one colliding, leave the 
   RiekerPlant plant(7, 125000, {5});  // unit 5's address is answered twice, garbled
   // The pair collides from the start: unit 5 never reads; the others must all the same.
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.silence(2);
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] { plant.silence(2); });
   check_untouched(watch, plant.units_but({2, 5}));
   check_detected(watch, 2);
   check_detected(watch, 5);
@@ -273,11 +273,10 @@ TEST_CASE("a tty that returns: its sensors read fresh at the first poll after th
 TEST_CASE("on a 9600-baud line of 10 sensors, one silent and one with a broken CRC take nothing from the eight others") {
   RiekerPlant plant(10, 9600);
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.silence(4);
-  plant.fault(7, [](rieker::SensorFaults& f) { f.corrupt_crc = INT_MAX; });
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] {
+    plant.silence(4);
+    plant.fault(7, [](rieker::SensorFaults& f) { f.corrupt_crc = INT_MAX; });
+  });
   check_untouched(watch, plant.units_but({4, 7}));
   check_detected(watch, 4);
   check_detected(watch, 7);
@@ -286,11 +285,10 @@ TEST_CASE("on a 9600-baud line of 10 sensors, one silent and one with a broken C
 TEST_CASE("on a 9600-baud line of 10 sensors, one silent and one 300 ms late take nothing from the eight others") {
   RiekerPlant plant(10, 9600);
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.silence(2);
-  plant.fault(9, [](rieker::SensorFaults& f) { f.reply_delay = 300ms; });
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] {
+    plant.silence(2);
+    plant.fault(9, [](rieker::SensorFaults& f) { f.reply_delay = 300ms; });
+  });
   check_untouched(watch, plant.units_but({2, 9}));
   check_detected(watch, 2);
 }
@@ -298,10 +296,9 @@ TEST_CASE("on a 9600-baud line of 10 sensors, one silent and one 300 ms late tak
 TEST_CASE("a Dyna module that falls silent on a Modbus-ASCII line leaves its five neighbours untouched") {
   DynaPlant plant(6, spectron::Protocol::modbus_ascii, "spectron-modbus");
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.fault(3, [](spectron::DynaFaults& f) { f.silent = INT_MAX; });
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] {
+    plant.fault(3, [](spectron::DynaFaults& f) { f.silent = INT_MAX; });
+  });
   check_untouched(watch, plant.units_but({3}));
   check_detected(watch, 3);
 }
@@ -311,9 +308,8 @@ TEST_CASE("a Dyna module that falls silent on a Modbus-ASCII line leaves its fiv
 TEST_CASE("a Dyna module that answers 300 ms late on a 9-bit line leaves its five neighbours untouched") {
   DynaPlant plant(6, spectron::Protocol::nine_bit, "spectron-9bit");
   PlcWatch watch(plant.port, plant.units_but({}));
-  std::this_thread::sleep_for(1s);
-  plant.fault(4, [](spectron::DynaFaults& f) { f.reply_delay = 300ms; });
-  std::this_thread::sleep_for(7s);
-  watch.stop();
+  watch_through(watch, [&] {
+    plant.fault(4, [](spectron::DynaFaults& f) { f.reply_delay = 300ms; });
+  });
   check_untouched(watch, plant.units_but({4}));
 }

@@ -194,6 +194,32 @@ TEST_CASE("a write to a sensor known offline is answered no response at once, an
   CHECK(bus.scheduler.stats().writes_offline == 1);
 }
 
+TEST_CASE("a write to a sensor whose poll waits to retry after silence is answered at once") {
+  SchedulerBench bus;
+  bus.line.retries_left_to_the_line = 2;
+  auto& sensor = bus.add("a", 1, 10s);
+  auto& a = fake_driver(sensor);
+  a.poll_time = 40ms;
+  fake_driver(bus.add("b", 2, 10ms)).poll_time = 30ms;  // its polls go between a's attempts
+  int attempts = 0;
+  bus.line.on_attempt = [&](const LineRequest& request) {
+    if (request.bytes.at(0) == 1) ++attempts;
+  };
+  bus.line.silent = [](const LineRequest& request) { return request.bytes.at(0) == 1; };
+  bus.start();
+  REQUIRE(run_until(bus.io, [&] { return attempts == 1 && !bus.events.empty() &&
+                                         bus.events.back() == "b poll"; }));
+  CHECK_FALSE(known_offline(a.state()));  // not known yet: its poll has two attempts to go
+  std::optional<WriteResult> result;
+  const auto sent = SteadyClock::now();
+  bus.write(sensor, WriteTarget::filter, 3, sent + 10s, result);
+  REQUIRE(run_until(bus.io, [&] { return result.has_value(); }));
+  CHECK(SteadyClock::now() - sent < 20ms);
+  REQUIRE_FALSE(result->has_value());
+  CHECK(result->error().kind == WriteErrorKind::no_response);
+  CHECK(a.writes.empty());
+}
+
 TEST_CASE("a poll that finds the tty gone does not back off: the sensor is polled at its period") {
   SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 1, 10ms));

@@ -43,6 +43,20 @@ TurnClaim failing_retry(RetryAfter after, std::chrono::milliseconds due, std::ui
   return claim;
 }
 
+// `claims`, all ready at t0, in the order they get their turns.
+std::vector<TurnClaim> served_in_order(std::vector<TurnClaim> claims) {
+  LineTurns turns;
+  std::vector<TurnClaim> served;
+  while (!claims.empty()) {
+    const TurnChoice choice = turns.choose(claims, t0);
+    REQUIRE(choice.turn.has_value());
+    served.push_back(claims[*choice.turn]);
+    turns.ended(served.back(), t0);
+    claims.erase(claims.begin() + std::ptrdiff_t(*choice.turn));
+  }
+  return served;
+}
+
 }  // namespace
 
 TEST_CASE("line turns: with only polls waiting, the earliest due goes, and nothing due waits") {
@@ -125,34 +139,22 @@ TEST_CASE("line turns: a write waits for at most one failing sensor's attempt") 
 }
 
 TEST_CASE("line turns: forwarded requests go round robin over their clients") {
-  LineTurns turns;
-  std::vector<TurnClaim> claims{other(TurnKind::forward, 0, 7), other(TurnKind::forward, 1, 7),
-                                other(TurnKind::forward, 2, 7), other(TurnKind::forward, 3, 9),
-                                other(TurnKind::forward, 4, 3)};
   std::vector<std::uint64_t> clients;
-  while (!claims.empty()) {
-    const TurnChoice choice = turns.choose(claims, t0);
-    REQUIRE(choice.turn.has_value());
-    clients.push_back(claims[*choice.turn].client);
-    turns.ended(claims[*choice.turn], t0);
-    claims.erase(claims.begin() + std::ptrdiff_t(*choice.turn));
-  }
+  for (const TurnClaim& claim : served_in_order(
+           {other(TurnKind::forward, 0, 7), other(TurnKind::forward, 1, 7),
+            other(TurnKind::forward, 2, 7), other(TurnKind::forward, 3, 9),
+            other(TurnKind::forward, 4, 3)}))
+    clients.push_back(claim.client);
   // Each client in turn, however many requests the first one queued.
   CHECK(clients == std::vector<std::uint64_t>{3, 7, 9, 7, 7});
 }
 
 TEST_CASE("line turns: commands and forwarded requests take turns when both wait") {
-  LineTurns turns;
-  std::vector<TurnClaim> claims{other(TurnKind::forward, 0), other(TurnKind::forward, 1),
-                                other(TurnKind::command, 2), other(TurnKind::command, 3)};
   std::vector<TurnKind> kinds;
-  while (!claims.empty()) {
-    const TurnChoice choice = turns.choose(claims, t0);
-    REQUIRE(choice.turn.has_value());
-    kinds.push_back(claims[*choice.turn].kind);
-    turns.ended(claims[*choice.turn], t0);
-    claims.erase(claims.begin() + std::ptrdiff_t(*choice.turn));
-  }
+  for (const TurnClaim& claim :
+       served_in_order({other(TurnKind::forward, 0), other(TurnKind::forward, 1),
+                        other(TurnKind::command, 2), other(TurnKind::command, 3)}))
+    kinds.push_back(claim.kind);
   CHECK(kinds == std::vector<TurnKind>{TurnKind::command, TurnKind::forward, TurnKind::command,
                                        TurnKind::forward});
 }
