@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "toml/toml_parse.h"
+
 namespace tiltgate {
 
 namespace {
@@ -39,11 +41,9 @@ std::size_t integer_length(std::string_view text, std::size_t offset) {
 }
 
 Expected<toml::table, std::string> parse(std::string_view text) {
-  try {
-    return toml::parse(text);
-  } catch (const toml::parse_error& e) {
-    return Unexpected{fmt::format("not valid TOML: {}", e.description())};
-  }
+  auto parsed = toml_input::parse_toml(text, "");
+  if (!parsed) return Unexpected{fmt::format("not valid TOML: {}", parsed.error().description)};
+  return std::move(*parsed);
 }
 
 // The table of `array` (a [[sensor]] or [[bus]] list) whose `name` is `name`.

@@ -11,6 +11,7 @@
 #include "config/pass_through_checks.h"
 #include "config/sections.h"
 #include "toml/text_file.h"
+#include "toml/toml_parse.h"
 #include "toml/toml_reader.h"
 
 namespace tiltgate {
@@ -114,14 +115,13 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
                                                   std::string_view source_name,
                                                   FamilyList families) {
   using namespace config;
-  toml::table root;
-  try {
-    root = toml::parse(text, source_name);
-  } catch (const toml::parse_error& e) {
-    const Place where = place_of(e.source());
-    return Unexpected(ConfigErrors{ConfigError{std::string(source_name), where.line, where.column,
-                                               "", std::string(e.description())}});
+  auto parsed = toml_input::parse_toml(text, source_name);
+  if (!parsed) {
+    const toml_input::ParseFailure& failure = parsed.error();
+    return Unexpected(ConfigErrors{ConfigError{std::string(source_name), failure.where.line,
+                                               failure.where.column, "", failure.description}});
   }
+  const toml::table root = std::move(*parsed);
   ErrorList errors{std::string(source_name)};
   ServerConfig server;
   HttpConfig http;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "toml/text_file.h"
+#include "toml/toml_parse.h"
 #include "toml/toml_reader.h"
 
 namespace tiltgate::config {
@@ -42,14 +43,12 @@ std::unique_ptr<MapFile> load(const std::string& path, FamilyList families) {
     file->open_error = text.error();
     return file;
   }
-  toml::table root;
-  try {
-    root = toml::parse(*text, path);
-  } catch (const toml::parse_error& e) {
-    file->errors.add(place_of(e.source()), "", std::string(e.description()));
+  auto root = toml_input::parse_toml(*text, path);
+  if (!root) {
+    file->errors.add(root.error().where, "", std::move(root.error().description));
     return file;
   }
-  file->map = read_map(root, "", file->errors, families);
+  file->map = read_map(*root, "", file->errors, families);
   return file;
 }
 

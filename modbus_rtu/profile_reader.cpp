@@ -7,6 +7,7 @@
 
 #include "toml/error_list.h"
 #include "toml/text_file.h"
+#include "toml/toml_parse.h"
 #include "toml/toml_reader.h"
 #include "modbus_rtu/profile_checks.h"
 
@@ -122,14 +123,12 @@ Expected<DeviceProfile, FileErrors> parse_device_profile(
     std::string_view text, std::string_view source_name,
     std::span<const std::string_view> setting_names) {
   ErrorList errors{std::string(source_name)};
-  toml::table root;
-  try {
-    root = toml::parse(text, source_name);
-  } catch (const toml::parse_error& e) {
-    errors.add(toml_input::place_of(e.source()), "", std::string(e.description()));
+  auto root = toml_input::parse_toml(text, source_name);
+  if (!root) {
+    errors.add(root.error().where, "", std::move(root.error().description));
     return Unexpected{errors.take()};
   }
-  TableReader in(root, "", errors);
+  TableReader in(*root, "", errors);
   in.string("description");  // for the reader of the file only
   const auto blocks = read_array<LocatedBlock>(in, "read", errors, read_block);
   const auto values = read_array<LocatedValue>(in, "value", errors, read_value);

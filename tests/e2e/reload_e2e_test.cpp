@@ -194,6 +194,30 @@ TEST_CASE("SIGHUP: an invalid file is refused, a valid one applies, one connecti
   CHECK(plant.gateway->running());
 }
 
+// Debian 12's toml++ follows a dotted key recursively: a key of 40,000 parts overflowed its
+// stack, so `check` died of SIGSEGV and a reload of such a file killed the gateway.
+TEST_CASE("a key of 40000 dotted parts is an error at its line for check and for a reload") {
+  ReloadPlant plant;
+  const std::string good = plant.file("", h6_sensor("left", 221, 1, 50));
+  plant.start(good);
+  ModbusClient client(plant.port, 1);
+  const auto left = read_when_online(client, 1, 0, 4);
+  REQUIRE_MESSAGE(left.size() == 4, plant.gateway->log());
+  std::string deep = "a";
+  for (int i = 0; i < 40000; ++i) deep += ".a";
+  for (const std::string& shape : {deep + " = 1\n", "[" + deep + "]\n", "x = { " + deep + " = 1 }\n"}) {
+    CAPTURE(shape.substr(0, 12));
+    plant.reload(good + "\n" + shape, "reload refused");
+    const CommandResult check = run_tiltgate({"check", "--config", plant.config.string()});
+    CHECK(check.exit_code == 1);  // an error, not a signal
+    CHECK(check.err.find("a key of more than 64 dotted parts") != std::string::npos);
+    CHECK(check.err.find("plant.toml:") != std::string::npos);
+    CHECK(plant.gateway->running());
+    client.unit(1);
+    CHECK(client.input(0, 4) == left);
+  }
+}
+
 TEST_CASE("SIGHUP: writes queued before the reload are carried out and answered truly") {
   ReloadPlant plant;
   // left answers Set Filter 1.5 s late, so its write holds the bus across the reload; right
