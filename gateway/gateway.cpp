@@ -14,6 +14,7 @@
 #include "gateway/config_diff.h"
 #include "gateway/driver_registry.h"
 #include "gateway/line_budget.h"
+#include "gateway/process_descriptors.h"
 #include "gateway/serial_options.h"
 #include "gateway/status_copy.h"
 #include "mapping/map_definition.h"
@@ -295,6 +296,10 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
   for (const ModbusTcpServer* listener : listeners_.servers()) add_listener_counts(status, *listener);
   status.process_start_seconds = start_seconds_;
+  if (const auto descriptors = process_descriptors()) {
+    status.process_open_fds = descriptors->open;
+    status.process_max_fds = descriptors->max;
+  }
   return status;
 }
 

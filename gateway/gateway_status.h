@@ -119,6 +119,10 @@ struct GatewayStatus {
   std::optional<SparkplugStats> sparkplug;  // none without [sparkplug]
   std::vector<StoreStats> stores;     // the feeds' stores on disk
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
+  // Descriptors open now and the limit of them (gateway/process_descriptors.h); none without
+  // /proc.
+  std::optional<double> process_open_fds;
+  std::optional<double> process_max_fds;
 };
 
 // A status copy taken now: how a service asks for one.

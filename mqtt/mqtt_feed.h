@@ -35,6 +35,9 @@ class MqttFeed {
   // backlog (a feed made by a reload opens it again); call before the event loop is stopped.
   void stop();
   MqttStats stats() const;
+  // Stopped: its client's thread has ended and its timer is cancelled, so a reload that replaced
+  // it may free it.
+  bool finished() const { return !running_; }
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -6,7 +6,8 @@ namespace tiltgate {
 
 MqttService::MqttService(boost::asio::any_io_executor executor, StatusSource status,
                          const MqttConfig& config)
-    : executor_(std::move(executor)), status_(std::move(status)), config_(config) {
+    : executor_(std::move(executor)), status_(std::move(status)), config_(config),
+      retired_(executor_) {
   make_feed();
 }
 
@@ -29,7 +30,7 @@ bool MqttService::reload(const Config& loaded, const ConfigDiff& diff) {
   if (!diff.mqtt_changed) return false;
   if (feed_) {
     feed_->stop();
-    retired_.push_back(std::move(feed_));
+    retired_.add(std::move(feed_));
   }
   config_ = loaded.mqtt;
   make_feed();

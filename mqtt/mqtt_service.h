@@ -6,11 +6,11 @@
 #include <boost/asio/any_io_executor.hpp>
 #include <memory>
 #include <optional>
-#include <vector>
 
 #include "config/config.h"
 #include "gateway/gateway_service.h"
 #include "gateway/gateway_status.h"
+#include "gateway/retired.h"
 #include "mqtt/mqtt_feed.h"
 
 namespace tiltgate {
@@ -35,9 +35,8 @@ class MqttService final : public GatewayService {
   StatusSource status_;
   MqttConfig config_;
   std::unique_ptr<MqttFeed> feed_;  // none without [mqtt]
-  // Feeds a reload replaced, stopped: their client's thread and timer may still be winding
-  // down, and they go with the service.
-  std::vector<std::unique_ptr<MqttFeed>> retired_;
+  // Feeds a reload replaced, freed (their client's socket with them) once stopped.
+  Retired<MqttFeed> retired_;
 };
 
 }  // namespace tiltgate

@@ -194,6 +194,7 @@ void EdgeNode::schedule() {
 
 void EdgeNode::tick() {
   const Instant at = now();
+  log_refusal_summaries();
   if (client_->connections() == 0 && !warned_unreached_ &&
       at.steady - started_at_ >= kFirstConnectWarning) {
     spdlog::warn("Sparkplug: broker {}:{} not reached in {} s; still trying, keeping the data "
@@ -249,19 +250,36 @@ void EdgeNode::carry_out(std::vector<Action> actions) {
 }
 
 void EdgeNode::write_setting(Write write) {
-  spdlog::info("Sparkplug: DCMD writes {} = {} on {}", write.setting, write.value, write.device);
+  ++writes_in_flight_;  // writer_ is this node's: it stays until the write is answered
   boost::asio::co_spawn(
       executor_, writer_.write(write),
-      [this, alive = alive_, write](std::exception_ptr error, std::optional<std::string> refusal) {
-        if (!alive->load()) return;
-        if (error) refusal = "failed";
-        if (!refusal) return;
+      [this, write](std::exception_ptr error, std::optional<std::string> refusal) {
+        --writes_in_flight_;
+        if (error) refusal = "the write failed inside the gateway";
+        if (!refusal) {
+          spdlog::info("Sparkplug: DCMD wrote {} = {} on {}", write.setting, write.value,
+                       write.device);
+          return;
+        }
         ++writes_refused_;
-        if (due(refusal_logged_at_, std::chrono::steady_clock::now()))
+        // Throttled per sensor by count: the first few of each minute in full, the rest summed
+        // up in one line (log_refusal_summaries()).
+        if (refusal_log_.admit(write.device, std::chrono::steady_clock::now()))
           spdlog::warn("Sparkplug: DCMD write of {} = {} on {} refused: {} ({} refused so far)",
                        write.setting, write.value, write.device, *refusal, writes_refused_);
+        log_refusal_summaries();
       });
 }
+
+void EdgeNode::log_refusal_summaries() {
+  for (const SuppressedProblems& summary :
+       refusal_log_.take_summaries(std::chrono::steady_clock::now()))
+    spdlog::warn("Sparkplug: {} more DCMD write(s) on {} refused in {} s, not logged one by one",
+                 summary.count, summary.address,
+                 std::chrono::duration_cast<std::chrono::seconds>(summary.span).count());
+}
+
+bool EdgeNode::finished() const { return !running_ && writes_in_flight_ == 0; }
 
 SparkplugStats EdgeNode::stats() const {
   SparkplugStats stats;

@@ -22,6 +22,7 @@
 #include "driver/expected.h"
 #include "gateway/gateway.h"
 #include "gateway/gateway_status.h"
+#include "modbus_tcp/log_throttle.h"
 #include "mqtt/mqtt_client.h"
 #include "sparkplug/ddata_backlog.h"
 #include "sparkplug/device_sampler.h"
@@ -50,6 +51,9 @@ class EdgeNode {
 
   SparkplugStats stats() const;
   std::optional<StoreStats> store_stats() const;
+  // Stopped, and no DCMD write of its is still waiting for its sensor's bus: nothing refers to
+  // it any more, so a reload that replaced it may free it.
+  bool finished() const;
 
  private:
   void schedule();
@@ -57,6 +61,7 @@ class EdgeNode {
   void carry_out(std::vector<Action> actions);
   bool publish(const Publish& message);  // false: not connected
   void write_setting(Write write);
+  void log_refusal_summaries();
   Instant now() const;
   // On the network thread, before each CONNECT.
   std::optional<MqttWill> prepare_connect();
@@ -85,7 +90,8 @@ class EdgeNode {
   std::uint64_t published_ = 0;
   std::uint64_t writes_refused_ = 0;
   std::chrono::steady_clock::time_point malformed_logged_at_{};
-  std::chrono::steady_clock::time_point refusal_logged_at_{};
+  std::size_t writes_in_flight_ = 0;
+  LogThrottle refusal_log_;  // per sensor
   std::chrono::steady_clock::time_point store_error_logged_at_{};
   std::uint64_t drops_logged_ = 0;
   std::chrono::steady_clock::time_point drops_logged_at_{};

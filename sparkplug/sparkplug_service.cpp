@@ -16,7 +16,11 @@ std::vector<std::string> sensor_names(const Config& config) {
 
 SparkplugService::SparkplugService(boost::asio::any_io_executor executor, const Gateway& gateway,
                                    FamilyList families, const SparkplugConfig& config)
-    : executor_(std::move(executor)), gateway_(gateway), families_(families), config_(config) {
+    : executor_(std::move(executor)),
+      gateway_(gateway),
+      families_(families),
+      config_(config),
+      retired_(executor_) {
   make_node();
 }
 
@@ -45,7 +49,7 @@ bool SparkplugService::reload(const Config& loaded, const ConfigDiff& diff) {
   if (!diff.sparkplug_changed && sensor_names(loaded) == devices_) return false;
   if (node_) {
     node_->stop();
-    retired_.push_back(std::move(node_));
+    retired_.add(std::move(node_));
   }
   config_ = loaded.sparkplug;
   make_node();

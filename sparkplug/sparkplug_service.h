@@ -13,6 +13,7 @@
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
 #include "gateway/gateway_status.h"
+#include "gateway/retired.h"
 #include "sparkplug/edge_node.h"
 
 namespace tiltgate {
@@ -42,9 +43,9 @@ class SparkplugService final : public GatewayService {
   std::vector<std::string> devices_;  // the sensors' names the node was made for
   std::unique_ptr<sparkplug::EdgeNode> node_;  // none without [sparkplug]
   bool started_ = false;
-  // Nodes a reload replaced, stopped: a posted handler or a write may still refer to them, and
-  // they go with the service.
-  std::vector<std::unique_ptr<sparkplug::EdgeNode>> retired_;
+  // Nodes a reload replaced, freed (their client's socket with them) once stopped and their
+  // last DCMD write is answered.
+  Retired<sparkplug::EdgeNode> retired_;
 };
 
 }  // namespace tiltgate

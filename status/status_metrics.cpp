@@ -299,6 +299,13 @@ std::string metrics_text(const GatewayStatus& status) {
   out.single("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds",
              status.process_start_seconds);
+  // Prometheus's process collector's names: a descriptor leak shows here first.
+  if (status.process_open_fds)
+    out.single("process_open_fds", "gauge", "Number of open file descriptors.",
+               *status.process_open_fds);
+  if (status.process_max_fds)
+    out.single("process_max_fds", "gauge", "Maximum number of open file descriptors.",
+               *status.process_max_fds);
   return out.take();
 }
 

@@ -274,6 +274,25 @@ def commands_on(t, observer, sim, gateway, codec):
             wait_until(lambda: gateway.metric(COMMANDS, 0, result="refused") > refused_before,
                        WAIT),
             {k: v for k, v in gateway.metrics().items() if "commands" in k})
+    for _ in range(6):
+        observer.publish(dcmd, codec.command(now_ms(), [
+            {"name": "Settings/zero_x", "datatype": spb_codec.DOUBLE, "value": 1e12}]))
+    t.check("seven refused DCMD writes are counted",
+            wait_until(lambda: gateway.metric(COMMANDS, 0, result="refused") >= refused_before + 7,
+                       WAIT),
+            {k: v for k, v in gateway.metrics().items() if "commands" in k})
+    refusals = [line for line in gateway.log().splitlines()
+                if "DCMD write of" in line and "refused:" in line]
+    t.check("a refused DCMD is logged at warn with why, throttled by count: the first five of "
+            "the minute in full",
+            len(refusals) == 5 and all("warn" in line for line in refusals) and
+            any("zero_x = " in line and " on boom refused: " in line for line in refusals),
+            refusals)
+    t.check("a refused DCMD is never logged as if it were written",
+            "DCMD writes" not in gateway.log() and
+            not any("DCMD wrote zero_x" in line and "e+12" in line or "1000000000000" in line
+                    for line in gateway.log().splitlines() if "DCMD wrote" in line),
+            [l for l in gateway.log().splitlines() if "DCMD" in l][-10:])
     malformed_before = gateway.metric(COMMANDS, 0, result="malformed")
     observer.publish(topic(GROUP, NODE, "NCMD"), b"\xff\xff\xff\xff not protobuf")
     t.check("a malformed NCMD payload is counted (result=\"malformed\")",
