@@ -12,7 +12,7 @@ namespace tiltgate {
 namespace asio = boost::asio;
 
 BusScheduler::BusScheduler(asio::any_io_executor executor, Line& line, std::string name)
-    : line_(executor, line), name_(std::move(name)) {
+    : line_(executor, line, name), name_(std::move(name)) {
   line_.on_held = [this](const GatewaySensor& sensor, SteadyClock::time_point now) {
     log_held(sensor, now);
   };
@@ -74,6 +74,7 @@ asio::awaitable<void> BusScheduler::run() { co_await line_.run(); }
 BusSchedulerStats BusScheduler::stats() const {
   BusSchedulerStats stats = stats_;
   stats.busy = line_.busy();
+  stats.restarts = line_.restarts() + stats_.poll_failures;
   return stats;
 }
 
@@ -115,9 +116,39 @@ asio::awaitable<void> BusScheduler::keep_polling(std::shared_ptr<Polled> polled)
   polled->poller = &line;
   while (!polled->removed) {
     if (co_await line.wait_turn(due_of(*polled)) != TurnGrant::granted) break;
-    co_await poll(*polled, line);
+    std::exception_ptr failure;
+    try {
+      co_await poll(*polled, line);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    if (failure) poll_failed(*polled, line, failure);
   }
   polled->poller = nullptr;
+}
+
+// A poll that threw (a driver's bug, memory): the poller goes on, the sensor polled again
+// after kPollFailurePause, so one bad reply or driver path never ends a sensor's polling for
+// good; logged at error at most once a minute per sensor, counted.
+void BusScheduler::poll_failed(Polled& polled, LineClaimant& line, std::exception_ptr failure) {
+  line.finish();  // the line goes on to the others
+  ++stats_.poll_failures;
+  ++polled.failures;
+  const auto now = SteadyClock::now();
+  polled.schedule.due = now + kPollFailurePause;
+  if (polled.failure_logged && now - *polled.failure_logged < kHeldLogInterval) return;
+  polled.failure_logged = now;
+  std::string what = "unknown exception";
+  try {
+    std::rethrow_exception(failure);
+  } catch (const std::exception& e) {
+    what = e.what();
+  } catch (...) {
+  }
+  spdlog::error("{}: polling sensor \"{}\" failed: {}; polled again in {} s ({} failure(s) so "
+                "far: tiltgate_bus_restarts_total)",
+                name_, polled.sensor->config.name, what, kPollFailurePause.count(),
+                polled.failures);
 }
 
 // Holds the sensor: a reload may remove it, or add others, while its poll is on the wire.

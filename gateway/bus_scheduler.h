@@ -13,6 +13,7 @@
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
 #include <chrono>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <string>
@@ -44,6 +45,10 @@ struct BusSchedulerStats {
   // Transactions of commissioning commands through the control socket.
   std::uint64_t command_exchanges = 0;  // carried out (whatever the line made of them)
   std::uint64_t command_exchanges_expired = 0;  // still queued at their deadline
+  // The bus's loop, or a sensor's poller, failed (an exception) and went on after a pause:
+  // logged at error (SharedLine::restart(), poll_failed()).
+  std::uint64_t restarts = 0;
+  std::uint64_t poll_failures = 0;  // of them, polls
   // Time the line was held, by anyone, waiting for replies and time-outs included: the share
   // of the wire's time this bus uses (SharedLine::busy()).
   std::chrono::nanoseconds busy{0};
@@ -135,6 +140,8 @@ class BusScheduler {
   // How often a failing sensor held to its turn between rounds is logged, at most: once when
   // it starts, then its share of the line every interval while it goes on.
   static constexpr std::chrono::seconds kHeldLogInterval{60};
+  // A sensor whose poll threw is polled again after this long.
+  static constexpr std::chrono::seconds kPollFailurePause{1};
 
  private:
   struct Polled {
@@ -146,12 +153,15 @@ class BusScheduler {
     // When its wait for the round was last logged (log_held()), and its line time then.
     std::optional<SteadyClock::time_point> held_logged;
     std::chrono::nanoseconds line_time_logged{0};
+    std::uint64_t failures = 0;  // polls that threw (poll_failed())
+    std::optional<SteadyClock::time_point> failure_logged;
   };
 
   // The poller of one sensor: waits for its due turn, polls, publishes, schedules the next.
   boost::asio::awaitable<void> keep_polling(std::shared_ptr<Polled> polled);
   // Polls the sensor and publishes what it read.
   boost::asio::awaitable<void> poll(Polled& polled, LineClaimant& line);
+  void poll_failed(Polled& polled, LineClaimant& line, std::exception_ptr failure);
   // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
   static void process_new_reading(GatewaySensor& sensor);
   // When the sensor's next poll is due: its schedule, or after a command's hold on it.

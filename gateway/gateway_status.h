@@ -59,6 +59,8 @@ struct BusStatus {
   std::uint64_t polls = 0;
   std::uint64_t writes = 0;
   std::uint64_t forwarded = 0;
+  // The bus's loop or a poller failed and went on (BusSchedulerStats::restarts).
+  std::uint64_t restarts = 0;
   // Seconds the bus spent in transactions (polls, writes, forwarded requests, commands),
   // waiting for replies and time-outs included: the wire's time this bus has used.
   double busy_seconds = 0;

@@ -5,6 +5,14 @@
 
 namespace tiltgate {
 
+namespace {
+
+// Beyond write_timeout, what a request with the handler may take before the connection answers
+// it 0x0B itself: the hops to the buses' thread and back.
+constexpr std::chrono::seconds kHandlerMargin{5};
+
+}  // namespace
+
 ModbusServerOptions modbus_server_options(const ServerConfig& server) {
   ModbusServerOptions options;
   options.listen = server.listen;
@@ -19,6 +27,9 @@ ModbusServerOptions modbus_server_options(const ServerConfig& server) {
                                    tls->cert_file, tls->key_file, tls->ca_file, tls->port};
   options.idle_timeout = server.idle_timeout;
   options.request_timeout = server.request_timeout;
+  // The handler's own deadline is write_timeout; past it and a margin for the buses' thread,
+  // something failed inside the gateway and the client gets its 0x0B.
+  options.handler_timeout = server.write_timeout + kHandlerMargin;
   return options;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <spdlog/spdlog.h>
 
 #include "gateway/line_claimant.h"
 
@@ -21,8 +22,8 @@ bool failing(const GatewaySensor& sensor) {
 
 }  // namespace
 
-SharedLine::SharedLine(asio::any_io_executor executor, Line& line)
-    : executor_(executor), line_(line), wake_(executor) {}
+SharedLine::SharedLine(asio::any_io_executor executor, Line& line, std::string name)
+    : executor_(executor), line_(line), name_(std::move(name)), wake_(executor) {}
 
 SharedLine::~SharedLine() { stop(); }
 
@@ -30,13 +31,53 @@ asio::awaitable<void> SharedLine::run() {
   running_ = true;
   dispatch();
   while (!stopping_) {
+    if (failure_) {
+      co_await restart();
+      continue;
+    }
     boost::system::error_code ec;
     co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-    if (ec || stopping_) continue;  // set anew, or stopped
+    if (ec || stopping_ || failure_) continue;  // set anew, stopped, or failed
     // A due time came: nothing to wake for again until dispatch() says.
     wake_.expires_at(SteadyClock::time_point::max());
     dispatch();
   }
+}
+
+void SharedLine::fail(std::exception_ptr failure) {
+  failure_ = failure;
+  wake_.cancel();  // run() restarts
+}
+
+asio::awaitable<void> SharedLine::restart() {
+  ++restarts_;
+  std::string what = "unknown exception";
+  try {
+    std::rethrow_exception(failure_);
+  } catch (const std::exception& e) {
+    what = e.what();
+  } catch (...) {
+  }
+  std::size_t refused = 0;
+  for (LineClaimant* claimant : std::vector(waiting_))
+    if (claimant->claim_.kind != TurnKind::poll) {
+      refuse(*claimant);
+      ++refused;
+    }
+  const auto now = SteadyClock::now();
+  if (!failure_logged_at_ || now - *failure_logged_at_ >= kFailureLogInterval) {
+    failure_logged_at_ = now;
+    spdlog::error("{}: choosing the line's next turn failed: {}; {} waiting write(s), forwarded "
+                  "request(s) and command(s) refused, turns given again in {} s ({} failure(s) "
+                  "so far: tiltgate_bus_restarts_total)",
+                  name_, what, refused, kRestartPause.count(), restarts_);
+  }
+  wake_.expires_after(kRestartPause);
+  boost::system::error_code ec;
+  co_await wake_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+  wake_.expires_at(SteadyClock::time_point::max());
+  failure_ = nullptr;
+  dispatch();
 }
 
 void SharedLine::stop() {
@@ -125,6 +166,15 @@ bool SharedLine::engaged_by_other(const LineClaimant& claimant) const {
 }
 
 void SharedLine::dispatch() {
+  if (failure_) return;  // run() restarts first
+  try {
+    choose_turn();
+  } catch (...) {
+    fail(std::current_exception());
+  }
+}
+
+void SharedLine::choose_turn() {
   if (!running_ || stopping_ || holder_ != nullptr) return;
   if (only_writes_ && waiting_.empty() && engaged_.empty()) {  // the last write is done
     stop();

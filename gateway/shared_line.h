@@ -4,6 +4,12 @@
 // work for a sensor runs while a claimant is mid-way through its own), measures each turn (the
 // line's busy time, and each sensor's share), and wakes at the next due time. BusScheduler
 // (gateway/bus_scheduler.h) owns one per bus. Everything runs on the buses' thread.
+//
+// Should choosing a turn ever fail (an exception: a bug, or memory), run() is told, never the
+// claimant that happened to ask: it logs the failure at error, counts it (restarts()),
+// refuses every write, forwarded request and command waiting (each is answered: a Modbus
+// exception, an error line), and gives turns again after kRestartPause; the sensors' pollers
+// keep their places.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -11,7 +17,10 @@
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "driver/line.h"
@@ -24,7 +33,8 @@ class LineClaimant;
 
 class SharedLine {
  public:
-  SharedLine(boost::asio::any_io_executor executor, Line& line);
+  // `name`: the bus's, for the log.
+  SharedLine(boost::asio::any_io_executor executor, Line& line, std::string name = "bus");
   // Stops (stop()) if it has not.
   ~SharedLine();
   SharedLine(const SharedLine&) = delete;
@@ -59,6 +69,13 @@ class SharedLine {
   boost::asio::any_io_executor executor() const { return executor_; }
   // Time the line was held, by anyone, waiting for replies and time-outs included.
   std::chrono::nanoseconds busy() const { return busy_; }
+  // How often choosing a turn failed and run() started giving turns again.
+  std::uint64_t restarts() const { return restarts_; }
+
+  // After a failure, no turn is given for this long: a fault that repeats cannot spin.
+  static constexpr std::chrono::seconds kRestartPause{1};
+  // A failure is logged with its message at most this often; the count goes on.
+  static constexpr std::chrono::seconds kFailureLogInterval{60};
 
   // Told when a failing sensor's claim waits while the round's polls go first (held to its
   // turn, gateway/line_turns.h).
@@ -74,8 +91,12 @@ class SharedLine {
   void disengage(LineClaimant& claimant);
 
   // Gives the line to whoever's turn it is, if it is free; with nobody's turn now, sets the
-  // wake-up for the next due time.
+  // wake-up for the next due time. Never throws: a failure goes to run() (fail()).
   void dispatch();
+  void choose_turn();
+  void fail(std::exception_ptr failure);
+  // run(), after a failure: logs and counts it, refuses all but the pollers, pauses, goes on.
+  boost::asio::awaitable<void> restart();
   void grant(LineClaimant& claimant, bool failing, bool owed, SteadyClock::time_point now);
   // Whether `claimant`'s claim waits because another claimant is mid-way through its own
   // work for the same sensor.
@@ -83,6 +104,7 @@ class SharedLine {
 
   boost::asio::any_io_executor executor_;
   Line& line_;
+  std::string name_;
   LineTurns turns_;
   std::vector<LineClaimant*> waiting_;  // in the order they came
   LineClaimant* holder_ = nullptr;      // holds the line now
@@ -96,6 +118,9 @@ class SharedLine {
   bool running_ = false;  // run() started
   bool stopping_ = false;
   bool only_writes_ = false;
+  std::exception_ptr failure_;  // set by fail(), until run() restarted
+  std::uint64_t restarts_ = 0;
+  std::optional<SteadyClock::time_point> failure_logged_at_;
 };
 
 }  // namespace tiltgate

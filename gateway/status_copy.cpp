@@ -90,6 +90,7 @@ BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats,
   bus.polls = stats.polls;
   bus.writes = stats.writes;
   bus.forwarded = stats.forwarded;
+  bus.restarts = stats.restarts;
   bus.busy_seconds = std::chrono::duration<double>(stats.busy).count();
   bus.polls_per_s = rounded(polls_per_s, 100);
   // A turn that ran across the sample instant counts wholly in the later sample, so a busy

@@ -33,6 +33,10 @@ struct ModbusServerOptions {
   std::chrono::milliseconds idle_timeout{60000};    // no request for this long: closed
   std::chrono::milliseconds request_timeout{5000};  // a request (or its reply) stuck this long
                                                     // since its first byte: closed
+  // A request with the handler (a write, a pass-through, anything not answered from the
+  // cache) is answered 0x0B after this long, and the handler's late reply dropped: the handler
+  // has deadlines of its own (write_timeout_ms), so this is a backstop no connection waits past.
+  std::chrono::milliseconds handler_timeout{15000};
   AddressAllowList allow;        // other clients are closed at accept
   AddressAllowList write_allow;  // other clients' writes (any function but a read) get 0x01
   LogThrottleOptions problem_log;  // clients closed for cause: a few lines per address, then counts

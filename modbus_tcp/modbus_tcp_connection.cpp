@@ -234,7 +234,7 @@ ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uin
                                : context_.handler.passes_through(adu[6]));
   if (passed) {
     ++context_.counters.forwarded;
-    hand_over(forwarded_reply(context_.handler, {adu.begin(), adu.end()}, address_));
+    hand_over(forwarded_reply(context_.handler, {adu.begin(), adu.end()}, address_), adu);
     return Answer::with_handler;
   }
   if (auto problem = parse_adu_into(adu, request_)) {
@@ -248,7 +248,7 @@ ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uin
   }
   ++context_.counters.requests;
   if (answer_at_once()) return Answer::sent;
-  hand_over(handler_reply(context_.handler, request_));
+  hand_over(handler_reply(context_.handler, request_), adu);
   return Answer::with_handler;
 }
 
@@ -267,18 +267,24 @@ bool ModbusTcpConnection::answer_at_once() {
   return true;
 }
 
-void ModbusTcpConnection::hand_over(asio::awaitable<std::vector<std::uint8_t>> reply) {
+void ModbusTcpConnection::hand_over(asio::awaitable<std::vector<std::uint8_t>> reply,
+                                    std::span<const std::uint8_t> adu) {
   with_handler_ = true;
-  expect(ModbusWait::handler, Clock::time_point::max());
+  handed_adu_.assign(adu.begin(), adu.end());
+  const std::uint64_t turn = ++handler_turn_;
+  expect(ModbusWait::handler, loop_.now() + options_.latest().handler_timeout);
   asio::co_spawn(context_.handler_executor, std::move(reply),
-                 [self = shared_from_this()](std::exception_ptr, std::vector<std::uint8_t> reply) {
-                   self->loop_.post(
-                       [self, reply = std::move(reply)] { self->take_reply(reply); });
+                 [self = shared_from_this(), turn](std::exception_ptr,
+                                                   std::vector<std::uint8_t> reply) {
+                   self->loop_.post([self, turn, reply = std::move(reply)] {
+                     self->take_reply(turn, reply);
+                   });
                  });
 }
 
-void ModbusTcpConnection::take_reply(const std::vector<std::uint8_t>& reply) {
+void ModbusTcpConnection::take_reply(std::uint64_t turn, const std::vector<std::uint8_t>& reply) {
   if (ended_) return;  // closed while the handler worked
+  if (turn != handler_turn_ || !with_handler_) return;  // answered 0x0B already
   with_handler_ = false;
   if (reply.empty()) {  // the handler's coroutine failed where it cannot (out of memory)
     log_closing(spdlog::level::warn, "no reply from the handler");
@@ -286,6 +292,19 @@ void ModbusTcpConnection::take_reply(const std::vector<std::uint8_t>& reply) {
     return;
   }
   queue_reply(reply);
+  serve();
+}
+
+void ModbusTcpConnection::answer_handler_late() {
+  with_handler_ = false;
+  ++handler_turn_;  // its reply, should it come, is dropped
+  context_.problem_log.log_problem(
+      peer_, address_,
+      fmt::format("function {:02X} answered 0B: no reply from inside the gateway within {} ms",
+                  handed_adu_.size() > mbap_header_size ? handed_adu_[mbap_header_size] : 0,
+                  options_.latest().handler_timeout.count()));
+  expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
+  queue_reply(exception_reply(handed_adu_, ModbusException::gateway_target_failed));
   serve();
 }
 
@@ -330,6 +349,10 @@ void ModbusTcpConnection::expect(ModbusWait what, Clock::time_point when) {
 ConnectionLoop::Clock::time_point ModbusTcpConnection::on_deadline(Clock::time_point now) {
   if (ended_) return Clock::time_point::max();
   if (now < deadline_) return deadline_;
+  if (waiting_for_ == ModbusWait::handler) {
+    answer_handler_late();  // the client is owed an answer, not a close
+    return ended_ ? Clock::time_point::max() : deadline_;
+  }
   expire();
   end();
   return Clock::time_point::max();
@@ -354,7 +377,7 @@ void ModbusTcpConnection::expire() {
       log_closing(spdlog::level::warn,
                   fmt::format("reply not taken within {} ms", options.request_timeout.count()));
       break;
-    case ModbusWait::handler: break;  // no deadline while the handler works
+    case ModbusWait::handler: break;  // answered 0x0B instead (answer_handler_late())
   }
 }
 

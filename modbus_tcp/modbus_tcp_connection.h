@@ -59,7 +59,7 @@ struct ModbusConnectionContext {
 enum class ModbusWait {
   idle,     // between requests: idle_timeout
   request,  // the rest of a request whose first byte arrived: request_timeout
-  handler,  // the handler is working: no deadline of ours (writes have their own)
+  handler,  // the handler is working: handler_timeout, a backstop (writes have their own)
   reply,    // the client taking its reply: request_timeout
 };
 
@@ -107,10 +107,15 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   // request_ answered by the reader from its cache (a read: without an allocation); false
   // for what needs the handler.
   bool answer_at_once();
-  // Runs `reply`, the handler's coroutine, on its executor; the reply comes back through
-  // take_reply(), and the connection answers nothing more meanwhile.
-  void hand_over(boost::asio::awaitable<std::vector<std::uint8_t>> reply);
-  void take_reply(const std::vector<std::uint8_t>& reply);
+  // Runs `reply`, the handler's coroutine for the request `adu`, on its executor; the reply
+  // comes back through take_reply(), and the connection answers nothing more meanwhile.
+  void hand_over(boost::asio::awaitable<std::vector<std::uint8_t>> reply,
+                 std::span<const std::uint8_t> adu);
+  // `turn`: the hand_over() it answers; a reply of a turn already answered is dropped.
+  void take_reply(std::uint64_t turn, const std::vector<std::uint8_t>& reply);
+  // handler_timeout passed: the request is answered 0x0B and its reply, if it ever comes,
+  // dropped.
+  void answer_handler_late();
   // Counts a reply and queues it behind the others of this turn.
   void queue_reply(std::span<const std::uint8_t> reply);
   // Sends what is queued; false when the connection ended.
@@ -152,6 +157,8 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   bool drained_ = false;    // read until the socket had nothing more, since its last event
   bool blocked_ = false;    // the socket took only part of out_: wait until it is writable
   bool with_handler_ = false;  // a request is with the handler: answer nothing else
+  std::uint64_t handler_turn_ = 0;  // hand_over()s so far
+  std::vector<std::uint8_t> handed_adu_;  // the request with the handler
 };
 
 }  // namespace tiltgate

@@ -113,6 +113,10 @@ const BusFamily kBusFamilies[] = {
      "Seconds the bus spent in transactions, waiting for replies and time-outs included; its "
      "rate is the share of the wire's time the bus uses",
      [](const BusStatus& b) -> std::optional<double> { return b.busy_seconds; }},
+    {"tiltgate_bus_restarts_total", "counter",
+     "Times the bus's loop or a sensor's poller failed (an exception, logged at error) and went "
+     "on after a pause; 0 in a healthy gateway",
+     [](const BusStatus& b) -> std::optional<double> { return double(b.restarts); }},
     {"tiltgate_bus_utilisation_ratio", "gauge",
      "Share of the last seconds the bus was busy, 0 to 1 (1: it cannot poll faster)",
      [](const BusStatus& b) { return b.utilisation; }},

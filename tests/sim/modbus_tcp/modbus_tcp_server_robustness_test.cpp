@@ -197,3 +197,22 @@ TEST_CASE("a slow write on one connection does not hold up reads on another") {
   CHECK(write_result == 1);
   CHECK(reader.read_holding(slow_address, 42));
 }
+
+TEST_CASE("a request the handler never answers is answered 0x0B at handler_timeout, its late reply dropped") {
+  ModbusServerOptions options = test_options();
+  options.handler_timeout = std::chrono::milliseconds(300);
+  RunningServer server(options);
+  RawSocket socket(server.port);
+  socket.send(write_holding_frame(0x0101, slow_address, 42));
+  // Function 06 with the exception bit, code 0B: the connection answered for the handler.
+  const Bytes expected = {0x01, 0x01, 0x00, 0x00, 0x00, 0x03, 0x01, 0x86, 0x0B};
+  CHECK(socket.receive(expected.size()) == expected);
+  // The connection serves on, and the handler's reply, when it comes, is not sent.
+  CHECK(answered(socket, 0x0202));
+  server.on_server([&] {
+    server.handler.release();
+    return 0;
+  });
+  CHECK(answered(socket, 0x0303));
+  CHECK(server.clients() == 1);
+}

@@ -137,7 +137,12 @@ class FakeDriver : public SensorDriver {
     events_.push_back(name_ + " write end");
     co_return Done{};
   }
-  const SensorState& state() const override { return state_; }
+  const SensorState& state() const override {
+    if (on_state) on_state();
+    return state_;
+  }
+  // Runs at each state() call: a test's way to make the core's reading of a sensor fail.
+  std::function<void()> on_state;
 
  private:
   LineRequest request(std::chrono::milliseconds hold) const {
