@@ -29,7 +29,7 @@ class ControlServer {
  public:
   struct ServedBus {
     BusConfig config;
-    BusScheduler* scheduler;
+    std::shared_ptr<BusScheduler> scheduler;  // held while the server may use it
   };
 
   ControlServer(boost::asio::any_io_executor executor, std::string path,

@@ -12,7 +12,7 @@ void ControlService::make_server() {
   const Config& config = gateway_.config();
   if (config.server.control_socket.empty()) return;
   std::vector<ControlServer::ServedBus> served;
-  const std::vector<BusScheduler*> schedulers = gateway_.schedulers();
+  const std::vector<std::shared_ptr<BusScheduler>> schedulers = gateway_.schedulers();
   for (std::size_t i = 0; i < schedulers.size(); ++i)
     served.push_back({config.buses[i], schedulers[i]});
   server_ = std::make_unique<ControlServer>(gateway_.executor(), config.server.control_socket,

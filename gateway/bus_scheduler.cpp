@@ -26,7 +26,8 @@ void BusScheduler::add(GatewaySensor& sensor) {
 }
 
 void BusScheduler::add(std::shared_ptr<GatewaySensor> sensor) {
-  sensor->bus = this;
+  // The gateway gives it an owning pointer first; a bus made on its own (tests) lends itself.
+  if (!sensor->bus) sensor->bus = std::shared_ptr<BusScheduler>(std::shared_ptr<BusScheduler>(), this);
   // The sensor arrives configured: its mounting and alarms are known from here on.
   sensor->processing = SensorProcessing(sensor->config.mounting, sensor->config.alarms);
   sensor->processed_seq = sensor->driver->state().sample_seq;
@@ -66,6 +67,8 @@ void BusScheduler::retire() {
 
 void BusScheduler::stop() {
   for (const auto& polled : sensors_) polled->removed = true;
+  // Its sensors hold it (GatewaySensor::bus): let them go, or neither is ever freed.
+  sensors_.clear();
   line_.stop();
 }
 

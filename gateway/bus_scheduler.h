@@ -78,7 +78,7 @@ class BusScheduler {
   // Gives the line out, at each due time too, until stop(). Spawn it once.
   boost::asio::awaitable<void> run();
   // Everyone still waiting is answered as refused; the work holding the line finishes (the
-  // line's own stop() cancels it).
+  // line's own stop() cancels it). Its sensors are let go.
   void stop();
 
   // Checks `write` (a refusal is answered at once, before anything is queued) and refuses a

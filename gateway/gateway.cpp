@@ -60,7 +60,7 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config, FamilyList f
     std::size_t bus_index = 0;
     while (bus_index < config_.buses.size() && config_.buses[bus_index].name != sc.bus) ++bus_index;
     if (bus_index == config_.buses.size()) continue;  // the loader rejects this
-    auto sensor = make_sensor(sc, config_.buses[bus_index], *buses_[bus_index].scheduler);
+    auto sensor = make_sensor(sc, config_.buses[bus_index], buses_[bus_index]);
     if (sensor) sensors_.push_back(std::move(sensor));
   }
   make_aggregates();
@@ -72,23 +72,25 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config, FamilyList f
 Gateway::~Gateway() {
   // The connections' threads end first: their coroutines refer to the servers and routers.
   tcp_workers_->stop();
+  // A bus and its sensors hold each other until it stops (BusScheduler::stop()).
+  for (const auto& bus : buses_) bus->scheduler->stop();
 }
 
 void Gateway::attach(GatewayService& service) { services_.push_back(&service); }
 
-Gateway::Bus Gateway::make_bus(const BusConfig& config) {
-  Bus bus;
+std::shared_ptr<Gateway::Bus> Gateway::make_bus(const BusConfig& config) {
+  auto bus = std::make_shared<Bus>();
   SerialLineOptions options = serial_options_from(families_, config);
   options.exclusive = true;
-  bus.line = std::make_unique<SerialLine>(io_.get_executor(), options);
-  bus.scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus.line, config.name);
-  pass_through(config, *bus.scheduler, true);
+  bus->line = std::make_unique<SerialLine>(io_.get_executor(), options);
+  bus->scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus->line, config.name);
+  pass_through(config, bus, true);
   return bus;
 }
 
 std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
                                                     const BusConfig& bus_config,
-                                                    BusScheduler& bus) {
+                                                    const std::shared_ptr<Bus>& bus) {
   auto sensor = std::make_shared<GatewaySensor>();
   sensor->config = config;
   sensor->model = find_model(families_, config.model).model;
@@ -97,7 +99,8 @@ std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
   sensor->map = map_for(families_, config);
   sensor->written.assign(sensor->map.holding_end(), 0);
   sensor->stale_after = config.stale_after.value_or(default_stale_after(config.poll));
-  bus.add(sensor);
+  sensor->bus = scheduler_of(bus);
+  bus->scheduler->add(sensor);
   listeners_.router_for(listener_of(bus_config)).add(sensor);
   return sensor;
 }
@@ -114,21 +117,22 @@ void Gateway::make_aggregates() {
   }
 }
 
-void Gateway::pass_through(const BusConfig& bus, BusScheduler& scheduler, bool announce) {
-  if (bus.pass_through.empty()) return;
-  const ProtocolEntry protocol = find_protocol(families_, bus.protocol);
+void Gateway::pass_through(const BusConfig& config, const std::shared_ptr<Bus>& bus,
+                           bool announce) {
+  if (config.pass_through.empty()) return;
+  const ProtocolEntry protocol = find_protocol(families_, config.protocol);
   if (protocol.protocol == nullptr || protocol.protocol->forward == nullptr) return;  // refused
-  scheduler.enable_forwarding(protocol.protocol->forward);
-  RequestRouter& router = listeners_.router_for(listener_of(bus));
-  for (std::uint8_t unit_id : bus.pass_through) router.pass_through(unit_id, scheduler);
+  bus->scheduler->enable_forwarding(protocol.protocol->forward);
+  RequestRouter& router = listeners_.router_for(listener_of(config));
+  for (std::uint8_t unit_id : config.pass_through) router.pass_through(unit_id, scheduler_of(bus));
   if (announce)
-    spdlog::info("bus {}: unit id(s) {} passed through", bus.name,
-                 fmt::join(bus.pass_through, ", "));
+    spdlog::info("bus {}: unit id(s) {} passed through", config.name,
+                 fmt::join(config.pass_through, ", "));
 }
 
 Expected<Done, std::string> Gateway::start() {
   if (auto listening = listeners_.start(); !listening) return listening;
-  for (Bus& bus : buses_) start_bus(bus);
+  for (const auto& bus : buses_) start_bus(bus);
   boost::asio::co_spawn(io_, sample_counters(), boost::asio::detached);
   spdlog::info("serving {} sensor(s) on {} bus(es), Modbus TCP {}:{} ({} thread(s)){}",
                sensors_.size(), buses_.size(), config_.server.listen, listeners_.port(),
@@ -141,16 +145,21 @@ Expected<Done, std::string> Gateway::start() {
   return Done{};
 }
 
-void Gateway::start_bus(Bus& bus) {
-  bus.line->start();
-  boost::asio::co_spawn(io_, run_bus(*bus.scheduler, *bus.line), boost::asio::detached);
+void Gateway::start_bus(const std::shared_ptr<Bus>& bus) {
+  bus->line->start();
+  boost::asio::co_spawn(io_, run_bus(bus), boost::asio::detached);
 }
 
-boost::asio::awaitable<void> Gateway::run_bus(BusScheduler& scheduler, SerialLine& line) {
-  co_await scheduler.run();
+// Holds the bus while its loop runs.
+boost::asio::awaitable<void> Gateway::run_bus(std::shared_ptr<Bus> bus) {
+  co_await bus->scheduler->run();
   // A bus a reload retired lets its tty go once its queued writes are done; at shutdown,
   // stop() closes every line itself.
-  if (scheduler.retiring()) line.stop();
+  if (bus->scheduler->retiring()) bus->line->stop();
+}
+
+void Gateway::free_unused_buses() {
+  std::erase_if(retired_buses_, [](const std::shared_ptr<Bus>& bus) { return bus.use_count() == 1; });
 }
 
 void Gateway::stop() {
@@ -158,10 +167,10 @@ void Gateway::stop() {
   sample_timer_.cancel();
   listeners_.stop();
   for (GatewayService* service : services_) service->stop();
-  for (std::vector<Bus>* buses : {&buses_, &retired_buses_})
-    for (Bus& bus : *buses) {
-      bus.scheduler->stop();
-      bus.line->stop();
+  for (const auto* buses : {&buses_, &retired_buses_})
+    for (const auto& bus : *buses) {
+      bus->scheduler->stop();
+      bus->line->stop();
     }
 }
 
@@ -180,6 +189,7 @@ void Gateway::reload(const Config& loaded) {
   // Aggregates are rebuilt over the sensors served now (kept or new).
   make_aggregates();
   for (std::size_t index : fresh_buses) start_bus(buses_[index]);
+  free_unused_buses();
   listeners_.commit_reload();
 
   if (!diff.buses_unchanged() || !diff.sensors_unchanged()) {
@@ -200,26 +210,25 @@ void Gateway::reload(const Config& loaded) {
 std::vector<std::size_t> Gateway::reload_buses(const Config& loaded, const ConfigDiff& diff) {
   // In the new file's order: the unchanged ones as they are (tty open, scheduler and queued
   // writes untouched), the others made anew, started once their sensors are added.
-  std::vector<Bus> old_buses = std::move(buses_);
+  std::vector<std::shared_ptr<Bus>> old_buses = std::move(buses_);
   buses_.clear();
   std::vector<std::size_t> fresh;
   for (const BusConfig& config : loaded.buses) {
-    auto old = std::find_if(old_buses.begin(), old_buses.end(), [&](const Bus& bus) {
-      return bus.scheduler && bus.scheduler->name() == config.name;
+    auto old = std::find_if(old_buses.begin(), old_buses.end(), [&](const auto& bus) {
+      return bus && bus->scheduler->name() == config.name;
     });
     if (listed(diff.buses_kept, config.name) && old != old_buses.end()) {
-      pass_through(config, *old->scheduler, false);
-      buses_.push_back(std::move(*old));
-      old->scheduler.reset();  // taken
+      pass_through(config, *old, false);
+      buses_.push_back(std::move(*old));  // taken: *old is empty now
     } else {
       buses_.push_back(make_bus(config));
       fresh.push_back(buses_.size() - 1);
     }
   }
   // Removed and changed buses: no more polls; their queued writes finish, then the tty closes.
-  for (Bus& bus : old_buses) {
-    if (!bus.scheduler) continue;
-    bus.scheduler->retire();
+  for (auto& bus : old_buses) {
+    if (!bus) continue;
+    bus->scheduler->retire();
     retired_buses_.push_back(std::move(bus));
   }
   return fresh;
@@ -245,7 +254,7 @@ void Gateway::reload_sensors(const Config& loaded, const ConfigDiff& diff) {
     std::size_t bus = 0;
     while (bus < loaded.buses.size() && loaded.buses[bus].name != config.bus) ++bus;
     if (bus == loaded.buses.size()) continue;  // the loader rejects this
-    if (auto sensor = make_sensor(config, loaded.buses[bus], *buses_[bus].scheduler))
+    if (auto sensor = make_sensor(config, loaded.buses[bus], buses_[bus]))
       sensors_.push_back(std::move(sensor));
   }
   // Removed and replaced sensors leave their bus's polls (a retired bus has none left). Their
@@ -257,6 +266,7 @@ void Gateway::reload_sensors(const Config& loaded, const ConfigDiff& diff) {
 asio::awaitable<void> Gateway::sample_counters() {
   while (!stopping_) {
     record_counters(SteadyClock::now());
+    free_unused_buses();
     sample_timer_.expires_after(std::chrono::seconds(1));
     boost::system::error_code ec;
     co_await sample_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
@@ -273,8 +283,8 @@ void Gateway::record_counters(SteadyClock::time_point now) {
   }
   sensor_rates_.record(now, std::move(sensors));
   std::vector<double> buses;
-  for (const Bus& bus : buses_) {
-    const BusSchedulerStats& stats = bus.scheduler->stats();
+  for (const auto& bus : buses_) {
+    const BusSchedulerStats& stats = bus->scheduler->stats();
     buses.push_back(double(stats.polls));
     buses.push_back(std::chrono::duration<double>(stats.busy).count());
   }
@@ -291,7 +301,7 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
       status.sensors.back().line_share = std::min(*share, 1.0);
   }
   for (std::size_t i = 0; i < buses_.size(); ++i)
-    status.buses.push_back(bus_status(config_.buses[i], buses_[i].scheduler->stats(),
+    status.buses.push_back(bus_status(config_.buses[i], buses_[i]->scheduler->stats(),
                                       bus_rates_.rate(2 * i), bus_rates_.rate(2 * i + 1)));
   // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
   for (const ModbusTcpServer* listener : listeners_.servers()) add_listener_counts(status, *listener);
@@ -303,9 +313,9 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   return status;
 }
 
-std::vector<BusScheduler*> Gateway::schedulers() const {
-  std::vector<BusScheduler*> schedulers;
-  for (const Bus& bus : buses_) schedulers.push_back(bus.scheduler.get());
+std::vector<std::shared_ptr<BusScheduler>> Gateway::schedulers() const {
+  std::vector<std::shared_ptr<BusScheduler>> schedulers;
+  for (const auto& bus : buses_) schedulers.push_back(scheduler_of(bus));
   return schedulers;
 }
 

@@ -63,28 +63,41 @@ class Gateway {
   GatewayStatus status(SteadyClock::time_point now) const;
   const std::vector<std::shared_ptr<GatewaySensor>>& sensors() const { return sensors_; }
   // Each bus's scheduler, in config().buses' order: what the control socket relays to.
-  std::vector<BusScheduler*> schedulers() const;
+  std::vector<std::shared_ptr<BusScheduler>> schedulers() const;
+  // Replaced buses not freed yet: something (a request being answered, a command's session, an
+  // idle client's table) still holds them.
+  std::size_t retired_buses() const { return retired_buses_.size(); }
 
  private:
+  // A bus: its line and the scheduler that owns it (declared after it: goes first). Shared:
+  // its sensors, the routes of its pass-through units and the control socket's sessions hold
+  // its scheduler through scheduler_of(), which keeps the whole bus.
   struct Bus {
     std::unique_ptr<SerialLine> line;
     std::unique_ptr<BusScheduler> scheduler;
   };
+  static std::shared_ptr<BusScheduler> scheduler_of(const std::shared_ptr<Bus>& bus) {
+    return std::shared_ptr<BusScheduler>(bus, bus->scheduler.get());
+  }
 
   // A bus's line and scheduler, made (not started) and its pass-through unit ids routed.
-  Bus make_bus(const BusConfig& config);
+  std::shared_ptr<Bus> make_bus(const BusConfig& config);
   // Starts the bus's line and its scheduler's loop; when a reload retires the scheduler, the
   // loop ends after its queued writes and the line is closed.
-  void start_bus(Bus& bus);
-  static boost::asio::awaitable<void> run_bus(BusScheduler& scheduler, SerialLine& line);
+  void start_bus(const std::shared_ptr<Bus>& bus);
+  static boost::asio::awaitable<void> run_bus(std::shared_ptr<Bus> bus);
   // A sensor as the core serves it, polled by `bus` and answered by its listener's router;
   // none when its model has no driver (the loader rejects those).
   std::shared_ptr<GatewaySensor> make_sensor(const SensorConfig& config, const BusConfig& bus_config,
-                                             BusScheduler& bus);
+                                             const std::shared_ptr<Bus>& bus);
   // The aggregates of config_, routed on their listeners; one that cannot be made is logged.
   void make_aggregates();
   // Routes the bus's pass_through unit ids to its scheduler.
-  void pass_through(const BusConfig& bus, BusScheduler& scheduler, bool announce);
+  void pass_through(const BusConfig& config, const std::shared_ptr<Bus>& bus, bool announce);
+  // Frees the retired buses nothing holds any more but this gateway (once a second, and at
+  // each reload): always on this thread, though the last other holder may have been a
+  // Modbus TCP thread's request.
+  void free_unused_buses();
   // reload(): the buses of `loaded`, keeping those `diff` keeps; the others retire. Returns the
   // indexes of the buses made anew, to be started once their sensors are added.
   std::vector<std::size_t> reload_buses(const Config& loaded, const ConfigDiff& diff);
@@ -99,11 +112,10 @@ class Gateway {
   boost::asio::io_context& io_;
   FamilyList families_;
   Config config_;
-  std::vector<Bus> buses_;  // buses_[i] serves config_.buses[i]
-  // Buses a reload removed or changed, closed once their queued writes were done. Kept until
-  // the gateway goes: a request coroutine may still hold a pointer into them
-  // (RequestRouter::forward holds its bus).
-  std::vector<Bus> retired_buses_;
+  std::vector<std::shared_ptr<Bus>> buses_;  // buses_[i] serves config_.buses[i]
+  // Buses a reload removed or changed, closed once their queued writes were done, until
+  // nothing else holds them (free_unused_buses()).
+  std::vector<std::shared_ptr<Bus>> retired_buses_;
   std::vector<std::shared_ptr<GatewaySensor>> sensors_;  // in config_.sensors' order
   std::string loaded_at_;
   // The Modbus TCP connections' threads ([server] threads). Everything else of the gateway (the

@@ -40,7 +40,10 @@ struct GatewaySensor {
   // SensorWrite (gateway/sensor_write.h).
   std::vector<std::uint16_t> written;
   std::chrono::milliseconds stale_after{1000};
-  BusScheduler* bus = nullptr;
+  // The bus that polls it, kept alive by it: a write on its way holds the sensor, and through
+  // it the bus, however a reload changed things meanwhile (the gateway frees a replaced bus
+  // once nothing holds it, on its own thread: Gateway::free_unused_buses()).
+  std::shared_ptr<BusScheduler> bus;
   // The line's time its polls, writes and retries took, waiting for replies, time-outs and
   // late-reply guards included (BusScheduler): who eats the line.
   std::chrono::nanoseconds line_time{0};

@@ -132,8 +132,8 @@ void RequestRouter::set_options(RouterOptions options) {
   edit([&](Routes& routes) { routes.options = options; });
 }
 
-void RequestRouter::pass_through(std::uint8_t unit_id, BusScheduler& bus) {
-  edit([&](Routes& routes) { routes.forwarded[unit_id] = &bus; });
+void RequestRouter::pass_through(std::uint8_t unit_id, std::shared_ptr<BusScheduler> bus) {
+  edit([&](Routes& routes) { routes.forwarded[unit_id] = std::move(bus); });
 }
 
 bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
@@ -203,7 +203,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<Gate
                                   request.registers);
   if (!plan) co_return failure(exception_for(plan.error()));
   // As for a read of a sensor never polled: no bus has taken it up.
-  BusScheduler* bus = sensor->bus;
+  const std::shared_ptr<BusScheduler> bus = sensor->bus;
   if (bus == nullptr) co_return failure(ModbusException::gateway_target_failed);
   const auto deadline = SteadyClock::now() + options.write_timeout;
   SensorWrite write(std::move(sensor), std::move(*plan));  // named: see BusScheduler::write()
@@ -226,7 +226,7 @@ boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_
                                                               std::vector<std::uint8_t> pdu,
                                                               std::string client) {
   const std::shared_ptr<const Routes> routes = this->routes();
-  BusScheduler* bus = routes->forwarded[unit_id];
+  std::shared_ptr<BusScheduler> bus = routes->forwarded[unit_id];
   if (bus == nullptr) co_return Unexpected{ModbusException::gateway_path_unavailable};
   // As for the cached sensors: nobody on the plant network changes a device by default.
   if (!routes->options.writes && !reads_only(pdu)) {
@@ -240,7 +240,7 @@ boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_
   // The bus serves its clients' requests in turn, each client known by its address.
   const std::uint64_t client_key = std::hash<std::string>{}(client);
   std::optional<ForwardedReply> reply = co_await boost::asio::co_spawn(
-      bus_executor_, forward_on_bus(*bus, unit_id, std::move(pdu), deadline, client_key),
+      bus_executor_, forward_on_bus(std::move(bus), unit_id, std::move(pdu), deadline, client_key),
       boost::asio::use_awaitable);
   co_return std::move(*reply);
 }
@@ -248,9 +248,9 @@ boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_
 // On the buses' executor: the scheduler is theirs. In an optional only because co_spawn wants
 // a result it can default-construct.
 boost::asio::awaitable<std::optional<ForwardedReply>> RequestRouter::forward_on_bus(
-    BusScheduler& bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
+    std::shared_ptr<BusScheduler> bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
     SteadyClock::time_point deadline, std::uint64_t client) {
-  auto reply = co_await bus.forward(unit_id, std::move(pdu), deadline, client);
+  auto reply = co_await bus->forward(unit_id, std::move(pdu), deadline, client);
   if (!reply) co_return ForwardedReply{Unexpected{exception_for(reply.error())}};
   co_return ForwardedReply{std::move(*reply)};
 }

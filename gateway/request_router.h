@@ -68,7 +68,7 @@ class RequestRouter : public ModbusRequestHandler {
 
   // Pass-through: requests for `unit_id` go to the device with that address on `bus`, under
   // the same write rule as the cached sensors. The unit id must be no sensor's.
-  void pass_through(std::uint8_t unit_id, BusScheduler& bus);
+  void pass_through(std::uint8_t unit_id, std::shared_ptr<BusScheduler> bus);
   // Asked of every request: a look under the lock, without taking a copy of the table.
   bool passes_through(std::uint8_t unit_id) const override {
     std::lock_guard lock(routes_mutex_);
@@ -89,7 +89,7 @@ class RequestRouter : public ModbusRequestHandler {
   boost::asio::awaitable<ModbusResponse> write(std::shared_ptr<GatewaySensor> sensor,
                                                ModbusRequest request, RouterOptions options);
   boost::asio::awaitable<std::optional<ForwardedReply>> forward_on_bus(
-      BusScheduler& bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
+      std::shared_ptr<BusScheduler> bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
       SteadyClock::time_point deadline, std::uint64_t client);
 
   boost::asio::any_io_executor bus_executor_;

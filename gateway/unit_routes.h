@@ -26,7 +26,8 @@ struct UnitRoutes {
   RouterOptions options;
   std::array<std::shared_ptr<GatewaySensor>, 256> units{};
   std::array<std::shared_ptr<GatewayAggregate>, 256> aggregates{};
-  std::array<BusScheduler*, 256> forwarded{};
+  // Held: a request forwarded under this table keeps its bus until it is answered.
+  std::array<std::shared_ptr<BusScheduler>, 256> forwarded{};
 };
 
 }  // namespace tiltgate

@@ -46,7 +46,7 @@ boost::asio::awaitable<std::optional<std::string>> SettingWriter::write(Write wr
   const ServerConfig& server = gateway_.config().server;
   auto plan = plan_point_write(sensor->map, server.word_order, *setting->point, write.value);
   if (!plan) co_return Result(fault_text(plan.error()));
-  BusScheduler* bus = sensor->bus;
+  const std::shared_ptr<BusScheduler> bus = sensor->bus;
   if (bus == nullptr) co_return Result("no bus polls the sensor");
   const auto deadline = SteadyClock::now() + server.write_timeout;
   SensorWrite job(std::move(sensor), std::move(*plan));  // named: see BusScheduler::write()

@@ -69,7 +69,7 @@ struct Gateway {
   BusEvents events;
   std::unique_ptr<GatewaySensor> sensor = fake_sensor("boom", 1, 223, events, 10s);
   std::vector<LineRequest> sent;
-  ControlServer server{io.get_executor(), socket_path, {{bus_on("/dev/ttyFAKE0"), &scheduler}}};
+  ControlServer server{io.get_executor(), socket_path, {{bus_on("/dev/ttyFAKE0"), lent(scheduler)}}};
   std::thread thread;
 
   Gateway() {
@@ -189,7 +189,7 @@ TEST_CASE("control socket: the socket file is for owner and group only, and a li
 
   asio::io_context io;
   BusScheduler scheduler{io.get_executor(), gateway.line, "line1"};
-  ControlServer second{io.get_executor(), gateway.socket_path, {{bus_on("/dev/ttyFAKE0"), &scheduler}}};
+  ControlServer second{io.get_executor(), gateway.socket_path, {{bus_on("/dev/ttyFAKE0"), lent(scheduler)}}};
   const auto refused = second.start();
   REQUIRE_FALSE(refused);
   CHECK(refused.error().find("another gateway is listening") != std::string::npos);
@@ -206,7 +206,7 @@ TEST_CASE("control socket: a socket file left by a killed gateway is replaced") 
   REQUIRE(std::filesystem::exists(path));
   FakeLine line{io.get_executor()};
   BusScheduler scheduler{io.get_executor(), line, "line1"};
-  ControlServer server{io.get_executor(), path, {{bus_on("/dev/ttyFAKE0"), &scheduler}}};
+  ControlServer server{io.get_executor(), path, {{bus_on("/dev/ttyFAKE0"), lent(scheduler)}}};
   CHECK(server.start());
   server.stop();
   CHECK_FALSE(std::filesystem::exists(path));  // removed on stop

@@ -30,7 +30,7 @@ struct Plant {
       return request.bytes;
     };
     scheduler.enable_forwarding(echo_forward);
-    router.pass_through(30, scheduler);
+    router.pass_through(30, lent(scheduler));
     asio::co_spawn(io, scheduler.run(), asio::detached);
   }
   ~Plant() {

@@ -180,6 +180,13 @@ inline FakeDriver& fake_driver(GatewaySensor& sensor) {
   return static_cast<FakeDriver&>(*sensor.driver);
 }
 
+// A bus made by a test, lent where the gateway would hand out a shared one
+// (RequestRouter::pass_through(), ControlServer's buses): the pointer keeps nothing alive.
+template <class Bus>
+std::shared_ptr<Bus> lent(Bus& bus) {
+  return std::shared_ptr<Bus>(std::shared_ptr<Bus>(), &bus);
+}
+
 // Runs the io_context until `done()` holds or `limit` passes; false on the limit.
 inline bool run_until(boost::asio::io_context& io, const std::function<bool()>& done,
                       std::chrono::seconds limit = std::chrono::seconds(20)) {
