@@ -48,6 +48,11 @@ void ClientProblemLog::log_problem(const std::string& peer, const std::string& a
   log_suppressed(now);
 }
 
+bool ClientProblemLog::had_problems(const std::string& address) {
+  std::lock_guard lock(throttle_mutex_);
+  return throttle_.tracks(address);
+}
+
 void ClientProblemLog::wake_summary_before(Clock::time_point due) {
   if (due.time_since_epoch().count() >= summary_wake_.load()) return;
   // The timer is the accepting thread's.

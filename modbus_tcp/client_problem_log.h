@@ -37,6 +37,9 @@ class ClientProblemLog {
   // A refused request, throttled with the closes (it is the same client misbehaving).
   void log_problem(const std::string& peer, const std::string& address, std::string_view what);
 
+  // Whether a client from `address` was closed or refused for cause lately (about a minute).
+  bool had_problems(const std::string& address);
+
   // Logs each interval's count of suppressed lines when it ends, also when no further problem
   // comes to trigger it, from start() until stop().
   void start();

@@ -32,9 +32,10 @@ constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
 }  // namespace
 
 struct HttpServer::Connection {
-  Connection(tcp::socket socket, std::string address)
+  Connection(tcp::socket socket, std::string address, bool from_troubled_address)
       : peer(peer_of(socket)),
         address(std::move(address)),
+        from_troubled_address(from_troubled_address),
         waiting_since(Clock::now()),
         stream(std::move(socket)) {}
   void close() {
@@ -45,11 +46,14 @@ struct HttpServer::Connection {
   }
   const std::string peer;     // "127.0.0.1:50312", for the log
   const std::string address;  // without the port: what max_clients_per_host counts
+  // Clients from its address were closed for cause lately (a flood reconnecting from many
+  // addresses, say): while it waits, it gives way before the others.
+  const bool from_troubled_address;
   // Waiting for a whole request since `waiting_since` (its accept, or its last response sent):
   // while it waits, a new client may close it to make room.
   bool waiting = true;
   Clock::time_point waiting_since;
-  bool served = false;  // it has answered a request: kept alive, it gives way first
+  bool served = false;  // it has answered a request: kept alive, it gives way first too
   bool closed = false;  // by stop() or to make room: its coroutine ends on a later loop turn
   beast::tcp_stream stream;
 };
@@ -112,7 +116,8 @@ asio::awaitable<void> HttpServer::accept_clients() {
       continue;
     }
     ++stats_.accepted;
-    auto connection = std::make_shared<Connection>(std::move(socket), address);
+    auto connection = std::make_shared<Connection>(std::move(socket), address,
+                                                   problem_log_.had_problems(address));
     connections_.insert(connection);
     asio::co_spawn(executor_, serve(connection), asio::detached);
   }
@@ -125,8 +130,10 @@ bool HttpServer::admit(tcp::socket& socket, const std::string& address) {
   for (const auto& connection : connections_) {
     if (connection->closed) continue;
     live.push_back(connection.get());
+    // A new client's request may take a round trip to come; if the clients flooding the port
+    // (from many addresses) went strictly by age, a burst of them could close it meanwhile.
     open.push_back({connection->address, connection->waiting, connection->waiting_since,
-                    connection->served && connection->waiting});
+                    connection->served || connection->from_troubled_address});
   }
   const Admission admission = admit_connection(
       open, address,
@@ -145,10 +152,12 @@ bool HttpServer::admit(tcp::socket& socket, const std::string& address) {
     ++stats_.closed.replaced;
     const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(
         Clock::now() - replaced.waiting_since);
-    problem_log_.log_closing(
-        replaced.peer, replaced.address, spdlog::level::info,
-        fmt::format("{} ms without a whole request, replaced by {} ({})", waited.count(),
-                    peer_of(socket), limit));
+    // A kept-alive connection left idle is no fault of its client: counted, not held against it.
+    if (!replaced.served)
+      problem_log_.log_closing(
+          replaced.peer, replaced.address, spdlog::level::info,
+          fmt::format("{} ms without a whole request, replaced by {} ({})", waited.count(),
+                      peer_of(socket), limit));
     replaced.close();
   }
   return true;

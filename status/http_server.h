@@ -5,8 +5,9 @@
 // it only ever holds up itself. Places are shared as the Modbus TCP server shares them
 // (modbus_tcp/connection_admission.h): one address holds at most max_clients_per_host, and a
 // full server makes room for a new client by closing the connection that has waited longest
-// without a whole request (kept-alive ones between requests first); one that is being answered
-// is never closed for this. What is closed for cause is counted and logged, throttled per
+// without a whole request (kept-alive ones between requests, and those from an address whose
+// clients were closed for cause lately, first); one that is being answered is never closed for
+// this. What is closed for cause is counted and logged, throttled per
 // address (modbus_tcp/client_problem_log.h).
 #pragma once
 
