@@ -18,6 +18,7 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
 GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   GatewayStatus status = gateway_.status(now);
   status.http_connections_denied = http_.connections_denied();
+  status.http_clients_closed = http_.clients_closed();
   status.mqtt = mqtt_.stats();
   if (status.mqtt) status.stores.push_back(status.mqtt->store);
   status.sparkplug = sparkplug_.stats();

@@ -64,6 +64,9 @@ struct HttpConfig {
   // Who may connect; without [http] allow, [server] allow (resolved by the loader).
   AddressAllowList allow;
   bool allow_given = false;  // [http] allow was written
+  // Connections from one client address, of the server's 16; the next one from it replaces
+  // that address's own connection waiting longest for a request, or is closed.
+  int max_clients_per_host = 8;
   // The status page's graph: each sensor's angles sampled every history_interval, kept for
   // history_seconds (status/angle_history.h).
   std::chrono::seconds history_seconds{600};

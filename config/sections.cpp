@@ -219,6 +219,8 @@ HttpConfig read_http(const toml::table& table, ErrorList& errors) {
     http.allow = *allow;
     http.allow_given = true;
   }
+  // At most the HTTP server's max_clients (16, status/http_server.h).
+  if (auto n = in.integer("max_clients_per_host", 1, 16)) http.max_clients_per_host = int(*n);
   if (auto seconds = in.integer("history_seconds", 10, 86400))
     http.history_seconds = std::chrono::seconds(*seconds);
   if (auto interval = in.integer("history_interval_ms", 100, 60000))

@@ -104,6 +104,14 @@ struct SparkplugStats {
   std::uint64_t malformed = 0;
 };
 
+// HTTP clients closed for cause since [http] last started (status/http_server.h).
+struct HttpClientsClosed {
+  std::uint64_t refused = 0;      // a limit reached and no connection could make room
+  std::uint64_t replaced = 0;     // waiting for a whole request, closed to make room for a new one
+  std::uint64_t timed_out = 0;    // no whole request within the request time-out
+  std::uint64_t bad_request = 0;  // malformed or too large
+};
+
 struct GatewayStatus {
   std::vector<SensorStatus> sensors;
   std::vector<BusStatus> buses;
@@ -114,6 +122,7 @@ struct GatewayStatus {
   std::uint64_t modbus_connections_denied = 0;    // closed at accept: not in [server] allow
   std::uint64_t modbus_writes_denied = 0;         // answered 0x01: not in [server] write_allow
   std::uint64_t http_connections_denied = 0;      // closed at accept: not in [http] allow
+  HttpClientsClosed http_clients_closed;
   std::uint64_t modbus_tls_refused = 0;           // TLS handshakes failed (certificate, version)
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;

@@ -13,11 +13,12 @@ namespace tiltgate {
 
 namespace asio = boost::asio;
 
-ClientProblemLog::ClientProblemLog(asio::any_io_executor executor,
-                                   const ModbusOptionsInForce& options)
+ClientProblemLog::ClientProblemLog(asio::any_io_executor executor, std::string service,
+                                   LogThrottleOptions options)
     : executor_(executor),
+      service_(std::move(service)),
       options_(options),
-      throttle_(options.current()->problem_log),
+      throttle_(options),
       summary_timer_(executor) {}
 
 // Called from any thread: the throttle is shared by every connection, under its mutex.
@@ -36,15 +37,20 @@ bool ClientProblemLog::admit_problem(const std::string& address, Clock::time_poi
 void ClientProblemLog::log_closing(const std::string& peer, const std::string& address,
                                    spdlog::level::level_enum level, std::string_view why) {
   const auto now = Clock::now();
-  if (admit_problem(address, now)) spdlog::log(level, "closing Modbus TCP client {}: {}", peer, why);
+  if (admit_problem(address, now)) spdlog::log(level, "closing {} client {}: {}", service_, peer, why);
   log_suppressed(now);
 }
 
 void ClientProblemLog::log_problem(const std::string& peer, const std::string& address,
                                    std::string_view what) {
   const auto now = Clock::now();
-  if (admit_problem(address, now)) spdlog::warn("Modbus TCP client {}: {}", peer, what);
+  if (admit_problem(address, now)) spdlog::warn("{} client {}: {}", service_, peer, what);
   log_suppressed(now);
+}
+
+bool ClientProblemLog::had_problems(const std::string& address) {
+  std::lock_guard lock(throttle_mutex_);
+  return throttle_.tracks(address);
 }
 
 void ClientProblemLog::wake_summary_before(Clock::time_point due) {
@@ -60,9 +66,9 @@ void ClientProblemLog::log_suppressed(Clock::time_point now) {
     summaries = throttle_.take_summaries(now);
   }
   for (const SuppressedProblems& s : summaries) {
-    spdlog::warn("Modbus TCP clients from {}: {} more closed for cause in the last {} s, not "
-                 "logged one by one",
-                 s.address, s.count,
+    spdlog::warn("{} clients from {}: {} more closed for cause in the last {} s, not logged one "
+                 "by one",
+                 service_, s.address, s.count,
                  std::chrono::duration_cast<std::chrono::seconds>(s.span).count());
   }
 }
@@ -85,7 +91,7 @@ asio::awaitable<void> ClientProblemLog::summarize_suppressed() {
       std::lock_guard lock(throttle_mutex_);
       due = throttle_.next_summary_due();
     }
-    const auto wake = due.value_or(now + options_.current()->problem_log.interval);
+    const auto wake = due.value_or(now + options_.interval);
     summary_timer_.expires_at(wake);
     summary_wake_ = wake.time_since_epoch().count();
     boost::system::error_code ec;

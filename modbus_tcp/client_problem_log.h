@@ -1,6 +1,7 @@
-// The Modbus TCP server's log of clients closed or refused for cause, throttled per address
-// (modbus_tcp/log_throttle.h) so a scanner or a broken client cannot flood the log: a few lines
-// per address, then only counts, and each interval's count in one line when the interval ends.
+// A TCP server's log of clients closed or refused for cause (the Modbus TCP server's, the HTTP
+// server's), throttled per address (modbus_tcp/log_throttle.h) so a scanner or a broken client
+// cannot flood the log: a few lines per address, then only counts, and each interval's count in
+// one line when the interval ends.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -13,7 +14,6 @@
 #include <string_view>
 
 #include "modbus_tcp/log_throttle.h"
-#include "modbus_tcp/modbus_server_options.h"
 
 namespace tiltgate {
 
@@ -24,9 +24,10 @@ class ClientProblemLog {
  public:
   using Clock = LogThrottle::Clock;
 
-  // The throttle is made from the options as they are now (a reload keeps it); with nothing
-  // counted, the summary looks again after the problem_log.interval in force.
-  ClientProblemLog(boost::asio::any_io_executor executor, const ModbusOptionsInForce& options);
+  // `service` names the server in each line ("Modbus TCP", "HTTP"); with nothing counted, the
+  // summary looks again after options.interval.
+  ClientProblemLog(boost::asio::any_io_executor executor, std::string service,
+                   LogThrottleOptions options);
   ClientProblemLog(const ClientProblemLog&) = delete;
   ClientProblemLog& operator=(const ClientProblemLog&) = delete;
 
@@ -35,6 +36,9 @@ class ClientProblemLog {
                    spdlog::level::level_enum level, std::string_view why);
   // A refused request, throttled with the closes (it is the same client misbehaving).
   void log_problem(const std::string& peer, const std::string& address, std::string_view what);
+
+  // Whether a client from `address` was closed or refused for cause lately (about a minute).
+  bool had_problems(const std::string& address);
 
   // Logs each interval's count of suppressed lines when it ends, also when no further problem
   // comes to trigger it, from start() until stop().
@@ -50,7 +54,8 @@ class ClientProblemLog {
   boost::asio::awaitable<void> summarize_suppressed();
 
   boost::asio::any_io_executor executor_;
-  const ModbusOptionsInForce& options_;
+  const std::string service_;
+  const LogThrottleOptions options_;
   std::mutex throttle_mutex_;
   LogThrottle throttle_;
   bool summarizing_ = false;                 // executor_: between start() and stop()

@@ -4,13 +4,19 @@ namespace tiltgate {
 
 namespace {
 
-// The idle connection idle longest among those `eligible` admits.
+// Whether `a` gives way before `b`: those that give way first, then the one idle longer.
+bool gives_way_before(const OpenConnection& a, const OpenConnection& b) {
+  if (a.gives_way_first != b.gives_way_first) return a.gives_way_first;
+  return a.idle_since < b.idle_since;
+}
+
+// The idle connection to give way first among those `eligible` admits.
 template <class Eligible>
 std::optional<std::size_t> idle_longest(std::span<const OpenConnection> open, Eligible eligible) {
   std::optional<std::size_t> found;
   for (std::size_t i = 0; i < open.size(); ++i) {
     if (!open[i].idle || !eligible(open[i])) continue;
-    if (!found || open[i].idle_since < open[*found].idle_since) found = i;
+    if (!found || gives_way_before(open[i], open[*found])) found = i;
   }
   return found;
 }

@@ -1,7 +1,8 @@
-// Whom a new Modbus TCP connection may displace when the server is full (docs/operations.md,
-// "How the gateway behaves"): idle connections are cheap to open and hold, so a full server replaces the one idle
-// longest rather than turn a PLC away, and one address may hold only so many. Pure: the server
-// describes its connections, this decides.
+// Whom a new TCP connection may displace when a server is full (docs/operations.md, "How the
+// gateway behaves"): idle connections are cheap to open and hold, so a full server replaces the
+// one idle longest rather than turn a PLC (or the HTTP status page's reader) away, and one
+// address may hold only so many. Pure: the server describes its connections, this decides.
+// Used by the Modbus TCP server and the HTTP server (status/http_server.h).
 #pragma once
 
 #include <chrono>
@@ -19,6 +20,9 @@ struct OpenConnection {
   // on its handler or sending its reply is never replaced.
   bool idle = false;
   std::chrono::steady_clock::time_point idle_since{};  // its last request finished, or it connected
+  // Idle connections that give way before all others (oldest first among them): HTTP's
+  // kept-alive connections between requests, whose client reconnects at no cost.
+  bool gives_way_first = false;
 };
 
 struct AdmissionLimits {
@@ -37,7 +41,8 @@ struct Admission {
 
 // A new connection from `address`: admitted at once below both limits; at its address's limit
 // it replaces that address's own connection idle longest, else is refused; at max_clients it
-// replaces the connection idle longest of any address, else is refused.
+// replaces the connection idle longest of any address, else is refused. "Idle longest" puts
+// those that give way first before the others.
 Admission admit_connection(std::span<const OpenConnection> open, std::string_view address,
                            AdmissionLimits limits);
 

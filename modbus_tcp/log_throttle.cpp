@@ -60,6 +60,11 @@ std::vector<SuppressedProblems> LogThrottle::take_summaries(Clock::time_point no
   return std::exchange(summaries_, {});
 }
 
+bool LogThrottle::tracks(std::string_view address) const {
+  return std::any_of(windows_.begin(), windows_.end(),
+                     [&](const Window& w) { return w.address == address; });
+}
+
 std::optional<LogThrottle::Clock::time_point> LogThrottle::next_summary_due() const {
   std::optional<Clock::time_point> due;
   for (const Window& w : windows_)

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace tiltgate {
@@ -40,6 +41,9 @@ class LogThrottle {
   // The end of the earliest interval that has counted problems; none when nothing is counted.
   std::optional<Clock::time_point> next_summary_due() const;
   std::size_t tracked_addresses() const { return windows_.size(); }
+  // Whether `address` had a problem in its current interval (or the one before, until the
+  // next call that ends intervals).
+  bool tracks(std::string_view address) const;
 
  private:
   struct Window {

@@ -24,23 +24,6 @@ namespace {
 
 constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
 
-std::string peer_of(const tcp::socket& socket) {
-  boost::system::error_code ec;
-  const tcp::endpoint peer = socket.remote_endpoint(ec);
-  if (ec) return "(unknown peer)";
-  const asio::ip::address address = canonical_ip(peer.address());
-  if (address.is_v6()) return fmt::format("[{}]:{}", address.to_string(), peer.port());
-  return fmt::format("{}:{}", address.to_string(), peer.port());
-}
-
-// The client's address without its port: what a flood of connections has in common, and what
-// max_clients_per_host counts.
-std::string address_of(const tcp::socket& socket) {
-  boost::system::error_code ec;
-  const tcp::endpoint peer = socket.remote_endpoint(ec);
-  return ec ? "(unknown peer)" : canonical_ip(peer.address()).to_string();
-}
-
 }  // namespace
 
 ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHandler& handler,
@@ -51,7 +34,7 @@ ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHa
       options_(std::move(options)),
       acceptor_(executor),
       tls_acceptor_(executor),
-      problem_log_(executor, options_),
+      problem_log_(executor, "Modbus TCP", options_.current()->problem_log),
       connection_context_{
           .handler = handler,
           .handler_executor = executor,

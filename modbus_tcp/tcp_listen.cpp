@@ -54,4 +54,19 @@ boost::asio::ip::address canonical_ip(const boost::asio::ip::address& address) {
   return address;
 }
 
+std::string peer_of(const tcp::socket& socket) {
+  boost::system::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  if (ec) return "(unknown peer)";
+  const asio::ip::address address = canonical_ip(peer.address());
+  if (address.is_v6()) return fmt::format("[{}]:{}", address.to_string(), peer.port());
+  return fmt::format("{}:{}", address.to_string(), peer.port());
+}
+
+std::string address_of(const tcp::socket& socket) {
+  boost::system::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  return ec ? "(unknown peer)" : canonical_address(peer.address());
+}
+
 }  // namespace tiltgate

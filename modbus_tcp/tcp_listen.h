@@ -25,4 +25,11 @@ inline std::string canonical_address(const boost::asio::ip::address& address) {
   return canonical_ip(address).to_string();
 }
 
+// A connected socket's peer for the log, "127.0.0.1:50312" or "[::1]:50312"; "(unknown peer)"
+// when it has gone already.
+std::string peer_of(const boost::asio::ip::tcp::socket& socket);
+// Its address without the port (canonical_address()): what a flood of connections has in
+// common, and what max_clients_per_host counts.
+std::string address_of(const boost::asio::ip::tcp::socket& socket);
+
 }  // namespace tiltgate

@@ -13,6 +13,9 @@
 #include <boost/beast/http/write.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <vector>
+
+#include "modbus_tcp/connection_admission.h"
 
 namespace tiltgate {
 
@@ -20,6 +23,7 @@ namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace http = beast::http;
 using asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
 
 namespace {
 
@@ -28,12 +32,29 @@ constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
 }  // namespace
 
 struct HttpServer::Connection {
-  explicit Connection(tcp::socket socket) : stream(std::move(socket)) {}
+  Connection(tcp::socket socket, std::string address, bool from_troubled_address)
+      : peer(peer_of(socket)),
+        address(std::move(address)),
+        from_troubled_address(from_troubled_address),
+        waiting_since(Clock::now()),
+        stream(std::move(socket)) {}
   void close() {
+    closed = true;
     boost::system::error_code ec;
     stream.socket().shutdown(tcp::socket::shutdown_both, ec);
     stream.socket().close(ec);
   }
+  const std::string peer;     // "127.0.0.1:50312", for the log
+  const std::string address;  // without the port: what max_clients_per_host counts
+  // Clients from its address were closed for cause lately (a flood reconnecting from many
+  // addresses, say): while it waits, it gives way before the others.
+  const bool from_troubled_address;
+  // Waiting for a whole request since `waiting_since` (its accept, or its last response sent):
+  // while it waits, a new client may close it to make room.
+  bool waiting = true;
+  Clock::time_point waiting_since;
+  bool served = false;  // it has answered a request: kept alive, it gives way first too
+  bool closed = false;  // by stop() or to make room: its coroutine ends on a later loop turn
   beast::tcp_stream stream;
 };
 
@@ -43,7 +64,8 @@ HttpServer::HttpServer(asio::any_io_executor executor, StatusSource status,
       status_(std::move(status)),
       options_(std::move(options)),
       history_(std::move(history)),
-      acceptor_(executor) {}
+      acceptor_(executor),
+      problem_log_(executor, "HTTP", LogThrottleOptions{}) {}
 
 HttpServer::~HttpServer() = default;
 
@@ -52,6 +74,7 @@ Expected<Done, std::string> HttpServer::start() {
   if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "HTTP"); !listening)
     return listening;
   asio::co_spawn(executor_, accept_clients(), asio::detached);
+  problem_log_.start();
   return Done{};
 }
 
@@ -64,6 +87,7 @@ std::uint16_t HttpServer::local_port() const {
 void HttpServer::stop() {
   boost::system::error_code ec;
   acceptor_.close(ec);
+  problem_log_.stop();
   for (const auto& connection : connections_) connection->close();
 }
 
@@ -80,23 +104,81 @@ asio::awaitable<void> HttpServer::accept_clients() {
       co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       continue;
     }
-    const auto peer = socket.remote_endpoint(ec);
-    if (ec || !options_.allow.allows(canonical_address(peer.address()))) {
+    const std::string address = address_of(socket);
+    if (!options_.allow.allows(address)) {
       ++stats_.denied;
-      spdlog::debug("HTTP client {} refused: not in [http] allow",
-                    ec ? std::string("(unknown peer)") : peer.address().to_string());
+      spdlog::debug("HTTP client {} refused: not in [http] allow", address);
       socket.close(ec);
       continue;
     }
-    if (connections_.size() >= std::size_t(options_.max_clients)) {
-      ++stats_.refused;
+    if (!admit(socket, address)) {
       socket.close(ec);
       continue;
     }
     ++stats_.accepted;
-    auto connection = std::make_shared<Connection>(std::move(socket));
+    auto connection = std::make_shared<Connection>(std::move(socket), address,
+                                                   problem_log_.had_problems(address));
     connections_.insert(connection);
     asio::co_spawn(executor_, serve(connection), asio::detached);
+  }
+}
+
+bool HttpServer::admit(tcp::socket& socket, const std::string& address) {
+  // Connections closed for an earlier client may still be winding down: they hold no place.
+  std::vector<Connection*> live;
+  std::vector<OpenConnection> open;
+  for (const auto& connection : connections_) {
+    if (connection->closed) continue;
+    live.push_back(connection.get());
+    // A new client's request may take a round trip to come; if the clients flooding the port
+    // (from many addresses) went strictly by age, a burst of them could close it meanwhile.
+    open.push_back({connection->address, connection->waiting, connection->waiting_since,
+                    connection->served || connection->from_troubled_address});
+  }
+  const Admission admission = admit_connection(
+      open, address,
+      {std::size_t(options_.max_clients), std::size_t(options_.max_clients_per_host)});
+  const std::string_view limit = admission.limit == AdmissionLimit::max_clients_per_host
+                                     ? "max_clients_per_host"
+                                     : "max_clients";
+  if (!admission.admitted) {
+    ++stats_.closed.refused;
+    problem_log_.log_closing(peer_of(socket), address, spdlog::level::warn,
+                             fmt::format("{} reached and every connection busy answering", limit));
+    return false;
+  }
+  if (admission.replaced) {
+    Connection& replaced = *live[*admission.replaced];
+    ++stats_.closed.replaced;
+    const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(
+        Clock::now() - replaced.waiting_since);
+    // A kept-alive connection left idle is no fault of its client: counted, not held against it.
+    if (!replaced.served)
+      problem_log_.log_closing(
+          replaced.peer, replaced.address, spdlog::level::info,
+          fmt::format("{} ms without a whole request, replaced by {} ({})", waited.count(),
+                      peer_of(socket), limit));
+    replaced.close();
+  }
+  return true;
+}
+
+void HttpServer::count_unserved(Connection& connection, boost::system::error_code ec,
+                                bool got_some) {
+  // Closed to make room or by stop(): counted there. Gone between requests: a normal end.
+  if (connection.closed || ec == http::error::end_of_stream) return;
+  if (ec == beast::error::timeout) {
+    if (connection.served && !got_some) return;  // kept alive, then left idle: a normal end
+    ++stats_.closed.timed_out;
+    problem_log_.log_closing(connection.peer, connection.address, spdlog::level::warn,
+                             fmt::format("no whole request within {} ms",
+                                         options_.request_timeout.count()));
+  } else if (ec.category() == http::make_error_code(http::error::bad_target).category() &&
+             ec != http::error::partial_message) {
+    // Malformed or too large (a client that hung up mid-request is not counted).
+    ++stats_.closed.bad_request;
+    problem_log_.log_closing(connection.peer, connection.address, spdlog::level::warn,
+                             ec.message());
   }
 }
 
@@ -106,14 +188,14 @@ asio::awaitable<void> HttpServer::serve(std::shared_ptr<Connection> connection) 
     http::request_parser<http::string_body> parser;
     parser.header_limit(std::uint32_t(options_.max_request_bytes));
     parser.body_limit(options_.max_request_bytes);
-    // The whole request must be in within the time-out: a client trickling bytes is dropped.
+    // The whole request must be in within the time-out from the connection or the previous
+    // response, however the bytes trickle in: a client sending a byte a second is dropped.
     connection->stream.expires_after(options_.request_timeout);
     boost::system::error_code ec;
     co_await http::async_read(connection->stream, buffer, parser,
                               asio::redirect_error(asio::use_awaitable, ec));
     if (ec) {
-      // The client closed between requests: the normal end of a connection.
-      if (ec != http::error::end_of_stream) ++stats_.dropped;
+      count_unserved(*connection, ec, parser.got_some());
       if (ec == http::error::header_limit || ec == http::error::body_limit) {
         http::response<http::string_body> too_large{http::status::payload_too_large, 11};
         too_large.set(http::field::content_type, "text/plain; charset=utf-8");
@@ -125,6 +207,8 @@ asio::awaitable<void> HttpServer::serve(std::shared_ptr<Connection> connection) 
       }
       break;
     }
+    if (connection->closed) break;  // made room for another after its request came in
+    connection->waiting = false;
     ++stats_.requests;
     const auto& request = parser.get();
     const HttpReply reply = route_http(std::string_view(request.method_string().data(),
@@ -143,9 +227,13 @@ asio::awaitable<void> HttpServer::serve(std::shared_ptr<Connection> connection) 
     response.body() = reply.body;
     response.prepare_payload();
     if (request.method() == http::verb::head) response.body().clear();
+    connection->stream.expires_after(options_.request_timeout);  // a client that takes nothing
     co_await http::async_write(connection->stream, response,
                                asio::redirect_error(asio::use_awaitable, ec));
     if (ec || !response.keep_alive()) break;
+    connection->served = true;
+    connection->waiting = true;
+    connection->waiting_since = Clock::now();
   }
   connection->close();
   connections_.erase(connection);

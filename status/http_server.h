@@ -1,8 +1,14 @@
-// The read-only HTTP server of the status API and metrics (docs/northbound.md, "HTTP status API and
+// The read-only HTTP status API and metrics (docs/northbound.md, "HTTP status API and
 // metrics"), HTTP/1.1 with Boost.Beast on the gateway's event loop. One coroutine per
 // connection; each request is answered from a status copy taken at once, so it never waits
-// for a bus. A client that does not send a whole request in time, sends too much, or comes
-// when max_clients are connected is closed: it only ever holds up itself.
+// for a bus. A client that does not send a whole request in time, or sends too much, is closed:
+// it only ever holds up itself. Places are shared as the Modbus TCP server shares them
+// (modbus_tcp/connection_admission.h): one address holds at most max_clients_per_host, and a
+// full server makes room for a new client by closing the connection that has waited longest
+// without a whole request (kept-alive ones between requests, and those from an address whose
+// clients were closed for cause lately, first); one that is being answered is never closed for
+// this. What is closed for cause is counted and logged, throttled per
+// address (modbus_tcp/client_problem_log.h).
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -16,6 +22,8 @@
 
 #include "config/address_allow_list.h"
 #include "driver/expected.h"
+#include "gateway/gateway_status.h"
+#include "modbus_tcp/client_problem_log.h"
 #include "status/http_routes.h"
 
 namespace tiltgate {
@@ -23,9 +31,10 @@ namespace tiltgate {
 struct HttpServerOptions {
   std::string listen = "127.0.0.1";  // an IP address literal (IPv4 or IPv6)
   std::uint16_t port = 8080;         // 0 picks a free port (tests); see local_port()
-  int max_clients = 16;              // the next client is accepted and closed at once
-  // From the first byte (or the connection) to the end of a request's header; and the most
-  // an idle kept-alive connection stays open.
+  int max_clients = 16;           // then a new client makes room, or is accepted and closed
+  int max_clients_per_host = 8;   // from one address; its next replaces its own, or is closed
+  // From the connection (or the end of the previous response) to the end of a whole request:
+  // bytes trickling in do not extend it. Also the most a response may take to be sent.
   std::chrono::milliseconds request_timeout{5000};
   std::size_t max_request_bytes = 8192;  // header and body together; more: 400 and closed
   AddressAllowList allow;                // other clients are closed at accept
@@ -33,10 +42,9 @@ struct HttpServerOptions {
 
 struct HttpServerStats {
   std::uint64_t accepted = 0;
-  std::uint64_t refused = 0;    // max_clients reached
   std::uint64_t denied = 0;     // address not in allow
   std::uint64_t requests = 0;
-  std::uint64_t dropped = 0;    // closed for a time-out or a malformed or oversized request
+  HttpClientsClosed closed;     // for cause: refused, replaced, timed out, bad request
 };
 
 // Everything runs on `executor`, which must be single-threaded. Call stop() and let the event
@@ -59,7 +67,12 @@ class HttpServer {
   struct Connection;
 
   boost::asio::awaitable<void> accept_clients();
+  // Admits the new client `socket` within the limits, making room if it must; false: refused.
+  bool admit(boost::asio::ip::tcp::socket& socket, const std::string& address);
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
+  // A connection that ended without a whole request: counted and logged, unless it was closed
+  // for another reason already or was a kept-alive one simply left idle.
+  void count_unserved(Connection& connection, boost::system::error_code ec, bool got_some);
 
   boost::asio::any_io_executor executor_;
   StatusSource status_;
@@ -68,6 +81,7 @@ class HttpServer {
   boost::asio::ip::tcp::acceptor acceptor_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   HttpServerStats stats_;
+  ClientProblemLog problem_log_;
 };
 
 }  // namespace tiltgate

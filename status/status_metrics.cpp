@@ -286,6 +286,17 @@ std::string metrics_text(const GatewayStatus& status) {
   }
   for (const GatewaySingle& single : kModbusSingles)
     out.single(single.name, single.type, single.help, single.value(status));
+  out.family("tiltgate_http_clients_closed_total", "counter",
+             "HTTP connections closed for cause since [http] last started, by reason: refused "
+             "(max_clients or max_clients_per_host reached, every connection busy answering), "
+             "replaced (waiting for a whole request, closed to make room for a new client), "
+             "timeout (no whole request within the request time-out), bad_request (malformed "
+             "or too large)");
+  const HttpClientsClosed& closed = status.http_clients_closed;
+  out.sample("reason=\"refused\"", double(closed.refused));
+  out.sample("reason=\"replaced\"", double(closed.replaced));
+  out.sample("reason=\"timeout\"", double(closed.timed_out));
+  out.sample("reason=\"bad_request\"", double(closed.bad_request));
   out.family("tiltgate_modbus_requests_total", "counter",
              "Modbus TCP requests answered, by function code (two hex digits)");
   for (const ModbusFunctionCount& f : status.modbus_requests)

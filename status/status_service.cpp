@@ -24,6 +24,7 @@ void StatusService::make_http(const HistoryRecorder* previous) {
   http.listen = config_.listen;
   http.port = config_.port;
   http.allow = config_.allow;
+  http.max_clients_per_host = config_.max_clients_per_host;
   make_history(previous);
   http_ = std::make_unique<HttpServer>(
       gateway_.executor(), status_, http,

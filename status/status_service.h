@@ -32,6 +32,10 @@ class StatusService final : public GatewayService {
 
   // Clients refused for [http] allow; 0 while the server is off.
   std::uint64_t connections_denied() const { return http_ ? http_->stats().denied : 0; }
+  // Clients closed for cause (limits, time-outs, bad requests); none while the server is off.
+  HttpClientsClosed clients_closed() const {
+    return http_ ? http_->stats().closed : HttpClientsClosed{};
+  }
   // The bound port; 0 when [http] is off or its port could not be bound.
   std::uint16_t port() const { return http_ ? http_->local_port() : 0; }
 

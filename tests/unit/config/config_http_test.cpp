@@ -64,3 +64,12 @@ TEST_CASE("config: [http] history keys are read and bounded to 600 samples per s
                "10 s of history every 6000 ms is fewer than 2 samples, expected a "
                "history_interval_ms of at most half of history_seconds");
 }
+
+TEST_CASE("config: [http] max_clients_per_host is 8 by default, read, and at most the server's 16") {
+  CHECK(loads(valid_plus("")).http.max_clients_per_host == 8);
+  CHECK(loads("[http]\nmax_clients_per_host = 2\n" + valid_plus("")).http.max_clients_per_host == 2);
+  expect_error("[http]\nmax_clients_per_host = 17\n" + valid_plus(""), 2,
+               "http.max_clients_per_host", "17 is out of range, expected 1..16");
+  expect_error("[http]\nmax_clients_per_host = 0\n" + valid_plus(""), 2,
+               "http.max_clients_per_host", "0 is out of range, expected 1..16");
+}

@@ -68,3 +68,14 @@ TEST_CASE("admission: an address at its cap with none of its own idle is refused
   // Another address still gets in.
   CHECK(admit_connection(open, "10.0.0.8", {32, 2}).admitted);
 }
+
+TEST_CASE("admission: a kept-alive connection between requests gives way before one idle longer") {
+  // 10.0.0.1 has waited longest for a first request; 10.0.0.3, served and kept alive, goes first.
+  OpenConnection kept_alive = idle("10.0.0.3", 7);
+  kept_alive.gives_way_first = true;
+  const std::vector<OpenConnection> open{idle("10.0.0.1", 0), idle("10.0.0.2", 3), kept_alive};
+  const Admission a = admit_connection(open, "10.0.0.9", {3, 8});
+  CHECK(a.admitted);
+  REQUIRE(a.replaced.has_value());
+  CHECK(*a.replaced == 2);
+}

@@ -101,3 +101,13 @@ TEST_CASE("log throttle: the next summary is due when the earliest counting inte
   REQUIRE(throttle.next_summary_due().has_value());
   CHECK(*throttle.next_summary_due() == t0 + 10s);
 }
+
+TEST_CASE("log throttle: it tells an address with problems in its interval from one without") {
+  LogThrottle throttle;
+  CHECK_FALSE(throttle.tracks("10.0.0.5"));
+  throttle.admit("10.0.0.5", t0);
+  CHECK(throttle.tracks("10.0.0.5"));
+  CHECK_FALSE(throttle.tracks("10.0.0.6"));
+  CHECK(throttle.take_summaries(t0 + 60s).empty());
+  CHECK_FALSE(throttle.tracks("10.0.0.5"));  // quiet for its interval: forgotten
+}

@@ -79,6 +79,7 @@ GatewayStatus plant() {
   status.modbus_connections_denied = 4;
   status.modbus_writes_denied = 5;
   status.http_connections_denied = 2;
+  status.http_clients_closed = {.refused = 7, .replaced = 8, .timed_out = 9, .bad_request = 10};
   status.modbus_tls_refused = 6;
   status.modbus_requests = {{0x03, 7}, {0x2B, 1}};
   status.modbus_exceptions = {{0x03, 0x02, 1}};
@@ -295,4 +296,14 @@ TEST_CASE("HTTP routes: read-only, known endpoints only, unknown sensors 404") {
   const HttpReply metrics = route_http("GET", "/metrics", status);
   CHECK(metrics.content_type == kMetricsContentType);
   CHECK(metrics.body == metrics_text(plant()));
+}
+
+TEST_CASE("metrics: HTTP clients closed for cause are counted by reason") {
+  const std::string text = metrics_text(plant());
+  CHECK(text.find("# TYPE tiltgate_http_clients_closed_total counter\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_clients_closed_total{reason=\"refused\"} 7\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_clients_closed_total{reason=\"replaced\"} 8\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_clients_closed_total{reason=\"timeout\"} 9\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_clients_closed_total{reason=\"bad_request\"} 10\n") !=
+        std::string::npos);
 }
