@@ -87,6 +87,7 @@ class EdgeNode {
   std::chrono::steady_clock::time_point malformed_logged_at_{};
   std::chrono::steady_clock::time_point refusal_logged_at_{};
   std::chrono::steady_clock::time_point store_error_logged_at_{};
+  std::chrono::steady_clock::time_point bd_seq_error_logged_at_{};
   std::uint64_t drops_logged_ = 0;
   std::chrono::steady_clock::time_point drops_logged_at_{};
 };
