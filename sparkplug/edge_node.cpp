@@ -162,7 +162,7 @@ std::optional<MqttWill> EdgeNode::begin_connect() {
   // (tck-id-topics-nbirth-bdseq-increment). One the disk refuses does not keep the node
   // offline: the session's next bdSeq, held in memory, still goes up by one at each CONNECT,
   // which is what a host needs to see it alive; only a restart before it is stored may use a
-  // value again (docs/northbound.md, "bdSeq").
+  // value again (docs/northbound.md, "What a host sees").
   if (auto stored = write_bd_seq(dir_ / "bdSeq", will.bd_seq); !stored) {
     if (due(bd_seq_error_logged_at_, std::chrono::steady_clock::now()))
       spdlog::error("Sparkplug: bdSeq {} not stored ({}); connecting with it all the same, a "

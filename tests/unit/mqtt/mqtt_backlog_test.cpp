@@ -201,10 +201,7 @@ TEST_CASE("mqtt backlog on disk: a directory where the lock file should be is re
 
 TEST_CASE("mqtt backlog on disk: on a full disk the newest are kept in memory and the oldest dropped, each counted") {
   SmallDisk disk;
-  if (!disk.available()) {
-    MESSAGE("needs root for a tmpfs: skipped");
-    return;
-  }
+  if (no_small_disk(disk)) return;
   auto opened = StoredBacklog::open(disk.path("mqtt"), {16 * kStoredBytes, std::nullopt}, 1);
   REQUIRE(opened.has_value());
   StoredBacklog& backlog = *opened;

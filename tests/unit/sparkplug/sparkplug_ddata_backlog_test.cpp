@@ -14,6 +14,7 @@ using namespace tiltgate::sparkplug;
 using namespace tiltgate::sparkplug::test;
 using tiltgate::test::ScratchDir;
 using tiltgate::test::SmallDisk;
+using tiltgate::test::no_small_disk;
 
 namespace {
 
@@ -167,10 +168,7 @@ TEST_CASE("backlog: what was kept and not replayed survives a reopen, what was r
 
 TEST_CASE("backlog: on a full disk the DDATA are kept in memory, the oldest dropped when full, and every one not kept is counted") {
   SmallDisk disk;
-  if (!disk.available()) {
-    MESSAGE("needs root for a tmpfs: skipped");
-    return;
-  }
+  if (no_small_disk(disk)) return;
   auto backlog = DdataBacklog::open(disk.path("store"), 8192);
   REQUIRE(backlog.has_value());
   LiveSession live;

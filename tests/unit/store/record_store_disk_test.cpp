@@ -24,17 +24,20 @@ std::pair<int, int> count(const std::vector<StoreNotice>& notices) {
   return {problems, static_cast<int>(notices.size()) - problems};
 }
 
+// A store on `disk` holding records 0..on_disk-1, then the disk filled.
+RecordStore store_on_full_disk(SmallDisk& disk, int on_disk) {
+  auto store = open_store(disk.path("store"));
+  append(store, 0, on_disk);
+  disk.fill();
+  return store;
+}
+
 }  // namespace
 
 TEST_CASE("a store whose disk fills keeps what it refuses in memory, in order, and writes it out once there is room") {
   SmallDisk disk;
-  if (!disk.available()) {
-    MESSAGE("needs root for a tmpfs: skipped");
-    return;
-  }
-  auto store = open_store(disk.path("store"));
-  append(store, 0, 3);
-  disk.fill();
+  if (no_small_disk(disk)) return;
+  auto store = store_on_full_disk(disk, 3);
   append(store, 3, 12);  // segments 2 and 3 cannot be made: 5..11 wait in memory
   CHECK(store.disk_fault().has_value());
   CHECK(store.in_memory() >= 7);
@@ -57,13 +60,8 @@ TEST_CASE("a store whose disk fills keeps what it refuses in memory, in order, a
 
 TEST_CASE("with the disk full, a store over its budget drops its oldest records first, each counted") {
   SmallDisk disk;
-  if (!disk.available()) {
-    MESSAGE("needs root for a tmpfs: skipped");
-    return;
-  }
-  auto store = open_store(disk.path("store"));
-  append(store, 0, 10);  // two segments on disk
-  disk.fill();
+  if (no_small_disk(disk)) return;
+  auto store = store_on_full_disk(disk, 10);  // two segments on disk
   append(store, 10, 40);  // in memory, over the budget of 20 records
   CHECK(store.records() <= 20);
   CHECK(store.dropped() == 40 - store.records());
@@ -74,14 +72,9 @@ TEST_CASE("with the disk full, a store over its budget drops its oldest records 
 
 TEST_CASE("a replay whose cursor the full disk refuses goes on from its place in memory, and saves it once there is room") {
   SmallDisk disk;
-  if (!disk.available()) {
-    MESSAGE("needs root for a tmpfs: skipped");
-    return;
-  }
+  if (no_small_disk(disk)) return;
   {
-    auto store = open_store(disk.path("store"));
-    append(store, 0, 14);
-    disk.fill();
+    auto store = store_on_full_disk(disk, 14);
     CHECK(numbers(store.peek(4).value()) == range(0, 4));
     REQUIRE(store.pop(4).has_value());
     CHECK(numbers(store.peek(4).value()) == range(4, 8));  // not 0..3 again
@@ -99,7 +92,7 @@ TEST_CASE("a replay whose cursor the full disk refuses goes on from its place in
   CHECK(numbers(everything(reopened)) == range(8, 14));
 }
 
-TEST_CASE("an empty directory where the cursor should be is removed; the store opens and replays from the oldest") {
+TEST_CASE("an empty directory where the cursor should be is removed, and the store opens and replays from the oldest") {
   SmallDisk disk;  // any directory would do; the tmpfs is a scratch one
   const fs::path dir = disk.available() ? disk.path("store")
                                         : fs::temp_directory_path() / "tiltgate-store-cursor-dir";
