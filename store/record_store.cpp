@@ -1,95 +1,20 @@
+// RecordStore at work (store/record_store.h): appends, the budget, the replay and its cursor,
+// and what a disk that refuses costs; opening is record_store_open.cpp's.
 #include "store/record_store.h"
 
 #include <fcntl.h>
 
 #include <algorithm>
-#include <array>
 #include <cstdio>
-#include <map>
-#include <optional>
 #include <system_error>
 #include <utility>
 
-#include "store/crc32.h"
+#include "store/store_layout.h"
 
 namespace tiltgate::store {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The first bytes of every segment file: a file of the store, in this format.
-constexpr std::array<std::uint8_t, 8> kSegmentMagic = {'t', 'g', 's', 't', 'o', 'r', 'e', '1'};
-constexpr std::uint64_t kSegmentHeaderBytes = kSegmentMagic.size();
-// The cursor file: a magic, the segment id and offset the replay has reached, their CRC-32.
-constexpr std::array<std::uint8_t, 8> kCursorMagic = {'t', 'g', 'c', 'u', 'r', 's', 'o', 'r'};
-constexpr std::size_t kCursorBytes = 8 + 8 + 8 + 4;
-constexpr const char* kCursorName = "cursor";
-constexpr std::size_t kIdDigits = 20;
-
-void put_u64(std::vector<std::uint8_t>& out, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-}
-
-std::uint64_t get_u64(std::span<const std::uint8_t> in) {
-  std::uint64_t v = 0;
-  for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(in[i]) << (8 * i);
-  return v;
-}
-
-// The id in a segment file's name (twenty digits, ".seg"), none for any other file.
-std::optional<std::uint64_t> segment_id(const fs::path& path) {
-  const std::string name = path.filename().string();
-  if (name.size() != kIdDigits + 4 || name.substr(kIdDigits) != ".seg") return std::nullopt;
-  std::uint64_t id = 0;
-  for (std::size_t i = 0; i < kIdDigits; ++i) {
-    if (name[i] < '0' || name[i] > '9') return std::nullopt;
-    id = id * 10 + static_cast<std::uint64_t>(name[i] - '0');
-  }
-  return id;
-}
-
-struct Cursor {
-  std::uint64_t id = 0;
-  std::uint64_t offset = 0;
-};
-
-std::optional<Cursor> parse_cursor(std::span<const std::uint8_t> bytes) {
-  if (bytes.size() != kCursorBytes ||
-      !std::equal(kCursorMagic.begin(), kCursorMagic.end(), bytes.begin())) {
-    return std::nullopt;
-  }
-  std::uint32_t crc = 0;
-  for (int i = 0; i < 4; ++i) crc |= static_cast<std::uint32_t>(bytes[24 + i]) << (8 * i);
-  if (crc32(bytes.first(24)) != crc) return std::nullopt;
-  return Cursor{get_u64(bytes.subspan(8, 8)), get_u64(bytes.subspan(16, 8))};
-}
-
-// "1 record", "3 records".
-std::string records_text(std::uint64_t n) {
-  return std::to_string(n) + (n == 1 ? " record" : " records");
-}
-
-// The whole records in `all` after a damaged one at `from`, found by trying each later byte as
-// the start of a frame: a frame's CRC-32 makes a false find as unlikely as a missed error.
-std::uint64_t whole_records_after(std::span<const std::uint8_t> all, std::uint64_t from) {
-  std::uint64_t found = 0;
-  std::uint64_t at = from + 1;
-  while (at + kFrameHeaderBytes + kBodyFixedBytes <= all.size()) {
-    const auto rest = all.subspan(at);
-    const std::uint32_t body = frame_body_length(rest);
-    if (body >= kBodyFixedBytes && body <= rest.size() - kFrameHeaderBytes &&
-        rest[kFrameHeaderBytes] == kFrameFormat) {
-      const FrameRead frame = read_frame(rest);
-      if (frame.status == FrameStatus::whole) {
-        ++found;
-        at += frame.size;
-        continue;
-      }
-    }
-    ++at;
-  }
-  return found;
-}
 
 }  // namespace
 
@@ -104,126 +29,6 @@ std::filesystem::path RecordStore::segment_path(std::uint64_t id) const {
   char name[kIdDigits + 5];
   std::snprintf(name, sizeof name, "%020llu.seg", static_cast<unsigned long long>(id));
   return dir_ / name;
-}
-
-Expected<RecordStore, std::string> RecordStore::open(const std::filesystem::path& dir,
-                                                     StoreOptions options) {
-  options.segment_bytes = std::min(options.segment_bytes, options.budget_bytes / 2);
-  if (options.segment_bytes < kSegmentHeaderBytes + kFrameHeaderBytes + kBodyFixedBytes + 64) {
-    return Unexpected(std::string("the store's budget is too small to hold a segment"));
-  }
-  options.sync_every = std::max<std::size_t>(options.sync_every, 1);
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (error) return Unexpected("cannot create " + dir.string() + ": " + error.message());
-  RecordStore store(dir, options);
-  const std::string cursor_tmp = std::string(kCursorName) + ".tmp";
-  for (const std::string& name : {std::string(kCursorName), cursor_tmp}) {
-    auto cleared = clear_way_for_file(dir / name);
-    if (!cleared) return Unexpected(cleared.error());
-    if (*cleared) store.repairs_.push_back(**cleared);
-  }
-  fs::remove(dir / cursor_tmp, error);  // a cursor write cut short
-
-  std::optional<Cursor> cursor;
-  if (fs::exists(dir / kCursorName, error)) {
-    auto bytes = read_whole(dir / kCursorName);
-    if (!bytes) return Unexpected(bytes.error());
-    cursor = parse_cursor(*bytes);
-    if (!cursor)
-      store.repairs_.push_back("cursor: unreadable, the replay starts at the oldest record");
-  }
-  auto scanned =
-      store.scan_existing(cursor ? cursor->id : 0, cursor ? cursor->offset : 0, cursor.has_value());
-  if (!scanned) return Unexpected(scanned.error());
-  if (auto synced = sync_directory(dir); !synced) return Unexpected(synced.error());
-  return store;
-}
-
-Expected<Done, std::string> RecordStore::scan_existing(std::uint64_t cursor_id,
-                                                       std::uint64_t cursor_offset,
-                                                       bool have_cursor) {
-  // New segments get ids past every file's and the cursor's: one numbered below the cursor
-  // would be taken for replayed at the next open.
-  if (have_cursor) next_id_ = std::max(next_id_, cursor_id + 1);
-  std::map<std::uint64_t, fs::path> files;
-  std::error_code error;
-  std::vector<fs::path> in_the_way;  // directories with a segment's name
-  for (const auto& entry : fs::directory_iterator(dir_, error)) {
-    if (auto id = segment_id(entry.path())) {
-      std::error_code type_error;
-      if (entry.symlink_status(type_error).type() == fs::file_type::directory)
-        in_the_way.push_back(entry.path());
-      else
-        files[*id] = entry.path();
-    }
-  }
-  if (error) return Unexpected("cannot list " + dir_.string() + ": " + error.message());
-  for (const fs::path& path : in_the_way) {
-    auto cleared = clear_way_for_file(path);
-    if (!cleared) return Unexpected(cleared.error());
-    if (*cleared) repairs_.push_back(**cleared);
-  }
-  for (const auto& [id, path] : files) {
-    next_id_ = std::max(next_id_, id + 1);
-    if (have_cursor && id < cursor_id) {  // replayed, and its deletion was cut short
-      fs::remove(path, error);
-      continue;
-    }
-    auto bytes = read_whole(path);
-    if (!bytes) return Unexpected(bytes.error());
-    const std::span<const std::uint8_t> all(*bytes);
-    if (all.size() < kSegmentHeaderBytes ||
-        !std::equal(kSegmentMagic.begin(), kSegmentMagic.end(), all.begin())) {
-      repairs_.push_back(path.filename().string() + ": no segment header, removed");
-      fs::remove(path, error);
-      continue;
-    }
-    Segment segment{id, kSegmentHeaderBytes, 0};
-    const bool cursor_here = have_cursor && id == cursor_id;
-    std::uint64_t before_cursor = 0;
-    while (segment.size < all.size()) {
-      const FrameRead frame = read_frame(all.subspan(segment.size));
-      if (frame.status != FrameStatus::whole) {
-        const std::uint64_t lost = 1 + whole_records_after(all, segment.size);
-        lost_ += lost;
-        repairs_.push_back(path.filename().string() + ": cut at byte " +
-                           std::to_string(segment.size) +
-                           (frame.status == FrameStatus::cut_short ? ": a record cut short"
-                                                                   : ": a corrupt record") +
-                           ", " + records_text(lost) + " lost");
-        if (auto cut = truncate_file(path, segment.size); !cut) return cut;
-        break;
-      }
-      if (cursor_here && segment.size < cursor_offset) ++before_cursor;
-      segment.size += frame.size;
-      ++segment.records;
-    }
-    // Without the cursor's segment (replayed and removed) the replay starts at the oldest.
-    if (cursor_here) cursor_index_ = before_cursor;
-    segments_.push_back(segment);
-    bytes_ += segment.size;
-    records_ += segment.records;
-  }
-  // The cursor sits after its record count in the front segment; segments replayed to their
-  // end go (the last one too: appends start a new segment).
-  Position front{0, kSegmentHeaderBytes, 0};
-  cursor_offset_ = kSegmentHeaderBytes;
-  for (std::uint64_t i = 0; i < cursor_index_; ++i) {
-    auto frame = read_at(front);
-    if (!frame) return Unexpected(frame.error());
-  }
-  cursor_offset_ = front.offset;
-  while (!segments_.empty() && cursor_index_ == segments_.front().records &&
-         (segments_.size() > 1 || segments_.front().records > 0)) {
-    forget_front();
-  }
-  if (!segments_.empty()) {
-    auto fd = open_file(segment_path(segments_.back().id), O_WRONLY | O_APPEND);
-    if (!fd) return Unexpected(fd.error());
-    writer_ = std::move(*fd);
-  }
-  return Done{};
 }
 
 Expected<Done, std::string> RecordStore::start_segment() {
@@ -515,12 +320,7 @@ void RecordStore::save_cursor() {
 }
 
 Expected<Done, std::string> RecordStore::write_cursor(std::uint64_t id, std::uint64_t offset) {
-  std::vector<std::uint8_t> bytes(kCursorMagic.begin(), kCursorMagic.end());
-  put_u64(bytes, id);
-  put_u64(bytes, offset);
-  const std::uint32_t crc = crc32(bytes);
-  for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<std::uint8_t>(crc >> (8 * i)));
-  return replace_file(dir_ / kCursorName, bytes);
+  return replace_file(dir_ / kCursorName, cursor_bytes(Cursor{id, offset}));
 }
 
 }  // namespace tiltgate::store
