@@ -76,8 +76,9 @@ struct StoreStats {
   std::string feed;              // "sparkplug", "mqtt"
   std::uint64_t bytes = 0;       // its files' size
   std::uint64_t records = 0;     // kept, not yet replayed
-  std::uint64_t dropped = 0;     // dropped when full, oldest first
+  std::uint64_t dropped = 0;     // dropped when full, oldest first, or refused (too large)
   std::uint64_t replayed = 0;    // published again
+  std::uint64_t lost = 0;        // lost to a damaged file (a corrupt or torn record)
 };
 
 // The MQTT feed's counters (mqtt/mqtt_feed.h), for the metrics (tiltgate_mqtt_*).

@@ -12,6 +12,7 @@
 #include "driver/expected.h"
 #include "gateway/gateway_status.h"
 #include "mqtt/mqtt_message.h"
+#include "store/record_store.h"
 
 namespace tiltgate {
 
@@ -24,8 +25,8 @@ class MqttBacklog {
  public:
   virtual ~MqttBacklog() = default;
 
-  // Keeps `message` after the others, dropping the oldest when full. An error (the disk
-  // full): it is not kept, and counted as dropped.
+  // Keeps `message` after the others, dropping the oldest when full. An error (a message too
+  // large to keep): it is not kept, and counted as dropped.
   virtual Expected<Done, std::string> append(const MqttMessage& message) = 0;
   // The oldest `n` not yet replayed (fewer when there are fewer), in the order appended.
   virtual Expected<std::vector<MqttMessage>, std::string> peek(std::size_t n) = 0;
@@ -34,6 +35,8 @@ class MqttBacklog {
   // What was appended is on the disk (a power cut no longer loses it).
   virtual Expected<Done, std::string> sync() = 0;
   virtual StoreStats stats() const = 0;
+  // What the log should say about its disk since the last call (store/record_store.h).
+  virtual std::vector<store::StoreNotice> take_notices() { return {}; }
   bool empty() const { return stats().records == 0; }
 };
 

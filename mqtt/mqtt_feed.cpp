@@ -22,6 +22,8 @@ constexpr std::size_t kReplayPerTick = 50;
 constexpr std::chrono::seconds kDropLogInterval{30};
 // What was appended to the backlog is synced to the disk this often (and every 64 appends).
 constexpr std::chrono::seconds kSyncInterval{1};
+// A state directory that could not be used is tried again this often: it recovers by itself.
+constexpr std::chrono::seconds kStoreRetryInterval{10};
 // A broker not reached this long after start-up is warned about (once): libmosquitto only
 // reports failed attempts at debug level.
 constexpr std::chrono::seconds kFirstConnectWarning{10};
@@ -55,6 +57,14 @@ MqttClientOptions client_options(const MqttConfig& config) {
 
 BacklogLimits backlog_limits(const MqttConfig& config) {
   return {std::uint64_t(config.buffer_mb * 1024 * 1024), config.backlog};
+}
+
+// Said only when it is the cause: a state_dir of another user, or read-only.
+std::string permission_hint(const std::string& error) {
+  for (const char* cause : {"Permission denied", "Read-only file system", "Operation not permitted"})
+    if (error.find(cause) != std::string::npos)
+      return " (set [mqtt] state_dir to a directory this user may write)";
+  return {};
 }
 
 std::int64_t unix_ms_now() {
@@ -102,6 +112,8 @@ MqttStats MqttFeed::stats() const {
   const std::uint64_t connections = client_.connections();
   StoreStats store = backlog_ ? backlog_->stats() : StoreStats{};
   store.feed = "mqtt";
+  store.dropped += memory_counts_.dropped;
+  store.replayed += memory_counts_.replayed;
   return {published_, store.dropped, static_cast<std::size_t>(store.records), client_.connected(),
           connections > 0 ? connections - 1 : 0, store};
 }
@@ -131,17 +143,44 @@ void MqttFeed::open_backlog() {
     }
     // A state directory this user cannot write (a run without the package, not as root) must
     // not stop the live feed: the backlog is then kept in memory, as before the store, and
-    // said loudly (docs/operations.md, "The state directory").
-    spdlog::error("MQTT: {}; the backlog is kept in memory and lost on a restart (set [mqtt] "
-                  "state_dir to a directory this user may write)",
-                  stored.error());
+    // said loudly (docs/operations.md, "The state directory"); it is tried again meanwhile.
+    spdlog::error("MQTT: {}; the backlog is kept in memory, lost on a restart, and the state "
+                  "directory tried again every {} s{}",
+                  stored.error(), kStoreRetryInterval.count(), permission_hint(stored.error()));
+    store_tried_at_ = Clock::now();
+    store_unused_ = true;
   }
   backlog_ = std::make_unique<MemoryBacklog>(limits);
+}
+
+void MqttFeed::retry_state_dir(Clock::time_point now) {
+  if (!store_unused_ || now - store_tried_at_ < kStoreRetryInterval) return;
+  store_tried_at_ = now;
+  const std::filesystem::path dir = std::filesystem::path(config_.state_dir) / "mqtt";
+  auto stored = StoredBacklog::open(dir, backlog_limits(config_), config_.qos);
+  if (!stored) return;  // said when it first failed
+  for (const std::string& repair : stored->repairs())
+    spdlog::warn("MQTT: backlog {}: {}", dir.string(), repair);
+  // What the memory held goes after what the directory kept: both are replayed, oldest first.
+  replay_.cancel();
+  const StoreStats before = backlog_->stats();
+  auto held = backlog_->peek(before.records);
+  if (held)
+    for (const MqttMessage& message : *held)
+      if (auto appended = stored->append(message); !appended) report_backlog_error(appended.error());
+  // The counters go on from where the memory's stood: a counter never goes back.
+  memory_counts_.dropped += before.dropped;
+  memory_counts_.replayed += before.replayed;
+  spdlog::info("MQTT: the backlog is in {} now: {} messages moved there from memory", dir.string(),
+               held ? held->size() : 0);
+  backlog_ = std::make_unique<StoredBacklog>(std::move(*stored));
+  store_unused_ = false;
 }
 
 void MqttFeed::tick() {
   const auto now = Clock::now();
   if (!backlog_) open_backlog();
+  retry_state_dir(now);
   // Acknowledgements first: they came for messages of the connection they were sent on.
   take_acknowledgements();
   const std::uint64_t connections = client_.connections();
@@ -166,6 +205,7 @@ void MqttFeed::tick() {
   if (connected) replay();
   sync_backlog(now);
   report_drops(now);
+  report_notices();
 }
 
 void MqttFeed::take_acknowledgements() {
@@ -217,13 +257,23 @@ void MqttFeed::sync_backlog(Clock::time_point now) {
 }
 
 void MqttFeed::report_drops(Clock::time_point now) {
-  const std::uint64_t dropped = backlog_->stats().dropped;
+  const std::uint64_t dropped = backlog_->stats().dropped + memory_counts_.dropped;
   if (dropped == drops_reported_ || now - drops_reported_at_ < kDropLogInterval) return;
   spdlog::warn("MQTT: backlog full while the broker is away: {} messages dropped so far "
                "(oldest first)",
                dropped);
   drops_reported_ = dropped;
   drops_reported_at_ = now;
+}
+
+void MqttFeed::report_notices() {
+  // Each is a change (the disk refusing, taking writes again, damage found): said once.
+  for (const store::StoreNotice& notice : backlog_->take_notices()) {
+    if (notice.problem)
+      spdlog::error("MQTT: backlog: {}", notice.text);
+    else
+      spdlog::info("MQTT: backlog: {}", notice.text);
+  }
 }
 
 void MqttFeed::report_backlog_error(const std::string& error) {

@@ -45,6 +45,9 @@ class MqttFeed {
   void schedule();
   void tick();
   void open_backlog();
+  // A state directory that could not be used at the start, tried again; the messages held in
+  // memory meanwhile move to it.
+  void retry_state_dir(Clock::time_point now);
   void take_acknowledgements();
   void keep_unacknowledged();
   void send_or_keep(MqttMessage message);
@@ -52,6 +55,7 @@ class MqttFeed {
   void replay();
   void sync_backlog(Clock::time_point now);
   void report_drops(Clock::time_point now);
+  void report_notices();
   void report_backlog_error(const std::string& error);
 
   boost::asio::steady_timer timer_;
@@ -73,6 +77,9 @@ class MqttFeed {
   Clock::time_point drops_reported_at_{};
   Clock::time_point synced_at_{};
   Clock::time_point error_logged_at_{};
+  bool store_unused_ = false;  // the backlog is in memory for want of the state directory
+  Clock::time_point store_tried_at_{};
+  StoreStats memory_counts_;  // dropped and replayed while it was in memory
   bool running_ = false;
 };
 

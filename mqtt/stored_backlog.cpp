@@ -46,11 +46,16 @@ Expected<StoredBacklog, std::string> StoredBacklog::open(const std::filesystem::
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) return Unexpected("cannot create " + dir.string() + ": " + error.message());
+  auto cleared = store::clear_way_for_file(dir / "lock");
+  if (!cleared) return Unexpected(cleared.error());
   auto lock = lock_directory(dir);
   if (!lock) return Unexpected(lock.error());
   auto store = store::RecordStore::open(dir, store_options(limits));
   if (!store) return Unexpected(store.error());
   StoredBacklog backlog(std::move(*lock), std::move(*store), limits, qos);
+  if (*cleared) backlog.repairs_.push_back(**cleared);
+  const auto& repaired = backlog.store_.repairs();
+  backlog.repairs_.insert(backlog.repairs_.end(), repaired.begin(), repaired.end());
   // A smaller `backlog` than before the restart applies to what is there too.
   if (auto kept = backlog.keep_within_count(); !kept) return Unexpected(kept.error());
   return backlog;
@@ -104,6 +109,7 @@ StoreStats StoredBacklog::stats() const {
   stats.records = store_.records();
   stats.dropped = store_.dropped() + skipped_ + not_kept_;
   stats.replayed = store_.replayed() - skipped_;
+  stats.lost = store_.lost();
   return stats;
 }
 

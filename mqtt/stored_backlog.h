@@ -25,8 +25,10 @@ class StoredBacklog final : public MqttBacklog {
   Expected<Done, std::string> pop(std::size_t n) override;
   Expected<Done, std::string> sync() override { return store_.sync(); }
   StoreStats stats() const override;
-  // What opening repaired (a torn last record cut off, ...), for the log.
-  const std::vector<std::string>& repairs() const { return store_.repairs(); }
+  std::vector<store::StoreNotice> take_notices() override { return store_.take_notices(); }
+  // What opening repaired (a torn last record cut off, a directory where `lock` should be,
+  // ...), for the log.
+  const std::vector<std::string>& repairs() const { return repairs_; }
 
  private:
   StoredBacklog(store::UniqueFd lock, store::RecordStore store, BacklogLimits limits, int qos);
@@ -39,7 +41,8 @@ class StoredBacklog final : public MqttBacklog {
   // The oldest over `backlog` are skipped by popping them: the store counts those as replayed,
   // they are dropped.
   std::uint64_t skipped_ = 0;
-  std::uint64_t not_kept_ = 0;  // appends the disk refused, and every one with backlog = 0
+  std::uint64_t not_kept_ = 0;  // too large for a segment, and every one with backlog = 0
+  std::vector<std::string> repairs_;
 };
 
 }  // namespace tiltgate

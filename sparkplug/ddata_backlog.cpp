@@ -17,7 +17,9 @@ Expected<DdataBacklog, std::string> DdataBacklog::open(const std::filesystem::pa
 
 Expected<Done, std::string> DdataBacklog::keep(const Keep& keep) {
   // QoS 0, as DDATA is published (tck-id-topics-ddata-mqtt).
-  return store_.append(store::Record{keep.topic, encode(keep.payload), keep.time_unix_ms, 0});
+  auto appended = store_.append(store::Record{keep.topic, encode(keep.payload), keep.time_unix_ms, 0});
+  if (!appended) ++refused_;
+  return appended;
 }
 
 Expected<std::size_t, std::string> DdataBacklog::replay(
@@ -47,8 +49,8 @@ Expected<std::size_t, std::string> DdataBacklog::replay(
 }
 
 BacklogCounts DdataBacklog::counts() const {
-  return {store_.bytes(), store_.records(), store_.dropped(), store_.replayed() - skipped_,
-          skipped_};
+  return {store_.bytes(),  store_.records(), store_.dropped() + refused_,
+          store_.replayed() - skipped_, skipped_, store_.lost()};
 }
 
 }  // namespace tiltgate::sparkplug

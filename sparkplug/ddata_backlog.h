@@ -21,9 +21,10 @@ namespace tiltgate::sparkplug {
 struct BacklogCounts {
   std::uint64_t bytes = 0;
   std::uint64_t records = 0;   // kept, not yet replayed
-  std::uint64_t dropped = 0;   // dropped for the budget, oldest first, since the start
+  std::uint64_t dropped = 0;   // dropped for the budget, oldest first, or too large: since the start
   std::uint64_t replayed = 0;  // published again since the start
   std::uint64_t skipped = 0;   // not replayable: their device is offline or gone now
+  std::uint64_t lost = 0;      // lost to a damaged file
 };
 
 class DdataBacklog {
@@ -32,7 +33,8 @@ class DdataBacklog {
   static Expected<DdataBacklog, std::string> open(const std::filesystem::path& dir,
                                                   std::uint64_t budget_bytes);
 
-  // Appends a kept DDATA; an error (the disk full) loses that record only.
+  // Appends a kept DDATA (in memory while the disk refuses it); an error (a DDATA larger than
+  // a segment) loses that record only, counted as dropped.
   Expected<Done, std::string> keep(const Keep& keep);
   // Up to `per_step` kept records, oldest first, made publishable by `session` and handed to
   // `publish` (false: not sent, the replay stops there and goes on later). A record whose
@@ -42,6 +44,7 @@ class DdataBacklog {
                                             std::size_t per_step,
                                             const std::function<bool(const Publish&)>& publish);
   Expected<Done, std::string> sync() { return store_.sync(); }
+  std::vector<store::StoreNotice> take_notices() { return store_.take_notices(); }
 
   BacklogCounts counts() const;
   const store::RecordStore& store() const { return store_; }
@@ -51,6 +54,7 @@ class DdataBacklog {
 
   store::RecordStore store_;
   std::uint64_t skipped_ = 0;
+  std::uint64_t refused_ = 0;  // too large to keep
 };
 
 }  // namespace tiltgate::sparkplug

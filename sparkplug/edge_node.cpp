@@ -94,6 +94,13 @@ Expected<Done, std::string> EdgeNode::start() {
     return Unexpected(fmt::format("state_dir {} is not writable: {}", dir_.string(),
                                   written.error()));
   fs::remove(probe, ec);
+  // A directory where bdSeq should be would refuse every write of it (store/file_io.h).
+  for (const char* name : {"bdSeq", "bdSeq.tmp"}) {
+    if (auto cleared = store::clear_way_for_file(dir_ / name); !cleared)
+      spdlog::error("Sparkplug: {}", cleared.error());
+    else if (*cleared)
+      spdlog::warn("Sparkplug: {}: {}", dir_.string(), **cleared);
+  }
   auto last = read_bd_seq(dir_ / "bdSeq");
   if (!last) spdlog::warn("Sparkplug: {}; bdSeq starts again at 0", last.error());
   auto backlog =
@@ -152,12 +159,15 @@ std::optional<MqttWill> EdgeNode::prepare_connect() {
 std::optional<MqttWill> EdgeNode::begin_connect() {
   const Will will = session_->begin_connect(now());
   // Stored before the CONNECT that uses it: after a restart the next one is one more
-  // (tck-id-topics-nbirth-bdseq-increment).
+  // (tck-id-topics-nbirth-bdseq-increment). One the disk refuses does not keep the node
+  // offline: the session's next bdSeq, held in memory, still goes up by one at each CONNECT,
+  // which is what a host needs to see it alive; only a restart before it is stored may use a
+  // value again (docs/northbound.md, "What a host sees").
   if (auto stored = write_bd_seq(dir_ / "bdSeq", will.bd_seq); !stored) {
-    if (due(store_error_logged_at_, std::chrono::steady_clock::now()))
-      spdlog::error("Sparkplug: bdSeq not stored, not connecting: {}", stored.error());
-    session_->on_connection_lost();
-    return std::nullopt;
+    if (due(bd_seq_error_logged_at_, std::chrono::steady_clock::now()))
+      spdlog::error("Sparkplug: bdSeq {} not stored ({}); connecting with it all the same, a "
+                    "restart before it is stored may use it again",
+                    will.bd_seq, stored.error());
   }
   spdlog::debug("Sparkplug: connecting with bdSeq {}", will.bd_seq);
   return MqttWill{will.topic, encode(will.payload), will.qos, will.retain};
@@ -221,6 +231,13 @@ void EdgeNode::tick() {
     if (auto synced = backlog_->sync(); !synced && due(store_error_logged_at_, at.steady))
       spdlog::error("Sparkplug: store not synced: {}", synced.error());
   }
+  // Each is a change (the disk refusing, taking writes again, damage found): said once.
+  for (const store::StoreNotice& notice : backlog_->take_notices()) {
+    if (notice.problem)
+      spdlog::error("Sparkplug: store: {}", notice.text);
+    else
+      spdlog::info("Sparkplug: store: {}", notice.text);
+  }
 }
 
 bool EdgeNode::publish(const Publish& message) {
@@ -240,7 +257,7 @@ void EdgeNode::carry_out(std::vector<Action> actions) {
     } else if (const auto* keep = std::get_if<Keep>(&action)) {
       if (auto kept = backlog_->keep(*keep);
           !kept && due(store_error_logged_at_, std::chrono::steady_clock::now()))
-        spdlog::error("Sparkplug: a DDATA not kept: {}", kept.error());
+        spdlog::error("Sparkplug: a DDATA not kept (counted as dropped): {}", kept.error());
     } else if (auto* write = std::get_if<Write>(&action)) {
       write_setting(std::move(*write));
     } else if (std::holds_alternative<Disconnect>(action)) {
@@ -299,7 +316,8 @@ SparkplugStats EdgeNode::stats() const {
 std::optional<StoreStats> EdgeNode::store_stats() const {
   if (!backlog_) return std::nullopt;
   const BacklogCounts counts = backlog_->counts();
-  return StoreStats{"sparkplug", counts.bytes, counts.records, counts.dropped, counts.replayed};
+  return StoreStats{"sparkplug",     counts.bytes,    counts.records,
+                    counts.dropped, counts.replayed, counts.lost};
 }
 
 }  // namespace tiltgate::sparkplug

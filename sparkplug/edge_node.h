@@ -93,6 +93,7 @@ class EdgeNode {
   std::size_t writes_in_flight_ = 0;
   LogThrottle refusal_log_;  // per sensor
   std::chrono::steady_clock::time_point store_error_logged_at_{};
+  std::chrono::steady_clock::time_point bd_seq_error_logged_at_{};
   std::uint64_t drops_logged_ = 0;
   std::chrono::steady_clock::time_point drops_logged_at_{};
 };

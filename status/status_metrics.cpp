@@ -221,11 +221,15 @@ const StoreFamily kStoreFamilies[] = {
     {"tiltgate_store_records", "gauge", "Messages kept in a feed's store, not yet replayed",
      [](const StoreStats& s) { return double(s.records); }},
     {"tiltgate_store_dropped_total", "counter",
-     "Messages dropped from a feed's full store, oldest first",
+     "Messages dropped from a feed's full store, oldest first, or refused as too large",
      [](const StoreStats& s) { return double(s.dropped); }},
     {"tiltgate_store_replayed_total", "counter",
      "Messages of a feed's store published again once the broker was back",
      [](const StoreStats& s) { return double(s.replayed); }},
+    {"tiltgate_store_lost_total", "counter",
+     "Messages of a feed's store lost to a damaged file: a corrupt or torn record and the rest "
+     "of its segment",
+     [](const StoreStats& s) { return double(s.lost); }},
 };
 
 void add_store_families(Exposition& out, const std::vector<StoreStats>& stores) {

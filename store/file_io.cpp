@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <system_error>
 
 namespace tiltgate::store {
 
@@ -113,6 +114,28 @@ Expected<Done, std::string> replace_file(const std::filesystem::path& path,
     return Unexpected(errno_text("cannot rename to", path));
   }
   return sync_directory(path.parent_path());
+}
+
+Expected<std::optional<std::string>, std::string> clear_way_for_file(
+    const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::symlink_status(path, error).type() != fs::file_type::directory)
+    return std::optional<std::string>{};
+  const std::string name = path.filename().string();
+  if (fs::is_empty(path, error) && !error && fs::remove(path, error))
+    return std::optional<std::string>(name + ": an empty directory in the file's place, removed");
+  for (int n = 1; n < 100; ++n) {
+    fs::path aside = path;
+    aside += n == 1 ? std::string(".moved-aside") : ".moved-aside." + std::to_string(n);
+    if (fs::symlink_status(aside, error).type() != fs::file_type::not_found) continue;
+    fs::rename(path, aside, error);
+    if (error) break;
+    return std::optional<std::string>(name + ": a directory in the file's place, moved to " +
+                                      aside.filename().string());
+  }
+  return Unexpected(path.string() + " is a directory, not the store's file, and cannot be moved " +
+                    "aside" + (error ? ": " + error.message() : std::string()));
 }
 
 }  // namespace tiltgate::store

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -51,5 +52,12 @@ Expected<Done, std::string> truncate_file(const std::filesystem::path& path, std
 // crash PATH holds either its old or its new content, whole.
 Expected<Done, std::string> replace_file(const std::filesystem::path& path,
                                          std::span<const std::uint8_t> bytes);
+// Makes room for the file PATH when a directory stands in its place (made by hand, a restore
+// gone wrong), which would stop every open, write and rename of it: an empty one is removed
+// (nothing of anyone's is in it), any other is renamed to PATH.moved-aside (.2, .3, ...), its
+// content kept for whoever put it there. What was done, for the log; none when the way was
+// clear. An error when it could not be done.
+Expected<std::optional<std::string>, std::string> clear_way_for_file(
+    const std::filesystem::path& path);
 
 }  // namespace tiltgate::store

@@ -71,4 +71,25 @@ FrameRead read_frame(std::span<const std::uint8_t> bytes) {
   return read;
 }
 
+std::uint64_t whole_frames_after(std::span<const std::uint8_t> bytes, std::size_t from) {
+  std::uint64_t found = 0;
+  std::size_t at = from + 1;
+  while (at + kFrameHeaderBytes + kBodyFixedBytes <= bytes.size()) {
+    const auto rest = bytes.subspan(at);
+    const std::uint32_t body = frame_body_length(rest);
+    // Cheap looks first: most bytes are not a frame's start.
+    if (body >= kBodyFixedBytes && body <= rest.size() - kFrameHeaderBytes &&
+        rest[kFrameHeaderBytes] == kFrameFormat) {
+      const FrameRead frame = read_frame(rest);
+      if (frame.status == FrameStatus::whole) {
+        ++found;
+        at += frame.size;
+        continue;
+      }
+    }
+    ++at;
+  }
+  return found;
+}
+
 }  // namespace tiltgate::store

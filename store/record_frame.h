@@ -51,4 +51,9 @@ struct FrameRead {
 // The frame at the start of `bytes`.
 FrameRead read_frame(std::span<const std::uint8_t> bytes);
 
+// How many whole frames follow a damaged one at `from` in `bytes`, found by trying each later
+// byte as the start of a frame: a frame's CRC-32 makes a false find as unlikely as a missed
+// error. What a damaged record costs the records after it, counted.
+std::uint64_t whole_frames_after(std::span<const std::uint8_t> bytes, std::size_t from);
+
 }  // namespace tiltgate::store

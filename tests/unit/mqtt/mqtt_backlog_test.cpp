@@ -13,6 +13,7 @@
 #include "mqtt/memory_backlog.h"
 #include "mqtt/stored_backlog.h"
 #include "unit/support/scratch_dir.h"
+#include "unit/support/small_disk.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;
@@ -185,4 +186,38 @@ TEST_CASE("mqtt backlog on disk: a directory that cannot be made is an error, no
   auto backlog = StoredBacklog::open(fs::path(file) / "mqtt", {1024 * 1024, std::nullopt}, 1);
   REQUIRE_FALSE(backlog.has_value());
   CHECK(backlog.error().find("cannot create") != std::string::npos);
+}
+
+TEST_CASE("mqtt backlog on disk: a directory where the lock file should be is removed, and what was kept is replayed") {
+  ScratchDir dir("tiltgate-backlog");
+  { append(*stored(dir, {1024 * 1024, std::nullopt}), 0, 10); }
+  fs::remove(dir.path("mqtt/lock"));
+  fs::create_directory(dir.path("mqtt/lock"));
+  auto reopened = stored(dir, {1024 * 1024, std::nullopt});
+  CHECK(peek_all(*reopened) == range(0, 10));
+  REQUIRE(reopened->repairs().size() == 1);
+  CHECK(reopened->repairs()[0] == "lock: an empty directory in the file's place, removed");
+}
+
+TEST_CASE("mqtt backlog on disk: on a full disk the newest are kept in memory and the oldest dropped, each counted") {
+  SmallDisk disk;
+  if (no_small_disk(disk)) return;
+  auto opened = StoredBacklog::open(disk.path("mqtt"), {16 * kStoredBytes, std::nullopt}, 1);
+  REQUIRE(opened.has_value());
+  StoredBacklog& backlog = *opened;
+  append(backlog, 0, 4);
+  disk.fill();
+  append(backlog, 4, 60);
+  const StoreStats stats = backlog.stats();
+  CHECK(stats.records + stats.dropped == 60);
+  const std::vector<int> kept = peek_all(backlog);
+  REQUIRE(kept.size() == stats.records);
+  CHECK(kept == range(60 - static_cast<int>(kept.size()), 60));
+  const auto notices = backlog.take_notices();
+  REQUIRE(notices.size() == 1);  // the disk's refusal, said once
+  CHECK(notices[0].problem);
+  disk.free();
+  REQUIRE(backlog.sync().has_value());  // room again: written out
+  CHECK(backlog.take_notices().size() == 1);
+  CHECK(peek_all(backlog) == kept);
 }

@@ -7,11 +7,14 @@
 #include "sparkplug/ddata_backlog.h"
 #include "unit/sparkplug/sparkplug_session_support.h"
 #include "unit/support/scratch_dir.h"
+#include "unit/support/small_disk.h"
 
 using namespace tiltgate;
 using namespace tiltgate::sparkplug;
 using namespace tiltgate::sparkplug::test;
 using tiltgate::test::ScratchDir;
+using tiltgate::test::SmallDisk;
+using tiltgate::test::no_small_disk;
 
 namespace {
 
@@ -161,4 +164,26 @@ TEST_CASE("backlog: what was kept and not replayed survives a reopen, what was r
   REQUIRE(sent.messages.size() == 3);
   CHECK(find_alias(sent.messages[0].payload, device_alias(0, 1))->timestamp ==
         std::uint64_t(kUnixStart + 3000));
+}
+
+TEST_CASE("backlog: on a full disk the DDATA are kept in memory, the oldest dropped when full, and every one not kept is counted") {
+  SmallDisk disk;
+  if (no_small_disk(disk)) return;
+  auto backlog = DdataBacklog::open(disk.path("store"), 8192);
+  REQUIRE(backlog.has_value());
+  LiveSession live;
+  live.session.on_connection_lost();
+  disk.fill();
+  std::uint64_t kept = 0;
+  for (int i = 1; i <= 400; ++i) {
+    const DeviceSample samples[] = {boom(1.0 + i, 0.0, i * 1000), mast(3.0, i * 1000)};
+    for (const Keep& k : all_of<Keep>(live.session.update(samples, at(i * 1000)))) {
+      CHECK(backlog->keep(k).has_value());
+      ++kept;
+    }
+  }
+  const BacklogCounts counts = backlog->counts();
+  CHECK(counts.dropped > 0);
+  CHECK(counts.records + counts.dropped == kept);
+  CHECK(backlog->take_notices().size() == 1);  // the disk's refusal, said once
 }

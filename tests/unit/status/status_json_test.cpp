@@ -219,7 +219,7 @@ TEST_CASE("metrics: the Sparkplug edge node's series only when [sparkplug] is on
   CHECK(metrics_text(status).find("tiltgate_sparkplug_") == std::string::npos);
   CHECK(metrics_text(status).find("tiltgate_store_") == std::string::npos);
   status.sparkplug = SparkplugStats{true, 42, 1, 2, 3, 4, 5};
-  status.stores.push_back(StoreStats{"sparkplug", 4096, 7, 8, 9});
+  status.stores.push_back(StoreStats{"sparkplug", 4096, 7, 8, 9, 10});
   const std::string text = metrics_text(status);
   CHECK(text.find("tiltgate_sparkplug_connected 1\n") != std::string::npos);
   CHECK(text.find("tiltgate_sparkplug_published_total 42\n") != std::string::npos);
@@ -237,6 +237,7 @@ TEST_CASE("metrics: the Sparkplug edge node's series only when [sparkplug] is on
   CHECK(text.find("tiltgate_store_records{feed=\"sparkplug\"} 7\n") != std::string::npos);
   CHECK(text.find("tiltgate_store_dropped_total{feed=\"sparkplug\"} 8\n") != std::string::npos);
   CHECK(text.find("tiltgate_store_replayed_total{feed=\"sparkplug\"} 9\n") != std::string::npos);
+  CHECK(text.find("tiltgate_store_lost_total{feed=\"sparkplug\"} 10\n") != std::string::npos);
 }
 
 TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the 0.0.4 format") {

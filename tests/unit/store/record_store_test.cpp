@@ -9,8 +9,10 @@
 #include <fstream>
 
 #include "store/record_store.h"
+#include "unit/store/store_records.h"
 
 using namespace tiltgate::store;
+using namespace tiltgate::test;
 namespace fs = std::filesystem;
 
 namespace {
@@ -25,58 +27,6 @@ struct StateDir {
   ~StateDir() { fs::remove_all(path); }
   fs::path path;
 };
-
-// Record i: 8 + 12 + 8 + 16 = 44 bytes on disk.
-Record record(int i) {
-  char topic[9];
-  std::snprintf(topic, sizeof topic, "t/%06d", i);
-  std::vector<std::uint8_t> payload(16, static_cast<std::uint8_t>(i));
-  return Record{topic, payload, 1796176370000 + i, static_cast<std::uint8_t>(i % 3)};
-}
-constexpr std::uint64_t kRecordBytes = 44;
-constexpr std::uint64_t kSegmentHeader = 8;
-
-// Segments of 8 + 5 records (228 bytes), a budget of 4 of them.
-StoreOptions small() {
-  StoreOptions o;
-  o.segment_bytes = kSegmentHeader + 5 * kRecordBytes;
-  o.budget_bytes = 4 * o.segment_bytes;
-  o.sync_every = 4;
-  return o;
-}
-
-RecordStore open_store(const fs::path& dir, StoreOptions o = small()) {
-  auto store = RecordStore::open(dir, o);
-  REQUIRE(store.has_value());
-  return std::move(*store);
-}
-
-void append(RecordStore& store, int from, int to) {
-  for (int i = from; i < to; ++i) REQUIRE(store.append(record(i)).has_value());
-}
-
-std::vector<int> numbers(const std::vector<Record>& records) {
-  std::vector<int> out;
-  for (const Record& r : records) out.push_back(std::stoi(r.topic.substr(2)));
-  return out;
-}
-
-std::vector<int> range(int from, int to) {
-  std::vector<int> out;
-  for (int i = from; i < to; ++i) out.push_back(i);
-  return out;
-}
-
-std::vector<fs::path> segments(const fs::path& dir) {
-  std::vector<fs::path> out;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    if (e.path().extension() == ".seg") out.push_back(e.path());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-std::vector<Record> everything(RecordStore& store) { return store.peek(1000000).value(); }
 
 }  // namespace
 
@@ -276,10 +226,13 @@ TEST_CASE("a corrupted CRC in the middle of a segment stops that segment at the 
   // segments are whole.
   CHECK(numbers(everything(store)) == std::vector<int>{0, 1, 2, 3, 4, 5, 6, 10, 11});
   REQUIRE(store.repairs().size() == 1);
-  CHECK(store.repairs()[0] == "00000000000000000002.seg: cut at byte 96: a corrupt record");
+  CHECK(store.repairs()[0] ==
+        "00000000000000000002.seg: cut at byte 96: a corrupt record, 3 records lost");
+  CHECK(store.lost() == 3);
+  CHECK(store.dropped() == 0);
 }
 
-TEST_CASE("a record found corrupt while replaying drops the rest of its segment, counted") {
+TEST_CASE("a record found corrupt while replaying drops the rest of its segment, counted as lost and said") {
   StateDir dir;
   auto store = open_store(dir.path);
   append(store, 0, 10);
@@ -289,8 +242,13 @@ TEST_CASE("a record found corrupt while replaying drops the rest of its segment,
     file.put('\x55');
   }
   CHECK(numbers(everything(store)) == std::vector<int>{0, 1, 2, 5, 6, 7, 8, 9});
-  CHECK(store.dropped() == 2);
+  CHECK(store.lost() == 2);
+  CHECK(store.dropped() == 0);
   CHECK(store.records() == 8);
+  const auto notices = store.take_notices();
+  REQUIRE(notices.size() == 1);
+  CHECK(notices[0].problem);
+  CHECK(notices[0].text.find("2 records lost") != std::string::npos);
 }
 
 TEST_CASE("a record larger than a segment is refused, and the store stays as it was") {
