@@ -140,6 +140,10 @@ Expected<Done, std::string> Gateway::start() {
   return Done{};
 }
 
+void Gateway::start_as_user() {
+  for (GatewayService* service : services_) service->start_as_user();
+}
+
 void Gateway::start_bus(Bus& bus) {
   bus.line->start();
   boost::asio::co_spawn(io_, run_bus(*bus.scheduler, *bus.line), boost::asio::detached);
