@@ -7,7 +7,9 @@
 # feed's states arrive, a commissioning command through the control socket is answered, HTTP
 # answers, and the state_dir, its files and the socket all belong to the user. A reload
 # (SIGHUP) that adds a bus restarts the control socket, as that user: it answers for the new
-# bus, and nothing is logged as failed.
+# bus, and nothing is logged as failed. Then, with folders an older gateway made as root, the
+# edge node and the control socket are off until the folders are given to the user and the
+# gateway reloaded: no restart.
 set -u
 tiltgate=${1:?usage: service_user_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
@@ -129,6 +131,28 @@ check "and for the old one" through "$dir/tty1" 223
 check "after the reload every file is still the user's" owned_by_user
 check "nothing is logged as failed" no_failure_logged
 check "the gateway is still running" kill -0 "$gateway"
+kill "$gateway"; wait "$gateway" 2>/dev/null
+
+# Folders an older gateway made as root: the edge node and the control socket are off and say
+# why; given to the user, a reload brings both back without a restart.
+state="$dir/old/tiltgate"
+socket="$dir/old/run/control.sock"
+mkdir -p "$state/sparkplug" "$dir/old/run"
+write_config ""
+"$tiltgate" run --config "$dir/gateway.toml" 2>"$dir/old.err" &
+gateway=$!
+pids+=($gateway)
+births() { grep -c "^spBv1.0/e2e/NBIRTH/gw " "$dir/sub.out"; }
+check "a root-owned state_dir turns the edge node off, saying why" \
+  wait_for 20 grep -q "Sparkplug edge node off: state_dir .* is not writable" "$dir/old.err"
+check "a root-owned socket folder turns the control socket off, saying why" \
+  grep -q "control socket off: .*Permission denied" "$dir/old.err"
+before=$(births)
+chown -R "$user:" "$dir/old"
+kill -HUP "$gateway"
+more_births() { [ "$(births)" -gt "$before" ]; }
+check "given to the user, a reload starts the edge node" wait_for 20 more_births
+check "and the control socket" through "$dir/tty1" 223
 
 [ "$failures" -eq 0 ] || { echo "not the user's:"; cat "$dir/not-users.before"; not_users; echo "gateway log:"; cat "$dir/gateway.err"; }
 echo "$passes passed, $failures failed"
