@@ -9,12 +9,10 @@
 set -u
 tiltgate=${1:?usage: control_socket_access_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
-if [ "$(id -u)" != 0 ]; then
-  echo "SKIP: needs root (scripts/test runs as root)"
-  exit 77
-fi
-if ! command -v strace >/dev/null || ! strace -f -o /dev/null true 2>/dev/null; then
-  echo "FAIL: strace missing or not allowed here (Debian package strace). Run scripts/setup."
+require_root
+require_command strace strace
+if ! strace -f -o /dev/null true 2>/dev/null; then
+  echo "FAIL: strace may not trace here (ptrace refused)"
   echo "0 passed, 1 failed"
   exit 1
 fi

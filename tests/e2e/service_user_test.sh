@@ -13,15 +13,8 @@
 set -u
 tiltgate=${1:?usage: service_user_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
-if [ "$(id -u)" != 0 ]; then
-  echo "SKIP: needs root (scripts/test runs as root)"
-  exit 77
-fi
-if ! command -v useradd >/dev/null; then
-  echo "FAIL: useradd missing (Debian package passwd)."
-  echo "0 passed, 1 failed"
-  exit 1
-fi
+require_root
+require_command useradd passwd
 script_setup tiltgate-service-user
 chmod 755 "$dir"
 user=tgate-e2e-$$
@@ -45,16 +38,11 @@ state="$dir/lib/tiltgate"
 socket="$dir/run/control.sock"
 modbus_port=$(free_port)
 http_port=$(free_port)
-write_config() {  # EXTRA_TABLES
-  cat >"$dir/gateway.toml" <<TOML
-[server]
-listen = "127.0.0.1"
-port = $modbus_port
-control_socket = "$socket"
-user = "$user"
-
-[http]
-port = $http_port
+write_config() {  # EXTRA_TABLES: one_h6_config with the control socket, HTTP and both feeds
+  { one_h6_config "$modbus_port" "$dir/tty1" "user = \"$user\"" |
+      sed -e "s|^control_socket = \"\"|control_socket = \"$socket\"|" \
+          -e "s|^enabled = false|port = $http_port|"
+    cat <<TOML
 
 [mqtt]
 host = "127.0.0.1"
@@ -69,20 +57,9 @@ port = $broker_port
 group_id = "e2e"
 edge_node_id = "gw"
 state_dir = "$state"
-
-[[bus]]
-name = "line1"
-port = "$dir/tty1"
-protocol = "rieker"
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
 $1
 TOML
+  } >"$dir/gateway.toml"
   chmod 644 "$dir/gateway.toml"
 }
 write_config ""

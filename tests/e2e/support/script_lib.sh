@@ -21,6 +21,21 @@ script_cleanup() {
   [ -n "${KEEP_DIR:-}" ] || rm -rf "$dir"
 }
 
+# require_root: skips the script (exit 77) unless it runs as root.
+require_root() {
+  [ "$(id -u)" = 0 ] && return 0
+  echo "SKIP: needs root (scripts/test runs as root)"
+  exit 77
+}
+
+# require_command COMMAND PACKAGE: fails the script when COMMAND is missing.
+require_command() {
+  command -v "$1" >/dev/null && return 0
+  echo "FAIL: $1 not found (Debian package $2). Run scripts/setup."
+  echo "0 passed, 1 failed"
+  exit 1
+}
+
 # require_mbpoll: fails the script when Debian's mbpoll is missing.
 require_mbpoll() {
   command -v mbpoll >/dev/null && return 0
