@@ -3,10 +3,13 @@
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
 #include <deque>
+#include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
+
+#include <vector>
 
 #include "config/config_loader.h"
 #include "app/config_commands.h"
@@ -124,6 +127,27 @@ void reload_on_sighup(boost::asio::signal_set& hangups, Gateway& gateway,
   });
 }
 
+// The folders the serving user will write in but may not be able to make (in /run, /var/lib),
+// made for it while still root.
+std::vector<std::filesystem::path> folders_written(const Config& config) {
+  std::vector<std::filesystem::path> folders;
+  if (!config.server.control_socket.empty())
+    folders.push_back(std::filesystem::path(config.server.control_socket).parent_path());
+  if (config.mqtt.enabled && !config.mqtt.state_dir.empty())
+    folders.emplace_back(config.mqtt.state_dir);
+  if (config.sparkplug.enabled) folders.emplace_back(config.sparkplug.state_dir);
+  return folders;
+}
+
+Expected<Done, std::string> switch_to_serving_user(const Config& config) {
+  auto user = find_user(config.server.user);
+  if (!user) return Unexpected{user.error()};
+  if (geteuid() == 0 && user->uid != 0)
+    for (const std::string& error : make_folders_for(*user, folders_written(config)))
+      spdlog::error("{}", error);
+  return run_as_user(*user);
+}
+
 int run_command(const std::string& config_path, FamilyList families) {
   auto config = load_or_report(config_path, families);
   if (!config) return 1;
@@ -140,7 +164,7 @@ int run_command(const std::string& config_path, FamilyList families) {
   }
   // The ttys and listeners are open: root is no longer needed.
   if (!config->server.user.empty()) {
-    if (auto switched = run_as_user(config->server.user); !switched) {
+    if (auto switched = switch_to_serving_user(*config); !switched) {
       spdlog::critical("{}", switched.error());
       return 1;
     }
@@ -149,6 +173,9 @@ int run_command(const std::string& config_path, FamilyList families) {
     spdlog::warn("running as root: set [server] user to serve unprivileged once started "
                  "(docs/operations.md, \"Running without root\")");
   }
+  // Only now the services that write files: the stores and the control socket are the
+  // serving user's, and it can replace them at a reload.
+  gateway.start_as_user();
   // Listeners bound, ttys opened, privileges dropped: systemd may now count the service as up.
   ServiceNotifier notifier(io);
   notifier.ready();

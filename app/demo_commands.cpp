@@ -175,6 +175,7 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
     spdlog::critical("demo: {}", started.error());
     return 1;
   }
+  gateway.start_as_user();  // the demo stays the user it was started as
   print_demo_help(config, gateway, demos);
   run_until_signal(io, [&] {
     gateway.stop();

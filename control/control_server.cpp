@@ -15,6 +15,7 @@
 
 #include "control/control_protocol.h"
 #include "control/control_relay.h"
+#include "control/peer_identity.h"
 
 namespace tiltgate {
 
@@ -73,17 +74,26 @@ Expected<Done, std::string> ControlServer::start() {
   }
   boost::system::error_code error;
   acceptor_.open(local(), error);
-  if (!error) acceptor_.bind(local::endpoint(path_), error);
+  if (!error) bind_for_owner_and_group(error);
   if (!error) acceptor_.listen(asio::socket_base::max_listen_connections, error);
   if (error) {
     acceptor_.close();
     return Unexpected{fmt::format("cannot listen on {}: {}", path_, error.message())};
   }
-  // Connecting lets a program move sensors and change their settings: owner and group only.
-  ::chmod(path_.c_str(), 0660);
   listening_ = true;
   asio::co_spawn(executor_, accept_loop(), asio::detached);
   return Done{};
+}
+
+void ControlServer::bind_for_owner_and_group(boost::system::error_code& error) {
+  // Connecting lets a program move sensors and change their settings: owner and group only,
+  // from the instant the file exists (a chmod after bind leaves a moment when anyone may
+  // connect). bind() makes the file 0777 less the umask, so the umask is narrowed around it.
+  // The umask is the process's: the other threads then (the Modbus TCP connections' and
+  // libmosquitto's) make no files, and one that did would only get fewer rights.
+  const mode_t before = ::umask(0117);
+  acceptor_.bind(local::endpoint(path_), error);
+  ::umask(before);
 }
 
 void ControlServer::stop() {
@@ -142,6 +152,8 @@ std::string formatted(const control::GatewayMessage& message) { return control::
 asio::awaitable<void> ControlServer::session(local::socket accepted) {
   auto socket = std::make_shared<local::socket>(std::move(accepted));
   sessions_.push_back(socket);
+  // Who connected, for the log line of a sensor it moves.
+  const std::string by = "a commissioning command of " + peer_identity(socket->native_handle());
   asio::streambuf input(control::kMaxLine);
   ServedBus* bus = nullptr;
   std::vector<std::uint32_t> held;  // addresses this session holds; released when it ends
@@ -187,7 +199,7 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       reply = formatted(ended);
       if (relay.broken()) break;  // the command stopped answering mid-transaction
     } else if (const auto* follow = std::get_if<control::Follow>(&*message)) {
-      const auto moved = bus->scheduler->follow_address(follow->from, follow->to);
+      const auto moved = bus->scheduler->follow_address(follow->from, follow->to, by);
       std::erase(held, follow->from);
       reply = formatted(control::Followed{moved ? bus->config.name + "/" + *moved : ""});
     } else if (const auto* hold = std::get_if<control::Hold>(&*message)) {

@@ -9,7 +9,9 @@
 // a sensor says so, and the gateway polls that sensor at its new address from then on.
 //
 // Anyone who can connect can talk to the sensors and change their settings, whatever
-// [server] writes says: the socket file is made mode 0660, for its owner and group only.
+// [server] writes says: the socket file is made mode 0660, for its owner and group only, from
+// the moment it exists. Who connected (SO_PEERCRED) is named in the log line of a sensor it
+// moved.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -45,6 +47,7 @@ class ControlServer {
   void stop();
 
   const std::string& path() const { return path_; }
+  bool listening() const { return listening_; }
 
   // Sessions at once; more are told so and closed. Commissioning is one engineer at a time.
   static constexpr std::size_t kMaxSessions = 8;
@@ -54,6 +57,7 @@ class ControlServer {
   static constexpr std::chrono::seconds kMaxHold{10};
 
  private:
+  void bind_for_owner_and_group(boost::system::error_code& error);
   boost::asio::awaitable<void> accept_loop();
   boost::asio::awaitable<void> session(boost::asio::local::stream_protocol::socket socket);
   ServedBus* find_bus(const std::string& port_or_name);

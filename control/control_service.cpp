@@ -19,7 +19,7 @@ void ControlService::make_server() {
                                             std::move(served));
 }
 
-void ControlService::start() {
+void ControlService::start_as_user() {
   if (!server_) return;
   if (auto started = server_->start(); !started)
     spdlog::warn("control socket off: {}; commissioning commands cannot use this gateway's "
@@ -31,14 +31,16 @@ void ControlService::start() {
 
 bool ControlService::reload(const Config& loaded, const ConfigDiff& diff) {
   if (!server_ && loaded.server.control_socket.empty()) return false;
-  // Its sessions hold the old buses.
-  if (!diff.control_socket_changed && diff.buses_unchanged()) return false;
+  // Its sessions hold the old buses. One that is off (its folder was not writable) is tried
+  // again, so fixing the folder needs no restart.
+  const bool off = server_ && !server_->listening();
+  if (!off && !diff.control_socket_changed && diff.buses_unchanged()) return false;
   if (server_) {
     server_->stop();
     retired_.push_back(std::move(server_));
   }
   make_server();
-  start();
+  start_as_user();
   return true;
 }
 

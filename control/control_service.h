@@ -1,7 +1,8 @@
 // The control socket ([server] control_socket, control/control_server.h) as a service attached
 // to the gateway (gateway/gateway_service.h): it relays commissioning commands to the
 // gateway's buses, so a reload that changes the socket's path or the buses restarts it with
-// the buses served then (a command in progress is ended and reconnects).
+// the buses served then (a command in progress is ended and reconnects); a socket that could
+// not be had is tried again at every reload.
 #pragma once
 
 #include <memory>
@@ -18,7 +19,10 @@ class ControlService final : public GatewayService {
   explicit ControlService(const Gateway& gateway);
   ~ControlService() override;
 
-  void start() override;
+  // Nothing before the switch to [server] user: the socket file is made as that user, so it
+  // can remove and make it again at a reload.
+  void start() override {}
+  void start_as_user() override;
   bool reload(const Config& loaded, const ConfigDiff& diff) override;
   void stop() override;
   std::string_view name() const override { return "control socket"; }

@@ -343,7 +343,8 @@ asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
 
 // Commissioning commands moving a sensor.
 
-std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std::uint32_t to) {
+std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std::uint32_t to,
+                                                        std::string_view by) {
   Polled* polled = find_polled(from);
   if (polled == nullptr) return std::nullopt;
   polled->sensor->driver->follow_address(to);
@@ -352,8 +353,8 @@ std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std:
   polled->schedule = PollSchedule{SteadyClock::now()};
   polled->held_until.reset();
   reschedule(*polled);
-  spdlog::info("{}: sensor \"{}\" moved from address {} to {} by a commissioning command", name_,
-               polled->sensor->config.name, from, to);
+  spdlog::info("{}: sensor \"{}\" moved from address {} to {} by {}", name_,
+               polled->sensor->config.name, from, to, by);
   return polled->sensor->config.name;
 }
 

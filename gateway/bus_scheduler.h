@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "driver/forwarded_exchange.h"
@@ -119,7 +120,9 @@ class BusScheduler {
 
   // A commissioning command moved the sensor at bus address `from` to `to`: the sensor polled
   // at `from` follows it. Returns its name, or none when no sensor of this bus was at `from`.
-  std::optional<std::string> follow_address(std::uint32_t from, std::uint32_t to);
+  // `by` names who moved it in the log line ("a commissioning command of user root ...").
+  std::optional<std::string> follow_address(std::uint32_t from, std::uint32_t to,
+                                            std::string_view by);
   // A commissioning command is about to move the sensor at `address`: it is not polled until
   // follow_address() or release(), or until `until` (a poll at its old address while it moves
   // would fail). A poll already on the wire finishes first: the command's next transaction

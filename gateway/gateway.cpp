@@ -145,6 +145,10 @@ Expected<Done, std::string> Gateway::start() {
   return Done{};
 }
 
+void Gateway::start_as_user() {
+  for (GatewayService* service : services_) service->start_as_user();
+}
+
 void Gateway::start_bus(const std::shared_ptr<Bus>& bus) {
   bus->line->start();
   boost::asio::co_spawn(io_, run_bus(bus), boost::asio::detached);

@@ -38,6 +38,8 @@ class Gateway {
   // Opens the buses (a missing tty is not fatal: it is retried with back-off) and binds the
   // Modbus listeners (fatal: the error says why), then starts the attached services.
   Expected<Done, std::string> start();
+  // Once [server] user took effect (or at once without one): the services' start_as_user().
+  void start_as_user();
   void stop();
 
   // Serves `loaded` (a valid configuration: SIGHUP re-read the file) from now on, keeping what

@@ -18,7 +18,7 @@ void MqttService::make_feed() {
   feed_ = std::make_unique<MqttFeed>(executor_, status_, config_);
 }
 
-void MqttService::start() {
+void MqttService::start_as_user() {
   if (!feed_) return;
   if (auto started = feed_->start(); !started)
     spdlog::warn("MQTT feed off: {}", started.error());
@@ -34,7 +34,7 @@ bool MqttService::reload(const Config& loaded, const ConfigDiff& diff) {
   }
   config_ = loaded.mqtt;
   make_feed();
-  start();
+  start_as_user();
   return true;
 }
 

@@ -20,7 +20,9 @@ class MqttService final : public GatewayService {
   MqttService(boost::asio::any_io_executor executor, StatusSource status, const MqttConfig& config);
   ~MqttService() override;
 
-  void start() override;
+  // Nothing before the switch to [server] user: the backlog's files are that user's.
+  void start() override {}
+  void start_as_user() override;
   bool reload(const Config& loaded, const ConfigDiff& diff) override;
   void stop() override;
   std::string_view name() const override { return "mqtt"; }

@@ -32,7 +32,7 @@ void SparkplugService::make_node() {
   node_ = std::make_unique<sparkplug::EdgeNode>(executor_, gateway_, families_, config_);
 }
 
-void SparkplugService::start() {
+void SparkplugService::start_as_user() {
   started_ = false;
   if (!node_) return;
   if (auto started = node_->start(); !started) {
@@ -46,14 +46,17 @@ void SparkplugService::start() {
 
 bool SparkplugService::reload(const Config& loaded, const ConfigDiff& diff) {
   // The devices and their aliases are fixed for a session: other sensors, another session.
-  if (!diff.sparkplug_changed && sensor_names(loaded) == devices_) return false;
+  // A node that could not start (its state_dir not writable) is tried again: fixing the folder
+  // needs no restart.
+  const bool off = node_ && !started_;
+  if (!off && !diff.sparkplug_changed && sensor_names(loaded) == devices_) return false;
   if (node_) {
     node_->stop();
     retired_.add(std::move(node_));
   }
   config_ = loaded.sparkplug;
   make_node();
-  start();
+  start_as_user();
   return true;
 }
 

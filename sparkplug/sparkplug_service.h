@@ -24,7 +24,9 @@ class SparkplugService final : public GatewayService {
                    FamilyList families, const SparkplugConfig& config);
   ~SparkplugService() override;
 
-  void start() override;
+  // Nothing before the switch to [server] user: the node's state_dir is that user's.
+  void start() override {}
+  void start_as_user() override;
   bool reload(const Config& loaded, const ConfigDiff& diff) override;
   void stop() override;
   std::string_view name() const override { return "sparkplug"; }

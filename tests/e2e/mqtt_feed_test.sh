@@ -11,40 +11,8 @@ tiltgate=${1:?usage: mqtt_feed_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
 script_setup tiltgate-mqtt
 
-mosquitto=$(command -v mosquitto || echo /usr/sbin/mosquitto)
-missing=""
-[ -x "$mosquitto" ] || missing+="mosquitto not found (Debian package mosquitto). "
-command -v mosquitto_sub >/dev/null || missing+="mosquitto_sub not found (Debian package mosquitto-clients). "
-[ -x /usr/bin/python3 ] || missing+="/usr/bin/python3 not found (Debian package python3). "
-if [ -n "$missing" ]; then
-  echo "FAIL: ${missing}Run scripts/setup."
-  echo "0 passed, 1 failed"
-  exit 1
-fi
-
-broker_port=$(free_port)
-# `user root`: started as root, mosquitto otherwise switches to its own user, and where that
-# user cannot read /etc/hosts.allow (a chroot whose root folder is 0700) Debian's build, which
-# checks every client with tcp-wrappers, refuses them all ("denied access by tcpd"). A test
-# broker on loopback keeps the test's user; for a non-root user the key has no effect.
-cat >"$dir/broker.conf" <<CONF
-listener $broker_port 127.0.0.1
-allow_anonymous true
-persistence false
-user root
-CONF
+require_broker
 broker_pid=""
-start_broker() {
-  "$mosquitto" -c "$dir/broker.conf" >>"$dir/broker.log" 2>&1 &
-  broker_pid=$!
-  pids+=($broker_pid)
-  for _ in $(seq 100); do
-    mosquitto_pub -p "$broker_port" -h 127.0.0.1 -t probe -m x 2>/dev/null && return 0
-    sleep 0.05
-  done
-  echo "FAIL: mosquitto did not start"; cat "$dir/broker.log"; exit 1
-}
-stop_broker() { kill "$broker_pid"; wait "$broker_pid" 2>/dev/null; }
 
 prefix=e2e/gw-1
 # sub FILE TOPIC...: a subscriber in the background, printing "topic payload" lines to FILE.
@@ -55,12 +23,6 @@ sub() {
   mosquitto_sub -h 127.0.0.1 -p "$broker_port" -v "${topics[@]}" >"$file" 2>>"$dir/sub.err" &
   pids+=($!)
   last_sub=$!
-}
-# wait_for SECONDS COMMAND...: true once the command succeeds, polled every 0.1 s.
-wait_for() {
-  local tries=$(($1 * 10)); shift
-  for _ in $(seq "$tries"); do "$@" && return 0; sleep 0.1; done
-  return 1
 }
 # fresh TOPIC COUNT: the first COUNT messages a new subscriber gets (the retained ones first).
 fresh() {

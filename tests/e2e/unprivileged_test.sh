@@ -11,10 +11,7 @@ set -u
 tiltgate=${1:?usage: unprivileged_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
 activate="$(dirname "$0")/support/socket_activate.py"
-if [ "$(id -u)" != 0 ]; then
-  echo "SKIP: needs root (scripts/test runs as root)"
-  exit 77
-fi
+require_root
 require_mbpoll
 script_setup tiltgate-unprivileged
 chmod 755 "$dir"

@@ -1,6 +1,7 @@
 # Shared by the tests/e2e/*.sh scripts that run build/tiltgate with Debian's Modbus clients:
 # a scratch folder removed on exit with every process started, a free TCP port, a simulator on a
-# pseudo-terminal, mbpoll required (a missing client fails, never skips), and pass/fail counts.
+# pseudo-terminal, mbpoll required (a missing client fails, never skips), a mosquitto of the
+# test's own, and pass/fail counts.
 # Source it after `set -u`; it sets $dir, $pids, $passes and $failures.
 
 # script_setup PREFIX: the scratch folder /tmp/PREFIX-XXXXXX and the exit trap.
@@ -18,6 +19,21 @@ script_cleanup() {
   for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null; done
   wait 2>/dev/null
   [ -n "${KEEP_DIR:-}" ] || rm -rf "$dir"
+}
+
+# require_root: skips the script (exit 77) unless it runs as root.
+require_root() {
+  [ "$(id -u)" = 0 ] && return 0
+  echo "SKIP: needs root (scripts/test runs as root)"
+  exit 77
+}
+
+# require_command COMMAND PACKAGE: fails the script when COMMAND is missing.
+require_command() {
+  command -v "$1" >/dev/null && return 0
+  echo "FAIL: $1 not found (Debian package $2). Run scripts/setup."
+  echo "0 passed, 1 failed"
+  exit 1
 }
 
 # require_mbpoll: fails the script when Debian's mbpoll is missing.
@@ -96,3 +112,50 @@ address = 223
 unit_id = 1
 TOML
 }
+
+# wait_for SECONDS COMMAND...: true once the command succeeds, polled every 0.1 s.
+wait_for() {
+  local tries=$(($1 * 10)); shift
+  for _ in $(seq "$tries"); do "$@" && return 0; sleep 0.1; done
+  return 1
+}
+
+# require_broker: fails the script when Debian's mosquitto or its clients are missing; sets
+# $mosquitto, and $broker_port to a free port for the test's own broker (never a system one).
+require_broker() {
+  mosquitto=$(command -v mosquitto || echo /usr/sbin/mosquitto)
+  local missing=""
+  [ -x "$mosquitto" ] || missing+="mosquitto not found (Debian package mosquitto). "
+  command -v mosquitto_sub >/dev/null || missing+="mosquitto_sub not found (Debian package mosquitto-clients). "
+  [ -x /usr/bin/python3 ] || missing+="/usr/bin/python3 not found (Debian package python3). "
+  if [ -n "$missing" ]; then
+    echo "FAIL: ${missing}Run scripts/setup."
+    echo "0 passed, 1 failed"
+    exit 1
+  fi
+  broker_port=$(free_port)
+  # `user root`: started as root, mosquitto otherwise switches to its own user, and where that
+  # user cannot read /etc/hosts.allow (a chroot whose root folder is 0700) Debian's build, which
+  # checks every client with tcp-wrappers, refuses them all ("denied access by tcpd"). A test
+  # broker on loopback keeps the test's user; for a non-root user the key has no effect.
+  cat >"$dir/broker.conf" <<CONF
+listener $broker_port 127.0.0.1
+allow_anonymous true
+persistence false
+user root
+CONF
+}
+
+# start_broker: the test's mosquitto on $broker_port, waiting (at most 5 s) until it takes a
+# message; its pid in $broker_pid. stop_broker ends it.
+start_broker() {
+  "$mosquitto" -c "$dir/broker.conf" >>"$dir/broker.log" 2>&1 &
+  broker_pid=$!
+  pids+=($broker_pid)
+  for _ in $(seq 100); do
+    mosquitto_pub -p "$broker_port" -h 127.0.0.1 -t probe -m x 2>/dev/null && return 0
+    sleep 0.05
+  done
+  echo "FAIL: mosquitto did not start"; cat "$dir/broker.log"; exit 1
+}
+stop_broker() { kill "$broker_pid"; wait "$broker_pid" 2>/dev/null; }

@@ -87,11 +87,11 @@ TEST_CASE("a sensor a command moved is followed to its new address and polled th
   bus.add("b", 5, 10s);
   bus.start();
   REQUIRE(run_until(bus.io, [&] { return a.polls == 1; }));
-  CHECK(bus.scheduler.follow_address(223, 7) == std::optional<std::string>("a"));
+  CHECK(bus.scheduler.follow_address(223, 7, "a test") == std::optional<std::string>("a"));
   CHECK(a.state().bus_address == 7);
   REQUIRE(run_until(bus.io, [&] { return a.polls == 2; }));  // not after its 10 s period
-  CHECK_FALSE(bus.scheduler.follow_address(223, 8).has_value());  // nobody is at 223 now
-  CHECK(bus.scheduler.follow_address(5, 6) == std::optional<std::string>("b"));
+  CHECK_FALSE(bus.scheduler.follow_address(223, 8, "a test").has_value());  // nobody is at 223 now
+  CHECK(bus.scheduler.follow_address(5, 6, "a test") == std::optional<std::string>("b"));
 }
 
 TEST_CASE("a sensor a command is moving is not polled until it is followed, released or the hold ends") {
@@ -104,7 +104,7 @@ TEST_CASE("a sensor a command is moving is not polled until it is followed, rele
   bus.io.restart();
   bus.io.run_for(200ms);  // ten poll periods
   CHECK(a.polls <= held_at + 1);  // at most the poll already under way
-  CHECK(bus.scheduler.follow_address(223, 7).has_value());
+  CHECK(bus.scheduler.follow_address(223, 7, "a test").has_value());
   REQUIRE(run_until(bus.io, [&] { return a.polls >= held_at + 3; }));
 
   // Released by the command, or by the hold's own end.
