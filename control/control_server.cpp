@@ -1,7 +1,6 @@
 #include "control/control_server.h"
 
 #include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
 #include <boost/asio/read_until.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/streambuf.hpp>
@@ -81,7 +80,7 @@ Expected<Done, std::string> ControlServer::start() {
     return Unexpected{fmt::format("cannot listen on {}: {}", path_, error.message())};
   }
   listening_ = true;
-  asio::co_spawn(executor_, accept_loop(), asio::detached);
+  spawn(accept_loop());
   return Done{};
 }
 
@@ -94,6 +93,11 @@ void ControlServer::bind_for_owner_and_group(boost::system::error_code& error) {
   const mode_t before = ::umask(0117);
   acceptor_.bind(local::endpoint(path_), error);
   ::umask(before);
+}
+
+void ControlServer::spawn(asio::awaitable<void> work) {
+  ++coroutines_;
+  asio::co_spawn(executor_, std::move(work), [this](std::exception_ptr) { --coroutines_; });
 }
 
 void ControlServer::stop() {
@@ -125,7 +129,7 @@ asio::awaitable<void> ControlServer::accept_loop() {
       asio::write(socket, asio::buffer(refusal), ec);
       continue;
     }
-    asio::co_spawn(executor_, session(std::move(socket)), asio::detached);
+    spawn(session(std::move(socket)));
   }
 }
 

@@ -48,6 +48,9 @@ class ControlServer {
 
   const std::string& path() const { return path_; }
   bool listening() const { return listening_; }
+  // Stopped, and its accept loop and every session have ended: nothing refers to it any more,
+  // so a reload that replaced it may free it (and the buses it held).
+  bool finished() const { return !listening_ && coroutines_ == 0; }
 
   // Sessions at once; more are told so and closed. Commissioning is one engineer at a time.
   static constexpr std::size_t kMaxSessions = 8;
@@ -60,6 +63,8 @@ class ControlServer {
   void bind_for_owner_and_group(boost::system::error_code& error);
   boost::asio::awaitable<void> accept_loop();
   boost::asio::awaitable<void> session(boost::asio::local::stream_protocol::socket socket);
+  // Runs `work` on the executor, counted in coroutines_ until it ends.
+  void spawn(boost::asio::awaitable<void> work);
   ServedBus* find_bus(const std::string& port_or_name);
   std::string bus_list() const;
 
@@ -69,6 +74,7 @@ class ControlServer {
   boost::asio::local::stream_protocol::acceptor acceptor_;
   std::vector<std::weak_ptr<boost::asio::local::stream_protocol::socket>> sessions_;
   bool listening_ = false;
+  std::size_t coroutines_ = 0;  // the accept loop and the sessions running
 };
 
 }  // namespace tiltgate

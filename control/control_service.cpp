@@ -4,7 +4,10 @@
 
 namespace tiltgate {
 
-ControlService::ControlService(const Gateway& gateway) : gateway_(gateway) { make_server(); }
+ControlService::ControlService(const Gateway& gateway)
+    : gateway_(gateway), retired_(gateway.executor()) {
+  make_server();
+}
 
 ControlService::~ControlService() = default;
 
@@ -37,7 +40,7 @@ bool ControlService::reload(const Config& loaded, const ConfigDiff& diff) {
   if (!off && !diff.control_socket_changed && diff.buses_unchanged()) return false;
   if (server_) {
     server_->stop();
-    retired_.push_back(std::move(server_));
+    retired_.add(std::move(server_));
   }
   make_server();
   start_as_user();

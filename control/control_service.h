@@ -6,11 +6,11 @@
 #pragma once
 
 #include <memory>
-#include <vector>
 
 #include "control/control_server.h"
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
+#include "gateway/retired.h"
 
 namespace tiltgate {
 
@@ -33,8 +33,8 @@ class ControlService final : public GatewayService {
 
   const Gateway& gateway_;
   std::unique_ptr<ControlServer> server_;
-  // Servers a reload replaced, stopped: their sessions' coroutines end on later loop turns.
-  std::vector<std::unique_ptr<ControlServer>> retired_;
+  // Servers a reload replaced, freed once their sessions have ended.
+  Retired<ControlServer> retired_;
 };
 
 }  // namespace tiltgate

@@ -43,7 +43,7 @@ ModbusServerOptions bus_listener_options(const ServerConfig& server, std::uint16
 
 ModbusListeners::ModbusListeners(boost::asio::any_io_executor bus_executor,
                                  const ServerConfig& server, TcpWorkerPool& workers)
-    : executor_(std::move(bus_executor)), server_(server), workers_(workers) {
+    : executor_(std::move(bus_executor)), server_(server), workers_(workers), retired_(executor_) {
   main_.port = kMainListener;
   main_.router = std::make_unique<RequestRouter>(executor_, router_options());
   main_.server = std::make_unique<ModbusTcpServer>(executor_, *main_.router,
@@ -87,7 +87,7 @@ void ModbusListeners::stop() {
 
 void ModbusListeners::retire(Listener listener) {
   listener.server->stop();
-  retired_.push_back(std::move(listener));
+  retired_.add(std::make_unique<Listener>(std::move(listener)));
 }
 
 void ModbusListeners::begin_reload(const Config& loaded) {

@@ -18,6 +18,7 @@
 #include "driver/expected.h"
 #include "modbus_tcp/modbus_tcp_server.h"
 #include "gateway/request_router.h"
+#include "gateway/retired.h"
 #include "modbus_tcp/tcp_worker_pool.h"
 
 namespace tiltgate {
@@ -65,11 +66,13 @@ class ModbusListeners {
     std::uint16_t port = 0;
     std::unique_ptr<RequestRouter> router;  // declared first: outlives the server
     std::unique_ptr<ModbusTcpServer> server;
+    // Stopped and no connection left to answer through its router (Retired).
+    bool finished() const { return server->finished(); }
   };
 
   RouterOptions router_options() const;
-  // Stops a listener and keeps it until the gateway goes: a request being answered still holds
-  // its router, and its connections' coroutines end on later loop turns.
+  // Stops a listener and keeps it until its last connection has ended: a request being
+  // answered still holds its router.
   void retire(Listener listener);
 
   boost::asio::any_io_executor executor_;
@@ -77,7 +80,7 @@ class ModbusListeners {
   TcpWorkerPool& workers_;
   Listener main_;
   std::vector<Listener> bus_listeners_;
-  std::vector<Listener> retired_;
+  Retired<Listener> retired_;
 };
 
 }  // namespace tiltgate

@@ -1,7 +1,6 @@
 #include "modbus_tcp/client_problem_log.h"
 
 #include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
@@ -75,7 +74,9 @@ void ClientProblemLog::log_suppressed(Clock::time_point now) {
 
 void ClientProblemLog::start() {
   summarizing_ = true;
-  asio::co_spawn(executor_, summarize_suppressed(), asio::detached);
+  summary_running_ = true;
+  asio::co_spawn(executor_, summarize_suppressed(),
+                 [this](std::exception_ptr) { summary_running_ = false; });
 }
 
 void ClientProblemLog::stop() {

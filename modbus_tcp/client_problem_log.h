@@ -44,6 +44,8 @@ class ClientProblemLog {
   // comes to trigger it, from start() until stop().
   void start();
   void stop();
+  // Its summary loop has ended since stop(): nothing of it is left on the executor.
+  bool finished() const { return !summary_running_; }
 
  private:
   // One problem from `address`: true when it is to be logged in full (else it is counted).
@@ -59,6 +61,7 @@ class ClientProblemLog {
   std::mutex throttle_mutex_;
   LogThrottle throttle_;
   bool summarizing_ = false;                 // executor_: between start() and stop()
+  bool summary_running_ = false;             // executor_: summarize_suppressed() has not ended
   boost::asio::steady_timer summary_timer_;  // executor_: wakes summarize_suppressed()
   std::atomic<Clock::rep> summary_wake_{0};  // summary_timer_'s expiry
 };

@@ -71,6 +71,7 @@ ModbusTcpConnection::ModbusTcpConnection(int fd, SSL_CTX* tls, std::string peer,
                                          const ModbusConnectionContext& context,
                                          ConnectionLoop& loop)
     : context_(context),
+      in_use_(context.in_use),
       loop_(loop),
       stream_(fd, tls),
       peer_(std::move(peer)),

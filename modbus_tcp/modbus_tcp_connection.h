@@ -53,6 +53,9 @@ struct ModbusConnectionContext {
   ClientProblemLog& problem_log;
   // Called once, on the connection's loop, when it is closed and its serving ends.
   std::function<void(const std::shared_ptr<ModbusTcpConnection>&)> finished;
+  // Each connection holds a copy while it exists (a handler's coroutine may keep it after it
+  // closed): the server is unused once only its own is left.
+  std::shared_ptr<const void> in_use;
 };
 
 // What a connection's deadline currently guards.
@@ -129,6 +132,7 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   void log_closing(spdlog::level::level_enum level, std::string_view why);
 
   const ModbusConnectionContext& context_;
+  const std::shared_ptr<const void> in_use_;  // context_.in_use, held for the server's sake
   ConnectionLoop& loop_;
   ModbusStream stream_;
   const std::string peer_;

@@ -1,7 +1,6 @@
 #include "modbus_tcp/modbus_tcp_server.h"
 
 #include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/use_awaitable.hpp>
@@ -45,6 +44,7 @@ ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHa
           .finished = [this](const std::shared_ptr<ModbusTcpConnection>& connection) {
             forget(connection);
           },
+          .in_use = std::make_shared<int>(0),
       } {}
 
 ModbusTcpServer::~ModbusTcpServer() {
@@ -92,10 +92,9 @@ Expected<Done, std::string> ModbusTcpServer::start() {
 
   running_ = true;
   if (current->plain_tcp)
-    asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_),
-                   asio::detached);
+    spawn_accept(acceptor_, false);
   if (current->tls)
-    asio::co_spawn(executor_, accept_clients(tls_acceptor_, true, 0), asio::detached);
+    spawn_accept(tls_acceptor_, true);
   problem_log_.start();
   return Done{};
 }
@@ -160,7 +159,7 @@ bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
         spdlog::critical("{}; {}: no Modbus TCP listener now", listening.error(), back.error());
       else
         spdlog::error("{}; still listening on {}:{}", listening.error(), current->listen, old_port);
-      asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_), asio::detached);
+      spawn_accept(acceptor_, false);
       return false;
     }
   }
@@ -171,9 +170,20 @@ bool ModbusTcpServer::rebind(const std::string& listen, std::uint16_t port) {
   // The old accept loop sees its acceptor closed (operation_aborted) and ends.
   acceptor_.close(ec);
   acceptor_ = std::move(fresh);
-  asio::co_spawn(executor_, accept_clients(acceptor_, false, ++accept_generation_), asio::detached);
+  spawn_accept(acceptor_, false);
   spdlog::info("Modbus TCP now listening on {}:{}; connected clients stay", listen, local_port());
   return true;
+}
+
+void ModbusTcpServer::spawn_accept(tcp::acceptor& acceptor, bool tls) {
+  ++accept_loops_;
+  asio::co_spawn(executor_, accept_clients(acceptor, tls, tls ? 0 : ++accept_generation_),
+                 [this](std::exception_ptr) { --accept_loops_; });
+}
+
+bool ModbusTcpServer::finished() const {
+  return !running_ && accept_loops_ == 0 && problem_log_.finished() &&
+         connection_context_.in_use.use_count() == 1;
 }
 
 std::size_t ModbusTcpServer::client_count() const {

@@ -61,6 +61,9 @@ class ModbusTcpServer {
 
   // Open connections, not counting those closed and still winding down.
   std::size_t client_count() const;
+  // Stopped, its accept loops and summary loop ended, and no connection left (a handler's
+  // coroutine may hold one after it closed): it may be freed. On `executor`.
+  bool finished() const;
   ModbusServerStats stats() const;
   // The options in force: apply() replaces them, connections read them request by request.
   std::shared_ptr<const ModbusServerOptions> options() const;
@@ -73,6 +76,8 @@ class ModbusTcpServer {
                                               std::uint64_t generation);
   // apply(): moves the listener to `listen`:`port`; false (and logged) when it stays.
   bool rebind(const std::string& listen, std::uint16_t port);
+  // Starts an accept loop on `acceptor`, counted in accept_loops_ until it ends.
+  void spawn_accept(boost::asio::ip::tcp::acceptor& acceptor, bool tls);
   void admit(boost::asio::ip::tcp::socket socket, bool tls);
   void refuse(boost::asio::ip::tcp::socket socket, std::string_view limit);
   void replace(ModbusTcpConnection& replaced, const std::string& by);
@@ -92,6 +97,7 @@ class ModbusTcpServer {
   ModbusServerCounters stats_;
   ModbusRequestCounts request_counts_;
   std::uint64_t accept_generation_ = 0;  // of the accept loop that may run
+  std::size_t accept_loops_ = 0;         // running
   bool refusing_ = false;  // warn once per burst of refused clients
   ClientProblemLog problem_log_;
   const ModbusConnectionContext connection_context_;  // what each connection sees of the server

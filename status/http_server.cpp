@@ -2,7 +2,6 @@
 #include "status/http_server.h"
 
 #include <boost/asio/co_spawn.hpp>
-#include <boost/asio/detached.hpp>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/use_awaitable.hpp>
@@ -73,7 +72,7 @@ Expected<Done, std::string> HttpServer::start() {
   if (acceptor_.is_open()) return Unexpected{std::string("HTTP server already started")};
   if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "HTTP"); !listening)
     return listening;
-  asio::co_spawn(executor_, accept_clients(), asio::detached);
+  spawn(accept_clients());
   problem_log_.start();
   return Done{};
 }
@@ -82,6 +81,11 @@ std::uint16_t HttpServer::local_port() const {
   boost::system::error_code ec;
   const tcp::endpoint local = acceptor_.local_endpoint(ec);
   return ec ? 0 : local.port();
+}
+
+void HttpServer::spawn(asio::awaitable<void> work) {
+  ++coroutines_;
+  asio::co_spawn(executor_, std::move(work), [this](std::exception_ptr) { --coroutines_; });
 }
 
 void HttpServer::stop() {
@@ -119,7 +123,7 @@ asio::awaitable<void> HttpServer::accept_clients() {
     auto connection = std::make_shared<Connection>(std::move(socket), address,
                                                    problem_log_.had_problems(address));
     connections_.insert(connection);
-    asio::co_spawn(executor_, serve(connection), asio::detached);
+    spawn(serve(connection));
   }
 }
 

@@ -60,6 +60,11 @@ class HttpServer {
   Expected<Done, std::string> start();
   std::uint16_t local_port() const;  // 0 before start()
   void stop();
+  // Stopped, and its accept loop, every connection and its summary loop have ended: nothing
+  // refers to it any more, so a reload that replaced it may free it.
+  bool finished() const {
+    return !acceptor_.is_open() && coroutines_ == 0 && problem_log_.finished();
+  }
 
   const HttpServerStats& stats() const { return stats_; }
 
@@ -70,6 +75,8 @@ class HttpServer {
   // Admits the new client `socket` within the limits, making room if it must; false: refused.
   bool admit(boost::asio::ip::tcp::socket& socket, const std::string& address);
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
+  // Runs `work` on the executor, counted in coroutines_ until it ends.
+  void spawn(boost::asio::awaitable<void> work);
   // A connection that ended without a whole request: counted and logged, unless it was closed
   // for another reason already or was a kept-alive one simply left idle.
   void count_unserved(Connection& connection, boost::system::error_code ec, bool got_some);
@@ -82,6 +89,7 @@ class HttpServer {
   std::unordered_set<std::shared_ptr<Connection>> connections_;
   HttpServerStats stats_;
   ClientProblemLog problem_log_;
+  std::size_t coroutines_ = 0;  // the accept loop and the connections being served
 };
 
 }  // namespace tiltgate

@@ -12,7 +12,8 @@ StatusService::StatusService(const Gateway& gateway, StatusSource status)
     : gateway_(gateway),
       status_(std::move(status)),
       config_(gateway.config().http),
-      history_timer_(gateway.executor()) {
+      history_timer_(gateway.executor()),
+      retired_(gateway.executor()) {
   make_http(nullptr);
 }
 
@@ -62,7 +63,7 @@ bool StatusService::reload(const Config& loaded, const ConfigDiff& diff) {
   if (diff.http_changed) {
     if (http_) {
       http_->stop();
-      retired_.push_back(std::move(http_));
+      retired_.add(std::move(http_));
     }
     std::unique_ptr<HistoryRecorder> previous = std::move(history_);
     make_http(previous.get());

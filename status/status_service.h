@@ -14,6 +14,7 @@
 #include "config/config.h"
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
+#include "gateway/retired.h"
 #include "status/history_recorder.h"
 #include "status/http_server.h"
 
@@ -54,9 +55,8 @@ class StatusService final : public GatewayService {
   std::unique_ptr<HistoryRecorder> history_;  // none without http_
   boost::asio::steady_timer history_timer_;
   bool stopping_ = false;
-  // Servers a reload replaced, stopped: kept until the service goes, since their connections'
-  // coroutines end on later loop turns.
-  std::vector<std::unique_ptr<HttpServer>> retired_;
+  // Servers a reload replaced, freed once their connections' coroutines have ended.
+  Retired<HttpServer> retired_;
 };
 
 }  // namespace tiltgate
