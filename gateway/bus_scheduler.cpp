@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "gateway/exception_text.h"
+
 namespace tiltgate {
 
 namespace asio = boost::asio;
@@ -39,13 +41,9 @@ void BusScheduler::add(std::shared_ptr<GatewaySensor> sensor) {
   if (line_.stopped() || retiring_) return;
   asio::co_spawn(executor(), keep_polling(polled),
                  [bus = name_, sensor = polled->sensor->config.name](std::exception_ptr e) {
-                   if (!e) return;
-                   try {
-                     std::rethrow_exception(e);
-                   } catch (const std::exception& what) {
+                   if (e)
                      spdlog::error("{}: polling of sensor \"{}\" ended: {}", bus, sensor,
-                                   what.what());
-                   }
+                                   exception_text(e));
                  });
 }
 
@@ -141,16 +139,10 @@ void BusScheduler::poll_failed(Polled& polled, LineClaimant& line, std::exceptio
   polled.schedule.due = now + kPollFailurePause;
   if (polled.failure_logged && now - *polled.failure_logged < kHeldLogInterval) return;
   polled.failure_logged = now;
-  std::string what = "unknown exception";
-  try {
-    std::rethrow_exception(failure);
-  } catch (const std::exception& e) {
-    what = e.what();
-  } catch (...) {
-  }
   spdlog::error("{}: polling sensor \"{}\" failed: {}; polled again in {} s ({} failure(s) so "
                 "far: tiltgate_bus_restarts_total)",
-                name_, polled.sensor->config.name, what, kPollFailurePause.count(),
+                name_, polled.sensor->config.name, exception_text(failure),
+                kPollFailurePause.count(),
                 polled.failures);
 }
 

@@ -5,6 +5,7 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
+#include "gateway/exception_text.h"
 #include "gateway/line_claimant.h"
 
 namespace tiltgate {
@@ -51,13 +52,7 @@ void SharedLine::fail(std::exception_ptr failure) {
 
 asio::awaitable<void> SharedLine::restart() {
   ++restarts_;
-  std::string what = "unknown exception";
-  try {
-    std::rethrow_exception(failure_);
-  } catch (const std::exception& e) {
-    what = e.what();
-  } catch (...) {
-  }
+  const std::string what = exception_text(failure_);
   std::size_t refused = 0;
   for (LineClaimant* claimant : std::vector(waiting_))
     if (claimant->claim_.kind != TurnKind::poll) {

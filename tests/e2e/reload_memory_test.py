@@ -9,7 +9,6 @@ both buses, the control socket and both feeds.
 Usage: /usr/bin/python3 reload_memory_test.py path/to/tiltgate
 """
 import os
-import signal
 import socket
 import sys
 
@@ -92,14 +91,11 @@ def scenario(t):
     t.logs.append(("gateway", gateway.log_path))
     config(t, gateway, broker, sims, 0)
     gateway.start()
-    reloads = lambda: gateway.log().count("configuration reloaded from")
     measured = {}
     failed_at = None
     for i in range(RELOADS):
         config(t, gateway, broker, sims, (i + 1) % 2)
-        done = reloads()
-        gateway.process.send_signal(signal.SIGHUP)
-        if not wait_until(lambda: reloads() > done, WAIT):
+        if not gateway.reload(WAIT):
             failed_at = i
             break
         if i + 1 == WARM_UP:

@@ -116,6 +116,13 @@ class Gateway:
         with open(self.log_path, errors="replace") as f:
             return f.read()
 
+    def reload(self, wait=20):
+        """SIGHUP, then true once the log says the file was reloaded once more."""
+        done = lambda: self.log().count("configuration reloaded from")
+        before = done()
+        self.process.send_signal(signal.SIGHUP)
+        return processes.wait_until(lambda: done() > before, wait)
+
     def metrics(self):
         """/metrics as {"name{labels}": value}; {} when the gateway does not answer."""
         try:
