@@ -182,8 +182,11 @@ void ModbusTcpServer::spawn_accept(tcp::acceptor& acceptor, bool tls) {
 }
 
 bool ModbusTcpServer::finished() const {
-  return !running_ && accept_loops_ == 0 && problem_log_.finished() &&
-         connection_context_.in_use.use_count() == 1;
+  if (running_ || accept_loops_ > 0 || !problem_log_.finished()) return false;
+  // Every connection has left the set (forget(), under the lock: what its thread did to the
+  // server before is seen here), and none is left at all: only the server's own token.
+  std::lock_guard lock(connections_mutex_);
+  return connections_.empty() && connection_context_.in_use.use_count() == 1;
 }
 
 std::size_t ModbusTcpServer::client_count() const {
