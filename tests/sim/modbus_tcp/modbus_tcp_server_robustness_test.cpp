@@ -216,3 +216,23 @@ TEST_CASE("a request the handler never answers is answered 0x0B at handler_timeo
   CHECK(answered(socket, 0x0303));
   CHECK(server.clients() == 1);
 }
+
+TEST_CASE("a stopped server is finished only once its last connection and handler are done") {
+  RunningServer server;
+  RawSocket socket(server.port);
+  socket.send(write_holding_frame(0x0404, slow_address, 7));
+  CHECK(server.eventually([&] { return server.handler.slow_write_started.load(); }));
+  server.on_server([&] {
+    server.server.stop();
+    return 0;
+  });
+  // The connection is closed, but the write it handed over still runs in the handler.
+  CHECK(server.eventually([&] { return server.server.client_count() == 0; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the accept loop has ended
+  CHECK_FALSE(server.on_server([&] { return server.server.finished(); }));
+  server.on_server([&] {
+    server.handler.release();
+    return 0;
+  });
+  CHECK(server.eventually([&] { return server.server.finished(); }));
+}
