@@ -5,7 +5,7 @@
 namespace tiltgate {
 
 ControlService::ControlService(const Gateway& gateway)
-    : gateway_(gateway), retired_(gateway.executor()) {
+    : gateway_(gateway), retired_(gateway.executor()), retry_(gateway.executor()) {
   make_server();
 }
 
@@ -23,13 +23,26 @@ void ControlService::make_server() {
 }
 
 void ControlService::start_as_user() {
+  retry_.cancel();
   if (!server_) return;
-  if (auto started = server_->start(); !started)
+  if (auto started = server_->start(); !started) {
     spdlog::warn("control socket off: {}; commissioning commands cannot use this gateway's "
-                 "buses",
-                 started.error());
-  else
-    spdlog::info("control socket {}", server_->path());
+                 "buses; tried again every {} s",
+                 started.error(), StartRetry::kInterval.count());
+    retry_.schedule([this] { return start_again(); });
+    return;
+  }
+  spdlog::info("control socket {}", server_->path());
+}
+
+bool ControlService::start_again() {
+  if (!server_) return true;
+  if (auto started = server_->start(); !started) {
+    spdlog::debug("control socket still off: {}", started.error());
+    return false;
+  }
+  spdlog::info("control socket {}", server_->path());
+  return true;
 }
 
 bool ControlService::reload(const Config& loaded, const ConfigDiff& diff) {
@@ -48,6 +61,7 @@ bool ControlService::reload(const Config& loaded, const ConfigDiff& diff) {
 }
 
 void ControlService::stop() {
+  retry_.cancel();
   if (server_) server_->stop();
 }
 

@@ -11,6 +11,7 @@
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
 #include "gateway/retired.h"
+#include "gateway/start_retry.h"
 
 namespace tiltgate {
 
@@ -30,11 +31,14 @@ class ControlService final : public GatewayService {
  private:
   // A server for the gateway's buses now, when [server] control_socket is set.
   void make_server();
+  // The server that could not start, tried again (StartRetry): true once it listens.
+  bool start_again();
 
   const Gateway& gateway_;
   std::unique_ptr<ControlServer> server_;
   // Servers a reload replaced, freed once their sessions have ended.
   Retired<ControlServer> retired_;
+  StartRetry retry_;  // while the server could not start
 };
 
 }  // namespace tiltgate

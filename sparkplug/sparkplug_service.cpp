@@ -20,7 +20,8 @@ SparkplugService::SparkplugService(boost::asio::any_io_executor executor, const 
       gateway_(gateway),
       families_(families),
       config_(config),
-      retired_(executor_) {
+      retired_(executor_),
+      retry_(executor_) {
   make_node();
 }
 
@@ -33,12 +34,32 @@ void SparkplugService::make_node() {
 }
 
 void SparkplugService::start_as_user() {
+  retry_.cancel();
   started_ = false;
   if (!node_) return;
   if (auto started = node_->start(); !started) {
-    spdlog::error("Sparkplug edge node off: {}", started.error());
+    spdlog::error("Sparkplug edge node off: {}; tried again every {} s", started.error(),
+                  StartRetry::kInterval.count());
+    retry_.schedule([this] { return start_again(); });
     return;
   }
+  log_started();
+}
+
+bool SparkplugService::start_again() {
+  // A node whose start failed is not used again: a new one, as at a reload.
+  retired_.add(std::move(node_));
+  make_node();
+  if (!node_) return true;
+  if (auto started = node_->start(); !started) {
+    spdlog::debug("Sparkplug edge node still off: {}", started.error());
+    return false;
+  }
+  log_started();
+  return true;
+}
+
+void SparkplugService::log_started() {
   started_ = true;
   spdlog::info("Sparkplug edge node {}/{} to {}:{}, state in {}", config_.group_id,
                config_.edge_node_id, config_.host, config_.port, config_.state_dir);
@@ -61,6 +82,7 @@ bool SparkplugService::reload(const Config& loaded, const ConfigDiff& diff) {
 }
 
 void SparkplugService::stop() {
+  retry_.cancel();
   if (node_) node_->stop();
 }
 

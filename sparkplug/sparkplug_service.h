@@ -14,6 +14,7 @@
 #include "gateway/gateway_service.h"
 #include "gateway/gateway_status.h"
 #include "gateway/retired.h"
+#include "gateway/start_retry.h"
 #include "sparkplug/edge_node.h"
 
 namespace tiltgate {
@@ -37,6 +38,9 @@ class SparkplugService final : public GatewayService {
 
  private:
   void make_node();
+  // A node that could not start, made and started anew (StartRetry): true once it runs.
+  bool start_again();
+  void log_started();
 
   boost::asio::any_io_executor executor_;
   const Gateway& gateway_;
@@ -48,6 +52,7 @@ class SparkplugService final : public GatewayService {
   // Nodes a reload replaced, freed (their client's socket with them) once stopped and their
   // last DCMD write is answered.
   Retired<sparkplug::EdgeNode> retired_;
+  StartRetry retry_;  // while the node could not start
 };
 
 }  // namespace tiltgate
