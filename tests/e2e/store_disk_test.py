@@ -29,6 +29,13 @@ if os.geteuid() != 0:
     print("skipped: needs root to mount a tmpfs")
     sys.exit(77)
 if os.environ.get("TILTGATE_OWN_MOUNTS") != "1":
+    # A chroot whose root is no mount point cannot have a private mount namespace; a tmpfs
+    # mounted without one could outlive the test, so there it is skipped.
+    probe = subprocess.run(["unshare", "-m", "--propagation", "private", "true"],
+                           capture_output=True, text=True)
+    if probe.returncode != 0:
+        print("skipped: no private mount namespace here (%s)" % probe.stderr.strip())
+        sys.exit(77)
     os.environ["TILTGATE_OWN_MOUNTS"] = "1"
     os.execvp("unshare", ["unshare", "-m", "--propagation", "private", sys.executable] + sys.argv)
 

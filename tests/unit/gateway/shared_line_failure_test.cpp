@@ -87,7 +87,7 @@ TEST_CASE("a bus whose choice of turn fails logs it, refuses the waiting write a
   io.run_for(100ms);
 }
 
-TEST_CASE("a sensor whose poll throws is logged at error, counted and polled again; its neighbour goes on") {
+TEST_CASE("a sensor whose poll throws is logged at error, counted and polled again, and its neighbour goes on") {
   CapturedLog log(spdlog::level::warn);
   SchedulerBench bus;
   auto& a = fake_driver(bus.add("a", 1, 10ms));
