@@ -24,7 +24,10 @@ port=$(free_port)
 one_h6_config "$port" "$dir/tty" "control_socket = \"$socket\"" | grep -v '^control_socket = ""' \
   >"$dir/gateway.toml"
 
-(umask 000; exec strace -f -o "$dir/strace.log" -e trace=chmod,fchmod,fchmodat \
+# LeakSanitizer cannot run under ptrace (scripts/sanitize): under strace its check at exit
+# could hang the sanitized gateway, so it is off for this one process.
+(umask 000; [ -n "${ASAN_OPTIONS:-}" ] && export ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0"
+ exec strace -f -o "$dir/strace.log" -e trace=chmod,fchmod,fchmodat \
   -e inject=chmod,fchmod,fchmodat:delay_enter=3000000 \
   "$tiltgate" run --config "$dir/gateway.toml") 2>"$dir/gateway.err" &
 tracer=$!
@@ -70,6 +73,8 @@ check "the log names the Unix user and pid that moved it" \
   grep -Eq "moved from address 223 to 9 by a commissioning command of user root \(uid 0, pid [0-9]+\)" \
   "$dir/gateway.err"
 
+# Ended at once: nothing of its shutdown is this test's business, and none of it under strace.
+kill -9 ${gateway:-} "$tracer" 2>/dev/null
 [ "$failures" -eq 0 ] || { echo "gateway log:"; cat "$dir/gateway.err"; }
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]
