@@ -66,9 +66,6 @@ class Gateway {
   const std::vector<std::shared_ptr<GatewaySensor>>& sensors() const { return sensors_; }
   // Each bus's scheduler, in config().buses' order: what the control socket relays to.
   std::vector<std::shared_ptr<BusScheduler>> schedulers() const;
-  // Replaced buses not freed yet: something (a request being answered, a command's session, an
-  // idle client's table) still holds them.
-  std::size_t retired_buses() const { return retired_buses_.size(); }
 
  private:
   // A bus: its line and the scheduler that owns it (declared after it: goes first). Shared:

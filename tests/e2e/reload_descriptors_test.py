@@ -24,7 +24,7 @@ def open_fds(gateway):
     return len(os.listdir("/proc/%d/fd" % gateway.process.pid))
 
 
-def reload_alternating(t, gateway, pattern, first, second):
+def reload_alternating(gateway, pattern, first, second):
     """RELOADS reloads, each flipping the key `pattern` matches between two values."""
     for i in range(RELOADS):
         with open(gateway.config_path) as f:
@@ -65,7 +65,7 @@ def scenario(t):
             gateway.metric("process_max_fds", 0) >= 64, gateway.metric("process_max_fds"))
 
     t.check("%d reloads that change [mqtt] are each carried out" % RELOADS,
-            reload_alternating(t, gateway, r'(\[mqtt\][^\[]*interval_ms = )\d+', "200", "300"),
+            reload_alternating(gateway, r'(\[mqtt\][^\[]*interval_ms = )\d+', "200", "300"),
             gateway.log()[-1500:])
     t.check("the MQTT feed is connected after them",
             wait_until(lambda: gateway.metric("tiltgate_mqtt_connected") == 1, WAIT))
@@ -75,7 +75,7 @@ def scenario(t):
             settled(2), (before, open_fds(gateway)))
 
     t.check("%d reloads that change [sparkplug] are each carried out" % RELOADS,
-            reload_alternating(t, gateway, r'(\[sparkplug\][^\[]*keepalive_s = )\d+', "5", "6"),
+            reload_alternating(gateway, r'(\[sparkplug\][^\[]*keepalive_s = )\d+', "5", "6"),
             gateway.log()[-1500:])
     t.check("the edge node is connected after them",
             wait_until(lambda: gateway.metric("tiltgate_sparkplug_connected") == 1, WAIT))
