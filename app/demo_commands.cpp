@@ -29,6 +29,10 @@ struct DemoOptions {
   // The Sparkplug B edge node's broker, group "tiltgate-demo", edge node "demo"; empty: off.
   std::string sparkplug_host;
   std::uint16_t sparkplug_port = 1883;
+  // Where commissioning commands reach the demo's buses (--via-gateway); empty: the demo's own
+  // temporary folder, so that it neither takes nor is refused a running service's socket.
+  std::string control_socket;
+  bool map = false;  // print every unit's register map before the "Try:" lines
 };
 
 // Runs `io` until SIGINT/SIGTERM, then calls `stop` and returns.
@@ -56,6 +60,9 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   config.server.listen = options.listen;
   config.server.port = options.port;
   config.server.writes = true;
+  config.server.control_socket = options.control_socket.empty()
+                                     ? (folder / "control.sock").string()
+                                     : options.control_socket;
   config.http.enabled = options.http_port != 0;
   config.http.listen = options.listen;
   config.http.port = options.http_port;
@@ -105,8 +112,9 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   return config;
 }
 
-void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommandsList demos) {
-  std::cout << export_markdown(gateway.unit_maps());
+void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommandsList demos,
+                     bool map) {
+  if (map) std::cout << export_markdown(gateway.unit_maps());
   const auto port = gateway.port();
   const auto host = config.server.listen == "0.0.0.0" ? std::string("127.0.0.1") : config.server.listen;
   std::cout << fmt::format(
@@ -122,6 +130,17 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommand
                 << "\n";
     first_unit = last_unit + 1;
   }
+  // The commissioning commands, through the demo's own control socket, on its first bus.
+  const BusConfig& bus = config.buses.front();
+  std::cout << fmt::format(
+      "Commissioning commands reach the simulated buses through the demo's control socket "
+      "{}:\n"
+      "  tiltgate info --port {} --protocol {} --address {} --via-gateway --control-socket {}\n",
+      config.server.control_socket, bus.port, bus.protocol, config.sensors.front().address,
+      config.server.control_socket);
+  for (const BusConfig& b : config.buses)
+    std::cout << fmt::format("  bus {}: --port {} --protocol {}\n", b.name, b.port, b.protocol);
+  if (!map) std::cout << "The register maps: tiltgate demo --map (or docs/default-maps.md).\n";
   std::cout << "Ctrl-C stops.\n";
   std::cout.flush();
 }
@@ -176,7 +195,7 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
     return 1;
   }
   gateway.start_as_user();  // the demo stays the user it was started as
-  print_demo_help(config, gateway, demos);
+  print_demo_help(config, gateway, demos, options.map);
   run_until_signal(io, [&] {
     gateway.stop();
     for (auto& simulator : simulators) simulator->stop();
@@ -228,6 +247,10 @@ Subcommand add_demo(CLI::App& app, FamilyCommandsList commands) {
                    "MQTT broker to run a Sparkplug B edge node on: group tiltgate-demo, edge node "
                    "demo, DCMD writes on (default: off)");
   demo->add_option("--sparkplug-port", options->sparkplug_port, "its port")->capture_default_str();
+  demo->add_option("--control-socket", options->control_socket,
+                   "where commissioning commands reach the demo's buses (--via-gateway) "
+                   "(default: control.sock in the demo's temporary folder)");
+  demo->add_flag("--map", options->map, "print every unit's register map before the Try lines");
   return {demo, [options, commands] { return demo_command(*options, commands); }};
 }
 

@@ -137,8 +137,7 @@ Expected<Done, std::string> CommissionBus::reopen_at(std::uint32_t baud) {
   // The running gateway's bus stays at its rate: its other sensors are set to it.
   if (remote_)
     return Unexpected{fmt::format("the running gateway keeps bus {} at {} baud; another rate "
-                                  "needs the tty: stop the gateway, or run without "
-                                  "--via-gateway and with its control socket off",
+                                  "needs the tty: stop the gateway first",
                                   remote_->bus().name, config_.baud)};
   serial_->stop();
   config_.baud = baud;

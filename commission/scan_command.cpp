@@ -59,7 +59,17 @@ Expected<ScanTarget, UsageErrors> resolve_scan_target(BusOptions options, bool a
     }
   }
   auto target = resolve_bus_options(options, families);
-  if (!target) return Unexpected{target.error()};
+  if (!target) {
+    // A bus scanned from the command line has no sensors by design: the loader's complaint
+    // about that only hides the real problem (say a protocol without a default rate and no
+    // --baud).
+    UsageErrors errors = target.error();
+    if (options.config.empty())
+      std::erase_if(errors, [](const std::string& e) {
+        return e.starts_with("--sensor: no [[sensor]]");
+      });
+    return Unexpected{std::move(errors)};
+  }
   ScanTarget out{*target, std::nullopt};
   if (!out.bus.sensors.empty()) out.model_sensor = out.bus.sensors.front();
   return out;
@@ -118,10 +128,25 @@ boost::asio::awaitable<void> identify(CommissionBus& bus, const SensorConfig& mo
                                check.polled_refusal);
 }
 
+// A sensor key's value as --config-out writes it. The options' file (--device FILE) reaches the
+// stand-in sensor as an absolute path; given relative, it is written relative to the new file's
+// folder, where the loader looks for it, so the folder can move or be copied to the gateway
+// with its device profiles.
+std::string as_written(const std::string& value, const std::string& device_option,
+                       const std::string& config_out) {
+  namespace fs = std::filesystem;
+  if (device_option.empty() || fs::path(device_option).is_absolute() ||
+      value != fs::absolute(device_option).string())
+    return value;
+  const fs::path folder = fs::absolute(config_out).lexically_normal().parent_path();
+  return fs::absolute(device_option).lexically_normal().lexically_relative(folder).string();
+}
+
 boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
                                  const ScanOptions& options, const ScanTarget& target,
                                  const ProtocolEntry& protocol,
-                                 const std::vector<std::uint32_t>& addresses) {
+                                 const std::vector<std::uint32_t>& addresses,
+                                 const std::string& device_option) {
   const ScanDescriptor& scan = protocol.protocol->scan;
   const std::vector<std::uint32_t> bauds =
       scan_bauds(*protocol.protocol, bus.config().baud, options.auto_baud);
@@ -130,6 +155,17 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
   std::vector<FoundSensor> found;
   std::size_t probes = 0;
   const auto started = Clock::now();
+  // Found through a gateway the command was not told to use (its control socket serves the
+  // tty): it keeps its bus at its rate, so the other rates cannot be tried. Said before any
+  // probe rather than after the first rate's.
+  if (options.auto_baud && bus.through_gateway() && bauds.size() > 1) {
+    std::cerr << fmt::format(
+        "tiltgate scan: --baud auto: the running gateway keeps {} at {} baud, and its sensors "
+        "are set to it; stop the gateway to try every rate, or scan at its rate without "
+        "--baud auto\n",
+        bus.config().port, bus.config().baud);
+    co_return 1;
+  }
 
   for (const std::uint32_t baud : bauds) {
     if (baud != bus.config().baud) {
@@ -178,6 +214,7 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
   }
   progress.clear();
 
+  const std::vector<RepeatedSensor> repeated = drop_repeated_sensors(found);
   const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started);
   const bool any = std::any_of(found.begin(), found.end(),
                                [](const FoundSensor& s) { return !s.collision; });
@@ -185,6 +222,7 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
     std::cout << scan_header() << "\n";
     for (const FoundSensor& s : found) std::cout << scan_row(s) << "\n";
   }
+  for (const RepeatedSensor& r : repeated) std::cout << repeated_note(r) << "\n";
   std::cout << scan_summary(found, probes, took) << "\n";
   std::cout.flush();
 
@@ -201,7 +239,9 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
   if (!options.config_out.empty()) {
     std::vector<SensorKeyValue> keys;
     for (std::string_view key : required_sensor_keys(*protocol.family))
-      keys.push_back({std::string(key), target.model_sensor->family_options.text(key)});
+      keys.push_back({std::string(key),
+                      as_written(target.model_sensor->family_options.text(key), device_option,
+                                 options.config_out)});
     BusConfig written = bus.config();
     std::ofstream out(options.config_out, std::ios::trunc);
     out << scan_config_text(written, found, keys);
@@ -232,6 +272,9 @@ int scan_command(const BusOptions& bus_options, const ScanOptions& options, Fami
     errors.push_back(fmt::format("--broadcast: the {} protocol has no request every sensor "
                                  "answers",
                                  protocol.protocol->name));
+  if (options.auto_baud && bus_options.via_gateway)
+    errors.push_back("--baud auto: not with --via-gateway (the running gateway keeps its bus at "
+                     "its own rate: stop it to try every rate)");
   if (options.broadcast && (options.from || options.to || !bus_options.addresses.empty()))
     errors.push_back("--broadcast: not with --from, --to or --address (it asks every address)");
   if (!options.config_out.empty()) {
@@ -262,7 +305,8 @@ int scan_command(const BusOptions& bus_options, const ScanOptions& options, Fami
   return run_commissioning_on(
       "scan", bus,
       [&](CommissionBus& commission_bus, const bool& stopping) -> boost::asio::awaitable<int> {
-        co_return co_await scan(commission_bus, stopping, options, *target, protocol, *addresses);
+        co_return co_await scan(commission_bus, stopping, options, *target, protocol, *addresses,
+                                bus_options.device);
       });
 }
 

@@ -78,6 +78,33 @@ std::chrono::milliseconds default_probe_timeout(const ProtocolDescriptor& protoc
   return std::chrono::ceil<std::chrono::milliseconds>(wire) + kProbeAllowance;
 }
 
+std::vector<RepeatedSensor> drop_repeated_sensors(std::vector<FoundSensor>& found) {
+  std::vector<RepeatedSensor> repeated;
+  std::vector<FoundSensor> kept;
+  for (FoundSensor& s : found) {
+    const auto first = std::find_if(kept.begin(), kept.end(), [&](const FoundSensor& k) {
+      return !s.serial.empty() && !s.collision && !k.collision && k.serial == s.serial;
+    });
+    if (first == kept.end()) {
+      kept.push_back(std::move(s));
+      continue;
+    }
+    auto entry = std::find_if(repeated.begin(), repeated.end(),
+                              [&](const RepeatedSensor& r) { return r.serial == s.serial; });
+    if (entry == repeated.end())
+      entry = repeated.insert(repeated.end(), {first->address, first->serial, first->baud, {}});
+    entry->other_bauds.push_back(s.baud);
+  }
+  found = std::move(kept);
+  return repeated;
+}
+
+std::string repeated_note(const RepeatedSensor& r) {
+  return fmt::format("note: serial {} (address {}) answered at {} baud too: one sensor, listed "
+                     "once, at {} baud",
+                     r.serial, r.address, fmt::join(r.other_bauds, ", "), r.kept_baud);
+}
+
 std::string scan_header() {
   return fmt::format(fmt::runtime(kScanRowFormat), "ADDRESS", "BAUD", "MODEL", "SERIAL", "FIRMWARE",
                      "LOCK", "STATUS");

@@ -59,6 +59,20 @@ struct FoundSensor {
   std::optional<std::uint16_t> lock_level;
 };
 
+// With --baud auto, a sensor that answers at several rates (one that detects the rate, or a
+// simulator that takes any) is found once per rate. The same serial is the same sensor: it is
+// kept where it was found first (the first rate tried), its rows at later rates dropped.
+// Sensors whose serial could not be read are all kept.
+struct RepeatedSensor {
+  std::uint32_t address = 0;
+  std::string serial;
+  std::uint32_t kept_baud = 0;
+  std::vector<std::uint32_t> other_bauds;
+};
+std::vector<RepeatedSensor> drop_repeated_sensors(std::vector<FoundSensor>& found);
+// "note: serial 10001 (address 1) answered at 4800, 9600 baud too: listed once, at 38400 baud".
+std::string repeated_note(const RepeatedSensor& repeated);
+
 // The table: a header and one row per address (answered, or a probable collision).
 std::string scan_header();
 std::string scan_row(const FoundSensor& sensor);

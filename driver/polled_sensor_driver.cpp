@@ -60,8 +60,9 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     state_.online = true;
     state_.unanswered = false;
     state_.last_answer = SteadyClock::now();
-  } else if (sent.error() == LineError::expired) {
-    // Never sent: nothing was learnt of the sensor.
+  } else if (sent.error() == LineError::expired || sent.error() == LineError::cancelled) {
+    // Never sent, or cut off by a stop (the gateway's, a reload's): nothing was learnt of the
+    // sensor, which must not be logged as having stopped answering.
   } else {
     if (sent.error() == LineError::timeout) {
       ++state_.counters.timeouts;

@@ -201,7 +201,18 @@ TEST_CASE("through a gateway: none listening, a tty it does not own, and a rate 
   CHECK(found.exit_code == 0);
   CHECK(has(found.err, "through the running gateway: bus line1"));
 
+  // --baud auto needs the tty: with --via-gateway that is a usage error (2), said before the
+  // bus is touched; a gateway found on its own is refused before the first probe (1).
   const auto auto_baud = gateway.through("scan", {"--baud", "auto", "--from", "1", "--to", "3"});
-  CHECK(auto_baud.exit_code == 1);
-  CHECK(has(auto_baud.err, "the running gateway keeps bus line1 at 125000 baud"));
+  INFO(auto_baud.out << auto_baud.err);
+  CHECK(auto_baud.exit_code == 2);
+  CHECK(has(auto_baud.err, "--baud auto: not with --via-gateway"));
+  CHECK_FALSE(has(auto_baud.err, "without --via-gateway"));
+  const auto found_auto = run_tiltgate({"scan", "--control-socket", gateway.socket, "--port",
+                                        gateway.sim.tty(), "--baud", "auto", "--from", "1",
+                                        "--to", "3"});
+  INFO(found_auto.out << found_auto.err);
+  CHECK(found_auto.exit_code == 1);
+  CHECK(has(found_auto.err, "the running gateway keeps " + gateway.sim.tty() + " at 125000 baud"));
+  CHECK_FALSE(has(found_auto.out, "probe(s)"));  // refused before the first
 }

@@ -3,6 +3,7 @@
 // private folder and removes at exit), and the mbpoll examples for each unit.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <chrono>
@@ -15,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "e2e/support/gateway_process.h"
 #include "e2e/support/mixed_plant.h"
 #include "modbus_rtu/family.h"
 
@@ -64,7 +66,98 @@ std::vector<std::filesystem::path> files_under(const std::filesystem::path& fold
   return files;
 }
 
+// The demo's help once it is all out (it ends with "Ctrl-C stops.").
+std::string whole_help(const GatewayProcess& demo) {
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  std::string help = demo.output();
+  while (help.find("Ctrl-C stops.") == std::string::npos &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(20ms);
+    help = demo.output();
+  }
+  return help;
+}
+
+// The words of the help's first line that starts (after its indent) with `start`.
+std::vector<std::string> line_words(const std::string& help, const std::string& start) {
+  std::istringstream lines(help);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find_first_not_of(' ') == std::string::npos ||
+        line.compare(line.find_first_not_of(' '), start.size(), start) != 0)
+      continue;
+    std::istringstream in(line);
+    std::vector<std::string> words;
+    for (std::string w; in >> w;) words.push_back(w);
+    return words;
+  }
+  return {};
+}
+
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
 }  // namespace
+
+TEST_CASE("tiltgate demo: Try lines first, commissioning through its own control socket, a clean stop") {
+  TempDir dir;
+  const std::filesystem::path tmp = dir.path() / "tmp";
+  std::filesystem::create_directory(tmp);
+  const std::uint16_t port = free_tcp_port();
+  std::optional<GatewayProcess> demo;
+  {
+    TmpdirFor tmpdir(tmp);
+    demo.emplace(std::vector<std::string>{"demo", "--port", std::to_string(port), "--http-port",
+                                          "0"},
+                 dir.path());
+  }
+  REQUIRE_MESSAGE(demo->wait_listening(port), demo->log());
+  const std::string help = whole_help(*demo);
+  INFO("help: " << help);
+  INFO("log: " << demo->log());
+  // The map only on request: the Try lines come first.
+  CHECK(help.rfind("tiltgate demo: ", 0) == 0);
+  CHECK_FALSE(has(help, "### Unit"));
+  CHECK(has(help, "tiltgate demo --map"));
+
+  // Its control socket is its own, in its temporary folder, and the printed command works.
+  std::vector<std::string> info = line_words(help, "tiltgate info ");
+  REQUIRE(info.size() > 2);
+  const auto socket = std::find(info.begin(), info.end(), "--control-socket");
+  REQUIRE(socket + 1 < info.end());
+  CHECK(std::filesystem::path(*(socket + 1)).parent_path().parent_path() == tmp);
+  CHECK_FALSE(has(demo->log(), "control socket off"));
+  info.erase(info.begin());  // "tiltgate"
+  const CommandResult commissioned = run_tiltgate(info);
+  INFO("info: " << commissioned.out << commissioned.err);
+  CHECK(commissioned.exit_code == 0);
+  CHECK(has(commissioned.err, "through the running gateway"));
+  CHECK(has(commissioned.out, "serial:"));
+
+  // Stopped while its sensors are polled: none of them is said to have stopped answering.
+  const auto stopping = std::chrono::steady_clock::now();
+  CHECK(demo->terminate() == 0);
+  const auto took = std::chrono::steady_clock::now() - stopping;
+  MESSAGE("stopped in ", std::chrono::duration_cast<std::chrono::milliseconds>(took).count(),
+          " ms");
+  CHECK_FALSE(has(demo->log(), "stopped answering"));
+  // A loose bound (it took 1.4 to 2 s, waiting for work a stop had cancelled).
+  CHECK(took < 1s);
+  CHECK(std::filesystem::is_empty(tmp));
+}
+
+TEST_CASE("tiltgate demo --map prints the register maps, then its Try lines") {
+  TempDir dir;
+  const std::uint16_t port = free_tcp_port();
+  GatewayProcess demo({"demo", "--port", std::to_string(port), "--http-port", "0", "--map"},
+                      dir.path());
+  REQUIRE_MESSAGE(demo.wait_listening(port), demo.log());
+  const std::string help = whole_help(demo);
+  INFO("help: " << help);
+  CHECK(help.rfind("### Unit 1: ", 0) == 0);
+  CHECK(help.find("| input | 0 | 30001 |") < help.find("Try:"));
+  CHECK_FALSE(has(help, "tiltgate demo --map"));
+}
 
 TEST_CASE("tiltgate demo serves the RTU inclinometer through the example profile and cleans up") {
   TempDir dir;

@@ -187,6 +187,25 @@ TEST_CASE("a sensor that answers 300 ms late leaves its neighbours untouched and
   CHECK(watch.seen(3).worst_age_ms < kStaleMs);
 }
 
+TEST_CASE("a gateway stopped mid-exchange logs no sensor as having stopped answering") {
+  RiekerPlant plant;
+  PlcWatch watch(plant.port, plant.units_but({}));
+  // Its replies 300 ms late: it stays online, and the line is on the wire with it most of the
+  // time, so the stop almost surely cuts one of its exchanges off.
+  plant.fault(3, [](rieker::SensorFaults& f) { f.reply_delay = 300ms; });
+  std::this_thread::sleep_for(1500ms);
+  watch.stop();
+  ModbusClient client(plant.port, 3);
+  const auto status = client.input(6, 1);
+  REQUIRE(status.size() == 1);
+  REQUIRE((status[0] & 0x21) == 0x21);  // online, answers late
+  CHECK(plant.gateway->terminate() == 0);
+  const std::string log = plant.gateway->log();
+  INFO(log);
+  CHECK(log.find("shutting down") != std::string::npos);
+  CHECK(log.find("stopped answering") == std::string::npos);
+}
+
 TEST_CASE("a sensor that answers NAK 5 (busy) to everything leaves its five neighbours untouched") {
   RiekerPlant plant;
   PlcWatch watch(plant.port, plant.units_but({}));
@@ -251,7 +270,19 @@ TEST_CASE("a tty that returns: its sensors read fresh at the first poll after th
     s.unplug();
     return 0;
   });
+  const auto unplugged = Clock::now();
   std::this_thread::sleep_for(3s);
+  // The poll that finds the tty gone takes every sensor of the bus offline: their angles
+  // answer 0x0B from then on, without waiting for stale_ms (1 s) as for a silent sensor.
+  for (const int unit : plant.units_but({})) {
+    const auto unavailable = watch.first_unavailable_since(unit, unplugged);
+    REQUIRE(unavailable.has_value());
+    CHECK(watch.seen(unit).last_exception == 0x0B);
+    MESSAGE("unit ", unit, ": 0x0B ",
+            std::chrono::duration_cast<std::chrono::milliseconds>(*unavailable - unplugged).count(),
+            " ms after the tty went");
+    CHECK(*unavailable - unplugged < 1s);
+  }
   REQUIRE(plant.sim->call([](RiekerSimulator& s) { return s.replug().has_value(); }));
   // The gateway logs the reopen; what reads fresh after it counts from there.
   std::optional<Clock::time_point> reopened;

@@ -88,6 +88,32 @@ TEST_CASE("scan at the wrong baud finds nothing, but --baud auto finds the senso
   CHECK(mentions(found.out, "1 sensor(s) found at 38400 baud: 12; 40 probe(s)"));  // 8 rates
 }
 
+TEST_CASE("scan --baud auto lists a sensor that answers at every rate once, and says so") {
+  // No --baud: the simulated sensor answers at any rate, as one that detects the rate does.
+  SimulatorProcess sim({"rieker", "--sensors", "h6:12"});
+  const auto found = run_tiltgate(
+      {"scan", "--port", sim.tty(), "--baud", "auto", "--from", "10", "--to", "14"});
+  INFO(found.out << found.err);
+  CHECK(found.exit_code == 0);
+  std::size_t rows = 0;
+  std::istringstream lines(found.out);
+  for (std::string line; std::getline(lines, line);) rows += line.rfind("12 ", 0) == 0;
+  CHECK(rows == 1);
+  CHECK(row_for(found.out, "12").at(1) == "125000");  // where it was found first
+  CHECK(mentions(found.out, "note: serial 9600012 (address 12) answered at "));
+  CHECK(mentions(found.out, "baud too: one sensor, listed once, at 125000 baud"));
+  CHECK(mentions(found.out, "1 sensor(s) found at 125000 baud: 12;"));
+}
+
+TEST_CASE("scan of a protocol without a default rate and no --baud names only --baud") {
+  SimulatorProcess sim({"spectron", "--protocol", "modbus", "--sensors", "dyna:1"});
+  const auto scan = run_tiltgate({"scan", "--port", sim.tty(), "--protocol", "spectron-modbus"});
+  INFO(scan.out << scan.err);
+  CHECK(scan.exit_code == 2);
+  CHECK(mentions(scan.err, "--baud"));
+  CHECK_FALSE(mentions(scan.err, "[[sensor]]"));
+}
+
 TEST_CASE("scan --broadcast asks the one sensor on the bus for its address, with a warning") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:4242"});
   const auto scan = run_tiltgate({"scan", "--port", sim.tty(), "--broadcast"});

@@ -64,6 +64,13 @@ class PlcWatch {
     std::lock_guard lock(mutex_);
     return seen_.at(unit).first_offline;
   }
+  // The first time at or after `since` that `unit`'s angle answered an exception (or nothing).
+  std::optional<Clock::time_point> first_unavailable_since(int unit, Clock::time_point since) const {
+    std::lock_guard lock(mutex_);
+    for (const Clock::time_point at : seen_.at(unit).unavailable_at)
+      if (at >= since) return at;
+    return std::nullopt;
+  }
   // The first time at or after `since` that every one of `units` read online and not stale
   // with its angle readable and a reading newer than `since`.
   std::optional<Clock::time_point> all_fresh_since(Clock::time_point since) const {
@@ -87,6 +94,7 @@ class PlcWatch {
     UnitSeen seen;
     std::optional<Clock::time_point> last_taken;
     std::optional<Clock::time_point> first_offline;
+    std::vector<Clock::time_point> unavailable_at;  // every read whose angle was unavailable
     std::vector<Fresh> fresh;  // every read that found the unit fresh
   };
 
@@ -111,6 +119,7 @@ class PlcWatch {
     if (angle.empty()) {
       ++track.seen.unavailable;
       track.seen.last_exception = exception;
+      track.unavailable_at.push_back(Clock::now());
     } else {
       const float x = modbus_get_float_abcd(angle.data());
       track.seen.angle_min = std::min(track.seen.angle_min, x);
