@@ -91,8 +91,10 @@ std::vector<RepeatedSensor> drop_repeated_sensors(std::vector<FoundSensor>& foun
     }
     auto entry = std::find_if(repeated.begin(), repeated.end(),
                               [&](const RepeatedSensor& r) { return r.serial == s.serial; });
-    if (entry == repeated.end())
-      entry = repeated.insert(repeated.end(), {first->address, first->serial, first->baud, {}});
+    if (entry == repeated.end()) {
+      repeated.push_back(RepeatedSensor{first->address, first->serial, first->baud, {}});
+      entry = repeated.end() - 1;
+    }
     entry->other_bauds.push_back(s.baud);
   }
   found = std::move(kept);

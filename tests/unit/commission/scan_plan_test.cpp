@@ -199,3 +199,28 @@ TEST_CASE("--config-out writes the family's required keys into every sensor") {
     ++devices;
   CHECK(devices == 2);
 }
+
+TEST_CASE("--baud auto: a serial found again at later rates is one sensor, kept where first found") {
+  auto with_serial = [](std::uint32_t address, std::uint32_t baud, std::string serial) {
+    FoundSensor s = found_at(address, baud, "h6");
+    s.serial = std::move(serial);
+    return s;
+  };
+  std::vector<FoundSensor> found{with_serial(12, 125000, "9600012"), found_at(5, 125000, "", true),
+                                 with_serial(12, 9600, "9600012"), with_serial(13, 9600, "9600013"),
+                                 found_at(5, 9600, "", true), with_serial(14, 9600, ""),
+                                 with_serial(12, 19200, "9600012"), with_serial(15, 19200, "")};
+  const std::vector<RepeatedSensor> repeated = drop_repeated_sensors(found);
+  // Collisions and sensors without a serial read are all kept: nothing says they are one.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> kept;
+  for (const FoundSensor& s : found) kept.emplace_back(s.address, s.baud);
+  CHECK(kept == std::vector<std::pair<std::uint32_t, std::uint32_t>>{
+                    {12, 125000}, {5, 125000}, {13, 9600}, {5, 9600}, {14, 9600}, {15, 19200}});
+  REQUIRE(repeated.size() == 1);
+  CHECK(repeated[0].address == 12);
+  CHECK(repeated[0].kept_baud == 125000);
+  CHECK(repeated[0].other_bauds == std::vector<std::uint32_t>{9600, 19200});
+  CHECK(repeated_note(repeated[0]) ==
+        "note: serial 9600012 (address 12) answered at 9600, 19200 baud too: one sensor, listed "
+        "once, at 125000 baud");
+}
