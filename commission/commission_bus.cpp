@@ -94,6 +94,14 @@ void CommissionBus::address_changed(std::uint32_t from, std::uint32_t to) {
                              *followed, to);
 }
 
+void CommissionBus::setting_changed(std::uint32_t address, WriteTarget setting, double value) {
+  if (!remote_) return;
+  if (const auto told = remote_->setting_changed(address, setting, value); !told)
+    std::cerr << fmt::format("warning: the gateway was not told of the change: {}; its holding "
+                             "registers show the setting's old value\n",
+                             told.error());
+}
+
 Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus::open(
     boost::asio::any_io_executor executor, const CommissionTarget& target) {
   std::vector<CommissionedSensor> sensors;

@@ -62,6 +62,10 @@ class CommissionBus {
   // A command moved a sensor from one bus address to another (set address): a running gateway
   // that owns the bus follows it at once (said on stdout). Nothing to do on a tty of our own.
   void address_changed(std::uint32_t from, std::uint32_t to);
+  // The sensor at `address` acknowledged a setting: a running gateway that owns the bus keeps
+  // it in the sensor's settings record (what its holding registers read). Nothing to do on a
+  // tty of our own.
+  void setting_changed(std::uint32_t address, WriteTarget setting, double value);
 
   // Reopens the tty at another baud rate (scan --baud auto; set baud, after the sensor was set
   // to it and restarted), keeping the lock; the bus's config() follows. An error says why it

@@ -195,6 +195,9 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
         std::cerr << bus.no_reply_message(sensor) << "\n";
       co_return 1;
     }
+    // A running gateway keeps the sensor's settings record (a move is followed below).
+    if (w.target != WriteTarget::bus_address)
+      bus.setting_changed(sensor.config.address, w.target, w.value);
   }
   if (stopping) co_return 0;
   std::cout << fmt::format("{}{} at address {}: acknowledged\n", fmt::join(arguments.words, " "),

@@ -1,6 +1,7 @@
 #include "control/control_protocol.h"
 
 #include <charconv>
+#include <cmath>
 #include <fmt/format.h>
 
 namespace tiltgate::control {
@@ -113,6 +114,9 @@ std::string format(const CommandMessage& message) {
           [](const Follow& m) { return fmt::format("follow {} {}", m.from, m.to); },
           [](const Hold& m) { return fmt::format("hold {}", m.address); },
           [](const Release& m) { return fmt::format("release {}", m.address); },
+          [](const SettingChanged& m) {
+            return fmt::format("setting {} {} {}", m.address, m.setting, m.value);
+          },
       },
       message);
 }
@@ -159,6 +163,13 @@ Expected<CommandMessage, std::string> parse_command(std::string_view line) {
     if (!address) return malformed(line);
     if (w[0] == "hold") return CommandMessage{Hold{*address}};
     return CommandMessage{Release{*address}};
+  }
+  if (w[0] == "setting" && w.size() == 4) {
+    const auto address = number<std::uint32_t>(w[1]);
+    const auto setting = number<std::uint8_t>(w[2]);
+    const auto value = number<double>(w[3]);
+    if (!address || !setting || !value || !std::isfinite(*value)) return malformed(line);
+    return CommandMessage{SettingChanged{*address, *setting, *value}};
   }
   if (w[0] == "transact" && w.size() == 8) {
     const auto address_bytes = number<std::size_t>(w[1]);

@@ -12,7 +12,11 @@
 //   hold 223                                ok line1/boom            (or: ok, none is there)
 //   follow 223 7                            ok line1/boom            (or: ok, none was there)
 //   release 223                             ok
+//   setting 223 0 2                         ok line1/boom            (or: ok, none is there)
 //
+// setting: the sensor at 223 acknowledged a change of setting 0 (a WriteTarget id,
+// driver/write_target.h) to 2; the gateway's settings record of the sensor follows it, as it
+// does a Modbus write (SensorDriver::note_acknowledged). An address move is a follow instead.
 // hold: the command is about to move the sensor at 223; the gateway stops polling it (a poll
 // at the old address while it moves would fail and mark it offline) until follow or release,
 // the session's end, or kMaxHold.
@@ -65,7 +69,13 @@ struct Hold {
 struct Release {
   std::uint32_t address = 0;
 };
-using CommandMessage = std::variant<Hello, Transact, FramerAnswer, Follow, Hold, Release>;
+struct SettingChanged {
+  std::uint32_t address = 0;
+  std::uint8_t setting = 0;  // WriteTarget::id
+  double value = 0;
+};
+using CommandMessage =
+    std::variant<Hello, Transact, FramerAnswer, Follow, Hold, Release, SettingChanged>;
 
 struct BusGranted {
   std::string name;

@@ -210,6 +210,11 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       const auto sensor = bus->scheduler->hold(hold->address, SteadyClock::now() + kMaxHold);
       if (sensor) held.push_back(hold->address);
       reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
+    } else if (const auto* changed = std::get_if<control::SettingChanged>(&*message)) {
+      const auto sensor = bus->scheduler->note_setting(changed->address,
+                                                       WriteTarget{changed->setting},
+                                                       changed->value, by);
+      reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
     } else if (const auto* release = std::get_if<control::Release>(&*message)) {
       bus->scheduler->release(release->address);
       std::erase(held, release->address);

@@ -226,4 +226,9 @@ Expected<std::string, std::string> RemoteLine::release(std::uint32_t address) {
   return ask(control::Release{address});
 }
 
+Expected<std::string, std::string> RemoteLine::setting_changed(std::uint32_t address,
+                                                               WriteTarget setting, double value) {
+  return ask(control::SettingChanged{address, setting.id, value});
+}
+
 }  // namespace tiltgate

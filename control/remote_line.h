@@ -20,6 +20,7 @@
 
 #include "driver/expected.h"
 #include "driver/line.h"
+#include "driver/write_target.h"
 #include "control/control_protocol.h"
 
 namespace tiltgate {
@@ -68,6 +69,10 @@ class RemoteLine final : public Line {
   // control_protocol.h), or to poll it again. Returns the "bus/sensor" held, or empty.
   Expected<std::string, std::string> hold(std::uint32_t address);
   Expected<std::string, std::string> release(std::uint32_t address);
+  // Tells the gateway that the sensor at `address` acknowledged `setting` := `value`, so that
+  // its settings record follows. Returns the "bus/sensor" told, or empty, or an error.
+  Expected<std::string, std::string> setting_changed(std::uint32_t address, WriteTarget setting,
+                                                     double value);
   // Closes the socket: a suspended transact() returns cancelled, as every later one does.
   void stop();
 

@@ -30,6 +30,10 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
   if (!identity_current) state_.identity_known = false;
   bool reachable = true;
   if (!identity_current) reachable = co_await read_identity(line);
+  if (reachable && (settings_owed_ || !identity_current)) {
+    reachable = co_await read_settings(line);
+    settings_owed_ = !reachable;
+  }
   if (reachable) {
     co_await read_measurement(line);
   } else {
@@ -57,6 +61,9 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     if (sent || sent.error() != LineError::timeout) break;
   }
   if (sent) {
+    // Back from offline: it may have been changed (or replaced) while the gateway could not
+    // see it, so its settings are read again.
+    if (known_offline(state_)) settings_owed_ = true;
     state_.online = true;
     state_.unanswered = false;
     state_.last_answer = SteadyClock::now();
@@ -73,6 +80,17 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     state_.unanswered = sent.error() == LineError::timeout;
   }
   co_return sent;
+}
+
+void PolledSensorDriver::note_acknowledged(WriteTarget target, double value) {
+  (void)target;
+  (void)value;
+  settings_owed_ = true;
+}
+
+boost::asio::awaitable<bool> PolledSensorDriver::read_settings(Line& line) {
+  (void)line;
+  co_return true;  // nothing the protocol can read back
 }
 
 void PolledSensorDriver::note_timing(const LineTiming& timing, const std::string& line_name) {

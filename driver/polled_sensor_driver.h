@@ -31,6 +31,9 @@ class PolledSensorDriver : public SensorDriver {
  public:
   boost::asio::awaitable<void> poll(Line& line) final;
   const SensorState& state() const final { return state_; }
+  // Reads the settings back at the next poll (read_settings()). A family that cannot read a
+  // setting back overrides this to record `value` as acknowledged.
+  void note_acknowledged(WriteTarget target, double value) override;
 
  protected:
   explicit PolledSensorDriver(ReplyTimeouts timeouts);
@@ -40,6 +43,11 @@ class PolledSensorDriver : public SensorDriver {
   virtual boost::asio::awaitable<bool> read_identity(Line& line) = 0;
   // One measurement: a new Reading and polls_ok, or polls_failed.
   virtual boost::asio::awaitable<void> read_measurement(Line& line) = 0;
+  // Reads the settings the protocol can read back into state_.settings (those it cannot keep
+  // their last acknowledged value). Called after the identity, and before the next measurement
+  // after a return from offline (the sensor may have been changed or replaced meanwhile) and
+  // after note_acknowledged(). False when the sensor did not answer at all.
+  virtual boost::asio::awaitable<bool> read_settings(Line& line);
   // For log lines: the configured sensor name and what it is ("sensor", "module").
   virtual const std::string& log_name() const = 0;
   virtual const char* kind() const = 0;
@@ -70,6 +78,9 @@ class PolledSensorDriver : public SensorDriver {
   void note_timing(const LineTiming& timing, const std::string& line_name);
 
   std::uint64_t identity_generation_ = 0;
+  // read_settings() is due at the next poll: the sensor came back from offline, or someone
+  // else changed a setting.
+  bool settings_owed_ = false;
   AdaptiveReplyTimeout reply_timeout_;
   bool probing_ = false;  // in a poll of a sensor that was offline: no retries
 };

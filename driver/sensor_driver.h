@@ -85,6 +85,17 @@ class SensorDriver {
   // address against the protocol's range.
   virtual void follow_address(std::uint32_t address) = 0;
 
+  // Someone else changed a setting and the sensor acknowledged it (a commissioning command
+  // through the control socket, control/control_server.h): the driver keeps its settings record
+  // (SensorState::settings) as after a write() of its own, so that every door (Modbus,
+  // Sparkplug, `tiltgate set` through the gateway) shows in the same record. A driver that can
+  // read its settings back reads them instead at its next poll; one that keeps no record
+  // ignores it.
+  virtual void note_acknowledged(WriteTarget target, double value) {
+    (void)target;
+    (void)value;
+  }
+
   // One poll cycle: reads identity first when it is unknown (after start and after the line
   // reopened), then one measurement. Updates state(); never throws.
   virtual boost::asio::awaitable<void> poll(Line& line) = 0;

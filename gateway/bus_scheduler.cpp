@@ -350,6 +350,21 @@ std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std:
   return polled->sensor->config.name;
 }
 
+std::optional<std::string> BusScheduler::note_setting(std::uint32_t address, WriteTarget setting,
+                                                      double value, std::string_view by) {
+  Polled* polled = find_polled(address);
+  if (polled == nullptr) return std::nullopt;
+  GatewaySensor& sensor = *polled->sensor;
+  sensor.driver->note_acknowledged(setting, value);
+  sensor.publish();
+  std::string name = fmt::format("setting {}", setting.id);
+  if (sensor.model != nullptr)
+    for (const SettingDescriptor& known : sensor.model->settings)
+      if (known.id == setting) name = known.name;
+  spdlog::info("{}: sensor \"{}\": {} = {} set by {}", name_, sensor.config.name, name, value, by);
+  return sensor.config.name;
+}
+
 std::optional<std::string> BusScheduler::hold(std::uint32_t address,
                                               SteadyClock::time_point until) {
   Polled* polled = find_polled(address);

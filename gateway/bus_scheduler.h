@@ -129,6 +129,11 @@ class BusScheduler {
   // waits for its turn. Returns its name, or none when no sensor of this bus is there.
   std::optional<std::string> hold(std::uint32_t address, SteadyClock::time_point until);
   void release(std::uint32_t address);
+  // A commissioning command changed a setting of the sensor at `address` and the sensor
+  // acknowledged it: its settings record follows (SensorDriver::note_acknowledged), and the
+  // snapshot is published. Returns its name, or none when no sensor of this bus is there.
+  std::optional<std::string> note_setting(std::uint32_t address, WriteTarget setting,
+                                          double value, std::string_view by);
 
   const std::string& name() const { return name_; }
   BusSchedulerStats stats() const;

@@ -49,6 +49,9 @@ struct SensorStatus {
   // the last few seconds (0..1; none until counted): who eats the line.
   double line_seconds = 0;
   std::optional<double> line_share;
+  // The sensor's settings record (SensorState::settings): each setting of its model by name,
+  // with the value the sensor has as far as the gateway knows; none while unknown.
+  std::vector<std::pair<std::string, std::optional<double>>> settings;
 };
 
 struct BusStatus {

@@ -58,6 +58,10 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.io_errors = state.counters.io_errors;
   s.late_replies = state.counters.late_replies;
   s.line_seconds = std::chrono::duration<double>(sensor.line_time).count();
+  if (sensor.model != nullptr)
+    for (const SettingDescriptor& setting : sensor.model->settings)
+      if (setting.id != WriteTarget::command)  // a one-shot command, no value to keep
+        s.settings.emplace_back(std::string(setting.name), state.settings.get(setting.id));
   for (std::size_t code = 0; code < state.counters.refusals.size(); ++code)
     if (state.counters.refusals[code] > 0)
       s.refusals.emplace_back(std::uint8_t(code), state.counters.refusals[code]);

@@ -290,6 +290,10 @@ std::string RiekerDriver::refusal_text(std::uint8_t code) const {
   return fmt::format("NAK {} ({})", code, nak_name(code));
 }
 
+void RiekerDriver::note_acknowledged(WriteTarget target, double value) {
+  record_acknowledged(state_.settings, target, value);
+}
+
 void RiekerDriver::follow_address(std::uint32_t address) {
   options_.address = std::uint16_t(address);
   state_.bus_address = address;

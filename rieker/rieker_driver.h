@@ -39,6 +39,9 @@ class RiekerDriver : public PolledSensorDriver {
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
 
   void follow_address(std::uint32_t address) override;
+  // The protocol reads no setting back (the vendor's function list has no Get for the filter,
+  // the zero or the baud): the acknowledged value is kept.
+  void note_acknowledged(WriteTarget target, double value) override;
   // "NAK 2 (function not valid for this sensor or mode)".
   std::string refusal_text(std::uint8_t code) const override;
 

@@ -100,7 +100,7 @@ asio::awaitable<bool> DynaDriver::read_identity(Line& line) {
 
   // A module that answers identity requests with nonsense still measures: carry on without it
   // rather than asking again every poll (status bit 3 stays set until the next reconnect).
-  if (!co_await read_settings(line)) co_return false;
+  // The settings are read next (PolledSensorDriver::poll()).
   identity_read_on(generation);
   if (firmware) state_.firmware = firmware->text;
   if (serial) state_.serial = std::to_string(serial->number);  // EEPROM 4, a decimal number

@@ -80,6 +80,9 @@ class DynaDriver : public PolledSensorDriver {
  protected:
   boost::asio::awaitable<bool> read_identity(Line& line) override;
   boost::asio::awaitable<void> read_measurement(Line& line) override;  // sensor, temperature
+  // EEPROM read-back: every named setting and the window's location; false when the module
+  // stopped answering.
+  boost::asio::awaitable<bool> read_settings(Line& line) override;
   const std::string& log_name() const override { return options_.name; }
   const char* kind() const override { return "Dyna"; }
 
@@ -101,9 +104,6 @@ class DynaDriver : public PolledSensorDriver {
   WriteResult check_location_value(std::int64_t location, double value) const;
   WriteResult check_window_value(std::optional<std::uint16_t> location, double value) const;
 
-  // EEPROM read-back: every named setting and the window's location, with the identity; false
-  // when the module stopped answering.
-  boost::asio::awaitable<bool> read_settings(Line& line);
   // Reads one location and publishes it in state_.settings (unknown if unreadable).
   boost::asio::awaitable<Expected<std::uint16_t, ExchangeError>> read_back(Line& line,
                                                                            std::uint16_t location);

@@ -57,6 +57,16 @@ std::string naks_json(const std::vector<std::pair<std::uint8_t, std::uint64_t>>&
   return out + "}";
 }
 
+// {"filter":2,"zero_x":null}: the settings record, null where unknown.
+std::string settings_json(const std::vector<std::pair<std::string, std::optional<double>>>& settings) {
+  std::string out = "{";
+  for (std::size_t i = 0; i < settings.size(); ++i) {
+    if (i > 0) out += ",";
+    out += fmt::format("{}:{}", json_string(settings[i].first), json_number(settings[i].second));
+  }
+  return out + "}";
+}
+
 }  // namespace
 
 std::string sensor_json(const SensorStatus& s) {
@@ -65,13 +75,13 @@ std::string sensor_json(const SensorStatus& s) {
       "\"firmware\":{},\"online\":{},\"stale\":{},\"x\":{},\"y\":{},\"tilt\":{},\"age_ms\":{},"
       "\"alarms\":{},\"polls_ok\":{},\"polls_failed\":{},\"polls_per_s\":{},"
       "\"failures\":{{\"timeout\":{},\"checksum\":{},\"io_error\":{},\"late_reply\":{}}},"
-      "\"naks\":{},\"line_seconds\":{},\"line_share\":{}}}",
+      "\"naks\":{},\"line_seconds\":{},\"line_share\":{},\"settings\":{}}}",
       json_string(s.name), json_string(s.bus), s.unit_id, s.address, json_string(s.model),
       json_string(s.serial), json_string(s.firmware), s.online, s.stale, json_number(s.x),
       json_number(s.y), json_number(s.tilt), json_integer(s.age_ms), s.alarms, s.polls_ok,
       s.polls_failed, json_number(s.polls_per_s), s.timeouts, s.checksum_errors, s.io_errors,
       s.late_replies, naks_json(s.refusals), json_number(s.line_seconds),
-      json_number(s.line_share));
+      json_number(s.line_share), settings_json(s.settings));
 }
 
 std::string sensors_json(const std::vector<SensorStatus>& sensors) {

@@ -16,6 +16,7 @@
 
 #include "e2e/support/gateway_config.h"
 #include "e2e/support/gateway_process.h"
+#include "e2e/support/http_client.h"
 #include "e2e/support/output_checks.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_process.h"
@@ -30,6 +31,8 @@ constexpr auto kPollPeriod = 200ms;
 // Input registers of the built-in map (docs/register-maps.md, "Default register map").
 constexpr int kSampleSeq = 15;
 constexpr int kBusAddress = 14;
+// Holding register 0: the filter setting.
+constexpr int kFilter = 0;
 
 // `tiltgate run` with sensor "boom" at address 5 of the simulator's bus, and its control socket.
 struct RunningGateway {
@@ -37,13 +40,15 @@ struct RunningGateway {
   TempDir dir;
   std::string socket = (dir.path() / "control.sock").string();
   std::uint16_t port = free_tcp_port();
+  std::uint16_t http_port = free_tcp_port();
+  std::filesystem::path config;
   std::unique_ptr<GatewayProcess> process;
 
   explicit RunningGateway(std::chrono::milliseconds poll = kPollPeriod) {
-    const auto config = dir.write(
+    config = dir.write(
         "gateway.toml",
         server_table(port, fmt::format("writes = true\ncontrol_socket = \"{}\"", socket)) +
-            bus_table("line1", sim.tty()) +
+            http_table(http_port) + bus_table("line1", sim.tty()) +
             sensor_table("boom", "line1", "h6", 5, 1, fmt::format("poll_ms = {}", poll.count())));
     process = std::make_unique<GatewayProcess>(
         std::vector<std::string>{"run", "--config", config.string()}, dir.path());
@@ -165,6 +170,41 @@ TEST_CASE("a sensor the gateway polls, re-addressed through it, is followed at o
   CHECK(address[0] == 9);
   // The gateway held its polls while the sensor moved: none failed at the old address.
   CHECK_FALSE(has(gateway.process->log(), "stopped answering"));
+}
+
+TEST_CASE("a setting changed through the running gateway, by set or by a Modbus write, is what its holding register reads") {
+  RunningGateway gateway;
+  ModbusClient plc(gateway.port, 1);
+  const auto filter = [&] {
+    const auto words = plc.holding(kFilter, 1);
+    REQUIRE_FALSE(words.empty());
+    return words[0];
+  };
+  // The Rieker protocol reads no filter back: unknown until one is acknowledged.
+  CHECK(filter() == 65535);
+
+  // The issue's scenario: the command finds the gateway through the configuration's control
+  // socket and carries its writes on the gateway's bus.
+  const auto set = run_tiltgate(
+      {"set", "--config", gateway.config.string(), "--sensor", "boom", "filter", "2"});
+  INFO(set.out << set.err << gateway.process->log());
+  REQUIRE(set.exit_code == 0);
+  CHECK(has(set.err, "through the running gateway"));
+  CHECK(filter() == 2);
+
+  // A Modbus write, then the command again: each door updates the same record.
+  CHECK(plc.write(kFilter, 5));
+  CHECK(filter() == 5);
+  const auto again = run_tiltgate(
+      {"set", "--config", gateway.config.string(), "--sensor", "boom", "filter", "3"});
+  INFO(again.out << again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK(filter() == 3);
+  // The API shows the same record: the address known from the start, the zeros never set.
+  const Response api = get(gateway.http_port, "/api/sensors/boom");
+  CHECK(has(api.body, R"("settings":{"filter":3,"zero_x":null,"zero_y":null,"baud_code":null,)"
+                      R"("bus_address":5})"));
+  CHECK(has(gateway.process->log(), "sensor \"boom\": filter = 3 set by a commissioning command"));
 }
 
 TEST_CASE("through a gateway: none listening, a tty it does not own, and a rate it cannot change are refused") {

@@ -264,6 +264,12 @@ def commands_on(t, observer, sim, gateway, codec):
         {"name": "Settings/filter", "datatype": spb_codec.DOUBLE, "value": 3.0}]))
     t.check("DCMD Settings/filter = 3 (by name) shows in DDATA as Settings/filter = 3",
             wait_until(lambda: setting_is("Settings/filter", 3.0), WAIT))
+    # One record of the sensor's settings: what its holding registers and the API show too.
+    def recorded():
+        settings = gateway.sensor_api("boom").get("settings", {})
+        return settings.get("filter") == 3 and settings.get("zero_x") == 1
+    t.check("the DCMD's filter = 3 is in the sensor's settings record (/api/sensors/boom)",
+            wait_until(recorded, WAIT), gateway.sensor_api("boom").get("settings"))
     t.check("/metrics counts the writes: tiltgate_sparkplug_commands_total{result=\"write\"} >= 2",
             wait_until(lambda: gateway.metric(COMMANDS, 0, result="write") >= 2, WAIT),
             {k: v for k, v in gateway.metrics().items() if "sparkplug" in k})

@@ -59,6 +59,41 @@ TEST_CASE_TEMPLATE("the EEPROM settings are read back with the identity", P, Nin
   CHECK(known_setting(driver, spectron::setting::sensor_offset) == 99);
 }
 
+TEST_CASE_TEMPLATE("a module back from offline has its EEPROM settings read again", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  SimulatedDyna& module = bench.module();
+  module.set_eeprom(6, 12);
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  REQUIRE(known_setting(driver, spectron::setting::sensor_offset) == 12);
+  // Silent (both attempts of the measurement), and changed meanwhile by another tool.
+  module.faults().silent = 2;
+  bench.poll(driver);
+  REQUIRE(known_offline(driver.state()));
+  module.set_eeprom(6, 34);
+  bench.poll(driver);  // answers again
+  CHECK(driver.state().online);
+  bench.poll(driver);
+  CHECK(known_setting(driver, spectron::setting::sensor_offset) == 34);
+}
+
+TEST_CASE_TEMPLATE("a change another door made is read back from the module", P, NineBit,
+                   ModbusAscii) {
+  Bench bench(P::protocol, {dyna()});
+  SimulatedDyna& module = bench.module();
+  module.set_eeprom(20, 5);
+  DynaDriver driver(driver_for(P::protocol));
+  bench.poll(driver);
+  REQUIRE(known_setting(driver, spectron::setting::pwm_offset) == 5);
+  // `tiltgate set` through the gateway wrote 40 and the module took 41 (say): the record holds
+  // what the module holds, read at the next poll.
+  module.set_eeprom(20, 41);
+  driver.note_acknowledged(spectron::setting::pwm_offset, 40);
+  bench.poll(driver);
+  CHECK(known_setting(driver, spectron::setting::pwm_offset) == 41);
+}
+
 TEST_CASE_TEMPLATE("selecting a window location reads it from the module", P, NineBit,
                    ModbusAscii) {
   Bench bench(P::protocol, {dyna()});

@@ -47,6 +47,18 @@ TEST_CASE("control: hello keeps a port path whole, follow carries both addresses
   CHECK_FALSE(std::get<FramerAnswer>(*parse_command("more")).done);
 }
 
+TEST_CASE("control: a setting the sensor acknowledged carries its address, id and value") {
+  CHECK(format(CommandMessage{SettingChanged{223, 1, -0.25}}) == "setting 223 1 -0.25");
+  auto changed = parse_command("setting 223 1 -0.25");
+  REQUIRE(changed);
+  CHECK(std::get<SettingChanged>(*changed).address == 223);
+  CHECK(std::get<SettingChanged>(*changed).setting == 1);
+  CHECK(std::get<SettingChanged>(*changed).value == -0.25);
+  CHECK_FALSE(parse_command("setting 223 300 2"));  // no such id
+  CHECK_FALSE(parse_command("setting 223 0 nan"));
+  CHECK_FALSE(parse_command("setting 223 0"));
+}
+
 TEST_CASE("control: the gateway's end of a transaction carries its outcome, timing and generation") {
   Ended ok;
   ok.timing.reply_delay = 3ms;

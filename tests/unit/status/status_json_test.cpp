@@ -41,6 +41,7 @@ SensorStatus boom() {
   s.refusals = {{3, 2}, {5, 1}};
   s.line_seconds = 12.5;
   s.line_share = 0.031;
+  s.settings = {{"filter", 2.0}, {"zero_x", std::nullopt}};
   return s;
 }
 
@@ -95,7 +96,8 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"("serial":"962285","firmware":"1.2","online":true,"stale":false,"x":1.5,"y":-2.25,)"
         R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
-        R"("naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031})");
+        R"("naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031,)"
+        R"("settings":{"filter":2,"zero_x":null}})");
 }
 
 TEST_CASE("status JSON: missing angles and age are null, never NaN") {
@@ -106,7 +108,7 @@ TEST_CASE("status JSON: missing angles and age are null, never NaN") {
   CHECK(none.find(R"("x":null,"y":null,"tilt":null,"age_ms":null,)") != std::string::npos);
   CHECK(none.find(R"("online":false,"stale":true,)") != std::string::npos);
   CHECK(none.find(R"("polls_per_s":null,)") != std::string::npos);
-  CHECK(none.find(R"("naks":{},"line_seconds":0,"line_share":null})") != std::string::npos);
+  CHECK(none.find(R"("naks":{},"line_seconds":0,"line_share":null,"settings":{}})") != std::string::npos);
   CHECK(json_number(NAN) == "null");
   CHECK(json_number(INFINITY) == "null");
 }
