@@ -21,6 +21,7 @@ from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.plant import Gateway, Simulator  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
+from spb_e2e.tahu import check_decoders  # noqa: E402
 from spb_e2e.sparkplug import birth_value, device_views, seq_violations, topic  # noqa: E402
 
 GROUP, NODE, CLIENT = "plant1", "gw1", "tg-e2e-session"
@@ -77,6 +78,7 @@ def scenario(t):
     rebirth(t, observer, broker, codec, nbirth)
     restarts(t, observer, broker, gateway, nbirth)
     nothing_retained(t, observer)
+    check_decoders(t, observer, tiltgate, codec)
 
 
 def establishment(t, broker, nbirth):
