@@ -110,7 +110,8 @@ def check_decoders(t, observer, tiltgate, codec):
     decoded = decode_all(tiltgate, [m.raw for m in messages])
     found = []
     for m, tahu in zip(messages, decoded):
-        found += ["%r: %s" % (m, d) for d in differences(codec.decode(m.raw), tahu)]
+        found += ["%d %s: %s" % (m.index, m.topic, d)
+                  for d in differences(codec.decode(m.raw), tahu)]
     return t.check("Eclipse Tahu's decoder (sparkplug-payload 1.0.3) reads all %d captured "
                    "payloads as protoc's does: names, aliases, datatypes, values, properties"
                    % len(messages), messages and not found, found[:5])
