@@ -277,18 +277,23 @@ void EdgeNode::write_setting(Write write) {
       executor_, writer_.write(write),
       [this, write](std::exception_ptr error, std::optional<std::string> refusal) {
         --writes_in_flight_;
-        if (error) refusal = "the write failed inside the gateway";
-        if (!refusal) {
+        if (!error && !refusal) {
           spdlog::info("Sparkplug: DCMD wrote {} = {} on {}", write.setting, write.value,
                        write.device);
           return;
         }
+        // With an exception co_spawn hands over a default (empty) result: the reason is then
+        // ours, a string of its own. Assigning it into that optional is what aarch64 g++ 12
+        // took for a read of an uninitialised string (-Werror=maybe-uninitialized), which
+        // stopped the arm64 build.
+        const std::string why =
+            error ? std::string("the write failed inside the gateway") : *std::move(refusal);
         ++writes_refused_;
         // Throttled per sensor by count: the first few of each minute in full, the rest summed
         // up in one line (log_refusal_summaries()).
         if (refusal_log_.admit(write.device, std::chrono::steady_clock::now()))
           spdlog::warn("Sparkplug: DCMD write of {} = {} on {} refused: {} ({} refused so far)",
-                       write.setting, write.value, write.device, *refusal, writes_refused_);
+                       write.setting, write.value, write.device, why, writes_refused_);
         log_refusal_summaries();
       });
 }
