@@ -283,7 +283,7 @@ void EdgeNode::write_setting(Write write) {
           return;
         }
         // With an exception co_spawn hands over a default (empty) result: the reason is then
-        // ours, a string of its own. Assigning it into that optional is what aarch64 g++ 12
+        // ours, a string of its own. Assigning it into that optional is what the arm64 g++ 12
         // took for a read of an uninitialised string (-Werror=maybe-uninitialized), which
         // stopped the arm64 build.
         const std::string why =
