@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <mosquitto.h>
 #include <spdlog/spdlog.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -45,6 +46,12 @@ Expected<Done, std::string> MqttClient::start() {
   // (on disk, mqtt/stored_backlog.h).
   mosq_ = mosquitto_new(options_.client_id.c_str(), true, this);
   if (mosq_ == nullptr) return Unexpected{std::string("libmosquitto: cannot create a client")};
+  if (auto configured = configure(); !configured) return configured;
+  thread_ = std::thread([this] { run(); });
+  return Done{};
+}
+
+Expected<Done, std::string> MqttClient::configure() {
   mosquitto_connect_callback_set(mosq_, &MqttClient::on_connect);
   mosquitto_disconnect_callback_set(mosq_, &MqttClient::on_disconnect);
   mosquitto_publish_callback_set(mosq_, &MqttClient::on_publish);
@@ -71,8 +78,33 @@ Expected<Done, std::string> MqttClient::start() {
   }
   // Publishing from the event loop while run() drives the network on its own thread.
   mosquitto_threaded_set(mosq_, true);
-  thread_ = std::thread([this] { run(); });
   return Done{};
+}
+
+bool MqttClient::start_afresh() {
+  std::lock_guard lock(client_mutex_);
+  if (mosquitto_reinitialise(mosq_, options_.client_id.c_str(), true, this) != MOSQ_ERR_SUCCESS) {
+    spdlog::warn("{}: libmosquitto: cannot reinitialise the client", options_.log_name);
+    return false;
+  }
+  if (auto configured = configure(); !configured) {
+    spdlog::warn("{}: {}", options_.log_name, configured.error());
+    return false;
+  }
+  return true;
+}
+
+void MqttClient::notice_connect_sent() {
+  if (connect_sent_) return;
+  // getpeername() answers once the TCP handshake is done; libmosquitto queued the CONNECT when
+  // it began the connect and writes it as soon as the socket is writable.
+  const int fd = mosquitto_socket(mosq_);
+  if (fd < 0) return;
+  sockaddr_storage peer{};
+  socklen_t length = sizeof(peer);
+  if (getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &length) != 0) return;
+  connect_sent_ = true;
+  if (hooks_.connect_sent) hooks_.connect_sent();
 }
 
 // Our own network thread rather than mosquitto_loop_start(): libmosquitto's thread ends for
@@ -92,18 +124,18 @@ void MqttClient::run() {
       if (!stop_seen) stop_seen = now;
       if (!socket_open || now - *stop_seen > std::chrono::seconds(1)) break;
     }
-    if (!socket_open && prepare_connect()) {
+    if (!socket_open && (first || start_afresh()) && prepare_connect()) {
       spdlog::debug("{}: connecting to {}:{}", options_.log_name, options_.host, options_.port);
+      connect_sent_ = false;
       // Non-blocking TCP connect; only the name lookup can wait, and it waits on this thread.
-      const int rc = first ? mosquitto_connect_async(mosq_, options_.host.c_str(), options_.port,
-                                                     options_.keepalive_s)
-                           : mosquitto_reconnect_async(mosq_);
+      const int rc = mosquitto_connect_async(mosq_, options_.host.c_str(), options_.port,
+                                             options_.keepalive_s);
+      first = false;
       if (rc == MOSQ_ERR_SUCCESS) {
-        first = false;
         socket_open = true;
+        notice_connect_sent();  // a connect that completed at once (a broker on this host)
         continue;
       }
-      if (rc != MOSQ_ERR_INVAL) first = false;  // connect_async stored the host: reconnect now
       spdlog::debug("{}: broker {}:{} not reached ({}); next attempt in {} s", options_.log_name,
                     options_.host, options_.port,
                     rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
@@ -111,6 +143,7 @@ void MqttClient::run() {
     } else if (socket_open) {
       // 100 ms at most in select(): a publish from the event loop wakes it sooner.
       const int rc = mosquitto_loop(mosq_, 100, 1);
+      notice_connect_sent();
       if (rc == MOSQ_ERR_SUCCESS) {
         if (connected_.load()) delay = std::chrono::seconds(options_.reconnect_min_s);
         continue;
@@ -145,9 +178,12 @@ bool MqttClient::prepare_connect() {
 std::optional<int> MqttClient::send(const std::string& topic, int length, const void* payload,
                                     int qos, bool retain) {
   int mid = 0;
-  if (mosquitto_publish(mosq_, &mid, topic.c_str(), length, payload, qos, retain) !=
-      MOSQ_ERR_SUCCESS)
-    return std::nullopt;
+  {
+    std::lock_guard lock(client_mutex_);
+    if (mosquitto_publish(mosq_, &mid, topic.c_str(), length, payload, qos, retain) !=
+        MOSQ_ERR_SUCCESS)
+      return std::nullopt;
+  }
   // Recorded after the publish (an acknowledgement that came first has set
   // last_published_mid_ to it already), not around it: libmosquitto's thread takes its own
   // locks before on_publish takes this one.
@@ -177,10 +213,12 @@ std::vector<int> MqttClient::take_acknowledged() {
 
 bool MqttClient::subscribe(std::string_view topic, int qos) {
   if (!connected_.load()) return false;
+  std::lock_guard lock(client_mutex_);
   return mosquitto_subscribe(mosq_, nullptr, std::string(topic).c_str(), qos) == MOSQ_ERR_SUCCESS;
 }
 
 void MqttClient::disconnect() {
+  std::lock_guard lock(client_mutex_);
   if (connected_.load()) mosquitto_disconnect(mosq_);
 }
 
@@ -199,6 +237,7 @@ void MqttClient::stop() {
         published_changed_.wait_for(lock, std::chrono::seconds(1),
                                     [&] { return last_published_mid_ == last_sent_mid_; });
     }
+    std::lock_guard lock(client_mutex_);
     mosquitto_disconnect(mosq_);  // run() sends it, then its mosquitto_loop() ends
   }
   {
@@ -212,6 +251,7 @@ void MqttClient::stop() {
 
 void MqttClient::on_connect(struct mosquitto* mosq, void* self, int rc) {
   MqttClient& client = client_of(self);
+  client.notice_connect_sent();  // a CONNACK answers a CONNECT, even a refusing one
   if (rc != 0) {
     // A refusal (bad credentials, client id) repeats at every attempt: logged when it changes.
     if (rc != client.last_refusal_)

@@ -62,6 +62,10 @@ struct MqttClientHooks {
   // Before each connection attempt: the will of that CONNECT, or none to skip this attempt
   // (tried again after the back-off).
   std::function<std::optional<MqttWill>()> before_connect;
+  // The CONNECT of this attempt goes out (the TCP connection to the broker is up, or a CONNACK
+  // came): the will before_connect gave is now the broker's. Once per attempt at most; an
+  // attempt whose TCP connect was refused or timed out sends no CONNECT and does not call it.
+  std::function<void()> connect_sent;
   // The broker accepted a CONNECT (true) or the connection ended (false).
   std::function<void(bool connected)> connection;
   // A message on one of the subscriptions.
@@ -105,6 +109,16 @@ class MqttClient {
 
  private:
   void run();  // the network thread: connect, loop, back off, until stop()
+  // Callbacks, status will, credentials and TLS on a fresh libmosquitto client state.
+  Expected<Done, std::string> configure();
+  // Before every attempt but the first: a client state with nothing of the last connection.
+  // libmosquitto keeps a QoS 1 message that was not acknowledged (an NDEATH sent just before a
+  // DISCONNECT) and sends it again, marked DUP, after the next CONNACK even with a clean
+  // session; every connection here is a new session (clean session), whose owner sends again
+  // what it still wants sent (the feed's backlog, Sparkplug's births).
+  bool start_afresh();
+  // The CONNECT of this attempt is on its way once the TCP connection is up.
+  void notice_connect_sent();
 
   static void on_connect(struct mosquitto*, void* self, int rc);
   static void on_disconnect(struct mosquitto*, void* self, int rc);
@@ -125,6 +139,10 @@ class MqttClient {
   std::atomic<bool> stopping_{false};
   std::mutex wake_mutex_;           // wakes run()'s back-off when stop() is called
   std::condition_variable wake_;
+  // Held by publish(), subscribe() and disconnect() on the caller's thread and by
+  // start_afresh() on the network thread, which reinitialises the client under them.
+  std::mutex client_mutex_;
+  bool connect_sent_ = false;  // network thread: this attempt's CONNECT reported
   std::atomic<bool> connected_{false};
   std::atomic<std::uint64_t> connections_{0};
   int last_refusal_ = 0;  // the CONNACK code last logged, so a refusing broker logs once

@@ -121,6 +121,8 @@ Expected<Done, std::string> EdgeNode::start() {
 
   MqttClientHooks hooks;
   hooks.before_connect = [this] { return prepare_connect(); };
+  // Posted after the will's begin_connect() and before the CONNACK's on_connected().
+  hooks.connect_sent = [this] { post([this] { session_->connect_sent(); }); };
   hooks.connection = [this](bool connected) {
     post([this, connected] {
       if (connected)
@@ -162,9 +164,12 @@ std::optional<MqttWill> EdgeNode::begin_connect() {
   // (tck-id-topics-nbirth-bdseq-increment). One the disk refuses does not keep the node
   // offline: the session's next bdSeq, held in memory, still goes up by one at each CONNECT,
   // which is what a host needs to see it alive; only a restart before it is stored may use a
-  // value again (docs/northbound.md, "What a host sees").
-  if (auto stored = write_bd_seq(dir_ / "bdSeq", will.bd_seq); !stored) {
-    if (due(bd_seq_error_logged_at_, std::chrono::steady_clock::now()))
+  // value again (docs/northbound.md, "What a host sees"). Attempts refused before their
+  // CONNECT offer the same bdSeq again: written once.
+  if (stored_bd_seq_ != will.bd_seq) {
+    if (auto stored = write_bd_seq(dir_ / "bdSeq", will.bd_seq); stored)
+      stored_bd_seq_ = will.bd_seq;
+    else if (due(bd_seq_error_logged_at_, std::chrono::steady_clock::now()))
       spdlog::error("Sparkplug: bdSeq {} not stored ({}); connecting with it all the same, a "
                     "restart before it is stored may use it again",
                     will.bd_seq, stored.error());
@@ -272,18 +277,23 @@ void EdgeNode::write_setting(Write write) {
       executor_, writer_.write(write),
       [this, write](std::exception_ptr error, std::optional<std::string> refusal) {
         --writes_in_flight_;
-        if (error) refusal = "the write failed inside the gateway";
-        if (!refusal) {
+        if (!error && !refusal) {
           spdlog::info("Sparkplug: DCMD wrote {} = {} on {}", write.setting, write.value,
                        write.device);
           return;
         }
+        // With an exception co_spawn hands over a default (empty) result: the reason is then
+        // ours, a string of its own. Assigning it into that optional is what the arm64 g++ 12
+        // took for a read of an uninitialised string (-Werror=maybe-uninitialized), which
+        // stopped the arm64 build.
+        const std::string why =
+            error ? std::string("the write failed inside the gateway") : *std::move(refusal);
         ++writes_refused_;
         // Throttled per sensor by count: the first few of each minute in full, the rest summed
         // up in one line (log_refusal_summaries()).
         if (refusal_log_.admit(write.device, std::chrono::steady_clock::now()))
           spdlog::warn("Sparkplug: DCMD write of {} = {} on {} refused: {} ({} refused so far)",
-                       write.setting, write.value, write.device, *refusal, writes_refused_);
+                       write.setting, write.value, write.device, why, writes_refused_);
         log_refusal_summaries();
       });
 }

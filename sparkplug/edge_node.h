@@ -94,6 +94,7 @@ class EdgeNode {
   LogThrottle refusal_log_;  // per sensor
   std::chrono::steady_clock::time_point store_error_logged_at_{};
   std::chrono::steady_clock::time_point bd_seq_error_logged_at_{};
+  std::optional<std::uint8_t> stored_bd_seq_;  // what state_dir's bdSeq file holds
   std::uint64_t drops_logged_ = 0;
   std::chrono::steady_clock::time_point drops_logged_at_{};
 };

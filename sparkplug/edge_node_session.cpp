@@ -90,12 +90,14 @@ Payload EdgeNodeSession::ndeath_payload(Instant now) const {
 
 Will EdgeNodeSession::begin_connect(Instant now) {
   if (state_ != SessionState::disconnected) on_connection_lost();
-  // tck-id-topics-nbirth-bdseq-increment: from 0, up by one on every CONNECT, 255 then 0.
+  // tck-id-topics-nbirth-bdseq-increment: from 0, up by one on every CONNECT, 255 then 0. An
+  // attempt that sent no CONNECT (refused, timed out) did not use its bdSeq: this one does.
   bd_seq_ = last_bd_seq_ ? static_cast<std::uint8_t>(*last_bd_seq_ + 1) : 0;
-  last_bd_seq_ = bd_seq_;
   state_ = SessionState::connecting;
   return Will{node_topic_for(MessageType::NDEATH), ndeath_payload(now), 1, false, bd_seq_};
 }
+
+void EdgeNodeSession::connect_sent() { last_bd_seq_ = bd_seq_; }
 
 std::vector<Action> EdgeNodeSession::on_connected(Instant now) {
   std::vector<Action> out;

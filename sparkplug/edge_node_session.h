@@ -4,9 +4,12 @@
 // order. One session per gateway, one device per [[sensor]].
 //
 // The caller's part, with libmosquitto:
-//   1. before every CONNECT: begin_connect() gives the NDEATH will (set it with
-//      mosquitto_will_set) and a new bdSeq, which the caller stores (state_dir) before
-//      connecting, and hands back to create() after a restart;
+//   1. before every connection attempt: begin_connect() gives the NDEATH will (set it with
+//      mosquitto_will_set) and its bdSeq, which the caller stores (state_dir) before
+//      connecting, and hands back to create() after a restart; once the attempt's CONNECT
+//      went out (the TCP connection is up): connect_sent(). bdSeq goes up by one per CONNECT
+//      sent (tck-id-topics-nbirth-bdseq-increment): an attempt refused before its CONNECT
+//      leaves it for the next attempt;
 //   2. on CONNACK: on_connected(); on a lost connection: on_connection_lost();
 //   3. every message on a subscribed topic: on_message();
 //   4. periodically (every 100 ms, say) with every sensor's sample: update();
@@ -133,7 +136,8 @@ enum class ReplayRefusal {
 class EdgeNodeSession {
  public:
   // A session for `devices` (the sensors' names, in configuration order: their aliases follow
-  // it). `last_bd_seq` is the bdSeq of the previous CONNECT as stored, none on a first start.
+  // it). `last_bd_seq` is the bdSeq of the previous CONNECT as stored (that of the last will
+  // begin_connect() gave: it may not have gone out), none on a first start.
   // Fails when an id is not a valid Sparkplug id, a device name repeats, or the intervals are
   // not min ≤ max.
   static Expected<EdgeNodeSession, std::string> create(EdgeNodeOptions options,
@@ -141,6 +145,7 @@ class EdgeNodeSession {
                                                        std::optional<std::uint8_t> last_bd_seq);
 
   Will begin_connect(Instant now);
+  void connect_sent();
   std::vector<Action> on_connected(Instant now);
   void on_connection_lost();
   std::vector<Action> on_message(std::string_view topic, std::span<const std::uint8_t> payload,
@@ -196,8 +201,8 @@ class EdgeNodeSession {
 
   EdgeNodeOptions options_;
   std::vector<Device> devices_;
-  std::optional<std::uint8_t> last_bd_seq_;
-  std::uint8_t bd_seq_ = 0;
+  std::optional<std::uint8_t> last_bd_seq_;  // of the last CONNECT sent
+  std::uint8_t bd_seq_ = 0;                  // of the will begin_connect() gave last
   std::uint8_t seq_ = 0;  // the next message's
   SessionState state_ = SessionState::disconnected;
   std::optional<std::uint64_t> host_timestamp_;  // of the last STATE accepted

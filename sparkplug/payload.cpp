@@ -61,10 +61,35 @@ void put_optional(protobuf_c_boolean& has, Field& field, const std::optional<T>&
 // protobuf-c takes `char*` for strings it only reads while packing.
 char* c_string(const std::string& s) { return const_cast<char*>(s.c_str()); }
 
+// The protobuf field an integer of each datatype travels in, as Tahu's reference encoders put it
+// (and Ignition reads it): Int8..Int32, UInt8 and UInt16 in int_value (signed ones as two's
+// complement), UInt32, Int64, UInt64 and DateTime in long_value. UInt32 is the one that looks
+// wrong by size and is not: a host reads it from long_value only (eclipse-tahu/tahu#131,
+// eclipse-sparkplug/sparkplug#102).
+enum class IntegerField { int_value, long_value };
+
+IntegerField integer_field(DataType type, bool value_is_64_bit) {
+  switch (type) {
+    case DataType::Int8:
+    case DataType::Int16:
+    case DataType::Int32:
+    case DataType::UInt8:
+    case DataType::UInt16:
+      return IntegerField::int_value;
+    case DataType::Int64:
+    case DataType::UInt32:
+    case DataType::UInt64:
+    case DataType::DateTime:
+      return IntegerField::long_value;
+    default:  // no integer datatype (none sent): by the value's own width
+      return value_is_64_bit ? IntegerField::long_value : IntegerField::int_value;
+  }
+}
+
 template <class Cases, class Message>
-void put_value(Message& m, const Value& value) {
+void put_value(Message& m, const Value& value, DataType type) {
   std::visit(
-      [&m](const auto& v) {
+      [&m, type](const auto& v) {
         using V = std::decay_t<decltype(v)>;
         if constexpr (std::is_same_v<V, std::monostate>) {
           m.has_is_null = true;
@@ -72,12 +97,16 @@ void put_value(Message& m, const Value& value) {
         } else if constexpr (std::is_same_v<V, bool>) {
           m.value_case = Cases::boolean_value;
           m.boolean_value = v;
-        } else if constexpr (std::is_same_v<V, std::int32_t> || std::is_same_v<V, std::uint32_t>) {
-          m.value_case = Cases::int_value;
-          m.int_value = static_cast<std::uint32_t>(v);  // two's complement for Int8..Int32
-        } else if constexpr (std::is_same_v<V, std::int64_t> || std::is_same_v<V, std::uint64_t>) {
-          m.value_case = Cases::long_value;
-          m.long_value = static_cast<std::uint64_t>(v);
+        } else if constexpr (std::is_integral_v<V>) {
+          // Two's complement of the value in 64 bits; int_value keeps the low 32 of them.
+          const auto bits = static_cast<std::uint64_t>(v);
+          if (integer_field(type, sizeof(V) == 8) == IntegerField::long_value) {
+            m.value_case = Cases::long_value;
+            m.long_value = bits;
+          } else {
+            m.value_case = Cases::int_value;
+            m.int_value = static_cast<std::uint32_t>(bits);
+          }
         } else if constexpr (std::is_same_v<V, float>) {
           m.value_case = Cases::float_value;
           m.float_value = v;
@@ -92,29 +121,41 @@ void put_value(Message& m, const Value& value) {
       value);
 }
 
-bool is_signed_32(std::uint32_t type) {
-  return type == static_cast<std::uint32_t>(DataType::Int8) ||
-         type == static_cast<std::uint32_t>(DataType::Int16) ||
-         type == static_cast<std::uint32_t>(DataType::Int32);
+// An integer read from either field as its datatype says: a host may send any integer in the
+// other field than ours (an Int32 in long_value, a UInt32 in int_value), and a command means
+// its value either way. Int8..Int32 and Int64 are signed (two's complement in whichever field);
+// the unsigned ones, and an integer without an integer datatype, are not.
+Value integer_value(std::uint64_t bits, bool from_int_value, std::uint32_t type) {
+  switch (static_cast<DataType>(type)) {
+    case DataType::Int8:
+    case DataType::Int16:
+    case DataType::Int32:
+      return Value{static_cast<std::int32_t>(static_cast<std::uint32_t>(bits))};
+    case DataType::Int64:
+      if (from_int_value)
+        return Value{std::int64_t{static_cast<std::int32_t>(static_cast<std::uint32_t>(bits))}};
+      return Value{static_cast<std::int64_t>(bits)};
+    case DataType::UInt8:
+    case DataType::UInt16:
+    case DataType::UInt32:
+      return Value{static_cast<std::uint32_t>(bits)};
+    case DataType::UInt64:
+    case DataType::DateTime:
+      return Value{bits};
+    default:
+      if (from_int_value) return Value{static_cast<std::uint32_t>(bits)};
+      return Value{bits};
+  }
 }
 
-// The value of a decoded Metric or PropertyValue; its integers are read as the datatype says
-// (signed for Int8..Int64, unsigned otherwise).
+// The value of a decoded Metric or PropertyValue.
 template <class Cases, class Message>
 Expected<Value, std::string> take_value(const Message& m, std::uint32_t type) {
   const auto value_case = m.value_case;
   if (value_case == Cases::none) return Value{};
   if (value_case == Cases::boolean_value) return Value{static_cast<bool>(m.boolean_value)};
-  if (value_case == Cases::int_value) {
-    if (is_signed_32(type)) return Value{static_cast<std::int32_t>(m.int_value)};
-    return Value{m.int_value};
-  }
-  if (value_case == Cases::long_value) {
-    if (type == static_cast<std::uint32_t>(DataType::Int64)) {
-      return Value{static_cast<std::int64_t>(m.long_value)};
-    }
-    return Value{m.long_value};
-  }
+  if (value_case == Cases::int_value) return integer_value(m.int_value, true, type);
+  if (value_case == Cases::long_value) return integer_value(m.long_value, false, type);
   if (value_case == Cases::float_value) return Value{m.float_value};
   if (value_case == Cases::double_value) return Value{m.double_value};
   if (value_case == Cases::string_value) return Value{std::string(m.string_value)};
@@ -153,7 +194,7 @@ struct PackedPayload {
     m.datatype = static_cast<std::uint32_t>(metric.datatype);
     m.has_is_historical = metric.is_historical;  // sent only when true
     m.is_historical = metric.is_historical;
-    put_value<MetricCases>(m, metric.value);
+    put_value<MetricCases>(m, metric.value, metric.datatype);
     if (!metric.properties.empty()) fill_properties(i, metric.properties);
   }
 
@@ -168,7 +209,7 @@ struct PackedPayload {
       org__eclipse__tahu__protobuf__payload__property_value__init(&v);
       v.has_type = true;
       v.type = static_cast<std::uint32_t>(properties[k].type);
-      put_value<PropertyCases>(v, properties[k].value);
+      put_value<PropertyCases>(v, properties[k].value, properties[k].type);
       value_pointers[i][k] = &v;
     }
     PbPropertySet& set = property_sets[i];

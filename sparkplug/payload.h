@@ -57,9 +57,12 @@ enum class DataType : std::uint32_t {
 inline constexpr std::uint32_t kLastDataType = 34;
 
 // The values tiltgate publishes and accepts; std::monostate is a null value (is_null = true).
-// Int8..Int32 travel as int_value (two's complement), UInt8..UInt32 as int_value, Int64, UInt64
-// and DateTime as long_value (Sparkplug 3.0.0, 6.4.17 "Datatype Details"). Bytes, DataSet and
-// Template values are not used by the gateway and are refused by decode().
+// encode() puts an integer in the field its metric's datatype says, as Tahu's reference
+// encoders do and Ignition reads: Int8..Int32 (two's complement), UInt8 and UInt16 in
+// int_value; UInt32, Int64, UInt64 and DateTime in long_value. decode() reads an integer from
+// either field, as its datatype says (Int8..Int32 as std::int32_t, UInt8..UInt32 as
+// std::uint32_t, Int64 as std::int64_t, UInt64 and DateTime as std::uint64_t). Bytes, DataSet
+// and Template values are not used by the gateway and are refused by decode().
 using Value = std::variant<std::monostate, bool, std::int32_t, std::uint32_t, std::int64_t,
                            std::uint64_t, float, double, std::string>;
 

@@ -18,6 +18,7 @@ from spb_e2e.broker import Broker  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
+from spb_e2e.tahu import check_decoders  # noqa: E402
 from spb_e2e.sparkplug import seq_violations  # noqa: E402
 
 WAIT = 20
@@ -72,6 +73,7 @@ def scenario(t):
     broken, _ = seq_violations(observer.messages())
     t.check("tck-id-payloads-sequence-num-incrementing: the demo's seq rule holds", not broken,
             broken[:3])
+    check_decoders(t, observer, tiltgate, codec)
     since = observer.count()
     demo.terminate()
     t.check("Ctrl-C (SIGTERM) stops the demo cleanly", demo.wait(timeout=20) == 0)

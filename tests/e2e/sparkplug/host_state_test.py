@@ -21,6 +21,7 @@ from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.plant import Gateway, Simulator  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
+from spb_e2e.tahu import check_decoders  # noqa: E402
 from spb_e2e.sparkplug import device_views, seq_violations, topic  # noqa: E402
 
 GROUP, NODE, CLIENT, HOST = "plant2", "gw2", "tg-e2e-host", "scada"
@@ -118,6 +119,11 @@ def scenario(t):
     time.sleep(QUIET)
     t.check("no birth while the primary host is offline",
             not observer.messages("NBIRTH", since=since), observer.messages("NBIRTH", since=since))
+    # libmosquitto kept the NDEATH (QoS 1, its PUBACK not in before the DISCONNECT) and sent it
+    # again, DUP, after the next CONNACK: the old session's death in the new session.
+    after = broker.publishes_after_last_connect(CLIENT)
+    t.check("nothing of the closed session is sent in the new one: no PUBLISH since the new "
+            "CONNECT (no DUP, no NDEATH)", not after, after)
 
     since = observer.count()
     back_at = now_ms()
@@ -143,6 +149,7 @@ def scenario(t):
     broken, _ = seq_violations(observer.messages())
     t.check("tck-id-payloads-sequence-num-incrementing: the seq rule holds throughout", not broken,
             broken[:5])
+    check_decoders(t, observer, tiltgate, codec)
 
 
 def commands_off(t, observer, gateway, codec):

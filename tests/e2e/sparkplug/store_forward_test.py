@@ -21,6 +21,7 @@ from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.plant import Gateway, Simulator  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
+from spb_e2e.tahu import check_decoders  # noqa: E402
 from spb_e2e.sparkplug import device_views, seq_violations  # noqa: E402
 
 GROUP, NODE, CLIENT = "plant3", "gw3", "tg-e2e-store"
@@ -110,6 +111,7 @@ def scenario(t):
     broken, _ = seq_violations(observer.messages())
     t.check("tck-id-payloads-sequence-num-incrementing: the seq rule holds across every outage "
             "and replay", not broken, broken[:5])
+    check_decoders(t, observer, tiltgate, plant.codec)
     t.check("nothing was dropped: tiltgate_store_dropped_total 0",
             gateway.metric("tiltgate_store_dropped_total") == 0,
             {k: v for k, v in gateway.metrics().items() if "store" in k})
@@ -117,6 +119,8 @@ def scenario(t):
 
 def broker_outage(t, plant):
     observer, gateway, broker = plant.observer, plant.gateway, plant.broker
+    bd_seq = observer.messages("NBIRTH")[-1].metric("bdSeq")["value"]
+    connects = len(broker.connects(CLIENT))
     stopped_at = now_ms()
     broker.stop()
     t.check("the gateway sees the broker go: tiltgate_sparkplug_connected 0", plant.disconnected())
@@ -142,6 +146,13 @@ def broker_outage(t, plant):
             all(any(m.type == "DBIRTH" and m.device == d for m in after[:3]) for d in DEVICES),
             [repr(m)[:80] for m in after[:4]])
     nbirth = observer.wait_for(1, "NBIRTH", since=since)
+    # The gateway tried several times while the broker was away (1, 2, 4 and 8 s apart): each
+    # TCP connect was refused, so no CONNECT went out and no bdSeq was used.
+    sent = len(broker.connects(CLIENT)) - connects
+    t.check("tck-id-topics-nbirth-bdseq-increment: across the outage bdSeq goes up by one per "
+            "CONNECT the broker received, not per refused attempt",
+            nbirth and sent >= 1 and nbirth.metric("bdSeq")["value"] == (bd_seq + sent) % 256,
+            (bd_seq, nbirth and nbirth.metric("bdSeq"), sent))
     # Until the gateway is back on the broker (its reconnect waits a while) it keeps storing.
     connected_at = nbirth.payload["timestamp"] if nbirth else restarted_at
     for device in DEVICES:

@@ -20,6 +20,7 @@ from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.plant import Gateway, Simulator  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
+from spb_e2e.tahu import check_decoders  # noqa: E402
 from spb_e2e.sparkplug import device_views  # noqa: E402
 
 GROUP, NODE, CLIENT = "plant4", "gw4", "tg-e2e-full"
@@ -128,6 +129,7 @@ def scenario(t):
                   m.metrics() and all(x["historical"] for x in m.metrics())]
         t.check("%s: the replay is in time order" % device, stamps and stamps == sorted(stamps),
                 stamps[:5])
+    check_decoders(t, observer, tiltgate, codec)
 
 
 if __name__ == "__main__":

@@ -78,7 +78,7 @@ seq 0
 metric name='bdSeq' alias=- timestamp=@T datatype=4 historical=- long_value=5
 metric name='Node Control/Rebirth' alias=- timestamp=@T datatype=11 historical=- boolean_value=False
 metric name='Properties/version' alias=1 timestamp=@T datatype=12 historical=- string_value='0.1.0'
-metric name='Properties/buses' alias=2 timestamp=@T datatype=7 historical=- int_value=2
+metric name='Properties/buses' alias=2 timestamp=@T datatype=7 historical=- long_value=2
 )"));
 }
 

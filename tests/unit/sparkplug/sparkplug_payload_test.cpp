@@ -80,6 +80,64 @@ TEST_CASE("Int8..Int32 travel as two's complement in int_value (6.4.17 Datatype 
         hex("12 0B 0A 01 6E 20 01 50 FB FF FF FF 0F"));
 }
 
+TEST_CASE("UInt32 travels in long_value, as Tahu's encoders put it and Ignition reads it") {
+  // Metric name "n", datatype UInt32 (4: 07), long_value (11, varint) 2: a host reads a
+  // UInt32 from long_value only (eclipse-tahu/tahu#131); in int_value it would show null.
+  Metric m;
+  m.name = "n";
+  m.datatype = DataType::UInt32;
+  m.value = std::uint32_t{2};
+  CHECK(encode(Payload{std::nullopt, std::nullopt, {m}}) == hex("12 07 0A 01 6E 20 07 58 02"));
+  // A property the same way: PropertyValue type (1) 07, long_value (4) 2.
+  Metric p = with_value(DataType::String, std::string("x"));
+  p.properties = {{"count", DataType::UInt32, std::uint32_t{2}}};
+  const std::vector<std::uint8_t> bytes = encode(Payload{std::nullopt, std::nullopt, {p}});
+  CHECK(tiltgate::hex_bytes(bytes).find("08 07 20 02") != std::string::npos);
+}
+
+TEST_CASE("every integer datatype goes in the field Tahu's encoders use") {
+  struct Case {
+    DataType type;
+    Value value;
+    std::string_view wire;  // the value's field: int_value (10: 50) or long_value (11: 58)
+  };
+  const Case cases[] = {
+      {DataType::Int8, std::int32_t{-1}, "50 FF FF FF FF 0F"},
+      {DataType::Int16, std::int32_t{-2}, "50 FE FF FF FF 0F"},
+      {DataType::Int32, std::int32_t{7}, "50 07"},
+      {DataType::UInt8, std::uint32_t{255}, "50 FF 01"},
+      {DataType::UInt16, std::uint32_t{65535}, "50 FF FF 03"},
+      {DataType::UInt32, std::uint32_t{4294967295u}, "58 FF FF FF FF 0F"},
+      {DataType::Int64, std::int64_t{-1}, "58 FF FF FF FF FF FF FF FF FF 01"},
+      {DataType::UInt64, std::uint64_t{3}, "58 03"},
+      {DataType::DateTime, std::uint64_t{1}, "58 01"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(static_cast<int>(c.type));
+    const std::string wire = tiltgate::hex_bytes(encode(Payload{
+        std::nullopt, std::nullopt, {Metric{"", {}, {}, c.type, false, c.value, {}}}}));
+    CHECK(wire.ends_with(std::string(c.wire)));
+  }
+}
+
+TEST_CASE("a command's integer is read from int_value or long_value, as its datatype says") {
+  // What another host sends: an Int32 -5 in long_value (sign-extended), a UInt32 in int_value
+  // (our older encoding), an Int64 in int_value, a UInt16 in long_value.
+  const auto int32_in_long = decode(hex("12 0D 20 03 58 FB FF FF FF FF FF FF FF FF 01"));
+  REQUIRE(int32_in_long.has_value());
+  CHECK(int32_in_long->metrics.at(0).value == Value{std::int32_t{-5}});
+  const auto uint32_in_int = decode(hex("12 04 20 07 50 02"));
+  REQUIRE(uint32_in_int.has_value());
+  CHECK(uint32_in_int->metrics.at(0).value == Value{std::uint32_t{2}});
+  const auto int64_in_int = decode(hex("12 08 20 04 50 FD FF FF FF 0F"));
+  REQUIRE(int64_in_int.has_value());
+  CHECK(int64_in_int->metrics.at(0).value == Value{std::int64_t{-3}});
+  const auto uint16_in_long = decode(hex("12 04 20 06 58 09"));
+  REQUIRE(uint16_in_long.has_value());
+  CHECK(uint16_in_long->metrics.at(0).value == Value{std::uint32_t{9}});
+  CHECK(numeric_value(int32_in_long->metrics.at(0).value) == -5.0);
+}
+
 TEST_CASE("a metric's properties (engUnit) and historical flag survive encode and decode") {
   Metric m = with_value(DataType::Double, 1.25);
   m.alias = 257;

@@ -153,6 +153,7 @@ TEST_CASE("tck-id-message-flow-edge-node-birth-publish-phid-wait: with a primary
 TEST_CASE("tck-id-message-flow-edge-node-birth-publish-phid-offline: the host going offline means NDEATH and a reconnect") {
   auto session = make_session(with_primary_host());
   (void)session.begin_connect(at(0));
+  session.connect_sent();
   (void)session.on_connected(at(0));
   (void)session.on_message("spBv1.0/STATE/scada", state(true, 200), at(10));
   const auto offline_state = session.on_message("spBv1.0/STATE/scada", state(false, 300), at(20));

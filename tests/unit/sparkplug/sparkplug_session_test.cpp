@@ -25,11 +25,19 @@ TEST_CASE("tck-id-payloads-ndeath-will-message-qos, -retain, tck-id-topics-ndeat
   CHECK(session.state() == SessionState::connecting);
 }
 
-TEST_CASE("tck-id-topics-nbirth-bdseq-increment: bdSeq starts at 0, goes up by one on every CONNECT, 255 then 0") {
+TEST_CASE("tck-id-topics-nbirth-bdseq-increment: bdSeq starts at 0, goes up by one on every CONNECT sent, 255 then 0") {
   auto first = make_session();
   CHECK(first.begin_connect(at(0)).bd_seq == 0);
+  first.connect_sent();
   CHECK(first.begin_connect(at(1)).bd_seq == 1);  // a CONNECT that failed still used its bdSeq
+  first.connect_sent();
   CHECK(first.bd_seq() == 1);
+  // Attempts whose TCP connect was refused sent no CONNECT: the next one uses the same bdSeq.
+  CHECK(first.begin_connect(at(2)).bd_seq == 2);
+  CHECK(first.begin_connect(at(3)).bd_seq == 2);
+  CHECK(first.begin_connect(at(4)).bd_seq == 2);
+  first.connect_sent();
+  CHECK(first.begin_connect(at(5)).bd_seq == 3);
   // After a restart, from the bdSeq the caller stored.
   auto restarted = make_session(options(), 41);
   CHECK(restarted.begin_connect(at(0)).bd_seq == 42);

@@ -73,6 +73,22 @@ class Broker:
                 found.append((i, m.group(2) == "1"))
         return found
 
+    def publishes_after_last_connect(self, client_id):
+        """The PUBLISH packets the broker received from `client_id` since its last CONNECT:
+        (dup flag, topic) each."""
+        connect = re.compile(r"New client connected from \S+ as (\S+) ")
+        publish = re.compile(r"Received PUBLISH from (\S+) \(d(\d), q\d, r\d, m\d+, '([^']*)'")
+        found = []
+        for line in self.log_lines():
+            m = connect.search(line)
+            if m and m.group(1) == client_id:
+                found = []
+                continue
+            m = publish.search(line)
+            if m and m.group(1) == client_id:
+                found.append((m.group(2) == "1", m.group(3)))
+        return found
+
     def events(self, client_id):
         """What the broker received from `client_id`, in order: ("connect", clean_session),
         ("will", topic, qos, retain), ("subscribe", topic, qos), ("publish", topic, qos, retain)

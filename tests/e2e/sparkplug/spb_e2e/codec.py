@@ -30,7 +30,8 @@ class Codec:
 
     def decode(self, payload):
         """The payload as a plain dict: timestamp, seq (None when absent) and metrics, each
-        {name, alias, timestamp, datatype, historical, null, value, properties}."""
+        {name, alias, timestamp, datatype, historical, null, value (of whichever field is set),
+        properties ({key: value}), property_types ({key: datatype})}."""
         message = self.pb.Payload()
         message.ParseFromString(payload)
         return {
@@ -40,11 +41,12 @@ class Codec:
         }
 
     def _metric(self, m):
-        properties = {}
+        properties, property_types = {}, {}
         if m.HasField("properties"):
             for key, value in zip(m.properties.keys, m.properties.values):
                 which = value.WhichOneof("value")
                 properties[key] = getattr(value, which) if which else None
+                property_types[key] = value.type
         which = m.WhichOneof("value")
         return {
             "name": m.name if m.HasField("name") else None,
@@ -55,6 +57,7 @@ class Codec:
             "null": m.is_null if m.HasField("is_null") else False,
             "value": getattr(m, which) if which in _VALUE_FIELDS else None,
             "properties": properties,
+            "property_types": property_types,
         }
 
     def command(self, timestamp_ms, metrics):
