@@ -141,7 +141,8 @@ Expected<Reply, CodecError> parse_reply(const Request& request,
 }
 
 Bytes exception_pdu(std::uint8_t function, ExceptionCode code) {
-  return Bytes{static_cast<std::uint8_t>(function | kExceptionBit), static_cast<std::uint8_t>(code)};
+  return Bytes{static_cast<std::uint8_t>(function | kExceptionBit),
+               static_cast<std::uint8_t>(code)};
 }
 
 Bytes exception_frame(std::uint8_t slave, std::uint8_t function, ExceptionCode code) {

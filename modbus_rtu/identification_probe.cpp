@@ -37,7 +37,8 @@ std::string object_label(std::uint8_t id) {
 }
 
 bool printable(std::span<const std::uint8_t> bytes) {
-  return std::all_of(bytes.begin(), bytes.end(), [](std::uint8_t c) { return c >= 0x20 && c < 0x7F; });
+  return std::all_of(bytes.begin(), bytes.end(),
+                     [](std::uint8_t c) { return c >= 0x20 && c < 0x7F; });
 }
 
 // One request's reply: the checked reply, or none when nothing valid came back.

@@ -1,8 +1,9 @@
 // A Modbus RTU slave described by a device profile (modbus_rtu/device_profile.h), as a sensor:
-// each poll reads every [[read]] block (FC 3/4), decodes the profile's values and publishes a
-// Reading with angle_x and angle_y (NaN when the profile has none). Every profile value is published too (Reading::device_values, in profile order), for
-// map points to show. An exception reply is the device refusing the request: it is counted by
-// its code (refusals[], last_refusal) and fails the poll.
+// each poll reads every [[read]] block (FC 3/4; but those holding identity values only, below),
+// decodes the profile's values and publishes a Reading with angle_x and angle_y (NaN when the
+// profile has none). Every profile value is published too (Reading::device_values, in profile
+// order), for map points to show. An exception reply is the device refusing the request: it is
+// counted by its code (refusals[], last_refusal) and fails the poll.
 //
 // The profile's [identity] values (serial, firmware, model) are read with the blocks that hold
 // them at start, after the line reopens and whenever the device answers again after being

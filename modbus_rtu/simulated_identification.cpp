@@ -29,7 +29,8 @@ void put_object(Bytes& out, const std::pair<std::uint8_t, std::string>& object) 
 
 Bytes answer_report_server_id(const SimulatedIdentification& identification,
                               std::span<const std::uint8_t> pdu) {
-  if (!identification.server_id) return exception_pdu(kReportServerId, ExceptionCode::illegal_function);
+  if (!identification.server_id)
+    return exception_pdu(kReportServerId, ExceptionCode::illegal_function);
   if (pdu.size() != 1) return exception_pdu(kReportServerId, ExceptionCode::illegal_data_value);
   const std::string& text = identification.additional_data;
   Bytes reply{kReportServerId, static_cast<std::uint8_t>(2 + text.size()),
