@@ -106,6 +106,10 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
     boost::asio::any_io_executor executor, const CommissionTarget& target) {
   std::vector<CommissionedSensor> sensors;
   for (const SensorConfig& sensor : target.sensors) {
+    if (target.without_drivers) {
+      sensors.push_back({sensor, nullptr, target.model_source});
+      continue;
+    }
     auto driver = make_driver(target.families, sensor, target.bus);
     if (!driver)
       return Unexpected{OpenError{

@@ -21,6 +21,8 @@ namespace tiltgate {
 
 struct CommissionedSensor {
   SensorConfig config;
+  // None when the target goes without drivers (CommissionTarget::without_drivers): only the
+  // commands that allow it (BusOptions::driver_optional) see such a sensor.
   std::unique_ptr<SensorDriver> driver;
   // Where config.model came from: --model or the configuration decide the driver; a detected
   // one (the protocol's first model until then) is replaced by the model the sensor measures

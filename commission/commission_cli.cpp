@@ -53,7 +53,14 @@ std::string info_help_footer(FamilyCommandsList families) {
   std::string text = "Examples:\n";
   for (const std::string& bus : example_buses(families))
     text += fmt::format("  tiltgate info {}\n", bus);
-  text += "  tiltgate info --config /etc/tiltgate/tiltgate.toml --sensor boom\n";
+  // Where the family's driver needs a file, info also goes without it.
+  for (const FamilyCommands* family : families)
+    if (family->identify.ask && !family->demo.sensors.empty() &&
+        !required_sensor_keys(*family->family).empty())
+      text += fmt::format("  tiltgate info --port /dev/ttyUSB0 --protocol {} --address {}   # "
+                          "without --{}: what the device says of itself\n",
+                          family->demo.protocol, family->demo.sensors.front().address,
+                          fmt::join(required_sensor_keys(*family->family), ", --"));
   text += "  tiltgate info --config /etc/tiltgate/tiltgate.toml --bus line1 --address 5,6\n";
   text +=
       "Exit status: 0 every sensor answered; 1 one did not, or the tty cannot be used;\n"

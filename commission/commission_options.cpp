@@ -76,6 +76,62 @@ UsageErrors combination_errors(const BusOptions& o) {
   return errors;
 }
 
+// The model the command line's sensors get: the one given, else the first of the protocol's
+// family (a line without a protocol gets the first family's first protocol, as the loader does).
+std::string command_line_model(const BusOptions& o, FamilyList families) {
+  if (!o.model.empty() || families.empty()) return o.model;
+  const std::string_view protocol =
+      o.protocol.empty() ? families.front()->protocols.front().name : o.protocol;
+  if (const ProtocolEntry entry = find_protocol(families, protocol); entry.family)
+    return std::string(entry.family->models.front().name);
+  return {};
+}
+
+// Whether the sensors go without a driver: the command can, and their family's driver needs a
+// file (its required keys) that --device did not give.
+bool without_drivers(const BusOptions& o, FamilyList families) {
+  if (!o.driver_optional || !o.device.empty() || o.addresses.empty()) return false;
+  const ModelEntry model = find_model(families, command_line_model(o, families));
+  return model.family != nullptr && !required_sensor_keys(*model.family).empty();
+}
+
+Expected<CommissionTarget, UsageErrors> from_command_line(const BusOptions& o,
+                                                          FamilyList families);
+
+// The bus from the command line, and each --address as a sensor without a driver: the bus is
+// checked by the loader as ever, the addresses against the protocol's range.
+Expected<CommissionTarget, UsageErrors> addresses_without_drivers(const BusOptions& o,
+                                                                  FamilyList families) {
+  BusOptions bus_only = o;
+  bus_only.addresses.clear();
+  bus_only.sensors_optional = true;
+  auto target = from_command_line(bus_only, families);
+  if (!target) return target;
+  const ProtocolEntry protocol = find_protocol(families, target->bus.protocol);
+  const std::string model = command_line_model(o, families);
+  UsageErrors errors;
+  int unit_id = 1;
+  for (const std::int64_t address : o.addresses) {
+    const AddressRange range = protocol.protocol->addresses;
+    if (address < range.min || address > range.max) {
+      errors.push_back(fmt::format("--address: {} is out of range for a {} bus, expected {}..{}",
+                                   address, target->bus.protocol, range.min, range.max));
+      continue;
+    }
+    SensorConfig sensor;
+    sensor.name = fmt::format("address-{}", address);
+    sensor.bus = std::string(kCommandLineBus);
+    sensor.model = model;
+    sensor.address = std::uint32_t(address);
+    sensor.unit_id = std::uint8_t(unit_id++);
+    target->sensors.push_back(std::move(sensor));
+  }
+  if (!errors.empty()) return Unexpected{std::move(errors)};
+  target->model_source = o.model.empty() ? ModelSource::detected : ModelSource::option;
+  target->without_drivers = true;
+  return target;
+}
+
 Expected<CommissionTarget, UsageErrors> from_command_line(const BusOptions& o,
                                                           FamilyList families) {
   const std::string text = command_line_config(o, families);
@@ -192,15 +248,8 @@ std::string command_line_config(const BusOptions& o, FamilyList families) {
       text += "pass_through = [1]\n";
   }
 
-  // The model decides the driver: the one given, else the first of the protocol's family (a
-  // file without a protocol gets the first family's first protocol, as the loader does).
-  std::string model = o.model;
-  if (model.empty() && !families.empty()) {
-    const std::string_view protocol =
-        o.protocol.empty() ? families.front()->protocols.front().name : o.protocol;
-    if (const ProtocolEntry entry = find_protocol(families, protocol); entry.family)
-      model = std::string(entry.family->models.front().name);
-  }
+  // The model decides the driver.
+  const std::string model = command_line_model(o, families);
   int unit_id = 1;
   for (const std::int64_t address : o.addresses) {
     text += fmt::format("\n[[sensor]]\nname = {}\nbus = {}\naddress = {}\nunit_id = {}\n",
@@ -219,8 +268,9 @@ Expected<CommissionTarget, UsageErrors> resolve_bus_options(const BusOptions& op
                                                             FamilyList families) {
   if (UsageErrors errors = combination_errors(options); !errors.empty())
     return Unexpected{std::move(errors)};
-  auto target = options.config.empty() ? from_command_line(options, families)
-                                       : from_config_file(options, families);
+  auto target = !options.config.empty()             ? from_config_file(options, families)
+                : without_drivers(options, families) ? addresses_without_drivers(options, families)
+                                                     : from_command_line(options, families);
   if (!target) return target;
   target->families = families;
   if (!options.control_socket.empty()) target->control_socket = options.control_socket;

@@ -38,6 +38,11 @@ struct BusOptions {
   // Whether the command can do without sensors (scan finds them): no --address is needed
   // with --port, and a --bus may have none configured.
   bool sensors_optional = false;
+  // Whether the command can talk to a sensor without its driver (raw builds its own request,
+  // info asks the device what it is): with --port and without --device, a sensor whose
+  // family's driver needs a file (the family's required keys) is its address alone, with no
+  // driver, instead of a usage error.
+  bool driver_optional = false;
   // Through a running gateway's control socket: required (--via-gateway), or used when a
   // gateway there serves the tty. The socket: --control-socket, else the configuration's
   // [server] control_socket, else the default.
@@ -60,6 +65,9 @@ struct CommissionTarget {
   FamilyList families;  // the families the bus and its sensors were checked against
   std::string control_socket;  // where a running gateway may serve the bus; empty: none
   bool via_gateway = false;    // only through that gateway, never the tty directly
+  // The sensors get no driver: their family's needs a file the command line left out
+  // (BusOptions::driver_optional). Each is then its address alone.
+  bool without_drivers = false;
 };
 
 // Each message names the option (or the configuration file's place) it is about.

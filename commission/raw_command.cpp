@@ -91,6 +91,7 @@ Subcommand add_raw(CLI::App& app, FamilyList families, FamilyCommandsList comman
                                             "bytes each way and the reply (the User App's "
                                             "command section)");
   add_bus_options(*raw, *bus, families);
+  bus->driver_optional = true;  // the request is built here: no device profile needed
   raw->get_option("--address")->allow_extra_args(false);
   raw->add_option("--function", options->function, "the function / command number (see below)")
       ->required();

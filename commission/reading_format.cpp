@@ -140,7 +140,12 @@ std::string sensor_info_text(std::uint32_t address, std::string_view model,
                                                   : std::string("-");
   std::string text;
   text += fmt::format("address:    {}\n", address);
-  text += fmt::format("model:      {}\n", model);
+  // The device's own model where it reports one (a device profile's [identity]), then what
+  // it is run as.
+  if (state.model.empty())
+    text += fmt::format("model:      {}\n", model);
+  else
+    text += fmt::format("model:      {} ({})\n", state.model, model);
   text += fmt::format("serial:     {}\n", or_dash(state.serial));
   text += fmt::format("firmware:   {}\n", or_dash(state.firmware));
   text += fmt::format("lock level: {}\n", lock);

@@ -5,6 +5,7 @@
 // gateway itself (config/, mapping/, gateway/) never sees these.
 #pragma once
 
+#include <boost/asio/awaitable.hpp>
 #include <boost/asio/io_context.hpp>
 #include <cstdint>
 #include <memory>
@@ -141,6 +142,19 @@ struct RawDescriptor {
   Expected<std::unique_ptr<RawExchange>, std::string> (*make)(const RawSetup& setup) = nullptr;
 };
 
+// `tiltgate info` on a sensor without its driver (a family whose driver needs a file the
+// command line left out, commission/commission_options.h): what the device says of itself,
+// asked with its protocol's own requests.
+struct SelfReport {
+  bool answered = false;  // the device replied to at least one request (a refusal included)
+  bool identified = false;  // ... and told something of itself
+  std::string text;       // "name: value" lines, each ending in a newline
+};
+
+struct IdentifyDescriptor {
+  boost::asio::awaitable<SelfReport> (*ask)(Line& line, std::uint32_t address) = nullptr;
+};
+
 struct FamilyCommands {
   const FamilyDescriptor* family = nullptr;  // the family as the gateway runs it
   std::string_view title;  // for the command line's help: "Vendor Product"
@@ -152,6 +166,8 @@ struct FamilyCommands {
   // `tiltgate raw`: requests by function number. Every family fills it in; without it (a
   // test's family) raw refuses the family's buses.
   RawDescriptor raw{};
+  // `tiltgate info` without the file the family's driver needs; none: info needs it.
+  IdentifyDescriptor identify{};
 };
 
 using FamilyCommandsList = std::span<const FamilyCommands* const>;

@@ -64,6 +64,9 @@ struct SensorState {
   std::chrono::milliseconds reply_timeout{0};
   std::string serial;               // as the sensor reports it, trailing spaces trimmed
   std::string firmware;
+  // The model as the device itself reports it, where its driver reads one (a device
+  // profile's [identity] model); empty: the driver's model() is all there is.
+  std::string model;
   // How far the sensor's settings are protected right now, on sensors whose protocol has such
   // a level (0 = locked); none where it has none or it is not known yet.
   std::optional<std::uint16_t> protection_level;

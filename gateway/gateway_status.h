@@ -19,7 +19,7 @@ struct SensorStatus {
   std::string bus;
   int unit_id = 0;
   std::uint32_t address = 0;    // on its bus, as polled now
-  std::string model;
+  std::string model;            // as the device reports it, else its driver's model
   std::string serial;           // empty until the sensor has reported it
   std::string firmware;
   bool online = false;          // the last exchange with the sensor got a valid reply

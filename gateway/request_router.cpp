@@ -57,7 +57,9 @@ std::vector<DeviceObject> device_objects(const GatewaySensor& sensor, const Sens
       {device_object::product_code, std::string(product.product_code)},
       {device_object::major_minor_revision, state.firmware},
       {device_object::product_name, std::string(product.product_name)},
-      {device_object::model_name, std::string(product.product_code)},
+      // The device's own model where its driver reads one (a device profile's [identity]).
+      {device_object::model_name,
+       state.model.empty() ? std::string(product.product_code) : state.model},
       {device_object::user_application_name, std::string("tiltgate ") + TILTGATE_VERSION},
       {device_object::serial_number, state.serial},
       {device_object::sensor_name, sensor.config.name},

@@ -47,7 +47,8 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.bus = sensor.config.bus;
   s.unit_id = sensor.config.unit_id;
   s.address = state.bus_address;
-  s.model = std::string(sensor.driver->model());
+  // The device's own word for its model where it gives one, else what its driver runs it as.
+  s.model = state.model.empty() ? std::string(sensor.driver->model()) : state.model;
   s.serial = state.serial;
   s.firmware = state.firmware;
   s.online = online_at(state, now, sensor.stale_after);

@@ -140,6 +140,11 @@ Expected<Reply, CodecError> parse_reply(const Request& request,
   return reply;
 }
 
+Bytes exception_pdu(std::uint8_t function, ExceptionCode code) {
+  return Bytes{static_cast<std::uint8_t>(function | kExceptionBit),
+               static_cast<std::uint8_t>(code)};
+}
+
 Bytes exception_frame(std::uint8_t slave, std::uint8_t function, ExceptionCode code) {
   Bytes frame{slave, static_cast<std::uint8_t>(function | kExceptionBit),
               static_cast<std::uint8_t>(code)};

@@ -17,11 +17,16 @@ namespace tiltgate::modbus_rtu {
 
 using Bytes = std::vector<std::uint8_t>;
 
-// Function codes (Application Protocol 6.3, 6.4, 6.6, 6.12).
+// Function codes (Application Protocol 6.3, 6.4, 6.6, 6.12, 6.13, 6.21).
 inline constexpr std::uint8_t kReadHoldingRegisters = 0x03;
 inline constexpr std::uint8_t kReadInputRegisters = 0x04;
 inline constexpr std::uint8_t kWriteSingleRegister = 0x06;
 inline constexpr std::uint8_t kWriteMultipleRegisters = 0x10;
+// Report Server ID (6.13) and Read Device Identification, MEI type 14 of function 43 (6.21):
+// what a device says of itself without a register map.
+inline constexpr std::uint8_t kReportServerId = 0x11;
+inline constexpr std::uint8_t kEncapsulatedInterface = 0x2B;
+inline constexpr std::uint8_t kMeiReadDeviceId = 0x0E;
 // An exception reply carries the request's function code with this bit set (7.).
 inline constexpr std::uint8_t kExceptionBit = 0x80;
 
@@ -97,5 +102,7 @@ Expected<Reply, CodecError> parse_reply(const Request& request, std::span<const 
 
 // An exception reply's frame: what a slave sends when it refuses a request.
 Bytes exception_frame(std::uint8_t slave, std::uint8_t function, ExceptionCode code);
+// The same reply's PDU: the function code with the exception bit, and the code.
+Bytes exception_pdu(std::uint8_t function, ExceptionCode code);
 
 }  // namespace tiltgate::modbus_rtu

@@ -1,6 +1,9 @@
 #include "modbus_rtu/device_profile.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "mapping/point.h"
@@ -45,6 +48,33 @@ const ProfileValue* DeviceProfile::find(std::string_view name) const {
   for (const ProfileValue& value : values)
     if (value.name == name) return &value;
   return nullptr;
+}
+
+bool block_holds(const ReadBlock& block, const ProfileValue& value) {
+  return block.bank == value.bank && value.address >= block.address &&
+         std::size_t{value.address} + value.words() <= std::size_t{block.address} + block.count;
+}
+
+bool ProfileIdentity::names(std::string_view value) const {
+  return !value.empty() && (value == serial || value == firmware || value == model);
+}
+
+std::string identity_text(const ProfileValue& value, double decoded) {
+  if (std::isnan(decoded)) return {};
+  std::int64_t low = 0, high = 0;
+  if (integer_limits(value.type, low, high)) {
+    // An integer scaled by 0.1, 0.01, ... keeps the scale's decimals: firmware 200 x 0.01 is
+    // "2.00", as the device's manual writes it.
+    const double decimals = -std::log10(value.scale);
+    if (value.offset == 0.0 && decimals >= 1.0 && decimals <= 6.0 &&
+        decimals == std::round(decimals))
+      return fmt::format("{:.{}f}", decoded, static_cast<int>(decimals));
+    if (decoded == std::trunc(decoded) && std::fabs(decoded) < 9.0e15)
+      return fmt::format("{}", static_cast<std::int64_t>(decoded));
+  }
+  // A float32 is shown to its own precision: 1.02, not 1.0199999809265137.
+  if (value.type == PointType::float32) return fmt::format("{}", static_cast<float>(decoded));
+  return fmt::format("{}", decoded);
 }
 
 std::vector<NamedValue> decode_values(const DeviceProfile& profile, const PolledBlocks& blocks) {

@@ -43,13 +43,31 @@ struct ProfileValue {
   std::uint16_t words() const;  // registers the value takes: 1, 2 or 4
 };
 
+// Which values say who the device is ([identity]): each names one of the profile's values, or
+// is empty. Shown where the other families show their serial and firmware (API, FC 43, common
+// block, Sparkplug).
+struct ProfileIdentity {
+  std::string serial;
+  std::string firmware;
+  std::string model;
+
+  bool empty() const { return serial.empty() && firmware.empty() && model.empty(); }
+  // Whether `value` is one of the three.
+  bool names(std::string_view value) const;
+};
+
 struct DeviceProfile {
   std::string path;  // where it was loaded from, for messages
   std::vector<ReadBlock> reads;
   std::vector<ProfileValue> values;
+  ProfileIdentity identity;
 
   const ProfileValue* find(std::string_view name) const;
 };
+
+// An identity value as text: an integer type in decimal, a float as its shortest decimal
+// form; empty when it could not be read (NaN).
+std::string identity_text(const ProfileValue& value, double decoded);
 
 // The profile's values as the sensor's own values (driver/device_value.h), in profile order:
 // what register-map points may show and write. A writable value's range is its min and max,
@@ -68,6 +86,9 @@ struct NamedValue {
   std::string name;
   double value = 0.0;  // NaN when it could not be decoded (its block failed or came back short)
 };
+
+// Whether all of `value`'s registers are inside `block`'s.
+bool block_holds(const ReadBlock& block, const ProfileValue& value);
 
 // Every value of the profile, in profile order, decoded from one poll.
 std::vector<NamedValue> decode_values(const DeviceProfile& profile, const PolledBlocks& blocks);

@@ -12,6 +12,7 @@
 #include "mapping/register_map.h"
 #include "modbus_rtu/example_profile.h"
 #include "modbus_rtu/forwarding.h"
+#include "modbus_rtu/identification_probe.h"
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 #include "modbus_rtu/raw.h"
@@ -218,6 +219,7 @@ const FamilyCommands kCommands{
         },
     .set = {.baud_code = set_baud_code, .command_value = set_command_value, .compound_settings = {}},
     .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},
+    .identify = {.ask = ask_identification},
 };
 
 }  // namespace tiltgate::modbus_rtu

@@ -1,6 +1,9 @@
 #include "modbus_rtu/inclinometer_preset.h"
 
+#include <fmt/format.h>
+
 #include <span>
+#include <string>
 
 #include "mapping/value_codec.h"
 
@@ -8,7 +11,7 @@ namespace tiltgate::modbus_rtu {
 namespace {
 
 constexpr std::size_t kInputCount = 8;
-constexpr std::size_t kHoldingCount = 3;
+constexpr std::size_t kHoldingCount = 5;
 
 void put(std::vector<std::uint16_t>& bank, std::size_t address, std::size_t words, PointType type,
          double value, RegisterOrder order = RegisterOrder::abcd) {
@@ -24,6 +27,18 @@ SimulatedDevice rtu_inclinometer(std::uint8_t slave, const InclinometerState& st
   device.input()[7] = state.status;
   device.holding()[kInclinometerFilterRegister] = state.filter;
   put(device.holding(), 1, 2, PointType::uint32, state.serial_number, RegisterOrder::cdab);
+  device.holding()[3] = state.firmware_version;
+  device.holding()[4] = state.model_number;
+  SimulatedIdentification identification;
+  identification.server_id = 0x2A;
+  identification.additional_data = "tiltgate RTU inclinometer";
+  identification.objects = {{0x00, "tiltgate"},
+                            {0x01, "TG-RTU-INC"},
+                            {0x02, fmt::format("{}.{:02}", state.firmware_version / 100,
+                                               state.firmware_version % 100)},
+                            {0x04, "simulated RTU inclinometer"},
+                            {0x05, std::to_string(state.model_number)}};
+  device.set_identification(std::move(identification));
   device.set_write_check([](std::uint16_t address, std::uint16_t value) {
     return address == kInclinometerFilterRegister && value >= kInclinometerMinFilter &&
            value <= kInclinometerMaxFilter;

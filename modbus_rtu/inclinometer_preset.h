@@ -10,6 +10,11 @@
 //                           7   status, uint16 (0: ok)
 // Holding registers (FC 3): 0   filter, uint16, 1..8 (writable; other values: exception 03)
 //                           1-2 serial number, uint32 CDAB (read-only: exception 03)
+//                           3   firmware version, uint16, x 0.01 (102: 1.02; read-only)
+//                           4   model number, uint16 (read-only)
+// It also tells who it is without a profile: FC 17 (server id 0x2A, run indicator ON, then
+// "tiltgate RTU inclinometer") and FC 43 / 14 (vendor, product code, revision, product name,
+// model name).
 #pragma once
 
 #include <cstdint>
@@ -25,6 +30,8 @@ struct InclinometerState {
   std::uint16_t status = 0;
   std::uint16_t filter = 4;
   std::uint32_t serial_number = 20240917;
+  std::uint16_t firmware_version = 102;  // 1.02
+  std::uint16_t model_number = 360;
 };
 
 inline constexpr std::uint16_t kInclinometerFilterRegister = 0;

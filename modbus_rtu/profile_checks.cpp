@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "driver/closest_name.h"
 #include "driver/write_target.h"
 #include "mapping/point.h"
 #include "mapping/value_source.h"
@@ -120,6 +121,24 @@ void check_profile(const std::vector<LocatedBlock>& blocks, const std::vector<Lo
   for (const LocatedBlock& b : blocks) blocks_read = blocks_read && b.read_ok;
   for (std::size_t i = 0; i < values.size(); ++i)
     if (values[i].read_ok) check_value(values, i, blocks, blocks_read, setting_names, errors);
+}
+
+void check_identity(const LocatedIdentity& identity, const std::vector<LocatedValue>& values,
+                    toml_input::ErrorList& errors) {
+  if (!identity.where) return;
+  std::vector<std::string> names;
+  for (const LocatedValue& v : values) names.push_back(v.value.name);
+  const std::pair<std::string_view, const std::string*> keys[] = {
+      {"serial", &identity.identity.serial},
+      {"firmware", &identity.identity.firmware},
+      {"model", &identity.identity.model}};
+  for (const auto& [key, name] : keys) {
+    if (name->empty() || std::find(names.begin(), names.end(), *name) != names.end()) continue;
+    std::string message = fmt::format("\"{}\" is not a [[value]] of the profile", *name);
+    if (const std::string close = closest_name(*name, names); !close.empty())
+      message += fmt::format("; did you mean \"{}\"?", close);
+    identity.where->report(errors, key, std::move(message));
+  }
 }
 
 }  // namespace tiltgate::modbus_rtu

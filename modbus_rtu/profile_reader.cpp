@@ -93,6 +93,27 @@ LocatedValue read_value(const toml::table& table, std::string path, ErrorList& e
   return LocatedValue{value, in.located(), true};
 }
 
+// [identity]: serial, firmware and model, each the name of a value (checked by check_identity).
+LocatedIdentity read_identity(TableReader& root, ErrorList& errors) {
+  LocatedIdentity identity;
+  const toml::table* table = root.table("identity");
+  if (table == nullptr) return identity;
+  TableReader in(*table, "identity", errors);
+  const std::pair<std::string_view, std::string*> keys[] = {
+      {"serial", &identity.identity.serial},
+      {"firmware", &identity.identity.firmware},
+      {"model", &identity.identity.model}};
+  for (const auto& [key, name] : keys) {
+    const auto value = in.string(key);
+    if (!value) continue;
+    if (value->empty()) in.error(key, "empty, expected the name of a [[value]]");
+    *name = *value;
+  }
+  in.reject_unknown_keys();
+  identity.where = in.located();
+  return identity;
+}
+
 // Each table of the array of tables `key` ([[read]], [[value]]), read by `read_one`.
 template <class Located, class ReadOne>
 std::vector<Located> read_array(TableReader& root, std::string_view key, ErrorList& errors,
@@ -132,10 +153,12 @@ Expected<DeviceProfile, FileErrors> parse_device_profile(
   in.string("description");  // for the reader of the file only
   const auto blocks = read_array<LocatedBlock>(in, "read", errors, read_block);
   const auto values = read_array<LocatedValue>(in, "value", errors, read_value);
+  const LocatedIdentity identity = read_identity(in, errors);
   in.reject_unknown_keys();
   check_profile(blocks, values, setting_names, errors);
+  check_identity(identity, values, errors);
   if (!errors.empty()) return Unexpected{errors.take()};
-  DeviceProfile profile{std::string(source_name), {}, {}};
+  DeviceProfile profile{std::string(source_name), {}, {}, identity.identity};
   for (const LocatedBlock& b : blocks) profile.reads.push_back(b.block);
   for (const LocatedValue& v : values) profile.values.push_back(v.value);
   return profile;

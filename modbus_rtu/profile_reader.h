@@ -16,6 +16,11 @@
 //   scale = 1.0              # value = raw * scale + offset
 //   offset = 0.0
 //   writable = false         # holding registers only; then optional min and max
+//
+//   [identity]               # optional: which values say who the device is
+//   serial = "serial_number" # each the name of a [[value]]; numbers shown in decimal
+//   firmware = "firmware_version"
+//   model = "model_number"
 #pragma once
 
 #include <string>

@@ -26,6 +26,18 @@ double value_named(const std::vector<NamedValue>& values, std::string_view name)
 RtuDriver::RtuDriver(RtuDriverOptions options)
     : PolledSensorDriver(options.reply_timeouts), options_(std::move(options)) {
   state_.bus_address = options_.slave;
+  const DeviceProfile& profile = options_.profile;
+  for (const ReadBlock& block : profile.reads) {
+    bool identity = false, other = false, any = false;
+    for (const ProfileValue& value : profile.values) {
+      if (!block_holds(block, value)) continue;
+      any = true;
+      (profile.identity.names(value.name) ? identity : other) = true;
+    }
+    identity_block_.push_back(identity);
+    polled_block_.push_back(!any || other);
+  }
+  identity_registers_.resize(profile.reads.size());
 }
 
 void RtuDriver::follow_address(std::uint32_t address) {
@@ -100,11 +112,50 @@ asio::awaitable<WriteResult> RtuDriver::write(Line& line, WriteTarget target, do
   co_return Done{};
 }
 
-// A Modbus slave has no identity the profile describes: known as soon as the line is open.
 asio::awaitable<bool> RtuDriver::read_identity(Line& line) {
-  identity_read_on(line.generation());
+  const auto generation = line.generation();
+  const DeviceProfile& profile = options_.profile;
+  PolledBlocks blocks(profile.reads.size());
+  for (std::size_t i = 0; i < profile.reads.size(); ++i) {
+    if (!identity_block_[i]) continue;
+    auto request = read_request(options_.slave, profile.reads[i].bank, profile.reads[i].address,
+                                profile.reads[i].count);
+    if (!request) continue;  // the profile's checks keep blocks valid
+    auto reply = co_await exchange(line, *request);
+    if (!reply && reply.error().kind == WriteErrorKind::no_response) co_return false;
+    if (!reply) {
+      // A device that refuses its identity block still measures: carry on without it rather
+      // than asking again every poll (status bit 3 stays set until it is read).
+      identity_read_on(generation);
+      state_.identity_known = false;
+      spdlog::warn("{}: could not read the identity of slave {}: {}", options_.name,
+                   options_.slave, reply.error().detail);
+      co_return true;
+    }
+    blocks[i] = std::move(reply->registers);
+    if (!polled_block_[i]) identity_registers_[i] = blocks[i];
+  }
+  identity_read_on(generation);
+  take_identity(blocks);
   state_.identity_known = true;
+  if (!profile.identity.empty())
+    spdlog::info("{}: slave {} is serial '{}', firmware '{}', model '{}'", options_.name,
+                 options_.slave, state_.serial, state_.firmware, state_.model);
   co_return true;
+}
+
+void RtuDriver::take_identity(const PolledBlocks& blocks) {
+  const DeviceProfile& profile = options_.profile;
+  const std::vector<NamedValue> values = decode_values(profile, blocks);
+  auto text_of = [&](const std::string& name) -> std::string {
+    for (std::size_t i = 0; i < values.size(); ++i)
+      if (!name.empty() && values[i].name == name)
+        return identity_text(profile.values[i], values[i].value);
+    return {};
+  };
+  state_.serial = text_of(profile.identity.serial);
+  state_.firmware = text_of(profile.identity.firmware);
+  state_.model = text_of(profile.identity.model);
 }
 
 asio::awaitable<std::optional<std::vector<std::uint16_t>>> RtuDriver::read_block(
@@ -121,14 +172,27 @@ asio::awaitable<std::optional<std::vector<std::uint16_t>>> RtuDriver::read_block
 }
 
 asio::awaitable<void> RtuDriver::read_measurement(Line& line) {
-  PolledBlocks blocks;
-  for (const ReadBlock& block : options_.profile.reads) {
-    auto registers = co_await read_block(line, block);
+  // Back after being offline (the identity was not read in this poll): it may be another
+  // device now, so its identity is read again first.
+  if (!options_.profile.identity.empty() && known_offline(state_)) {
+    if (!co_await read_identity(line)) {
+      ++state_.counters.polls_failed;
+      co_return;
+    }
+  }
+  const std::vector<ReadBlock>& reads = options_.profile.reads;
+  PolledBlocks blocks(reads.size());
+  for (std::size_t i = 0; i < reads.size(); ++i) {
+    if (!polled_block_[i]) {
+      blocks[i] = identity_registers_[i];
+      continue;
+    }
+    auto registers = co_await read_block(line, reads[i]);
     if (!registers) {
       ++state_.counters.polls_failed;
       co_return;
     }
-    blocks.emplace_back(std::move(*registers));
+    blocks[i] = std::move(*registers);
   }
   const std::vector<NamedValue> values = decode_values(options_.profile, blocks);
   Reading reading;

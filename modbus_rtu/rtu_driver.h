@@ -1,9 +1,14 @@
 // A Modbus RTU slave described by a device profile (modbus_rtu/device_profile.h), as a sensor:
-// each poll reads every [[read]] block (FC 3/4), decodes the profile's values and publishes a
-// Reading with angle_x and angle_y (NaN when the profile has none). There is no identity to
-// read. Every profile value is published too (Reading::device_values, in profile order), for
-// map points to show. An exception reply is the device refusing the request: it is counted by
-// its code (refusals[], last_refusal) and fails the poll.
+// each poll reads every [[read]] block (FC 3/4; but those holding identity values only, below),
+// decodes the profile's values and publishes a Reading with angle_x and angle_y (NaN when the
+// profile has none). Every profile value is published too (Reading::device_values, in profile
+// order), for map points to show. An exception reply is the device refusing the request: it is
+// counted by its code (refusals[], last_refusal) and fails the poll.
+//
+// The profile's [identity] values (serial, firmware, model) are read with the blocks that hold
+// them at start, after the line reopens and whenever the device answers again after being
+// offline (it may have been replaced): a block that holds identity values only is read then,
+// not every poll.
 //
 // The profile's writable values are the driver's settings (WriteTarget::device_value(index)):
 // a write is checked against the value's range, sent with FC 6 (one register) or FC 16, and
@@ -49,8 +54,16 @@ class RtuDriver final : public PolledSensorDriver {
   // One exchange with the device, counted; the checked reply, or why there is none.
   boost::asio::awaitable<Expected<Reply, WriteError>> exchange(Line& line, const Request& request);
   void count_refusal(std::uint8_t code);
+  // The identity's strings from the registers just read.
+  void take_identity(const PolledBlocks& blocks);
 
   RtuDriverOptions options_;
+  // Per read block: whether it holds an identity value, and whether it is polled with every
+  // measurement (all blocks but those holding identity values only).
+  std::vector<bool> identity_block_;
+  std::vector<bool> polled_block_;
+  // The registers of the blocks read with the identity only, for the values they hold.
+  PolledBlocks identity_registers_;
 };
 
 }  // namespace tiltgate::modbus_rtu

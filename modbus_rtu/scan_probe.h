@@ -15,8 +15,6 @@
 
 namespace tiltgate::modbus_rtu {
 
-inline constexpr std::uint8_t kReportServerId = 0x11;
-
 boost::asio::awaitable<ProbeResult> device_probe(Line& line, const ProbeSetup& setup);
 
 // The probe for `slave`: the block's read, or FC 17 without one. Pure.

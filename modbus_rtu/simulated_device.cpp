@@ -8,10 +8,6 @@
 namespace tiltgate::modbus_rtu {
 namespace {
 
-Bytes exception_pdu(std::uint8_t function, ExceptionCode code) {
-  return Bytes{static_cast<std::uint8_t>(function | kExceptionBit), static_cast<std::uint8_t>(code)};
-}
-
 bool in_bank(std::size_t address, std::size_t count, std::size_t bank_size) {
   return address + count <= bank_size;
 }
@@ -59,6 +55,8 @@ Bytes SimulatedDevice::answer(std::span<const std::uint8_t> pdu) {
     case kReadInputRegisters: return answer_read(pdu, input_);
     case kWriteSingleRegister: return answer_write_single(pdu);
     case kWriteMultipleRegisters: return answer_write_multiple(pdu);
+    case kReportServerId: return answer_report_server_id(identification_, pdu);
+    case kEncapsulatedInterface: return answer_device_identification(identification_, pdu);
     default: return exception_pdu(function, ExceptionCode::illegal_function);
   }
 }

@@ -1,5 +1,6 @@
 // A model of one Modbus RTU slave: holding and input register banks, answering FC 3, 4, 6 and
-// 16 as the Application Protocol (6.3, 6.4, 6.6, 6.12 and 7.) describes, and exception 01
+// 16 as the Application Protocol (6.3, 6.4, 6.6, 6.12 and 7.) describes, FC 17 and 43 / 14
+// where it is given an identification (modbus_rtu/simulated_identification.h), and exception 01
 // for any other function, 02 for registers it does not have, 03 for a bad count or a value
 // its write check refuses. Pure: whole request frames in (CRC already checked), reply frames
 // out, so tests drive it without a pseudo-terminal.
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "modbus_rtu/codec.h"
+#include "modbus_rtu/simulated_identification.h"
 
 namespace tiltgate::modbus_rtu {
 
@@ -51,6 +53,10 @@ class SimulatedDevice {
   const std::vector<std::uint16_t>& holding() const { return holding_; }
   const std::vector<std::uint16_t>& input() const { return input_; }
   void set_write_check(WriteCheck check) { write_check_ = std::move(check); }
+  // What it answers to FC 17 and FC 43 / 14; by default neither (exception 01).
+  void set_identification(SimulatedIdentification identification) {
+    identification_ = std::move(identification);
+  }
   DeviceFaults& faults() { return faults_; }
   std::uint64_t requests_handled() const { return requests_handled_; }
 
@@ -66,6 +72,7 @@ class SimulatedDevice {
   std::vector<std::uint16_t> holding_;
   std::vector<std::uint16_t> input_;
   WriteCheck write_check_;
+  SimulatedIdentification identification_;
   DeviceFaults faults_;
   std::uint64_t requests_handled_ = 0;
 };

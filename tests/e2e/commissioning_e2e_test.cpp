@@ -261,6 +261,48 @@ TEST_CASE("info and watch read Modbus RTU devices through their device profile")
   CHECK(silent.exit_code == 1);
 }
 
+TEST_CASE("info shows the serial, firmware and model a Modbus RTU profile's [identity] names") {
+  SimulatorProcess sim({"modbus-rtu", "--sensors", "modbus-rtu:7"});
+  const auto info = run_tiltgate({"info", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                  "--device", kRtuProfile, "--address", "7"});
+  INFO(info.out << info.err);
+  CHECK(info.exit_code == 0);
+  CHECK(has_line(info.out, "serial:     20240917"));
+  CHECK(has_line(info.out, "firmware:   1.02"));
+  CHECK(has_line(info.out, "model:      360 (modbus-rtu)"));
+}
+
+TEST_CASE("info on a Modbus RTU device without --device shows what it says of itself") {
+  SimulatorProcess sim({"modbus-rtu", "--sensors", "modbus-rtu:7"});
+  const auto info = run_tiltgate({"info", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                  "--address", "7"});
+  INFO(info.out << info.err);
+  CHECK(info.exit_code == 0);
+  CHECK(has_line(info.out, "address:    7"));
+  CHECK(has_line(info.out, "vendor:     tiltgate"));
+  CHECK(has_line(info.out, "product:    TG-RTU-INC"));
+  CHECK(has_line(info.out, "revision:   1.02"));
+  CHECK(has_line(info.out, "model:      360"));
+  CHECK(has_line(info.out, "server id:  0x2A, run indicator ON, tiltgate RTU inclinometer"));
+  CHECK_FALSE(has(info.err, "required key"));
+
+  const auto silent = run_tiltgate({"info", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                    "--address", "9"});
+  INFO(silent.out << silent.err);
+  CHECK(silent.exit_code == 1);
+  CHECK(has(silent.err, "no reply from address 9"));
+
+  const auto out_of_range = run_tiltgate({"info", "--port", sim.tty(), "--protocol",
+                                          "modbus-rtu", "--address", "248"});
+  CHECK(out_of_range.exit_code == 2);
+  CHECK(has(out_of_range.err, "--address: 248 is out of range for a modbus-rtu bus"));
+  // watch still needs the profile: it reads the values it describes.
+  const auto watch = run_tiltgate({"watch", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                   "--address", "7", "--count", "1"});
+  CHECK(watch.exit_code == 2);
+  CHECK(has(watch.err, "--device: required key is missing"));
+}
+
 TEST_CASE("watch runs until SIGTERM and then exits 0") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:223"});
   TempDir dir;

@@ -73,6 +73,22 @@ TEST_CASE("raw on a Modbus RTU bus shows the registers read, and an exception wi
   CHECK(has_line(refused.out, "reply:    exception 0x02 (illegal data address)"));
 }
 
+TEST_CASE("raw on a Modbus RTU line sends its PDU without a device profile") {
+  SimulatorProcess sim({"modbus-rtu", "--sensors", "modbus-rtu:1"});
+  const auto read = run_tiltgate({"raw", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                  "--address", "1", "--function", "3", "--data", "00 03 00 02"});
+  INFO(read.out << read.err);
+  CHECK(read.exit_code == 0);
+  CHECK(has_line(read.out, "sent:     01 03 00 03 00 02 34 0B"));
+  CHECK(has(read.out, "(CRC ok)"));
+  CHECK(has_line(read.out, "registers: 102 360"));  // the preset's firmware and model
+  const auto server_id = run_tiltgate({"raw", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                       "--address", "1", "--function", "17"});
+  INFO(server_id.out << server_id.err);
+  CHECK(server_id.exit_code == 0);
+  CHECK(has(server_id.out, "reply:    function 0x11, PDU 11 1B 2A FF"));
+}
+
 TEST_CASE("raw on a Dyna's 9-bit bus sends the address byte, the command character and CR LF") {
   SimulatorProcess sim({"spectron", "--sensors", "dyna:1"});
   const auto raw = run_tiltgate({"raw", "--port", sim.tty(), "--protocol", "spectron-9bit", "--baud",

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """`tiltgate demo --sparkplug-host 127.0.0.1` publishes the demo's simulated sensors as a
 Sparkplug B edge node (issue 28, "Tests"): an NBIRTH, a DBIRTH for every sensor the demo serves
-(its /api/sensors names) and DDATA that follow, decoded by protoc's Python output.
+(its /api/sensors names) and DDATA that follow, decoded by protoc's Python output; the Modbus
+RTU inclinometer's Properties carry the serial, firmware and model its profile's [identity]
+names (issue 41).
 
 Usage: /usr/bin/python3 demo_test.py path/to/tiltgate
 """
@@ -19,7 +21,7 @@ from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
 from spb_e2e.tahu import check_decoders  # noqa: E402
-from spb_e2e.sparkplug import seq_violations  # noqa: E402
+from spb_e2e.sparkplug import birth_value, device_views, seq_violations  # noqa: E402
 
 WAIT = 20
 
@@ -70,6 +72,23 @@ def scenario(t):
                 all(m.topic.split("/")[1] == group and
                     m.topic.split("/")[3] == nbirth.topic.split("/")[3]
                     for m in observer.messages()), nbirth.topic)
+    rtu = "rtu-inclinometer"  # the demo's Modbus RTU device, read through the example profile
+    expected = ("20240917", "1.02", "360")
+
+    def rtu_identity():
+        births = observer.messages("DBIRTH", rtu)
+        if not births:
+            return None
+        _, data = device_views(observer.messages(), rtu)
+
+        def latest(name):  # the last DDATA's, else the DBIRTH's
+            values = [n[name]["value"] for _, n in data if name in n]
+            return values[-1] if values else birth_value(births[-1], name)
+        got = tuple(latest("Properties/" + k) for k in ("serial", "firmware", "model"))
+        return got if got == expected else None
+    t.check("the Modbus RTU device's Properties/serial, firmware and model are its profile's "
+            "[identity] values", wait_until(rtu_identity, WAIT),
+            (rtu in names, [m.metrics() for m in observer.messages("DBIRTH", rtu)][:1]))
     broken, _ = seq_violations(observer.messages())
     t.check("tck-id-payloads-sequence-num-incrementing: the demo's seq rule holds", not broken,
             broken[:3])

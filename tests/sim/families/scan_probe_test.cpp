@@ -85,8 +85,11 @@ TEST_CASE_TEMPLATE("Dyna Read Sensor finds a module, silence elsewhere, a collis
 
 TEST_CASE("Modbus RTU FC 17 finds a device by its exception reply, a shared address collides") {
   modbus_rtu::RtuSimulatorOptions options;
-  for (const std::uint8_t slave : {1, 3, 3})
+  for (const std::uint8_t slave : {1, 3, 3, 4})
     options.devices.push_back(modbus_rtu::rtu_inclinometer(slave));
+  // Slave 1 has no FC 17, as many devices: its "illegal function" shows it is there. Slave 4
+  // answers it, as the preset does.
+  options.devices.front().set_identification({});
   SerialLineOptions line;
   line.framing = Framing::eight_even_one;
   line.baud = 19200;
@@ -94,6 +97,9 @@ TEST_CASE("Modbus RTU FC 17 finds a device by its exception reply, a shared addr
   const ProbeResult one = run_coroutine(bench.io, modbus_rtu::device_probe(*bench.line, probe_at(1)));
   CHECK(one.outcome == ProbeOutcome::answered);
   CHECK(one.detail.find("exception 1") == 0);
+  const ProbeResult four = run_coroutine(bench.io, modbus_rtu::device_probe(*bench.line, probe_at(4)));
+  CHECK(four.outcome == ProbeOutcome::answered);
+  CHECK(four.detail.empty());
   CHECK(run_coroutine(bench.io, modbus_rtu::device_probe(*bench.line, probe_at(2))).outcome ==
         ProbeOutcome::silent);
   CHECK(run_coroutine(bench.io, modbus_rtu::device_probe(*bench.line, probe_at(3))).outcome ==

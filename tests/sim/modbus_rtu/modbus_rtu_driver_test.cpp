@@ -69,11 +69,16 @@ TEST_CASE("the RTU driver reads the profile's angle_x and angle_y from the slave
   CHECK(state.online);
   CHECK(state.identity_known);
   CHECK(state.counters.polls_ok == 1);
-  CHECK(state.counters.transactions == 2);  // the example's two read blocks
+  // The identity's block (holding 0..4: serial, firmware, model), then the two read blocks.
+  CHECK(state.counters.transactions == 3);
+  CHECK(state.serial == "20240917");
+  CHECK(state.firmware == "1.02");
+  CHECK(state.model == "360");
   set_inclinometer_angles(bench.device(), -0.5, 0.75);
   bench.poll(driver);
   CHECK(driver.state().reading->angle_x == doctest::Approx(-0.5));
   CHECK(driver.state().sample_seq == 2);
+  CHECK(driver.state().counters.transactions == 5);  // the identity is not read again
 }
 
 TEST_CASE("a profile without angles publishes readings with NaN angles") {

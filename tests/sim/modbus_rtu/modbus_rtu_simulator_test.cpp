@@ -172,10 +172,15 @@ TEST_CASE("the RTU simulator skips garbage before a request and ignores a reques
 TEST_CASE("the RTU simulator frames a request of a function it does not know by its CRC") {
   Bus bus;
   RtuClient client(bus.io, bus.sim->slave_path());
-  // Read device identification (0x2B/0x0E), which the preset does not implement: exception 01.
-  const Reply reply = client.reply_to(raw_request(1, Bytes{0x2B, 0x0E, 0x01, 0x00}));
+  // Read File Record (0x14), which the preset does not implement: exception 01.
+  const Reply reply =
+      client.reply_to(raw_request(1, Bytes{0x14, 0x07, 0x06, 0x00, 0x04, 0x00, 0x01, 0x00, 0x02}));
   CHECK(reply.exception == std::optional<std::uint8_t>(0x01));
-  CHECK(reply.pdu == Bytes{0xAB, 0x01});
+  CHECK(reply.pdu == Bytes{0x94, 0x01});
+  // Read Device Identification (0x2B / 0x0E), also framed by its CRC, which it answers.
+  const Reply identification = client.reply_to(raw_request(1, Bytes{0x2B, 0x0E, 0x01, 0x00}));
+  CHECK_FALSE(identification.exception);
+  CHECK(identification.pdu.size() > 7);
 }
 
 TEST_CASE("the RTU simulator's faults: a silent slave, a corrupted reply, a late reply") {
