@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <utility>
+
 namespace tiltgate {
 
 namespace {
@@ -28,16 +30,52 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
   probing_ = !state_.online && state_.counters.transactions > 0;
   const bool identity_current = identity_generation_ == line.generation();
   if (!identity_current) state_.identity_known = false;
+  // A sensor silent until now may answer as another device; the wrong one is asked each poll
+  // whether the right one is back.
+  const bool recheck = known_offline(state_) || state_.wrong_device;
+  rechecking_wrong_device_ = identity_current && state_.wrong_device;
   bool reachable = true;
-  if (!identity_current) reachable = co_await read_identity(line);
-  if (reachable) {
+  if (!identity_current || recheck) {
+    reachable = co_await read_identity(line);
+    if (reachable) check_serial();
+  }
+  rechecking_wrong_device_ = false;
+  if (reachable && !state_.wrong_device) {
     co_await read_measurement(line);
   } else {
-    ++state_.counters.polls_failed;
+    ++state_.counters.polls_failed;  // no measurement: none answered, or not of this sensor
   }
   probing_ = false;
   log_online_change(log_name(), kind(), state_.bus_address, line.name(), was_online,
                     state_.online);
+}
+
+void PolledSensorDriver::check_serial() {
+  // A device that does not tell its serial cannot be told apart (status bit 3 says so).
+  if (!state_.identity_known || state_.serial.empty()) {
+    state_.wrong_device = false;
+    return;
+  }
+  const bool was_wrong = state_.wrong_device;
+  const std::string before = std::exchange(last_serial_, state_.serial);
+  const bool changed = !before.empty() && before != state_.serial;
+  if (expected_serial_.empty()) {
+    if (changed)
+      spdlog::warn("{}: the {} at address {} now reports serial '{}', was '{}': another device? "
+                   "([[sensor]] serial makes the gateway refuse one)",
+                   log_name(), kind(), state_.bus_address, state_.serial, before);
+    return;
+  }
+  state_.wrong_device = state_.serial != expected_serial_;
+  if (state_.wrong_device && (!was_wrong || changed)) {
+    ++state_.counters.wrong_device_found;
+    spdlog::error("{}: wrong device at address {}: serial '{}' answers, the configured sensor is "
+                  "serial '{}'; its measurements read as offline and writes are refused",
+                  log_name(), state_.bus_address, state_.serial, expected_serial_);
+  } else if (was_wrong && !state_.wrong_device) {
+    spdlog::info("{}: serial '{}' answers at address {} again: served", log_name(),
+                 state_.serial, state_.bus_address);
+  }
 }
 
 boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_counted(

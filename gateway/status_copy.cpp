@@ -49,6 +49,9 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.address = state.bus_address;
   s.model = std::string(sensor.driver->model());
   s.serial = state.serial;
+  s.configured_serial = sensor.config.serial;
+  s.wrong_device = state.wrong_device;
+  s.wrong_device_found = state.counters.wrong_device_found;
   s.firmware = state.firmware;
   s.online = online_at(state, now, sensor.stale_after);
   s.polls_ok = state.counters.polls_ok;

@@ -116,7 +116,7 @@ TEST_CASE("tck-id-topics-dbirth-metrics, tck-id-payloads-alias-birth-requirement
     CHECK(m.datatype != DataType::Unknown);  // tck-id-payloads-metric-datatype-req
   }
   CHECK(names == std::vector<std::string>{"angle_x", "angle_y", "tilt", "status", "online", "stale",
-                                          "alarms", "age_ms", "Properties/model",
+                                          "wrong_device", "alarms", "age_ms", "Properties/model",
                                           "Properties/serial", "Properties/firmware",
                                           "Settings/filter", "Settings/zero_x"});
   CHECK(find_metric(dbirth, "angle_x")->value == Value{1.0});
