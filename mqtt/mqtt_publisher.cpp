@@ -50,8 +50,8 @@ std::vector<MqttMessage> MqttPublisher::take(const GatewayStatus& status, Clock:
       due.push_back({mqtt_info_topic(options_.topic_prefix, sensor.name), info, true, now_unix_ms});
       info_[sensor.name] = std::move(info);
     }
-    const StateSample sample{sensor.x, sensor.y, sensor.online, sensor.wrong_device,
-                             sensor.polls_ok};
+    const StateSample sample{sensor.x, sensor.y, sensor.online, sensor.polls_ok,
+                             sensor.wrong_device};
     StatePacer& pacer = pacers_.try_emplace(sensor.name, options_.pacing).first->second;
     if (!pacer.due(sample, now)) continue;
     due.push_back({mqtt_state_topic(options_.topic_prefix, sensor.name),

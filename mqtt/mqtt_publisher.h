@@ -28,8 +28,8 @@ struct StateSample {
   std::optional<double> x;
   std::optional<double> y;
   bool online = false;
-  bool wrong_device = false;  // another device answers in the sensor's place
   std::uint64_t readings = 0;  // polls that brought a reading so far: a new one changes it
+  bool wrong_device = false;   // another device answers in the sensor's place
 };
 
 // One sensor's pacing: due at the first sample, when `interval` has passed since the last
