@@ -28,7 +28,7 @@ constexpr int kUnavailable = MODBUS_ENOBASE + 0x0B;
 constexpr int kStatusRegister = 6;      // 30007
 constexpr int kWrongDeviceInput = 7;    // 10008
 constexpr std::uint16_t kWrongDeviceBit = 1 << 6;
-constexpr std::string_view kLabels = "{sensor=\"boom\",bus=\"line1\",unit=\"1\"}";
+const char* const kLabels = "{sensor=\"boom\",bus=\"line1\",unit=\"1\"}";
 
 struct SwapPlant {
   explicit SwapPlant(std::string_view sensor_keys) {

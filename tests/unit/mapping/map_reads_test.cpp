@@ -185,10 +185,12 @@ TEST_CASE("a wrong device answering reads as offline says, with status bit 6 and
   CHECK((*bits)[0] == true);
 
   view.offline = OfflineRead::last_value;  // the configured sensor's last reading
-  CHECK(get_float32(std::span(read(map, view, 0, 2)).first<2>(), WordOrder::big) == 1.5f);
+  Words w = read(map, view, 0, 2);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 1.5f);
   view.offline = OfflineRead::substitute;
   view.substitute = -999;
-  CHECK(get_float32(std::span(read(map, view, 0, 2)).first<2>(), WordOrder::big) == -999.0f);
+  w = read(map, view, 0, 2);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == -999.0f);
 
   state.wrong_device = false;
   view.offline = OfflineRead::exception;
