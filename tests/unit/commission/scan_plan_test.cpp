@@ -195,8 +195,8 @@ TEST_CASE("--config-out writes each sensor's serial as its serial key, so a swap
   auto config = load_config_string(text, "scan", registered_families());
   REQUIRE(config.has_value());
   REQUIRE(config->sensors.size() == 2);
-  CHECK(config->sensors[0].serial.empty());  // 101 reported none: any device is served
-  CHECK(config->sensors[1].serial == "9600223");
+  CHECK(config->sensors[0].serial == "9600223");
+  CHECK(config->sensors[1].serial.empty());  // 101 reported none: any device is served
 }
 
 TEST_CASE("--config-out writes the family's required keys into every sensor") {

@@ -123,6 +123,6 @@ TEST_CASE("sensor options: what an offline sensor's measurements read as") {
 TEST_CASE("sensor options: serial is the one the sensor reports, trimmed, and not empty") {
   CHECK(loads(sensor_with("")).serial.empty());
   CHECK(loads(sensor_with("serial = \" 9600223 \"\n")).serial == "9600223");
-  expect_error(sensor_with("serial = \"  \"\n"), 10, "serial",
+  expect_error(sensor_with("serial = \"  \"\n"), 10, "sensor[0].serial",
                "must not be empty (leave the key out instead)");
 }
