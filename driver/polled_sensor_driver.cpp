@@ -30,14 +30,23 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
   probing_ = !state_.online && state_.counters.transactions > 0;
   const bool identity_current = identity_generation_ == line.generation();
   if (!identity_current) state_.identity_known = false;
-  // A sensor silent until now may answer as another device; the wrong one is asked each poll
+  // A sensor silent until now may answer as another device: who it is is read again before it
+  // counts as online, so that nothing reads it online with the reading from before the silence
+  // or as the configured sensor before its serial was checked. The wrong one is asked each poll
   // whether the right one is back.
-  const bool recheck = known_offline(state_) || state_.wrong_device;
+  if (known_offline(state_)) identity_owed_ = true;
   rechecking_wrong_device_ = identity_current && state_.wrong_device;
   bool reachable = true;
-  if (!identity_current || recheck) {
+  if (!identity_current || identity_owed_ || state_.wrong_device) {
+    holding_online_ = !state_.online;
     reachable = co_await read_identity(line);
-    if (reachable) check_serial();
+    holding_online_ = false;
+    if (reachable) {
+      identity_owed_ = false;
+      check_serial();
+      // Another device answers: online, though none of its measurements is served.
+      if (state_.wrong_device) state_.online = true;
+    }
   }
   rechecking_wrong_device_ = false;
   if (reachable && !state_.wrong_device) {
@@ -95,7 +104,7 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     if (sent || sent.error() != LineError::timeout) break;
   }
   if (sent) {
-    state_.online = true;
+    if (!holding_online_) state_.online = true;
     state_.unanswered = false;
     state_.last_answer = SteadyClock::now();
   } else if (sent.error() == LineError::expired) {

@@ -90,6 +90,11 @@ class PolledSensorDriver : public SensorDriver {
   std::string expected_serial_;  // [[sensor]] serial; empty: any device is served
   std::string last_serial_;      // the serial read last (empty before the first)
   bool rechecking_wrong_device_ = false;
+  // Its identity is to be read again before its next measurement: it was silent.
+  bool identity_owed_ = false;
+  // Reading the identity of a sensor that was not online: an answer does not make it online
+  // yet (its measurement, or its being the wrong device, does).
+  bool holding_online_ = false;
 };
 
 }  // namespace tiltgate

@@ -91,8 +91,8 @@ check "counts in range answers ok" test "$(sed -n 3p "$dir/dyna.out")" = "ok"
 check "a serial past EEPROM 4's word is an error" grep -qxF "error: serial takes one whole number, 0..65535" "$dir/dyna.out"
 check "serial on a Dyna answers ok" test "$(sed -n 5p "$dir/dyna.out")" = "ok"
 check "the Dyna reports the new serial, as a module swapped in would" \
-  bash -c "timeout 30 '$tiltgate' info --port '$dir/dyna' --protocol spectron-9bit --address 5 |
-           grep -q '^serial:     777$'"
+  bash -c "timeout 30 '$tiltgate' info --port '$dir/dyna' --protocol spectron-9bit --baud 28800 \
+             --address 5 | grep -q '^serial:     777$'"
 
 # Standard input from /dev/null: not read, and the simulator runs as before.
 "$tiltgate" sim rieker --sensors h6:223 --link "$dir/quiet" </dev/null >"$dir/quiet.out" 2>"$dir/quiet.err" &
