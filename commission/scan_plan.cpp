@@ -178,8 +178,12 @@ std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor
                         s.address, unit_id++);
     for (const SensorKeyValue& key : sensor_keys)
       text += fmt::format("{} = {}\n", key.key, toml_string(key.value));
-    if (!s.serial.empty() || !s.firmware.empty())
-      text += fmt::format("# serial {}, firmware {}\n", or_dash(s.serial), or_dash(s.firmware));
+    // The gateway serves this sensor only while this serial answers at its address.
+    if (!s.serial.empty())
+      text += fmt::format("serial = {}    # firmware {}\n", toml_string(s.serial),
+                          or_dash(s.firmware));
+    else if (!s.firmware.empty())
+      text += fmt::format("# serial -, firmware {}\n", s.firmware);
   }
   for (const FoundSensor& s : found) {
     if (s.collision)

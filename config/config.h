@@ -213,6 +213,9 @@ struct SensorConfig {
   std::uint8_t unit_id = 1;         // Modbus unit id 1..247
   std::chrono::milliseconds poll{100};
   std::optional<std::chrono::milliseconds> stale_after;  // default: max(3 x poll, 1 s)
+  // The serial number the sensor at `address` must report (as it reports it, trimmed): another
+  // device answering there is not served as this sensor. Empty: any device is served.
+  std::string serial;
   // The keys of the model's own family (FamilyDescriptor::sensor_keys), as it read them.
   FamilyOptions family_options;
   MountingConfig mounting;

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "config/sensor_options.h"
+#include "driver/text_list.h"
 #include "toml/toml_reader.h"
 
 namespace tiltgate::config {
@@ -266,6 +267,10 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
                                        *ms, sensor.poll.count()));
     else
       sensor.stale_after = milliseconds(*ms);
+  }
+  if (auto serial = in.string("serial")) {
+    sensor.serial = std::string(trim_whitespace(*serial));
+    if (sensor.serial.empty()) in.error("serial", "must not be empty (leave the key out instead)");
   }
   read_family_keys(in, sensor, families, errors);
   read_mounting(in, sensor, errors, families);

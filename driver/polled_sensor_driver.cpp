@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <utility>
+
 namespace tiltgate {
 
 namespace {
@@ -28,20 +30,73 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
   probing_ = !state_.online && state_.counters.transactions > 0;
   const bool identity_current = identity_generation_ == line.generation();
   if (!identity_current) state_.identity_known = false;
+  // A sensor silent until now may answer as another device: who it is is read again before it
+  // counts as online, so that nothing reads it online with the reading from before the silence
+  // or as the configured sensor before its serial was checked. The wrong one is asked each poll
+  // whether the right one is back.
+  if (known_offline(state_)) {
+    identity_owed_ = true;
+    // Back from offline: it may have been changed (or replaced) while the gateway could not
+    // see it, so its settings are read again too.
+    settings_owed_ = true;
+  }
+  rechecking_wrong_device_ = identity_current && state_.wrong_device;
   bool reachable = true;
-  if (!identity_current) reachable = co_await read_identity(line);
-  if (reachable && (settings_owed_ || !identity_current)) {
+  if (!identity_current || identity_owed_ || state_.wrong_device) {
+    holding_online_ = !state_.online;
+    reachable = co_await read_identity(line);
+    holding_online_ = false;
+    if (reachable) {
+      identity_owed_ = false;
+      check_serial();
+      // Another device answers: online, though none of its measurements is served.
+      if (state_.wrong_device) state_.online = true;
+    }
+  }
+  rechecking_wrong_device_ = false;
+  // Nothing is read of a wrong device's settings: the record stays the configured sensor's.
+  if (reachable && !state_.wrong_device && (settings_owed_ || !identity_current)) {
+    holding_online_ = !state_.online;
     reachable = co_await read_settings(line);
+    holding_online_ = false;
     settings_owed_ = !reachable;
   }
-  if (reachable) {
+  if (reachable && !state_.wrong_device) {
     co_await read_measurement(line);
   } else {
-    ++state_.counters.polls_failed;
+    ++state_.counters.polls_failed;  // no measurement: none answered, or not of this sensor
   }
   probing_ = false;
   log_online_change(log_name(), kind(), state_.bus_address, line.name(), was_online,
                     state_.online);
+}
+
+void PolledSensorDriver::check_serial() {
+  // A device that does not tell its serial cannot be told apart (status bit 3 says so).
+  if (!state_.identity_known || state_.serial.empty()) {
+    state_.wrong_device = false;
+    return;
+  }
+  const bool was_wrong = state_.wrong_device;
+  const std::string before = std::exchange(last_serial_, state_.serial);
+  const bool changed = !before.empty() && before != state_.serial;
+  if (expected_serial_.empty()) {
+    if (changed)
+      spdlog::warn("{}: the {} at address {} now reports serial '{}', was '{}': another device? "
+                   "([[sensor]] serial makes the gateway refuse one)",
+                   log_name(), kind(), state_.bus_address, state_.serial, before);
+    return;
+  }
+  state_.wrong_device = state_.serial != expected_serial_;
+  if (state_.wrong_device && (!was_wrong || changed)) {
+    ++state_.counters.wrong_device_found;
+    spdlog::error("{}: wrong device at address {}: serial '{}' answers, the configured sensor is "
+                  "serial '{}'; its measurements read as offline and writes are refused",
+                  log_name(), state_.bus_address, state_.serial, expected_serial_);
+  } else if (was_wrong && !state_.wrong_device) {
+    spdlog::info("{}: serial '{}' answers at address {} again: served", log_name(),
+                 state_.serial, state_.bus_address);
+  }
 }
 
 boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_counted(
@@ -61,10 +116,7 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     if (sent || sent.error() != LineError::timeout) break;
   }
   if (sent) {
-    // Back from offline: it may have been changed (or replaced) while the gateway could not
-    // see it, so its settings are read again.
-    if (known_offline(state_)) settings_owed_ = true;
-    state_.online = true;
+    if (!holding_online_) state_.online = true;
     state_.unanswered = false;
     state_.last_answer = SteadyClock::now();
   } else if (sent.error() == LineError::expired || sent.error() == LineError::cancelled) {

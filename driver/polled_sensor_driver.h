@@ -2,6 +2,13 @@
 // first whenever it is unknown on this line (after start, a reconnect of the tty, a restart),
 // then one measurement; and one log line when the sensor stops or starts answering.
 //
+// Who answers is checked too: the identity is read again when a sensor answers after a silence
+// (a sensor swapped in the field goes through one: its cable is unplugged), and a serial that
+// differs from the configured one ([[sensor]] serial) makes the device the wrong one: no
+// measurement is taken of it, and each poll reads its identity again instead, until the
+// configured serial answers (SensorState::wrong_device). Without a configured serial a changed
+// serial is only warned about.
+//
 // Every exchange also goes through here, with the sensor's own reply time-out
 // (driver/adaptive_reply_timeout.h), which the Line's timing adapts after every attempt: the
 // retries are made here, each attempt a transaction of the Line's, so a sensor whose first
@@ -34,6 +41,7 @@ class PolledSensorDriver : public SensorDriver {
   // Reads the settings back at the next poll (read_settings()). A family that cannot read a
   // setting back overrides this to record `value` as acknowledged.
   void note_acknowledged(WriteTarget target, double value) override;
+  void expect_serial(std::string serial) final { expected_serial_ = std::move(serial); }
 
  protected:
   explicit PolledSensorDriver(ReplyTimeouts timeouts);
@@ -71,9 +79,17 @@ class PolledSensorDriver : public SensorDriver {
     identity_generation_ = 0;
   }
 
+  // The identity being read is the wrong device's again (it answers each poll while it stays):
+  // the family's log line about who answers is not repeated.
+  bool rechecking_wrong_device() const { return rechecking_wrong_device_; }
+
   SensorState state_;
 
  private:
+  // After an identity read: compares the serial read with the configured one (and the one read
+  // before), sets wrong_device and logs what changed.
+  void check_serial();
+
   // Adapts the reply time-out to the Line's timing of one exchange; logs when that changes.
   void note_timing(const LineTiming& timing, const std::string& line_name);
 
@@ -83,6 +99,14 @@ class PolledSensorDriver : public SensorDriver {
   bool settings_owed_ = false;
   AdaptiveReplyTimeout reply_timeout_;
   bool probing_ = false;  // in a poll of a sensor that was offline: no retries
+  std::string expected_serial_;  // [[sensor]] serial; empty: any device is served
+  std::string last_serial_;      // the serial read last (empty before the first)
+  bool rechecking_wrong_device_ = false;
+  // Its identity is to be read again before its next measurement: it was silent.
+  bool identity_owed_ = false;
+  // Reading the identity of a sensor that was not online: an answer does not make it online
+  // yet (its measurement, or its being the wrong device, does).
+  bool holding_online_ = false;
 };
 
 }  // namespace tiltgate

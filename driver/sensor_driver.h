@@ -96,6 +96,11 @@ class SensorDriver {
     (void)value;
   }
 
+  // The serial the device at the sensor's address must report ([[sensor]] serial, trimmed;
+  // empty: any). A driver that reads a serial sets SensorState::wrong_device when another one
+  // answers there.
+  virtual void expect_serial(std::string serial) { (void)serial; }
+
   // One poll cycle: reads identity first when it is unknown (after start and after the line
   // reopened), then one measurement. Updates state(); never throws.
   virtual boost::asio::awaitable<void> poll(Line& line) = 0;

@@ -43,6 +43,8 @@ struct SensorCounters {
   // acknowledgement's code; codes past the end are not counted), and the last such code.
   std::array<std::uint32_t, 8> refusals{};
   std::optional<std::uint8_t> last_refusal;
+  // Times another device than the configured serial was found answering in its place.
+  std::uint32_t wrong_device_found = 0;
 };
 
 struct SensorState {
@@ -63,6 +65,10 @@ struct SensorState {
   // (never above the bus's maximum). Zero until the driver has exchanged anything.
   std::chrono::milliseconds reply_timeout{0};
   std::string serial;               // as the sensor reports it, trailing spaces trimmed
+  // The device answering at the sensor's address reported another serial than the configured
+  // one ([[sensor]] serial): it is not that sensor, so nothing of it is served as the sensor's
+  // (no readings taken, no writes sent) until the configured serial answers again (status bit 6).
+  bool wrong_device = false;
   std::string firmware;
   // The model as the device itself reports it, where its driver reads one (a device
   // profile's [identity] model); empty: the driver's model() is all there is.

@@ -96,6 +96,9 @@ std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
   sensor->model = find_model(families_, config.model).model;
   sensor->driver = make_driver(families_, config, bus_config);
   if (!sensor->driver) return nullptr;  // the loader rejects unknown models
+  // Served as this sensor only while its serial answers (the commissioning commands, which
+  // also make drivers, talk to whichever device is there).
+  sensor->driver->expect_serial(config.serial);
   sensor->map = map_for(families_, config);
   sensor->written.assign(sensor->map.holding_end(), 0);
   sensor->stale_after = config.stale_after.value_or(default_stale_after(config.poll));

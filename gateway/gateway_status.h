@@ -21,6 +21,11 @@ struct SensorStatus {
   std::uint32_t address = 0;    // on its bus, as polled now
   std::string model;            // as the device reports it, else its driver's model
   std::string serial;           // empty until the sensor has reported it
+  // [[sensor]] serial (empty: any device is served), and whether another device answers in
+  // the sensor's place (status bit 6), with how many times one was found there.
+  std::string configured_serial;
+  bool wrong_device = false;
+  std::uint64_t wrong_device_found = 0;
   std::string firmware;
   bool online = false;          // the last exchange with the sensor got a valid reply
   bool stale = true;            // no reading, or the last is older than its stale_ms

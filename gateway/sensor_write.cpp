@@ -1,6 +1,7 @@
 #include "gateway/sensor_write.h"
 
 #include <algorithm>
+#include <fmt/format.h>
 #include <span>
 #include <spdlog/spdlog.h>
 
@@ -16,6 +17,14 @@ SensorWrite::SensorWrite(std::shared_ptr<GatewaySensor> sensor, std::vector<Plan
 }
 
 WriteResult SensorWrite::check(const BusScheduler& bus, std::size_t first) const {
+  // A zero meant for the configured sensor is not applied to the device answering in its place.
+  const SensorState& state = sensor_->driver->state();
+  if (state.wrong_device) {
+    return Unexpected(WriteError{
+        WriteErrorKind::refused,
+        fmt::format("wrong device: serial '{}' answers at address {}, not the configured '{}'",
+                    state.serial, state.bus_address, sensor_->config.serial)});
+  }
   const auto settings = std::span(settings_).subspan(first);
   WriteResult checked = sensor_->driver->check_writes(settings);
   for (const SettingWrite& setting : settings) {

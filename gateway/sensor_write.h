@@ -25,7 +25,8 @@ class SensorWrite {
  public:
   SensorWrite(std::shared_ptr<GatewaySensor> sensor, std::vector<PlannedWrite> plan);
 
-  // Whether the settings from `first` on may be written now: the driver's check of their
+  // Whether the settings from `first` on may be written now: not while another device answers
+  // in the sensor's place (refused, 0x04), the driver's check of their
   // values, together and in order (a value may depend on a setting before it: an EEPROM
   // window's location), and the bus's refusal of an address another of its sensors has.
   WriteResult check(const BusScheduler& bus, std::size_t first = 0) const;

@@ -50,6 +50,9 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   // The device's own word for its model where it gives one, else what its driver runs it as.
   s.model = state.model.empty() ? std::string(sensor.driver->model()) : state.model;
   s.serial = state.serial;
+  s.configured_serial = sensor.config.serial;
+  s.wrong_device = state.wrong_device;
+  s.wrong_device_found = state.counters.wrong_device_found;
   s.firmware = state.firmware;
   s.online = online_at(state, now, sensor.stale_after);
   s.polls_ok = state.counters.polls_ok;

@@ -38,7 +38,7 @@ Expected<Measurements, MapFault> measurements_for(std::span<const Point> points,
                                                   const SensorView& v) {
   const bool needed = std::any_of(points.begin(), points.end(),
                                   [](const Point& p) { return is_measurement_point(p); });
-  if (!needed || (v.online() && !v.stale())) return Measurements::fresh;
+  if (!needed || (v.online() && !v.stale() && !v.wrong_device())) return Measurements::fresh;
   switch (v.offline) {
     case OfflineRead::exception:
       break;

@@ -27,6 +27,7 @@ std::uint16_t SensorView::status() const {
   if (!state.identity_known) bits |= status_bit::identity_unknown;
   if (alarms() != 0) bits |= status_bit::alarm_active;
   if (state.answers_late) bits |= status_bit::answers_late;
+  if (state.wrong_device) bits |= status_bit::wrong_device;
   return bits;
 }
 

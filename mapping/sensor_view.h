@@ -30,6 +30,8 @@ struct SensorView {
   // online bit clears no later than the measurements turn stale.
   bool online() const { return online_at(state, now, stale_after); }
   bool stale() const;
+  // The device answering is not the configured sensor (driver/sensor_state.h).
+  bool wrong_device() const { return state.wrong_device; }
   std::uint16_t age_ms() const;  // 65535 when there never was a reading
   std::uint16_t status() const;
   std::uint16_t alarms() const;  // alarm_bit flags, 0 without derived state
@@ -42,6 +44,9 @@ constexpr std::uint16_t last_write_failed = 1 << 2;
 constexpr std::uint16_t identity_unknown = 1 << 3;
 constexpr std::uint16_t alarm_active = 1 << 4;
 constexpr std::uint16_t answers_late = 1 << 5;
+// Another device than the configured sensor answers at its address ([[sensor]] serial):
+// measurements read as `offline` says and writes are refused.
+constexpr std::uint16_t wrong_device = 1 << 6;
 }  // namespace status_bit
 
 }  // namespace tiltgate

@@ -79,6 +79,8 @@ double source_value(ValueSource source, const SensorView& v) {
       return bit_of(v.status(), status_bit::alarm_active);
     case S::answers_late:
       return bit_of(v.status(), status_bit::answers_late);
+    case S::wrong_device:
+      return bit_of(v.status(), status_bit::wrong_device);
     case S::alarms:
       return v.alarms();
     case S::alarm_x_high:

@@ -25,6 +25,7 @@ enum class ValueSource : std::uint8_t {
   identity_unknown,
   alarm_active,
   answers_late,
+  wrong_device,
   alarms,  // ... and the alarm_bit flags, as one integer or one bit each
   alarm_x_high,
   alarm_x_low,

@@ -172,14 +172,8 @@ asio::awaitable<std::optional<std::vector<std::uint16_t>>> RtuDriver::read_block
 }
 
 asio::awaitable<void> RtuDriver::read_measurement(Line& line) {
-  // Back after being offline (the identity was not read in this poll): it may be another
-  // device now, so its identity is read again first.
-  if (!options_.profile.identity.empty() && known_offline(state_)) {
-    if (!co_await read_identity(line)) {
-      ++state_.counters.polls_failed;
-      co_return;
-    }
-  }
+  // Back after being offline, PolledSensorDriver::poll() has read the identity again first (it
+  // may be another device now).
   const std::vector<ReadBlock>& reads = options_.profile.reads;
   PolledBlocks blocks(reads.size());
   for (std::size_t i = 0; i < reads.size(); ++i) {

@@ -20,9 +20,9 @@ std::string mqtt_state_json(const SensorStatus& s, std::int64_t now_unix_ms) {
   const std::int64_t ts = s.age_ms ? now_unix_ms - *s.age_ms : now_unix_ms;
   return fmt::format(
       "{{\"ts\":{},\"x\":{},\"y\":{},\"tilt\":{},\"online\":{},\"stale\":{},\"age_ms\":{},"
-      "\"alarms\":{}}}",
+      "\"alarms\":{},\"wrong_device\":{}}}",
       ts, json_number(s.x), json_number(s.y), json_number(s.tilt), s.online, s.stale,
-      s.age_ms ? std::to_string(*s.age_ms) : "null", s.alarms);
+      s.age_ms ? std::to_string(*s.age_ms) : "null", s.alarms, s.wrong_device);
 }
 
 std::string mqtt_historical_state_json(std::string_view state_json) {
@@ -34,9 +34,10 @@ std::string mqtt_historical_state_json(std::string_view state_json) {
 std::string mqtt_info_json(const SensorStatus& s) {
   return fmt::format(
       "{{\"name\":{},\"bus\":{},\"unit_id\":{},\"address\":{},\"model\":{},\"serial\":{},"
-      "\"firmware\":{}}}",
+      "\"firmware\":{},\"configured_serial\":{}}}",
       json_string(s.name), json_string(s.bus), s.unit_id, s.address, json_string(s.model),
-      json_string(s.serial), json_string(s.firmware));
+      json_string(s.serial), json_string(s.firmware),
+      s.configured_serial.empty() ? std::string("null") : json_string(s.configured_serial));
 }
 
 }  // namespace tiltgate

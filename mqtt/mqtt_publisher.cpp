@@ -26,7 +26,9 @@ bool StatePacer::moved(const StateSample& sample) const {
 bool StatePacer::due(const StateSample& sample, Clock::time_point now) const {
   if (!last_) return true;
   const auto since = now - last_at_;
-  if (since >= pacing_.interval || sample.online != last_->online) return true;
+  if (since >= pacing_.interval || sample.online != last_->online ||
+      sample.wrong_device != last_->wrong_device)
+    return true;
   return since >= pacing_.min_spacing && moved(sample);
 }
 
@@ -48,7 +50,8 @@ std::vector<MqttMessage> MqttPublisher::take(const GatewayStatus& status, Clock:
       due.push_back({mqtt_info_topic(options_.topic_prefix, sensor.name), info, true, now_unix_ms});
       info_[sensor.name] = std::move(info);
     }
-    const StateSample sample{sensor.x, sensor.y, sensor.online, sensor.polls_ok};
+    const StateSample sample{sensor.x, sensor.y, sensor.online, sensor.polls_ok,
+                             sensor.wrong_device};
     StatePacer& pacer = pacers_.try_emplace(sensor.name, options_.pacing).first->second;
     if (!pacer.due(sample, now)) continue;
     due.push_back({mqtt_state_topic(options_.topic_prefix, sensor.name),

@@ -29,10 +29,11 @@ struct StateSample {
   std::optional<double> y;
   bool online = false;
   std::uint64_t readings = 0;  // polls that brought a reading so far: a new one changes it
+  bool wrong_device = false;   // another device answers in the sensor's place
 };
 
 // One sensor's pacing: due at the first sample, when `interval` has passed since the last
-// publish, when `online` flips, and (after min_spacing) when an angle moved by on_change_deg
+// publish, when `online` or `wrong_device` flips, and (after min_spacing) when an angle moved by on_change_deg
 // since the last publish, or for 0 when a new reading arrived.
 class StatePacer {
  public:

@@ -149,8 +149,9 @@ asio::awaitable<bool> RiekerDriver::read_identity(Line& line) {
   if (lock_level) state_.protection_level = std::uint16_t(*lock_level);
   state_.identity_known = serial_text.has_value() && firmware_text.has_value();
   if (state_.identity_known) {
-    spdlog::info("{}: Rieker sensor at {} is serial '{}', firmware '{}'", options_.name,
-                 options_.address, state_.serial, state_.firmware);
+    if (!rechecking_wrong_device())
+      spdlog::info("{}: Rieker sensor at {} is serial '{}', firmware '{}'", options_.name,
+                   options_.address, state_.serial, state_.firmware);
   } else {
     spdlog::warn("{}: could not read the identity of the sensor at {}", options_.name,
                  options_.address);

@@ -93,6 +93,8 @@ class SimulatedSensor {
   double angle_y(SimTime now) const;
   void set_angles(double x, double y);  // fixed raw angles from now on
   void set_motion(double amplitude, double period_s);
+  // Another sensor put in its place: it reports this serial from now on.
+  void set_serial(std::string serial) { options_.serial = std::move(serial); }
 
   SensorFaults& faults() { return faults_; }
   // How much later than usual this sensor answers a query of `function` (the simulator waits).

@@ -71,15 +71,24 @@ Expected<Done, std::string> RiekerSimulator::command(std::string_view line) {
   if (!parsed) return Unexpected{parsed.error()};
   const std::string& verb = parsed->verb;
   const bool known = verb == "angle" || verb == "silent" || verb == "answer" ||
-                     verb == "garbage" || verb == "late" || verb == "busy";
+                     verb == "garbage" || verb == "late" || verb == "busy" || verb == "serial";
   if (!known) {
     return Unexpected{"unknown command \"" + verb +
                       "\" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late "
-                      "ADDRESS MS, busy ADDRESS, answer ADDRESS)"};
+                      "ADDRESS MS, busy ADDRESS, answer ADDRESS, serial ADDRESS NUMBER)"};
   }
   SimulatedSensor* sensor =
       parsed->address > 0xFFFF ? nullptr : sensor_by_address(std::uint16_t(parsed->address));
   if (sensor == nullptr) return Unexpected{fmt::format("no sensor at address {}", parsed->address)};
+  if (verb == "serial") {
+    // Another sensor swapped in at the address (a field swap: `silent` first, then `answer`).
+    const std::vector<double>& number = parsed->values;
+    if (number.size() != 1 || number[0] < 0 || number[0] > 9'999'999'999.0 ||
+        number[0] != std::floor(number[0]))
+      return Unexpected{std::string("serial takes one whole number of at most 10 digits")};
+    sensor->set_serial(fmt::format("{}", std::uint64_t(number[0])));
+    return Done{};
+  }
   if (verb != "angle") return set_fault(*sensor, *parsed);
   const std::size_t axes = sensor->model() == Model::h6 ? 2 : 1;
   const std::vector<double>& angles = parsed->values;

@@ -21,6 +21,7 @@ Value measured_value(DeviceMetric metric, const DeviceSample& s) {
     case DeviceMetric::status: return Value{std::uint32_t{s.status}};
     case DeviceMetric::online: return Value{s.online};
     case DeviceMetric::stale: return Value{s.stale};
+    case DeviceMetric::wrong_device: return Value{s.wrong_device};
     case DeviceMetric::alarms: return Value{std::uint32_t{s.alarms}};
     case DeviceMetric::age_ms: return s.age_ms ? Value{*s.age_ms} : Value{};
     case DeviceMetric::model: return identity_value(s.model);
@@ -46,6 +47,7 @@ std::vector<MetricSlot> device_layout(const DeviceSample& sample) {
   layout.push_back(slot(DeviceMetric::status, "status", DataType::UInt16));
   layout.push_back(slot(DeviceMetric::online, "online", DataType::Boolean));
   layout.push_back(slot(DeviceMetric::stale, "stale", DataType::Boolean));
+  layout.push_back(slot(DeviceMetric::wrong_device, "wrong_device", DataType::Boolean));
   layout.push_back(slot(DeviceMetric::alarms, "alarms", DataType::UInt16));
   layout.push_back(slot(DeviceMetric::age_ms, "age_ms", DataType::Int64));
   layout.push_back(slot(DeviceMetric::model, "Properties/model", DataType::String));

@@ -32,6 +32,7 @@ struct DeviceSample {
   bool single_axis = false;       // no angle_y metric
   bool online = false;            // the last exchange got a valid reply
   bool stale = true;              // no reading, or the last is older than its stale_ms
+  bool wrong_device = false;      // another device than the configured serial answers
   std::optional<double> angle_x;  // degrees after mounting; none before the first reading
   std::optional<double> angle_y;
   std::optional<double> tilt;
@@ -70,6 +71,7 @@ enum class DeviceMetric : std::uint8_t {
   model = 9,
   serial = 10,
   firmware = 11,
+  wrong_device = 12,  // another device than the configured serial answers (status bit 6)
 };
 // Settings are numbered from 16 in the sample's order; a device has at most this many.
 inline constexpr std::uint8_t kFirstSettingNumber = 16;

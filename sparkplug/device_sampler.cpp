@@ -47,6 +47,7 @@ std::vector<DeviceSample> DeviceSampler::sample(SteadyClock::time_point now,
     s.single_axis = sensor->model != nullptr && sensor->model->axes == 1;
     s.online = status.online;
     s.stale = status.stale;
+    s.wrong_device = status.wrong_device;
     s.angle_x = status.x;
     s.angle_y = s.single_axis ? std::nullopt : status.y;
     s.tilt = status.tilt;

@@ -106,8 +106,9 @@ asio::awaitable<bool> DynaDriver::read_identity(Line& line) {
   if (serial) state_.serial = std::to_string(serial->number);  // EEPROM 4, a decimal number
   state_.identity_known = firmware.has_value() && serial.has_value();
   if (state_.identity_known) {
-    spdlog::info("{}: Dyna at {} is serial '{}', firmware '{}'", options_.name, options_.address,
-                 state_.serial, state_.firmware);
+    if (!rechecking_wrong_device())
+      spdlog::info("{}: Dyna at {} is serial '{}', firmware '{}'", options_.name, options_.address,
+                   state_.serial, state_.firmware);
   } else {
     spdlog::warn("{}: could not read the identity of the Dyna at {}: {}", options_.name,
                  options_.address, firmware ? serial.error().detail : firmware.error().detail);

@@ -129,6 +129,11 @@ void SimulatedDyna::set_counts(std::int16_t counts) {
   options_.sway_amplitude = 0.0;
 }
 
+void SimulatedDyna::set_serial(std::uint16_t serial) {
+  options_.serial = serial;
+  eeprom_[eeprom::kSerialNumber / 2] = serial;
+}
+
 void SimulatedDyna::set_motion(double amplitude, double period_s) {
   options_.sway_amplitude = amplitude;
   options_.sway_period_s = period_s;

@@ -89,6 +89,7 @@ class SimulatedDyna {
   std::int16_t counts(SimTime now) const;
   std::int16_t temperature() const;
   void set_counts(std::int16_t counts);  // fixed raw counts from now on
+  void set_serial(std::uint16_t serial);  // another module put in its place (EEPROM 4)
   void set_motion(double amplitude, double period_s);
   void set_temperature(std::int16_t raw);
 

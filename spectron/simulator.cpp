@@ -103,13 +103,21 @@ std::string DynaSimulator::what() const {
 Expected<Done, std::string> DynaSimulator::command(std::string_view line) {
   auto parsed = parse_simulator_command(line);
   if (!parsed) return Unexpected{parsed.error()};
-  if (parsed->verb != "counts") {
-    return Unexpected{"unknown command \"" + parsed->verb + "\" (try: counts ADDRESS N)"};
+  if (parsed->verb != "counts" && parsed->verb != "serial") {
+    return Unexpected{"unknown command \"" + parsed->verb +
+                      "\" (try: counts ADDRESS N, serial ADDRESS N)"};
   }
   SimulatedDyna* module =
       parsed->address > 0xFF ? nullptr : sensor_by_address(std::uint8_t(parsed->address));
   if (module == nullptr) return Unexpected{"no module at address " + std::to_string(parsed->address)};
   const std::vector<double>& values = parsed->values;
+  if (parsed->verb == "serial") {  // another module swapped in at the address
+    if (values.size() != 1 || values[0] != std::floor(values[0]) || values[0] < 0 ||
+        values[0] > 65535)
+      return Unexpected{std::string("serial takes one whole number, 0..65535")};
+    module->set_serial(std::uint16_t(values[0]));
+    return Done{};
+  }
   if (values.size() != 1 || values[0] != std::floor(values[0]) || values[0] < -32768 ||
       values[0] > 32767) {
     return Unexpected{std::string("counts takes one whole number, -32768..32767")};

@@ -72,12 +72,15 @@ std::string settings_json(const std::vector<std::pair<std::string, std::optional
 std::string sensor_json(const SensorStatus& s) {
   return fmt::format(
       "{{\"name\":{},\"bus\":{},\"unit_id\":{},\"address\":{},\"model\":{},\"serial\":{},"
-      "\"firmware\":{},\"online\":{},\"stale\":{},\"x\":{},\"y\":{},\"tilt\":{},\"age_ms\":{},"
+      "\"firmware\":{},\"configured_serial\":{},\"wrong_device\":{},\"online\":{},"
+      "\"stale\":{},\"x\":{},\"y\":{},\"tilt\":{},\"age_ms\":{},"
       "\"alarms\":{},\"polls_ok\":{},\"polls_failed\":{},\"polls_per_s\":{},"
       "\"failures\":{{\"timeout\":{},\"checksum\":{},\"io_error\":{},\"late_reply\":{}}},"
       "\"naks\":{},\"line_seconds\":{},\"line_share\":{},\"settings\":{}}}",
       json_string(s.name), json_string(s.bus), s.unit_id, s.address, json_string(s.model),
-      json_string(s.serial), json_string(s.firmware), s.online, s.stale, json_number(s.x),
+      json_string(s.serial), json_string(s.firmware),
+      s.configured_serial.empty() ? std::string("null") : json_string(s.configured_serial),
+      s.wrong_device, s.online, s.stale, json_number(s.x),
       json_number(s.y), json_number(s.tilt), json_integer(s.age_ms), s.alarms, s.polls_ok,
       s.polls_failed, json_number(s.polls_per_s), s.timeouts, s.checksum_errors, s.io_errors,
       s.late_replies, naks_json(s.refusals), json_number(s.line_seconds),

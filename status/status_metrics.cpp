@@ -78,6 +78,13 @@ const SensorFamily kSensorFamilies[] = {
     {"tiltgate_sensor_stale", "gauge",
      "1 when the sensor has no reading newer than its stale_ms, else 0",
      [](const SensorStatus& s) -> std::optional<double> { return s.stale ? 1 : 0; }},
+    {"tiltgate_sensor_wrong_device", "gauge",
+     "1 while another device than the sensor's configured serial answers at its address (its "
+     "measurements read as offline), else 0",
+     [](const SensorStatus& s) -> std::optional<double> { return s.wrong_device ? 1 : 0; }},
+    {"tiltgate_sensor_wrong_device_total", "counter",
+     "Times another device than the sensor's configured serial was found answering at its address",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.wrong_device_found); }},
     {"tiltgate_reading_age_seconds", "gauge", "Seconds since the sensor's latest reading arrived",
      [](const SensorStatus& s) -> std::optional<double> {
        if (!s.age_ms) return std::nullopt;

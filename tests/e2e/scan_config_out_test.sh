@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # From the box to a configuration: `tiltgate scan --config-out` against `tiltgate sim rieker`
-# writes a configuration of the sensors it found, `tiltgate check` accepts it, and `tiltgate
-# info` reaches each sensor through it. A second scan refuses to overwrite it without --force.
-# A relative --device is written relative to the new file.
+# writes a configuration of the sensors it found, each with its serial, `tiltgate check` accepts
+# it, and `tiltgate info` reaches each sensor through it. A second scan refuses to overwrite it
+# without --force. A relative --device is written relative to the new file.
 set -u
 tiltgate=${1:?usage: scan_config_out_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
@@ -18,6 +18,8 @@ check "the configuration has one bus and both sensors, numbered from unit id 1" 
            grep -q '^name = \"sensor_101\"' '$config' && grep -q '^name = \"sensor_223\"' '$config' &&
            grep -q '^model = \"h4360\"' '$config' &&
            grep -q '^unit_id = 1 ' '$config' && grep -q '^unit_id = 2 ' '$config'"
+check "each sensor has the serial it reported as its serial key" \
+  bash -c "grep -q '^serial = \"9600223\" ' '$config' && grep -q '^serial = \"9600101\" ' '$config'"
 check "tiltgate check accepts it" "$tiltgate" check --config "$config"
 check "info reaches a sensor through it" \
   bash -c "'$tiltgate' info --config '$config' --sensor sensor_223 | grep -q '^serial:     9600223$'"

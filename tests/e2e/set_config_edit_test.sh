@@ -2,7 +2,8 @@
 # End to end: `tiltgate set --config FILE --sensor NAME` re-addresses a simulated sensor from
 # its factory address 223 to 7 and a new baud rate, and writes both into the configuration file
 # in place: `tiltgate check` accepts the file, `diff` shows only the changed lines, with every
-# comment kept, and `tiltgate info` finds the sensor through the file at its new address.
+# comment (and the sensor's serial) kept, and `tiltgate info` finds the sensor through the file
+# at its new address.
 set -u
 tiltgate=${1:?usage: set_config_edit_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
@@ -21,6 +22,7 @@ bus = "line1"
 model = "h6"
 address = 223           # factory address, change on site
 unit_id = 1
+serial = "9600223"      # the sensor's own: another at its address is not served as it
 mounting = { swap_axes = false, rotate_deg = 0 }
 
 [[sensor]]
@@ -69,6 +71,8 @@ cp "$dir/plant.toml" "$dir/before-taken.toml"
 "$tiltgate" set --config "$dir/plant.toml" --sensor boom address 101 >"$dir/taken.out" 2>&1
 check "set to a taken address exits 1" test $? -eq 1
 check "the file is unchanged after a refusal" cmp "$dir/before-taken.toml" "$dir/plant.toml"
+
+check "set kept the sensor's serial" grep -q '^serial = "9600223" ' "$dir/plant.toml"
 
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

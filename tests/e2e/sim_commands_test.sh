@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # End to end: `tiltgate sim` takes commands on a piped standard input while it runs ("angle" for
-# Rieker, "counts" for Spectron), answers each with "ok" or "error: ...", and the sensor answers
-# the new value from then on, as `tiltgate raw` reads it. A terminal or /dev/null as standard
+# Rieker, "counts" for Spectron, "serial" for both: another sensor swapped in), answers each with
+# "ok" or "error: ...", and the sensor answers the new value from then on, as `tiltgate raw` (or
+# `info`) reads it. A terminal or /dev/null as standard
 # input is not read.
 set -u
 tiltgate=${1:?usage: sim_commands_test.sh path/to/tiltgate}
@@ -46,8 +47,14 @@ check "two angles for a single-axis sensor is an error" \
   test "$(send "angle 101 1 2")" = "error: the sensor at address 101 takes 1 angle(s)"
 check "a word that is not a number is an error" test "$(send "angle 223 x")" = 'error: "x" is not a number'
 check "an unknown command is an error naming the right ones" \
-  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late ADDRESS MS, busy ADDRESS, answer ADDRESS)'
+  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late ADDRESS MS, busy ADDRESS, answer ADDRESS, serial ADDRESS NUMBER)'
 check "the simulator still answers after bad commands" test "$(send "angle 223 1 2")" = "ok"
+check "serial on an H6 answers ok" test "$(send "serial 223 9600007")" = "ok"
+check "the H6 reports the new serial, as a sensor swapped in would" \
+  bash -c "timeout 30 '$tiltgate' info --port '$dir/tty' --protocol rieker --address 223 |
+           grep -q '^serial:     9600007$'"
+check "serial takes a whole number" \
+  test "$(send "serial 223 1.5")" = "error: serial takes one whole number of at most 10 digits"
 
 check "silent on an H6 answers ok" test "$(send "silent 223")" = "ok"
 angles "$dir/tty" 223 04 >"$dir/silent.out"
@@ -76,9 +83,16 @@ exec 4>"$dir/dyna-commands"
 wait_for_link "$dir/dyna"
 echo "counts 5 40000" >&4
 echo "counts 5 -1200" >&4
-for _ in $(seq 100); do [ "$(wc -l <"$dir/dyna.out")" -ge 3 ] && break; sleep 0.05; done
+echo "serial 5 70000" >&4
+echo "serial 5 777" >&4
+for _ in $(seq 100); do [ "$(wc -l <"$dir/dyna.out")" -ge 5 ] && break; sleep 0.05; done
 check "counts out of range is an error" grep -qxF "error: counts takes one whole number, -32768..32767" "$dir/dyna.out"
 check "counts in range answers ok" test "$(sed -n 3p "$dir/dyna.out")" = "ok"
+check "a serial past EEPROM 4's word is an error" grep -qxF "error: serial takes one whole number, 0..65535" "$dir/dyna.out"
+check "serial on a Dyna answers ok" test "$(sed -n 5p "$dir/dyna.out")" = "ok"
+check "the Dyna reports the new serial, as a module swapped in would" \
+  bash -c "timeout 30 '$tiltgate' info --port '$dir/dyna' --protocol spectron-9bit --baud 28800 \
+             --address 5 | grep -q '^serial:     777$'"
 
 # Standard input from /dev/null: not read, and the simulator runs as before.
 "$tiltgate" sim rieker --sensors h6:223 --link "$dir/quiet" </dev/null >"$dir/quiet.out" 2>"$dir/quiet.err" &

@@ -132,7 +132,8 @@ def nbirth_contents(t, nbirth):
 def dbirth_contents(t, device, birth, nbirth):
     names = {m["name"]: m for m in birth.metrics()}
     want = {"angle_x": spb_codec.DOUBLE, "tilt": spb_codec.DOUBLE, "status": spb_codec.UINT16,
-            "online": spb_codec.BOOLEAN, "stale": spb_codec.BOOLEAN, "alarms": spb_codec.UINT16,
+            "online": spb_codec.BOOLEAN, "stale": spb_codec.BOOLEAN, "wrong_device": spb_codec.BOOLEAN,
+            "alarms": spb_codec.UINT16,
             "age_ms": spb_codec.INT64, "Properties/model": spb_codec.STRING,
             "Properties/serial": spb_codec.STRING, "Properties/firmware": spb_codec.STRING}
     if device == "boom":

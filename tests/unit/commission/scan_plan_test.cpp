@@ -184,6 +184,21 @@ TEST_CASE("--config-out's configuration loads, one sensor per sensor found at th
   CHECK(text.find("# Address 77 answered at 9600 baud") != std::string::npos);
 }
 
+TEST_CASE("--config-out writes each sensor's serial as its serial key, so a swapped one is not served") {
+  FoundSensor sensor = found_at(223, 125000, "h6");
+  sensor.serial = "9600223";
+  sensor.firmware = "Rev A.8";
+  const std::string text =
+      scan_config_text(scanned_bus(), {sensor, found_at(101, 125000, "h4360")}, {});
+  INFO(text);
+  CHECK(text.find("serial = \"9600223\"    # firmware Rev A.8\n") != std::string::npos);
+  auto config = load_config_string(text, "scan", registered_families());
+  REQUIRE(config.has_value());
+  REQUIRE(config->sensors.size() == 2);
+  CHECK(config->sensors[0].serial == "9600223");
+  CHECK(config->sensors[1].serial.empty());  // 101 reported none: any device is served
+}
+
 TEST_CASE("--config-out writes the family's required keys into every sensor") {
   BusConfig bus = scanned_bus();
   bus.protocol = "modbus-rtu";

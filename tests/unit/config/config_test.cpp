@@ -90,8 +90,8 @@ TEST_CASE("config: an unknown key with nothing close lists the known keys") {
   expect_error(
       valid_plus("colour = \"red\"\n"), 10, "sensor[0].colour",
       "unknown key; expected one of: name, bus, model, address, unit_id, poll_ms, stale_ms, "
-      "counts_per_degree, zero_counts, eeprom_reserved_writes, device, mounting, alarms, offline, "
-      "substitute, map");
+      "serial, counts_per_degree, zero_counts, eeprom_reserved_writes, device, mounting, alarms, "
+      "offline, substitute, map");
 }
 
 TEST_CASE("config: an unknown table is rejected, with a suggestion when one is close") {

@@ -1,4 +1,4 @@
-// [[sensor]] mounting, alarms and offline reads: as inline tables or [sensor.x] sub-tables,
+// [[sensor]] mounting, alarms, offline reads and serial: as inline tables or [sensor.x] sub-tables,
 // with their ranges and the keys a single-axis model cannot use.
 #include <doctest/doctest.h>
 
@@ -118,4 +118,11 @@ TEST_CASE("sensor options: what an offline sensor's measurements read as") {
                "applies with offline = \"substitute\" only");
   expect_error(sensor_with("offline = \"zero\"\n"), 10, "sensor[0].offline",
                "\"zero\" is not valid, expected \"exception\", \"last\" or \"substitute\"");
+}
+
+TEST_CASE("sensor options: serial is the one the sensor reports, trimmed, and not empty") {
+  CHECK(loads(sensor_with("")).serial.empty());
+  CHECK(loads(sensor_with("serial = \" 9600223 \"\n")).serial == "9600223");
+  expect_error(sensor_with("serial = \"  \"\n"), 10, "sensor[0].serial",
+               "must not be empty (leave the key out instead)");
 }

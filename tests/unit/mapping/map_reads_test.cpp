@@ -171,6 +171,35 @@ TEST_CASE("offline last value is still an exception before the first reading") {
   CHECK(read_registers(map, view, RegisterTable::input, 6, 1).has_value());
 }
 
+TEST_CASE("a wrong device answering reads as offline says, with status bit 6 and discrete input 7") {
+  const RegisterMap map = default_map(registered_families(), "h6");
+  const auto now = SteadyClock::now();
+  auto state = sensor_at(now, 1.5, -2.25);  // online, its reading fresh: the configured one's
+  state.wrong_device = true;
+  SensorView view{state, now, 1000ms, {}};
+  CHECK(read_registers(map, view, RegisterTable::input, 0, 2).error() == MapFault::unavailable);
+  const Words status = read(map, view, 6, 1);
+  CHECK(status[0] == (status_bit::online | status_bit::wrong_device));
+  auto bits = read_bits(map, view, RegisterTable::discrete, 7, 1);
+  REQUIRE(bits.has_value());
+  CHECK((*bits)[0] == true);
+
+  view.offline = OfflineRead::last_value;  // the configured sensor's last reading
+  Words w = read(map, view, 0, 2);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 1.5f);
+  view.offline = OfflineRead::substitute;
+  view.substitute = -999;
+  w = read(map, view, 0, 2);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == -999.0f);
+
+  state.wrong_device = false;
+  view.offline = OfflineRead::exception;
+  CHECK(read_registers(map, view, RegisterTable::input, 0, 2).has_value());
+  bits = read_bits(map, view, RegisterTable::discrete, 7, 1);
+  REQUIRE(bits.has_value());
+  CHECK((*bits)[0] == false);
+}
+
 TEST_CASE("a write through a scaled, word-swapped point is decoded before the range check") {
   Point zero;
   zero.name = "zero_x_cdeg";

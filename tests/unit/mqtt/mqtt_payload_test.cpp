@@ -37,7 +37,7 @@ TEST_CASE("mqtt: topics are the prefix, the sensor's name and the kind") {
 TEST_CASE("mqtt: a state carries the reading's Unix time in ms, angles, online and alarms") {
   CHECK(mqtt_state_json(boom(), 1764640000040) ==
         R"({"ts":1764640000000,"x":1.25,"y":-0.5,"tilt":1.346,"online":true,"stale":false,)"
-        R"("age_ms":40,"alarms":2})");
+        R"("age_ms":40,"alarms":2,"wrong_device":false})");
 }
 
 TEST_CASE("mqtt: a state before the first reading has null angles and the publish time") {
@@ -45,7 +45,17 @@ TEST_CASE("mqtt: a state before the first reading has null angles and the publis
   s.name = "mast";
   CHECK(mqtt_state_json(s, 1764640000000) ==
         R"({"ts":1764640000000,"x":null,"y":null,"tilt":null,"online":false,"stale":true,)"
-        R"("age_ms":null,"alarms":0})");
+        R"("age_ms":null,"alarms":0,"wrong_device":false})");
+}
+
+TEST_CASE("mqtt: a wrong device shows in the state, and the configured serial in the info") {
+  SensorStatus s = boom();
+  s.serial = "9600007";
+  s.configured_serial = "9600223";
+  s.wrong_device = true;
+  CHECK(mqtt_state_json(s, 1000).find(R"("wrong_device":true})") != std::string::npos);
+  CHECK(mqtt_info_json(s).find(R"("serial":"9600007","firmware":"Rev A.8",)"
+                               R"("configured_serial":"9600223"})") != std::string::npos);
 }
 
 TEST_CASE("mqtt: a single-axis sensor's state has y null") {
@@ -58,7 +68,7 @@ TEST_CASE("mqtt: info is the sensor's identity, strings escaped") {
   SensorStatus s = boom();
   CHECK(mqtt_info_json(s) ==
         R"({"name":"boom","bus":"line1","unit_id":3,"address":223,"model":"h6",)"
-        R"("serial":"9600223","firmware":"Rev A.8"})");
+        R"("serial":"9600223","firmware":"Rev A.8","configured_serial":null})");
   s.firmware = "A\"8";
   CHECK(mqtt_info_json(s).find(R"("firmware":"A\"8")") != std::string::npos);
 }

@@ -89,6 +89,14 @@ TEST_CASE("mqtt pacing: a sensor going offline, or its first reading, is due at 
   CHECK(fresh.due(StateSample{1.0, 0.0, false, 1}, t0 + 100ms));
 }
 
+TEST_CASE("mqtt pacing: a wrong device found, or gone, is due at once") {
+  StatePacer pacer(pacing(10.0));
+  pacer.published(at(1.0), t0);
+  CHECK(pacer.due(StateSample{1.0, 0.0, true, 1, true}, t0 + 10ms));
+  pacer.published(StateSample{1.0, 0.0, true, 1, true}, t0);
+  CHECK(pacer.due(StateSample{1.0, 0.0, true, 1, false}, t0 + 10ms));
+}
+
 TEST_CASE("mqtt publisher: each sensor's info (retained) then state, then states as they come due") {
   MqttPublisher publisher({"gw", pacing(0.5)});
   GatewayStatus status;

@@ -93,6 +93,7 @@ metric name='tilt' alias=515 timestamp=@T datatype=10 historical=- double_value=
 metric name='status' alias=516 timestamp=@T datatype=6 historical=- int_value=0
 metric name='online' alias=517 timestamp=@T datatype=11 historical=- boolean_value=True
 metric name='stale' alias=518 timestamp=@T datatype=11 historical=- boolean_value=False
+metric name='wrong_device' alias=524 timestamp=@T datatype=11 historical=- boolean_value=False
 metric name='alarms' alias=519 timestamp=@T datatype=6 historical=- int_value=0
 metric name='age_ms' alias=520 timestamp=@T datatype=4 historical=- long_value=70
 metric name='Properties/model' alias=521 timestamp=@T datatype=12 historical=- string_value='h4360'

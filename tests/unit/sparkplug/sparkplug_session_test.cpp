@@ -124,7 +124,7 @@ TEST_CASE("tck-id-topics-dbirth-metrics, tck-id-payloads-alias-birth-requirement
     CHECK(m.datatype != DataType::Unknown);  // tck-id-payloads-metric-datatype-req
   }
   CHECK(names == std::vector<std::string>{"angle_x", "angle_y", "tilt", "status", "online", "stale",
-                                          "alarms", "age_ms", "Properties/model",
+                                          "wrong_device", "alarms", "age_ms", "Properties/model",
                                           "Properties/serial", "Properties/firmware",
                                           "Settings/filter", "Settings/zero_x"});
   CHECK(find_metric(dbirth, "angle_x")->value == Value{1.0});
@@ -172,7 +172,7 @@ TEST_CASE("tck-id-payloads-alias-uniqueness: no two metrics of the node share an
     }
   }
   CHECK(aliases.size() == with_alias);
-  CHECK(with_alias == 2 + 13 + 10);
+  CHECK(with_alias == 2 + 14 + 11);
   // 256 × (position + 1) + the metric's number: the same in every session.
   CHECK(find_metric(publishes(live.connected).at(1).payload, "angle_x")->alias == 257u);
   CHECK(find_metric(publishes(live.connected).at(2).payload, "angle_x")->alias == 513u);

@@ -93,11 +93,22 @@ GatewayStatus plant() {
 TEST_CASE("status JSON: a sensor with a reading shows every field") {
   CHECK(sensor_json(boom()) ==
         R"({"name":"boom","bus":"line1","unit_id":3,"address":223,"model":"m1",)"
-        R"("serial":"962285","firmware":"1.2","online":true,"stale":false,"x":1.5,"y":-2.25,)"
+        R"("serial":"962285","firmware":"1.2","configured_serial":null,"wrong_device":false,)"
+        R"("online":true,"stale":false,"x":1.5,"y":-2.25,)"
         R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
         R"("naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031,)"
         R"("settings":{"filter":2,"zero_x":null}})");
+}
+
+TEST_CASE("status JSON: a wrong device shows the configured serial beside the one answering") {
+  SensorStatus swapped = boom();
+  swapped.serial = "9600007";
+  swapped.configured_serial = "9600223";
+  swapped.wrong_device = true;
+  CHECK(sensor_json(swapped).find(R"("serial":"9600007","firmware":"1.2",)"
+                                  R"("configured_serial":"9600223","wrong_device":true,)") !=
+        std::string::npos);
 }
 
 TEST_CASE("status JSON: missing angles and age are null, never NaN") {
