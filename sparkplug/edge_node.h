@@ -27,7 +27,7 @@
 #include "sparkplug/ddata_backlog.h"
 #include "sparkplug/device_sampler.h"
 #include "sparkplug/edge_node_session.h"
-#include "sparkplug/setting_writer.h"
+#include "settings/setting_writer.h"
 
 namespace tiltgate::sparkplug {
 

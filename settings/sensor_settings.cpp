@@ -1,4 +1,4 @@
-#include "sparkplug/sensor_settings.h"
+#include "settings/sensor_settings.h"
 
 #include <algorithm>
 #include <cmath>

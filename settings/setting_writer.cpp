@@ -1,4 +1,4 @@
-#include "sparkplug/setting_writer.h"
+#include "settings/setting_writer.h"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 #include "gateway/bus_scheduler.h"
 #include "gateway/sensor_write.h"
 #include "mapping/map_access.h"
-#include "sparkplug/sensor_settings.h"
+#include "settings/sensor_settings.h"
 
 namespace tiltgate::sparkplug {
 
