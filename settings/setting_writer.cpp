@@ -9,7 +9,7 @@
 #include "mapping/map_access.h"
 #include "settings/sensor_settings.h"
 
-namespace tiltgate::sparkplug {
+namespace tiltgate {
 
 namespace {
 
@@ -23,37 +23,52 @@ std::string fault_text(MapFault fault) {
   return "refused";
 }
 
+SettingOutcome refused(std::string why, std::optional<double> old_value = std::nullopt) {
+  return SettingOutcome{SettingOutcome::Result::refused, std::move(why), old_value, {}};
+}
+
 }  // namespace
 
 SettingWriter::SettingWriter(const Gateway& gateway, FamilyList families)
     : gateway_(gateway), families_(families) {}
 
-boost::asio::awaitable<std::optional<std::string>> SettingWriter::write(Write write) const {
-  using Result = std::optional<std::string>;
+boost::asio::awaitable<SettingOutcome> SettingWriter::write(std::string sensor_name,
+                                                            std::string setting_name, double value,
+                                                            WriteOrigin origin) const {
   const auto& sensors = gateway_.sensors();
   const auto found = std::find_if(sensors.begin(), sensors.end(), [&](const auto& sensor) {
-    return sensor->config.name == write.device;
+    return sensor->config.name == sensor_name;
   });
-  if (found == sensors.end()) co_return Result("no such sensor");
+  if (found == sensors.end()) co_return refused("no such sensor");
   // Held to the end: a reload may drop the sensor while the write waits for its bus.
   std::shared_ptr<GatewaySensor> sensor = *found;
-  const std::vector<SensorSetting> settings = sensor_settings(sensor->map, families_);
+  const std::vector<SensorSetting> settings =
+      sensor_settings(sensor->map, families_, &sensor->driver->state());
   const auto setting =
       std::find_if(settings.begin(), settings.end(),
-                   [&](const SensorSetting& s) { return s.name == write.setting; });
+                   [&](const SensorSetting& s) { return s.name == setting_name; });
   if (setting == settings.end())
-    co_return Result(fmt::format("{} is not a setting of its map", write.setting));
+    co_return refused(fmt::format("{} is not a setting of its map", setting_name));
+  const std::optional<double> old_value = setting->value;
   const ServerConfig& server = gateway_.config().server;
-  auto plan = plan_point_write(sensor->map, server.word_order, *setting->point, write.value);
-  if (!plan) co_return Result(fault_text(plan.error()));
+  auto plan = plan_point_write(sensor->map, server.word_order, *setting->point, value);
+  if (!plan) co_return refused(fault_text(plan.error()), old_value);
   const std::shared_ptr<BusScheduler> bus = sensor->bus;
-  if (bus == nullptr) co_return Result("no bus polls the sensor");
+  if (bus == nullptr) co_return refused("no bus polls the sensor", old_value);
   const auto deadline = SteadyClock::now() + server.write_timeout;
+  WriteOrigin write_origin = std::move(origin);  // passed to SensorWrite once it takes it
+  (void)write_origin;
   SensorWrite job(std::move(sensor), std::move(*plan));  // named: see BusScheduler::write()
+  // What the bus refuses before queueing (another device at the address, an address another
+  // sensor has, a value the driver does not take) is never sent: refused, not a NAK. (The
+  // bus's write admits it again: the second look finds the same, and logs nothing new.)
+  if (WriteResult admissible = job.admit(*bus); !admissible)
+    co_return refused(admissible.error().detail, old_value);
   WriteResult done = co_await bus->write(std::move(job), deadline);
-  if (!done)
-    co_return Result(done.error().detail.empty() ? std::string("refused") : done.error().detail);
-  co_return Result{};
+  SettingOutcome outcome =
+      done ? SettingOutcome{SettingOutcome::Result::ack, {}, {}, {}} : outcome_of(done.error());
+  outcome.old_value = old_value;
+  co_return outcome;
 }
 
-}  // namespace tiltgate::sparkplug
+}  // namespace tiltgate

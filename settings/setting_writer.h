@@ -1,34 +1,39 @@
-// A DCMD's setting write (sparkplug/edge_node_session.h Write) carried out as a Modbus write
-// of the same setting is: planned against the sensor's register map with the same range
-// checks (mapping/map_access.h plan_point_write), queued on the sensor's bus as one
-// SensorWrite (gateway/sensor_write.h) with [server] write_timeout, and answered only once the
-// sensor acknowledged it or the write failed.
+// A change of one sensor setting by name, as every door asks for it (a Sparkplug DCMD, the
+// console's POST /api/sensors/NAME/settings): planned against the sensor's register map with
+// the same range checks as a Modbus write of that setting (mapping/map_access.h
+// plan_point_write), checked against the bus (another device answering at the address, an
+// address another sensor has), queued on the sensor's bus as one SensorWrite
+// (gateway/sensor_write.h) with [server] write_timeout, and answered only once the sensor
+// acknowledged it, refused it or did not answer (settings/setting_outcome.h).
+//
+// Who may change which setting is the caller's to decide first (SensorSetting::role,
+// settings/sensor_settings.h).
 //
 // Threads: the gateway's event loop (the buses' executor).
 #pragma once
 
 #include <boost/asio/awaitable.hpp>
-#include <optional>
 #include <string>
 
-#include "driver/expected.h"
+#include "audit/audit_record.h"
 #include "driver/family.h"
 #include "gateway/gateway.h"
-#include "sparkplug/edge_node_session.h"
+#include "settings/setting_outcome.h"
 
-namespace tiltgate::sparkplug {
+namespace tiltgate {
 
 class SettingWriter {
  public:
   SettingWriter(const Gateway& gateway, FamilyList families);
 
-  // None once the sensor took the value; otherwise why not, for the log. (Not an Expected:
-  // co_spawn wants a result it can default-construct.)
-  boost::asio::awaitable<std::optional<std::string>> write(Write write) const;
+  // Writes `value` (as a user types it) to the setting `setting` of the sensor named `sensor`,
+  // for `origin`. The outcome's old_value is the setting as the sensor held it just before.
+  boost::asio::awaitable<SettingOutcome> write(std::string sensor, std::string setting,
+                                               double value, WriteOrigin origin) const;
 
  private:
   const Gateway& gateway_;
   FamilyList families_;
 };
 
-}  // namespace tiltgate::sparkplug
+}  // namespace tiltgate
