@@ -11,18 +11,14 @@
 #include "gateway/gateway.h"
 #include "mapping/default_maps.h"
 #include "mapping/map_export.h"
+#include "unit/support/config_text.h"
 #include "unit/support/rtu_test_profile.h"
 #include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
+using test::only_error;
 
 namespace {
-
-std::string joined(const ConfigErrors& errors) {
-  std::string out;
-  for (const ConfigError& e : errors) out += e.to_string() + "\n";
-  return out;
-}
 
 // Lines 1..9: a bus and one sensor of `model` with `keys`; an inline map from line 10 on.
 std::string config_with(std::string_view rest, std::string_view model = "h6",
@@ -45,15 +41,7 @@ std::string writable_point(std::string_view name, std::string_view write, std::s
 }
 
 RegisterMap map_of(const std::string& config_text) {
-  auto loaded = load_config_string(config_text, "test.toml", registered_families());
-  REQUIRE_MESSAGE(loaded.has_value(), joined(loaded.error()));
-  return map_for(registered_families(), loaded->sensors.front());
-}
-
-ConfigErrors errors_of(const std::string& config_text) {
-  auto loaded = load_config_string(config_text, "test.toml", registered_families());
-  REQUIRE_FALSE(loaded.has_value());
-  return loaded.error();
+  return map_for(registered_families(), test::loads(config_text).sensors.front());
 }
 
 // Each writable point's role by name.
@@ -80,23 +68,19 @@ TEST_CASE("a custom setting without a role needs an admin") {
 }
 
 TEST_CASE("a role that is neither operator nor admin is reported at its line with a guess") {
-  const ConfigErrors errors = errors_of(config_with(writable_point("f", "filter", "oprator")));
-  INFO(joined(errors));
-  REQUIRE(errors.size() == 1);
-  CHECK(errors[0].line == 19);
-  CHECK(errors[0].key == "sensor[0].map.point[0].role");
-  CHECK(errors[0].message == "\"oprator\" is not valid; did you mean \"operator\"?");
+  const ConfigError error = only_error(config_with(writable_point("f", "filter", "oprator")));
+  CHECK(error.line == 19);
+  CHECK(error.key == "sensor[0].map.point[0].role");
+  CHECK(error.message == "\"oprator\" is not valid; did you mean \"operator\"?");
 }
 
 TEST_CASE("a role on a read-only point is reported: only a setting has one") {
-  const ConfigErrors errors = errors_of(config_with(
+  const ConfigError error = only_error(config_with(
       "[[sensor.map.point]]\nname = \"t\"\ntable = \"input\"\naddress = 0\ntype = \"float32\"\n"
       "source = \"tilt\"\nrole = \"operator\"\n"));
-  INFO(joined(errors));
-  REQUIRE(errors.size() == 1);
-  CHECK(errors[0].line == 17);
-  CHECK(errors[0].key == "sensor[0].map.point[0].role");
-  CHECK(errors[0].message == "applies to writable points (write = \"...\") only");
+  CHECK(error.line == 17);
+  CHECK(error.key == "sensor[0].map.point[0].role");
+  CHECK(error.message == "applies to writable points (write = \"...\") only");
 }
 
 TEST_CASE("built-in maps: zero and filter are an operator's, what can lose the sensor an admin's") {
@@ -177,18 +161,14 @@ TEST_CASE("a device profile's role on a read-only value, or an unknown one, is r
   std::string read_only = test::kRtuTestProfile;
   const std::string anchor = "scale = 0.1\n";  // temperature, line 28
   read_only.insert(read_only.find(anchor) + anchor.size(), "role = \"operator\"\n");
-  ConfigErrors errors = errors_of(plant.config(read_only, ""));
-  INFO(joined(errors));
-  REQUIRE(errors.size() == 1);
-  CHECK(errors[0].file == plant.profile_path);
-  CHECK(errors[0].line == 29);
-  CHECK(errors[0].key == "value[2].role");
-  CHECK(errors[0].message == "applies to writable values (writable = true) only");
+  const ConfigError on_read_only = only_error(plant.config(read_only, ""));
+  CHECK(on_read_only.file == plant.profile_path);
+  CHECK(on_read_only.line == 29);
+  CHECK(on_read_only.key == "value[2].role");
+  CHECK(on_read_only.message == "applies to writable values (writable = true) only");
 
-  errors = errors_of(plant.config(profile_with_role("boss"), ""));
-  INFO(joined(errors));
-  REQUIRE(errors.size() == 1);
-  CHECK(errors[0].file == plant.profile_path);
-  CHECK(errors[0].key == "value[3].role");
-  CHECK(errors[0].message.find("\"operator\" or \"admin\"") != std::string::npos);
+  const ConfigError unknown = only_error(plant.config(profile_with_role("boss"), ""));
+  CHECK(unknown.file == plant.profile_path);
+  CHECK(unknown.key == "value[3].role");
+  CHECK(unknown.message.find("\"operator\" or \"admin\"") != std::string::npos);
 }
