@@ -101,6 +101,18 @@ void read_scaling(TableReader& in, Point& p) {
   if (auto v = in.number("nan_value")) p.nan_value = *v;
 }
 
+// `role`: who may change a writable point's setting (operator or admin; admin when not given).
+void read_role(TableReader& in, Point& p, bool writable) {
+  const auto role = read_named(in, "role", role_names());
+  if (!role) return;
+  if (!writable) {
+    in.error("role", "applies to writable points (write = \"...\") only");
+    return;
+  }
+  p.role = *role;
+  p.role_given = true;
+}
+
 // `write` and the range a written value must be in (before scaling), both ends required. A
 // name that is no built-in setting may be one of the sensor's own writable values, like a
 // source; such a point shows the value as the device holds it unless it names a source.
@@ -127,6 +139,7 @@ void read_write(TableReader& in, Point& p, FamilyList families) {
     else
       (key == "min" ? p.min : p.max) = *value;
   }
+  read_role(in, p, writable);
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <limits>
 #include <string>
 
+#include "driver/setting_role.h"
+
 namespace tiltgate {
 
 struct DeviceValue {
@@ -17,6 +19,9 @@ struct DeviceValue {
   // gives none).
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();
+  // Who may write it (the profile's `role`); a map point that writes it without a `role` of
+  // its own takes this one.
+  SettingRole role = SettingRole::admin;
 
   bool operator==(const DeviceValue&) const = default;
 };

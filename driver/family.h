@@ -23,6 +23,7 @@
 #include "driver/scan.h"
 #include "driver/forwarded_exchange.h"
 #include "driver/sensor_driver.h"
+#include "driver/setting_role.h"
 
 namespace tiltgate {
 
@@ -109,11 +110,13 @@ struct SettingDescriptor {
   double max = 0;
   std::string_view unit{};         // "deg"; empty for codes, addresses and raw words
   std::string_view description{};  // what a write does, for the register map's documentation
+  SettingRole role = SettingRole::admin;  // who may change it (driver/setting_role.h)
 
-  // This setting as one model has it: its type, range, unit and meaning there.
+  // This setting as one model has it: its type, range, unit, meaning and role there.
   constexpr SettingDescriptor accepting(SettingType t, double low, double high,
-                                        std::string_view u, std::string_view what) const {
-    return SettingDescriptor{name, id, t, low, high, u, what};
+                                        std::string_view u, std::string_view what,
+                                        SettingRole r = SettingRole::admin) const {
+    return SettingDescriptor{name, id, t, low, high, u, what, r};
   }
 };
 

@@ -39,6 +39,9 @@ struct WriteError {
   WriteErrorKind kind;
   std::string detail;  // for the log: which step failed and why
   std::uint8_t device_exception = 0;  // kind device_exception: the device's exception code
+  // The code the sensor refused the write with, when its protocol has such codes (a NAK's):
+  // what the audit trail records (settings/setting_outcome.h). A device exception's is above.
+  std::optional<std::uint8_t> nak{};
 };
 
 using WriteResult = Expected<Done, WriteError>;

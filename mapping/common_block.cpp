@@ -120,8 +120,10 @@ Point setting_point(std::string name, std::uint16_t address, PointType type, Wri
     p.units = std::move(units);
     return p;
   }
-  return holding_point(std::move(name), address, type, target, setting->min, setting->max,
-                       std::string(setting->unit), std::string(setting->description));
+  Point p = holding_point(std::move(name), address, type, target, setting->min, setting->max,
+                         std::string(setting->unit), std::string(setting->description));
+  p.role = setting->role;
+  return p;
 }
 
 void add_settings(std::vector<Point>& points, const CommonBlockModel& m) {

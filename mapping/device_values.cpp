@@ -67,6 +67,7 @@ void resolve_device_values(std::span<Point> points, std::span<const DeviceValue>
     if (!p.device_setting.empty()) {
       const auto index = find_device_value(values, p.device_setting);
       p.write = index ? WriteTarget::device_value(*index) : kUnresolvedDeviceValue;
+      if (index && !p.role_given) p.role = values[*index].role;
     }
   }
 }

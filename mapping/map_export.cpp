@@ -27,6 +27,12 @@ const char* access_of(const Point& p) {
   return "r";
 }
 
+// Who may change a writable point's setting; empty for a read-only point.
+std::string_view role_of(const Point& p) {
+  if (!p.write) return "";
+  return name_of(role_names(), p.role);
+}
+
 std::string type_of(const Point& p) {
   if (p.type == PointType::string) return fmt::format("string{}", p.chars);
   return to_string(p.type);
@@ -67,14 +73,14 @@ std::string plc_number(RegisterTable table, std::uint16_t address) {
 std::string export_csv(const std::vector<UnitMap>& units) {
   std::string out =
       "unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order,"
-      "port,plc_address\n";
+      "port,plc_address,role\n";
   for (const UnitMap& unit : units) {
     for (const Point& p : unit.map->points()) {
-      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", unit.unit_id,
+      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", unit.unit_id,
                          csv_field(p.name), to_string(p.table), p.address, p.words(), type_of(p),
                          access_of(p), csv_field(p.units), csv_field(p.description),
                          scaling(p, p.scale), scaling(p, p.offset), layout_of(p, unit.word_order),
-                         port_of(unit), plc_number(p.table, p.address));
+                         port_of(unit), plc_number(p.table, p.address), role_of(p));
     }
   }
   return out;

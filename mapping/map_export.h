@@ -21,10 +21,12 @@ struct UnitMap {
 };
 
 // Header: unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order,
-// port,plc_address. word_order is the byte layout (ABCD, CDAB, BADC, DCBA; AB or BA for 16-bit
+// port,plc_address,role. word_order is the byte layout (ABCD, CDAB, BADC, DCBA; AB or BA for 16-bit
 // values), empty for bits and strings; port is the TCP port serving the unit (empty when not
 // known); plc_address is plc_number() (30001 style), last so that the columns before it keep
-// their places in an import template made before it was added.
+// their places in an import template made before it was added; role (after it, for the same
+// reason) is who may change a writable point's setting, operator or admin, empty for a
+// read-only point.
 std::string export_csv(const std::vector<UnitMap>& units);
 std::string export_markdown(const std::vector<UnitMap>& units);
 

@@ -38,8 +38,10 @@ Point holding_point(std::string name, std::uint16_t address, PointType type, Wri
 }
 
 Point holding_point(std::uint16_t address, PointType type, const SettingDescriptor& setting) {
-  return holding_point(std::string(setting.name), address, type, setting.id, setting.min,
-                       setting.max, std::string(setting.unit), std::string(setting.description));
+  Point p = holding_point(std::string(setting.name), address, type, setting.id, setting.min,
+                         setting.max, std::string(setting.unit), std::string(setting.description));
+  p.role = setting.role;
+  return p;
 }
 
 Point unavailable_holding_point(std::string name, std::uint16_t address, PointType type,

@@ -46,6 +46,12 @@ struct Point {
   std::string device_setting;
   std::uint16_t device_index = kNoDeviceValue;
   double min = 0, max = 0;  // writable points: allowed range (inclusive, before scaling)
+  // Writable points: who may change the setting (map file key `role`; built-in maps take it
+  // from the family's SettingDescriptor). Admin unless marked, so an unmarked custom setting
+  // needs an admin. `role_given`: the map file said so, and a device value's own role (its
+  // profile's) does not replace it.
+  SettingRole role = SettingRole::admin;
+  bool role_given = false;
   std::string units;
   std::string description;
 

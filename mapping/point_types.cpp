@@ -43,6 +43,11 @@ constexpr std::array<Named<Rounding>, 4> kRoundings{{
     {"truncate", Rounding::truncate},
 }};
 
+constexpr std::array<Named<SettingRole>, 2> kRoles{{
+    {"operator", SettingRole::operator_},
+    {"admin", SettingRole::admin},
+}};
+
 }  // namespace
 
 RegisterOrder register_order(WordOrder server) {
@@ -62,6 +67,7 @@ std::span<const Named<PointType>> type_names() { return kTypes; }
 std::span<const Named<RegisterOrder>> order_names() { return kOrders; }
 std::span<const Named<AngleUnit>> angle_unit_names() { return kAngleUnits; }
 std::span<const Named<Rounding>> rounding_names() { return kRoundings; }
+std::span<const Named<SettingRole>> role_names() { return kRoles; }
 
 const char* to_string(RegisterTable table) { return name_of(table_names(), table).data(); }
 const char* to_string(PointType type) { return name_of(type_names(), type).data(); }

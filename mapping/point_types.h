@@ -8,6 +8,8 @@
 #include <span>
 #include <string_view>
 
+#include "driver/setting_role.h"
+
 namespace tiltgate {
 
 enum class RegisterTable : std::uint8_t { coil, discrete, input, holding };
@@ -59,6 +61,7 @@ std::span<const Named<PointType>> type_names();        // bool, uint16, ..., str
 std::span<const Named<RegisterOrder>> order_names();   // ABCD, CDAB, BADC, DCBA
 std::span<const Named<AngleUnit>> angle_unit_names();  // deg, mrad, percent
 std::span<const Named<Rounding>> rounding_names();     // nearest, floor, ceil, truncate
+std::span<const Named<SettingRole>> role_names();     // operator, admin
 
 template <class E>
 std::optional<E> from_name(std::span<const Named<E>> names, std::string_view name) {

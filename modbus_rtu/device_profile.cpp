@@ -89,6 +89,7 @@ DeviceValue device_value_of(const ProfileValue& v) {
   DeviceValue value;
   value.name = v.name;
   value.writable = v.writable;
+  value.role = v.role;
   std::int64_t low = 0, high = 0;
   if (integer_limits(v.type, low, high)) {
     value.min = double(low) * v.scale + v.offset;

@@ -39,6 +39,9 @@ struct ProfileValue {
   // The range a written value must be in (after scaling, as the value reads); none: the type's.
   std::optional<double> min;
   std::optional<double> max;
+  // Who may write it (`role`; writable values only): a map point that writes it takes this
+  // role unless it gives its own.
+  SettingRole role = SettingRole::admin;
 
   std::uint16_t words() const;  // registers the value takes: 1, 2 or 4
 };

@@ -74,6 +74,11 @@ void read_writable(TableReader& in, ProfileValue& value) {
     if (!value.writable) in.error(key, "applies to writable values (writable = true) only");
     else (key == "min" ? value.min : value.max) = *limit;
   }
+  // Who may write it: a shift operator, or an admin only (the default).
+  if (const auto role = in.choice("role", {"operator", "admin"})) {
+    if (!value.writable) in.error("role", "applies to writable values (writable = true) only");
+    else value.role = *role == "operator" ? SettingRole::operator_ : SettingRole::admin;
+  }
 }
 
 LocatedValue read_value(const toml::table& table, std::string path, ErrorList& errors) {

@@ -43,10 +43,12 @@ WriteError to_write_error(const ExchangeError& error, std::string_view step) {
   switch (error.kind) {
     case ExchangeError::Kind::line: return {WriteErrorKind::no_response, detail};
     case ExchangeError::Kind::bad_reply: return {WriteErrorKind::refused, detail};
-    case ExchangeError::Kind::nak:
-      if (error.nak == std::uint8_t(NakCode::data_invalid)) return {WriteErrorKind::rejected, detail};
-      if (error.nak == std::uint8_t(NakCode::busy)) return {WriteErrorKind::busy, detail};
-      return {WriteErrorKind::refused, detail};
+    case ExchangeError::Kind::nak: {
+      const WriteErrorKind kind = error.nak == std::uint8_t(NakCode::data_invalid) ? WriteErrorKind::rejected
+                                  : error.nak == std::uint8_t(NakCode::busy)       ? WriteErrorKind::busy
+                                                                                   : WriteErrorKind::refused;
+      return {kind, detail, 0, error.nak};
+    }
   }
   return {WriteErrorKind::refused, detail};
 }

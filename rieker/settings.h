@@ -2,6 +2,9 @@
 // (41) takes 1..6, Set Baud (38) codes 1..8, Set Address (2) 1..65000, and a zero offset beyond
 // the +-180 deg measuring range makes no sense. The descriptor lists them (rieker/family.cpp)
 // and the built-in maps take their holding registers from them (rieker/default_maps.cpp).
+// A shift operator may change the filter and the zero offsets (measurement settings the sensor
+// keeps answering through); the command (its 3 restarts the sensor), the baud and the address
+// can lose the sensor and need an admin.
 #pragma once
 
 #include "driver/family.h"
@@ -11,11 +14,14 @@ namespace tiltgate::rieker::settings {
 using T = SettingType;
 
 inline constexpr SettingDescriptor filter = common_setting::filter.accepting(
-    T::integer, 1, 6, "", "Set Filter Response 1 (fast, noisy) .. 6 (slow, quiet)");
+    T::integer, 1, 6, "", "Set Filter Response 1 (fast, noisy) .. 6 (slow, quiet)",
+    SettingRole::operator_);
 inline constexpr SettingDescriptor zero_x =
-    common_setting::zero_x.accepting(T::real, -180, 180, "deg", "Set Zero To Value, axis 1");
+    common_setting::zero_x.accepting(T::real, -180, 180, "deg", "Set Zero To Value, axis 1",
+                                     SettingRole::operator_);
 inline constexpr SettingDescriptor zero_y =
-    common_setting::zero_y.accepting(T::real, -180, 180, "deg", "Set Zero To Value, axis 2");
+    common_setting::zero_y.accepting(T::real, -180, 180, "deg", "Set Zero To Value, axis 2",
+                                     SettingRole::operator_);
 inline constexpr SettingDescriptor command = common_setting::command.accepting(
     T::integer, 1, 3, "", "1 zero to current angle (temporary), 2 (permanent), 3 restart");
 inline constexpr SettingDescriptor baud_code = common_setting::baud_code.accepting(

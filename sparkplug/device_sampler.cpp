@@ -3,7 +3,7 @@
 #include <cstdlib>
 
 #include "gateway/status_copy.h"
-#include "sparkplug/sensor_settings.h"
+#include "settings/sensor_settings.h"
 
 namespace tiltgate::sparkplug {
 

@@ -273,21 +273,25 @@ void EdgeNode::carry_out(std::vector<Action> actions) {
 
 void EdgeNode::write_setting(Write write) {
   ++writes_in_flight_;  // writer_ is this node's: it stays until the write is answered
+  // Who asked, in the audit trail's words (audit/audit_record.h): the primary host, when the
+  // node has one (a DCMD names no sender).
+  WriteOrigin origin{"sparkplug", config_.primary_host_id
+                                      ? "host " + *config_.primary_host_id
+                                      : std::string("a DCMD")};
   boost::asio::co_spawn(
-      executor_, writer_.write(write),
-      [this, write](std::exception_ptr error, std::optional<std::string> refusal) {
+      executor_, writer_.write(write.device, write.setting, write.value, std::move(origin)),
+      [this, write](std::exception_ptr error, SettingOutcome outcome) {
         --writes_in_flight_;
-        if (!error && !refusal) {
+        if (!error && outcome.result == SettingOutcome::Result::ack) {
           spdlog::info("Sparkplug: DCMD wrote {} = {} on {}", write.setting, write.value,
                        write.device);
           return;
         }
-        // With an exception co_spawn hands over a default (empty) result: the reason is then
-        // ours, a string of its own. Assigning it into that optional is what the arm64 g++ 12
-        // took for a read of an uninitialised string (-Werror=maybe-uninitialized), which
-        // stopped the arm64 build.
-        const std::string why =
-            error ? std::string("the write failed inside the gateway") : *std::move(refusal);
+        // With an exception co_spawn hands over a default outcome (refused, no detail): the
+        // reason is then ours. A NAK, a time-out or a refusal is logged with its detail.
+        std::string why = error ? std::string("the write failed inside the gateway")
+                                : std::move(outcome.detail);
+        if (why.empty()) why = "refused";
         ++writes_refused_;
         // Throttled per sensor by count: the first few of each minute in full, the rest summed
         // up in one line (log_refusal_summaries()).

@@ -6,7 +6,8 @@
 //
 // Threads: every session call is made on the event loop. The client's hooks run on its
 // network thread and post there; before a CONNECT the network thread waits for the loop's
-// will (begin_connect) and its bdSeq on disk.
+// will (begin_connect) and its bdSeq on disk. A DCMD's write goes through the settings room's
+// writer (settings/setting_writer.h), as the console's do.
 #pragma once
 
 #include <atomic>
@@ -27,7 +28,7 @@
 #include "sparkplug/ddata_backlog.h"
 #include "sparkplug/device_sampler.h"
 #include "sparkplug/edge_node_session.h"
-#include "sparkplug/setting_writer.h"
+#include "settings/setting_writer.h"
 
 namespace tiltgate::sparkplug {
 

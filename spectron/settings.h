@@ -4,6 +4,10 @@
 // 2..22 and 100..280 (the driver checks those exactly). The descriptor lists them
 // (spectron/family.cpp) and the built-in map takes its holding registers from them
 // (spectron/default_map.cpp).
+// Every one of them needs an admin: each is a write of the module's EEPROM (wear, and its
+// address and baud can lose the module), the EEPROM window writes any location, and the
+// command resets the module. The Dyna has no filter, and its zero is the gateway's
+// zero_counts, a configuration key.
 #pragma once
 
 #include "driver/family.h"

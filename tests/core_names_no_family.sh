@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # No folder but the families' own names a sensor family: the core (config/, mapping/, gateway/,
 # serial/, driver/) and the rooms beside it (modbus_tcp/, status/, mqtt/, control/,
-# commission/, app/, sparkplug/, store/) ask the family descriptors (driver/family.h) instead,
-# so a new family is its own folder plus one line in families/families.cmake. Checks the
-# sources (C++ and CMake), comments included.
+# commission/, app/, sparkplug/, settings/, store/) ask the family descriptors
+# (driver/family.h) instead, so a new family is its own folder plus one line in
+# families/families.cmake. Checks the sources (C++ and CMake), comments included.
 # Documents (docs/, README.md) are not sources: they name the families for the engineer.
 # Usage: core_names_no_family.sh SOURCE_DIR
 set -u
@@ -18,7 +18,7 @@ if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron modbus_rtu; then
   exit 2
 fi
 
-rooms=(config mapping gateway serial driver modbus_tcp status mqtt control commission app sparkplug
+rooms=(config mapping gateway serial driver modbus_tcp status mqtt control commission app sparkplug settings
        store)
 hits=$(grep -rniE "$pattern" "${sources[@]}" "${rooms[@]}")
 if [ -n "$hits" ]; then

@@ -196,7 +196,7 @@ TEST_CASE("480 sensors on 8 buses with their own ports load, and units on two po
   const CommandResult map = run_tiltgate({"map", "--config", file.string()});
   CHECK(map.exit_code == 0);
   CHECK(map.out.find(fmt::format("\n60,angle_x,input,0,2,float32,r,deg,X angle after the zero "
-                                 "offset and the mounting,1,0,ABCD,{},30001\n",
+                                 "offset and the mounting,1,0,ABCD,{},30001,\n",
                                  ports[7])) != std::string::npos);
   CHECK(map.out.find("\n200,b3s60.angle_y_cdeg,input,119,1,int16,") != std::string::npos);
 

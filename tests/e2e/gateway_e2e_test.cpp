@@ -254,10 +254,10 @@ unit_id = 1
   CHECK(good.exit_code == 0);
   auto map = run_tiltgate({"map", "--config", example});
   CHECK(map.exit_code == 0);
-  CHECK(map.out.rfind("unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order,port,plc_address\n", 0) == 0);
+  CHECK(map.out.rfind("unit_id,name,table,address,words,type,access,units,description,scale,offset,word_order,port,plc_address,role\n", 0) == 0);
   CHECK(map.out.find("\n1,angle_x,input,0,2,float32,r,deg,") != std::string::npos);
   // The port serving the unit, and the 1-based number a PLC tag import wants.
-  CHECK(map.out.find(",ABCD,502,30001\n") != std::string::npos);
+  CHECK(map.out.find(",ABCD,502,30001,\n") != std::string::npos);
   auto missing = run_tiltgate({"run", "--config", "/nonexistent/tiltgate.toml"});
   CHECK(missing.exit_code == 1);
   auto nonsense = run_tiltgate({"frobnicate"});

@@ -140,21 +140,21 @@ TEST_CASE("the CSV export has the documented header and one row per point") {
   const auto map = default_map(registered_families(), "h6");
   const std::string csv = export_csv({{1, "boom", "h6", &map}});
   CHECK(csv.rfind("unit_id,name,table,address,words,type,access,units,description,scale,offset,"
-                  "word_order,port,plc_address\n",
+                  "word_order,port,plc_address,role\n",
                   0) == 0);
   CHECK(csv.find("1,angle_x,input,0,2,float32,r,deg,") != std::string::npos);
   CHECK(csv.find("1,zero_x,holding,1,2,float32,rw,deg,") != std::string::npos);
-  CHECK(csv.find("1,online,discrete,0,1,bool,r,,the sensor answers,,,,,10001\n") !=
+  CHECK(csv.find("1,online,discrete,0,1,bool,r,,the sensor answers,,,,,10001,\n") !=
         std::string::npos);
   CHECK(csv.find("1,tilt,input,25,2,float32,r,deg,") != std::string::npos);
   CHECK(csv.find(",1,0,ABCD,,") != std::string::npos);
   const std::string little = export_csv({{1, "boom", "h6", &map, WordOrder::little}});
-  CHECK(little.find("Set Zero To Value, axis 1\",1,0,CDAB,,40002\n") != std::string::npos);
+  CHECK(little.find("Set Zero To Value, axis 1\",1,0,CDAB,,40002,operator\n") != std::string::npos);
   CHECK(little.find("saturating\",1,0,AB,,") != std::string::npos);
   // The port serving the unit, when known, then the PLC's 1-based number end each row.
   const std::string on_port = export_csv({{1, "boom", "h6", &map, WordOrder::big, 5021}});
   CHECK(on_port.find("\n1,angle_x,input,0,2,float32,r,deg,") != std::string::npos);
-  CHECK(on_port.find(",1,0,ABCD,5021,30001\n") != std::string::npos);
+  CHECK(on_port.find(",1,0,ABCD,5021,30001,\n") != std::string::npos);
   CHECK(plc_number(RegisterTable::input, 0) == "30001");
   CHECK(plc_number(RegisterTable::holding, 7) == "40008");
 }

@@ -1,11 +1,28 @@
-#include "sparkplug/sensor_settings.h"
+#include "settings/sensor_settings.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace tiltgate::sparkplug {
+namespace tiltgate {
 
-std::vector<SensorSetting> sensor_settings(const RegisterMap& map, FamilyList families) {
+namespace {
+
+SensorSetting setting_of(std::string name, const Point& point) {
+  SensorSetting setting;
+  setting.name = std::move(name);
+  setting.point = &point;
+  setting.role = point.role;
+  setting.min = point.min;
+  setting.max = point.max;
+  setting.units = point.units;
+  setting.description = point.description;
+  return setting;
+}
+
+}  // namespace
+
+std::vector<SensorSetting> sensor_settings(const RegisterMap& map, FamilyList families,
+                                           const SensorState* state) {
   std::vector<SensorSetting> settings;
   for (const Point& point : map.points()) {
     if (point.table != RegisterTable::holding || !point.write || point.type == PointType::string)
@@ -15,7 +32,9 @@ std::vector<SensorSetting> sensor_settings(const RegisterMap& map, FamilyList fa
     if (name.empty() || *point.write == kUnresolvedDeviceValue) continue;
     const bool listed = std::any_of(settings.begin(), settings.end(),
                                     [&](const SensorSetting& s) { return s.name == name; });
-    if (!listed) settings.push_back({std::move(name), &point});
+    if (listed) continue;
+    settings.push_back(setting_of(std::move(name), point));
+    if (state) settings.back().value = setting_value(settings.back(), *state);
   }
   return settings;
 }
@@ -31,4 +50,4 @@ std::optional<double> setting_value(const SensorSetting& setting, const SensorSt
   return value;
 }
 
-}  // namespace tiltgate::sparkplug
+}  // namespace tiltgate
