@@ -49,7 +49,9 @@ boost::asio::awaitable<std::optional<std::string>> SettingWriter::write(Write wr
   const std::shared_ptr<BusScheduler> bus = sensor->bus;
   if (bus == nullptr) co_return Result("no bus polls the sensor");
   const auto deadline = SteadyClock::now() + server.write_timeout;
-  SensorWrite job(std::move(sensor), std::move(*plan));  // named: see BusScheduler::write()
+  const std::optional<std::string>& host = gateway_.config().sparkplug.primary_host_id;
+  const WriteOrigin origin{"sparkplug", host ? "host " + *host : "a DCMD"};
+  SensorWrite job(std::move(sensor), std::move(*plan), origin);  // named: see BusScheduler::write()
   WriteResult done = co_await bus->write(std::move(job), deadline);
   if (!done)
     co_return Result(done.error().detail.empty() ? std::string("refused") : done.error().detail);
