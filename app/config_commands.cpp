@@ -136,6 +136,7 @@ std::vector<std::filesystem::path> folders_written(const Config& config) {
   if (config.mqtt.enabled && !config.mqtt.state_dir.empty())
     folders.emplace_back(config.mqtt.state_dir);
   if (config.sparkplug.enabled) folders.emplace_back(config.sparkplug.state_dir);
+  if (!config.server.state_dir.empty()) folders.emplace_back(config.server.state_dir);
   return folders;
 }
 
@@ -175,7 +176,7 @@ int run_command(const std::string& config_path, FamilyList families) {
   }
   // Only now the services that write files: the stores and the control socket are the
   // serving user's, and it can replace them at a reload.
-  gateway.start_as_user();
+  served.start_as_user();
   // Listeners bound, ttys opened, privileges dropped: systemd may now count the service as up.
   ServiceNotifier notifier(io);
   notifier.ready();

@@ -63,6 +63,8 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   config.server.control_socket = options.control_socket.empty()
                                      ? (folder / "control.sock").string()
                                      : options.control_socket;
+  // The audit trail in memory: a demo on a gateway must not write into the service's trail.
+  config.server.state_dir.clear();
   config.http.enabled = options.http_port != 0;
   config.http.listen = options.listen;
   config.http.port = options.http_port;
@@ -194,7 +196,7 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
     spdlog::critical("demo: {}", started.error());
     return 1;
   }
-  gateway.start_as_user();  // the demo stays the user it was started as
+  served.start_as_user();  // the demo stays the user it was started as
   print_demo_help(config, gateway, demos, options.map);
   run_until_signal(io, [&] {
     gateway.stop();

@@ -9,10 +9,16 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
       control_(gateway_) {
+  gateway_.set_audit(audit_);
   gateway_.attach(control_);
   gateway_.attach(http_);
   gateway_.attach(mqtt_);
   gateway_.attach(sparkplug_);
+}
+
+void ServedGateway::start_as_user() {
+  audit_.open(gateway_.config().server.state_dir);
+  gateway_.start_as_user();
 }
 
 GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {

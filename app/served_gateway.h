@@ -6,6 +6,7 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "audit/audit_trail.h"
 #include "config/config.h"
 #include "control/control_service.h"
 #include "gateway/gateway.h"
@@ -20,12 +21,19 @@ class ServedGateway {
   ServedGateway(boost::asio::io_context& io, const Config& config, FamilyList families);
 
   Gateway& gateway() { return gateway_; }
+  AuditTrail& audit() { return audit_; }
+  // Once the gateway serves as its own user (or at once for the demo): the audit trail opens
+  // its folder under [server] state_dir (in memory until then, and for good without one), so
+  // its files are that user's; then the services' start_as_user().
+  void start_as_user();
   const Gateway& gateway() const { return gateway_; }
   // The status the API, the metrics, the history and the MQTT feed show: the core's, with the
   // services' own counters.
   GatewayStatus status(SteadyClock::time_point now) const;
 
  private:
+  // Before the gateway: the buses' writes and the services record into it until they stop.
+  AuditTrail audit_{""};
   Gateway gateway_;  // first: the services refer to it, and go before it
   StatusService http_;
   MqttService mqtt_;

@@ -45,6 +45,9 @@ Expected<std::unique_ptr<RemoteLine>, CommissionBus::OpenError> bus_through_gate
     if (!target.via_gateway && elsewhere) return std::unique_ptr<RemoteLine>{};
     return Unexpected{CommissionBus::OpenError{1, remote.error().message}};
   }
+  if (!target.audit_as.empty())
+    if (auto acting = (*remote)->act_for(target.audit_as); !acting)
+      return Unexpected{CommissionBus::OpenError{1, "--audit-as: " + acting.error()}};
   const control::BusGranted& bus = (*remote)->bus();
   if (bus.protocol != target.bus.protocol)
     return Unexpected{CommissionBus::OpenError{
@@ -94,9 +97,23 @@ void CommissionBus::address_changed(std::uint32_t from, std::uint32_t to) {
                              *followed, to);
 }
 
-void CommissionBus::setting_changed(std::uint32_t address, WriteTarget setting, double value) {
+void CommissionBus::setting_changed(std::uint32_t address, WriteTarget setting, double value,
+                                    const WriteResult& result,
+                                    std::optional<std::uint8_t> refusal_code) {
   if (!remote_) return;
-  if (const auto told = remote_->setting_changed(address, setting, value); !told)
+  control::SettingChanged changed{address, setting.id, value, std::nullopt, false};
+  if (!result) {
+    const WriteError& error = result.error();
+    if (error.kind == WriteErrorKind::no_response)
+      changed.timeout = true;
+    else if (error.kind == WriteErrorKind::device_exception)
+      changed.nak = error.device_exception;
+    else if (error.kind == WriteErrorKind::rejected || error.kind == WriteErrorKind::refused)
+      changed.nak = refusal_code.value_or(0);
+    else
+      return;  // not the sensor's answer: nothing was changed, nor refused by it
+  }
+  if (const auto told = remote_->setting_changed(changed); !told)
     std::cerr << fmt::format("warning: the gateway was not told of the change: {}; its holding "
                              "registers show the setting's old value\n",
                              told.error());

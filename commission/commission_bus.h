@@ -8,6 +8,7 @@
 #include <boost/asio/any_io_executor.hpp>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,10 +65,12 @@ class CommissionBus {
   // A command moved a sensor from one bus address to another (set address): a running gateway
   // that owns the bus follows it at once (said on stdout). Nothing to do on a tty of our own.
   void address_changed(std::uint32_t from, std::uint32_t to);
-  // The sensor at `address` acknowledged a setting: a running gateway that owns the bus keeps
-  // it in the sensor's settings record (what its holding registers read). Nothing to do on a
-  // tty of our own.
-  void setting_changed(std::uint32_t address, WriteTarget setting, double value);
+  // The sensor at `address` answered a setting (`result`; a refusal with the protocol's code
+  // `refusal_code`): a running gateway that owns the bus records it in its audit trail, and
+  // keeps an acknowledged one in the sensor's settings record (what its holding registers
+  // read). Nothing to do on a tty of our own.
+  void setting_changed(std::uint32_t address, WriteTarget setting, double value,
+                       const WriteResult& result, std::optional<std::uint8_t> refusal_code);
 
   // Reopens the tty at another baud rate (scan --baud auto; set baud, after the sensor was set
   // to it and restarted), keeping the lock; the bus's config() follows. An error says why it

@@ -187,6 +187,9 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
     const WriteResult result = co_await sensor.driver->write(bus.line(), w.target, w.value);
     if (stopping) co_return 0;
     if (!result) {
+      // A running gateway records the refusal or the silence in its audit trail.
+      bus.setting_changed(sensor.config.address, w.target, w.value, result,
+                          sensor.driver->state().counters.last_refusal);
       sensor.driver->abandon(std::span(plan->writes).first(i));
       std::cerr << fmt::format("tiltgate set: {} := {} at address {}: {} ({})\n",
                                plan->write_names[i], value_text(w.value), sensor.config.address,
@@ -197,7 +200,7 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
     }
     // A running gateway keeps the sensor's settings record (a move is followed below).
     if (w.target != WriteTarget::bus_address)
-      bus.setting_changed(sensor.config.address, w.target, w.value);
+      bus.setting_changed(sensor.config.address, w.target, w.value, result, std::nullopt);
   }
   if (stopping) co_return 0;
   std::cout << fmt::format("{}{} at address {}: acknowledged\n", fmt::join(arguments.words, " "),

@@ -30,6 +30,11 @@ struct ServerTlsConfig {
   bool operator==(const ServerTlsConfig&) const = default;
 };
 
+// Where the gateway keeps what must survive a restart (the audit trail, the MQTT backlog,
+// Sparkplug's store and bdSeq); the Debian package's service has it as its StateDirectory (docs/operations.md,
+// "The state directory").
+inline constexpr std::string_view kDefaultStateDir = "/var/lib/tiltgate";
+
 struct ServerConfig {
   std::string listen = "0.0.0.0";
   std::uint16_t port = 502;
@@ -48,6 +53,10 @@ struct ServerConfig {
   // The Unix socket commissioning commands reach the buses through (control/control_server.h),
   // an absolute path; empty: none.
   std::string control_socket = std::string(kDefaultControlSocket);
+  // Where the gateway keeps what must survive a restart: the audit trail (audit/), and the
+  // default of [mqtt] and [sparkplug] state_dir. Empty (only `tiltgate demo` makes one): in
+  // memory.
+  std::string state_dir = std::string(kDefaultStateDir);
   // The user `tiltgate run` serves as once its ttys and listeners are open, when started as
   // root (app/run_as_user.h); empty: stay as started.
   std::string user;
@@ -79,10 +88,6 @@ struct HttpConfig {
 // their history in under 5 MB.
 inline constexpr std::int64_t kMaxHistorySamples = 600;
 
-// Where the feeds keep what must survive a restart (the MQTT backlog, Sparkplug's store and
-// bdSeq); the Debian package's service has it as its StateDirectory (docs/operations.md,
-// "The state directory").
-inline constexpr std::string_view kDefaultStateDir = "/var/lib/tiltgate";
 
 // The MQTT feed (mqtt/mqtt_feed.h): each sensor's state to a broker. Off unless the file has
 // an [mqtt] table; the loader fills in the hostname defaults, so these are the values used.

@@ -181,6 +181,9 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   check_tcp_ports(buses, server, errors);
   check_sensors(sensors, buses, errors, families);
   check_pass_through(buses, sensors, errors);
+  // [server] state_dir is the feeds' default; their own key wins.
+  if (!root.at_path("mqtt.state_dir")) mqtt.state_dir = server.state_dir;
+  if (!root.at_path("sparkplug.state_dir")) sparkplug.state_dir = server.state_dir;
   if (sparkplug.enabled) check_feeds(mqtt, sparkplug, sparkplug_at.value_or(Place{}), errors);
   const std::size_t errors_before_maps = errors.size();
   ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors, families);

@@ -38,15 +38,7 @@ void check_topic_prefix(TableReader& in, const std::string& prefix) {
 // its own: a relative state_dir is taken from the file's directory; whether it can be written
 // is found when the feed starts (the service user's rights, not those of who runs check).
 void read_backlog_keys(TableReader& in, const std::string& file, MqttConfig& mqtt) {
-  if (auto dir = in.string("state_dir")) {
-    if (dir->empty())
-      in.error("state_dir", "empty, expected a directory the gateway may write, e.g. "
-                            "\"/var/lib/tiltgate\"");
-    else if (std::filesystem::path path(*dir); path.is_relative())
-      mqtt.state_dir = (std::filesystem::path(file).parent_path() / path).string();
-    else
-      mqtt.state_dir = *dir;
-  }
+  read_state_dir(in, file, mqtt.state_dir);
   // A fraction is allowed, as for [sparkplug]: a test fills a store of 0.05 MiB in seconds.
   if (auto buffer = in.number_in("buffer_mb", 0.01, 65536)) mqtt.buffer_mb = *buffer;
   // Before the store, the most messages kept in memory; written, still the most kept (an

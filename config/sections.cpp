@@ -142,6 +142,18 @@ std::string or_list(std::span<const std::string_view> names) {
   return fmt::format("{}", fmt::join(names, " or "));
 }
 
+void read_state_dir(TableReader& in, const std::string& file, std::string& state_dir) {
+  if (auto dir = in.string("state_dir")) {
+    if (dir->empty())
+      in.error("state_dir", "empty, expected a directory the gateway may write, e.g. "
+                            "\"/var/lib/tiltgate\"");
+    else if (std::filesystem::path path(*dir); path.is_relative())
+      state_dir = (std::filesystem::path(file).parent_path() / path).string();
+    else
+      state_dir = *dir;
+  }
+}
+
 ServerConfig read_server(const toml::table& table, ErrorList& errors) {
   TableReader in(table, "server", errors);
   ServerConfig server;
@@ -188,6 +200,7 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
     else
       server.control_socket = *path;
   }
+  read_state_dir(in, errors.file(), server.state_dir);
   if (auto user = in.string("user")) {
     // A user name as useradd takes it; whether it exists is for the machine that runs it.
     const bool plain = !user->empty() && user->size() <= 32 &&

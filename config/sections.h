@@ -45,6 +45,8 @@ struct ParsedAggregate {
   Located where;
 };
 
+// A state_dir key ([server], [mqtt], [sparkplug]): a directory, relative from the file's.
+void read_state_dir(TableReader& in, const std::string& file, std::string& state_dir);
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
 // [server] tls and plain_tcp (server_tls_section.cpp); after [server] port is read.
 void read_server_tls(TableReader& in, ServerConfig& server, ErrorList& errors);

@@ -70,15 +70,7 @@ SparkplugConfig read_sparkplug(const toml::table& table, ErrorList& errors) {
     else
       sparkplug.client_id = *client_id;
   }
-  if (auto dir = in.string("state_dir")) {
-    if (dir->empty())
-      in.error("state_dir", "empty, expected a directory the gateway may write, e.g. "
-                            "\"/var/lib/tiltgate\"");
-    else if (std::filesystem::path path(*dir); path.is_relative())
-      sparkplug.state_dir = (std::filesystem::path(errors.file()).parent_path() / path).string();
-    else
-      sparkplug.state_dir = *dir;
-  }
+  read_state_dir(in, errors.file(), sparkplug.state_dir);
   if (auto on_change = in.number_in("on_change_deg", 0.0, 360.0))
     sparkplug.on_change_deg = *on_change;
   if (auto min = in.integer("min_interval_ms", 0, 3600000))

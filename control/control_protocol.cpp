@@ -115,8 +115,11 @@ std::string format(const CommandMessage& message) {
           [](const Hold& m) { return fmt::format("hold {}", m.address); },
           [](const Release& m) { return fmt::format("release {}", m.address); },
           [](const SettingChanged& m) {
-            return fmt::format("setting {} {} {}", m.address, m.setting, m.value);
+            const std::string outcome =
+                m.nak ? fmt::format(" nak {}", *m.nak) : (m.timeout ? " timeout" : "");
+            return fmt::format("setting {} {} {}{}", m.address, m.setting, m.value, outcome);
           },
+          [](const ActingFor& m) { return "as " + m.who; },
       },
       message);
 }
@@ -164,13 +167,23 @@ Expected<CommandMessage, std::string> parse_command(std::string_view line) {
     if (w[0] == "hold") return CommandMessage{Hold{*address}};
     return CommandMessage{Release{*address}};
   }
-  if (w[0] == "setting" && w.size() == 4) {
+  if (w[0] == "setting" && w.size() >= 4 && w.size() <= 6) {
     const auto address = number<std::uint32_t>(w[1]);
     const auto setting = number<std::uint8_t>(w[2]);
     const auto value = number<double>(w[3]);
     if (!address || !setting || !value || !std::isfinite(*value)) return malformed(line);
-    return CommandMessage{SettingChanged{*address, *setting, *value}};
+    SettingChanged changed{*address, *setting, *value, std::nullopt, false};
+    if (w.size() == 5 && w[4] == "timeout") {
+      changed.timeout = true;
+    } else if (w.size() == 6 && w[4] == "nak") {
+      changed.nak = number<std::uint8_t>(w[5]);
+      if (!changed.nak) return malformed(line);
+    } else if (w.size() != 4) {
+      return malformed(line);
+    }
+    return CommandMessage{changed};
   }
+  if (w[0] == "as" && w.size() >= 2) return CommandMessage{ActingFor{std::string(after_words(line, 1))}};
   if (w[0] == "transact" && w.size() == 8) {
     const auto address_bytes = number<std::size_t>(w[1]);
     const auto timeout = number<std::int64_t>(w[2]);

@@ -13,10 +13,17 @@
 //   follow 223 7                            ok line1/boom            (or: ok, none was there)
 //   release 223                             ok
 //   setting 223 0 2                         ok line1/boom            (or: ok, none is there)
+//   setting 223 0 2 nak 3 | ... timeout     ok line1/boom
+//   as console user alice                   ok                       (or: error, not from you)
 //
 // setting: the sensor at 223 acknowledged a change of setting 0 (a WriteTarget id,
 // driver/write_target.h) to 2; the gateway's settings record of the sensor follows it, as it
 // does a Modbus write (SensorDriver::note_acknowledged). An address move is a follow instead.
+// With "nak CODE" the sensor refused it, with "timeout" it did not answer: the gateway only
+// records that in its audit trail (audit/audit_trail.h), as it records every setting and move.
+// as: the session acts for someone else from now on, named in the audit trail instead of the
+// socket's peer (the web console runs commands for its logged-in users); honoured only from a
+// process of the gateway's own user.
 // hold: the command is about to move the sensor at 223; the gateway stops polling it (a poll
 // at the old address while it moves would fail and mark it offline) until follow or release,
 // the session's end, or kMaxHold.
@@ -73,9 +80,14 @@ struct SettingChanged {
   std::uint32_t address = 0;
   std::uint8_t setting = 0;  // WriteTarget::id
   double value = 0;
+  std::optional<std::uint8_t> nak;  // the sensor refused it, with this code
+  bool timeout = false;             // the sensor did not answer
 };
-using CommandMessage =
-    std::variant<Hello, Transact, FramerAnswer, Follow, Hold, Release, SettingChanged>;
+struct ActingFor {
+  std::string who;  // "console user alice"
+};
+using CommandMessage = std::variant<Hello, Transact, FramerAnswer, Follow, Hold, Release,
+                                    SettingChanged, ActingFor>;
 
 struct BusGranted {
   std::string name;

@@ -11,6 +11,7 @@
 #include <istream>
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "control/control_protocol.h"
 #include "control/control_relay.h"
@@ -151,13 +152,30 @@ namespace {
 
 std::string formatted(const control::GatewayMessage& message) { return control::format(message); }
 
+// A setting's outcome as the audit trail words it (audit/audit_record.h).
+std::string audit_result(const control::SettingChanged& changed) {
+  if (changed.nak) return fmt::format("nak 0x{:02X}", *changed.nak);
+  return changed.timeout ? "timeout" : "ack";
+}
+
+// `as WHO`: the session's changes are recorded as WHO's from now on. Only a process of the
+// gateway's own user (the web console) may say so: anyone else could hide behind a name.
+std::string act_for(const std::string& who, bool own_user, WriteOrigin& by) {
+  if (!own_user)
+    return formatted(control::Refused{"as: only a process of the gateway's own user may act "
+                                      "for someone else"});
+  by.who = who + " (via the control socket)";
+  return formatted(control::Followed{});
+}
+
 }  // namespace
 
 asio::awaitable<void> ControlServer::session(local::socket accepted) {
   auto socket = std::make_shared<local::socket>(std::move(accepted));
   sessions_.push_back(socket);
-  // Who connected, for the log line of a sensor it moves.
-  const std::string by = "a commissioning command of " + peer_identity(socket->native_handle());
+  // Who connected, for the log line of a sensor it moves and the audit trail.
+  WriteOrigin by{"control socket", peer_identity(socket->native_handle())};
+  const bool own_user = peer_uid(socket->native_handle()) == ::geteuid();
   asio::streambuf input(control::kMaxLine);
   ServedBus* bus = nullptr;
   std::vector<std::uint32_t> held;  // addresses this session holds; released when it ends
@@ -177,6 +195,8 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
     if (!message) {
       reply = formatted(control::Refused{message.error()});
       done = true;
+    } else if (const auto* acting = std::get_if<control::ActingFor>(&*message)) {
+      reply = act_for(acting->who, own_user, by);
     } else if (const auto* hello = std::get_if<control::Hello>(&*message)) {
       bus = find_bus(hello->port);
       reply = bus ? formatted(control::BusGranted{bus->config.name, bus->config.protocol,
@@ -211,9 +231,9 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       if (sensor) held.push_back(hold->address);
       reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
     } else if (const auto* changed = std::get_if<control::SettingChanged>(&*message)) {
-      const auto sensor = bus->scheduler->note_setting(changed->address,
-                                                       WriteTarget{changed->setting},
-                                                       changed->value, by);
+      const auto sensor =
+          bus->scheduler->note_setting(changed->address, WriteTarget{changed->setting},
+                                       changed->value, audit_result(*changed), by);
       reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
     } else if (const auto* release = std::get_if<control::Release>(&*message)) {
       bus->scheduler->release(release->address);

@@ -8,6 +8,14 @@
 
 namespace tiltgate {
 
+std::optional<uid_t> peer_uid(int socket_fd) {
+  ucred peer{};
+  socklen_t size = sizeof peer;
+  if (::getsockopt(socket_fd, SOL_SOCKET, SO_PEERCRED, &peer, &size) != 0 || size != sizeof peer)
+    return std::nullopt;
+  return peer.uid;
+}
+
 std::string peer_identity(int socket_fd) {
   ucred peer{};
   socklen_t size = sizeof peer;

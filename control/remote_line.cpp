@@ -226,9 +226,13 @@ Expected<std::string, std::string> RemoteLine::release(std::uint32_t address) {
   return ask(control::Release{address});
 }
 
-Expected<std::string, std::string> RemoteLine::setting_changed(std::uint32_t address,
-                                                               WriteTarget setting, double value) {
-  return ask(control::SettingChanged{address, setting.id, value});
+Expected<std::string, std::string> RemoteLine::setting_changed(
+    const control::SettingChanged& changed) {
+  return ask(changed);
+}
+
+Expected<std::string, std::string> RemoteLine::act_for(const std::string& who) {
+  return ask(control::ActingFor{who});
 }
 
 }  // namespace tiltgate

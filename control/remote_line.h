@@ -69,10 +69,13 @@ class RemoteLine final : public Line {
   // control_protocol.h), or to poll it again. Returns the "bus/sensor" held, or empty.
   Expected<std::string, std::string> hold(std::uint32_t address);
   Expected<std::string, std::string> release(std::uint32_t address);
-  // Tells the gateway that the sensor at `address` acknowledged `setting` := `value`, so that
-  // its settings record follows. Returns the "bus/sensor" told, or empty, or an error.
-  Expected<std::string, std::string> setting_changed(std::uint32_t address, WriteTarget setting,
-                                                     double value);
+  // Tells the gateway how the sensor answered a setting (control_protocol.h), so that its
+  // settings record follows an acknowledged one and its audit trail records it. Returns the
+  // "bus/sensor" told, or empty, or an error.
+  Expected<std::string, std::string> setting_changed(const control::SettingChanged& changed);
+  // Asks the gateway to name `who` in its audit trail for this session's changes (`as`); an
+  // error when it refuses.
+  Expected<std::string, std::string> act_for(const std::string& who);
   // Closes the socket: a suspended transact() returns cancelled, as every later one does.
   void stop();
 

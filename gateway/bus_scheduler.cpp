@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "audit/audit_trail.h"
 #include "gateway/exception_text.h"
 
 namespace tiltgate {
@@ -217,27 +218,27 @@ asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
                                                  SteadyClock::time_point deadline) {
   if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
   const WriteError unanswered{WriteErrorKind::no_response, "sensor not answering: not sent"};
-  if (line_.stopped()) co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
+  if (line_.stopped()) co_return write.fail(*this, {WriteErrorKind::no_response, "gateway stopping"});
   // Known offline, or its poll is between retries after its sensor did not answer: the
   // write's own retries would only hold the line and the answer (its probes find it when it
   // is back).
   if (not_answering(write.sensor())) {
     ++stats_.writes_offline;
-    co_return write.fail(unanswered);
+    co_return write.fail(*this, unanswered);
   }
   LineClaimant line(line_, TurnKind::write, &write.sensor(), deadline);
   const TurnGrant grant = co_await line.wait_turn();
   if (grant == TurnGrant::refused)
-    co_return write.fail({WriteErrorKind::no_response, "gateway stopping"});
+    co_return write.fail(*this, {WriteErrorKind::no_response, "gateway stopping"});
   if (grant == TurnGrant::expired) {
     ++stats_.writes_expired;
-    co_return write.fail({WriteErrorKind::busy, "bus too busy: write not started in time"});
+    co_return write.fail(*this, {WriteErrorKind::busy, "bus too busy: write not started in time"});
   }
   // Its poll may have found it offline while the write waited.
   if (not_answering(write.sensor())) {
     line.finish();
     ++stats_.writes_offline;
-    co_return write.fail(unanswered);
+    co_return write.fail(*this, unanswered);
   }
   WriteResult result = co_await write.run(line, *this, stats_.writes);
   line.finish();
@@ -336,8 +337,10 @@ asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
 // Commissioning commands moving a sensor.
 
 std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std::uint32_t to,
-                                                        std::string_view by) {
+                                                        const WriteOrigin& by) {
   Polled* polled = find_polled(from);
+  record_command(by, polled ? polled->sensor.get() : nullptr, from, "address",
+                 std::to_string(from), std::to_string(to), "ack");
   if (polled == nullptr) return std::nullopt;
   polled->sensor->driver->follow_address(to);
   polled->sensor->publish();
@@ -345,24 +348,50 @@ std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std:
   polled->schedule = PollSchedule{SteadyClock::now()};
   polled->held_until.reset();
   reschedule(*polled);
-  spdlog::info("{}: sensor \"{}\" moved from address {} to {} by {}", name_,
-               polled->sensor->config.name, from, to, by);
+  spdlog::info("{}: sensor \"{}\" moved from address {} to {} by a commissioning command of {}",
+               name_, polled->sensor->config.name, from, to, by.who);
   return polled->sensor->config.name;
 }
 
 std::optional<std::string> BusScheduler::note_setting(std::uint32_t address, WriteTarget setting,
-                                                      double value, std::string_view by) {
+                                                      double value, const std::string& result,
+                                                      const WriteOrigin& by) {
   Polled* polled = find_polled(address);
+  // As a follow records a move: "address".
+  std::string name = setting == WriteTarget::bus_address ? "address"
+                                                         : fmt::format("setting {}", setting.id);
+  if (polled != nullptr && polled->sensor->model != nullptr && setting != WriteTarget::bus_address)
+    for (const SettingDescriptor& known : polled->sensor->model->settings)
+      if (known.id == setting) name = known.name;
+  std::string old_value;
+  if (polled != nullptr)
+    if (auto known = polled->sensor->driver->state().settings.get(setting))
+      old_value = fmt::format("{}", *known);
+  record_command(by, polled ? polled->sensor.get() : nullptr, address, name,
+                 std::move(old_value), fmt::format("{}", value), result);
   if (polled == nullptr) return std::nullopt;
   GatewaySensor& sensor = *polled->sensor;
+  if (result != "ack") return sensor.config.name;
   sensor.driver->note_acknowledged(setting, value);
   sensor.publish();
-  std::string name = fmt::format("setting {}", setting.id);
-  if (sensor.model != nullptr)
-    for (const SettingDescriptor& known : sensor.model->settings)
-      if (known.id == setting) name = known.name;
-  spdlog::info("{}: sensor \"{}\": {} = {} set by {}", name_, sensor.config.name, name, value, by);
+  spdlog::info("{}: sensor \"{}\": {} = {} set by a commissioning command of {}", name_,
+               sensor.config.name, name, value, by.who);
   return sensor.config.name;
+}
+
+void BusScheduler::record_command(const WriteOrigin& by, const GatewaySensor* sensor,
+                                  std::uint32_t address, std::string setting,
+                                  std::string old_value, std::string new_value,
+                                  std::string result) const {
+  if (audit_ == nullptr) return;
+  AuditRecord record;
+  record.origin = by;
+  record.sensor = name_ + "/" + (sensor ? sensor->config.name : std::to_string(address));
+  record.setting = std::move(setting);
+  record.old_value = std::move(old_value);
+  record.new_value = std::move(new_value);
+  record.result = std::move(result);
+  audit_->record(std::move(record));
 }
 
 std::optional<std::string> BusScheduler::hold(std::uint32_t address,

@@ -20,6 +20,7 @@
 #include <string_view>
 #include <vector>
 
+#include "audit/audit_record.h"
 #include "driver/forwarded_exchange.h"
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
@@ -31,6 +32,8 @@
 #include "gateway/shared_line.h"
 
 namespace tiltgate {
+
+class AuditTrail;
 
 struct BusSchedulerStats {
   std::uint64_t polls = 0;
@@ -82,6 +85,11 @@ class BusScheduler {
   // line's own stop() cancels it). Its sensors are let go.
   void stop();
 
+  // Where the writes it carries out are recorded (gateway/sensor_write.h); none until given
+  // (a scheduler tested on its own).
+  void set_audit(AuditTrail& trail) { audit_ = &trail; }
+  AuditTrail* audit() const { return audit_; }
+
   // Checks `write` (a refusal is answered at once, before anything is queued) and refuses a
   // write to a sensor known not to answer, or whose poll waits to retry after it did not
   // answer (0x0B at once: nothing is sent), then waits for the line and carries it out: all its settings, one after another. No attempt is sent that
@@ -120,20 +128,23 @@ class BusScheduler {
 
   // A commissioning command moved the sensor at bus address `from` to `to`: the sensor polled
   // at `from` follows it. Returns its name, or none when no sensor of this bus was at `from`.
-  // `by` names who moved it in the log line ("a commissioning command of user root ...").
+  // `by` is who moved it, named in the log line and in the audit trail (setting "address").
   std::optional<std::string> follow_address(std::uint32_t from, std::uint32_t to,
-                                            std::string_view by);
+                                            const WriteOrigin& by);
   // A commissioning command is about to move the sensor at `address`: it is not polled until
   // follow_address() or release(), or until `until` (a poll at its old address while it moves
   // would fail). A poll already on the wire finishes first: the command's next transaction
   // waits for its turn. Returns its name, or none when no sensor of this bus is there.
   std::optional<std::string> hold(std::uint32_t address, SteadyClock::time_point until);
   void release(std::uint32_t address);
-  // A commissioning command changed a setting of the sensor at `address` and the sensor
-  // acknowledged it: its settings record follows (SensorDriver::note_acknowledged), and the
-  // snapshot is published. Returns its name, or none when no sensor of this bus is there.
+  // A commissioning command changed a setting of the sensor at `address`, with `result` as
+  // the audit trail words it ("ack", "nak 0x03", "timeout"), recorded there with `by`. An
+  // acknowledged one: the sensor's settings record follows (SensorDriver::note_acknowledged),
+  // and the snapshot is published. Returns its name, or none when no sensor of this bus is
+  // there (the change is still recorded, as the device at that address's).
   std::optional<std::string> note_setting(std::uint32_t address, WriteTarget setting,
-                                          double value, std::string_view by);
+                                          double value, const std::string& result,
+                                          const WriteOrigin& by);
 
   const std::string& name() const { return name_; }
   BusSchedulerStats stats() const;
@@ -177,6 +188,11 @@ class BusScheduler {
   // Its poller waits for the poll at its (new) due time.
   void reschedule(Polled& polled);
   Polled* find_polled(std::uint32_t address);
+  // A commissioning command's change, in the audit trail: the sensor's ("bus/sensor"), or
+  // the device's at `address` ("bus/223") when no configured sensor is there.
+  void record_command(const WriteOrigin& by, const GatewaySensor* sensor, std::uint32_t address,
+                      std::string setting, std::string old_value, std::string new_value,
+                      std::string result) const;
   // Known offline, or its poll waits to retry after an attempt it did not answer.
   bool not_answering(const GatewaySensor& sensor) const;
 
@@ -191,6 +207,7 @@ class BusScheduler {
 
   SharedLine line_;
   std::string name_;
+  AuditTrail* audit_ = nullptr;
   std::vector<std::shared_ptr<Polled>> sensors_;
   ForwardFactory make_forward_ = nullptr;
   std::size_t max_queued_forwards_ = kMaxQueuedForwards;

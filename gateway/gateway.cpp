@@ -78,12 +78,18 @@ Gateway::~Gateway() {
 
 void Gateway::attach(GatewayService& service) { services_.push_back(&service); }
 
+void Gateway::set_audit(AuditTrail& trail) {
+  audit_ = &trail;
+  for (const auto& bus : buses_) bus->scheduler->set_audit(trail);
+}
+
 std::shared_ptr<Gateway::Bus> Gateway::make_bus(const BusConfig& config) {
   auto bus = std::make_shared<Bus>();
   SerialLineOptions options = serial_options_from(families_, config);
   options.exclusive = true;
   bus->line = std::make_unique<SerialLine>(io_.get_executor(), options);
   bus->scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus->line, config.name);
+  bus->scheduler->set_audit(*audit_);
   pass_through(config, bus, true);
   return bus;
 }
@@ -300,6 +306,7 @@ void Gateway::record_counters(SteadyClock::time_point now) {
 
 GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   GatewayStatus status;
+  status.audit = audit_->counts();
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
     status.sensors.push_back(sensor_status(*sensors_[i], now));
     status.sensors.back().polls_per_s = rounded(sensor_rates_.rate(2 * i), 100);

@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "audit/audit_trail.h"
 #include "config/config.h"
 #include "driver/expected.h"
 #include "gateway/bus_scheduler.h"
@@ -49,6 +50,11 @@ class Gateway {
   // carried out and answered; a removed or changed bus is closed once its queued writes are
   // done. Then every attached service reloads. Logs one summary line.
   void reload(const Config& loaded);
+
+  // The audit trail the buses' writes and the services record into (audit/audit_trail.h): the
+  // composition root's, given before start(); until then the gateway's own, in memory.
+  void set_audit(AuditTrail& trail);
+  AuditTrail& audit() const { return *audit_; }
 
   // The configuration served now, and when it was loaded (start-up or the last reload), local
   // time.
@@ -111,6 +117,9 @@ class Gateway {
   boost::asio::io_context& io_;
   FamilyList families_;
   Config config_;
+  // Before the buses: their schedulers refer to the trail.
+  AuditTrail own_audit_{""};
+  AuditTrail* audit_ = &own_audit_;
   std::vector<std::shared_ptr<Bus>> buses_;  // buses_[i] serves config_.buses[i]
   // Buses a reload removed or changed, closed once their queued writes were done, until
   // nothing else holds them (free_unused_buses()).

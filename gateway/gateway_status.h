@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "audit/audit_counts.h"
 #include "modbus_tcp/modbus_request_counts.h"
 
 namespace tiltgate {
@@ -138,6 +139,7 @@ struct GatewayStatus {
   std::optional<MqttStats> mqtt;      // none without [mqtt]
   std::optional<SparkplugStats> sparkplug;  // none without [sparkplug]
   std::vector<StoreStats> stores;     // the feeds' stores on disk
+  AuditCounts audit;                  // the audit trail's records since start
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
   // Descriptors open now and the limit of them (gateway/process_descriptors.h); none without
   // /proc.

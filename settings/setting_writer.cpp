@@ -56,9 +56,7 @@ boost::asio::awaitable<SettingOutcome> SettingWriter::write(std::string sensor_n
   const std::shared_ptr<BusScheduler> bus = sensor->bus;
   if (bus == nullptr) co_return refused("no bus polls the sensor", old_value);
   const auto deadline = SteadyClock::now() + server.write_timeout;
-  WriteOrigin write_origin = std::move(origin);  // passed to SensorWrite once it takes it
-  (void)write_origin;
-  SensorWrite job(std::move(sensor), std::move(*plan));  // named: see BusScheduler::write()
+  SensorWrite job(std::move(sensor), std::move(*plan), std::move(origin));  // named: see BusScheduler::write()
   // What the bus refuses before queueing (another device at the address, an address another
   // sensor has, a value the driver does not take) is never sent: refused, not a NAK. (The
   // bus's write admits it again: the second look finds the same, and logs nothing new.)

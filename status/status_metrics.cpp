@@ -322,6 +322,13 @@ std::string metrics_text(const GatewayStatus& status) {
       out.single(single.name, single.type, single.help, single.value(*status.mqtt));
   if (status.sparkplug) add_sparkplug_families(out, *status.sparkplug);
   add_store_families(out, status.stores);
+  out.family("tiltgate_audit_records_total", "counter",
+             "Changes recorded in the audit trail since start, by door (modbus, sparkplug, "
+             "control socket, console) and result: ack, nak, timeout, refused, error, ok");
+  for (const AuditCount& count : status.audit)
+    out.sample(fmt::format("door=\"{}\",result=\"{}\"", metrics_label_value(count.door),
+                           metrics_label_value(count.result)),
+               double(count.records));
   out.single("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds",
              status.process_start_seconds);

@@ -2,6 +2,7 @@
 // line and parses back to itself; anything else is refused with a message, never guessed at.
 #include <doctest/doctest.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,7 @@ TEST_CASE("control: hello keeps a port path whole, follow carries both addresses
 }
 
 TEST_CASE("control: a setting the sensor acknowledged carries its address, id and value") {
-  CHECK(format(CommandMessage{SettingChanged{223, 1, -0.25}}) == "setting 223 1 -0.25");
+  CHECK(format(CommandMessage{SettingChanged{223, 1, -0.25, std::nullopt, false}}) == "setting 223 1 -0.25");
   auto changed = parse_command("setting 223 1 -0.25");
   REQUIRE(changed);
   CHECK(std::get<SettingChanged>(*changed).address == 223);
@@ -57,6 +58,35 @@ TEST_CASE("control: a setting the sensor acknowledged carries its address, id an
   CHECK_FALSE(parse_command("setting 223 300 2"));  // no such id
   CHECK_FALSE(parse_command("setting 223 0 nan"));
   CHECK_FALSE(parse_command("setting 223 0"));
+}
+
+TEST_CASE("control: a setting the sensor refused or left unanswered says so, and `as` names someone") {
+  SettingChanged refused{223, 0, 2, std::nullopt, false};
+  refused.nak = 3;
+  CHECK(format(CommandMessage{refused}) == "setting 223 0 2 nak 3");
+  SettingChanged unanswered{223, 0, 2, std::nullopt, false};
+  unanswered.timeout = true;
+  CHECK(format(CommandMessage{unanswered}) == "setting 223 0 2 timeout");
+  auto nak = parse_command("setting 223 0 2 nak 3");
+  REQUIRE(nak);
+  CHECK(std::get<SettingChanged>(*nak).nak == std::optional<std::uint8_t>(3));
+  CHECK_FALSE(std::get<SettingChanged>(*nak).timeout);
+  auto timeout = parse_command("setting 223 0 2 timeout");
+  REQUIRE(timeout);
+  CHECK(std::get<SettingChanged>(*timeout).timeout);
+  CHECK_FALSE(std::get<SettingChanged>(*timeout).nak.has_value());
+  auto ack = parse_command("setting 223 0 2");
+  REQUIRE(ack);
+  CHECK_FALSE(std::get<SettingChanged>(*ack).nak.has_value());
+  CHECK_FALSE(std::get<SettingChanged>(*ack).timeout);
+  CHECK_FALSE(parse_command("setting 223 0 2 nak"));
+  CHECK_FALSE(parse_command("setting 223 0 2 nak 300"));
+  CHECK_FALSE(parse_command("setting 223 0 2 late"));
+  CHECK(format(CommandMessage{ActingFor{"console user alice"}}) == "as console user alice");
+  auto as = parse_command("as console user alice");
+  REQUIRE(as);
+  CHECK(std::get<ActingFor>(*as).who == "console user alice");
+  CHECK_FALSE(parse_command("as"));
 }
 
 TEST_CASE("control: the gateway's end of a transaction carries its outcome, timing and generation") {

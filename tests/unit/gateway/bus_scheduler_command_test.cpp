@@ -14,6 +14,8 @@ using namespace tiltgate;
 using namespace tiltgate::test;
 using namespace std::chrono_literals;
 
+const WriteOrigin kTestOrigin{"control socket", "a test"};
+
 TEST_CASE("a command's transaction is sent as given and its framer sees the reply") {
   std::optional<CommandExchangeResult> result;
   SchedulerBench bus;
@@ -87,11 +89,11 @@ TEST_CASE("a sensor a command moved is followed to its new address and polled th
   bus.add("b", 5, 10s);
   bus.start();
   REQUIRE(run_until(bus.io, [&] { return a.polls == 1; }));
-  CHECK(bus.scheduler.follow_address(223, 7, "a test") == std::optional<std::string>("a"));
+  CHECK(bus.scheduler.follow_address(223, 7, kTestOrigin) == std::optional<std::string>("a"));
   CHECK(a.state().bus_address == 7);
   REQUIRE(run_until(bus.io, [&] { return a.polls == 2; }));  // not after its 10 s period
-  CHECK_FALSE(bus.scheduler.follow_address(223, 8, "a test").has_value());  // nobody is at 223 now
-  CHECK(bus.scheduler.follow_address(5, 6, "a test") == std::optional<std::string>("b"));
+  CHECK_FALSE(bus.scheduler.follow_address(223, 8, kTestOrigin).has_value());  // none at 223 now
+  CHECK(bus.scheduler.follow_address(5, 6, kTestOrigin) == std::optional<std::string>("b"));
 }
 
 TEST_CASE("a sensor a command is moving is not polled until it is followed, released or the hold ends") {
@@ -104,7 +106,7 @@ TEST_CASE("a sensor a command is moving is not polled until it is followed, rele
   bus.io.restart();
   bus.io.run_for(200ms);  // ten poll periods
   CHECK(a.polls <= held_at + 1);  // at most the poll already under way
-  CHECK(bus.scheduler.follow_address(223, 7, "a test").has_value());
+  CHECK(bus.scheduler.follow_address(223, 7, kTestOrigin).has_value());
   REQUIRE(run_until(bus.io, [&] { return a.polls >= held_at + 3; }));
 
   // Released by the command, or by the hold's own end.

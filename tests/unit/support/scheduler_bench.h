@@ -31,7 +31,7 @@ inline SensorWrite planned_write(GatewaySensor& sensor, WriteTarget target, doub
   std::vector<PlannedWrite> plan{{point, value, {std::uint16_t(value)}}};
   // An empty owner: the bench keeps the sensor alive.
   return SensorWrite(std::shared_ptr<GatewaySensor>(std::shared_ptr<GatewaySensor>(), &sensor),
-                     std::move(plan));
+                     std::move(plan), WriteOrigin{"modbus", "the bench"});
 }
 
 struct SchedulerBench {

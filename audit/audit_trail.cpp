@@ -1,0 +1,151 @@
+#include "audit/audit_trail.h"
+
+#include <chrono>
+#include <spdlog/spdlog.h>
+
+#include "audit/audit_json.h"
+#include "audit/audit_text.h"
+#include "store/record_reader.h"
+
+namespace tiltgate {
+
+namespace {
+
+// The store's topic for an audit record: another kind of record in the folder is not one.
+constexpr const char* kAuditTopic = "audit";
+
+std::optional<AuditRecord> from_stored(const store::Record& stored) {
+  if (stored.topic != kAuditTopic) return std::nullopt;
+  return audit_record_from_json(
+      std::string_view(reinterpret_cast<const char*>(stored.payload.data()), stored.payload.size()));
+}
+
+store::Record to_stored(const AuditRecord& record) {
+  const std::string json = audit_record_json(record);
+  return {kAuditTopic, std::vector<std::uint8_t>(json.begin(), json.end()), record.unix_ms, 0};
+}
+
+std::int64_t now_unix_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+std::string audit_folder(const std::string& state_dir) {
+  return (std::filesystem::path(state_dir) / "audit").string();
+}
+
+AuditTrail::AuditTrail(std::string state_dir, std::size_t max_records)
+    : max_records_(max_records == 0 ? 1 : max_records) {
+  if (!state_dir.empty()) open(state_dir);
+}
+
+void AuditTrail::open(const std::string& state_dir) {
+  const std::lock_guard lock(mutex_);
+  if (store_ || state_dir.empty()) return;
+  const std::string folder = audit_folder(state_dir);
+  auto opened = store::RecordStore::open(
+      folder, {.budget_bytes = kAuditStoreBytes, .segment_bytes = kAuditSegmentBytes,
+               .sync_every = 1});
+  if (!opened) {
+    spdlog::error("audit: cannot keep the trail in {}: {}; it is kept in memory only", folder,
+                  opened.error());
+    return;
+  }
+  for (const std::string& repair : opened->repairs()) spdlog::warn("audit: {}", repair);
+  auto found = opened->peek(opened->records());
+  if (!found) {
+    spdlog::error("audit: cannot read the trail in {}: {}; it is kept in memory only", folder,
+                  found.error());
+    return;
+  }
+  store_.emplace(std::move(*opened));
+  std::deque<AuditRecord> meanwhile = std::move(records_);
+  records_.clear();
+  for (const store::Record& stored : *found)
+    if (auto record = from_stored(stored)) keep(std::move(*record));
+  for (AuditRecord& record : meanwhile) {
+    store_record(record);
+    keep(std::move(record));
+  }
+  log_store_notices();
+  spdlog::info("audit: the trail is kept in {} ({} records)", folder, records_.size());
+}
+
+void AuditTrail::record(AuditRecord record) {
+  if (record.unix_ms == 0) record.unix_ms = now_unix_ms();
+  spdlog::info("audit: {}", audit_text(record));
+  const std::lock_guard lock(mutex_);
+  ++counts_[{record.origin.door, std::string(audit_result_class(record.result))}];
+  if (store_) {
+    store_record(record);
+    log_store_notices();
+  }
+  keep(std::move(record));
+}
+
+void AuditTrail::keep(AuditRecord record) {
+  records_.push_back(std::move(record));
+  while (records_.size() > max_records_) records_.pop_front();
+}
+
+void AuditTrail::store_record(const AuditRecord& record) {
+  if (auto appended = store_->append(to_stored(record)); !appended)
+    spdlog::error("audit: record not kept on disk: {}", appended.error());
+}
+
+void AuditTrail::log_store_notices() {
+  for (const store::StoreNotice& notice : store_->take_notices()) {
+    if (notice.problem)
+      spdlog::error("audit: {}", notice.text);
+    else
+      spdlog::info("audit: {}", notice.text);
+  }
+}
+
+std::vector<AuditRecord> AuditTrail::recent(const Filter& filter) const {
+  const std::lock_guard lock(mutex_);
+  return select_audit(records_, filter);
+}
+
+AuditCounts AuditTrail::counts() const {
+  const std::lock_guard lock(mutex_);
+  AuditCounts counts;
+  for (const auto& [key, n] : counts_) counts.push_back({key.first, key.second, n});
+  return counts;
+}
+
+std::string AuditTrail::folder() const {
+  const std::lock_guard lock(mutex_);
+  return store_ ? store_->directory().string() : std::string();
+}
+
+std::vector<AuditRecord> select_audit(const std::deque<AuditRecord>& all,
+                                      const AuditTrail::Filter& filter) {
+  const auto matches = [&](const AuditRecord& r) {
+    return (filter.door.empty() || r.origin.door == filter.door) &&
+           (filter.sensor.empty() || r.sensor == filter.sensor) &&
+           (filter.setting.empty() || r.setting == filter.setting) &&
+           (filter.who.empty() || r.origin.who.find(filter.who) != std::string::npos) &&
+           r.unix_ms >= filter.since_ms;
+  };
+  std::vector<AuditRecord> selected;
+  for (auto it = all.rbegin(); it != all.rend(); ++it) {
+    if (filter.limit != 0 && selected.size() >= filter.limit) break;
+    if (matches(*it)) selected.push_back(*it);
+  }
+  return selected;
+}
+
+Expected<std::vector<AuditRecord>, std::string> read_audit_folder(const std::string& folder) {
+  auto stored = store::read_records(folder);
+  if (!stored) return Unexpected(stored.error());
+  std::vector<AuditRecord> records;
+  for (const store::Record& record : *stored)
+    if (auto audit = from_stored(record)) records.push_back(std::move(*audit));
+  return records;
+}
+
+}  // namespace tiltgate
