@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "accounts/user_command.h"
 #include "app/config_commands.h"
 #include "app/demo_commands.h"
 #include "app/journal_log.h"
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
       tiltgate::add_set(app, families, commands),
       tiltgate::add_raw(app, families, commands),
       tiltgate::add_sim(app, commands),
+      tiltgate::add_user(app),
   };
 
   try {
