@@ -162,6 +162,7 @@ complete_line() {  # WORDS...: what completing the last word offers
 check "completion: commands" test "$(complete_line tiltgate ch)" = check
 check "completion: a command's options" test "$(complete_line tiltgate run --con)" = --config
 check "completion: nested commands" test "$(complete_line tiltgate sim rie)" = rieker
+check "completion: the user command's actions" test "$(complete_line tiltgate user pa)" = passwd
 check "completion: options after an option's value" \
   test "$(complete_line tiltgate map --config x.toml --for)" = --format
 
