@@ -18,8 +18,8 @@ using namespace tiltgate;
 
 namespace {
 
-constexpr const char* kOldFile =
-    "# the old file\nalice:admin:$argon2id$v=19$m=19456,t=3,p=1$BDKsJoVMct6NfHxHnSrb6A$"
+const std::string kOldFile =
+    "alice:admin:$argon2id$v=19$m=19456,t=3,p=1$BDKsJoVMct6NfHxHnSrb6A$"
     "F+4ckCt+viMFhnJTTU6+C2n6H+Xw6wU7Mfjgq333NU0\n";
 
 std::string read_file(const std::filesystem::path& path) {
@@ -34,13 +34,21 @@ std::size_t files_in(const std::filesystem::path& folder) {
                                                 std::filesystem::directory_iterator()));
 }
 
-// A users file with a new account, saved over kOldFile at `path`: refused, the old file whole.
-void check_save_refused_and_old_file_kept(const std::filesystem::path& path) {
-  auto file = UsersFile::parse(kOldFile, path.string());
+// A users file of 60 accounts (7 KiB, more than the old file's page a truncation would free),
+// with kOldFile's hash, so it costs no hashing.
+UsersFile many_accounts() {
+  std::string text;
+  for (int i = 0; i < 60; ++i)
+    text += "user" + std::to_string(i) + kOldFile.substr(kOldFile.find(':'));
+  auto file = UsersFile::parse(text, "many");
   REQUIRE(file.has_value());
-  REQUIRE(file->add("bob", Role::viewer, "bob-pw").has_value());
+  return std::move(*file);
+}
+
+// many_accounts() saved over kOldFile at `path`: refused, the old file whole, nothing beside it.
+void check_save_refused_and_old_file_kept(const std::filesystem::path& path) {
   const std::size_t files_before = files_in(path.parent_path());
-  auto saved = file->save(path.string());
+  auto saved = many_accounts().save(path.string());
   REQUIRE_FALSE(saved.has_value());
   MESSAGE(saved.error());
   CHECK(read_file(path) == kOldFile);
