@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/audit_command.h"
+#include "accounts/user_command.h"
 #include "app/config_commands.h"
 #include "app/demo_commands.h"
 #include "app/journal_log.h"
@@ -65,6 +66,7 @@ int main(int argc, char** argv) {
       tiltgate::add_raw(app, families, commands),
       tiltgate::add_sim(app, commands),
       tiltgate::add_audit(app),
+      tiltgate::add_user(app),
   };
 
   try {

@@ -41,6 +41,8 @@ install(FILES ${generated}/tiltgate.toml DESTINATION /etc/tiltgate)
 # Debian 12 keeps units in /lib (merged /usr, but lintian still wants them there).
 install(FILES ${packaging}/tiltgate.service DESTINATION /lib/systemd/system)
 install(FILES ${generated}/tiltgate.1.gz DESTINATION share/man/man1)
+# Run by the postinst: the web console's self-signed certificate (docs/web-console.md).
+install(PROGRAMS ${packaging}/make-console-certificate DESTINATION libexec/tiltgate)
 install(FILES ${packaging}/tiltgate.bash-completion DESTINATION share/bash-completion/completions
         RENAME tiltgate)
 install(FILES ${packaging}/copyright ${generated}/changelog.gz ${PROJECT_SOURCE_DIR}/README.md
@@ -76,9 +78,10 @@ set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # tiltgate_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION net)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
-# The libraries' packages from dpkg-shlibdeps; adduser for the postinst.
+# The libraries' packages from dpkg-shlibdeps; adduser for the postinst, openssl (the command)
+# for the console's certificate it makes.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS adduser)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, openssl")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${packaging}/conffiles ${packaging}/postinst
     ${packaging}/prerm ${packaging}/postrm)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)

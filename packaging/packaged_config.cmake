@@ -35,4 +35,11 @@ control_socket = \"/run/tiltgate/control.sock\"  # in the service's RuntimeDirec
 replace_once("writes = false              # false: every write is refused with exception 0x01\n"
 "writes = false              # packaged: off until edited; false: every write is refused with exception 0x01
 ")
+replace_once("# allow = [\"127.0.0.1\", \"10.0.0.0/8\"]     # who may connect; default: [server] allow\n"
+"# allow = [\"127.0.0.1\", \"10.0.0.0/8\"]     # who may connect; default: [server] allow
+# The web console over HTTPS: the package made a self-signed certificate for this machine
+# (replace both files with the plant's own if it has one; docs/web-console.md).
+# tls_cert_file = \"/etc/tiltgate/console.crt\"
+# tls_key_file = \"/etc/tiltgate/console.key\"
+")
 file(WRITE ${OUTPUT} "${text}")

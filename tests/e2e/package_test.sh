@@ -6,7 +6,8 @@
 # the README's links resolving in the installed tree), a stripped binary, lintian without
 # errors, the service unit through systemd-analyze verify and security (exposure at most 2.5),
 # the packaged binary's `check` on the packaged configuration (loopback, writes off, the
-# configuration reference named where it is installed), and the bash completion.
+# configuration reference named where it is installed), the web console's certificate the
+# postinst makes (its script run on a folder of the test's), and the bash completion.
 # A missing tool fails the test: scripts/setup installs them all.
 set -u
 tiltgate=${1:?usage: package_test.sh path/to/build/tiltgate}
@@ -38,7 +39,8 @@ for file in ./usr/bin/tiltgate ./etc/tiltgate/tiltgate.toml ./lib/systemd/system
             ./usr/share/doc/tiltgate/README.md ./usr/share/doc/tiltgate/docs/configuration.md \
             ./usr/share/doc/tiltgate/examples/tiltgate.toml \
             ./usr/share/doc/tiltgate/examples/maps/cdab-floats.toml \
-            ./usr/share/doc/tiltgate/examples/devices/rtu-inclinometer.toml; do
+            ./usr/share/doc/tiltgate/examples/devices/rtu-inclinometer.toml \
+            ./usr/libexec/tiltgate/make-console-certificate; do
   check "the package holds $file" grep -qx -- "$file" <<<"$contents"
 done
 # The manual: every page of docs/ and every image, under docs/ beside the README.
@@ -53,8 +55,9 @@ check "Package: tiltgate" test "$(field Package)" = tiltgate
 check "Version: the CMake project's ($version)" test "$(field Version)" = "$version"
 depends=$(field Depends)
 echo "Depends: $depends"
-# Computed from the binary's libraries, with adduser for the postinst.
-for package in adduser libc6 libstdc++6 libsystemd0 libmosquitto1 libssl3 libtomlplusplus3; do
+# Computed from the binary's libraries, with adduser and openssl for the postinst.
+for package in adduser openssl libc6 libstdc++6 libsodium23 libsystemd0 libmosquitto1 libssl3 \
+               libtomlplusplus3; do
   check "Depends names $package" grep -q "\b$package\b" <<<"$depends"
 done
 check "the configuration is a conffile" \
@@ -87,6 +90,35 @@ check "the installed README links to the manual's pages" test -n "$links"
 for link in $links; do
   check "the installed README's link to $link resolves" test -f "$doc/$link"
 done
+
+# The web console's certificate: the postinst runs the packaged script on /etc/tiltgate with
+# group tiltgate; here on a folder of the test's, with a group other than root's when root.
+postinst=$(dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./postinst)
+check "the postinst makes the console's certificate" \
+  grep -q '^ */usr/libexec/tiltgate/make-console-certificate /etc/tiltgate tiltgate$' <<<"$postinst"
+make_certificate=$root/usr/libexec/tiltgate/make-console-certificate
+certs=$dir/etc-tiltgate
+mkdir -p "$certs"
+key_group=$(id -gn)
+[ "$(id -u)" = 0 ] && key_group=nogroup
+check "the certificate script runs" "$make_certificate" "$certs" "$key_group"
+check "it makes a certificate valid for ten years" \
+  openssl x509 -in "$certs/console.crt" -noout -checkend $((3649 * 86400))
+check "the certificate names localhost" \
+  bash -c "openssl x509 -in '$certs/console.crt' -noout -ext subjectAltName | grep -q 'DNS:localhost'"
+check "the key is the certificate's" test "$(openssl pkey -in "$certs/console.key" -pubout)" = \
+  "$(openssl x509 -in "$certs/console.crt" -noout -pubkey)"
+check "the key is mode 0640, group $key_group" test "$(stat -c %a:%G "$certs/console.key")" = "640:$key_group"
+check "nothing else is left in the folder" test "$(ls -A "$certs" | tr '\n' ' ')" = "console.crt console.key "
+before=$(cat "$certs/console.crt" "$certs/console.key" | sha256sum)
+check "a second run keeps the certificate and key there" "$make_certificate" "$certs" "$key_group"
+check "  unchanged" test "$(cat "$certs/console.crt" "$certs/console.key" | sha256sum)" = "$before"
+rm "$certs/console.crt"
+check "a run with only a key there (the plant's own) makes nothing" \
+  "$make_certificate" "$certs" "$key_group"
+check "  beside it" test ! -e "$certs/console.crt"
+check "the packaged configuration names the console's certificate" \
+  grep -q '^# tls_cert_file = "/etc/tiltgate/console.crt"' "$config"
 
 # lintian: no error (E:) is allowed; warnings are shown (docs/development.md, "The Debian
 # package", lists the ones left and why).
@@ -130,6 +162,7 @@ complete_line() {  # WORDS...: what completing the last word offers
 check "completion: commands" test "$(complete_line tiltgate ch)" = check
 check "completion: a command's options" test "$(complete_line tiltgate run --con)" = --config
 check "completion: nested commands" test "$(complete_line tiltgate sim rie)" = rieker
+check "completion: the user command's actions" test "$(complete_line tiltgate user pa)" = passwd
 check "completion: options after an option's value" \
   test "$(complete_line tiltgate map --config x.toml --for)" = --format
 
