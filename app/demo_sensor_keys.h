@@ -8,6 +8,7 @@
 
 #include "driver/expected.h"
 #include "driver/family.h"
+#include "driver/family_commands.h"  // DemoSensor
 
 namespace tiltgate {
 
