@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "audit/audit_record.h"
 #include "driver/expected.h"
 
 namespace tiltgate {
@@ -51,6 +52,7 @@ struct ModbusRequest {
   std::uint8_t read_device_id_code = 0;
   std::uint8_t object_id = 0;
   std::vector<std::uint8_t> adu;         // the whole checked frame, MBAP header included
+  WriteOrigin origin;  // writes only: who sent it (the connection fills it in)
 };
 
 struct ModbusResponse {
