@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "config/address_allow_list.h"
+#include "config/tls_role_access.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
 #include "mapping/map_definition.h"
@@ -43,6 +44,7 @@ struct ServerConfig {
   int threads = 0;                         // threads serving Modbus TCP connections; 0: one per core
   bool plain_tcp = true;                   // false: Modbus over TLS only (needs tls)
   std::optional<ServerTlsConfig> tls;      // Modbus/TCP Security beside or instead of plain TCP
+  TlsRoleAccess tls_roles;                 // tls_role_access, tls_no_role_access: a TLS client's rights
   WordOrder word_order = WordOrder::big;
   bool writes = false;                     // every write is refused with 0x01 unless true
   AddressAllowList allow;                  // who may connect (default: everyone)

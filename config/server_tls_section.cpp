@@ -1,6 +1,7 @@
 // [server] tls = { cert, key, ca, port } and plain_tcp: Modbus/TCP Security's files are read
 // here, when the configuration loads, so a missing or unreadable one is reported with the
-// file's line like any other mistake, and the server gets their contents.
+// file's line like any other mistake, and the server gets their contents. tls_role_access and
+// tls_no_role_access: its authorization step, a certificate's role to read-only or read-write.
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -39,6 +40,37 @@ bool read_pem(TableReader& in, std::string_view key, const ErrorList& errors, st
   return true;
 }
 
+constexpr std::string_view kReadOnly = "read-only";
+constexpr std::string_view kReadWrite = "read-write";
+
+ClientAccess access_named(std::string_view name) {
+  return name == kReadOnly ? ClientAccess::read_only : ClientAccess::read_write;
+}
+
+// tls_role_access = { engineer = "read-write", operator = "read-only" } and
+// tls_no_role_access = "read-write"; both only with tls, where certificates are.
+void read_role_access(TableReader& in, ServerConfig& server, ErrorList& errors) {
+  if (auto access = in.choice("tls_no_role_access", {kReadOnly, kReadWrite}))
+    server.tls_roles.no_role = access_named(*access);
+  if (const toml::table* table = in.table("tls_role_access")) {
+    TableReader roles(*table, in.located().key_path("tls_role_access"), errors);
+    for (const auto& [key, value] : *table) {
+      const std::string role(key.str());
+      if (role.empty()) {
+        roles.error(role, "an empty role name: a certificate's role extension names one");
+        continue;
+      }
+      if (auto access = roles.choice(role, {kReadOnly, kReadWrite}))
+        server.tls_roles.roles[role] = access_named(*access);
+    }
+  }
+  for (const std::string_view key : {"tls_role_access", "tls_no_role_access"}) {
+    if (in.has(key) && !in.has("tls"))
+      in.error(key, "without [server] tls no client shows a certificate to take a role from: "
+                    "add tls = { cert, key, ca } or leave it out");
+  }
+}
+
 }  // namespace
 
 void read_server_tls(TableReader& in, ServerConfig& server, ErrorList& errors) {
@@ -58,6 +90,7 @@ void read_server_tls(TableReader& in, ServerConfig& server, ErrorList& errors) {
     else if (ok)
       server.tls = std::move(tls);
   }
+  read_role_access(in, server, errors);
   if (!server.plain_tcp && !in.has("tls"))
     in.error("plain_tcp", "false without [server] tls would serve nothing: add tls = { cert, key, "
                           "ca } or leave plain_tcp out");

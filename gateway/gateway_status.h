@@ -130,7 +130,8 @@ struct GatewayStatus {
   std::uint64_t modbus_connections_refused = 0;  // closed at once: a limit reached, none idle
   std::uint64_t modbus_connections_replaced = 0;  // idle ones closed to make room for a new one
   std::uint64_t modbus_connections_denied = 0;    // closed at accept: not in [server] allow
-  std::uint64_t modbus_writes_denied = 0;         // answered 0x01: not in [server] write_allow
+  std::uint64_t modbus_writes_denied = 0;         // answered 0x01: not in [server] write_allow,
+                                                  // or a TLS client's role may only read
   std::uint64_t http_connections_denied = 0;      // closed at accept: not in [http] allow
   HttpClientsClosed http_clients_closed;
   std::uint64_t modbus_tls_refused = 0;           // TLS handshakes failed (certificate, version)

@@ -21,6 +21,7 @@ ModbusServerOptions modbus_server_options(const ServerConfig& server) {
   options.max_clients_per_host = server.max_clients_per_host;
   options.allow = server.allow;
   options.write_allow = server.write_allow;
+  options.tls_roles = server.tls_roles;
   options.plain_tcp = server.plain_tcp;
   if (const auto& tls = server.tls)
     options.tls = ModbusTlsOptions{tls->cert_pem, tls->key_pem, tls->ca_pem,

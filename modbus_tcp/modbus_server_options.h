@@ -12,6 +12,7 @@
 #include <string>
 
 #include "config/address_allow_list.h"
+#include "config/tls_role_access.h"
 #include "modbus_tcp/log_throttle.h"
 #include "modbus_tcp/modbus_stream.h"
 
@@ -39,6 +40,8 @@ struct ModbusServerOptions {
   std::chrono::milliseconds handler_timeout{15000};
   AddressAllowList allow;        // other clients are closed at accept
   AddressAllowList write_allow;  // other clients' writes (any function but a read) get 0x01
+  // A TLS client's writes get 0x01 too when its certificate's role may only read.
+  TlsRoleAccess tls_roles;
   LogThrottleOptions problem_log;  // clients closed for cause: a few lines per address, then counts
 };
 

@@ -12,7 +12,8 @@ struct ModbusServerStats {
   std::uint64_t refused = 0;           // connections closed at once: a limit reached, none idle
   std::uint64_t replaced = 0;          // idle connections closed to make room for a new one
   std::uint64_t denied = 0;            // connections closed at once: address not in allow
-  std::uint64_t writes_denied = 0;     // writes answered 0x01: address not in write_allow
+  std::uint64_t writes_denied = 0;     // writes answered 0x01: address not in write_allow, or a
+                                       // TLS client's role read-only
   std::uint64_t tls_refused = 0;       // TLS handshakes failed: no client certificate, one not
                                        // signed by the CA, or not TLS 1.2+
   std::uint64_t requests = 0;          // checked requests passed to the handler

@@ -72,6 +72,13 @@ StreamResult ModbusStream::handshake() {
   return done == 1 ? StreamResult{StreamStatus::ok} : tls_result(done);
 }
 
+std::optional<ClientCertificate> ModbusStream::client_certificate() const {
+  if (ssl_ == nullptr) return std::nullopt;
+  const X509* certificate = SSL_get0_peer_certificate(ssl_);
+  if (certificate == nullptr) return std::nullopt;  // none without verify_fail_if_no_peer_cert
+  return read_client_certificate(*certificate);
+}
+
 StreamResult ModbusStream::read(std::span<std::uint8_t> into) {
   if (ssl_ != nullptr) {
     ERR_clear_error();

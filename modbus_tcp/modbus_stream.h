@@ -10,10 +10,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "driver/expected.h"
+#include "modbus_tcp/client_certificate.h"
 
 namespace tiltgate {
 
@@ -47,6 +49,9 @@ class ModbusStream {
   StreamResult handshake();
   StreamResult read(std::span<std::uint8_t> into);
   StreamResult write(std::span<const std::uint8_t> bytes);
+  // TLS, once handshake() is ok: the certificate the client showed (the CA checked it). None on
+  // a plain stream.
+  std::optional<ClientCertificate> client_certificate() const;
   // What failed last (failed), for the log.
   const std::string& error() const { return error_; }
   void close();

@@ -76,6 +76,7 @@ ModbusTcpConnection::ModbusTcpConnection(int fd, SSL_CTX* tls, std::string peer,
       stream_(fd, tls),
       peer_(std::move(peer)),
       address_(std::move(address)),
+      who_(peer_),
       reader_(context.handler.reader()),
       options_(context.options) {}
 
@@ -128,7 +129,35 @@ bool ModbusTcpConnection::shake_hands() {
   }
   shaken_ = true;
   drained_ = false;  // the client's first request may have come with the handshake's end
+  take_certificate();
   return true;
+}
+
+void ModbusTcpConnection::take_certificate() {
+  auto certificate = stream_.client_certificate();
+  if (!certificate) return;
+  who_ = fmt::format("{} ({})", peer_, certificate->subject);
+  tls_role_ = std::move(certificate->role);
+  if (!tls_role_ || options_.latest().tls_roles.knows(*tls_role_)) return;
+  // Once a connection (and throttled per address with the rest): a role the plant's table
+  // lacks is a certificate or a configuration to fix, not a client to keep quiet about.
+  context_.problem_log.log_problem(
+      who_, address_,
+      fmt::format("its certificate's role \"{}\" is not in [server] tls_role_access: "
+                  "read-only{}",
+                  *tls_role_,
+                  certificate->role_problem.empty() ? "" : " (" + certificate->role_problem + ")"));
+}
+
+std::string ModbusTcpConnection::write_refusal(const ModbusServerOptions& options) const {
+  if (!options.write_allow.allows(address_)) return "address not in [server] write_allow";
+  if (stream_.is_tls() && options.tls_roles.of(tls_role_) == ClientAccess::read_only) {
+    if (!tls_role_)
+      return "its certificate has no role, and [server] tls_no_role_access is read-only";
+    return fmt::format("its certificate's role \"{}\" may only read ([server] tls_role_access)",
+                       *tls_role_);
+  }
+  return {};
 }
 
 void ModbusTcpConnection::serve() {
@@ -219,14 +248,16 @@ void ModbusTcpConnection::serve() {
 ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uint8_t> adu) {
   const std::span<const std::uint8_t> pdu = adu.subspan(mbap_header_size);
   // As with [server] writes = false, passed-through units included: 01, nothing sent anywhere.
-  if (!reads_only(pdu) && !options_.latest().write_allow.allows(address_)) {
-    ++context_.counters.writes_denied;
-    context_.problem_log.log_problem(
-        peer_, address_,
-        fmt::format("function {:02X} refused with 01: address not in [server] write_allow",
-                    adu[mbap_header_size]));
-    queue_reply(exception_reply(adu, ModbusException::illegal_function));
-    return Answer::sent;
+  if (!reads_only(pdu)) {
+    if (const std::string refusal = write_refusal(options_.latest()); !refusal.empty()) {
+      ++context_.counters.writes_denied;
+      // who_: over TLS, the certificate's subject names the client a refused role belongs to.
+      context_.problem_log.log_problem(
+          who_, address_,
+          fmt::format("function {:02X} refused with 01: {}", adu[mbap_header_size], refusal));
+      queue_reply(exception_reply(adu, ModbusException::illegal_function));
+      return Answer::sent;
+    }
   }
   // The assembler hands out whole ADUs with a valid MBAP header only, so a unit passed
   // through gets any function, unchecked: the device judges it.
@@ -248,6 +279,13 @@ ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uin
     return Answer::sent;
   }
   ++context_.counters.requests;
+  if (request_.is_write) {
+    request_.origin.door = "modbus";
+    request_.origin.who = who_;
+  } else {  // a read carries no origin (clearing keeps the capacity: no allocation)
+    request_.origin.door.clear();
+    request_.origin.who.clear();
+  }
   if (answer_at_once()) return Answer::sent;
   // Who, for the audit trail; a read leaves it as it was, so it allocates nothing.
   if (request_.is_write) {

@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -102,6 +103,11 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   void begin();
   // TLS: the handshake goes on; true once it is done.
   bool shake_hands();
+  // TLS, after the handshake: who the certificate says the client is, and its role.
+  void take_certificate();
+  // Why a write from this client is refused with 0x01 (write_allow, its certificate's role);
+  // empty: it may write.
+  std::string write_refusal(const ModbusServerOptions& options) const;
   // Reads what arrived, answers every whole request and sends the replies, until it has to
   // wait: for the socket, the client or the handler.
   void serve();
@@ -137,6 +143,12 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   ModbusStream stream_;
   const std::string peer_;
   const std::string address_;
+  // Who sends its writes, for the audit trail (WriteOrigin::who): the peer, over TLS followed
+  // by " (SUBJECT)", the certificate's subject, taken once after the handshake.
+  std::string who_;
+  // TLS: the role its certificate names (none: no role extension), for [server]
+  // tls_role_access at each write.
+  std::optional<std::string> tls_role_;
   ModbusFrameAssembler frames_;
   // Replies queued in a turn, sent together; kept, so a reply allocates nothing.
   std::vector<std::uint8_t> out_;

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "status/status_json.h"
+#include "status/json_values.h"
 
 namespace tiltgate {
 
@@ -18,26 +18,36 @@ std::string mqtt_status_topic(std::string_view prefix) { return fmt::format("{}/
 
 std::string mqtt_state_json(const SensorStatus& s, std::int64_t now_unix_ms) {
   const std::int64_t ts = s.age_ms ? now_unix_ms - *s.age_ms : now_unix_ms;
-  return fmt::format(
-      "{{\"ts\":{},\"x\":{},\"y\":{},\"tilt\":{},\"online\":{},\"stale\":{},\"age_ms\":{},"
-      "\"alarms\":{},\"wrong_device\":{}}}",
-      ts, json_number(s.x), json_number(s.y), json_number(s.tilt), s.online, s.stale,
-      s.age_ms ? std::to_string(*s.age_ms) : "null", s.alarms, s.wrong_device);
+  return json_text(Json{{"ts", ts},
+                        {"x", json_number(s.x)},
+                        {"y", json_number(s.y)},
+                        {"tilt", json_number(s.tilt)},
+                        {"online", s.online},
+                        {"stale", s.stale},
+                        {"age_ms", s.age_ms ? Json(*s.age_ms) : Json(nullptr)},
+                        {"alarms", s.alarms},
+                        {"wrong_device", s.wrong_device}});
 }
 
 std::string mqtt_historical_state_json(std::string_view state_json) {
-  if (state_json.empty() || state_json.back() != '}') return std::string(state_json);
-  state_json.remove_suffix(1);
-  return fmt::format("{},\"historical\":true}}", state_json);
+  // Our own text, read back: anything else is passed on as it is.
+  Json state = Json::parse(state_json, nullptr, false);
+  if (state.is_discarded() || !state.is_object()) return std::string(state_json);
+  state["historical"] = true;
+  return json_text(state);
 }
 
 std::string mqtt_info_json(const SensorStatus& s) {
-  return fmt::format(
-      "{{\"name\":{},\"bus\":{},\"unit_id\":{},\"address\":{},\"model\":{},\"serial\":{},"
-      "\"firmware\":{},\"configured_serial\":{}}}",
-      json_string(s.name), json_string(s.bus), s.unit_id, s.address, json_string(s.model),
-      json_string(s.serial), json_string(s.firmware),
-      s.configured_serial.empty() ? std::string("null") : json_string(s.configured_serial));
+  return json_text(Json{{"name", s.name},
+                        {"bus", s.bus},
+                        {"unit_id", s.unit_id},
+                        {"address", s.address},
+                        {"model", s.model},
+                        {"serial", s.serial},
+                        {"firmware", s.firmware},
+                        {"configured_serial", s.configured_serial.empty()
+                                                  ? Json(nullptr)
+                                                  : Json(s.configured_serial)}});
 }
 
 }  // namespace tiltgate

@@ -5,14 +5,11 @@
 #include <chrono>
 #include <optional>
 
+#include "status/json_values.h"
+
 namespace tiltgate {
 
 namespace {
-
-// fmt's shortest form that reads back the same float: 1.25, -0.003, not 1.2500000476837158.
-std::string json_angle(std::optional<float> value) {
-  return value ? fmt::format("{}", *value) : "null";
-}
 
 std::string csv_angle(std::optional<float> value) {
   return value ? fmt::format("{}", *value) : "";
@@ -32,14 +29,12 @@ std::string iso8601_utc(std::int64_t unix_ms) {
 }
 
 std::string history_json(const std::vector<AngleSample>& samples) {
-  std::string out = "[";
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    const AngleSample& s = samples[i];
-    if (i > 0) out += ",";
-    out += fmt::format("{{\"t\":{},\"x\":{},\"y\":{}}}", s.unix_ms, json_angle(s.x),
-                       json_angle(s.y));
-  }
-  return out + "]";
+  Json out = Json::array();
+  // A float's shortest form, 1.25 or -0.003, not its double expansion 1.2500000476837158.
+  for (const AngleSample& s : samples)
+    out.push_back(
+        Json{{"t", s.unix_ms}, {"x", json_float_number(s.x)}, {"y", json_float_number(s.y)}});
+  return json_text(out);
 }
 
 std::string history_csv(const std::vector<AngleSample>& samples) {

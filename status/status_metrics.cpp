@@ -153,7 +153,8 @@ const GatewaySingle kModbusSingles[] = {
      "Modbus TCP connections closed at once: the address is not in [server] allow",
      [](const GatewayStatus& g) { return double(g.modbus_connections_denied); }},
     {"tiltgate_modbus_writes_denied_total", "counter",
-     "Modbus TCP writes answered 0x01: the address is not in [server] write_allow",
+     "Modbus TCP writes answered 0x01: the address is not in [server] write_allow, or a TLS "
+     "client's certificate role may only read",
      [](const GatewayStatus& g) { return double(g.modbus_writes_denied); }},
     {"tiltgate_modbus_tls_refused_total", "counter",
      "Modbus/TCP Security connections closed in the TLS handshake: no client certificate, one "

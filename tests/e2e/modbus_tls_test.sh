@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Modbus/TCP Security end to end: a CA, the gateway's and clients' certificates made here with
 # the openssl CLI, `tiltgate run` with [server] tls on a simulated Rieker bus, and a Python
-# `ssl` client (stdlib) reading registers. A client without a certificate, or with one another
-# CA signed, is refused; plain TCP still works beside TLS, and is off with plain_tcp = false.
+# `ssl` client (stdlib) reading and writing registers. A client without a certificate, or with
+# one another CA signed, is refused; plain TCP still works beside TLS, and is off with
+# plain_tcp = false. The authorization step: a certificate's role (its RoleOID extension) is
+# read-only or read-write as [server] tls_role_access says, a role it does not name read-only,
+# and a certificate without one as tls_no_role_access says (default read-write).
 set -u
 tiltgate=${1:?usage: modbus_tls_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
@@ -26,25 +29,37 @@ make_cert() {
   openssl x509 -req -in "$dir/$1.csr" -CA "$dir/$2.pem" -CAkey "$dir/$2.key" -CAcreateserial \
     -days 2 -extfile "$dir/$1.ext" -out "$dir/$1.pem" 2>>"$dir/openssl.log"
 }
+# with_role ROLE: a client certificate's extensions with Modbus/TCP Security's role extension.
+with_role() {
+  printf 'extendedKeyUsage=clientAuth\n1.3.6.1.4.1.50316.802.1=ASN1:UTF8String:%s' "$1"
+}
 make_ca plant-ca && make_ca other-ca &&
   make_cert gateway plant-ca "subjectAltName=IP:127.0.0.1
 extendedKeyUsage=serverAuth" &&
   make_cert plc plant-ca "extendedKeyUsage=clientAuth" &&
-  make_cert intruder other-ca "extendedKeyUsage=clientAuth" ||
+  make_cert intruder other-ca "extendedKeyUsage=clientAuth" &&
+  make_cert engineer plant-ca "$(with_role engineer)" &&
+  make_cert operator plant-ca "$(with_role operator)" &&
+  make_cert visitor plant-ca "$(with_role visitor)" ||
   { echo "FAIL: openssl could not make the certificates"; cat "$dir/openssl.log"; exit 1; }
 
-# read_registers PORT [CERT]: reads input registers 0-1 of unit 1 over TLS (with the client
-# certificate CERT, or none) checking the gateway's certificate against plant-ca; PORT plain:N
-# reads over plain TCP. Exit 0: answered with function 04; 2: refused or closed; 1: otherwise.
-read_registers() {
-  (cd "$dir" && /usr/bin/python3 - "$@") <<'PY'
-import socket, ssl, struct, sys
-target, cert = sys.argv[1], (sys.argv[2] if len(sys.argv) > 2 else None)
+# modbus_request read|write PORT [CERT]: reads input registers 0-1 of unit 1, or writes 3 to its
+# holding register 0 (the filter), over TLS (with the client certificate CERT, or none)
+# checking the gateway's certificate against plant-ca; PORT plain:N goes over plain TCP. From
+# $SOURCE (default 127.0.0.1), another loopback address to be another host. Exit 0: answered
+# with the function asked (04, 06); 3: exception 01; 2: refused or closed; 1: otherwise.
+modbus_request() {
+  (cd "$dir" && SOURCE=${SOURCE:-127.0.0.1} /usr/bin/python3 - "$@") <<'PY'
+import os, socket, ssl, struct, sys
+mode, target = sys.argv[1], sys.argv[2]
+cert = sys.argv[3] if len(sys.argv) > 3 else None
 plain = target.startswith("plain:")
 port = int(target.split(":")[-1])
-request = struct.pack(">HHHBBHH", 1, 0, 6, 1, 0x04, 0, 2)
+function = 0x04 if mode == "read" else 0x06
+request = struct.pack(">HHHBBHH", 1, 0, 6, 1, function, 0, 2 if mode == "read" else 3)
 try:
-    sock = socket.create_connection(("127.0.0.1", port), timeout=5)
+    sock = socket.create_connection(("127.0.0.1", port), timeout=5,
+                                    source_address=(os.environ["SOURCE"], 0))
     if not plain:
         context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
         context.load_verify_locations("plant-ca.pem")
@@ -64,17 +79,30 @@ except (OSError, ssl.SSLError) as e:
 print("reply:", reply.hex())
 if len(reply) < 9:
     sys.exit(2)
-sys.exit(0 if reply[7] == 0x04 else 1)
+if reply[7] == function | 0x80 and reply[8] == 0x01:
+    sys.exit(3)
+sys.exit(0 if reply[7] == function else 1)
 PY
 }
+read_registers() { modbus_request read "$@"; }
 refused() { read_registers "$@"; [ $? -eq 2 ]; }
+write_register() { modbus_request write "$@"; }
+write_refused_01() { write_register "$@"; [ $? -eq 3 ]; }
+# metric NAME VALUE: the gateway's /metrics has NAME at VALUE.
+metric() {
+  /usr/bin/python3 -c 'import sys, urllib.request
+text = urllib.request.urlopen(sys.argv[1], timeout=5).read().decode()
+sys.exit(0 if sys.argv[2] + " " + sys.argv[3] + "\n" in text else 1)' \
+    "http://127.0.0.1:$http_port/metrics" "$1" "$2"
+}
 
 start_sim "$tiltgate" rieker h6:223 "$dir/ttyUSB0"
 port=$(free_port)
 tls_port=$(free_port)
-while [ "$tls_port" = "$port" ]; do tls_port=$(free_port); done
+http_port=$(free_port)
 
-# write_config PLAIN_TCP: the plant with TLS, relative paths (resolved against the file's folder).
+# write_config PLAIN_TCP [SERVER-KEYS]: the plant with TLS, relative paths (resolved against the
+# file's folder), writes on, and SERVER-KEYS added to [server].
 write_config() {
   cat >"$dir/plant.toml" <<TOML
 [server]
@@ -82,9 +110,12 @@ listen = "127.0.0.1"
 port = $port
 plain_tcp = $1
 tls = { cert = "gateway.pem", key = "gateway.key", ca = "plant-ca.pem", port = $tls_port }
+writes = true
+${2:-}
 
 [http]
-enabled = false
+listen = "127.0.0.1"
+port = $http_port
 
 [[bus]]
 name = "line1"
@@ -127,6 +158,56 @@ check "a plain Modbus client on the TLS port gets no answer" refused "plain:$tls
 check "the refused handshakes are logged" grep -q "TLS handshake failed" "$dir/gateway.err"
 kill "$gateway"
 wait "$gateway" 2>/dev/null
+
+# The authorization step: roles from the certificates' role extension.
+write_config true 'tls_role_access = { engineer = "read-write", operator = "read-only" }'
+start_gateway
+check "an engineer's certificate (role read-write) writes" write_register "$tls_port" engineer
+check "an operator's certificate (role read-only) reads" read_registers "$tls_port" operator
+check "an operator's certificate's write is refused with 01" write_refused_01 "$tls_port" operator
+check "a certificate without a role writes (tls_no_role_access defaults to read-write)" \
+  write_register "$tls_port" plc
+SOURCE=127.0.0.3
+check "a role the table does not name reads" read_registers "$tls_port" visitor
+check "a role the table does not name may only read: its write is refused with 01" \
+  write_refused_01 "$tls_port" visitor
+SOURCE=
+check "the unknown role is logged with the certificate's subject" \
+  grep -q 'client 127\.0\.0\.3:[0-9]* (CN=visitor): its certificate.s role "visitor" is not in \[server\] tls_role_access: read-only' \
+  "$dir/gateway.err"
+check "a refused write is logged with the client's certificate subject and role" \
+  grep -q 'client 127\.0\.0\.1:[0-9]* (CN=operator): function 06 refused with 01: its certificate.s role "operator" may only read' \
+  "$dir/gateway.err"
+check "the refused writes count as writes denied" metric tiltgate_modbus_writes_denied_total 2
+check "plain TCP writes beside TLS" write_register "plain:$port"
+
+# tls_no_role_access = "read-only", applied by a reload: certificates without a role only read.
+write_config true 'tls_role_access = { engineer = "read-write", operator = "read-only" }
+tls_no_role_access = "read-only"'
+kill -HUP "$gateway"
+for _ in $(seq 200); do
+  write_refused_01 "$tls_port" plc >/dev/null 2>&1 && break
+  sleep 0.05
+done
+check "with tls_no_role_access = read-only a certificate without a role has its write refused" \
+  write_refused_01 "$tls_port" plc
+check "with tls_no_role_access = read-only a certificate without a role reads" \
+  read_registers "$tls_port" plc
+check "and the engineer still writes" write_register "$tls_port" engineer
+kill "$gateway"
+wait "$gateway" 2>/dev/null
+
+# Mistakes in the keys stop `tiltgate check` at their line.
+bad_config() {
+  write_config true "$1"
+  ! "$tiltgate" check --config "$dir/plant.toml" >"$dir/check.out" 2>&1 &&
+    grep -q "$2" "$dir/check.out"
+}
+check "an access other than read-only or read-write is an error at its line" bad_config \
+  'tls_role_access = { operator = "readonly" }' \
+  'plant.toml:7.*tls_role_access.operator.*"readonly" is not valid, expected "read-only" or "read-write"'
+check "tls_no_role_access other than read-only or read-write is an error at its line" bad_config \
+  'tls_no_role_access = "none"' 'plant.toml:7.*tls_no_role_access.*"none" is not valid'
 
 write_config false
 start_gateway

@@ -19,6 +19,7 @@ namespace asio = boost::asio;
 using namespace std::chrono_literals;
 
 asio::awaitable<ModbusResponse> FakeHandler::handle(const ModbusRequest& request) {
+  origins.push_back(request.origin);
   ModbusResponse response;
   if (auto code = exception_for(request)) {
     response.exception = code;

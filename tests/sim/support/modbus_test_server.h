@@ -46,6 +46,8 @@ class FakeHandler : public ModbusRequestHandler {
   void release();
 
   std::atomic<bool> slow_write_started{false};
+  // Each request's origin as handle() got it, in order (the server's thread).
+  std::vector<WriteOrigin> origins;
 
   // Read Device Identification: the basic objects, then two private ones of 150 bytes that
   // cannot share one response.

@@ -89,3 +89,57 @@ TEST_CASE("config: plain_tcp = false needs tls, and then serves TLS only") {
   CHECK_FALSE(loaded->server.plain_tcp);
   CHECK(loaded->server.tls.has_value());
 }
+
+TEST_CASE("config: tls_role_access maps certificate roles to read-only or read-write") {
+  const PemFolder folder;
+  auto loaded = load_config_string(
+      "[server]\n" + kTls +
+          "tls_role_access = { engineer = \"read-write\", operator = \"read-only\" }\n"
+          "tls_no_role_access = \"read-only\"\n" + valid_plus(""),
+      folder.config_path(), registered_families());
+  REQUIRE(loaded.has_value());
+  const TlsRoleAccess& roles = loaded->server.tls_roles;
+  CHECK(roles.of("engineer") == ClientAccess::read_write);
+  CHECK(roles.of("operator") == ClientAccess::read_only);
+  CHECK(roles.of("visitor") == ClientAccess::read_only);  // a role the table does not name
+  CHECK(roles.of(std::nullopt) == ClientAccess::read_only);
+  CHECK(roles.knows("operator"));
+  CHECK_FALSE(roles.knows("visitor"));
+  // Without the keys: certificates keep the rights they had before roles were read.
+  auto plain = load_config_string("[server]\n" + kTls + valid_plus(""), folder.config_path(),
+                                  registered_families());
+  REQUIRE(plain.has_value());
+  CHECK(plain->server.tls_roles.of(std::nullopt) == ClientAccess::read_write);
+  CHECK(plain->server.tls_roles.of("engineer") == ClientAccess::read_only);
+}
+
+TEST_CASE("config: tls_role_access mistakes are reported at their line and key") {
+  const PemFolder folder;
+  const auto error_in = [&](const std::string& text) {
+    auto loaded = load_config_string("[server]\n" + kTls + text + valid_plus(""),
+                                     folder.config_path(), registered_families());
+    REQUIRE_FALSE(loaded.has_value());
+    REQUIRE(loaded.error().size() == 1);
+    return loaded.error()[0];
+  };
+  const ConfigError bad_access =
+      error_in("tls_role_access = { engineer = \"read-write\", operator = \"readonly\" }\n");
+  CHECK(bad_access.line == 3);
+  CHECK(bad_access.key == "server.tls_role_access.operator");
+  CHECK(bad_access.message == "\"readonly\" is not valid, expected \"read-only\" or \"read-write\"");
+  const ConfigError not_string = error_in("tls_role_access = { engineer = true }\n");
+  CHECK(not_string.key == "server.tls_role_access.engineer");
+  const ConfigError empty_role = error_in("tls_role_access = { \"\" = \"read-only\" }\n");
+  CHECK(empty_role.key == "server.tls_role_access.");
+  CHECK(empty_role.message.find("an empty role name") == 0);
+  const ConfigError not_table = error_in("tls_role_access = \"read-only\"\n");
+  CHECK(not_table.key == "server.tls_role_access");
+  const ConfigError no_role = error_in("tls_no_role_access = \"write\"\n");
+  CHECK(no_role.line == 3);
+  CHECK(no_role.key == "server.tls_no_role_access");
+  CHECK(no_role.message == "\"write\" is not valid, expected \"read-only\" or \"read-write\"");
+  expect_error("[server]\ntls_no_role_access = \"read-only\"\n" + valid_plus(""), 2,
+               "server.tls_no_role_access",
+               "without [server] tls no client shows a certificate to take a role from: add tls "
+               "= { cert, key, ca } or leave it out");
+}

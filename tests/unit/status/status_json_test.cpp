@@ -9,6 +9,7 @@
 #include <string>
 
 #include "status/http_routes.h"
+#include "status/json_values.h"
 #include "status/status_json.h"
 #include "status/status_metrics.h"
 
@@ -120,13 +121,37 @@ TEST_CASE("status JSON: missing angles and age are null, never NaN") {
   CHECK(none.find(R"("online":false,"stale":true,)") != std::string::npos);
   CHECK(none.find(R"("polls_per_s":null,)") != std::string::npos);
   CHECK(none.find(R"("naks":{},"line_seconds":0,"line_share":null,"settings":{}})") != std::string::npos);
-  CHECK(json_number(NAN) == "null");
-  CHECK(json_number(INFINITY) == "null");
+  CHECK(json_number(NAN).is_null());
+  CHECK(json_number(INFINITY).is_null());
+  SensorStatus broken = boom();
+  broken.x = NAN;
+  broken.y = -INFINITY;
+  CHECK(sensor_json(broken).find(R"("x":null,"y":null,)") != std::string::npos);
 }
 
 TEST_CASE("status JSON: names are escaped as JSON strings") {
-  CHECK(json_string("a\"b\\c\nd\te\x01") == R"("a\"b\\c\nd\te\u0001")");
-  CHECK(json_string("Neigung °") == "\"Neigung °\"");
+  SensorStatus odd = boom();
+  odd.name = "a\"b\\c\nd\te\x01";
+  CHECK(sensor_json(odd).starts_with(R"({"name":"a\"b\\c\nd\te\u0001",)"));
+  odd.name = "Neigung °";
+  CHECK(sensor_json(odd).starts_with("{\"name\":\"Neigung °\","));
+}
+
+TEST_CASE("status JSON: bytes a sensor sent that are not UTF-8 become U+FFFD, not an error") {
+  SensorStatus odd = boom();
+  odd.firmware = "A\xff" "8";
+  CHECK(sensor_json(odd).find("\"firmware\":\"A\xef\xbf\xbd" "8\",") != std::string::npos);
+}
+
+TEST_CASE("status JSON: a reading keeps its shortest decimal form, a whole number no fraction") {
+  SensorStatus s = boom();
+  s.x = 12.345;
+  s.y = -0.1;
+  s.tilt = 1e-05;
+  s.line_seconds = 3.0;
+  const std::string text = sensor_json(s);
+  CHECK(text.find(R"("x":12.345,"y":-0.1,"tilt":1e-05,)") != std::string::npos);
+  CHECK(text.find(R"("line_seconds":3,)") != std::string::npos);
 }
 
 TEST_CASE("status JSON: the sensor and bus lists are arrays") {
