@@ -16,8 +16,8 @@ constexpr const char* kAuditTopic = "audit";
 
 std::optional<AuditRecord> from_stored(const store::Record& stored) {
   if (stored.topic != kAuditTopic) return std::nullopt;
-  return audit_record_from_json(
-      std::string_view(reinterpret_cast<const char*>(stored.payload.data()), stored.payload.size()));
+  const auto* text = reinterpret_cast<const char*>(stored.payload.data());
+  return audit_record_from_json(std::string_view(text, stored.payload.size()));
 }
 
 store::Record to_stored(const AuditRecord& record) {
