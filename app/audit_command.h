@@ -1,5 +1,5 @@
-// `tiltgate audit`: prints the audit trail a gateway keeps in <state_dir>/audit/ (docs/operations.md,
-// "The audit trail"), read without opening it, so it works beside a running gateway and after
+// `tiltgate audit`: prints the audit trail a gateway keeps in <state_dir>/audit/
+// (docs/operations.md, "The audit trail"), read without opening it, so it works beside a running gateway and after
 // it stopped: for an SSH user, and the tests' view of the trail after a restart.
 #pragma once
 

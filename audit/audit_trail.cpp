@@ -16,8 +16,8 @@ constexpr const char* kAuditTopic = "audit";
 
 std::optional<AuditRecord> from_stored(const store::Record& stored) {
   if (stored.topic != kAuditTopic) return std::nullopt;
-  return audit_record_from_json(
-      std::string_view(reinterpret_cast<const char*>(stored.payload.data()), stored.payload.size()));
+  const auto* text = reinterpret_cast<const char*>(stored.payload.data());
+  return audit_record_from_json(std::string_view(text, stored.payload.size()));
 }
 
 store::Record to_stored(const AuditRecord& record) {
@@ -46,6 +46,17 @@ void AuditTrail::open(const std::string& state_dir) {
   const std::lock_guard lock(mutex_);
   if (store_ || state_dir.empty()) return;
   const std::string folder = audit_folder(state_dir);
+  // One gateway per folder: two appending to the same files would tear each other's records.
+  std::error_code made;
+  std::filesystem::create_directories(folder, made);
+  auto folder_lock = made ? Expected<store::UniqueFd, std::string>(
+                                Unexpected("cannot create " + folder + ": " + made.message()))
+                          : store::lock_directory(folder);
+  if (!folder_lock) {
+    spdlog::error("audit: cannot keep the trail in {}: {}; it is kept in memory only", folder,
+                  folder_lock.error());
+    return;
+  }
   auto opened = store::RecordStore::open(
       folder, {.budget_bytes = kAuditStoreBytes, .segment_bytes = kAuditSegmentBytes,
                .sync_every = 1});
@@ -61,6 +72,7 @@ void AuditTrail::open(const std::string& state_dir) {
                   found.error());
     return;
   }
+  lock_ = std::move(*folder_lock);
   store_.emplace(std::move(*opened));
   std::deque<AuditRecord> meanwhile = std::move(records_);
   records_.clear();

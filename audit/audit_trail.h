@@ -3,6 +3,9 @@
 // <state_dir>/audit/ with the store (store/record_store.h: a CRC per record, a torn write
 // loses at most the last one), across restarts, and written to the journal as "audit: ...".
 //
+// One gateway per folder: it is locked (flock on its `lock` file) while the trail keeps it; a
+// second gateway on the same state_dir keeps its trail in memory, and says so.
+//
 // Bound: the newest max_records in memory (what recent() searches), and at most
 // kAuditStoreBytes on disk, the oldest dropped first (whole segments of kAuditSegmentBytes).
 // Each record is fsynced as it is written: changes are rare, and a power cut right after one
@@ -69,6 +72,7 @@ class AuditTrail {
   mutable std::mutex mutex_;
   std::size_t max_records_;
   std::deque<AuditRecord> records_;  // oldest first
+  store::UniqueFd lock_;  // before the store: released after it closed
   std::optional<store::RecordStore> store_;
   std::map<std::pair<std::string, std::string>, std::uint64_t> counts_;  // (door, class)
 };

@@ -32,8 +32,8 @@ struct ServerTlsConfig {
 };
 
 // Where the gateway keeps what must survive a restart (the audit trail, the MQTT backlog,
-// Sparkplug's store and bdSeq); the Debian package's service has it as its StateDirectory (docs/operations.md,
-// "The state directory").
+// Sparkplug's store and bdSeq); the Debian package's service has it as its StateDirectory
+// (docs/operations.md, "The state directory").
 inline constexpr std::string_view kDefaultStateDir = "/var/lib/tiltgate";
 
 struct ServerConfig {

@@ -183,7 +183,8 @@ Expected<CommandMessage, std::string> parse_command(std::string_view line) {
     }
     return CommandMessage{changed};
   }
-  if (w[0] == "as" && w.size() >= 2) return CommandMessage{ActingFor{std::string(after_words(line, 1))}};
+  if (w[0] == "as" && w.size() >= 2)
+    return CommandMessage{ActingFor{std::string(after_words(line, 1))}};
   if (w[0] == "transact" && w.size() == 8) {
     const auto address_bytes = number<std::size_t>(w[1]);
     const auto timeout = number<std::int64_t>(w[2]);

@@ -218,7 +218,8 @@ asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
                                                  SteadyClock::time_point deadline) {
   if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
   const WriteError unanswered{WriteErrorKind::no_response, "sensor not answering: not sent"};
-  if (line_.stopped()) co_return write.fail(*this, {WriteErrorKind::no_response, "gateway stopping"});
+  if (line_.stopped())
+    co_return write.fail(*this, {WriteErrorKind::no_response, "gateway stopping"});
   // Known offline, or its poll is between retries after its sensor did not answer: the
   // write's own retries would only hold the line and the answer (its probes find it when it
   // is back).
@@ -232,7 +233,8 @@ asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
     co_return write.fail(*this, {WriteErrorKind::no_response, "gateway stopping"});
   if (grant == TurnGrant::expired) {
     ++stats_.writes_expired;
-    co_return write.fail(*this, {WriteErrorKind::busy, "bus too busy: write not started in time"});
+    co_return write.fail(*this,
+                         {WriteErrorKind::busy, "bus too busy: write not started in time"});
   }
   // Its poll may have found it offline while the write waited.
   if (not_answering(write.sensor())) {

@@ -208,7 +208,8 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<Gate
   const std::shared_ptr<BusScheduler> bus = sensor->bus;
   if (bus == nullptr) co_return failure(ModbusException::gateway_target_failed);
   const auto deadline = SteadyClock::now() + options.write_timeout;
-  SensorWrite write(std::move(sensor), std::move(*plan), std::move(request.origin));  // named: see BusScheduler::write()
+  // Named: see BusScheduler::write().
+  SensorWrite write(std::move(sensor), std::move(*plan), std::move(request.origin));
   auto done = co_await bus->write(std::move(write), deadline);
   if (!done) co_return failure(exception_for(done.error()));
   co_return ModbusResponse{};

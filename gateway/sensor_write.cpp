@@ -21,7 +21,8 @@ std::string audit_result(const WriteError& error, std::optional<std::uint8_t> re
     case WriteErrorKind::rejected:
     case WriteErrorKind::refused:
       return refusal_code ? fmt::format("nak 0x{:02X}", *refusal_code) : "nak";
-    case WriteErrorKind::device_exception: return fmt::format("nak 0x{:02X}", error.device_exception);
+    case WriteErrorKind::device_exception:
+      return fmt::format("nak 0x{:02X}", error.device_exception);
     case WriteErrorKind::no_response: return "timeout";
     case WriteErrorKind::busy: return "error: " + error.detail;
     case WriteErrorKind::not_supported:

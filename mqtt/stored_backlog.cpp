@@ -20,18 +20,6 @@ store::StoreOptions store_options(const BacklogLimits& limits) {
   return options;
 }
 
-Expected<store::UniqueFd, std::string> lock_directory(const std::filesystem::path& dir) {
-  const std::filesystem::path path = dir / "lock";
-  auto fd = store::open_file(path, O_RDWR | O_CREAT);
-  if (!fd) return Unexpected(fd.error());
-  if (::flock(fd->get(), LOCK_EX | LOCK_NB) != 0) {
-    if (errno == EWOULDBLOCK)
-      return Unexpected(dir.string() + " is in use by another tiltgate (give each its own state_dir)");
-    return Unexpected(store::errno_text("cannot lock", path));
-  }
-  return std::move(*fd);
-}
-
 }  // namespace
 
 StoredBacklog::StoredBacklog(store::UniqueFd lock, store::RecordStore store, BacklogLimits limits,
@@ -48,7 +36,7 @@ Expected<StoredBacklog, std::string> StoredBacklog::open(const std::filesystem::
   if (error) return Unexpected("cannot create " + dir.string() + ": " + error.message());
   auto cleared = store::clear_way_for_file(dir / "lock");
   if (!cleared) return Unexpected(cleared.error());
-  auto lock = lock_directory(dir);
+  auto lock = store::lock_directory(dir);
   if (!lock) return Unexpected(lock.error());
   auto store = store::RecordStore::open(dir, store_options(limits));
   if (!store) return Unexpected(store.error());

@@ -1,6 +1,7 @@
 #include "store/file_io.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -136,6 +137,19 @@ Expected<std::optional<std::string>, std::string> clear_way_for_file(
   }
   return Unexpected(path.string() + " is a directory, not the store's file, and cannot be moved " +
                     "aside" + (error ? ": " + error.message() : std::string()));
+}
+
+Expected<UniqueFd, std::string> lock_directory(const std::filesystem::path& dir) {
+  const std::filesystem::path path = dir / "lock";
+  auto fd = open_file(path, O_RDWR | O_CREAT);
+  if (!fd) return Unexpected(fd.error());
+  if (::flock(fd->get(), LOCK_EX | LOCK_NB) != 0) {
+    if (errno == EWOULDBLOCK)
+      return Unexpected(dir.string() +
+                        " is in use by another tiltgate (give each its own state_dir)");
+    return Unexpected(errno_text("cannot lock", path));
+  }
+  return std::move(*fd);
 }
 
 }  // namespace tiltgate::store

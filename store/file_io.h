@@ -52,6 +52,9 @@ Expected<Done, std::string> truncate_file(const std::filesystem::path& path, std
 // crash PATH holds either its old or its new content, whole.
 Expected<Done, std::string> replace_file(const std::filesystem::path& path,
                                          std::span<const std::uint8_t> bytes);
+// Locks the directory for this process (flock on its `lock` file, made if missing) while the
+// descriptor is open: a second gateway given the same state_dir is told so.
+Expected<UniqueFd, std::string> lock_directory(const std::filesystem::path& dir);
 // Makes room for the file PATH when a directory stands in its place (made by hand, a restore
 // gone wrong), which would stop every open, write and rename of it: an empty one is removed
 // (nothing of anyone's is in it), any other is renamed to PATH.moved-aside (.2, .3, ...), its

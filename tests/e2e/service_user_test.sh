@@ -47,6 +47,7 @@ http_port=$(free_port)
 write_config() {  # EXTRA_TABLES: one_h6_config with the control socket, HTTP and both feeds
   { one_h6_config "$modbus_port" "$dir/tty1" "user = \"$user\"" |
       sed -e "s|^control_socket = \"\"|control_socket = \"$socket\"|" \
+          -e "s|^user = \"$user\"|user = \"$user\"\nstate_dir = \"$state\"|" \
           -e "s|^enabled = false|port = $http_port|"
     cat <<TOML
 

@@ -138,9 +138,11 @@ TEST_CASE("a torn last record of the audit trail loses only it") {
   const auto read = read_audit_folder(audit_folder(dir.path));
   REQUIRE(read.has_value());
   CHECK(times(*read) == std::vector<std::int64_t>{1000, 2000});
-  AuditTrail reopened(dir.path);
-  CHECK(times(reopened.recent({})) == std::vector<std::int64_t>{2000, 1000});
-  reopened.record(change(4000, "modbus", "line1/a", "zero"));
+  {
+    AuditTrail reopened(dir.path);
+    CHECK(times(reopened.recent({})) == std::vector<std::int64_t>{2000, 1000});
+    reopened.record(change(4000, "modbus", "line1/a", "zero"));
+  }
   AuditTrail again(dir.path);
   CHECK(times(again.recent({})) == std::vector<std::int64_t>{4000, 2000, 1000});
 }
@@ -189,4 +191,17 @@ TEST_CASE("an audit record goes to JSON and back, and reads as one line of text"
   unknown_old.old_value.clear();
   CHECK(audit_text(unknown_old) == "door modbus, who 10.0.0.5:50122: line1/a filter = 3: nak 0x03");
   CHECK_FALSE(audit_record_from_json("not json").has_value());
+}
+
+TEST_CASE("a second audit trail on the same state_dir keeps its records in memory, the first's files untouched") {
+  StateDir dir;
+  AuditTrail first(dir.path);
+  AuditTrail second(dir.path);
+  CHECK(first.folder() == audit_folder(dir.path));
+  CHECK(second.folder().empty());
+  second.record(change(1, "modbus", "line1/a", "filter"));
+  first.record(change(2, "modbus", "line1/a", "zero"));
+  const auto read = read_audit_folder(audit_folder(dir.path));
+  REQUIRE(read.has_value());
+  CHECK(times(*read) == std::vector<std::int64_t>{2});
 }

@@ -147,3 +147,25 @@ TEST_CASE("config: a client certificate needs its key and a CA file") {
                    valid_plus(""),
                3, "mqtt.cert_file", "a client certificate is sent over TLS only: give ca_file too");
 }
+
+TEST_CASE("config: [server] state_dir is where the audit trail is kept and the feeds' default, their own key winning") {
+  CHECK(loads(valid_plus("")).server.state_dir == "/var/lib/tiltgate");
+  ScratchDir dir;
+  const std::string file = dir.write(
+      "tiltgate.toml", "[server]\nstate_dir = \"state\"\n[mqtt]\nhost = \"b\"\n"
+                       "[sparkplug]\nhost = \"b\"\ngroup_id = \"plant\"\n" + valid_plus(""));
+  auto loaded = load_config_file(file, registered_families());
+  REQUIRE(loaded);
+  const std::string state = (std::filesystem::path(file).parent_path() / "state").string();
+  CHECK(loaded->server.state_dir == state);
+  CHECK(loaded->mqtt.state_dir == state);
+  CHECK(loaded->sparkplug.state_dir == state);
+  // Their own key wins, whichever table comes first in the file.
+  const Config own = loads("[mqtt]\nhost = \"b\"\nstate_dir = \"/srv/mqtt\"\n"
+                           "[server]\nstate_dir = \"/srv/tiltgate\"\n" + valid_plus(""));
+  CHECK(own.server.state_dir == "/srv/tiltgate");
+  CHECK(own.mqtt.state_dir == "/srv/mqtt");
+  CHECK(own.sparkplug.state_dir == "/srv/tiltgate");
+  expect_error("[server]\nstate_dir = \"\"\n" + valid_plus(""), 2, "server.state_dir",
+               "empty, expected a directory the gateway may write, e.g. \"/var/lib/tiltgate\"");
+}
