@@ -39,9 +39,11 @@ std::optional<std::string> read_line() {
   return line;
 }
 
+// Echo off before the prompt shows: TCSAFLUSH drops what was typed before it, and a password
+// typed once the prompt is there must find echo off already and be kept.
 std::optional<std::string> prompt_without_echo(const std::string& prompt) {
-  std::cerr << prompt << std::flush;
   EchoOff echo_off;
+  std::cerr << prompt << std::flush;
   return read_line();
 }
 

@@ -101,6 +101,7 @@ CLI::Validator user_name_check() {
 
 void add_users_file_option(CLI::App& action, UserOptions& options) {
   action.add_option("--users-file", options.users_file, "the users file ([http] users_file)")
+      ->type_name("FILE")
       ->capture_default_str();
 }
 

@@ -52,11 +52,18 @@ check "the failures changed nothing" test "$(user list)" = "$(printf 'alice  adm
 # what the terminal showed, exits with the command's code.
 at_terminal() {
   /usr/bin/python3 - "$tiltgate" "$users" "$@" <<'PY'
-import os, pty, sys
+import os, pty, signal, sys
 tiltgate, users, name, *typed = sys.argv[1:]
 pid, fd = pty.fork()
 if pid == 0:
     os.execv(tiltgate, [tiltgate, "user", "add", name, "--role", "operator", "--users-file", users])
+# A command that waits for a line it never gets fails the test rather than hang it.
+def give_up(*_):
+    os.kill(pid, signal.SIGKILL)
+    sys.stdout.write("no answer in 30 s\n")
+    sys.exit(3)
+signal.signal(signal.SIGALRM, give_up)
+signal.alarm(30)
 shown = b""
 def read_until(text):
     global shown
