@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "status/json_values.h"
+#include "status/status_json.h"  // sensor_identity_json
 
 namespace tiltgate {
 
@@ -37,17 +38,6 @@ std::string mqtt_historical_state_json(std::string_view state_json) {
   return json_text(state);
 }
 
-std::string mqtt_info_json(const SensorStatus& s) {
-  return json_text(Json{{"name", s.name},
-                        {"bus", s.bus},
-                        {"unit_id", s.unit_id},
-                        {"address", s.address},
-                        {"model", s.model},
-                        {"serial", s.serial},
-                        {"firmware", s.firmware},
-                        {"configured_serial", s.configured_serial.empty()
-                                                  ? Json(nullptr)
-                                                  : Json(s.configured_serial)}});
-}
+std::string mqtt_info_json(const SensorStatus& s) { return json_text(sensor_identity_json(s)); }
 
 }  // namespace tiltgate

@@ -2,18 +2,12 @@
 
 #include <string>
 
-#include "status/json_values.h"
-
 namespace tiltgate {
 
 namespace {
 
 Json json_integer(std::optional<std::int64_t> value) {
   return value ? Json(*value) : Json(nullptr);
-}
-
-Json json_string_or_null(const std::string& text) {
-  return text.empty() ? Json(nullptr) : Json(text);
 }
 
 template <class Item, class Write>
@@ -37,35 +31,30 @@ Json settings_json(const std::vector<std::pair<std::string, std::optional<double
   return out;
 }
 
+// The identity's keys, then the reading, the counters and the settings.
 Json sensor_object(const SensorStatus& s) {
-  return Json{{"name", s.name},
-              {"bus", s.bus},
-              {"unit_id", s.unit_id},
-              {"address", s.address},
-              {"model", s.model},
-              {"serial", s.serial},
-              {"firmware", s.firmware},
-              {"configured_serial", json_string_or_null(s.configured_serial)},
-              {"wrong_device", s.wrong_device},
-              {"online", s.online},
-              {"stale", s.stale},
-              {"x", json_number(s.x)},
-              {"y", json_number(s.y)},
-              {"tilt", json_number(s.tilt)},
-              {"age_ms", json_integer(s.age_ms)},
-              {"alarms", s.alarms},
-              {"polls_ok", s.polls_ok},
-              {"polls_failed", s.polls_failed},
-              {"polls_per_s", json_number(s.polls_per_s)},
-              {"failures",
-               {{"timeout", s.timeouts},
-                {"checksum", s.checksum_errors},
-                {"io_error", s.io_errors},
-                {"late_reply", s.late_replies}}},
-              {"naks", naks_json(s.refusals)},
-              {"line_seconds", json_number(s.line_seconds)},
-              {"line_share", json_number(s.line_share)},
-              {"settings", settings_json(s.settings)}};
+  Json out = sensor_identity_json(s);
+  out.update(Json{{"wrong_device", s.wrong_device},
+                  {"online", s.online},
+                  {"stale", s.stale},
+                  {"x", json_number(s.x)},
+                  {"y", json_number(s.y)},
+                  {"tilt", json_number(s.tilt)},
+                  {"age_ms", json_integer(s.age_ms)},
+                  {"alarms", s.alarms},
+                  {"polls_ok", s.polls_ok},
+                  {"polls_failed", s.polls_failed},
+                  {"polls_per_s", json_number(s.polls_per_s)},
+                  {"failures",
+                   {{"timeout", s.timeouts},
+                    {"checksum", s.checksum_errors},
+                    {"io_error", s.io_errors},
+                    {"late_reply", s.late_replies}}},
+                  {"naks", naks_json(s.refusals)},
+                  {"line_seconds", json_number(s.line_seconds)},
+                  {"line_share", json_number(s.line_share)},
+                  {"settings", settings_json(s.settings)}});
+  return out;
 }
 
 Json bus_object(const BusStatus& b) {

@@ -7,8 +7,24 @@
 #include <vector>
 
 #include "gateway/gateway_status.h"
+#include "status/json_values.h"
 
 namespace tiltgate {
+
+// A sensor's identity: name, bus, unit_id, address, model, serial, firmware and
+// configured_serial (null unless configured). The first keys of each /api/sensors object, and
+// the MQTT feed's info payload. Inline, as the MQTT feed does not link the HTTP server.
+inline Json sensor_identity_json(const SensorStatus& s) {
+  return Json{{"name", s.name},
+              {"bus", s.bus},
+              {"unit_id", s.unit_id},
+              {"address", s.address},
+              {"model", s.model},
+              {"serial", s.serial},
+              {"firmware", s.firmware},
+              {"configured_serial",
+               s.configured_serial.empty() ? Json(nullptr) : Json(s.configured_serial)}};
+}
 
 std::string sensor_json(const SensorStatus& sensor);
 std::string sensors_json(const std::vector<SensorStatus>& sensors);  // an array

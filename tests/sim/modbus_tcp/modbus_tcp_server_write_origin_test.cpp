@@ -27,7 +27,7 @@ std::string local_end(const RawSocket& socket) {
 
 }  // namespace
 
-TEST_CASE("a write carries who sent it, door modbus and the client's address:port; a read none") {
+TEST_CASE("a write carries who sent it (door modbus, the client address and port), a read none") {
   RunningServer server;
   RawSocket plc(server.port, "127.0.0.1");
   plc.send(write_holding_frame(1, 20, 42));
