@@ -1,11 +1,31 @@
 #include "app/served_gateway.h"
 
+#include <signal.h>
+#include <unistd.h>
+
 namespace tiltgate {
+
+namespace {
+
+// What the web console reaches besides the gateway (console/console_handler.h): the trail its
+// changes are recorded in, the families a configuration is checked with, and a reload as
+// `systemctl reload` asks for one (SIGHUP, app/config_commands.cpp), so an applied file is
+// taken up exactly as an edited one is.
+ConsoleContext console_context(AuditTrail& audit, FamilyList families) {
+  ConsoleContext context;
+  context.audit = &audit;
+  context.families = families;
+  context.reload = [] { ::kill(::getpid(), SIGHUP); };
+  return context;
+}
+
+}  // namespace
 
 ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
                              FamilyList families)
     : gateway_(io, config, families),
-      http_(gateway_, [this] { return status(SteadyClock::now()); }),
+      http_(gateway_, [this] { return status(SteadyClock::now()); },
+            console_context(audit_, families)),
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
       control_(gateway_) {
@@ -25,6 +45,7 @@ GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   GatewayStatus status = gateway_.status(now);
   status.http_connections_denied = http_.connections_denied();
   status.http_clients_closed = http_.clients_closed();
+  status.console = http_.console_counts();
   status.mqtt = mqtt_.stats();
   if (status.mqtt) status.stores.push_back(status.mqtt->store);
   status.sparkplug = sparkplug_.stats();

@@ -12,7 +12,7 @@
 #include "gateway/gateway.h"
 #include "mqtt/mqtt_service.h"
 #include "sparkplug/sparkplug_service.h"
-#include "status/status_service.h"
+#include "console/http_service.h"
 
 namespace tiltgate {
 
@@ -35,7 +35,7 @@ class ServedGateway {
   // Before the gateway: the buses' writes and the services record into it until they stop.
   AuditTrail audit_{""};
   Gateway gateway_;  // first: the services refer to it, and go before it
-  StatusService http_;
+  HttpService http_;
   MqttService mqtt_;
   SparkplugService sparkplug_;
   ControlService control_;

@@ -75,13 +75,18 @@ Expected<ScanTarget, UsageErrors> resolve_scan_target(BusOptions options, bool a
   return out;
 }
 
-// Shows how far the scan is, redrawn in place on stderr; nothing when not a terminal.
+// Shows how far the scan is, redrawn in place on stderr; nothing when not a terminal, unless
+// asked for as lines (ScanOptions::progress_lines).
 class Progress {
  public:
-  explicit Progress(bool shown) : shown_(shown) {}
+  Progress(bool shown, bool lines) : shown_(shown), lines_(lines) {}
   ~Progress() { clear(); }
   void show(std::size_t done, std::size_t total, std::uint32_t baud,
             const std::vector<FoundSensor>& found) {
+    if (lines_) {
+      std::cerr << "progress " << done << " " << total << "\n" << std::flush;
+      return;
+    }
     if (!shown_) return;
     const auto now = Clock::now();
     if (done < total && now - drawn_at_ < kRedrawEvery) return;
@@ -96,6 +101,7 @@ class Progress {
 
  private:
   bool shown_;
+  bool lines_;
   bool drawn_ = false;
   Clock::time_point drawn_at_{};
 };
@@ -151,7 +157,7 @@ boost::asio::awaitable<int> scan(CommissionBus& bus, const bool& stopping,
   const std::vector<std::uint32_t> bauds =
       scan_bauds(*protocol.protocol, bus.config().baud, options.auto_baud);
   const std::size_t probes_total = options.broadcast ? bauds.size() : addresses.size() * bauds.size();
-  Progress progress(::isatty(STDERR_FILENO) && probes_total > kLongScan);
+  Progress progress(::isatty(STDERR_FILENO) && probes_total > kLongScan, options.progress_lines);
   std::vector<FoundSensor> found;
   std::size_t probes = 0;
   const auto started = Clock::now();
@@ -340,6 +346,8 @@ Subcommand add_scan(CLI::App& app, FamilyList families, FamilyCommandsList comma
           "+ 10 ms)")
       ->check(CLI::Range(1, 10'000))
       ->group("Scan");
+  // Hidden: for the web console, which runs scan and draws its own bar.
+  scan->add_flag("--progress-lines", options->progress_lines)->group("");
   scan->footer(scan_help_footer(commands));
   return {scan, [bus, options, families] { return scan_command(*bus, *options, families); },
           true};

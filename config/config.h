@@ -82,7 +82,20 @@ struct HttpConfig {
   // history_seconds (status/angle_history.h).
   std::chrono::seconds history_seconds{600};
   std::chrono::milliseconds history_interval{1000};
+  // The web console's accounts (accounts/users_file.h), an absolute path; empty: no accounts,
+  // and the API stays read-only (docs/web-console.md).
+  std::string users_file;
+  // HTTPS for the page, the API and the metrics: PEM files, as resolved, and their contents,
+  // read when the configuration loads. Both or neither. Without them a console login is
+  // accepted from loopback only.
+  std::string tls_cert_file, tls_key_file;
+  std::string tls_cert_pem, tls_key_pem;
+  // A console session ends after this long without a request, and this long after its login
+  // whatever it does.
+  std::chrono::seconds session_idle{900};
+  std::chrono::seconds session_max{28800};
 
+  bool https() const { return !tls_cert_pem.empty(); }
   bool operator==(const HttpConfig&) const = default;
 };
 

@@ -253,6 +253,7 @@ HttpConfig read_http(const toml::table& table, ErrorList& errors) {
              fmt::format("{} s of history every {} ms is fewer than 2 samples, expected a "
                          "history_interval_ms of at most half of history_seconds",
                          http.history_seconds.count(), http.history_interval.count()));
+  read_console_keys(in, http, errors);
   in.reject_unknown_keys();
   return http;
 }

@@ -49,8 +49,14 @@ struct ParsedAggregate {
 void read_state_dir(TableReader& in, const std::string& file, std::string& state_dir);
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
 // [server] tls and plain_tcp (server_tls_section.cpp); after [server] port is read.
+// The PEM file named at `key` (required), resolved against the config file's directory, and its
+// contents: false, with the error added, when it is missing, empty or unreadable.
+bool read_pem(TableReader& in, std::string_view key, const ErrorList& errors, std::string& path,
+              std::string& contents);
 void read_server_tls(TableReader& in, ServerConfig& server, ErrorList& errors);
 HttpConfig read_http(const toml::table& table, ErrorList& errors);
+// [http] users_file, tls_cert_file, tls_key_file and the session keys (the web console).
+void read_console_keys(TableReader& in, HttpConfig& http, ErrorList& errors);
 MqttConfig read_mqtt(const toml::table& table, ErrorList& errors);
 // [sparkplug] (sparkplug_section.cpp); state_dir as written, resolved by the loader.
 SparkplugConfig read_sparkplug(const toml::table& table, ErrorList& errors);

@@ -17,9 +17,6 @@ using toml_input::TableReader;
 using toml_input::Presence;
 using toml_input::read_text_file;
 
-namespace {
-
-// The file named at `key`, resolved against the config file's directory, and its contents.
 bool read_pem(TableReader& in, std::string_view key, const ErrorList& errors, std::string& path,
               std::string& contents) {
   auto name = in.string(key, Presence::required);
@@ -39,6 +36,8 @@ bool read_pem(TableReader& in, std::string_view key, const ErrorList& errors, st
   contents = std::move(*text);
   return true;
 }
+
+namespace {
 
 constexpr std::string_view kReadOnly = "read-only";
 constexpr std::string_view kReadWrite = "read-write";

@@ -122,6 +122,14 @@ struct HttpClientsClosed {
   std::uint64_t bad_request = 0;  // malformed or too large
 };
 
+// The web console's logins (console/console_handler.h); all 0 without [http] users_file.
+struct ConsoleCounts {
+  std::uint64_t logins = 0;
+  std::uint64_t login_failures = 0;    // wrong user name or password
+  std::uint64_t logins_throttled = 0;  // refused with 429: too many failures lately
+  std::uint64_t sessions = 0;          // open now
+};
+
 struct GatewayStatus {
   std::vector<SensorStatus> sensors;
   std::vector<BusStatus> buses;
@@ -134,6 +142,7 @@ struct GatewayStatus {
                                                   // or a TLS client's role may only read
   std::uint64_t http_connections_denied = 0;      // closed at accept: not in [http] allow
   HttpClientsClosed http_clients_closed;
+  ConsoleCounts console;
   std::uint64_t modbus_tls_refused = 0;           // TLS handshakes failed (certificate, version)
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;

@@ -20,8 +20,22 @@ HttpReply text(unsigned status, std::string body) {
 
 HttpReply json(std::string body) { return HttpReply{200, std::string(kJson), std::move(body)}; }
 
-// %XX escapes decoded, so a sensor name may be asked for as a browser writes it. None when
-// an escape is malformed.
+// GET /api/sensors/NAME/history and .../history.csv; `encoded_name` is still %-escaped.
+HttpReply history_reply(std::string_view encoded_name, bool csv, const HistorySource& history) {
+  const auto name = percent_decoded(encoded_name);
+  if (!name || name->find('/') != std::string::npos) return text(404, "no such sensor\n");
+  std::optional<std::vector<AngleSample>> samples =
+      history ? history(*name) : std::optional<std::vector<AngleSample>>{};
+  if (!samples) return text(404, "no such sensor\n");
+  if (!csv) return json(history_json(*samples));
+  HttpReply reply{200, "text/csv; charset=utf-8", history_csv(*samples)};
+  reply.content_disposition =
+      "attachment; filename=\"" + history_csv_filename(*name) + "\"";
+  return reply;
+}
+
+}  // namespace
+
 std::optional<std::string> percent_decoded(std::string_view path) {
   std::string out;
   for (std::size_t i = 0; i < path.size(); ++i) {
@@ -44,22 +58,6 @@ std::optional<std::string> percent_decoded(std::string_view path) {
   }
   return out;
 }
-
-// GET /api/sensors/NAME/history and .../history.csv; `encoded_name` is still %-escaped.
-HttpReply history_reply(std::string_view encoded_name, bool csv, const HistorySource& history) {
-  const auto name = percent_decoded(encoded_name);
-  if (!name || name->find('/') != std::string::npos) return text(404, "no such sensor\n");
-  std::optional<std::vector<AngleSample>> samples =
-      history ? history(*name) : std::optional<std::vector<AngleSample>>{};
-  if (!samples) return text(404, "no such sensor\n");
-  if (!csv) return json(history_json(*samples));
-  HttpReply reply{200, "text/csv; charset=utf-8", history_csv(*samples)};
-  reply.content_disposition =
-      "attachment; filename=\"" + history_csv_filename(*name) + "\"";
-  return reply;
-}
-
-}  // namespace
 
 HttpReply route_http(std::string_view method, std::string_view target,
                      const StatusSource& status, const HistorySource& history) {

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "status/angle_history.h"
 #include "gateway/gateway_status.h"
@@ -19,10 +21,30 @@ struct HttpReply {
   std::string body;
   bool allow_get = false;  // 405: the reply names GET as the one method allowed
   std::string content_disposition{};  // e.g. a download's file name; empty: no such header
+  std::vector<std::pair<std::string, std::string>> headers{};  // more: Set-Cookie, Retry-After
+};
+
+// One request as the handler sees it: what the server read, and where it came from.
+struct HttpRequest {
+  std::string method;
+  std::string target;
+  std::string body;
+  std::string cookie;        // the Cookie header
+  std::string csrf_token;    // X-CSRF-Token
+  std::string origin;        // Origin; empty when the client sent none
+  std::string host;          // Host
+  std::string content_type;
+  std::string address;       // the client's address without its port
+  bool https = false;        // it came over TLS
+  bool loopback = false;     // from this machine
 };
 
 // A sensor's recent angles, oldest first; none for a name not configured.
 using HistorySource = std::function<std::optional<std::vector<AngleSample>>(std::string_view)>;
+
+// %XX escapes decoded, so a sensor name may be asked for as a browser writes it. None when
+// an escape is malformed.
+std::optional<std::string> percent_decoded(std::string_view path);
 
 // GET (and HEAD) only: nothing can be changed over HTTP. The query string is ignored. Without
 // a history source every sensor's history is empty.

@@ -7,6 +7,8 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/ssl/ssl_stream.hpp>
+#include <variant>
 #include <boost/beast/http/read.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/http/write.hpp>
@@ -28,20 +30,37 @@ namespace {
 
 constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
 
+bool is_loopback_address(const std::string& text) {
+  boost::system::error_code ec;
+  const auto address = asio::ip::make_address(text, ec);
+  return !ec && address.is_loopback();
+}
+
 }  // namespace
 
 struct HttpServer::Connection {
-  Connection(tcp::socket socket, std::string address, bool from_troubled_address)
+  using TlsStream = beast::ssl_stream<beast::tcp_stream>;
+  Connection(tcp::socket socket, std::string address, bool from_troubled_address,
+             asio::ssl::context* tls)
       : peer(peer_of(socket)),
         address(std::move(address)),
         from_troubled_address(from_troubled_address),
         waiting_since(Clock::now()),
-        stream(std::move(socket)) {}
+        stream(make_stream(std::move(socket), tls)) {}
+  static std::variant<beast::tcp_stream, TlsStream> make_stream(tcp::socket socket,
+                                                               asio::ssl::context* tls) {
+    if (tls == nullptr) return beast::tcp_stream(std::move(socket));
+    return TlsStream(beast::tcp_stream(std::move(socket)), *tls);
+  }
+  beast::tcp_stream& lowest() {
+    return std::visit([](auto& s) -> beast::tcp_stream& { return beast::get_lowest_layer(s); },
+                      stream);
+  }
   void close() {
     closed = true;
     boost::system::error_code ec;
-    stream.socket().shutdown(tcp::socket::shutdown_both, ec);
-    stream.socket().close(ec);
+    lowest().socket().shutdown(tcp::socket::shutdown_both, ec);
+    lowest().socket().close(ec);
   }
   const std::string peer;     // "127.0.0.1:50312", for the log
   const std::string address;  // without the port: what max_clients_per_host counts
@@ -54,15 +73,14 @@ struct HttpServer::Connection {
   Clock::time_point waiting_since;
   bool served = false;  // it has answered a request: kept alive, it gives way first too
   bool closed = false;  // by stop() or to make room: its coroutine ends on a later loop turn
-  beast::tcp_stream stream;
+  std::variant<beast::tcp_stream, TlsStream> stream;
 };
 
-HttpServer::HttpServer(asio::any_io_executor executor, StatusSource status,
-                       HttpServerOptions options, HistorySource history)
+HttpServer::HttpServer(asio::any_io_executor executor, HttpHandler handler,
+                       HttpServerOptions options)
     : executor_(executor),
-      status_(std::move(status)),
+      handler_(std::move(handler)),
       options_(std::move(options)),
-      history_(std::move(history)),
       acceptor_(executor),
       problem_log_(executor, "HTTP", LogThrottleOptions{}) {}
 
@@ -70,6 +88,22 @@ HttpServer::~HttpServer() = default;
 
 Expected<Done, std::string> HttpServer::start() {
   if (acceptor_.is_open()) return Unexpected{std::string("HTTP server already started")};
+  if (!options_.tls_cert_pem.empty()) {
+    tls_ = std::make_unique<asio::ssl::context>(asio::ssl::context::tls_server);
+    SSL_CTX_set_min_proto_version(tls_->native_handle(), TLS1_2_VERSION);
+    boost::system::error_code ec;
+    tls_->use_certificate_chain(asio::buffer(options_.tls_cert_pem), ec);
+    if (!ec) tls_->use_private_key(asio::buffer(options_.tls_key_pem), asio::ssl::context::pem, ec);
+    if (!ec && SSL_CTX_check_private_key(tls_->native_handle()) != 1)
+      ec = asio::error::invalid_argument;
+    if (ec) {
+      tls_.reset();
+      return Unexpected{fmt::format("[http] tls_cert_file / tls_key_file: {}",
+                                    ec == asio::error::invalid_argument
+                                        ? std::string("the key does not match the certificate")
+                                        : ec.message())};
+    }
+  }
   if (auto listening = listen_on(acceptor_, options_.listen, options_.port, "HTTP"); !listening)
     return listening;
   spawn(accept_clients());
@@ -81,6 +115,11 @@ std::uint16_t HttpServer::local_port() const {
   boost::system::error_code ec;
   const tcp::endpoint local = acceptor_.local_endpoint(ec);
   return ec ? 0 : local.port();
+}
+
+HttpServerStats HttpServer::stats() const {
+  std::lock_guard lock(stats_mutex_);
+  return stats_;
 }
 
 void HttpServer::spawn(asio::awaitable<void> work) {
@@ -110,7 +149,7 @@ asio::awaitable<void> HttpServer::accept_clients() {
     }
     const std::string address = address_of(socket);
     if (!options_.allow.allows(address)) {
-      ++stats_.denied;
+      count([](HttpServerStats& s) { ++s.denied; });
       spdlog::debug("HTTP client {} refused: not in [http] allow", address);
       socket.close(ec);
       continue;
@@ -119,9 +158,9 @@ asio::awaitable<void> HttpServer::accept_clients() {
       socket.close(ec);
       continue;
     }
-    ++stats_.accepted;
+    count([](HttpServerStats& s) { ++s.accepted; });
     auto connection = std::make_shared<Connection>(std::move(socket), address,
-                                                   problem_log_.had_problems(address));
+                                                   problem_log_.had_problems(address), tls_.get());
     connections_.insert(connection);
     spawn(serve(connection));
   }
@@ -146,14 +185,14 @@ bool HttpServer::admit(tcp::socket& socket, const std::string& address) {
                                      ? "max_clients_per_host"
                                      : "max_clients";
   if (!admission.admitted) {
-    ++stats_.closed.refused;
+    count([](HttpServerStats& s) { ++s.closed.refused; });
     problem_log_.log_closing(peer_of(socket), address, spdlog::level::warn,
                              fmt::format("{} reached and every connection busy answering", limit));
     return false;
   }
   if (admission.replaced) {
     Connection& replaced = *live[*admission.replaced];
-    ++stats_.closed.replaced;
+    count([](HttpServerStats& s) { ++s.closed.replaced; });
     const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(
         Clock::now() - replaced.waiting_since);
     // A kept-alive connection left idle is no fault of its client: counted, not held against it.
@@ -173,74 +212,127 @@ void HttpServer::count_unserved(Connection& connection, boost::system::error_cod
   if (connection.closed || ec == http::error::end_of_stream) return;
   if (ec == beast::error::timeout) {
     if (connection.served && !got_some) return;  // kept alive, then left idle: a normal end
-    ++stats_.closed.timed_out;
+    count([](HttpServerStats& s) { ++s.closed.timed_out; });
     problem_log_.log_closing(connection.peer, connection.address, spdlog::level::warn,
                              fmt::format("no whole request within {} ms",
                                          options_.request_timeout.count()));
   } else if (ec.category() == http::make_error_code(http::error::bad_target).category() &&
              ec != http::error::partial_message) {
     // Malformed or too large (a client that hung up mid-request is not counted).
-    ++stats_.closed.bad_request;
+    count([](HttpServerStats& s) { ++s.closed.bad_request; });
     problem_log_.log_closing(connection.peer, connection.address, spdlog::level::warn,
                              ec.message());
   }
 }
 
 asio::awaitable<void> HttpServer::serve(std::shared_ptr<Connection> connection) {
+  if (auto* tls = std::get_if<Connection::TlsStream>(&connection->stream)) {
+    // The handshake is part of the first request's time: a client that opens a connection
+    // and says nothing is closed like one that sends half a request.
+    connection->lowest().expires_after(options_.request_timeout);
+    boost::system::error_code ec;
+    co_await tls->async_handshake(asio::ssl::stream_base::server,
+                                  asio::redirect_error(asio::use_awaitable, ec));
+    if (ec) {
+      count_unserved(*connection, ec, false);
+    } else {
+      co_await serve_on(*connection, *tls);
+    }
+  } else {
+    co_await serve_on(*connection, std::get<beast::tcp_stream>(connection->stream));
+  }
+  connection->close();
+  connections_.erase(connection);
+}
+
+namespace {
+
+std::string header_of(const http::request<http::string_body>& request, http::field field) {
+  const auto found = request.find(field);
+  if (found == request.end()) return {};
+  return std::string(found->value());
+}
+
+std::string header_of(const http::request<http::string_body>& request, std::string_view name) {
+  const auto found = request.find(beast::string_view(name.data(), name.size()));
+  if (found == request.end()) return {};
+  return std::string(found->value());
+}
+
+}  // namespace
+
+template <class Stream>
+asio::awaitable<void> HttpServer::serve_on(Connection& connection, Stream& stream) {
   beast::flat_buffer buffer;
   for (;;) {
     http::request_parser<http::string_body> parser;
     parser.header_limit(std::uint32_t(options_.max_request_bytes));
-    parser.body_limit(options_.max_request_bytes);
+    parser.body_limit(options_.max_body_bytes);
     // The whole request must be in within the time-out from the connection or the previous
     // response, however the bytes trickle in: a client sending a byte a second is dropped.
-    connection->stream.expires_after(options_.request_timeout);
+    connection.lowest().expires_after(options_.request_timeout);
     boost::system::error_code ec;
-    co_await http::async_read(connection->stream, buffer, parser,
+    co_await http::async_read(stream, buffer, parser,
                               asio::redirect_error(asio::use_awaitable, ec));
     if (ec) {
-      count_unserved(*connection, ec, parser.got_some());
+      count_unserved(connection, ec, parser.got_some());
       if (ec == http::error::header_limit || ec == http::error::body_limit) {
         http::response<http::string_body> too_large{http::status::payload_too_large, 11};
         too_large.set(http::field::content_type, "text/plain; charset=utf-8");
         too_large.body() = "request too large\n";
         too_large.keep_alive(false);
         too_large.prepare_payload();
-        co_await http::async_write(connection->stream, too_large,
+        co_await http::async_write(stream, too_large,
                                    asio::redirect_error(asio::use_awaitable, ec));
       }
       break;
     }
-    if (connection->closed) break;  // made room for another after its request came in
-    connection->waiting = false;
-    ++stats_.requests;
-    const auto& request = parser.get();
-    const HttpReply reply = route_http(std::string_view(request.method_string().data(),
-                                                        request.method_string().size()),
-                                       std::string_view(request.target().data(),
-                                                        request.target().size()),
-                                       status_, history_);
-    http::response<http::string_body> response{http::status(reply.status), request.version()};
+    if (connection.closed) break;  // made room for another after its request came in
+    connection.waiting = false;
+    count([](HttpServerStats& s) { ++s.requests; });
+    auto& request = parser.get();
+    HttpRequest asked;
+    asked.method = std::string(request.method_string());
+    asked.target = std::string(request.target());
+    asked.cookie = header_of(request, http::field::cookie);
+    asked.csrf_token = header_of(request, "X-CSRF-Token");
+    asked.origin = header_of(request, http::field::origin);
+    asked.host = header_of(request, http::field::host);
+    asked.content_type = header_of(request, http::field::content_type);
+    asked.address = connection.address;
+    asked.https = tls_ != nullptr;
+    asked.loopback = is_loopback_address(connection.address);
+    asked.body = std::move(request.body());
+    const bool head = request.method() == http::verb::head;
+    const unsigned version = request.version();
+    const bool keep_alive = request.keep_alive();
+    // While the handler works (a console write waits for the sensor), the client's time-out
+    // does not run: the reply's own time starts when it is ready.
+    connection.lowest().expires_never();
+    const HttpReply reply = co_await handler_(std::move(asked));
+    if (connection.closed) break;
+    http::response<http::string_body> response{http::status(reply.status), version};
     response.set(http::field::server, "tiltgate");
     response.set(http::field::content_type, reply.content_type);
     response.set(http::field::cache_control, "no-store");
     if (reply.allow_get) response.set(http::field::allow, "GET, HEAD");
     if (!reply.content_disposition.empty())
       response.set(http::field::content_disposition, reply.content_disposition);
-    response.keep_alive(request.keep_alive());
+    for (const auto& [name, value] : reply.headers) response.insert(name, value);
+    if (tls_) response.set(http::field::strict_transport_security, "max-age=31536000");
+    response.set("X-Content-Type-Options", "nosniff");
+    response.set("X-Frame-Options", "DENY");
+    response.keep_alive(keep_alive);
     response.body() = reply.body;
     response.prepare_payload();
-    if (request.method() == http::verb::head) response.body().clear();
-    connection->stream.expires_after(options_.request_timeout);  // a client that takes nothing
-    co_await http::async_write(connection->stream, response,
-                               asio::redirect_error(asio::use_awaitable, ec));
+    if (head) response.body().clear();
+    connection.lowest().expires_after(options_.request_timeout);  // a client that takes nothing
+    co_await http::async_write(stream, response, asio::redirect_error(asio::use_awaitable, ec));
     if (ec || !response.keep_alive()) break;
-    connection->served = true;
-    connection->waiting = true;
-    connection->waiting_since = Clock::now();
+    connection.served = true;
+    connection.waiting = true;
+    connection.waiting_since = Clock::now();
   }
-  connection->close();
-  connections_.erase(connection);
 }
 
 }  // namespace tiltgate

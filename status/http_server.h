@@ -1,7 +1,7 @@
-// The read-only HTTP status API and metrics (docs/northbound.md, "HTTP status API and
-// metrics"), HTTP/1.1 with Boost.Beast on the gateway's event loop. One coroutine per
-// connection; each request is answered from a status copy taken at once, so it never waits
-// for a bus. A client that does not send a whole request in time, or sends too much, is closed:
+// The HTTP server of the status API, the metrics and the web console (docs/northbound.md,
+// docs/web-console.md): HTTP/1.1, or HTTPS with a certificate, with Boost.Beast on an event
+// loop of its own (console/http_thread.h), never the buses'. One coroutine per connection; the
+// handler decides each reply (status/http_routes.h, console/console_handler.h). A client that does not send a whole request in time, or sends too much, is closed:
 // it only ever holds up itself. Places are shared as the Modbus TCP server shares them
 // (modbus_tcp/connection_admission.h): one address holds at most max_clients_per_host, and a
 // full server makes room for a new client by closing the connection that has waited longest
@@ -14,9 +14,12 @@
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl/context.hpp>
+#include <functional>
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <unordered_set>
 
@@ -36,9 +39,14 @@ struct HttpServerOptions {
   // From the connection (or the end of the previous response) to the end of a whole request:
   // bytes trickling in do not extend it. Also the most a response may take to be sent.
   std::chrono::milliseconds request_timeout{5000};
-  std::size_t max_request_bytes = 8192;  // header and body together; more: 400 and closed
+  std::size_t max_request_bytes = 8192;  // the header; more: 413 and closed
+  // The body: the read-only API takes none; the web console a configuration's text.
+  std::size_t max_body_bytes = 8192;
   AddressAllowList allow;                // other clients are closed at accept
+  std::string tls_cert_pem, tls_key_pem;  // both: HTTPS only
 };
+
+using HttpHandler = std::function<boost::asio::awaitable<HttpReply>(HttpRequest)>;
 
 struct HttpServerStats {
   std::uint64_t accepted = 0;
@@ -51,8 +59,7 @@ struct HttpServerStats {
 // loop finish the connections before destroying the server.
 class HttpServer {
  public:
-  HttpServer(boost::asio::any_io_executor executor, StatusSource status, HttpServerOptions options,
-             HistorySource history = {});
+  HttpServer(boost::asio::any_io_executor executor, HttpHandler handler, HttpServerOptions options);
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
@@ -66,7 +73,8 @@ class HttpServer {
     return !acceptor_.is_open() && coroutines_ == 0 && problem_log_.finished();
   }
 
-  const HttpServerStats& stats() const { return stats_; }
+  // Any thread: the gateway's status reads them while the server runs on its own.
+  HttpServerStats stats() const;
 
  private:
   struct Connection;
@@ -75,6 +83,8 @@ class HttpServer {
   // Admits the new client `socket` within the limits, making room if it must; false: refused.
   bool admit(boost::asio::ip::tcp::socket& socket, const std::string& address);
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
+  template <class Stream>
+  boost::asio::awaitable<void> serve_on(Connection& connection, Stream& stream);
   // Runs `work` on the executor, counted in coroutines_ until it ends.
   void spawn(boost::asio::awaitable<void> work);
   // A connection that ended without a whole request: counted and logged, unless it was closed
@@ -82,11 +92,17 @@ class HttpServer {
   void count_unserved(Connection& connection, boost::system::error_code ec, bool got_some);
 
   boost::asio::any_io_executor executor_;
-  StatusSource status_;
+  HttpHandler handler_;
   HttpServerOptions options_;
-  HistorySource history_;
+  std::unique_ptr<boost::asio::ssl::context> tls_;  // none: plain HTTP
   boost::asio::ip::tcp::acceptor acceptor_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;
+  template <class Change>
+  void count(Change change) {
+    std::lock_guard lock(stats_mutex_);
+    change(stats_);
+  }
+  mutable std::mutex stats_mutex_;
   HttpServerStats stats_;
   ClientProblemLog problem_log_;
   std::size_t coroutines_ = 0;  // the accept loop and the connections being served

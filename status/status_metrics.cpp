@@ -163,6 +163,17 @@ const GatewaySingle kModbusSingles[] = {
     {"tiltgate_http_connections_denied_total", "counter",
      "HTTP connections closed at once: the address is not in [http] allow",
      [](const GatewayStatus& g) { return double(g.http_connections_denied); }},
+    {"tiltgate_http_logins_total", "counter", "Web console logins that succeeded",
+     [](const GatewayStatus& g) { return double(g.console.logins); }},
+    {"tiltgate_http_login_failures_total", "counter",
+     "Web console logins refused: a wrong user name or password",
+     [](const GatewayStatus& g) { return double(g.console.login_failures); }},
+    {"tiltgate_http_logins_throttled_total", "counter",
+     "Web console logins refused with 429 before any password check: too many failures lately "
+     "from the address or for the account",
+     [](const GatewayStatus& g) { return double(g.console.logins_throttled); }},
+    {"tiltgate_http_sessions", "gauge", "Web console sessions open now",
+     [](const GatewayStatus& g) { return double(g.console.sessions); }},
 };
 
 struct MqttSingle {

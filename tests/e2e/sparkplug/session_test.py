@@ -278,6 +278,15 @@ def commands_on(t, observer, sim, gateway, codec):
     t.check("/metrics counts the writes: tiltgate_sparkplug_commands_total{result=\"write\"} >= 2",
             wait_until(lambda: gateway.metric(COMMANDS, 0, result="write") >= 2, WAIT),
             {k: v for k, v in gateway.metrics().items() if "sparkplug" in k})
+    # The audit trail's door for DCMDs (docs/operations.md, "The audit trail").
+    t.check("each DCMD write is one audit record, door sparkplug, with its ACK",
+            wait_until(lambda: gateway.metric("tiltgate_audit_records_total", 0,
+                                              door="sparkplug", result="ack") >= 2, WAIT),
+            {k: v for k, v in gateway.metrics().items() if "audit" in k})
+    t.check("the record names the setting and who asked (the log's \"audit: door sparkplug\")",
+            any("audit: door sparkplug" in line and "filter" in line and ": ack" in line
+                for line in gateway.log().splitlines()),
+            [line for line in gateway.log().splitlines() if "audit:" in line][-4:])
     refused_before = gateway.metric(COMMANDS, 0, result="refused")
     observer.publish(dcmd, codec.command(now_ms(), [
         {"name": "Settings/filter", "datatype": spb_codec.DOUBLE, "value": 9.0}]))

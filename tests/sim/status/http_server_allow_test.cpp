@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "status/http_routes.h"
 #include "status/http_server.h"
 #include "sim/support/modbus_test_server.h"
 
@@ -23,7 +24,10 @@ TEST_CASE("HTTP: a host outside [http] allow is closed at accept, an allowed one
   auto allow = AddressAllowList::parse(entries);
   REQUIRE(allow.has_value());
   options.allow = *allow;
-  HttpServer server(io.get_executor(), [] { return GatewayStatus{}; }, options);
+  const HttpHandler status_only = [](HttpRequest request) -> boost::asio::awaitable<HttpReply> {
+    co_return route_http(request.method, request.target, [] { return GatewayStatus{}; });
+  };
+  HttpServer server(io.get_executor(), status_only, options);
   REQUIRE(server.start().has_value());
   std::thread thread([&] { io.run(); });
 

@@ -1,5 +1,7 @@
-// The HTTP status API, its metrics and the status page ([http]), with the angle history the
-// page's graphs draw: a service attached to the gateway (gateway/gateway_service.h). The
+// The HTTP status API, its metrics, the status page and the web console ([http]), with the
+// angle history the page's graphs draw: a service attached to the gateway
+// (gateway/gateway_service.h). The server runs on a thread of its own (console/http_thread.h);
+// the
 // history is recorded every [http] history_interval_ms from the same status copy the API
 // serves; a reload that changes [http] restarts the server, one that changes the sensors keeps
 // the graphs of the sensors that keep their name.
@@ -15,16 +17,19 @@
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
 #include "gateway/retired.h"
+#include "console/console_handler.h"
 #include "status/history_recorder.h"
-#include "status/http_server.h"
+#include "console/http_thread.h"
 
 namespace tiltgate {
 
-class StatusService final : public GatewayService {
+class HttpService final : public GatewayService {
  public:
   // `status`: the gateway's whole status, as the API shows it (the core's and the services').
-  StatusService(const Gateway& gateway, StatusSource status);
-  ~StatusService() override;
+  // `console`: what the web console reaches besides (the audit trail, the families, reload);
+  // its executor, status and history are filled in here.
+  HttpService(const Gateway& gateway, StatusSource status, ConsoleContext console = {});
+  ~HttpService() override;
 
   void start() override;
   bool reload(const Config& loaded, const ConfigDiff& diff) override;
@@ -39,6 +44,8 @@ class StatusService final : public GatewayService {
   }
   // The bound port; 0 when [http] is off or its port could not be bound.
   std::uint16_t port() const { return http_ ? http_->local_port() : 0; }
+  // The web console's logins and sessions; zeros while the server is off.
+  ConsoleCounts console_counts() const;
 
  private:
   void make_http(const HistoryRecorder* previous);
@@ -50,13 +57,17 @@ class StatusService final : public GatewayService {
 
   const Gateway& gateway_;
   StatusSource status_;
+  ConsoleContext console_;
   HttpConfig config_;
-  std::unique_ptr<HttpServer> http_;          // none with [http] enabled = false
+  std::shared_ptr<ConsoleHandler> handler_;   // the server's; none with [http] enabled = false
+  // The console's sessions, login throttling and counts, kept across reloads.
+  std::shared_ptr<ConsoleState> console_state_;
+  std::unique_ptr<HttpThread> http_;          // none with [http] enabled = false
   std::unique_ptr<HistoryRecorder> history_;  // none without http_
   boost::asio::steady_timer history_timer_;
   bool stopping_ = false;
   // Servers a reload replaced, freed once their connections' coroutines have ended.
-  Retired<HttpServer> retired_;
+  Retired<HttpThread> retired_;
 };
 
 }  // namespace tiltgate

@@ -1,4 +1,4 @@
-#include "status/status_service.h"
+#include "console/http_service.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
@@ -6,36 +6,63 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
+
 namespace tiltgate {
 
-StatusService::StatusService(const Gateway& gateway, StatusSource status)
+HttpService::HttpService(const Gateway& gateway, StatusSource status,
+                             ConsoleContext console)
     : gateway_(gateway),
       status_(std::move(status)),
+      console_(std::move(console)),
       config_(gateway.config().http),
       history_timer_(gateway.executor()),
       retired_(gateway.executor()) {
   make_http(nullptr);
 }
 
-StatusService::~StatusService() = default;
+HttpService::~HttpService() = default;
 
-void StatusService::make_http(const HistoryRecorder* previous) {
+void HttpService::make_http(const HistoryRecorder* previous) {
   if (!config_.enabled) return;
   HttpServerOptions http;
   http.listen = config_.listen;
   http.port = config_.port;
   http.allow = config_.allow;
   http.max_clients_per_host = config_.max_clients_per_host;
+  // A configuration's text is the largest body the console takes.
+  if (!config_.users_file.empty()) http.max_body_bytes = 512 * 1024;
+  http.tls_cert_pem = config_.tls_cert_pem;
+  http.tls_key_pem = config_.tls_key_pem;
   make_history(previous);
-  http_ = std::make_unique<HttpServer>(
-      gateway_.executor(), status_, http,
-      [this](std::string_view sensor) -> std::optional<std::vector<AngleSample>> {
-        if (!history_) return std::nullopt;  // a reload turned [http] off meanwhile
-        return history_->history(sensor);
-      });
+  ConsoleContext console = console_;
+  console.gateway_executor = gateway_.executor();
+  console.status = status_;
+  // Called on the buses' executor only (ConsoleHandler::public_route).
+  console.history = [this](std::string_view sensor) -> std::optional<std::vector<AngleSample>> {
+    if (!history_) return std::nullopt;  // a reload turned [http] off meanwhile
+    return history_->history(sensor);
+  };
+  console.gateway = &gateway_;
+  // The demo's configuration is made in memory: it has no file to show or replace.
+  if (console.config_path.empty() && std::filesystem::is_regular_file(gateway_.config().path))
+    console.config_path = gateway_.config().path;
+  console.control_socket = gateway_.config().server.control_socket;
+  if (!console_state_)
+    console_state_ = std::make_shared<ConsoleState>(config_.session_idle, config_.session_max);
+  handler_ = std::make_shared<ConsoleHandler>(std::move(console), config_, console_state_);
+  http_ = std::make_unique<HttpThread>(
+      [handler = handler_](HttpRequest request) { return handler->handle(std::move(request)); },
+      http);
 }
 
-void StatusService::make_history(const HistoryRecorder* previous) {
+ConsoleCounts HttpService::console_counts() const {
+  if (!handler_) return {};
+  const ConsoleStats stats = handler_->stats();
+  return ConsoleCounts{stats.logins, stats.login_failures, stats.logins_throttled, stats.sessions};
+}
+
+void HttpService::make_history(const HistoryRecorder* previous) {
   std::vector<std::string> names;
   for (const auto& sensor : gateway_.sensors()) names.push_back(sensor->config.name);
   history_ = std::make_unique<HistoryRecorder>(
@@ -44,26 +71,28 @@ void StatusService::make_history(const HistoryRecorder* previous) {
   if (previous != nullptr) history_->carry_over(*previous);
 }
 
-void StatusService::start() {
+void HttpService::start() {
   start_http();
   boost::asio::co_spawn(gateway_.executor(), record_history(), boost::asio::detached);
 }
 
-void StatusService::start_http() {
+void HttpService::start_http() {
   if (!http_) return;
   if (auto started = http_->start(); !started)
     spdlog::warn("HTTP status API off: {}", started.error());
   else
-    spdlog::info("HTTP status API and metrics on http://{}:{}/", config_.listen,
-                 http_->local_port());
+    spdlog::info("HTTP status API and metrics on {}://{}:{}/{}", config_.https() ? "https" : "http",
+                 config_.listen, http_->local_port(),
+                 config_.users_file.empty() ? "" : " (web console: accounts in " + config_.users_file + ")");
 }
 
-bool StatusService::reload(const Config& loaded, const ConfigDiff& diff) {
+bool HttpService::reload(const Config& loaded, const ConfigDiff& diff) {
   config_ = loaded.http;
   if (diff.http_changed) {
     if (http_) {
       http_->stop();
       retired_.add(std::move(http_));
+      handler_.reset();
     }
     std::unique_ptr<HistoryRecorder> previous = std::move(history_);
     make_http(previous.get());
@@ -77,13 +106,13 @@ bool StatusService::reload(const Config& loaded, const ConfigDiff& diff) {
   return false;
 }
 
-void StatusService::stop() {
+void HttpService::stop() {
   stopping_ = true;
   history_timer_.cancel();
   if (http_) http_->stop();
 }
 
-boost::asio::awaitable<void> StatusService::record_history() {
+boost::asio::awaitable<void> HttpService::record_history() {
   // Runs whether or not [http] is on: a reload may turn it on, or change the interval (which
   // applies from the next sample on).
   auto next = SteadyClock::now() + config_.history_interval;

@@ -1,0 +1,115 @@
+#include "console/config_endpoint.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fmt/format.h>
+
+#include "config/config_loader.h"
+#include "console/console_reply.h"
+#include "toml/text_file.h"
+
+namespace tiltgate {
+
+namespace {
+
+using json = nlohmann::json;
+
+json errors_json(const ConfigErrors& errors) {
+  json list = json::array();
+  for (const ConfigError& error : errors)
+    list.push_back({{"line", error.line},
+                    {"column", error.column},
+                    {"key", error.key},
+                    {"message", error.message},
+                    {"text", error.to_string()}});
+  return list;
+}
+
+// `text` into `path` through a temporary file in its folder: a crash leaves the old file or the
+// new one. Keeps `path`'s mode.
+Expected<Done, std::string> write_atomically(const std::string& path, const std::string& text) {
+  const std::string temporary = path + ".new";
+  struct stat old {};
+  const mode_t mode = ::stat(path.c_str(), &old) == 0 ? (old.st_mode & 07777) : 0640;
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, mode);
+  if (fd < 0) return Unexpected{fmt::format("cannot write {}: {}", temporary, std::strerror(errno))};
+  std::size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = errno;
+      ::close(fd);
+      ::unlink(temporary.c_str());
+      return Unexpected{fmt::format("cannot write {}: {}", temporary, std::strerror(error))};
+    }
+    written += std::size_t(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    ::unlink(temporary.c_str());
+    return Unexpected{fmt::format("cannot write {}: {}", temporary, std::strerror(errno))};
+  }
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    const int error = errno;
+    ::unlink(temporary.c_str());
+    return Unexpected{fmt::format("cannot replace {}: {}", path, std::strerror(error))};
+  }
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  if (const int dir = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY);
+      dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
+  return Done{};
+}
+
+}  // namespace
+
+HttpReply ConfigEndpoint::show(const std::string& loaded_at) const {
+  if (path_.empty()) return error_reply(404, "this gateway runs without a configuration file");
+  auto text = toml_input::read_text_file(path_);
+  if (!text) return error_reply(500, fmt::format("{}: {}", path_, text.error()));
+  return json_reply(200, json{{"path", path_}, {"text", *text}, {"loaded_at", loaded_at}});
+}
+
+HttpReply ConfigEndpoint::download() const {
+  if (path_.empty()) return error_reply(404, "this gateway runs without a configuration file");
+  auto text = toml_input::read_text_file(path_);
+  if (!text) return error_reply(500, fmt::format("{}: {}", path_, text.error()));
+  HttpReply reply{200, "application/toml; charset=utf-8", std::move(*text)};
+  reply.content_disposition = fmt::format(
+      "attachment; filename=\"{}\"", std::filesystem::path(path_).filename().string());
+  return reply;
+}
+
+HttpReply ConfigEndpoint::check(const ConfigText& text) const {
+  // Checked as the served file: relative map files resolve against its folder.
+  const std::string name = path_.empty() ? std::string("(console)") : path_;
+  auto loaded = load_config_string(text.text, name, families_);
+  if (!loaded) return json_reply(200, json{{"ok", false}, {"errors", errors_json(loaded.error())}});
+  return json_reply(200, json{{"ok", true}, {"errors", json::array()}});
+}
+
+HttpReply ConfigEndpoint::apply(const ConfigText& text, std::string& previous_path) const {
+  if (path_.empty()) return error_reply(404, "this gateway runs without a configuration file");
+  auto loaded = load_config_string(text.text, path_, families_);
+  if (!loaded)
+    return json_reply(422, json{{"ok", false},
+                                {"error", "the configuration has errors: nothing was changed"},
+                                {"errors", errors_json(loaded.error())}});
+  auto old = toml_input::read_text_file(path_);
+  if (!old) return error_reply(500, fmt::format("{}: {}", path_, old.error()));
+  previous_path = path_ + ".previous";
+  if (auto kept = write_atomically(previous_path, *old); !kept)
+    return error_reply(500, kept.error() + ": nothing was changed");
+  if (auto written = write_atomically(path_, text.text); !written)
+    return error_reply(500, written.error() + ": nothing was changed");
+  return json_reply(200, json{{"ok", true}, {"previous", previous_path}});
+}
+
+}  // namespace tiltgate

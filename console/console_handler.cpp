@@ -1,0 +1,493 @@
+#include "console/console_handler.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <ctime>
+
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/this_coro.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "console/console_reply.h"
+#include "console/console_requests.h"
+#include "console/request_guard.h"
+#include "gateway/gateway.h"
+#include "settings/sensor_settings.h"
+#include "settings/setting_writer.h"
+
+namespace tiltgate {
+
+namespace asio = boost::asio;
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr std::string_view kSensorPrefix = "/api/sensors/";
+constexpr std::string_view kSettingsSuffix = "/settings";
+constexpr std::string_view kBusPrefix = "/api/buses/";
+
+std::string_view path_of(std::string_view target) { return target.substr(0, target.find('?')); }
+
+// A query parameter's value, '+' and %XX decoded; empty when absent or malformed.
+std::string query_value(std::string_view target, std::string_view name) {
+  const auto mark = target.find('?');
+  if (mark == std::string_view::npos) return {};
+  std::string_view query = target.substr(mark + 1);
+  while (!query.empty()) {
+    const auto end = query.find('&');
+    const std::string_view pair = query.substr(0, end);
+    const auto equals = pair.find('=');
+    if (equals != std::string_view::npos && pair.substr(0, equals) == name) {
+      std::string raw(pair.substr(equals + 1));
+      std::replace(raw.begin(), raw.end(), '+', ' ');
+      return percent_decoded(raw).value_or(std::string());
+    }
+    if (end == std::string_view::npos) break;
+    query = query.substr(end + 1);
+  }
+  return {};
+}
+
+bool changes(std::string_view method) {
+  return method == "POST" || method == "PUT" || method == "DELETE" || method == "PATCH";
+}
+
+// A sensor's or bus's name from a path, %XX escapes decoded; none when malformed.
+std::optional<std::string> decoded_name(std::string_view text) {
+  auto name = percent_decoded(text);
+  if (!name || name->find('/') != std::string::npos) return std::nullopt;
+  return name;
+}
+
+// "2026-12-05T06:40:12.345Z"
+std::string utc_time(std::int64_t unix_ms) {
+  const std::time_t seconds = std::time_t(unix_ms / 1000);
+  std::tm utc{};
+  ::gmtime_r(&seconds, &utc);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", utc.tm_year + 1900,
+                     utc.tm_mon + 1, utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec,
+                     int(unix_ms % 1000));
+}
+
+std::string number_text(std::optional<double> value) {
+  return value ? fmt::format("{}", *value) : std::string();
+}
+
+}  // namespace
+
+ConsoleHandler::ConsoleHandler(ConsoleContext context, const HttpConfig& config,
+                               std::shared_ptr<ConsoleState> state)
+    : context_(std::move(context)),
+      config_(config),
+      config_endpoint_(context_.config_path, context_.families),
+      state_(std::move(state)) {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->sessions.set_limits(config.session_idle, config.session_max);
+  }
+  if (!config_.users_file.empty()) users();
+}
+
+ConsoleHandler::~ConsoleHandler() {
+  hashing_.stop();
+  hashing_.join();
+}
+
+ConsoleStats ConsoleHandler::stats() const {
+  std::lock_guard lock(state_->mutex);
+  ConsoleStats stats = state_->stats;
+  stats.sessions = state_->sessions.size();
+  return stats;
+}
+
+std::shared_ptr<const UsersFile> ConsoleHandler::users() {
+  struct stat info {};
+  const std::int64_t mtime =
+      ::stat(config_.users_file.c_str(), &info) == 0
+          ? std::int64_t(info.st_mtim.tv_sec) * 1'000'000'000 + info.st_mtim.tv_nsec
+          : -2;
+  if (mtime == users_mtime_ns_) return users_;
+  users_mtime_ns_ = mtime;
+  auto loaded = UsersFile::load(config_.users_file);
+  if (!loaded) {
+    if (users_error_ != loaded.error())
+      spdlog::error("web console: no logins: {}", loaded.error());
+    users_error_ = loaded.error();
+    users_.reset();
+  } else {
+    users_error_.clear();
+    users_ = std::make_shared<const UsersFile>(std::move(*loaded));
+    spdlog::info("web console: {} account(s) from {}", users_->accounts().size(),
+                 config_.users_file);
+  }
+  const auto current = users_;
+  std::lock_guard lock(state_->mutex);
+  state_->sessions.keep_only([&](const std::string& name) -> std::optional<Role> {
+    if (!current) return std::nullopt;
+    const UserAccount* account = current->find(name);
+    return account ? std::optional<Role>(account->role) : std::nullopt;
+  });
+  return users_;
+}
+
+void ConsoleHandler::record(const ConsoleSession& session, std::string sensor,
+                            std::string setting, std::string old_value, std::string new_value,
+                            std::string result) {
+  if (context_.audit == nullptr) return;
+  AuditRecord record;
+  record.unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                       std::chrono::system_clock::now().time_since_epoch())
+                       .count();
+  record.origin = WriteOrigin{"console", session.user};
+  record.sensor = std::move(sensor);
+  record.setting = std::move(setting);
+  record.old_value = std::move(old_value);
+  record.new_value = std::move(new_value);
+  record.result = std::move(result);
+  context_.audit->record(std::move(record));
+}
+
+asio::awaitable<HttpReply> ConsoleHandler::public_route(const HttpRequest& request) {
+  // Taken on the buses' executor, where the status and the history live: as quick as it ever
+  // was there, and the HTTP thread only waits for it.
+  // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.
+  auto route = [&]() -> asio::awaitable<HttpReply> {
+    co_return route_http(request.method, request.target, context_.status, context_.history);
+  };
+  co_return co_await asio::co_spawn(context_.gateway_executor, std::move(route),
+                                    asio::use_awaitable);
+}
+
+asio::awaitable<HttpReply> ConsoleHandler::handle(HttpRequest request) {
+  const std::string_view path = path_of(request.target);
+  if (config_.users_file.empty()) {
+    if (path == "/api/session" && request.method == "GET")
+      co_return json_reply(200, json{{"accounts", false}});
+    co_return co_await public_route(request);
+  }
+  if (!path.starts_with("/api/")) co_return co_await public_route(request);
+  if (path == "/api/login") {
+    if (request.method != "POST") co_return error_reply(405, "log in with POST");
+    co_return co_await login(request);
+  }
+  if (path == "/api/session" && request.method == "GET") co_return session_reply(request);
+  // A copy: the table may drop the session while this request waits (a logout, an expiry).
+  ConsoleSession session;
+  {
+    std::lock_guard lock(state_->mutex);
+    const ConsoleSession* found = state_->sessions.use(session_token(request.cookie), Clock::now());
+    if (found != nullptr) session = *found;
+  }
+  if (session.user.empty()) co_return error_reply(401, "log in first");
+  if (changes(request.method)) {
+    if (auto refused = refuse_forgery(request, session)) co_return *refused;
+  }
+  co_return co_await api(request, session);
+}
+
+std::optional<HttpReply> ConsoleHandler::refuse_forgery(const HttpRequest& request,
+                                                        const ConsoleSession& session) const {
+  if (!same_secret(request.csrf_token, session.csrf))
+    return error_reply(403, "the request lacks this session's X-CSRF-Token");
+  if (!same_origin(request.origin, request.host, request.https))
+    return error_reply(403, fmt::format("a request from {} may not change anything here",
+                                        request.origin));
+  return std::nullopt;
+}
+
+HttpReply ConsoleHandler::session_reply(const HttpRequest& request) {
+  std::lock_guard lock(state_->mutex);
+  const ConsoleSession* session =
+      state_->sessions.use(session_token(request.cookie), Clock::now());
+  if (session == nullptr) return json_reply(401, json{{"accounts", true}, {"error", "log in"}});
+  return json_reply(200, json{{"accounts", true},
+                              {"user", session->user},
+                              {"role", role_name(session->role)},
+                              {"csrf", session->csrf}});
+}
+
+asio::awaitable<HttpReply> ConsoleHandler::login(const HttpRequest& request) {
+  if (!login_allowed(request.https, request.loopback))
+    co_return error_reply(403, "log in over HTTPS ([http] tls_cert_file), or from this machine: "
+                               "a password never crosses the network in clear");
+  if (!same_origin(request.origin, request.host, request.https))
+    co_return error_reply(403, fmt::format("a login from {} is not accepted here", request.origin));
+  auto asked = parse_login_request(request.body);
+  if (!asked) co_return error_reply(400, asked.error());
+  const auto now = Clock::now();
+  std::optional<std::chrono::seconds> wait;
+  {
+    std::lock_guard lock(state_->mutex);
+    wait = state_->throttle.wait(asked->user, request.address, now);
+    if (wait) ++state_->stats.logins_throttled;
+  }
+  if (wait) {
+    HttpReply reply = json_reply(
+        429, json{{"error", fmt::format("too many failed logins: try again in {} s", wait->count())},
+                  {"retry_after_s", wait->count()}});
+    reply.headers.emplace_back("Retry-After", std::to_string(wait->count()));
+    co_return reply;
+  }
+  const std::shared_ptr<const UsersFile> accounts = users();
+  if (!accounts) co_return error_reply(503, "no accounts can be read: see the gateway's log");
+  // The hash on its own thread: it costs tens of milliseconds by design.
+  const std::string user = asked->user;
+  const std::string password = std::move(asked->password);
+  // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.
+  auto check = [accounts, user, password]() -> asio::awaitable<std::optional<Role>> {
+    co_return accounts->verify(user, password);
+  };
+  const std::optional<Role> role =
+      co_await asio::co_spawn(hashing_.get_executor(), std::move(check), asio::use_awaitable);
+  if (!role) {
+    {
+      std::lock_guard lock(state_->mutex);
+      state_->throttle.failed(user, request.address, Clock::now());
+      ++state_->stats.login_failures;
+    }
+    spdlog::warn("web console: failed login as \"{}\" from {}", user, request.address);
+    co_return error_reply(401, "wrong user name or password");
+  }
+  std::string token, csrf;
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->throttle.succeeded(user, request.address);
+    token = state_->sessions.open(user, *role, Clock::now());
+    csrf = state_->sessions.use(token, Clock::now())->csrf;
+    ++state_->stats.logins;
+  }
+  spdlog::info("web console: {} logged in from {} as {}", user, request.address,
+               role_name(*role));
+  HttpReply reply = json_reply(
+      200, json{{"user", user}, {"role", role_name(*role)}, {"csrf", csrf}});
+  reply.headers.emplace_back("Set-Cookie", session_cookie(token, request.https, request.loopback));
+  co_return reply;
+}
+
+HttpReply ConsoleHandler::logout(const HttpRequest& request) {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->sessions.close(session_token(request.cookie));
+  }
+  HttpReply reply = json_reply(200, json::object());
+  reply.headers.emplace_back(
+      "Set-Cookie", fmt::format("{}=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0", kSessionCookie));
+  return reply;
+}
+
+asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
+                                               const ConsoleSession& session) {
+  const std::string_view path = path_of(request.target);
+  const std::string& method = request.method;
+  if (path == "/api/logout") {
+    if (method != "POST") co_return error_reply(405, "log out with POST");
+    co_return logout(request);
+  }
+  if (path == "/api/audit") {
+    if (method != "GET") co_return error_reply(405, "GET only");
+    co_return audit(request);
+  }
+  if (path == "/api/config" || path == "/api/config.toml" || path == "/api/config/check") {
+    if (!role_allows(session.role, Role::admin))
+      co_return error_reply(403, "the configuration is for the admin role");
+    co_return config_change(request, path, session);
+  }
+  if (path.starts_with(kSensorPrefix) && path.ends_with(kSettingsSuffix))
+    co_return co_await settings(request, path, session);
+  if (path.starts_with(kBusPrefix) && (path.ends_with("/scan") || path.ends_with("/raw")))
+    co_return co_await bus_action(request, path, session);
+  if (method == "GET" || method == "HEAD") co_return co_await public_route(request);
+  co_return error_reply(405, "not something that can be changed");
+}
+
+asio::awaitable<HttpReply> ConsoleHandler::settings(const HttpRequest& request,
+                                                    std::string_view path,
+                                                    const ConsoleSession& session) {
+  const auto name = decoded_name(
+      path.substr(kSensorPrefix.size(), path.size() - kSensorPrefix.size() - kSettingsSuffix.size()));
+  if (!name) co_return error_reply(404, "no such sensor");
+  const bool write = request.method == "POST";
+  if (!write && request.method != "GET")
+    co_return error_reply(405, "GET a sensor's settings, or POST one to change it");
+  std::optional<SettingRequest> asked;
+  if (write) {
+    auto parsed = parse_setting_request(request.body);
+    if (!parsed) co_return error_reply(400, parsed.error());
+    asked = std::move(*parsed);
+  }
+  // Looked up on the buses' executor, where the sensors and their maps live; the write is
+  // queued there too, and this request waits for the sensor's answer without holding it.
+  const WriteOrigin origin{"console", session.user};
+  const Role role = session.role;
+  // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.
+  auto on_bus = [&]() -> asio::awaitable<HttpReply> {
+        std::shared_ptr<GatewaySensor> sensor;
+        for (const auto& candidate : context_.gateway->sensors())
+          if (candidate->config.name == *name) sensor = candidate;
+        if (!sensor) co_return error_reply(404, "no such sensor");
+        const std::string full_name =
+            (sensor->bus ? sensor->bus->name() + "/" : std::string()) + sensor->config.name;
+        const auto snapshot = sensor->snapshot();
+        const std::vector<SensorSetting> list = sensor_settings(
+            sensor->map, context_.families, snapshot ? &snapshot->state : nullptr);
+        if (!write) {
+          json settings = json::array();
+          for (const SensorSetting& setting : list)
+            settings.push_back({{"name", setting.name},
+                                {"role", setting.role == SettingRole::operator_ ? "operator" : "admin"},
+                                {"min", setting.min},
+                                {"max", setting.max},
+                                {"units", setting.units},
+                                {"description", setting.description},
+                                {"value", setting.value ? json(*setting.value) : json(nullptr)}});
+          co_return json_reply(200, json{{"sensor", sensor->config.name}, {"settings", settings}});
+        }
+        const auto setting = std::find_if(list.begin(), list.end(), [&](const SensorSetting& s) {
+          return s.name == asked->setting;
+        });
+        if (setting == list.end())
+          co_return error_reply(400, fmt::format("{} is not a setting of {}'s map", asked->setting,
+                                                 sensor->config.name));
+        const Role needed = setting->role == SettingRole::operator_ ? Role::operator_ : Role::admin;
+        if (!role_allows(role, needed)) {
+          record(session, full_name, asked->setting, "", number_text(asked->value),
+                 fmt::format("refused: the {} role may not change it", role_name(role)));
+          co_return error_reply(403, fmt::format("{} needs the {} role", asked->setting,
+                                                 role_name(needed)));
+        }
+        const SettingWriter writer(*context_.gateway, context_.families);
+        const SettingOutcome outcome =
+            co_await writer.write(sensor->config.name, asked->setting, asked->value, origin);
+        json body{{"sensor", sensor->config.name},
+                  {"setting", asked->setting},
+                  {"value", asked->value},
+                  {"old", outcome.old_value ? json(*outcome.old_value) : json(nullptr)}};
+        switch (outcome.result) {
+          case SettingOutcome::Result::ack:
+            body["result"] = "ack";
+            co_return json_reply(200, body);
+          case SettingOutcome::Result::nak:
+            body["result"] = audit_result(outcome);
+            body["error"] = fmt::format("{} refused it: {}", sensor->config.name, outcome.detail);
+            co_return json_reply(409, body);
+          case SettingOutcome::Result::timeout:
+            body["result"] = "timeout";
+            body["error"] = fmt::format("{} did not answer: {}", sensor->config.name, outcome.detail);
+            co_return json_reply(504, body);
+          case SettingOutcome::Result::refused:
+            break;
+        }
+        body["result"] = "refused: " + outcome.detail;
+        body["error"] = outcome.detail;
+        co_return json_reply(400, body);
+  };
+  co_return co_await asio::co_spawn(context_.gateway_executor, std::move(on_bus),
+                                    asio::use_awaitable);
+}
+
+asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request,
+                                                      std::string_view path,
+                                                      const ConsoleSession& session) {
+  const bool scan = path.ends_with("/scan");
+  const std::string_view rest = path.substr(kBusPrefix.size());
+  const auto bus = decoded_name(rest.substr(0, rest.rfind('/')));
+  if (!bus) co_return error_reply(404, "no such bus");
+  bool known = false;
+  if (context_.gateway)
+    for (const BusConfig& config : context_.gateway->config().buses) known |= config.name == *bus;
+  if (!known) co_return error_reply(404, "no such bus");
+  if (!bus_actions_) {
+    // Not one expression with the co_await: g++ 12 destroys its temporaries twice.
+    const asio::any_io_executor here = co_await asio::this_coro::executor;
+    BusActionSetup setup{context_.config_path, context_.control_socket};
+    bus_actions_ = std::make_unique<BusActions>(here, std::move(setup));
+  }
+  if (scan && request.method == "GET")
+    co_return json_reply(200, bus_actions_->scan_state(*bus));
+  if (request.method != "POST") co_return error_reply(405, "POST to start it");
+  if (!role_allows(session.role, Role::admin))
+    co_return error_reply(403, scan ? "a scan is for the admin role" : "raw frames are for the admin role");
+  unsigned status = 200;
+  if (scan) {
+    auto asked = parse_scan_request(request.body);
+    if (!asked) co_return error_reply(400, asked.error());
+    json body = bus_actions_->start_scan(*bus, *asked, session.user, status);
+    record(session, *bus, "scan", "", fmt::format("{}..{}", asked->from, asked->to),
+           status == 202 ? "ok" : "refused: " + body.value("error", std::string()));
+    co_return json_reply(status, body);
+  }
+  auto asked = parse_raw_request(request.body);
+  if (!asked) co_return error_reply(400, asked.error());
+  const std::string what = fmt::format("address {} function {} data {}", asked->address,
+                                       asked->function, asked->data.empty() ? "-" : asked->data);
+  json body = co_await bus_actions_->raw(*bus, *asked, session.user, status);
+  const std::string error = body["error"].is_string() ? body["error"].get<std::string>() : "";
+  record(session, *bus, "raw", "", what,
+         error.empty() ? (body["received"].is_null() ? "timeout" : "ok") : "error: " + error);
+  co_return json_reply(status, body);
+}
+
+HttpReply ConsoleHandler::audit(const HttpRequest& request) const {
+  if (context_.audit == nullptr) return json_reply(200, json{{"records", json::array()}});
+  AuditTrail::Filter filter;
+  filter.door = query_value(request.target, "door");
+  filter.sensor = query_value(request.target, "sensor");
+  filter.who = query_value(request.target, "who");
+  filter.setting = query_value(request.target, "setting");
+  const std::string limit = query_value(request.target, "limit");
+  if (!limit.empty()) {
+    char* stop = nullptr;
+    const long n = std::strtol(limit.c_str(), &stop, 10);
+    if (stop == limit.c_str() || *stop != '\0' || n < 1 || n > 10000)
+      return error_reply(400, "limit: expected 1 to 10000");
+    filter.limit = std::size_t(n);
+  }
+  json records = json::array();
+  for (const AuditRecord& record : context_.audit->recent(filter))
+    records.push_back({{"unix_ms", record.unix_ms},
+                       {"time", utc_time(record.unix_ms)},
+                       {"door", record.origin.door},
+                       {"who", record.origin.who},
+                       {"sensor", record.sensor},
+                       {"setting", record.setting},
+                       {"old", record.old_value},
+                       {"new", record.new_value},
+                       {"result", record.result}});
+  return json_reply(200, json{{"records", std::move(records)}});
+}
+
+HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_view path,
+                                        const ConsoleSession& session) {
+  const std::string& method = request.method;
+  if (path == "/api/config.toml") {
+    if (method != "GET") return error_reply(405, "GET only");
+    return config_endpoint_.download();
+  }
+  if (path == "/api/config/check") {
+    if (method != "POST") return error_reply(405, "POST the text to check");
+    auto text = parse_config_text(request.body);
+    if (!text) return error_reply(400, text.error());
+    return config_endpoint_.check(*text);
+  }
+  if (method == "GET") {
+    const std::string loaded_at = context_.gateway ? context_.gateway->loaded_at() : std::string();
+    return config_endpoint_.show(loaded_at);
+  }
+  if (method != "PUT") return error_reply(405, "GET the configuration, or PUT a new one");
+  auto text = parse_config_text(request.body);
+  if (!text) return error_reply(400, text.error());
+  std::string previous;
+  HttpReply reply = config_endpoint_.apply(*text, previous);
+  record(session, "", "config", "", config_endpoint_.path(),
+         reply.status == 200 ? std::string("ok")
+                             : (reply.status == 422 ? std::string("refused: the configuration has errors")
+                                                    : "error: " + json::parse(reply.body, nullptr, false).value("error", std::string())));
+  if (reply.status == 200 && context_.reload) context_.reload();
+  return reply;
+}
+
+}  // namespace tiltgate

@@ -1,0 +1,112 @@
+// Who may do what over HTTP (docs/web-console.md): the one handler of the HTTP server
+// (status/http_server.h). Without [http] users_file it answers as the read-only status API
+// always has. With it, the page, /healthz and /metrics stay open to whoever [http] allow admits;
+// every /api/ endpoint but /api/login needs a session (a cookie), every change also the
+// session's CSRF token in X-CSRF-Token and, when the browser sends one, an Origin that is this
+// server; and the session's role must allow the change (viewer < operator < admin).
+//
+// Threads: runs on the HTTP server's own thread. What the gateway holds (the status copy, the
+// angle history, a sensor write) is taken on the buses' executor, awaited here; a password is
+// checked on a thread of its own (tens of milliseconds by design), so neither the buses nor the
+// other HTTP clients wait for it.
+#pragma once
+
+#include <boost/asio/any_io_executor.hpp>
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/thread_pool.hpp>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "accounts/users_file.h"
+#include "audit/audit_trail.h"
+#include "config/config.h"
+#include "console/bus_actions.h"
+#include "console/config_endpoint.h"
+#include "console/login_throttle.h"
+#include "console/session_table.h"
+#include "driver/family.h"
+#include "status/http_routes.h"
+
+namespace tiltgate {
+
+class Gateway;
+
+// What the console reaches of the running gateway.
+struct ConsoleContext {
+  boost::asio::any_io_executor gateway_executor;  // the buses': status, history and writes
+  StatusSource status;
+  HistorySource history;
+  const Gateway* gateway = nullptr;
+  FamilyList families;
+  AuditTrail* audit = nullptr;
+  std::string config_path;  // the served file; empty: none (the demo)
+  std::string control_socket;  // [server] control_socket: the console's scan and raw go through it
+  // Asks the gateway to reload its configuration file (as SIGHUP does), on any thread.
+  std::function<void()> reload;
+};
+
+// Counted for /metrics.
+struct ConsoleStats {
+  std::uint64_t logins = 0;
+  std::uint64_t login_failures = 0;
+  std::uint64_t logins_throttled = 0;
+  std::uint64_t sessions = 0;  // open now
+};
+
+// What the console keeps across a reload that restarts the HTTP server (a changed [http]), so
+// that applying a configuration logs nobody out and forgets no failed login: shared by the
+// handler of the server being replaced, which may still finish a request, and the new one.
+struct ConsoleState {
+  ConsoleState(std::chrono::seconds idle, std::chrono::seconds max) : sessions(idle, max) {}
+  std::mutex mutex;
+  SessionTable sessions;
+  LoginThrottle throttle;
+  ConsoleStats stats;  // sessions: filled in when read
+};
+class ConsoleHandler {
+ public:
+  ConsoleHandler(ConsoleContext context, const HttpConfig& config,
+                 std::shared_ptr<ConsoleState> state);
+  ~ConsoleHandler();
+
+  boost::asio::awaitable<HttpReply> handle(HttpRequest request);
+  ConsoleStats stats() const;
+
+ private:
+  struct Caller;  // the session a request came with, when any
+
+  boost::asio::awaitable<HttpReply> public_route(const HttpRequest& request);
+  boost::asio::awaitable<HttpReply> login(const HttpRequest& request);
+  HttpReply session_reply(const HttpRequest& request);
+  HttpReply logout(const HttpRequest& request);
+  boost::asio::awaitable<HttpReply> api(const HttpRequest& request, const ConsoleSession& session);
+  boost::asio::awaitable<HttpReply> settings(const HttpRequest& request, std::string_view path,
+                                             const ConsoleSession& session);
+  HttpReply audit(const HttpRequest& request) const;
+  boost::asio::awaitable<HttpReply> bus_action(const HttpRequest& request, std::string_view path,
+                                               const ConsoleSession& session);
+  HttpReply config_change(const HttpRequest& request, std::string_view path,
+                          const ConsoleSession& session);
+  // Refused with the reply when the request may not change anything: no CSRF token of the
+  // session, or an Origin that is not this server.
+  std::optional<HttpReply> refuse_forgery(const HttpRequest& request,
+                                          const ConsoleSession& session) const;
+  // The users file, read again when it changed on disk (`tiltgate user` while the gateway runs);
+  // sessions of removed users, or of users whose role changed, end then.
+  std::shared_ptr<const UsersFile> users();
+  void record(const ConsoleSession& session, std::string sensor, std::string setting,
+              std::string old_value, std::string new_value, std::string result);
+
+  ConsoleContext context_;
+  HttpConfig config_;
+  ConfigEndpoint config_endpoint_;
+  std::unique_ptr<BusActions> bus_actions_;  // made on the server's thread, at its first use
+  std::shared_ptr<ConsoleState> state_;
+  std::shared_ptr<const UsersFile> users_;
+  std::string users_error_;
+  std::int64_t users_mtime_ns_ = -1;
+  boost::asio::thread_pool hashing_{1};
+};
+
+}  // namespace tiltgate

@@ -1,0 +1,69 @@
+// The console API's JSON bodies: what is taken, and a one-line reason for what is not.
+#include <doctest/doctest.h>
+
+#include "console/bus_actions.h"
+#include "console/console_requests.h"
+
+using namespace tiltgate;
+
+TEST_CASE("a login body needs a user and a password, both strings of bounded size") {
+  auto ok = parse_login_request(R"({"user": "alice", "password": "s3cret \"x\""})");
+  REQUIRE(ok);
+  CHECK(ok->user == "alice");
+  CHECK(ok->password == "s3cret \"x\"");
+  CHECK(parse_login_request("").error() == "the body is not JSON");
+  CHECK(parse_login_request("[1]").error() == "the body is not a JSON object");
+  CHECK(parse_login_request(R"({"user": "alice"})").error() == "\"password\" is missing");
+  CHECK(parse_login_request(R"({"user": 5, "password": "x"})").error() ==
+        "\"user\" is not a string");
+  const std::string long_name(kMaxUserName + 1, 'a');
+  CHECK(parse_login_request(R"({"user": ")" + long_name + R"(", "password": "x"})").error() ==
+        "\"user\" is longer than 64 bytes");
+  CHECK_FALSE(parse_login_request(R"({"user": "a", "password": "x")"));  // cut short
+}
+
+TEST_CASE("a setting body names the setting and a finite number (or a Boolean)") {
+  auto filter = parse_setting_request(R"({"setting": "filter", "value": 3})");
+  REQUIRE(filter);
+  CHECK(filter->setting == "filter");
+  CHECK(filter->value == 3);
+  CHECK(parse_setting_request(R"({"setting": "zero", "value": true})")->value == 1);
+  CHECK(parse_setting_request(R"({"setting": "zero", "value": "3"})").error() ==
+        "\"value\" is not a number");
+  CHECK(parse_setting_request(R"({"value": 3})").error() == "\"setting\" is missing");
+  CHECK_FALSE(parse_setting_request(R"({"setting": "zero", "value": 1e999})"));
+}
+
+TEST_CASE("scan and raw bodies: ranges checked") {
+  CHECK(parse_scan_request("")->to == 0);
+  auto range = parse_scan_request(R"({"from": 5, "to": 20})");
+  REQUIRE(range);
+  CHECK(range->from == 5);
+  CHECK(range->to == 20);
+  CHECK(parse_scan_request(R"({"from": 20, "to": 5})").error() == "\"to\" is below \"from\"");
+  CHECK_FALSE(parse_scan_request(R"({"from": -1})"));
+  auto raw = parse_raw_request(R"({"address": 5, "function": 16, "data": "01 0A"})");
+  REQUIRE(raw);
+  CHECK(raw->data == "01 0A");
+  CHECK(parse_raw_request(R"({"function": 16})").error() == "\"address\" is missing");
+  CHECK(parse_raw_request(R"({"address": 1.5, "function": 16})").error() ==
+        "\"address\" is not a whole number");
+}
+
+TEST_CASE("the sensors a scan's configuration holds, each with its own table") {
+  const std::string text =
+      "# Written by `tiltgate scan`\n\n[[bus]]\nname = \"line1\"\nport = \"/dev/ttyUSB0\"\n\n"
+      "[[sensor]]\nname = \"sensor_5\"    # edit\nbus = \"line1\"\nmodel = \"H6\"\naddress = 5\n"
+      "unit_id = 1\nserial = \"A123\"    # firmware 2.1\n\n"
+      "[[sensor]]\nname = \"sensor_9\"\nbus = \"line1\"\naddress = 9\nunit_id = 2\n";
+  const auto found = found_in_scan_config(text);
+  REQUIRE(found.size() == 2);
+  CHECK(found[0].address == 5);
+  CHECK(found[0].model == "H6");
+  CHECK(found[0].serial == "A123");
+  CHECK(found[0].firmware == "2.1");
+  CHECK(found[0].config.starts_with("[[sensor]]\nname = \"sensor_5\""));
+  CHECK(found[0].config.ends_with("# firmware 2.1\n"));
+  CHECK(found[1].address == 9);
+  CHECK(found[1].serial.empty());
+}
