@@ -6,6 +6,10 @@ driver package is needed.
 
     chromium_page.py check URL GATEWAY_PID   the live page test (tests/e2e/status_page_test.sh)
     chromium_page.py screenshot URL OUT.png WIDTH HEIGHT [SENSOR]
+    chromium_page.py console URL OPERATOR VIEWER SENSOR SETTING
+        the console test (tests/e2e/console_page_test.sh): OPERATOR and VIEWER are NAME:PASSWORD
+    chromium_page.py tabs URL ADMIN OUT_PREFIX SENSOR   a screenshot of each console tab,
+        OUT_PREFIX-TAB.png (1280x800), OUT_PREFIX-phone[-sensor].png (390x844)
 """
 import base64
 import json
@@ -107,6 +111,23 @@ class Chromium:
             return None
         return result["result"].get("value")
 
+    def run(self, statement):
+        """Runs JavaScript statements for their effect (a click, a field's value)."""
+        self.evaluate("(() => { %s })()" % statement)
+
+    def fill(self, selector, value):
+        self.run("const e = document.querySelector(%s); e.value = %s; "
+                 "e.dispatchEvent(new Event('input', {bubbles: true}));" %
+                 (json.dumps(selector), json.dumps(value)))
+
+    def click(self, selector):
+        self.run("document.querySelector(%s).click();" % json.dumps(selector))
+
+    def shoot(self, out):
+        shot = self.send("Page.captureScreenshot", {"format": "png"})
+        with open(out, "wb") as f:
+            f.write(base64.b64decode(shot["data"]))
+
     def wait_for(self, expression, limit):
         """Polls `expression` until it is truthy; its last value, or None after `limit` s."""
         deadline = time.monotonic() + limit
@@ -205,9 +226,194 @@ def screenshot(url, out, width, height, sensor=None):
         if sensor:
             browser.evaluate("document.querySelector('.card[data-name=\"%s\"]').click()" % sensor)
             browser.wait_for("document.querySelector('#detail-graph svg') !== null", 10)
-        shot = browser.send("Page.captureScreenshot", {"format": "png"})
-        with open(out, "wb") as f:
-            f.write(base64.b64decode(shot["data"]))
+        browser.shoot(out)
+    finally:
+        browser.close()
+    return 0
+
+
+# ---- the console (accounts): its login form, a sensor's settings, the tabs ----
+def visible(selector):
+    return ("(() => { const e = document.querySelector(%s); "
+            "return !!e && e.offsetParent !== null; })()" % json.dumps(selector))
+
+
+def log_in(browser, account, limit=15):
+    """Logs in through the page's form; the header's user and role, or None."""
+    user, password = account.split(":", 1)
+    if not browser.wait_for(visible("#login-user"), limit):
+        return None
+    browser.fill("#login-user", user)
+    browser.fill("#login-password", password)
+    browser.click("#login-submit")
+    return browser.wait_for(
+        "!document.getElementById('who').hidden && document.getElementById('who-name').textContent === %s"
+        " && document.getElementById('who-role').textContent" % json.dumps(user), limit)
+
+
+def open_sensor(browser, sensor, limit=20):
+    """Opens a sensor's card once the page shows it; its settings' names once read, or None."""
+    card = '.card[data-name="%s"]' % sensor
+    if not browser.wait_for("document.querySelector(%s) !== null" % json.dumps(card), limit):
+        return None
+    browser.click(card)
+    return browser.wait_for(
+        "(() => { const rows = [...document.querySelectorAll('#detail-settings tr[data-setting]')];"
+        " return rows.length ? rows.map(r => r.dataset.setting) : null; })()", limit)
+
+
+ENABLED_ACTIONS = """[...document.querySelectorAll(
+  '#detail-settings button, main button[data-needs], main .scan, #scans button, #raw-send,'
+  + ' #config-apply, #config-check')]
+  .filter(b => !b.disabled && !b.hidden && b.offsetParent !== null).map(b => b.textContent)"""
+
+
+def console_check(url, operator, viewer, sensor, setting):
+    failures = []
+    browser = Chromium()
+    try:
+        browser.open(url, 1280, 800)
+        role = log_in(browser, operator)
+        if role != "operator":
+            print("FAIL: the operator's login through the form: role %r, form says %r" %
+                  (role, browser.evaluate("document.getElementById('login-message').textContent")))
+            return 1
+        print("console: logged in as %s (%s)" % (operator.split(":")[0], role))
+        names = open_sensor(browser, sensor)
+        if not names:
+            print("FAIL: no settings read from %s: %s" % (
+                sensor, browser.evaluate("document.getElementById('detail-message').textContent")))
+            return 1
+        chosen = next((n for n in names if n == setting), None) or \
+            next((n for n in names if n.startswith(setting)), None)
+        if not chosen:
+            print("FAIL: %s names no setting %s...: %s" % (sensor, setting, names))
+            return 1
+        row = '#detail-settings tr[data-setting="%s"]' % chosen
+        # A range setting gets 0 (a zero offset); an action (one value) is its button alone.
+        browser.run("const i = document.querySelector(%s); if (i) i.value = '0';" %
+                    json.dumps(row + " input"))
+        browser.click(row + " button")
+        question = browser.wait_for(
+            "!document.getElementById('confirm').hidden && "
+            "document.getElementById('confirm-text').textContent", 5)
+        if not question or sensor not in question or chosen not in question:
+            failures.append("the confirmation does not name %s and %s: %r" % (sensor, chosen, question))
+        else:
+            print("console: asked: " + question)
+        browser.click("#confirm-ok")
+        result = browser.wait_for("document.body.dataset.lastResult", 20)
+        message = browser.evaluate("document.getElementById('detail-message').textContent")
+        if result != "ack":
+            failures.append("%s of %s: %r (%s)" % (chosen, sensor, result, message))
+        else:
+            print("console: " + message)
+        # The Audit tab shows the change: who, sensor, setting, result.
+        browser.click("#detail-close")
+        browser.click('.tab[data-tab="audit"]')
+        user = operator.split(":")[0]
+        record = browser.wait_for(
+            "[...document.querySelectorAll('#audit-table tbody tr')].map(r =>"
+            " Object.fromEntries([...r.cells].map(c => [c.dataset.key, c.textContent])))"
+            ".find(r => r.who === %s && (r.sensor === %s || r.sensor.endsWith('/' + %s))"
+            " && r.setting === %s)" %
+            (json.dumps(user), json.dumps(sensor), json.dumps(sensor), json.dumps(chosen)), 10)
+        if not record:
+            failures.append("no audit record of %s's %s on %s in the Audit tab: %s" % (
+                user, chosen, sensor, browser.evaluate(
+                    "document.querySelector('#audit-table tbody').textContent")))
+        else:
+            print("console: audit record: %s" % record)
+        # Log out: the form again; then the viewer sees no enabled action anywhere.
+        browser.click("#logout")
+        if not browser.wait_for(visible("#login-user"), 10):
+            failures.append("no login form after logging out")
+        role = log_in(browser, viewer)
+        if role != "viewer":
+            failures.append("the viewer's login: role %r" % role)
+        else:
+            if not open_sensor(browser, sensor):
+                failures.append("the viewer sees no settings of %s" % sensor)
+            enabled = browser.evaluate(ENABLED_ACTIONS)
+            browser.click("#detail-close")
+            for tab in ("buses", "audit"):
+                browser.click('.tab[data-tab="%s"]' % tab)
+                time.sleep(0.5)
+                enabled = (enabled or []) + (browser.evaluate(ENABLED_ACTIONS) or [])
+            admin_tabs = browser.evaluate(
+                "[...document.querySelectorAll('.tab[data-needs]')].filter(t => !t.hidden)"
+                ".map(t => t.textContent)")
+            if enabled or admin_tabs:
+                failures.append("the viewer has enabled actions %s, tabs %s" % (enabled, admin_tabs))
+            else:
+                print("console: the viewer sees the settings with no enabled action and no admin tab")
+    finally:
+        browser.close()
+    for failure in failures:
+        print("FAIL: " + failure)
+    return 1 if failures else 0
+
+
+def tab_screenshots(url, admin, prefix, sensor):
+    """The login form, then each tab in use, as the docs show them."""
+    browser = Chromium(1280, 800)
+    try:
+        browser.open(url, 1280, 800)
+        if not browser.wait_for(visible("#login-user"), 15):
+            raise SystemExit("no login form at " + url)
+        browser.fill("#login-user", admin.split(":")[0])
+        browser.shoot(prefix + "-login.png")
+        if log_in(browser, admin) != "admin":
+            raise SystemExit("the admin could not log in")
+        browser.wait_for("Number(document.body.dataset.updates) >= 12", 20)
+        names = open_sensor(browser, sensor) or []
+        # A zero through the console, so the sensor shows its answer and the Audit tab a record.
+        zero = next((n for n in names if n.startswith("zero")), None)
+        if zero:
+            row = '#detail-settings tr[data-setting="%s"]' % zero
+            browser.run("const i = document.querySelector(%s); if (i) i.value = '0';" %
+                        json.dumps(row + " input"))
+            browser.click(row + " button")
+            browser.wait_for("!document.getElementById('confirm').hidden", 5)
+            browser.click("#confirm-ok")
+            browser.wait_for("document.body.dataset.lastResult", 20)
+            browser.wait_for("document.querySelector('#detail-settings tr[data-setting]')", 10)
+        browser.shoot(prefix + "-sensor.png")
+        browser.click("#detail-close")
+        browser.click('.tab[data-tab="buses"]')
+        browser.wait_for("document.querySelector('#scans form') !== null", 5)
+        browser.run("const f = document.querySelector('#scans form');"
+                    "f.querySelector('.from').value = 1; f.querySelector('.to').value = 8;"
+                    "f.querySelector('.scan').click();")
+        browser.wait_for("document.querySelector('#scans form').dataset.running === 'false' && "
+                         "document.querySelector('#scans .found, #scans .output')", 60)
+        browser.shoot(prefix + "-buses.png")
+        # A found sensor goes into the editor (the Configuration tab's diff then shows it).
+        added = browser.evaluate("(() => { const b = [...document.querySelectorAll('#scans button')]"
+                                 ".find(b => b.textContent === 'Add to the configuration');"
+                                 " if (b) b.click(); return !!b; })()")
+        browser.click('.tab[data-tab="raw"]')
+        browser.click("#raw-send")
+        browser.wait_for("!document.getElementById('raw-result').hidden", 10)
+        browser.shoot(prefix + "-raw.png")
+        browser.click('.tab[data-tab="config"]')
+        browser.wait_for("document.getElementById('editor').value !== ''", 10)
+        if not added:
+            browser.run("const e = document.getElementById('editor');"
+                        "e.value = e.value.replace(/poll_ms = \\d+/, 'poll_ms = 200');")
+        browser.click("#config-diff")
+        browser.shoot(prefix + "-config.png")
+        browser.click('.tab[data-tab="audit"]')
+        browser.wait_for("document.querySelector('#audit-table tbody tr') !== null", 10)
+        browser.shoot(prefix + "-audit.png")
+        browser.send("Emulation.setDeviceMetricsOverride",
+                     {"width": 390, "height": 844, "deviceScaleFactor": 1, "mobile": True})
+        browser.click('.tab[data-tab="sensors"]')
+        time.sleep(1)
+        browser.shoot(prefix + "-phone.png")
+        open_sensor(browser, sensor)
+        time.sleep(1)
+        browser.shoot(prefix + "-phone-sensor.png")
     finally:
         browser.close()
     return 0
@@ -219,6 +425,10 @@ def main(argv):
     if len(argv) >= 6 and argv[1] == "screenshot":
         return screenshot(argv[2], argv[3], int(argv[4]), int(argv[5]),
                           argv[6] if len(argv) > 6 else None)
+    if len(argv) >= 7 and argv[1] == "console":
+        return console_check(argv[2], argv[3], argv[4], argv[5], argv[6])
+    if len(argv) >= 6 and argv[1] == "tabs":
+        return tab_screenshots(argv[2], argv[3], argv[4], argv[5])
     print(__doc__, file=sys.stderr)
     return 2
 
