@@ -149,9 +149,10 @@ class Gateway:
     """Simulated buses (one `tiltgate sim rieker` each) and one `tiltgate run` polling them."""
 
     def __init__(self, binary, folder, baud, buses, sensors, poll_ms, own_ports=False,
-                 commands=False, server_keys=""):
+                 commands=False, server_keys="", http_keys="", control_socket=""):
         """commands: the simulators' standard input and output are pipes (sim_command());
-        server_keys: more [server] lines (writes = true); poll_ms None: the default."""
+        server_keys, http_keys: more [server] lines (writes = true), more [http] lines
+        (users_file); control_socket: its path, "" off; poll_ms None: the default."""
         self.sims = []
         self.http_port = distinct_port()
         self.modbus_port = distinct_port()
@@ -160,12 +161,13 @@ listen = "127.0.0.1"
 port = {self.modbus_port}
 max_clients = 100
 max_clients_per_host = 100
-control_socket = ""
+control_socket = "{control_socket}"
 {server_keys}
 
 [http]
 listen = "127.0.0.1"
 port = {self.http_port}
+{http_keys}
 """]
         for b in range(buses):
             link = os.path.join(folder, f"tty{b}")
@@ -191,7 +193,9 @@ port = {self.http_port}
                 sys.exit(f"tiltgate run exited with status {self.process.returncode}; "
                          f"see {self.log_path}")
             try:
-                self.sensors()
+                # /healthz, not the API: with [http] users_file the API needs a session.
+                urllib.request.urlopen(f"http://127.0.0.1:{self.http_port}/healthz",
+                                       timeout=5).close()
                 break
             except OSError:
                 if time.time() > end:
