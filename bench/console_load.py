@@ -312,7 +312,10 @@ def report(windows, modbus_times, console, rounds, seconds, poll_ms):
         rows[phase] = {"polls": statistics.median(polls), "p50": statistics.median(p50),
                        "busy": statistics.median(w[3] for w in windows[phase]),
                        "p99": statistics.median(p99), "p99s": p99,
-                       "reads": sum(len(latencies(t0, t1)) for _, t0, t1, _ in windows[phase])}
+                       "reads": sum(len(latencies(t0, t1)) for _, t0, t1, _ in windows[phase]),
+                       "exceptions": sum(1 for _, t0, t1, _ in windows[phase]
+                                         for start, ms in modbus_times
+                                         if t0 <= start < t1 and ms is None)}
     idle = rows["idle"]
     print(f"Web console load: {SENSORS} x H6 at {BAUD} baud, poll_ms = {poll_ms}; a Modbus client "
           f"reading input registers 0..7 at {MODBUS_READS_PER_S}/s; {USERS} console users "
@@ -339,7 +342,11 @@ def report(windows, modbus_times, console, rounds, seconds, poll_ms):
           + ", ".join(f"{p} {rows[p]['reads']}" for p in PHASES)
           + f"; idle windows' p99: {min(idle['p99s']):.3f}-{max(idle['p99s']):.3f} ms; bus "
           f"utilisation (median): " + ", ".join(f"{p} {rows[p]['busy']:.2f}" for p in PHASES)
-          + f"; Modbus exception replies over the whole run: {exceptions}")
+          + f"; Modbus exception replies over the whole run: {exceptions}, in the windows: "
+          + ", ".join(f"{p} {rows[p]['exceptions']}" for p in PHASES))
+    for phase in PHASES:
+        print(f"{phase} windows' polls/s: "
+              + " ".join(f"{w[0]:.1f}" for w in windows[phase]))
     for c in scans:
         for error in c["errors"][:5]:
             print(f"scan error: {error}")
