@@ -162,6 +162,20 @@ asio::awaitable<HttpReply> ConsoleHandler::public_route(const HttpRequest& reque
                                     asio::use_awaitable);
 }
 
+asio::awaitable<ConsoleHandler::ServedFacts> ConsoleHandler::served_facts() {
+  // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.
+  auto take = [this]() -> asio::awaitable<ServedFacts> {
+    ServedFacts facts;
+    if (context_.gateway != nullptr) {
+      for (const BusConfig& bus : context_.gateway->config().buses) facts.buses.push_back(bus.name);
+      facts.loaded_at = context_.gateway->loaded_at();
+    }
+    co_return facts;
+  };
+  co_return co_await asio::co_spawn(context_.gateway_executor, std::move(take),
+                                    asio::use_awaitable);
+}
+
 asio::awaitable<HttpReply> ConsoleHandler::handle(HttpRequest request) {
   const std::string_view path = path_of(request.target);
   if (config_.users_file.empty()) {
@@ -294,7 +308,14 @@ asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
   if (path == "/api/config" || path == "/api/config.toml" || path == "/api/config/check") {
     if (!role_allows(session.role, Role::admin))
       co_return error_reply(403, "the configuration is for the admin role");
-    co_return config_change(request, path, session);
+    // When the served file was loaded: the buses' thread's to say (a reload changes it).
+    // (Not a conditional expression around the co_await: g++ 12 destroys its temporary twice.)
+    std::string loaded_at;
+    if (path == "/api/config" && request.method == "GET") {
+      const ServedFacts facts = co_await served_facts();
+      loaded_at = facts.loaded_at;
+    }
+    co_return config_change(request, path, session, loaded_at);
   }
   if (path.starts_with(kSensorPrefix) && path.ends_with(kSettingsSuffix))
     co_return co_await settings(request, path, session);
@@ -396,10 +417,9 @@ asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request
   const std::string_view rest = path.substr(kBusPrefix.size());
   const auto bus = decoded_name(rest.substr(0, rest.rfind('/')));
   if (!bus) co_return error_reply(404, "no such bus");
-  bool known = false;
-  if (context_.gateway)
-    for (const BusConfig& config : context_.gateway->config().buses) known |= config.name == *bus;
-  if (!known) co_return error_reply(404, "no such bus");
+  const ServedFacts facts = co_await served_facts();
+  if (std::find(facts.buses.begin(), facts.buses.end(), *bus) == facts.buses.end())
+    co_return error_reply(404, "no such bus");
   if (!bus_actions_) {
     // Not one expression with the co_await: g++ 12 destroys its temporaries twice.
     const asio::any_io_executor here = co_await asio::this_coro::executor;
@@ -461,7 +481,8 @@ HttpReply ConsoleHandler::audit(const HttpRequest& request) const {
 }
 
 HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_view path,
-                                        const ConsoleSession& session) {
+                                        const ConsoleSession& session,
+                                        const std::string& loaded_at) {
   const std::string& method = request.method;
   if (path == "/api/config.toml") {
     if (method != "GET") return error_reply(405, "GET only");
@@ -473,10 +494,7 @@ HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_
     if (!text) return error_reply(400, text.error());
     return config_endpoint_.check(*text);
   }
-  if (method == "GET") {
-    const std::string loaded_at = context_.gateway ? context_.gateway->loaded_at() : std::string();
-    return config_endpoint_.show(loaded_at);
-  }
+  if (method == "GET") return config_endpoint_.show(loaded_at);
   if (method != "PUT") return error_reply(405, "GET the configuration, or PUT a new one");
   auto text = parse_config_text(request.body);
   if (!text) return error_reply(400, text.error());

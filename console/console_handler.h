@@ -17,6 +17,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "accounts/users_file.h"
 #include "audit/audit_trail.h"
@@ -87,7 +88,14 @@ class ConsoleHandler {
   boost::asio::awaitable<HttpReply> bus_action(const HttpRequest& request, std::string_view path,
                                                const ConsoleSession& session);
   HttpReply config_change(const HttpRequest& request, std::string_view path,
-                          const ConsoleSession& session);
+                          const ConsoleSession& session, const std::string& loaded_at);
+  // What the served configuration says that a request needs, read on the buses' thread, where
+  // a reload changes it.
+  struct ServedFacts {
+    std::vector<std::string> buses;
+    std::string loaded_at;
+  };
+  boost::asio::awaitable<ServedFacts> served_facts();
   // Refused with the reply when the request may not change anything: no CSRF token of the
   // session, or an Origin that is not this server.
   std::optional<HttpReply> refuse_forgery(const HttpRequest& request,

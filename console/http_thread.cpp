@@ -8,6 +8,8 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
+#include <future>
+
 namespace tiltgate {
 
 namespace asio = boost::asio;
@@ -41,7 +43,15 @@ Expected<Done, std::string> HttpThread::start() {
 
 void HttpThread::stop() {
   if (stopping_.exchange(true) || !running_) return;
-  asio::post(io_, [this] { server_->stop(); });
+  // Waited for: once this returns the port is free, so the server a reload makes next can bind
+  // it (the HTTP thread is never busy for long; should it be stuck, the wait gives up).
+  auto stopped = std::make_shared<std::promise<void>>();
+  std::future<void> done = stopped->get_future();
+  asio::post(io_, [this, stopped] {
+    server_->stop();
+    stopped->set_value();
+  });
+  done.wait_for(std::chrono::seconds(2));
 }
 
 }  // namespace tiltgate

@@ -25,7 +25,8 @@ class HttpThread {
   // server on the thread.
   Expected<Done, std::string> start();
   std::uint16_t local_port() const { return port_; }
-  // The server stops accepting and closes its connections; the thread ends once they are gone.
+  // The server stops accepting (its port is free when this returns) and closes its
+  // connections; the thread ends once they are gone.
   void stop();
   bool finished() const { return !running_.load(); }
   HttpServerStats stats() const { return server_->stats(); }  // any thread
