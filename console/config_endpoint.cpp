@@ -95,20 +95,27 @@ HttpReply ConfigEndpoint::check(const ConfigText& text) const {
   return json_reply(200, json{{"ok", true}, {"errors", json::array()}});
 }
 
-HttpReply ConfigEndpoint::apply(const ConfigText& text, std::string& previous_path) const {
-  if (path_.empty()) return error_reply(404, "this gateway runs without a configuration file");
+HttpReply ConfigEndpoint::apply(const ConfigText& text, std::string& audit_result) const {
+  const auto failed = [&](unsigned status, std::string why) {
+    audit_result = "error: " + why;
+    return error_reply(status, std::move(why));
+  };
+  if (path_.empty()) return failed(404, "this gateway runs without a configuration file");
   auto loaded = load_config_string(text.text, path_, families_);
-  if (!loaded)
+  if (!loaded) {
+    audit_result = "refused: the configuration has errors";
     return json_reply(422, json{{"ok", false},
                                 {"error", "the configuration has errors: nothing was changed"},
                                 {"errors", errors_json(loaded.error())}});
+  }
   auto old = toml_input::read_text_file(path_);
-  if (!old) return error_reply(500, fmt::format("{}: {}", path_, old.error()));
-  previous_path = path_ + ".previous";
+  if (!old) return failed(500, fmt::format("{}: {}", path_, old.error()));
+  const std::string previous_path = path_ + ".previous";
   if (auto kept = write_atomically(previous_path, *old); !kept)
-    return error_reply(500, kept.error() + ": nothing was changed");
+    return failed(500, kept.error() + ": nothing was changed");
   if (auto written = write_atomically(path_, text.text); !written)
-    return error_reply(500, written.error() + ": nothing was changed");
+    return failed(500, written.error() + ": nothing was changed");
+  audit_result = "ok";
   return json_reply(200, json{{"ok", true}, {"previous", previous_path}});
 }
 

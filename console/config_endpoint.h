@@ -20,8 +20,9 @@ class ConfigEndpoint {
   HttpReply show(const std::string& loaded_at) const;   // GET /api/config
   HttpReply download() const;                           // GET /api/config.toml
   HttpReply check(const ConfigText& text) const;        // POST /api/config/check
-  // PUT /api/config; `applied` is told the previous file's path once the new one is in place.
-  HttpReply apply(const ConfigText& text, std::string& previous_path) const;
+  // PUT /api/config; `audit_result` says what came of it in the audit trail's words ("ok",
+  // "refused: ...", "error: ...").
+  HttpReply apply(const ConfigText& text, std::string& audit_result) const;
 
   const std::string& path() const { return path_; }
 

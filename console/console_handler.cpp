@@ -11,12 +11,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "console/console_audit.h"
 #include "console/console_reply.h"
 #include "console/console_requests.h"
 #include "console/request_guard.h"
 #include "gateway/gateway.h"
-#include "settings/sensor_settings.h"
-#include "settings/setting_writer.h"
 
 namespace tiltgate {
 
@@ -32,35 +31,8 @@ constexpr std::string_view kBusPrefix = "/api/buses/";
 
 std::string_view path_of(std::string_view target) { return target.substr(0, target.find('?')); }
 
-// A query parameter's value, '+' and %XX decoded; empty when absent or malformed.
-std::string query_value(std::string_view target, std::string_view name) {
-  const auto mark = target.find('?');
-  if (mark == std::string_view::npos) return {};
-  std::string_view query = target.substr(mark + 1);
-  while (!query.empty()) {
-    const auto end = query.find('&');
-    const std::string_view pair = query.substr(0, end);
-    const auto equals = pair.find('=');
-    if (equals != std::string_view::npos && pair.substr(0, equals) == name) {
-      std::string raw(pair.substr(equals + 1));
-      std::replace(raw.begin(), raw.end(), '+', ' ');
-      return percent_decoded(raw).value_or(std::string());
-    }
-    if (end == std::string_view::npos) break;
-    query = query.substr(end + 1);
-  }
-  return {};
-}
-
 bool changes(std::string_view method) {
   return method == "POST" || method == "PUT" || method == "DELETE" || method == "PATCH";
-}
-
-// A sensor's or bus's name from a path, %XX escapes decoded; none when malformed.
-std::optional<std::string> decoded_name(std::string_view text) {
-  auto name = percent_decoded(text);
-  if (!name || name->find('/') != std::string::npos) return std::nullopt;
-  return name;
 }
 
 // "2026-12-05T06:40:12.345Z"
@@ -73,10 +45,6 @@ std::string utc_time(std::int64_t unix_ms) {
                      int(unix_ms % 1000));
 }
 
-std::string number_text(std::optional<double> value) {
-  return value ? fmt::format("{}", *value) : std::string();
-}
-
 }  // namespace
 
 ConsoleHandler::ConsoleHandler(ConsoleContext context, const HttpConfig& config,
@@ -84,6 +52,7 @@ ConsoleHandler::ConsoleHandler(ConsoleContext context, const HttpConfig& config,
     : context_(std::move(context)),
       config_(config),
       config_endpoint_(context_.config_path, context_.families),
+      settings_endpoint_(context_.gateway, context_.families, context_.audit),
       state_(std::move(state)) {
   {
     std::lock_guard lock(state_->mutex);
@@ -137,18 +106,8 @@ std::shared_ptr<const UsersFile> ConsoleHandler::users() {
 void ConsoleHandler::record(const ConsoleSession& session, std::string sensor,
                             std::string setting, std::string old_value, std::string new_value,
                             std::string result) {
-  if (context_.audit == nullptr) return;
-  AuditRecord record;
-  record.unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                       std::chrono::system_clock::now().time_since_epoch())
-                       .count();
-  record.origin = WriteOrigin{"console", session.user};
-  record.sensor = std::move(sensor);
-  record.setting = std::move(setting);
-  record.old_value = std::move(old_value);
-  record.new_value = std::move(new_value);
-  record.result = std::move(result);
-  context_.audit->record(std::move(record));
+  record_console_change(context_.audit, session.user, std::move(sensor), std::move(setting),
+                        std::move(old_value), std::move(new_value), std::move(result));
 }
 
 asio::awaitable<HttpReply> ConsoleHandler::public_route(const HttpRequest& request) {
@@ -328,7 +287,7 @@ asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
 asio::awaitable<HttpReply> ConsoleHandler::settings(const HttpRequest& request,
                                                     std::string_view path,
                                                     const ConsoleSession& session) {
-  const auto name = decoded_name(
+  const auto name = path_name(
       path.substr(kSensorPrefix.size(), path.size() - kSensorPrefix.size() - kSettingsSuffix.size()));
   if (!name) co_return error_reply(404, "no such sensor");
   const bool write = request.method == "POST";
@@ -342,69 +301,10 @@ asio::awaitable<HttpReply> ConsoleHandler::settings(const HttpRequest& request,
   }
   // Looked up on the buses' executor, where the sensors and their maps live; the write is
   // queued there too, and this request waits for the sensor's answer without holding it.
-  const WriteOrigin origin{"console", session.user};
-  const Role role = session.role;
   // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.
   auto on_bus = [&]() -> asio::awaitable<HttpReply> {
-        std::shared_ptr<GatewaySensor> sensor;
-        for (const auto& candidate : context_.gateway->sensors())
-          if (candidate->config.name == *name) sensor = candidate;
-        if (!sensor) co_return error_reply(404, "no such sensor");
-        const std::string full_name =
-            (sensor->bus ? sensor->bus->name() + "/" : std::string()) + sensor->config.name;
-        const auto snapshot = sensor->snapshot();
-        const std::vector<SensorSetting> list = sensor_settings(
-            sensor->map, context_.families, snapshot ? &snapshot->state : nullptr);
-        if (!write) {
-          json settings = json::array();
-          for (const SensorSetting& setting : list)
-            settings.push_back({{"name", setting.name},
-                                {"role", setting.role == SettingRole::operator_ ? "operator" : "admin"},
-                                {"min", setting.min},
-                                {"max", setting.max},
-                                {"units", setting.units},
-                                {"description", setting.description},
-                                {"value", setting.value ? json(*setting.value) : json(nullptr)}});
-          co_return json_reply(200, json{{"sensor", sensor->config.name}, {"settings", settings}});
-        }
-        const auto setting = std::find_if(list.begin(), list.end(), [&](const SensorSetting& s) {
-          return s.name == asked->setting;
-        });
-        if (setting == list.end())
-          co_return error_reply(400, fmt::format("{} is not a setting of {}'s map", asked->setting,
-                                                 sensor->config.name));
-        const Role needed = setting->role == SettingRole::operator_ ? Role::operator_ : Role::admin;
-        if (!role_allows(role, needed)) {
-          record(session, full_name, asked->setting, "", number_text(asked->value),
-                 fmt::format("refused: the {} role may not change it", role_name(role)));
-          co_return error_reply(403, fmt::format("{} needs the {} role", asked->setting,
-                                                 role_name(needed)));
-        }
-        const SettingWriter writer(*context_.gateway, context_.families);
-        const SettingOutcome outcome =
-            co_await writer.write(sensor->config.name, asked->setting, asked->value, origin);
-        json body{{"sensor", sensor->config.name},
-                  {"setting", asked->setting},
-                  {"value", asked->value},
-                  {"old", outcome.old_value ? json(*outcome.old_value) : json(nullptr)}};
-        switch (outcome.result) {
-          case SettingOutcome::Result::ack:
-            body["result"] = "ack";
-            co_return json_reply(200, body);
-          case SettingOutcome::Result::nak:
-            body["result"] = audit_result(outcome);
-            body["error"] = fmt::format("{} refused it: {}", sensor->config.name, outcome.detail);
-            co_return json_reply(409, body);
-          case SettingOutcome::Result::timeout:
-            body["result"] = "timeout";
-            body["error"] = fmt::format("{} did not answer: {}", sensor->config.name, outcome.detail);
-            co_return json_reply(504, body);
-          case SettingOutcome::Result::refused:
-            break;
-        }
-        body["result"] = "refused: " + outcome.detail;
-        body["error"] = outcome.detail;
-        co_return json_reply(400, body);
+    if (!asked) co_return settings_endpoint_.list(*name);
+    co_return co_await settings_endpoint_.change(*name, *asked, session.user, session.role);
   };
   co_return co_await asio::co_spawn(context_.gateway_executor, std::move(on_bus),
                                     asio::use_awaitable);
@@ -415,7 +315,7 @@ asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request
                                                       const ConsoleSession& session) {
   const bool scan = path.ends_with("/scan");
   const std::string_view rest = path.substr(kBusPrefix.size());
-  const auto bus = decoded_name(rest.substr(0, rest.rfind('/')));
+  const auto bus = path_name(rest.substr(0, rest.rfind('/')));
   if (!bus) co_return error_reply(404, "no such bus");
   const ServedFacts facts = co_await served_facts();
   if (std::find(facts.buses.begin(), facts.buses.end(), *bus) == facts.buses.end())
@@ -498,12 +398,9 @@ HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_
   if (method != "PUT") return error_reply(405, "GET the configuration, or PUT a new one");
   auto text = parse_config_text(request.body);
   if (!text) return error_reply(400, text.error());
-  std::string previous;
-  HttpReply reply = config_endpoint_.apply(*text, previous);
-  record(session, "", "config", "", config_endpoint_.path(),
-         reply.status == 200 ? std::string("ok")
-                             : (reply.status == 422 ? std::string("refused: the configuration has errors")
-                                                    : "error: " + json::parse(reply.body, nullptr, false).value("error", std::string())));
+  std::string result;
+  HttpReply reply = config_endpoint_.apply(*text, result);
+  record(session, "", "config", "", config_endpoint_.path(), result);
   if (reply.status == 200 && context_.reload) context_.reload();
   return reply;
 }

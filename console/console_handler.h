@@ -26,6 +26,7 @@
 #include "console/config_endpoint.h"
 #include "console/login_throttle.h"
 #include "console/session_table.h"
+#include "console/settings_endpoint.h"
 #include "driver/family.h"
 #include "status/http_routes.h"
 
@@ -109,6 +110,7 @@ class ConsoleHandler {
   ConsoleContext context_;
   HttpConfig config_;
   ConfigEndpoint config_endpoint_;
+  SettingsEndpoint settings_endpoint_;  // used on the buses' executor only
   std::unique_ptr<BusActions> bus_actions_;  // made on the server's thread, at its first use
   std::shared_ptr<ConsoleState> state_;
   std::shared_ptr<const UsersFile> users_;

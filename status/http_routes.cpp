@@ -1,5 +1,7 @@
 #include "status/http_routes.h"
 
+#include <algorithm>
+
 #include "status/history_format.h"
 #include "status/status_json.h"
 #include "status/status_metrics.h"
@@ -22,8 +24,8 @@ HttpReply json(std::string body) { return HttpReply{200, std::string(kJson), std
 
 // GET /api/sensors/NAME/history and .../history.csv; `encoded_name` is still %-escaped.
 HttpReply history_reply(std::string_view encoded_name, bool csv, const HistorySource& history) {
-  const auto name = percent_decoded(encoded_name);
-  if (!name || name->find('/') != std::string::npos) return text(404, "no such sensor\n");
+  const auto name = path_name(encoded_name);
+  if (!name) return text(404, "no such sensor\n");
   std::optional<std::vector<AngleSample>> samples =
       history ? history(*name) : std::optional<std::vector<AngleSample>>{};
   if (!samples) return text(404, "no such sensor\n");
@@ -57,6 +59,31 @@ std::optional<std::string> percent_decoded(std::string_view path) {
     i += 2;
   }
   return out;
+}
+
+std::string query_value(std::string_view target, std::string_view name) {
+  const auto mark = target.find('?');
+  if (mark == std::string_view::npos) return {};
+  std::string_view query = target.substr(mark + 1);
+  while (!query.empty()) {
+    const auto end = query.find('&');
+    const std::string_view pair = query.substr(0, end);
+    const auto equals = pair.find('=');
+    if (equals != std::string_view::npos && pair.substr(0, equals) == name) {
+      std::string raw(pair.substr(equals + 1));
+      std::replace(raw.begin(), raw.end(), '+', ' ');
+      return percent_decoded(raw).value_or(std::string());
+    }
+    if (end == std::string_view::npos) break;
+    query = query.substr(end + 1);
+  }
+  return {};
+}
+
+std::optional<std::string> path_name(std::string_view text) {
+  auto name = percent_decoded(text);
+  if (!name || name->find('/') != std::string::npos) return std::nullopt;
+  return name;
 }
 
 HttpReply route_http(std::string_view method, std::string_view target,

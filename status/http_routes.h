@@ -45,6 +45,10 @@ using HistorySource = std::function<std::optional<std::vector<AngleSample>>(std:
 // %XX escapes decoded, so a sensor name may be asked for as a browser writes it. None when
 // an escape is malformed.
 std::optional<std::string> percent_decoded(std::string_view path);
+// A sensor's or bus's name from a path segment, %XX decoded; none when malformed or holding '/'.
+std::optional<std::string> path_name(std::string_view text);
+// A query parameter's value, '+' and %XX decoded; empty when absent or malformed.
+std::string query_value(std::string_view target, std::string_view name);
 
 // GET (and HEAD) only: nothing can be changed over HTTP. The query string is ignored. Without
 // a history source every sensor's history is empty.
