@@ -1,5 +1,6 @@
 #include "gateway/line_turns.h"
 
+#include <algorithm>
 #include <tuple>
 
 namespace tiltgate {
@@ -30,9 +31,19 @@ std::optional<LineTurns::Other> LineTurns::other_of(const TurnClaim& claim) {
   return std::nullopt;
 }
 
+SteadyClock::time_point LineTurns::command_allowed_at(
+    std::optional<SteadyClock::time_point> next_poll, SteadyClock::time_point now) const {
+  // It fits before the polls (a line with none, or a first command, always).
+  if (!next_poll || *next_poll >= now + command_held_) return now;
+  const SteadyClock::duration wait =
+      std::min<SteadyClock::duration>(command_held_ * kLineTimePerCommandTime, kCommandMaxWait);
+  return std::max(now, command_ended_ + wait);
+}
+
 TurnChoice LineTurns::choose(std::span<const TurnClaim> claims, SteadyClock::time_point now) const {
   std::optional<std::size_t> owed, due_poll, first_write, first_failing, first_command,
       next_forward;
+  std::optional<SteadyClock::time_point> next_poll;  // the earliest healthy poll, due or not
   TurnChoice choice;
   // Forwarded requests round robin: the clients after the last one served come first.
   const auto rotated = [this](const TurnClaim& c) {
@@ -40,6 +51,8 @@ TurnChoice LineTurns::choose(std::span<const TurnClaim> claims, SteadyClock::tim
   };
   for (std::size_t i = 0; i < claims.size(); ++i) {
     const TurnClaim& claim = claims[i];
+    if (claim.kind == TurnKind::poll && !claim.failing && (!next_poll || claim.due < *next_poll))
+      next_poll = claim.due;
     if (claim.due > now) {
       if (!choice.next_due || claim.due < *choice.next_due) choice.next_due = claim.due;
       continue;
@@ -64,6 +77,14 @@ TurnChoice LineTurns::choose(std::span<const TurnClaim> claims, SteadyClock::tim
     choice.next_due.reset();
     return choice;
   }
+  // A command's transaction takes the line's spare time, or waits for its share.
+  if (first_command) {
+    const SteadyClock::time_point allowed = command_allowed_at(next_poll, now);
+    if (allowed > now) {
+      first_command.reset();
+      if (!choice.next_due || allowed < *choice.next_due) choice.next_due = allowed;
+    }
+  }
   // Commands and forwarded requests take turns when both wait.
   std::optional<std::size_t> exchange_turn = first_command ? first_command : next_forward;
   if (first_command && next_forward && command_last_) exchange_turn = next_forward;
@@ -83,11 +104,16 @@ TurnChoice LineTurns::choose(std::span<const TurnClaim> claims, SteadyClock::tim
   return choice;
 }
 
-void LineTurns::ended(const TurnClaim& claim, SteadyClock::time_point end) {
+void LineTurns::ended(const TurnClaim& claim, SteadyClock::time_point end,
+                      SteadyClock::duration held) {
   const std::optional<Other> other = other_of(claim);
   if (!other) return;
   round_until_ = end;
   last_turn_[*other] = ++turns_;
+  if (claim.kind == TurnKind::command) {  // a retry's turn (failing) counts to its share too
+    command_ended_ = end;
+    command_held_ = held;
+  }
   if (*other != exchange) return;
   command_last_ = claim.kind == TurnKind::command;
   if (claim.kind == TurnKind::forward) last_client_ = claim.client;

@@ -14,6 +14,12 @@
 //    requests round robin over the clients that sent them), and failing sensors' attempts
 //    (earliest due first). The kind that had a turn least recently goes first, so none starves
 //    another, and a write waits for at most one failing sensor's attempt.
+//    A command's transaction (a scan's probe, mostly: a time-out and a late-reply window) takes
+//    the line's spare time: it goes when it fits before the next healthy poll falls due (as
+//    long as the last command's turn took), and otherwise once the line has run
+//    kLineTimePerCommandTime times that turn since it ended (at most kCommandMaxWait), so
+//    commissioning takes at most a tenth of a line its polls keep busy, and a scan leaves the
+//    sensors their polls (docs/operations.md, "Scanning a line in service").
 // 3. Otherwise healthy polls that are due, earliest first (on a saturated bus: round robin).
 //
 // A claim is failing when its sensor is offline (its probes come at the back-off's pace),
@@ -30,6 +36,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -66,19 +73,32 @@ class LineTurns {
  public:
   // The turn among `claims` at `now`.
   TurnChoice choose(std::span<const TurnClaim> claims, SteadyClock::time_point now) const;
-  // `claim`'s turn ended at `end`.
-  void ended(const TurnClaim& claim, SteadyClock::time_point end);
+  // `claim`'s turn ended at `end`, after holding the line for `held`.
+  void ended(const TurnClaim& claim, SteadyClock::time_point end,
+             SteadyClock::duration held = SteadyClock::duration::zero());
+
+  // A command's transaction that does not fit before the next healthy poll waits until the
+  // line has run this many times its last turn since that ended (rule 2)...
+  static constexpr int kLineTimePerCommandTime = 9;
+  // ... but never longer than this (a long late-reply window at a low baud rate).
+  static constexpr std::chrono::milliseconds kCommandMaxWait{2000};
 
  private:
   // The kinds of turn that take turns between rounds (rule 2), in the order that breaks ties.
   enum Other : std::uint8_t { write, exchange, failing, other_kinds };
   static std::optional<Other> other_of(const TurnClaim& claim);
+  // When a command's transaction may have the line, healthy polls first falling due at
+  // `next_poll` (none: no healthy poll waits); no later than `now` when it may now.
+  SteadyClock::time_point command_allowed_at(std::optional<SteadyClock::time_point> next_poll,
+                                             SteadyClock::time_point now) const;
 
   // Polls due by this time are owed before the next turn of another kind (rule 1).
   SteadyClock::time_point round_until_ = SteadyClock::time_point::min();
   std::array<std::uint64_t, other_kinds> last_turn_{};  // per kind: the turn it last had
   std::uint64_t turns_ = 0;
   bool command_last_ = false;      // of the exchanges, the last was a command's
+  SteadyClock::time_point command_ended_ = SteadyClock::time_point::min();  // the last command's
+  SteadyClock::duration command_held_ = SteadyClock::duration::zero();      // turn, and its length
   std::uint64_t last_client_ = 0;  // whose forwarded request went last
 };
 

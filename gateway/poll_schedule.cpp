@@ -15,7 +15,11 @@ std::chrono::milliseconds backoff_interval(std::chrono::milliseconds period, int
 
 PollSchedule after_poll(PollSchedule schedule, bool answered, std::chrono::milliseconds period,
                         std::chrono::milliseconds cap, SteadyClock::time_point now) {
-  if (answered) return {std::max(schedule.due + period, now), 0};
+  if (answered) {
+    // One period behind at most: a poll a long turn held up is made up for at once.
+    const SteadyClock::time_point next = schedule.due + period;
+    return {next + period >= now ? next : now, 0};
+  }
   const int failures = std::min(schedule.failures + 1, 1000);
   return {now + backoff_interval(period, failures, cap), failures};
 }

@@ -21,9 +21,11 @@ std::chrono::milliseconds backoff_interval(std::chrono::milliseconds period, int
                                            std::chrono::milliseconds cap);
 
 // The schedule after a poll that ended at `now`. Answered: back to the period, keeping the
-// cadence (due + period) while the bus keeps up, else now (the bus then shares itself
-// earliest-due-first instead of letting one sensor catch up in a burst). Unanswered: now +
-// backoff_interval().
+// cadence (due + period) while the bus keeps up: also when that is already past, by up to one
+// period, so a poll that waited behind a long turn (a scan's probe, a failing sensor's
+// time-out) costs no poll; the next then goes as soon as the round lets it. Further behind,
+// now (the bus then shares itself earliest-due-first instead of letting one sensor catch up
+// in a burst). Unanswered: now + backoff_interval().
 PollSchedule after_poll(PollSchedule schedule, bool answered, std::chrono::milliseconds period,
                         std::chrono::milliseconds cap, SteadyClock::time_point now);
 

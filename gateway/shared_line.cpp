@@ -141,7 +141,7 @@ void SharedLine::end_turn(LineClaimant& claimant) {
   const auto held = now - claimant.turn_started_;
   busy_ += held;
   if (claimant.sensor_ != nullptr) claimant.sensor_->line_time += held;
-  turns_.ended(claimant.claim_, now);
+  turns_.ended(claimant.claim_, now, held);
   holder_ = nullptr;
   claimant.state_ = LineClaimant::State::idle;
   dispatch();

@@ -54,3 +54,17 @@ TEST_CASE("an answering sensor keeps its cadence, and polls late only when the b
   schedule = after_poll(schedule, true, 100ms, 5s, t0 + 350ms);  // the bus fell behind
   CHECK(schedule.due == t0 + 350ms);
 }
+
+TEST_CASE("a poll held up by less than one period more keeps the cadence: the next is made up for") {
+  const auto t0 = SteadyClock::time_point{} + 1h;
+  PollSchedule schedule{t0};
+  // Due at t0, polled only at t0 + 60 ms (it waited behind a probe): the next stays due at
+  // t0 + 50 ms, already past, so it goes as soon as the round lets it.
+  schedule = after_poll(schedule, true, 50ms, 5s, t0 + 60ms);
+  CHECK(schedule.due == t0 + 50ms);
+  schedule = after_poll(schedule, true, 50ms, 5s, t0 + 63ms);
+  CHECK(schedule.due == t0 + 100ms);  // back in step
+  // More than one period behind: from now.
+  schedule = after_poll(schedule, true, 50ms, 5s, t0 + 201ms);
+  CHECK(schedule.due == t0 + 201ms);
+}
