@@ -113,6 +113,25 @@ void read_role(TableReader& in, Point& p, bool writable) {
   p.role_given = true;
 }
 
+// `operator_values`: values of an admin setting an operator may write too, each in the
+// point's range (a command register whose 1 zeroes the sensor and 3 restarts it).
+void read_operator_values(TableReader& in, Point& p, bool writable) {
+  const auto values = in.integers("operator_values", -2147483648LL, 4294967295LL);
+  if (!values) return;
+  if (!writable) {
+    in.error("operator_values", "applies to writable points (write = \"...\") only");
+    return;
+  }
+  for (const std::int64_t value : *values) {
+    if (double(value) < p.min || double(value) > p.max) {
+      in.error("operator_values", fmt::format("{} is outside the point's min..max ({}..{})",
+                                              value, p.min, p.max));
+      return;
+    }
+    p.operator_values.push_back(double(value));
+  }
+}
+
 // `write` and the range a written value must be in (before scaling), both ends required. A
 // name that is no built-in setting may be one of the sensor's own writable values, like a
 // source; such a point shows the value as the device holds it unless it names a source.
@@ -140,6 +159,7 @@ void read_write(TableReader& in, Point& p, FamilyList families) {
       (key == "min" ? p.min : p.max) = *value;
   }
   read_role(in, p, writable);
+  read_operator_values(in, p, writable);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "console/settings_endpoint.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
@@ -38,6 +39,7 @@ HttpReply SettingsEndpoint::list(const std::string& name) const {
   for (const SensorSetting& setting : list)
     settings.push_back({{"name", setting.name},
                         {"role", setting.role == SettingRole::operator_ ? "operator" : "admin"},
+                        {"operator_values", setting.operator_values},
                         {"min", setting.min},
                         {"max", setting.max},
                         {"units", setting.units},
@@ -60,12 +62,19 @@ boost::asio::awaitable<HttpReply> SettingsEndpoint::change(std::string name, Set
   if (setting == list.end())
     co_return error_reply(400, fmt::format("{} is not a setting of {}'s map", asked.setting,
                                            sensor->config.name));
-  const Role needed = setting->role == SettingRole::operator_ ? Role::operator_ : Role::admin;
+  const Role needed = role_to_write(*setting, asked.value) == SettingRole::operator_
+                          ? Role::operator_
+                          : Role::admin;
   if (!role_allows(role, needed)) {
     record_console_change(audit_, user, full_name, asked.setting, "", number_text(asked.value),
                           fmt::format("refused: the {} role may not change it", role_name(role)));
-    co_return error_reply(403, fmt::format("{} needs the {} role", asked.setting,
-                                           role_name(needed)));
+    // Said with the value when an operator may write others (Rieker's command: 1 and 2 zero).
+    const std::string what =
+        setting->operator_values.empty()
+            ? asked.setting
+            : fmt::format("{} = {} (an operator may write {})", asked.setting,
+                          number_text(asked.value), fmt::join(setting->operator_values, ", "));
+    co_return error_reply(403, fmt::format("{} needs the {} role", what, role_name(needed)));
   }
   const SettingWriter writer(*gateway_, families_);
   // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.

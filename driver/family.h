@@ -111,12 +111,21 @@ struct SettingDescriptor {
   std::string_view unit{};         // "deg"; empty for codes, addresses and raw words
   std::string_view description{};  // what a write does, for the register map's documentation
   SettingRole role = SettingRole::admin;  // who may change it (driver/setting_role.h)
+  // Values an operator may write although the setting needs an admin: one register that does
+  // harmless and dangerous things by value (Rieker's command: 1 and 2 zero, 3 restarts).
+  std::span<const double> operator_values{};
 
   // This setting as one model has it: its type, range, unit, meaning and role there.
   constexpr SettingDescriptor accepting(SettingType t, double low, double high,
                                         std::string_view u, std::string_view what,
                                         SettingRole r = SettingRole::admin) const {
     return SettingDescriptor{name, id, t, low, high, u, what, r};
+  }
+  // The same, with `values` an operator may write (operator_values).
+  constexpr SettingDescriptor letting_operator_write(std::span<const double> values) const {
+    SettingDescriptor setting = *this;
+    setting.operator_values = values;
+    return setting;
   }
 };
 

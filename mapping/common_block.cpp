@@ -123,6 +123,7 @@ Point setting_point(std::string name, std::uint16_t address, PointType type, Wri
   Point p = holding_point(std::move(name), address, type, target, setting->min, setting->max,
                          std::string(setting->unit), std::string(setting->description));
   p.role = setting->role;
+  p.operator_values.assign(setting->operator_values.begin(), setting->operator_values.end());
   return p;
 }
 

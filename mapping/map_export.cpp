@@ -1,6 +1,7 @@
 #include "mapping/map_export.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace tiltgate {
 namespace {
@@ -27,10 +28,13 @@ const char* access_of(const Point& p) {
   return "r";
 }
 
-// Who may change a writable point's setting; empty for a read-only point.
-std::string_view role_of(const Point& p) {
+// Who may change a writable point's setting, and the values an operator may write of an admin
+// one ("admin (operator: 1 2)"); empty for a read-only point.
+std::string role_of(const Point& p) {
   if (!p.write) return "";
-  return name_of(role_names(), p.role);
+  std::string role(name_of(role_names(), p.role));
+  if (p.role == SettingRole::operator_ || p.operator_values.empty()) return role;
+  return fmt::format("{} (operator: {})", role, fmt::join(p.operator_values, " "));
 }
 
 std::string type_of(const Point& p) {

@@ -41,6 +41,7 @@ Point holding_point(std::uint16_t address, PointType type, const SettingDescript
   Point p = holding_point(std::string(setting.name), address, type, setting.id, setting.min,
                          setting.max, std::string(setting.unit), std::string(setting.description));
   p.role = setting.role;
+  p.operator_values.assign(setting.operator_values.begin(), setting.operator_values.end());
   return p;
 }
 

@@ -52,6 +52,9 @@ struct Point {
   // profile's) does not replace it.
   SettingRole role = SettingRole::admin;
   bool role_given = false;
+  // Values of an admin setting an operator may write too (map file key `operator_values`;
+  // built-in maps: SettingDescriptor::operator_values).
+  std::vector<double> operator_values;
   std::string units;
   std::string description;
 

@@ -3,8 +3,8 @@
 // the +-180 deg measuring range makes no sense. The descriptor lists them (rieker/family.cpp)
 // and the built-in maps take their holding registers from them (rieker/default_maps.cpp).
 // A shift operator may change the filter and the zero offsets (measurement settings the sensor
-// keeps answering through); the command (its 3 restarts the sensor), the baud and the address
-// can lose the sensor and need an admin.
+// keeps answering through) and zero the sensor to its current angle (command 1 or 2); a
+// restart (command 3), the baud and the address can lose the sensor and need an admin.
 #pragma once
 
 #include "driver/family.h"
@@ -22,8 +22,11 @@ inline constexpr SettingDescriptor zero_x =
 inline constexpr SettingDescriptor zero_y =
     common_setting::zero_y.accepting(T::real, -180, 180, "deg", "Set Zero To Value, axis 2",
                                      SettingRole::operator_);
-inline constexpr SettingDescriptor command = common_setting::command.accepting(
-    T::integer, 1, 3, "", "1 zero to current angle (temporary), 2 (permanent), 3 restart");
+inline constexpr double kZeroCommands[] = {1, 2};
+inline constexpr SettingDescriptor command =
+    common_setting::command
+        .accepting(T::integer, 1, 3, "", "1 zero to current angle (temporary), 2 (permanent), 3 restart")
+        .letting_operator_write(kZeroCommands);
 inline constexpr SettingDescriptor baud_code = common_setting::baud_code.accepting(
     T::integer, 1, 8, "", "Set Baud 1..8, takes effect after restart");
 inline constexpr SettingDescriptor bus_address = common_setting::bus_address.accepting(

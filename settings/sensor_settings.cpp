@@ -12,6 +12,7 @@ SensorSetting setting_of(std::string name, const Point& point) {
   setting.name = std::move(name);
   setting.point = &point;
   setting.role = point.role;
+  setting.operator_values = point.operator_values;
   setting.min = point.min;
   setting.max = point.max;
   setting.units = point.units;
@@ -37,6 +38,12 @@ std::vector<SensorSetting> sensor_settings(const RegisterMap& map, FamilyList fa
     if (state) settings.back().value = setting_value(settings.back(), *state);
   }
   return settings;
+}
+
+SettingRole role_to_write(const SensorSetting& setting, double value) {
+  const auto& values = setting.operator_values;
+  if (std::find(values.begin(), values.end(), value) != values.end()) return SettingRole::operator_;
+  return setting.role;
 }
 
 std::optional<double> setting_value(const SensorSetting& setting, const SensorState& state) {

@@ -20,6 +20,7 @@ struct SensorSetting {
   std::string name;
   const Point* point = nullptr;  // a writable holding point of the map
   SettingRole role = SettingRole::admin;  // who may change it (the point's role)
+  std::vector<double> operator_values;    // of an admin setting, those an operator may write
   // The values a write accepts, inclusive, as a user types them (the point's min and max,
   // before the register's own scale and offset).
   double min = 0;
@@ -36,6 +37,9 @@ struct SensorSetting {
 // carries its value as the sensor holds it.
 std::vector<SensorSetting> sensor_settings(const RegisterMap& map, FamilyList families,
                                            const SensorState* state = nullptr);
+
+// Who may write `value` to `setting`: its role, or operator for one of its operator_values.
+SettingRole role_to_write(const SensorSetting& setting, double value);
 
 // The setting's value as the sensor holds it; none while not known.
 std::optional<double> setting_value(const SensorSetting& setting, const SensorState& state);

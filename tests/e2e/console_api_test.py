@@ -211,6 +211,18 @@ def scenario(t):
     status, body = alice.request("POST", "/api/sensors/boom/settings",
                                  {"setting": "bus_address", "value": 224})
     t.check("the operator may not move a sensor: 403", status == 403, (status, body))
+    t.check("the command lists the values an operator may write (1, 2: zero)",
+            names.get("command", {}).get("role") == "admin" and
+            names.get("command", {}).get("operator_values") == [1, 2], names.get("command"))
+    status, body = alice.request("POST", "/api/sensors/boom/settings",
+                                 {"setting": "command", "value": 1})
+    t.check("the operator zeroes boom to its current angle (command 1): answered after the ACK",
+            status == 200 and body.get("result") == "ack", (status, body))
+    status, body = alice.request("POST", "/api/sensors/boom/settings",
+                                 {"setting": "command", "value": 3})
+    t.check("the operator may not restart a sensor (command 3): 403 naming what it may write",
+            status == 403 and "an operator may write 1, 2" in body.get("error", ""),
+            (status, body))
     status, body = alice.request("POST", "/api/sensors/boom/settings",
                                  {"setting": "no_such", "value": 1})
     t.check("an unknown setting: 400", status == 400, (status, body))

@@ -308,6 +308,30 @@ def console_check(url, operator, viewer, sensor, setting):
             failures.append("%s of %s: %r (%s)" % (chosen, sensor, result, message))
         else:
             print("console: " + message)
+        # A Rieker's zero to the current angle is its command's 1: an operator's value of an
+        # admin setting, a button of its own, enabled while the admin's field is not.
+        quick = '#detail-settings tr[data-setting="command"] button[aria-label="write 1 to command"]'
+        if "command" in names:
+            state = browser.evaluate(
+                "(() => { const q = document.querySelector(%s);"
+                " const f = document.querySelector('#detail-settings tr[data-setting=\"command\"] input');"
+                " return q ? [q.disabled, f ? f.disabled : null] : null; })()" % json.dumps(quick))
+            if state != [False, True]:
+                failures.append("the operator's command row: [Write 1 disabled, field disabled] "
+                                "should be [False, True], is %r" % (state,))
+            else:
+                browser.run("delete document.body.dataset.lastResult")
+                browser.click(quick)
+                browser.wait_for("!document.getElementById('confirm').hidden", 5)
+                browser.click("#confirm-ok")
+                zeroed = browser.wait_for("document.body.dataset.lastResult", 20)
+                if zeroed != "ack":
+                    failures.append("Write 1 to command (zero to the current angle): %r (%s)" % (
+                        zeroed, browser.evaluate(
+                            "document.getElementById('detail-message').textContent")))
+                else:
+                    print("console: the operator zeroed to the current angle: " + browser.evaluate(
+                        "document.getElementById('detail-message').textContent"))
         # The Audit tab shows the change: who, sensor, setting, result.
         browser.click("#detail-close")
         browser.click('.tab[data-tab="audit"]')

@@ -114,7 +114,7 @@ TEST_CASE("the CSV export shows each writable point's role, nothing for a read-o
   const std::string csv = export_csv({{1, "boom", "h6", &map}});
   CHECK(csv.find("\n1,filter,holding,0,1,uint16,rw,") != std::string::npos);
   CHECK(csv.find(",40001,operator\n") != std::string::npos);   // filter
-  CHECK(csv.find(",40006,admin\n") != std::string::npos);      // command
+  CHECK(csv.find(",40006,admin (operator: 1 2)\n") != std::string::npos);  // command: 1, 2 zero
   CHECK(csv.find(",40008,admin\n") != std::string::npos);      // rs485_address
   CHECK(csv.find(",30001,\n") != std::string::npos);           // angle_x: read-only
 }
@@ -171,4 +171,33 @@ TEST_CASE("a device profile's role on a read-only value, or an unknown one, is r
   CHECK(unknown.file == plant.profile_path);
   CHECK(unknown.key == "value[3].role");
   CHECK(unknown.message.find("\"operator\" or \"admin\"") != std::string::npos);
+}
+
+TEST_CASE("a map file's operator_values let an operator write those values of an admin setting") {
+  const RegisterMap map =
+      map_of(config_with(writable_point("c", "command", "") + "operator_values = [1, 2]\n"));
+  CHECK(map.find("c")->role == admin);
+  CHECK(map.find("c")->operator_values == std::vector<double>{1, 2});
+}
+
+TEST_CASE("operator_values outside the point's range, or on a read-only point, are reported") {
+  const ConfigError outside = only_error(
+      config_with(writable_point("c", "command", "") + "operator_values = [1, 21]\n"));
+  CHECK(outside.line == 19);
+  CHECK(outside.key == "sensor[0].map.point[0].operator_values");
+  CHECK(outside.message == "21 is outside the point's min..max (0..20)");
+  const ConfigError read_only = only_error(config_with(
+      "[[sensor.map.point]]\nname = \"t\"\ntable = \"input\"\naddress = 0\ntype = \"float32\"\n"
+      "source = \"tilt\"\noperator_values = [1]\n"));
+  CHECK(read_only.key == "sensor[0].map.point[0].operator_values");
+  CHECK(read_only.message == "applies to writable points (write = \"...\") only");
+}
+
+TEST_CASE("built-in Rieker maps: an operator may zero to the current angle (command 1, 2), not restart (3)") {
+  for (std::string_view model : {"h6", "h4360"}) {
+    INFO(model);
+    const RegisterMap map = default_map(registered_families(), model);
+    CHECK(map.find("command")->role == admin);
+    CHECK(map.find("command")->operator_values == std::vector<double>{1, 2});
+  }
 }

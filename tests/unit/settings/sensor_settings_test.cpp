@@ -102,3 +102,15 @@ TEST_CASE("a value the driver refuses before sending is refused, with why") {
   CHECK(outcome_of({WriteErrorKind::not_supported, "single-axis sensor has no Y zero"}).result ==
         Result::refused);
 }
+
+TEST_CASE("who may write a value: the setting's role, or operator for one of its operator_values") {
+  const RegisterMap map = default_map(registered_families(), "h6");
+  const std::vector<SensorSetting> settings = sensor_settings(map, registered_families());
+  const SensorSetting& command = named(settings, "command");
+  CHECK(command.operator_values == std::vector<double>{1, 2});
+  CHECK(role_to_write(command, 1) == SettingRole::operator_);  // zero to the current angle
+  CHECK(role_to_write(command, 2) == SettingRole::operator_);
+  CHECK(role_to_write(command, 3) == SettingRole::admin);      // restart
+  CHECK(role_to_write(named(settings, "filter"), 3) == SettingRole::operator_);
+  CHECK(role_to_write(named(settings, "bus_address"), 1) == SettingRole::admin);
+}
