@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "accounts/password_hash.h"
-#include "accounts/private_file_write.h"
+#include "store/whole_file_write.h"
 
 namespace tiltgate {
 
@@ -103,7 +103,7 @@ std::string UsersFile::text() const {
 }
 
 Expected<Done, std::string> UsersFile::save(const std::string& path) const {
-  return write_private_file(path, text());
+  return write_whole_file(path, text(), 0640, FileMode::given);
 }
 
 }  // namespace tiltgate

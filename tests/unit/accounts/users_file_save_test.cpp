@@ -1,4 +1,4 @@
-// The users file is replaced atomically (accounts/private_file_write.h): when the new file
+// The users file is replaced atomically (store/whole_file_write.h): when the new file
 // cannot be written, the old one stays whole and nothing is left beside it.
 #include <doctest/doctest.h>
 #include <sys/mount.h>

@@ -1,4 +1,4 @@
-#include "accounts/private_file_write.h"
+#include "store/whole_file_write.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -16,11 +16,9 @@ namespace tiltgate {
 
 namespace {
 
-constexpr mode_t kPrivateFileMode = 0640;
-
 // Whose the new file is: the replaced file's owner and group, or for a new file the folder's
 // group. Whether it could be given; not an error when not (a user editing a file of their own):
-// the file stays the process's, mode 0640 all the same.
+// the file stays the process's, with its mode all the same.
 bool give_ownership(int fd, const std::string& path, const std::filesystem::path& folder) {
   struct stat old {};
   if (::stat(path.c_str(), &old) == 0) return ::fchown(fd, old.st_uid, old.st_gid) == 0;
@@ -31,7 +29,8 @@ bool give_ownership(int fd, const std::string& path, const std::filesystem::path
 
 }  // namespace
 
-Expected<Done, std::string> write_private_file(const std::string& path, std::string_view text) {
+Expected<Done, std::string> write_whole_file(const std::string& path, std::string_view text,
+                                             mode_t mode, FileMode rule) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
@@ -42,7 +41,9 @@ Expected<Done, std::string> write_private_file(const std::string& path, std::str
     ::unlink(temporary.c_str());
     return Unexpected(std::move(error));
   };
-  if (::fchmod(fd.get(), kPrivateFileMode) != 0)
+  struct stat old {};
+  if (rule == FileMode::keep_old && ::stat(path.c_str(), &old) == 0) mode = old.st_mode & 07777;
+  if (::fchmod(fd.get(), mode) != 0)
     return fail(store::errno_text("cannot set the mode of", temporary));
   give_ownership(fd.get(), path, folder);
   const std::span<const std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(text.data()),
