@@ -1,38 +1,13 @@
 #include "commission/set_config_update.h"
 
-#include <filesystem>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <fstream>
 
 #include "config/config_edit.h"
+#include "store/whole_file_write.h"
 #include "toml/text_file.h"
 
 namespace tiltgate {
-
-namespace {
-
-// The new text beside the file, then renamed over it, so that a failure leaves the old file
-// whole; the file keeps its permissions.
-Expected<Done, std::string> replace_file(const std::string& path, const std::string& text) {
-  const std::string temporary = path + ".tiltgate-set.tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) return Unexpected{fmt::format("cannot write {}", temporary)};
-  }
-  std::error_code ec;
-  std::filesystem::permissions(temporary, std::filesystem::status(path, ec).permissions(), ec);
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    return Unexpected{fmt::format("cannot replace {}: {}", path, ec.message())};
-  }
-  return Done{};
-}
-
-}  // namespace
 
 Expected<std::optional<std::string>, std::string> update_config_file(const BusOptions& options,
                                                                       const SensorConfig& sensor,
@@ -59,7 +34,9 @@ Expected<std::optional<std::string>, std::string> update_config_file(const BusOp
                                   edit->old_value.empty() ? "(not given)" : edit->old_value,
                                   *plan.new_baud));
   }
-  if (auto written = replace_file(options.config, edited); !written)
+  // Replaced whole, keeping its owner, group and mode: root's `set` leaves the service's file
+  // the service's (the console may replace it next).
+  if (auto written = write_whole_file(options.config, edited, 0640, FileMode::keep_old); !written)
     return Unexpected{fmt::format("{} not updated: {}", options.config, written.error())};
   return std::optional<std::string>{fmt::format("{}", fmt::join(changes, "\n"))};
 }

@@ -1,16 +1,11 @@
 #include "console/config_endpoint.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
 
 #include "config/config_loader.h"
 #include "console/console_reply.h"
+#include "store/whole_file_write.h"
 #include "toml/text_file.h"
 
 namespace tiltgate {
@@ -28,44 +23,6 @@ json errors_json(const ConfigErrors& errors) {
                     {"message", error.message},
                     {"text", error.to_string()}});
   return list;
-}
-
-// `text` into `path` through a temporary file in its folder: a crash leaves the old file or the
-// new one. Keeps `path`'s mode.
-Expected<Done, std::string> write_atomically(const std::string& path, const std::string& text) {
-  const std::string temporary = path + ".new";
-  struct stat old {};
-  const mode_t mode = ::stat(path.c_str(), &old) == 0 ? (old.st_mode & 07777) : 0640;
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, mode);
-  if (fd < 0) return Unexpected{fmt::format("cannot write {}: {}", temporary, std::strerror(errno))};
-  std::size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int error = errno;
-      ::close(fd);
-      ::unlink(temporary.c_str());
-      return Unexpected{fmt::format("cannot write {}: {}", temporary, std::strerror(error))};
-    }
-    written += std::size_t(n);
-  }
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    ::unlink(temporary.c_str());
-    return Unexpected{fmt::format("cannot write {}: {}", temporary, std::strerror(errno))};
-  }
-  if (::rename(temporary.c_str(), path.c_str()) != 0) {
-    const int error = errno;
-    ::unlink(temporary.c_str());
-    return Unexpected{fmt::format("cannot replace {}: {}", path, std::strerror(error))};
-  }
-  const std::string folder = std::filesystem::path(path).parent_path().string();
-  if (const int dir = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY);
-      dir >= 0) {
-    ::fsync(dir);
-    ::close(dir);
-  }
-  return Done{};
 }
 
 }  // namespace
@@ -111,9 +68,11 @@ HttpReply ConfigEndpoint::apply(const ConfigText& text, std::string& audit_resul
   auto old = toml_input::read_text_file(path_);
   if (!old) return failed(500, fmt::format("{}: {}", path_, old.error()));
   const std::string previous_path = path_ + ".previous";
-  if (auto kept = write_atomically(previous_path, *old); !kept)
+  // Each keeps the owner, group and mode of the file it replaces (the configuration may hold
+  // a broker's password); a first FILE.previous gets 0640.
+  if (auto kept = write_whole_file(previous_path, *old, 0640, FileMode::keep_old); !kept)
     return failed(500, kept.error() + ": nothing was changed");
-  if (auto written = write_atomically(path_, text.text); !written)
+  if (auto written = write_whole_file(path_, text.text, 0640, FileMode::keep_old); !written)
     return failed(500, written.error() + ": nothing was changed");
   audit_result = "ok";
   return json_reply(200, json{{"ok", true}, {"previous", previous_path}});

@@ -60,6 +60,10 @@ for package in adduser openssl libc6 libstdc++6 libsodium23 libsystemd0 libmosqu
                libtomlplusplus3; do
   check "Depends names $package" grep -q "\b$package\b" <<<"$depends"
 done
+unit=$(dpkg-deb --fsys-tarfile "$deb" | tar -xO ./lib/systemd/system/tiltgate.service)
+check "the service may replace its configuration (the console's apply): ReadWritePaths=/etc/tiltgate" \
+  grep -qx 'ReadWritePaths=/etc/tiltgate' <<<"$unit"
+check "  and nothing else in /etc" test "$(grep -c '^ReadWritePaths=' <<<"$unit")" = 1
 check "the configuration is a conffile" \
   grep -qx /etc/tiltgate/tiltgate.toml <(dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles)
 for script in postinst prerm postrm; do
@@ -94,6 +98,8 @@ done
 # The web console's certificate: the postinst runs the packaged script on /etc/tiltgate with
 # group tiltgate; here on a folder of the test's, with a group other than root's when root.
 postinst=$(dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./postinst)
+check "the postinst gives /etc/tiltgate to the service's group, writable" \
+  bash -c "grep -qx '  chgrp tiltgate /etc/tiltgate' <<<\"\$1\" && grep -qx '  chmod 0775 /etc/tiltgate' <<<\"\$1\"" _ "$postinst"
 check "the postinst makes the console's certificate" \
   grep -q '^ */usr/libexec/tiltgate/make-console-certificate /etc/tiltgate tiltgate$' <<<"$postinst"
 make_certificate=$root/usr/libexec/tiltgate/make-console-certificate
