@@ -18,20 +18,21 @@ namespace {
 
 const SteadyClock::time_point t0 = SteadyClock::time_point{} + 1h;
 
-TurnClaim poll_at(SteadyClock::time_point due, std::uint64_t order) {
+// A claim of `kind`: a poll due at `due`, or anything else waiting since then.
+TurnClaim claim_of(TurnKind kind, SteadyClock::time_point due, std::uint64_t order) {
   TurnClaim claim;
-  claim.kind = TurnKind::poll;
+  claim.kind = kind;
   claim.due = due;
   claim.order = order;
   return claim;
 }
 
+TurnClaim poll_at(SteadyClock::time_point due, std::uint64_t order) {
+  return claim_of(TurnKind::poll, due, order);
+}
+
 TurnClaim command_since(SteadyClock::time_point came, std::uint64_t order) {
-  TurnClaim claim;
-  claim.kind = TurnKind::command;
-  claim.due = came;
-  claim.order = order;
-  return claim;
+  return claim_of(TurnKind::command, came, order);
 }
 
 }  // namespace
@@ -85,8 +86,7 @@ TEST_CASE("line turns: a command never waits longer than kCommandMaxWait for its
 TEST_CASE("line turns: a forwarded request is not held back by a command waiting for its share") {
   LineTurns turns;
   turns.ended(command_since(t0, 0), t0 + 33ms, 33ms);
-  TurnClaim forward = command_since(t0, 3);
-  forward.kind = TurnKind::forward;
+  const TurnClaim forward = claim_of(TurnKind::forward, t0, 3);
   const std::vector<TurnClaim> claims{poll_at(t0 + 50ms, 1), command_since(t0, 2), forward};
   CHECK(turns.choose(claims, t0 + 40ms).turn == 2u);
 }
