@@ -68,7 +68,7 @@ boost::asio::awaitable<HttpReply> SettingsEndpoint::change(std::string name, Set
   if (!role_allows(role, needed)) {
     record_console_change(audit_, user, full_name, asked.setting, "", number_text(asked.value),
                           fmt::format("refused: the {} role may not change it", role_name(role)));
-    // Said with the value when an operator may write others (Rieker's command: 1 and 2 zero).
+    // Said with the value when an operator may write others (a command whose 1 and 2 zero).
     const std::string what =
         setting->operator_values.empty()
             ? asked.setting

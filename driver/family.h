@@ -112,7 +112,7 @@ struct SettingDescriptor {
   std::string_view description{};  // what a write does, for the register map's documentation
   SettingRole role = SettingRole::admin;  // who may change it (driver/setting_role.h)
   // Values an operator may write although the setting needs an admin: one register that does
-  // harmless and dangerous things by value (Rieker's command: 1 and 2 zero, 3 restarts).
+  // harmless and dangerous things by value (a command whose 1 and 2 zero, whose 3 restarts).
   std::span<const double> operator_values{};
 
   // This setting as one model has it: its type, range, unit, meaning and role there.

@@ -41,7 +41,7 @@ TEST_CASE("a file replaced whole with the given mode has it, whatever the old on
   CHECK((stat_of(path).st_mode & 07777) == 0640);
 }
 
-TEST_CASE("a file replaced whole keeping the old mode keeps it; a new file gets the given one") {
+TEST_CASE("a file replaced whole keeping the old mode keeps it, and a new file gets the given one") {
   test::ScratchDir dir("whole-file");
   const std::filesystem::path path = dir.write("tiltgate.toml", "old\n");
   ::chmod(path.c_str(), 0604);
