@@ -287,11 +287,6 @@ ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uin
     request_.origin.who.clear();
   }
   if (answer_at_once()) return Answer::sent;
-  // Who, for the audit trail; a read leaves it as it was, so it allocates nothing.
-  if (request_.is_write) {
-    request_.origin.door = "modbus";
-    request_.origin.who = peer_;
-  }
   hand_over(handler_reply(context_.handler, request_), adu);
   return Answer::with_handler;
 }

@@ -112,6 +112,7 @@ plain_tcp = $1
 tls = { cert = "gateway.pem", key = "gateway.key", ca = "plant-ca.pem", port = $tls_port }
 writes = true
 ${2:-}
+state_dir = "$dir/state"
 
 [http]
 listen = "127.0.0.1"
@@ -180,6 +181,8 @@ check "a refused write is logged with the client's certificate subject and role"
   "$dir/gateway.err"
 check "the refused writes count as writes denied" metric tiltgate_modbus_writes_denied_total 2
 check "plain TCP writes beside TLS" write_register "plain:$port"
+check "the audit trail names a TLS client by its address and its certificate's subject" \
+  grep -q '127\.0\.0\.1:[0-9]* (CN=engineer)' <("$tiltgate" audit --state-dir "$dir/state" --door modbus)
 
 # tls_no_role_access = "read-only", applied by a reload: certificates without a role only read.
 write_config true 'tls_role_access = { engineer = "read-write", operator = "read-only" }
