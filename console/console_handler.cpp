@@ -3,7 +3,6 @@
 #include <sys/stat.h>
 
 #include <algorithm>
-#include <ctime>
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/this_coro.hpp>
@@ -11,6 +10,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "console/audit_endpoint.h"
 #include "console/console_audit.h"
 #include "console/console_reply.h"
 #include "console/console_requests.h"
@@ -33,16 +33,6 @@ std::string_view path_of(std::string_view target) { return target.substr(0, targ
 
 bool changes(std::string_view method) {
   return method == "POST" || method == "PUT" || method == "DELETE" || method == "PATCH";
-}
-
-// "2026-12-05T06:40:12.345Z"
-std::string utc_time(std::int64_t unix_ms) {
-  const std::time_t seconds = std::time_t(unix_ms / 1000);
-  std::tm utc{};
-  ::gmtime_r(&seconds, &utc);
-  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", utc.tm_year + 1900,
-                     utc.tm_mon + 1, utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec,
-                     int(unix_ms % 1000));
 }
 
 }  // namespace
@@ -262,7 +252,7 @@ asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
   }
   if (path == "/api/audit") {
     if (method != "GET") co_return error_reply(405, "GET only");
-    co_return audit(request);
+    co_return audit_reply(context_.audit, request.target);
   }
   if (path == "/api/config" || path == "/api/config.toml" || path == "/api/config/check") {
     if (!role_allows(session.role, Role::admin))
@@ -349,35 +339,6 @@ asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request
   record(session, *bus, "raw", "", what,
          error.empty() ? (body["received"].is_null() ? "timeout" : "ok") : "error: " + error);
   co_return json_reply(status, body);
-}
-
-HttpReply ConsoleHandler::audit(const HttpRequest& request) const {
-  if (context_.audit == nullptr) return json_reply(200, json{{"records", json::array()}});
-  AuditTrail::Filter filter;
-  filter.door = query_value(request.target, "door");
-  filter.sensor = query_value(request.target, "sensor");
-  filter.who = query_value(request.target, "who");
-  filter.setting = query_value(request.target, "setting");
-  const std::string limit = query_value(request.target, "limit");
-  if (!limit.empty()) {
-    char* stop = nullptr;
-    const long n = std::strtol(limit.c_str(), &stop, 10);
-    if (stop == limit.c_str() || *stop != '\0' || n < 1 || n > 10000)
-      return error_reply(400, "limit: expected 1 to 10000");
-    filter.limit = std::size_t(n);
-  }
-  json records = json::array();
-  for (const AuditRecord& record : context_.audit->recent(filter))
-    records.push_back({{"unix_ms", record.unix_ms},
-                       {"time", utc_time(record.unix_ms)},
-                       {"door", record.origin.door},
-                       {"who", record.origin.who},
-                       {"sensor", record.sensor},
-                       {"setting", record.setting},
-                       {"old", record.old_value},
-                       {"new", record.new_value},
-                       {"result", record.result}});
-  return json_reply(200, json{{"records", std::move(records)}});
 }
 
 HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_view path,

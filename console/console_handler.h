@@ -85,7 +85,6 @@ class ConsoleHandler {
   boost::asio::awaitable<HttpReply> api(const HttpRequest& request, const ConsoleSession& session);
   boost::asio::awaitable<HttpReply> settings(const HttpRequest& request, std::string_view path,
                                              const ConsoleSession& session);
-  HttpReply audit(const HttpRequest& request) const;
   boost::asio::awaitable<HttpReply> bus_action(const HttpRequest& request, std::string_view path,
                                                const ConsoleSession& session);
   HttpReply config_change(const HttpRequest& request, std::string_view path,
