@@ -1,8 +1,7 @@
 // A change made through the console, as one audit record (audit/audit_record.h): door
-// "console", who the user is. Nothing without a trail.
+// "console", who the user is, the time the trail's (AuditTrail::record). Nothing without a trail.
 #pragma once
 
-#include <chrono>
 #include <string>
 
 #include "audit/audit_trail.h"
@@ -14,9 +13,6 @@ inline void record_console_change(AuditTrail* audit, const std::string& user, st
                                   std::string new_value, std::string result) {
   if (audit == nullptr) return;
   AuditRecord record;
-  record.unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                       std::chrono::system_clock::now().time_since_epoch())
-                       .count();
   record.origin = WriteOrigin{"console", user};
   record.sensor = std::move(sensor);
   record.setting = std::move(setting);
