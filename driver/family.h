@@ -86,6 +86,10 @@ struct ProtocolDescriptor {
   ForwardFactory forward = nullptr;
   // How `tiltgate scan` finds the protocol's sensors (driver/scan.h).
   ScanDescriptor scan{};
+  // The devices speak TCP themselves (Modbus TCP): a bus's port must be tcp://HOST:PORT, and
+  // there is no serial line behind it, so no baud, parity, stop bits or gap apply. False: a
+  // serial protocol, on a tty or behind a serial device server (device_server/port_url.h).
+  bool devices_speak_tcp = false;
 };
 
 // What Read Device Identification (FC 43) reports for a model.
