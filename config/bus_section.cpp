@@ -1,11 +1,13 @@
 // Reading one [[bus]] table: its keys and the checks that depend only on it and on its
-// protocol's descriptor (bauds, framing, gap, master address, pass-through). Checks across
-// tables are in config/cross_checks.h and config/pass_through_checks.h.
+// protocol's descriptor (bauds, framing, gap, master address, pass-through; what its port can
+// carry: config/bus_port.h). Checks across tables are in config/cross_checks.h and
+// config/pass_through_checks.h.
 #include <fmt/format.h>
 
 #include <string_view>
 #include <vector>
 
+#include "config/bus_port.h"
 #include "config/sections.h"
 #include "toml/toml_reader.h"
 
@@ -209,27 +211,30 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
     check_name(in, "name", *name);
     bus.name = *name;
   }
-  if (auto port = in.string("port", Presence::required)) {
-    if (port->empty()) in.error("port", "empty, expected a tty path such as \"/dev/ttyUSB0\"");
-    bus.port = *port;
-  }
+  const std::optional<PortAddress> port = read_port(in, bus);
   const std::vector<std::string_view> protocols = protocol_names(families);
   bus.protocol = protocols.empty() ? "" : std::string(protocols.front());
   if (auto protocol = in.choice("protocol", protocols)) bus.protocol = *protocol;
   const ProtocolEntry protocol = in.located().usable("protocol")
                                      ? find_protocol(families, bus.protocol)
                                      : ProtocolEntry{};
-  read_baud(in, bus, protocol.protocol);
   read_reply_timeouts(in, bus);
   if (auto n = in.integer("retries", 0, 10)) bus.retries = int(*n);
-  read_framing(in, bus, protocol.protocol, families);
-  read_gap(in, bus, protocol);
-  if (auto rs485 = in.boolean("rs485")) bus.rs485_kernel = *rs485;
-  if (auto echo = in.boolean("echo")) bus.echo = *echo;
+  if (devices_speak_tcp(protocol)) {
+    refuse_serial_line_keys(in, protocol);
+  } else {
+    read_baud(in, bus, protocol.protocol);
+    read_framing(in, bus, protocol.protocol, families);
+    read_gap(in, bus, protocol);
+    if (auto rs485 = in.boolean("rs485")) bus.rs485_kernel = *rs485;
+    if (auto echo = in.boolean("echo")) bus.echo = *echo;
+  }
+  // Ignored on a device server's port (no tty of ours to set it on).
   if (auto low_latency = in.boolean("low_latency")) bus.low_latency = *low_latency;
   read_master_address(in, bus, protocol.protocol, families);
   read_reopen_backoff(in, bus);
   read_pass_through(in, bus, protocol.protocol);
+  if (port) check_port_fits(in, bus, *port, protocol);
   // Checked against [server] and the other buses in listeners.cpp.
   if (auto port = in.integer("tcp_port", 1, 65535)) bus.tcp_port = std::uint16_t(*port);
   in.reject_unknown_keys();

@@ -2,11 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <optional>
 #include <span>
 
 #include "config/listeners.h"
+#include "device_server/port_url.h"
 
 namespace tiltgate::config {
 
@@ -38,35 +41,67 @@ void reject_duplicate_names(const std::vector<Parsed>& items, std::string_view k
   }
 }
 
-// The same device under two names (/dev/serial/by-id/... and /dev/ttyUSB0) is still one line;
-// only ports that exist right now can be resolved.
-std::optional<std::filesystem::path> resolve_port(const ParsedBus& bus) {
+// The port as written, parsed again (read_bus reported it when it was in error).
+std::optional<PortAddress> port_of(const ParsedBus& bus) {
   if (!bus.where.valid("port")) return std::nullopt;
+  auto port = parse_port(bus.config.port);
+  if (!port) return std::nullopt;
+  return *port;
+}
+
+// The same device under two names (/dev/serial/by-id/... and /dev/ttyUSB0) is still one line;
+// only ttys that exist right now can be resolved. A device server's port names no local file.
+std::optional<std::filesystem::path> resolve_tty(const std::optional<PortAddress>& port) {
+  if (!port || port->over_network()) return std::nullopt;
   std::error_code error;
-  auto path = std::filesystem::canonical(bus.config.port, error);
+  auto path = std::filesystem::canonical(port->path, error);
   if (error) return std::nullopt;
   return path;
 }
 
+// A device server's port, as two buses could both name it: its host (names and addresses
+// compare without case) and its TCP port, whichever scheme reaches it.
+std::optional<std::string> endpoint_of(const std::optional<PortAddress>& port) {
+  if (!port || !port->over_network()) return std::nullopt;
+  std::string endpoint = port->endpoint();
+  std::transform(endpoint.begin(), endpoint.end(), endpoint.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return endpoint;
+}
+
+// What makes bus i's port the one bus j already uses, or nothing.
+std::optional<std::string> shared_port(const std::vector<ParsedBus>& buses, std::size_t i,
+                                       std::size_t j,
+                                       const std::vector<std::optional<PortAddress>>& ports,
+                                       const std::vector<std::optional<std::filesystem::path>>& devices) {
+  const std::string& port = buses[i].config.port;
+  if (port == buses[j].config.port)
+    return fmt::format("\"{}\" is already used by {}", port, describe(buses[j], "bus"));
+  // Servers often take one client per port, and two buses on one line would talk over each
+  // other: one connection per bus.
+  const std::optional<std::string> endpoint = endpoint_of(ports[i]);
+  if (endpoint && endpoint == endpoint_of(ports[j]))
+    return fmt::format("\"{}\": the device server {} is already used by {} (\"{}\")", port,
+                       *endpoint, describe(buses[j], "bus"), buses[j].config.port);
+  if (devices[i] && devices[j] && *devices[i] == *devices[j])
+    return fmt::format("\"{}\" is {}, the same device as the port \"{}\" of {}", port,
+                       devices[i]->string(), buses[j].config.port, describe(buses[j], "bus"));
+  return std::nullopt;
+}
+
 void reject_shared_ports(const std::vector<ParsedBus>& buses, ErrorList& errors) {
+  std::vector<std::optional<PortAddress>> ports;
   std::vector<std::optional<std::filesystem::path>> devices;
-  for (const ParsedBus& bus : buses) devices.push_back(resolve_port(bus));
+  for (const ParsedBus& bus : buses) {
+    ports.push_back(port_of(bus));
+    devices.push_back(resolve_tty(ports.back()));
+  }
   for (std::size_t i = 0; i < buses.size(); ++i) {
-    if (!buses[i].where.valid("port")) continue;
+    if (!ports[i]) continue;
     for (std::size_t j = 0; j < i; ++j) {
-      if (!buses[j].where.valid("port")) continue;
-      const std::string& port = buses[i].config.port;
-      if (port == buses[j].config.port) {
-        buses[i].where.report(
-            errors, "port",
-            fmt::format("\"{}\" is already used by {}", port, describe(buses[j], "bus")));
-        break;
-      }
-      if (devices[i] && devices[j] && *devices[i] == *devices[j]) {
-        buses[i].where.report(
-            errors, "port",
-            fmt::format("\"{}\" is {}, the same device as the port \"{}\" of {}", port,
-                        devices[i]->string(), buses[j].config.port, describe(buses[j], "bus")));
+      if (!ports[j]) continue;
+      if (auto shared = shared_port(buses, i, j, ports, devices)) {
+        buses[i].where.report(errors, "port", std::move(*shared));
         break;
       }
     }

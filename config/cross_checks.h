@@ -1,6 +1,6 @@
-// Checks across tables: names and unit ids that must be unique, two buses on one tty, and
-// each sensor against its bus (protocol, address range, address clashes), and the two MQTT
-// clients against each other.
+// Checks across tables: names and unit ids that must be unique, two buses on one tty or on one
+// device server's port, each sensor against its bus (protocol, address range, address
+// clashes), and the two MQTT clients against each other.
 #pragma once
 
 #include <vector>
