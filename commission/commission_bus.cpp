@@ -8,6 +8,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include "device_server/port_url.h"
 #include "gateway/driver_registry.h"
 #include "gateway/serial_options.h"
 
@@ -145,9 +146,17 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
     bus->line_ = std::move(*remote);
     return bus;
   }
-  auto lock = open_and_lock(target.bus.port);
-  if (!lock) return Unexpected{OpenError{1, lock.error()}};
-  std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, *lock));
+  // A device server's port is no file of ours to open or lock: the server takes one client
+  // per port, and the connection is the line's own (its errors are the line's).
+  const auto port = parse_port(target.bus.port);
+  const bool over_network = port && port->over_network();
+  int lock_fd = -1;
+  if (!over_network) {
+    auto lock = open_and_lock(target.bus.port);
+    if (!lock) return Unexpected{OpenError{1, lock.error()}};
+    lock_fd = *lock;
+  }
+  std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, lock_fd));
   bus->sensors_ = std::move(sensors);
   bus->executor_ = executor;
   if (auto started = bus->start_line(); !started) return Unexpected{OpenError{1, started.error()}};
@@ -168,6 +177,12 @@ Expected<Done, std::string> CommissionBus::reopen_at(std::uint32_t baud) {
     return Unexpected{fmt::format("the running gateway keeps bus {} at {} baud; another rate "
                                   "needs the tty: stop the gateway first",
                                   remote_->bus().name, config_.baud)};
+  // Over raw TCP the far port's rate is the device server's own setting.
+  if (const auto port = parse_port(config_.port); port && port->scheme == PortScheme::tcp)
+    return Unexpected{fmt::format("{} is raw TCP: the device server keeps its port at {} baud "
+                                  "(its own setting); set it to {} on the server, or use "
+                                  "rfc2217://{}, which the gateway sets",
+                                  config_.port, config_.baud, baud, port->endpoint())};
   serial_->stop();
   config_.baud = baud;
   return start_line();

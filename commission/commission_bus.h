@@ -1,5 +1,6 @@
 // One bus opened for a commissioning command: its tty, held with an advisory lock for as long
-// as the command runs, or the same bus through the control socket of a running gateway that
+// as the command runs, or its device server's port (tcp://, rfc2217://: one connection, no
+// lock), or the same bus through the control socket of a running gateway that
 // owns the tty (control/remote_line.h); and a driver for each sensor the command talks to. The
 // command polls the sensors through their drivers, as the gateway's bus scheduler does, one at
 // a time.
@@ -87,7 +88,7 @@ class CommissionBus {
   boost::asio::any_io_executor executor_;
   BusConfig config_;
   FamilyList families_;
-  int lock_fd_;  // -1 through a gateway
+  int lock_fd_;  // -1 through a gateway, or on a device server's port
   std::unique_ptr<Line> line_;
   SerialLine* serial_ = nullptr;  // line_, on a tty of our own
   RemoteLine* remote_ = nullptr;  // line_, through a gateway

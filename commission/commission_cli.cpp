@@ -28,23 +28,39 @@ const ProtocolDescriptor* demo_protocol(const FamilyCommands& family) {
   return find_protocol(own, family.demo.protocol).protocol;
 }
 
-// "--port /dev/ttyUSB0 --protocol P [--baud B] --address A" for each family's demo bus, with
-// the keys its sensors must give.
+// "--port PORT --protocol P [--baud B] --address A" for the family's demo bus, with the keys
+// its sensors must give.
+std::string example_bus(const FamilyCommands& family, std::string_view port) {
+  std::string example = fmt::format("--port {} --protocol {}", port, family.demo.protocol);
+  // A protocol without a factory rate needs the one its sensors were set to.
+  const ProtocolDescriptor* protocol = demo_protocol(family);
+  if (protocol && !protocol->default_baud)
+    example += fmt::format(" --baud {}", family.demo.baud);
+  example += fmt::format(" --address {}", family.demo.sensors.front().address);
+  for (std::string_view key : required_sensor_keys(*family.family))
+    if (key == "device") example += " --device profile.toml";
+  return example;
+}
+
+// Each family's demo bus on /dev/ttyUSB0.
 std::vector<std::string> example_buses(FamilyCommandsList families) {
   std::vector<std::string> examples;
-  for (const FamilyCommands* family : families) {
-    if (family->demo.sensors.empty()) continue;
-    std::string example = fmt::format("--port /dev/ttyUSB0 --protocol {}", family->demo.protocol);
-    // A protocol without a factory rate needs the one its sensors were set to.
-    const ProtocolDescriptor* protocol = demo_protocol(*family);
-    if (protocol && !protocol->default_baud)
-      example += fmt::format(" --baud {}", family->demo.baud);
-    example += fmt::format(" --address {}", family->demo.sensors.front().address);
-    for (std::string_view key : required_sensor_keys(*family->family))
-      if (key == "device") example += " --device profile.toml";
-    examples.push_back(std::move(example));
-  }
+  for (const FamilyCommands* family : families)
+    if (!family->demo.sensors.empty()) examples.push_back(example_bus(*family, "/dev/ttyUSB0"));
   return examples;
+}
+
+// The first demo bus a serial device server can carry (raw TCP), for the help texts: not a
+// 9-bit one (docs/operations.md, "Serial device servers").
+std::string device_server_example(FamilyCommandsList families) {
+  constexpr std::string_view kServer = "tcp://192.168.1.20:4001";
+  for (const FamilyCommands* family : families) {
+    const ProtocolDescriptor* protocol = demo_protocol(*family);
+    if (family->demo.sensors.empty() || !protocol || protocol->framing == Framing::nine_bit)
+      continue;
+    return example_bus(*family, kServer);
+  }
+  return fmt::format("--port {}", kServer);
 }
 
 }  // namespace
@@ -61,6 +77,7 @@ std::string info_help_footer(FamilyCommandsList families) {
                           "without --{}: what the device says of itself\n",
                           family->demo.protocol, family->demo.sensors.front().address,
                           fmt::join(required_sensor_keys(*family->family), ", --"));
+  text += fmt::format("  tiltgate info {}\n", device_server_example(families));
   text += "  tiltgate info --config /etc/tiltgate/tiltgate.toml --bus line1 --address 5,6\n";
   text +=
       "Exit status: 0 every sensor answered; 1 one did not, or the tty cannot be used;\n"
@@ -72,6 +89,7 @@ std::string watch_help_footer(FamilyCommandsList families) {
   std::string text = "Examples:\n";
   for (const std::string& bus : example_buses(families))
     text += fmt::format("  tiltgate watch {}\n", bus);
+  text += fmt::format("  tiltgate watch {}\n", device_server_example(families));
   text += "  tiltgate watch --config /etc/tiltgate/tiltgate.toml --bus line1 --log angles.csv\n";
   text += "  tiltgate watch --config /etc/tiltgate/tiltgate.toml --sensor boom --count 10 "
           "--interval 200\n";
@@ -99,6 +117,7 @@ std::string scan_help_footer(FamilyCommandsList families) {
   }
   text += "  tiltgate scan --port /dev/ttyUSB0 --from 1 --to 65000 --baud auto\n";
   text += "  tiltgate scan --port /dev/ttyUSB0 --broadcast      # one sensor on the bus only\n";
+  text += "  tiltgate scan --port rfc2217://192.168.1.20:4001 --baud auto   # a device server\n";
   text += "  tiltgate scan --config /etc/tiltgate/tiltgate.toml --bus line1\n";
   text +=
       "Without --from/--to the protocol's usual addresses and its factory addresses are\n"
@@ -129,6 +148,7 @@ std::string set_help_footer(FamilyCommandsList families) {
   if (!buses.empty()) {
     text += fmt::format("  tiltgate set {} address 7\n", buses.front());
     text += fmt::format("  tiltgate set {} zero-here --permanent\n", buses.front());
+    text += fmt::format("  tiltgate set {} address 7\n", device_server_example(families));
   }
   // A family without a restart command has only its sensors' own settings, named by them.
   std::size_t bus = 1;
@@ -156,7 +176,10 @@ std::string raw_help_footer(FamilyCommandsList families) {
       text += fmt::format("  {}\n", family->raw.function_help);
   text += "Examples:\n";
   const std::vector<std::string> buses = example_buses(families);
-  if (!buses.empty()) text += fmt::format("  tiltgate raw {} --function 37\n", buses.front());
+  if (!buses.empty()) {
+    text += fmt::format("  tiltgate raw {} --function 37\n", buses.front());
+    text += fmt::format("  tiltgate raw {} --function 37\n", device_server_example(families));
+  }
   text += "  tiltgate raw --config /etc/tiltgate/tiltgate.toml --sensor boom --function 5 --data 04\n";
   text +=
       "The request is sent once. Output: the bytes sent and received in hex, the checksum's\n"
@@ -167,7 +190,11 @@ std::string raw_help_footer(FamilyCommandsList families) {
 
 void add_bus_options(CLI::App& command, BusOptions& options, FamilyList families,
                      bool* auto_baud) {
-  command.add_option("--port", options.port, "the bus's tty, e.g. /dev/ttyUSB0")
+  command
+      .add_option("--port", options.port,
+                  "the bus's tty, e.g. /dev/ttyUSB0, or a serial device server: "
+                  "tcp://HOST:PORT (raw; the rate is the server's setting) or "
+                  "rfc2217://HOST:PORT (the rate and framing set from here)")
       ->group("Bus on the command line");
   command
       .add_option("--protocol", options.protocol,

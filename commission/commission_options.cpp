@@ -66,7 +66,8 @@ UsageErrors combination_errors(const BusOptions& o) {
   if (!o.sensor.empty()) errors.push_back("--sensor: needs --config FILE");
   if (!o.bus.empty()) errors.push_back("--bus: needs --config FILE");
   if (o.port.empty()) {
-    errors.push_back("--port: required (the tty of the bus), or --config FILE with --sensor or --bus");
+    errors.push_back("--port: required (the bus's tty, or its device server as tcp://HOST:PORT or "
+                     "rfc2217://HOST:PORT), or --config FILE with --sensor or --bus");
     return errors;
   }
   if (o.addresses.empty() && !o.sensors_optional)

@@ -1,8 +1,9 @@
 // The bus and sensor options the commissioning commands share (`info`, `watch`; later `scan`,
-// `set`, `raw`): a tty and protocol on the command line, or a bus and sensors taken from a
-// configuration file. Command-line values go through the configuration loader itself, so a
-// bad protocol, baud, framing or address is refused exactly as it would be in a [[bus]] or
-// [[sensor]], reported under the option's name instead of the key's.
+// `set`, `raw`): a tty (or a serial device server's tcp:// or rfc2217:// URL) and protocol on
+// the command line, or a bus and sensors taken from a configuration file. Command-line values
+// go through the configuration loader itself, so a bad protocol, baud, framing, address or
+// port URL is refused exactly as it would be in a [[bus]] or [[sensor]], reported under the
+// option's name instead of the key's.
 #pragma once
 
 #include <cstdint>

@@ -278,6 +278,9 @@ int scan_command(const BusOptions& bus_options, const ScanOptions& options, Fami
     errors.push_back(fmt::format("--broadcast: the {} protocol has no request every sensor "
                                  "answers",
                                  protocol.protocol->name));
+  if (options.auto_baud)
+    if (auto refused = auto_baud_refusal(*protocol.protocol, target->bus.bus.port))
+      errors.push_back(std::move(*refused));
   if (options.auto_baud && bus_options.via_gateway)
     errors.push_back("--baud auto: not with --via-gateway (the running gateway keeps its bus at "
                      "its own rate: stop it to try every rate)");

@@ -6,6 +6,7 @@
 
 #include "commission/commission_options.h"
 #include "commission/reading_format.h"
+#include "device_server/port_url.h"
 
 namespace tiltgate {
 
@@ -69,6 +70,22 @@ std::vector<std::uint32_t> scan_bauds(const ProtocolDescriptor& protocol, std::u
   for (const std::int64_t b : protocol.bauds)
     if (std::uint32_t(b) != bus_baud) bauds.push_back(std::uint32_t(b));
   return bauds;
+}
+
+std::optional<std::string> auto_baud_refusal(const ProtocolDescriptor& protocol,
+                                             std::string_view port) {
+  if (protocol.devices_speak_tcp)
+    return fmt::format("--baud auto: a {} bus has no serial line and no rate: the devices speak "
+                       "{}",
+                       protocol.name, protocol.title);
+  const auto address = parse_port(port);
+  if (address && address->scheme == PortScheme::tcp)
+    return fmt::format(
+        "--baud auto: not over tcp:// (raw TCP cannot change the device server's rate: it is "
+        "the server's own setting); use rfc2217://{} if the server offers RFC 2217 (the rate is "
+        "then set for each try), or set each rate on the server and scan with --baud RATE",
+        address->endpoint());
+  return std::nullopt;
 }
 
 std::chrono::milliseconds default_probe_timeout(const ProtocolDescriptor& protocol,

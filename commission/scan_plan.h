@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "config/config.h"
@@ -43,6 +44,13 @@ Expected<std::vector<std::uint32_t>, std::string> scan_addresses(
 // in the protocol's order.
 std::vector<std::uint32_t> scan_bauds(const ProtocolDescriptor& protocol, std::uint32_t bus_baud,
                                       bool auto_baud);
+
+// Why --baud auto cannot be used on the bus at `port`, or none. Over rfc2217:// the gateway
+// sets the device server's rate for each try, as on a tty; over raw TCP (tcp://) the rate is
+// the server's own setting, which the gateway cannot change; a bus whose devices speak TCP
+// has no rate at all.
+std::optional<std::string> auto_baud_refusal(const ProtocolDescriptor& protocol,
+                                             std::string_view port);
 
 // The probe time at `baud`, rounded up to whole milliseconds, plus kProbeAllowance.
 std::chrono::milliseconds default_probe_timeout(const ProtocolDescriptor& protocol,

@@ -161,6 +161,31 @@ TEST_CASE("a tty path with quotes and backslashes reaches the bus unchanged") {
   CHECK(target->bus.port == o.port);
 }
 
+TEST_CASE("--port takes a device server's URL, checked as the configuration's port is") {
+  BusOptions o = rieker_bus();
+  o.port = "rfc2217://192.168.1.20:4001";
+  const auto target = resolve_bus_options(o, registered_families());
+  REQUIRE(target);
+  CHECK(target->bus.port == o.port);
+
+  o.port = "tcp://192.168.1.20:70000";
+  const auto bad = resolve_bus_options(o, registered_families());
+  REQUIRE_FALSE(bad);
+  INFO(all(bad.error()));
+  CHECK(bad.error() ==
+        UsageErrors{"--port: the port 70000 is out of range, expected 1..65535"});
+
+  BusOptions nine_bit = rieker_bus();
+  nine_bit.protocol = "spectron-9bit";
+  nine_bit.baud = 9600;
+  nine_bit.addresses = {1};
+  nine_bit.port = "tcp://192.168.1.20:4001";
+  const auto refused = resolve_bus_options(nine_bit, registered_families());
+  REQUIRE_FALSE(refused);
+  CHECK(has_error_starting(refused.error(), "--port: \"tcp://192.168.1.20:4001\": 9-bit framing "
+                                            "needs a local serial port"));
+}
+
 TEST_CASE("bus options come from the command line or a configuration, never both") {
   BusOptions both = rieker_bus();
   both.config = "plant.toml";

@@ -109,6 +109,25 @@ TEST_CASE("--baud auto tries the bus's rate first, then every other rate of the 
   for (const std::int64_t b : rieker.bauds) CHECK(contains(bauds, std::uint32_t(b)));
 }
 
+TEST_CASE("--baud auto is refused over raw TCP and where the devices speak TCP, with the reason") {
+  const ProtocolDescriptor& rieker = protocol_named("rieker");
+  CHECK_FALSE(auto_baud_refusal(rieker, "/dev/ttyUSB0"));
+  // RFC 2217 sets the far port's rate for each try, as termios does on a tty.
+  CHECK_FALSE(auto_baud_refusal(rieker, "rfc2217://192.168.1.20:4001"));
+  CHECK(auto_baud_refusal(rieker, "tcp://192.168.1.20:4001") ==
+        "--baud auto: not over tcp:// (raw TCP cannot change the device server's rate: it is "
+        "the server's own setting); use rfc2217://192.168.1.20:4001 if the server offers RFC "
+        "2217 (the rate is then set for each try), or set each rate on the server and scan "
+        "with --baud RATE");
+  ProtocolDescriptor tcp_devices = rieker;
+  tcp_devices.name = "tcp-devices";
+  tcp_devices.title = "Modbus TCP";
+  tcp_devices.devices_speak_tcp = true;
+  CHECK(auto_baud_refusal(tcp_devices, "tcp://10.0.0.7:502") ==
+        "--baud auto: a tcp-devices bus has no serial line and no rate: the devices speak "
+        "Modbus TCP");
+}
+
 TEST_CASE("the default probe time-out is the protocol's reply time plus the adapter allowance") {
   for (const char* name : {"rieker", "spectron-9bit", "spectron-modbus", "modbus-rtu"}) {
     CAPTURE(name);
