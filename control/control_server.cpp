@@ -6,6 +6,8 @@
 #include <boost/asio/streambuf.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/asio/write.hpp>
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fmt/format.h>
 #include <istream>
@@ -16,6 +18,7 @@
 #include "control/control_protocol.h"
 #include "control/control_relay.h"
 #include "control/peer_identity.h"
+#include "device_server/port_url.h"
 
 namespace tiltgate {
 
@@ -24,8 +27,16 @@ using local = asio::local::stream_protocol;
 
 namespace {
 
-// The same tty however it is named: /dev/serial/by-id/... and /dev/ttyUSB0 compare equal.
+// The same tty however it is named: /dev/serial/by-id/... and /dev/ttyUSB0 compare equal; the
+// same device server port however it is reached: its host without case and its TCP port,
+// tcp:// or rfc2217:// (the port takes one client: the gateway's).
 std::string canonical_port(const std::string& port) {
+  if (const auto address = parse_port(port); address && address->over_network()) {
+    std::string endpoint = address->endpoint();
+    std::transform(endpoint.begin(), endpoint.end(), endpoint.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return endpoint;
+  }
   std::error_code ec;
   const auto path = std::filesystem::weakly_canonical(port, ec);
   return ec ? port : path.string();

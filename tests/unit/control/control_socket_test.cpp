@@ -69,10 +69,13 @@ struct Gateway {
   BusEvents events;
   std::unique_ptr<GatewaySensor> sensor = fake_sensor("boom", 1, 223, events, 10s);
   std::vector<LineRequest> sent;
-  ControlServer server{io.get_executor(), socket_path, {{bus_on("/dev/ttyFAKE0"), lent(scheduler)}}};
+  std::string port;
+  ControlServer server;
   std::thread thread;
 
-  Gateway() {
+  explicit Gateway(std::string served_port = "/dev/ttyFAKE0")
+      : port(std::move(served_port)),
+        server{io.get_executor(), socket_path, {{bus_on(port), lent(scheduler)}}} {
     line.reply = [this](const LineRequest& request) {
       sent.push_back(LineRequest{request.bytes, request.address_bytes, nullptr, request.timeout,
                                  request.retries, request.settle, request.late_guard});
@@ -179,6 +182,21 @@ TEST_CASE("control socket: a tty the gateway does not own, and no gateway at all
   auto none = RemoteLine::connect(io.get_executor(), gateway.dir.path("nothing.sock"), "/dev/ttyFAKE0");
   REQUIRE_FALSE(none);
   CHECK(none.error().kind == RemoteLine::ConnectError::no_gateway);
+}
+
+TEST_CASE("control socket: a device server's port is found however the command names it") {
+  Gateway gateway("rfc2217://Moxa-3.plant.local:4001");
+  asio::io_context io;
+  for (const char* port : {"rfc2217://Moxa-3.plant.local:4001", "tcp://moxa-3.PLANT.local:4001"}) {
+    CAPTURE(port);
+    auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, port);
+    REQUIRE_MESSAGE(line, (line ? std::string() : line.error().message));
+    CHECK((*line)->bus().name == "line1");
+  }
+  auto other = RemoteLine::connect(io.get_executor(), gateway.socket_path,
+                                   "tcp://moxa-3.plant.local:4002");
+  REQUIRE_FALSE(other);
+  CHECK(other.error().kind == RemoteLine::ConnectError::not_served);
 }
 
 TEST_CASE("control socket: the socket file is for owner and group only, and a live one is not taken over") {
