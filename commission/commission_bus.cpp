@@ -11,7 +11,6 @@
 #include <sys/file.h>
 #include <unistd.h>
 
-#include "device_server/port_url.h"
 #include "gateway/driver_registry.h"
 #include "gateway/serial_options.h"
 
@@ -151,17 +150,9 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
     bus->line_ = std::move(*remote);
     return bus;
   }
-  // A device server's port is no file of ours to open or lock: the server takes one client
-  // per port, and the connection is the line's own (its errors are the line's).
-  const auto port = parse_port(target.bus.port);
-  const bool over_network = port && port->over_network();
-  int lock_fd = -1;
-  if (!over_network) {
-    auto lock = open_and_lock(target.bus.port);
-    if (!lock) return Unexpected{OpenError{1, lock.error()}};
-    lock_fd = *lock;
-  }
-  std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, lock_fd));
+  auto lock = open_and_lock(target.bus.port);
+  if (!lock) return Unexpected{OpenError{1, lock.error()}};
+  std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, *lock));
   bus->sensors_ = std::move(sensors);
   bus->executor_ = executor;
   if (auto started = bus->start_line(); !started) return Unexpected{OpenError{1, started.error()}};
