@@ -97,9 +97,10 @@ def scenario(t):
     t.check("raw TCP with ser2net at the wrong rate: polled and failing",
             wait_until(lambda: gateway.sensor("rieker_wrong_rate").get("polls_failed", 0) >= 3, 15),
             gateway.sensor("rieker_wrong_rate"))
-    seen = modbus.read(wrong_unit)
     t.check("raw TCP with ser2net at the wrong rate: the sensor stays offline (status bit 0 clear)",
-            seen is not None and not seen[2], seen)
+            modbus.online(wrong_unit) is False, modbus.online(wrong_unit))
+    t.check("raw TCP with ser2net at the wrong rate: its angles read as exception 0x0B",
+            modbus.angles_exception(wrong_unit) == 0x0B, modbus.angles_exception(wrong_unit))
     t.check("raw TCP with ser2net at the wrong rate: the HTTP status says offline",
             gateway.sensor("rieker_wrong_rate").get("online") is False,
             gateway.sensor("rieker_wrong_rate"))

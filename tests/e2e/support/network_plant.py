@@ -128,13 +128,30 @@ class ModbusReader:
             raise RuntimeError("pymodbus could not connect to port %d" % port)
 
     def read(self, unit):
-        """A unit's Reading, or None when the read fails."""
+        """A unit's Reading, or None when the read fails (0x0B: offline, or stale)."""
         r = self.client.read_input_registers(0, 16, slave=unit)
         if r.isError():
             return None
         words = r.registers
         as_float = lambda i: struct.unpack(">f", struct.pack(">HH", words[i], words[i + 1]))[0]
         return Reading(as_float(0), as_float(2), bool(words[6] & 0x01), words[15])
+
+    def online(self, unit):
+        """Status bit 0 (input register 6, which reads while the sensor is offline; a read that
+        takes in the angles is then answered 0x0B); None when the read fails."""
+        r = self.client.read_input_registers(6, 1, slave=unit)
+        return None if r.isError() else bool(r.registers[0] & 0x01)
+
+    def angles_exception(self, unit):
+        """The exception code a read of the angles gets (0x0B while offline), or None."""
+        r = self.client.read_input_registers(0, 4, slave=unit)
+        return getattr(r, "exception_code", None) if r.isError() else None
+
+    def reply_timeout_ms(self, unit):
+        """Input register 36: the reply wait in use for the sensor (it adapts upward after late
+        replies); None when the read fails."""
+        r = self.client.read_input_registers(36, 1, slave=unit)
+        return None if r.isError() else r.registers[0]
 
     def close(self):
         self.client.close()
