@@ -25,6 +25,7 @@
 #include <fstream>
 #include <optional>
 #include <spawn.h>
+#include <memory>
 #include <spdlog/spdlog.h>
 #include <string>
 #include <sys/wait.h>
@@ -33,6 +34,7 @@
 #include <vector>
 
 #include "bench/tcp_delay_relay.h"
+#include "device_server/serial_line_maker.h"
 #include "rieker/rieker_driver.h"
 #include "rieker/simulator.h"
 #include "serial/serial_line.h"
@@ -101,7 +103,9 @@ double polls_per_second(boost::asio::io_context& io, const std::string& port, se
   line_options.timeout = milliseconds(200);
   line_options.reopen_min = milliseconds(50);
   line_options.replies_name_sender = true;
-  SerialLine line(io.get_executor(), line_options);
+  // Made as the gateway makes a bus's line: a tty or a device server's port, from the port.
+  const std::unique_ptr<SerialLine> made = make_serial_line(io.get_executor(), line_options);
+  SerialLine& line = *made;
   line.start();
   rieker::RiekerDriverOptions driver_options;
   driver_options.reply_timeouts = {line_options.timeout, line_options.timeout};

@@ -1,9 +1,9 @@
 #include "bench/tcp_delay_relay.h"
 
-#include <boost/asio/as_tuple.hpp>
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/redirect_error.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/asio/write.hpp>
@@ -18,7 +18,6 @@ namespace {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
-constexpr auto kNoError = asio::as_tuple(asio::use_awaitable);
 
 // One direction of one connection: chunks waiting for their time, oldest first.
 struct Pipe {
@@ -32,7 +31,9 @@ asio::awaitable<void> read_into(tcp::socket& from, std::shared_ptr<Pipe> pipe,
                                 std::chrono::microseconds one_way) {
   std::vector<std::uint8_t> buffer(65536);
   for (;;) {
-    auto [error, n] = co_await from.async_read_some(asio::buffer(buffer), kNoError);
+    boost::system::error_code error;
+    const std::size_t n = co_await from.async_read_some(
+        asio::buffer(buffer), asio::redirect_error(asio::use_awaitable, error));
     if (error) break;
     pipe->chunks.emplace_back(Clock::now() + one_way,
                               std::vector<std::uint8_t>(buffer.begin(), buffer.begin() + long(n)));
@@ -47,15 +48,19 @@ asio::awaitable<void> write_from(std::shared_ptr<Pipe> pipe, tcp::socket& to) {
     if (pipe->chunks.empty()) {
       if (pipe->ended) break;
       pipe->wake.expires_at(Clock::time_point::max());
-      co_await pipe->wake.async_wait(kNoError);
+      boost::system::error_code cancelled;
+      co_await pipe->wake.async_wait(asio::redirect_error(asio::use_awaitable, cancelled));
       continue;
     }
     auto& [due, bytes] = pipe->chunks.front();
     if (Clock::now() < due) {
       asio::steady_timer timer(to.get_executor(), due);
-      co_await timer.async_wait(kNoError);
+      boost::system::error_code ignored;
+      co_await timer.async_wait(asio::redirect_error(asio::use_awaitable, ignored));
     }
-    auto [error, n] = co_await asio::async_write(to, asio::buffer(bytes), kNoError);
+    boost::system::error_code error;
+    co_await asio::async_write(to, asio::buffer(bytes),
+                               asio::redirect_error(asio::use_awaitable, error));
     if (error) break;
     pipe->chunks.pop_front();
   }
@@ -67,8 +72,9 @@ asio::awaitable<void> relay(tcp::socket client, std::uint16_t target_port,
                             std::chrono::microseconds one_way) {
   auto executor = co_await asio::this_coro::executor;
   tcp::socket server(executor);
-  auto [error] = co_await server.async_connect({asio::ip::address_v4::loopback(), target_port},
-                                               kNoError);
+  boost::system::error_code error;
+  co_await server.async_connect({asio::ip::address_v4::loopback(), target_port},
+                                asio::redirect_error(asio::use_awaitable, error));
   if (error) co_return;
   client.set_option(tcp::no_delay(true));
   server.set_option(tcp::no_delay(true));
@@ -87,7 +93,9 @@ asio::awaitable<void> relay(tcp::socket client, std::uint16_t target_port,
 asio::awaitable<void> accept_all(tcp::acceptor& acceptor, std::uint16_t target_port,
                                  std::chrono::microseconds one_way) {
   for (;;) {
-    auto [error, socket] = co_await acceptor.async_accept(kNoError);
+    boost::system::error_code error;
+    tcp::socket socket = co_await acceptor.async_accept(
+        asio::redirect_error(asio::use_awaitable, error));
     if (error) co_return;
     asio::co_spawn(acceptor.get_executor(), relay(std::move(socket), target_port, one_way),
                    asio::detached);
