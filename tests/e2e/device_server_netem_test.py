@@ -4,7 +4,8 @@ namespace the test makes, reached over a veth pair whose both ends delay every p
 kernel's netem qdisc (30 ms each way: a 60 ms round trip, more than the bus's timeout_ms = 50),
 and later lose some. Two Rieker H6 with different angles on the one bus:
 - with the delay, both sensors come online and stay online (the reply wait took the round trip
-  in), and every reading is each sensor's own;
+  in: `max_timeout_ms = 50` leaves the sensors' own waits no room to adapt), and every reading is
+  each sensor's own;
 - with loss added, still nothing is taken for the other sensor's reply, and both are online at
   the end.
 Needs root (namespaces, links, qdiscs) and a kernel with netem (sch_netem): where netem is
@@ -105,7 +106,11 @@ def scenario(t):
     t.logs.append(("ser2net", ser2net.log_path))
     sensors = [("s%d" % unit, "h6", address, unit, {"poll_ms": 100})
                for unit, (address, _) in SENSORS.items()]
-    gateway = Gateway(tiltgate, t.dir, [bus("far", ser2net.url, "rieker", sensors, baud=RATE)])
+    # max_timeout_ms = timeout_ms: no sensor's reply wait may adapt, so only the connection's
+    # round trip, which the kernel measures here since netem delays the packets themselves and
+    # the gateway adds to every reply wait, can take the 60 ms in.
+    gateway = Gateway(tiltgate, t.dir, [bus("far", ser2net.url, "rieker", sensors, baud=RATE,
+                                            timeout_ms=50, max_timeout_ms=50)])
     t.logs.append(("gateway", gateway.log_path))
     gateway.start()
     modbus = ModbusReader(gateway.modbus_port)
