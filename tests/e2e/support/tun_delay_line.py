@@ -50,8 +50,8 @@ class TunDelayLine:
     def start(self):
         """Makes the namespace and the devices; raises OSError, saying why, where it cannot."""
         try:
-            near, far = _open_tun(self.near_device), _open_tun(self.far_device)
-            self._fds = [near, far]
+            for name in (self.near_device, self.far_device):
+                self._fds.append(_open_tun(name))
             _run("ip", "netns", "add", self.netns)
             _run("ip", "addr", "add", self.near_address, "peer", self.far_address,
                  "dev", self.near_device)
