@@ -1,5 +1,8 @@
 #include "commission/commission_bus.h"
 
+#include "device_server/port_url.h"
+#include "device_server/serial_line_maker.h"
+
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -19,6 +22,8 @@ namespace {
 // system's reason instead of being retried in the background as the gateway does, and takes
 // an advisory lock on it so that two commissioning commands do not talk over each other.
 Expected<int, std::string> open_and_lock(const std::string& port) {
+  // A device server's port has no file to lock: the server itself takes one client at a time.
+  if (looks_like_url(port)) return -1;
   const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return Unexpected{fmt::format("cannot open {}: {}", port, std::strerror(errno))};
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -155,10 +160,11 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
 }
 
 Expected<Done, std::string> CommissionBus::start_line() {
-  auto line = std::make_unique<SerialLine>(executor_, serial_options_from(families_, config_));
+  auto line = make_serial_line(executor_, serial_options_from(families_, config_));
   serial_ = line.get();
   line_ = std::move(line);
-  if (!serial_->start()) return Unexpected{fmt::format("cannot open {} as a serial port", config_.port)};
+  // A device server's connection is being made: the first exchange waits for it.
+  if (!serial_->start() && !serial_->opening()) return Unexpected{fmt::format("cannot open {} as a serial port", config_.port)};
   return Done{};
 }
 

@@ -1,5 +1,7 @@
 #include "gateway/gateway.h"
 
+#include "device_server/serial_line_maker.h"
+
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
 #include <boost/asio/redirect_error.hpp>
@@ -87,7 +89,7 @@ std::shared_ptr<Gateway::Bus> Gateway::make_bus(const BusConfig& config) {
   auto bus = std::make_shared<Bus>();
   SerialLineOptions options = serial_options_from(families_, config);
   options.exclusive = true;
-  bus->line = std::make_unique<SerialLine>(io_.get_executor(), options);
+  bus->line = make_serial_line(io_.get_executor(), options);
   bus->scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus->line, config.name);
   bus->scheduler->set_audit(*audit_);
   pass_through(config, bus, true);

@@ -13,7 +13,6 @@
 #include <cstring>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
-#include <boost/asio/write.hpp>
 #include <utility>
 
 #include "serial/frame_trace.h"
@@ -30,18 +29,6 @@ namespace {
 // (beyond the packet's own wire time) means the port is wedged.
 constexpr std::chrono::seconds kStalledWrite{1};
 
-
-// The parity of every byte but a 9-bit bus's address bytes, which switch to mark.
-Parity idle_parity(Framing framing) {
-  switch (framing) {
-    case Framing::eight_none_one: return Parity::none;
-    case Framing::eight_even_one: return Parity::even;
-    case Framing::eight_odd_one: return Parity::odd;
-    case Framing::eight_none_two: return Parity::none;
-    case Framing::nine_bit: return Parity::space;
-  }
-  return Parity::none;
-}
 
 // The port's share of the line's options.
 TtyPortOptions port_options_of(const SerialLineOptions& line) {
@@ -67,25 +54,33 @@ std::chrono::milliseconds whole_ms(std::chrono::steady_clock::duration d) {
 }  // namespace
 
 SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options)
+    : SerialLine(executor, std::move(options), [this, executor](std::function<void()> on_reopened) {
+        // options_ is set by now: it is the first member.
+        return std::make_unique<TtyPort>(executor, port_options_of(options_),
+                                         std::move(on_reopened));
+      }) {}
+
+SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options,
+                       const PortMaker& make_port)
     : options_(std::move(options)),
-      port_(executor, port_options_of(options_), [this] { ++stats_.reopens; }),
+      port_(make_port([this] { ++stats_.reopens; })),
       quiet_timer_(executor),
-      deadline_(executor, port_.stream()) {}
+      deadline_(executor, port_->stream()) {}
 
 SerialLine::~SerialLine() { stop(); }
 
-bool SerialLine::start() { return port_.open(); }
+bool SerialLine::start() { return port_->open(); }
 
 void SerialLine::stop() {
-  port_.stop();
+  port_->stop();
   quiet_timer_.cancel();
   deadline_.cancel();
 }
 
 SerialLine::Attempt SerialLine::port_failure(const std::string& why) {
-  if (port_.stopped()) return Attempt::cancelled;  // stop() closed the port under the operation
+  if (port_->stopped()) return Attempt::cancelled;  // stop() closed the port under the operation
   ++stats_.io_errors;
-  port_.lose(why);
+  port_->lose(why);
   return Attempt::failed;
 }
 
@@ -97,9 +92,15 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
   // Decided once per transaction: with trace off, nothing below is kept or formatted.
   tracing_ = spdlog::should_log(spdlog::level::trace);
   std::optional<Clock::time_point> timed_out_request_end;
+  while (port_->opening()) {  // bounded by the port's own connect time-out
+    quiet_timer_.expires_after(std::chrono::milliseconds{5});
+    error_code ec;
+    co_await quiet_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+    if (port_->stopped()) co_return Unexpected(LineError::cancelled);
+  }
   for (int attempts_left = retries + 1;; --attempts_left) {
-    if (port_.stopped()) co_return Unexpected(LineError::cancelled);
-    if (!port_.is_open()) co_return Unexpected(LineError::closed);
+    if (port_->stopped()) co_return Unexpected(LineError::cancelled);
+    if (!port_->is_open()) co_return Unexpected(LineError::closed);
     Attempt outcome = co_await attempt(request, timeout);
     if (outcome == Attempt::timed_out) {
       ++stats_.timeouts;
@@ -113,7 +114,8 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
       std::optional<Clock::time_point> look_end;
       if (request.release_when_silent && options_.replies_name_sender && !heard_ &&
           !request.late_guard) {
-        look_end = std::max(Clock::now(), packet_end_ + timeout) + burst_quiet();
+        look_end = std::max(Clock::now(), packet_end_ + timeout + network_allowance()) +
+                   burst_quiet();
       }
       const auto guarded =
           co_await discard_late_replies(late_window_end(request, timeout), packet_end_, look_end);
@@ -139,7 +141,8 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
 SerialLine::Clock::time_point SerialLine::late_window_end(const LineRequest& request,
                                                           std::chrono::milliseconds timeout) const {
   // From the deadline: an echo mismatch ends the attempt before it.
-  const Clock::time_point deadline = std::max(Clock::now(), packet_end_ + timeout);
+  const Clock::time_point deadline =
+      std::max(Clock::now(), packet_end_ + timeout + network_allowance());
   // A request's own guard (a scan's probe) counts from its deadline, as it always did.
   if (request.late_guard) return deadline + request_late_guard_;
   // Its device answered, garbled (a broken checksum, a collision), and says so itself: no late
@@ -147,7 +150,8 @@ SerialLine::Clock::time_point SerialLine::late_window_end(const LineRequest& req
   if (heard_ && options_.replies_name_sender) return deadline;
   // Anchored at the request: with the defaults, max_timeout_ms after it, whatever the sensor's
   // adapted reply wait (a reply later than max_timeout_ms is as good as none).
-  return std::max(packet_end_ + options_.timeout + request_late_guard_, deadline);
+  return std::max(packet_end_ + options_.timeout + network_allowance() + request_late_guard_,
+                  deadline);
 }
 
 std::chrono::milliseconds SerialLine::burst_quiet() const {
@@ -159,7 +163,8 @@ std::chrono::milliseconds SerialLine::longest_attempt(std::chrono::milliseconds 
   const auto wire = wire_time(request_bytes, options_.baud, idle_parity(options_.framing),
                               stop_bits_of(options_.framing));
   const LateWindow window{options_.timeout, options_.late_guard};
-  return std::chrono::ceil<std::chrono::milliseconds>(wire) + window.held_after(timeout);
+  return std::chrono::ceil<std::chrono::milliseconds>(wire + port_->network_allowance()) +
+         window.held_after(timeout);
 }
 
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_replies(
@@ -189,7 +194,7 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
       ++stats_.late_replies;
     }
     timing_.late_delay = std::max(timing_.late_delay.value_or(std::chrono::milliseconds{0}),
-                                  whole_ms(last_byte_at_ - request_end));
+                                  whole_ms(last_byte_at_ - request_end - port_->round_trip()));
   }
   if (quiet_until > give_up) {
     spdlog::debug("{}: still receiving {} ms after the request, sending anyway", options_.name,
@@ -217,8 +222,8 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
   heard_ = false;
   // Bytes that arrived since the last reply (a late answer, line noise) would be taken for
   // the start of this reply.
-  auto flushed = discard_input(port_.fd());
-  if (!flushed) co_return port_failure(flushed.error().message());
+  auto flushed = port_->discard_input();
+  if (!flushed) co_return port_failure(flushed.error());
   ++stats_.attempts;
   const std::optional<Attempt> send_failure = co_await send(request);
   if (send_failure) co_return *send_failure;
@@ -230,7 +235,7 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
   }
   quiet_until_ = packet_end_ + request.settle + options_.gap;
   if (!request.framer) co_return Attempt::replied;  // nothing to wait for: written is done
-  co_return co_await receive(request, packet_end_ + timeout);
+  co_return co_await receive(request, packet_end_ + timeout + network_allowance());
 }
 
 asio::awaitable<bool> SerialLine::keep_quiet() {
@@ -239,7 +244,7 @@ asio::awaitable<bool> SerialLine::keep_quiet() {
     error_code ec;
     co_await quiet_timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
   }
-  co_return !port_.stopped();
+  co_return !port_->stopped();
 }
 
 asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::send(const LineRequest& request) {
@@ -247,18 +252,17 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::send(const LineR
   const std::size_t address_bytes =
       options_.framing == Framing::nine_bit ? std::min(request.address_bytes, bytes.size()) : 0;
   if (address_bytes > 0) {
-    const int fd = port_.fd();
-    auto marked = apply_parity(fd, Parity::mark);
-    if (!marked) co_return port_failure(marked.error().message());
+    auto marked = port_->switch_parity(Parity::mark);
+    if (!marked) co_return port_failure(marked.error());
     const std::optional<Attempt> address_failure =
         co_await write_segment(bytes.first(address_bytes), Parity::mark);
     if (address_failure) co_return address_failure;
     // The parity must not change while the address is still in the UART. tcdrain blocks the
     // event loop, but only for the few byte-times the address takes (1.1 ms per byte at 9600).
-    auto drained = wait_until_sent(fd);
-    if (!drained) co_return port_failure(drained.error().message());
-    auto spaced = apply_parity(fd, Parity::space);
-    if (!spaced) co_return port_failure(spaced.error().message());
+    auto drained = port_->wait_until_sent();
+    if (!drained) co_return port_failure(drained.error());
+    auto spaced = port_->switch_parity(Parity::space);
+    if (!spaced) co_return port_failure(spaced.error());
     bytes = bytes.subspan(address_bytes);
     if (bytes.empty()) co_return std::nullopt;
   }
@@ -273,32 +277,36 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   // each other (docs/protocols.md, "Packet timing"). The driver nearly always takes a short
   // packet at once: written now, the request leaves as soon as the reply before it was read,
   // with no timer to arm; only what the driver does not take waits, under the stall deadline.
-  const Expected<std::size_t, std::string> taken = write_now(bytes);
+  std::span<const std::uint8_t> pending = port_->outgoing(bytes);
+  const Expected<std::size_t, std::string> taken = port_->write_now(pending);
   if (!taken) co_return port_failure(taken.error());
-  if (const auto rest = bytes.subspan(*taken); !rest.empty()) {
-    error_code ec;
+  pending = pending.subspan(*taken);
+  if (!pending.empty()) {
     deadline_.start(Clock::now() + wire + kStalledWrite);
-    co_await asio::async_write(port_.stream(), asio::buffer(rest.data(), rest.size()),
-                               asio::redirect_error(asio::use_awaitable, ec));
-    const bool stalled = deadline_.finish();
-    if (ec) co_return port_failure(stalled ? std::string("write stalled") : ec.message());
+    while (!pending.empty()) {
+      error_code ec;
+      co_await port_->stream().async_wait(asio::posix::descriptor_base::wait_write,
+                                          asio::redirect_error(asio::use_awaitable, ec));
+      if (ec) {
+        const bool stalled = deadline_.finish();
+        co_return port_failure(stalled ? std::string("write stalled") : ec.message());
+      }
+      const Expected<std::size_t, std::string> more = port_->write_now(pending);
+      if (!more) {
+        deadline_.finish();
+        co_return port_failure(more.error());
+      }
+      pending = pending.subspan(*more);
+    }
+    deadline_.finish();
   }
   // The driver has the bytes; they are on the wire for `wire` more (its buffer was empty).
   packet_end_ = Clock::now() + wire;
   if (write_observer_) {
-    auto in_force = port_.settings_in_force();
+    auto in_force = port_->settings_in_force();
     if (in_force) write_observer_(bytes, parity, *in_force);
   }
   co_return std::nullopt;
-}
-
-Expected<std::size_t, std::string> SerialLine::write_now(std::span<const std::uint8_t> bytes) {
-  for (;;) {  // the port is non-blocking (serial/tty_port.cpp)
-    const ssize_t written = ::write(port_.fd(), bytes.data(), bytes.size());
-    if (written >= 0) return std::size_t(written);
-    if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
-    if (errno != EINTR) return Unexpected(std::string(std::strerror(errno)));
-  }
 }
 
 asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& request,
@@ -325,7 +333,7 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
     if (tracing_) traced_received_.insert(traced_received_.end(), chunk.begin(), chunk.end());
     if (!chunk.empty()) heard_ = true;
     if (!chunk.empty() && request.framer->feed(chunk)) {
-      timing_.reply_delay = whole_ms(last_byte_at_ - packet_end_);
+      timing_.reply_delay = whole_ms(last_byte_at_ - packet_end_ - port_->round_trip());
       if (tracing_) {
         for (const std::string& line :
              traced_reply(traced_received_, request.framer->report(), *timing_.reply_delay)) {
@@ -341,17 +349,19 @@ asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_bef
     std::span<std::uint8_t> buffer, Clock::time_point deadline) {
   error_code ec;
   deadline_.start(deadline);
-  const std::size_t received = co_await port_.stream().async_read_some(
+  const std::size_t received = co_await port_->stream().async_read_some(
       asio::buffer(buffer.data(), buffer.size()), asio::redirect_error(asio::use_awaitable, ec));
   const bool passed = deadline_.finish();
   if (ec) {
-    if (!port_.stopped() && passed && ec == asio::error::operation_aborted) {
+    if (!port_->stopped() && passed && ec == asio::error::operation_aborted) {
       co_return Unexpected(Attempt::timed_out);
     }
     co_return Unexpected(port_failure(ec.message()));  // EIO, or end of file after a hang-up
   }
-  last_byte_at_ = Clock::now();
-  co_return received;
+  // A Telnet port takes its commands out: a read of nothing but those is no byte of the line's.
+  const std::size_t bytes = port_->incoming(buffer.first(received));
+  if (bytes > 0) last_byte_at_ = Clock::now();
+  co_return bytes;
 }
 
 }  // namespace tiltgate

@@ -48,6 +48,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -55,6 +56,7 @@
 
 #include "driver/framing.h"
 #include "driver/line.h"
+#include "serial/line_port.h"
 #include "serial/low_latency.h"
 #include "serial/port_deadline.h"
 #include "serial/termios_settings.h"
@@ -66,7 +68,9 @@ namespace tiltgate {
 // descriptor (gateway/serial_options.h).
 struct SerialLineOptions {
   std::string name;  // for log lines, e.g. "line1"
-  std::string port;  // tty path, e.g. /dev/ttyUSB0 (a symlink is followed at every open)
+  // A tty path, e.g. /dev/ttyUSB0 (a symlink is followed at every open), or a serial device
+  // server's URL (device_server/port_url.h), whose port the maker below opens.
+  std::string port;
   std::uint32_t baud = 125000;
   std::chrono::milliseconds timeout{50};  // reply timeout per attempt
   int retries = 2;                        // extra attempts after a time-out
@@ -99,7 +103,16 @@ class SerialLine final : public Line {
   using WriteObserver = std::function<void(std::span<const std::uint8_t> written,
                                            Parity applied, const TtySettings& in_force)>;
 
+  // Makes the port the line runs on; `on_reopened` is to be called after each successful open
+  // but the first.
+  using PortMaker =
+      std::function<std::unique_ptr<LinePort>(std::function<void()> on_reopened)>;
+
+  // On the tty options.port names.
   SerialLine(boost::asio::any_io_executor executor, SerialLineOptions options);
+  // On the port `make_port` makes (device_server/serial_line_maker.h: a device server's).
+  SerialLine(boost::asio::any_io_executor executor, SerialLineOptions options,
+             const PortMaker& make_port);
   // Calls stop(). Destroy the line only when no transact() is suspended on it.
   ~SerialLine() override;
   SerialLine(const SerialLine&) = delete;
@@ -114,8 +127,10 @@ class SerialLine final : public Line {
 
   boost::asio::awaitable<Expected<Done, LineError>> transact(LineRequest request) override;
 
-  std::uint64_t generation() const override { return port_.generation(); }
-  bool is_open() const override { return port_.is_open(); }
+  std::uint64_t generation() const override { return port_->generation(); }
+  bool is_open() const override { return port_->is_open(); }
+  // The port's first open is under way (LinePort::opening): transact() waits for it.
+  bool opening() const { return port_->opening(); }
   int retries() const override { return options_.retries; }
   const std::string& name() const override { return options_.name; }
   const LineStats& stats() const override { return stats_; }
@@ -127,10 +142,10 @@ class SerialLine final : public Line {
   const SerialLineOptions& options() const { return options_; }
 
   // The settings in force on the open port (nullopt while closed).
-  std::optional<TtySettings> termios_in_force() { return port_.settings_in_force(); }
+  std::optional<TtySettings> termios_in_force() { return port_->settings_in_force(); }
   // What setting the low-latency flag gave at the latest open (nothing: not tried yet, or
   // low_latency is off).
-  const std::optional<LowLatencyResult>& low_latency() const { return port_.low_latency(); }
+  const std::optional<LowLatencyResult>& low_latency() const { return port_->low_latency(); }
   void observe_writes(WriteObserver observer) { write_observer_ = std::move(observer); }
 
  private:
@@ -155,14 +170,16 @@ class SerialLine final : public Line {
   boost::asio::awaitable<std::optional<Attempt>> discard_late_replies(
       Clock::time_point window_end, Clock::time_point request_end,
       std::optional<Clock::time_point> look_end = std::nullopt);
+  // What the port adds to a reply wait (LinePort::network_allowance), whole milliseconds.
+  std::chrono::milliseconds network_allowance() const {
+    return std::chrono::ceil<std::chrono::milliseconds>(port_->network_allowance());
+  }
   // Waits out the quiet time after the previous packet; false once stopped.
   boost::asio::awaitable<bool> keep_quiet();
   // Send steps return the attempt's outcome if it ends there, nothing if it goes on.
   boost::asio::awaitable<std::optional<Attempt>> send(const LineRequest& request);
   boost::asio::awaitable<std::optional<Attempt>> write_segment(std::span<const std::uint8_t> bytes,
                                                                Parity parity);
-  // What of `bytes` the port takes now, without waiting (0 when its buffer is full).
-  Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes);
   boost::asio::awaitable<Attempt> receive(const LineRequest& request, Clock::time_point deadline);
   // One read that gives up at `deadline`: how many bytes came, or timed_out when none came in
   // time, or the outcome of a failed port or a stopped line.
@@ -171,7 +188,7 @@ class SerialLine final : public Line {
 
   SerialLineOptions options_;
   std::chrono::milliseconds request_late_guard_{0};  // this transaction's (LineRequest::late_guard)
-  TtyPort port_;
+  std::unique_ptr<LinePort> port_;
   boost::asio::steady_timer quiet_timer_;
   PortDeadline deadline_;  // after port_: it cancels reads and writes on port_'s descriptor
   Clock::time_point packet_end_{};   // when the last byte written leaves the UART

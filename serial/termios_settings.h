@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "driver/expected.h"
+#include "driver/framing.h"
 
 namespace tiltgate {
 
@@ -20,6 +21,18 @@ namespace tiltgate {
 enum class Parity { none, even, odd, mark, space };
 
 const char* to_string(Parity parity);
+
+// The parity of every byte of `framing` but a 9-bit bus's address bytes, which switch to mark.
+constexpr Parity idle_parity(Framing framing) {
+  switch (framing) {
+    case Framing::eight_none_one: return Parity::none;
+    case Framing::eight_even_one: return Parity::even;
+    case Framing::eight_odd_one: return Parity::odd;
+    case Framing::eight_none_two: return Parity::none;
+    case Framing::nine_bit: return Parity::space;
+  }
+  return Parity::none;
+}
 
 // What a tty is set to, decoded from its termios2.
 struct TtySettings {

@@ -61,6 +61,33 @@ std::optional<TtySettings> TtyPort::settings_in_force() {
   return *settings;
 }
 
+Expected<std::size_t, std::string> TtyPort::write_now(std::span<const std::uint8_t> bytes) {
+  for (;;) {  // the descriptor is non-blocking (open_now)
+    const ssize_t written = ::write(stream_.native_handle(), bytes.data(), bytes.size());
+    if (written >= 0) return std::size_t(written);
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return std::size_t{0};
+    if (errno != EINTR) return Unexpected(errno_text(errno));
+  }
+}
+
+Expected<Done, std::string> TtyPort::discard_input() {
+  auto flushed = tiltgate::discard_input(stream_.native_handle());
+  if (!flushed) return Unexpected(flushed.error().message());
+  return Done{};
+}
+
+Expected<Done, std::string> TtyPort::switch_parity(Parity parity) {
+  auto applied = apply_parity(stream_.native_handle(), parity);
+  if (!applied) return Unexpected(applied.error().message());
+  return Done{};
+}
+
+Expected<Done, std::string> TtyPort::wait_until_sent() {
+  auto drained = tiltgate::wait_until_sent(stream_.native_handle());
+  if (!drained) return Unexpected(drained.error().message());
+  return Done{};
+}
+
 Expected<Done, std::string> TtyPort::open_now() {
   // O_NONBLOCK: do not wait for a carrier, and let Asio drive the reads and writes.
   const int fd = ::open(options_.path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
@@ -86,7 +113,7 @@ Expected<Done, std::string> TtyPort::open_now() {
                    options_.path, rs485.error().message());
     }
   }
-  (void)discard_input(fd);  // whatever arrived before we were listening
+  (void)tiltgate::discard_input(fd);  // whatever arrived before we were listening
   error_code ec;
   stream_.assign(fd, ec);
   if (ec) {

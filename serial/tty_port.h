@@ -31,6 +31,7 @@
 #include <string>
 
 #include "driver/expected.h"
+#include "serial/line_port.h"
 #include "serial/low_latency.h"
 #include "serial/termios_settings.h"
 
@@ -52,7 +53,7 @@ struct TtyPortOptions {
   std::chrono::milliseconds reopen_max{10000};
 };
 
-class TtyPort {
+class TtyPort final : public LinePort {
  public:
   // `on_reopened` is called after each successful open but the first (the line counts them).
   TtyPort(boost::asio::any_io_executor executor, TtyPortOptions options,
@@ -60,28 +61,22 @@ class TtyPort {
   TtyPort(const TtyPort&) = delete;
   TtyPort& operator=(const TtyPort&) = delete;
 
-  // Opens the port; one that cannot be opened yet is logged and retried with back-off. Returns
-  // whether the port is open now.
-  bool open();
-  // Closes the port for good: a pending read or write completes with operation_aborted, and
-  // nothing reopens it.
-  void stop();
-  // Closes a port that failed under the line and reopens it with back-off; `why` is logged.
-  void lose(const std::string& why);
+  bool open() override;
+  void stop() override;
+  void lose(const std::string& why) override;
 
-  bool is_open() const { return stream_.is_open(); }
-  bool stopped() const { return stopped_; }
-  // Successful opens so far.
-  std::uint64_t generation() const { return generation_; }
-  // For the reads and writes; closed (and every operation on it failing) while the port is.
-  boost::asio::posix::stream_descriptor& stream() { return stream_; }
-  // For the termios calls between writes; -1 while closed.
-  int fd() { return stream_.native_handle(); }
-  // The settings in force on the open port (nullopt while closed).
-  std::optional<TtySettings> settings_in_force();
-  // What setting the low-latency flag gave at the latest open (nothing: not tried yet, or
-  // low_latency is off).
-  const std::optional<LowLatencyResult>& low_latency() const { return low_latency_; }
+  bool is_open() const override { return stream_.is_open(); }
+  bool stopped() const override { return stopped_; }
+  std::uint64_t generation() const override { return generation_; }
+  boost::asio::posix::stream_descriptor& stream() override { return stream_; }
+  Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes) override;
+  // TCIFLUSH.
+  Expected<Done, std::string> discard_input() override;
+  // Stick parity through termios, and tcdrain (serial/termios_settings.h).
+  Expected<Done, std::string> switch_parity(Parity parity) override;
+  Expected<Done, std::string> wait_until_sent() override;
+  std::optional<TtySettings> settings_in_force() override;
+  const std::optional<LowLatencyResult>& low_latency() const override { return low_latency_; }
 
  private:
   Expected<Done, std::string> open_now();

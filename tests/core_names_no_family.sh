@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # No folder but the families' own names a sensor family: the core (config/, mapping/, gateway/,
 # serial/, driver/) and the rooms beside it (modbus_tcp/, status/, mqtt/, control/,
-# commission/, app/, sparkplug/, settings/, console/, accounts/, audit/, store/) ask the family descriptors
+# commission/, app/, sparkplug/, settings/, console/, accounts/, audit/, store/, device_server/) ask the family descriptors
 # (driver/family.h) instead, so a new family is its own folder plus one line in
 # families/families.cmake. Checks the sources (C++ and CMake), comments included.
 # Documents (docs/, README.md) are not sources: they name the families for the engineer.
@@ -19,7 +19,7 @@ if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron modbus_rtu; then
 fi
 
 rooms=(config mapping gateway serial driver modbus_tcp status mqtt control commission app sparkplug settings console accounts audit
-       store)
+       store device_server)
 hits=$(grep -rniE "$pattern" "${sources[@]}" "${rooms[@]}")
 if [ -n "$hits" ]; then
   echo "core sources name a sensor family (move it into the family's descriptor):"

@@ -1,0 +1,405 @@
+#include "device_server/network_port.h"
+
+#include "device_server/tcp_round_trip.h"
+
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <spdlog/spdlog.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <boost/asio/co_spawn.hpp>
+#include <boost/asio/detached.hpp>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <cerrno>
+#include <system_error>
+#include <utility>
+
+namespace tiltgate {
+
+namespace asio = boost::asio;
+using boost::system::error_code;
+
+namespace {
+
+// Keepalive finds a server host that vanished while the line was idle (about 10 + 3 x 5 s);
+// the user time-out one that vanished while requests were unanswered at the TCP level.
+constexpr int kKeepaliveIdleSeconds = 10;
+constexpr int kKeepaliveIntervalSeconds = 5;
+constexpr int kKeepaliveProbes = 3;
+constexpr unsigned kUserTimeoutMs = 20000;
+
+// RFC 2217 asks the client to say WILL COM-PORT-OPTION; binary mode keeps CR and 0x00 bytes
+// as they are (RFC 856), and suppress-go-ahead is what every device server expects.
+constexpr std::array<std::uint8_t, 3> kWeWill{telnet::kBinary, telnet::kSuppressGoAhead,
+                                              telnet::kComPortOption};
+constexpr std::array<std::uint8_t, 2> kWeDo{telnet::kBinary, telnet::kSuppressGoAhead};
+
+bool among(std::span<const std::uint8_t> options, std::uint8_t option) {
+  return std::find(options.begin(), options.end(), option) != options.end();
+}
+
+std::string errno_text(int error) {
+  return std::error_code(error, std::generic_category()).message();
+}
+
+void set_option(int fd, int level, int name, int value) {
+  (void)::setsockopt(fd, level, name, &value, sizeof value);
+}
+
+const char* framing_text(const rfc2217::PortSetting& s) {
+  switch (s.parity) {
+    case Parity::none: return s.stop_bits == 2 ? "8N2" : "8N1";
+    case Parity::even: return "8E1";
+    case Parity::odd: return "8O1";
+    case Parity::mark: return "8M1";
+    case Parity::space: return "8S1";
+  }
+  return "8N1";
+}
+
+}  // namespace
+
+NetworkPort::NetworkPort(asio::any_io_executor executor, NetworkPortOptions options,
+                         std::function<void()> on_reopened)
+    : options_(std::move(options)),
+      on_reopened_(std::move(on_reopened)),
+      stream_(executor),
+      resolver_(executor),
+      timer_(executor) {
+  options_.reopen_min = std::max(options_.reopen_min, std::chrono::milliseconds{1});
+  options_.reopen_max = std::max(options_.reopen_max, options_.reopen_min);
+  reopen_delay_ = options_.reopen_min;
+}
+
+NetworkPort::~NetworkPort() { stop(); }
+
+bool NetworkPort::open() {
+  if (stopped_ || ready_ || connecting_) return ready_;
+  connecting_ = true;
+  first_connect_ = generation_ == 0;
+  reopen_delay_ = options_.reopen_min;
+  asio::co_spawn(stream_.get_executor(), keep_connecting(alive_, std::chrono::milliseconds{0}),
+                 asio::detached);
+  return false;
+}
+
+void NetworkPort::stop() {
+  stopped_ = true;
+  first_connect_ = false;
+  ready_ = false;
+  timer_.cancel();
+  resolver_.cancel();
+  close_socket();  // a pending read or write completes with operation_aborted
+}
+
+void NetworkPort::close_socket() {
+  error_code ignored;
+  stream_.close(ignored);
+  fd_ = -1;
+  reader_ = telnet::Reader{};
+}
+
+void NetworkPort::lose(const std::string& why) {
+  ready_ = false;
+  close_socket();
+  if (stopped_ || connecting_) return;
+  spdlog::warn("{}: connection to {} lost ({}), reconnecting", options_.name, options_.url, why);
+  warned_ = true;
+  connecting_ = true;
+  reopen_delay_ = options_.reopen_min;
+  asio::co_spawn(stream_.get_executor(), keep_connecting(alive_, reopen_delay_), asio::detached);
+}
+
+asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::milliseconds delay) {
+  for (;;) {
+    if (delay.count() > 0) {
+      timer_.expires_after(delay);
+      error_code ec;
+      co_await timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+      if (alive.expired() || stopped_) co_return;
+    }
+    const Expected<Done, std::string> connected = co_await connect_once(alive);
+    if (alive.expired()) co_return;
+    first_connect_ = false;
+    if (stopped_) {
+      close_socket();
+      co_return;
+    }
+    if (connected) break;
+    close_socket();
+    if (!warned_) {
+      spdlog::warn("{}: cannot connect to {} ({}), retrying", options_.name, options_.url,
+                   connected.error());
+      warned_ = true;
+    } else {
+      spdlog::debug("{}: {} still unavailable ({}), next try in {} ms", options_.name,
+                    options_.url, connected.error(), reopen_delay_.count());
+    }
+    delay = reopen_delay_;
+    reopen_delay_ = std::min(reopen_delay_ * 2, options_.reopen_max);
+  }
+  connecting_ = false;
+  ready_ = true;
+  warned_ = false;
+  reopen_delay_ = options_.reopen_min;
+  ++generation_;
+  if (is_telnet()) {
+    spdlog::info("{}: connected to {}, {} baud {} confirmed by the server", options_.name,
+                 options_.url, options_.setting.baud, framing_text(options_.setting));
+  } else {
+    spdlog::info("{}: connected to {}", options_.name, options_.url);
+  }
+  if (generation_ > 1 && on_reopened_) on_reopened_();
+}
+
+void NetworkPort::arm_deadline(std::chrono::milliseconds limit) {
+  deadline_passed_ = false;
+  timer_.expires_after(limit);
+  timer_.async_wait([this, alive = Alive(alive_)](const error_code& ec) {
+    if (ec || alive.expired()) return;
+    deadline_passed_ = true;
+    resolver_.cancel();
+    error_code ignored;
+    stream_.cancel(ignored);
+  });
+}
+
+asio::awaitable<Expected<Done, std::string>> NetworkPort::connect_once(Alive alive) {
+  arm_deadline(options_.connect_timeout);
+  error_code ec;
+  const asio::ip::tcp::resolver::results_type endpoints = co_await resolver_.async_resolve(
+      options_.address.host, std::to_string(options_.address.port),
+      asio::redirect_error(asio::use_awaitable, ec));
+  if (alive.expired()) co_return Unexpected(std::string("stopped"));
+  if (ec) {
+    timer_.cancel();
+    co_return Unexpected(deadline_passed_ ? std::string("name lookup timed out")
+                                          : "cannot resolve " + options_.address.host + ": " +
+                                                ec.message());
+  }
+  std::string failure = "no address for " + options_.address.host;
+  for (const auto& entry : endpoints) {
+    const Expected<Done, std::string> connected = co_await connect_to(alive, entry.endpoint());
+    if (alive.expired()) co_return Unexpected(std::string("stopped"));
+    if (connected) {
+      timer_.cancel();
+      if (!is_telnet()) co_return Done{};
+      arm_deadline(options_.connect_timeout);
+      Expected<Done, std::string> negotiated = co_await negotiate(alive);
+      if (!alive.expired()) timer_.cancel();
+      co_return negotiated;
+    }
+    failure = connected.error();
+    close_socket();
+    if (deadline_passed_) break;
+  }
+  timer_.cancel();
+  co_return Unexpected(failure);
+}
+
+asio::awaitable<Expected<Done, std::string>> NetworkPort::connect_to(
+    Alive alive, const asio::ip::tcp::endpoint& endpoint) {
+  const int fd = ::socket(endpoint.protocol().family(), SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC,
+                          IPPROTO_TCP);
+  if (fd < 0) co_return Unexpected(errno_text(errno));
+  set_option(fd, IPPROTO_TCP, TCP_NODELAY, 1);
+  set_option(fd, SOL_SOCKET, SO_KEEPALIVE, 1);
+  set_option(fd, IPPROTO_TCP, TCP_KEEPIDLE, kKeepaliveIdleSeconds);
+  set_option(fd, IPPROTO_TCP, TCP_KEEPINTVL, kKeepaliveIntervalSeconds);
+  set_option(fd, IPPROTO_TCP, TCP_KEEPCNT, kKeepaliveProbes);
+  set_option(fd, IPPROTO_TCP, TCP_USER_TIMEOUT, int(kUserTimeoutMs));
+  error_code ec;
+  stream_.assign(fd, ec);
+  if (ec) {
+    ::close(fd);
+    co_return Unexpected(ec.message());
+  }
+  fd_ = fd;
+  if (::connect(fd, endpoint.data(), endpoint.size()) != 0) {
+    if (errno != EINPROGRESS) co_return Unexpected(errno_text(errno));
+    co_await stream_.async_wait(asio::posix::descriptor_base::wait_write,
+                                asio::redirect_error(asio::use_awaitable, ec));
+    if (alive.expired()) co_return Unexpected(std::string("stopped"));
+    if (ec) {
+      co_return Unexpected(deadline_passed_ ? std::string("connect timed out") : ec.message());
+    }
+    int error = 0;
+    socklen_t size = sizeof error;
+    if (::getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &size) != 0) error = errno;
+    if (error != 0) co_return Unexpected(errno_text(error));
+  }
+  co_return Done{};
+}
+
+asio::awaitable<Expected<Done, std::string>> NetworkPort::send_all(
+    Alive alive, std::vector<std::uint8_t> bytes) {
+  std::span<const std::uint8_t> rest(bytes);
+  while (!rest.empty()) {
+    const Expected<std::size_t, std::string> sent = write_now(rest);
+    if (!sent) co_return Unexpected(sent.error());
+    rest = rest.subspan(*sent);
+    if (rest.empty()) break;
+    error_code ec;
+    co_await stream_.async_wait(asio::posix::descriptor_base::wait_write,
+                                asio::redirect_error(asio::use_awaitable, ec));
+    if (alive.expired()) co_return Unexpected(std::string("stopped"));
+    if (ec) co_return Unexpected(ec.message());
+  }
+  co_return Done{};
+}
+
+asio::awaitable<Expected<Done, std::string>> NetworkPort::read_commands(Alive alive) {
+  std::array<std::uint8_t, 256> buffer{};
+  error_code ec;
+  const std::size_t received = co_await stream_.async_read_some(
+      asio::buffer(buffer), asio::redirect_error(asio::use_awaitable, ec));
+  if (alive.expired()) co_return Unexpected(std::string("stopped"));
+  if (ec == asio::error::eof) co_return Unexpected(std::string("the server closed the connection"));
+  if (ec) co_return Unexpected(ec.message());
+  // Data bytes before the port is set (a sensor's chatter at the old rate) mean nothing.
+  (void)reader_.take(std::span(buffer.data(), received), commands_);
+  co_return Done{};
+}
+
+asio::awaitable<Expected<Done, std::string>> NetworkPort::negotiate(Alive alive) {
+  const std::string timed_out_hint =
+      "is the server's port in RFC 2217 mode? A port in raw TCP mode is tcp://";
+  commands_.clear();
+  refused_options_.clear();
+  std::vector<std::uint8_t> offer;
+  for (const std::uint8_t option : kWeWill) {
+    const auto bytes = telnet::negotiation(telnet::kWill, option);
+    offer.insert(offer.end(), bytes.begin(), bytes.end());
+  }
+  for (const std::uint8_t option : kWeDo) {
+    const auto bytes = telnet::negotiation(telnet::kDo, option);
+    offer.insert(offer.end(), bytes.begin(), bytes.end());
+  }
+  Expected<Done, std::string> sent = co_await send_all(alive, std::move(offer));
+  if (alive.expired()) co_return Unexpected(std::string("stopped"));
+  if (!sent) co_return sent;
+  // The server agrees to the COM-PORT-OPTION (DO) before it takes any of its commands.
+  bool agreed = false;
+  while (!agreed) {
+    const Expected<Done, std::string> read = co_await read_commands(alive);
+    if (alive.expired()) co_return Unexpected(std::string("stopped"));
+    if (!read) {
+      co_return Unexpected(deadline_passed_
+                               ? "no answer to the RFC 2217 negotiation (" + timed_out_hint + ")"
+                               : read.error());
+    }
+    for (const telnet::Command& command : commands_) {
+      if (command.option != telnet::kComPortOption) continue;
+      if (command.verb == telnet::kDo) agreed = true;
+      if (command.verb == telnet::kDont) {
+        co_return Unexpected(std::string(
+            "the server refused RFC 2217's COM-PORT-OPTION (is its port in RFC 2217 mode?)"));
+      }
+    }
+    answer(commands_);
+    commands_.clear();
+  }
+  std::vector<std::uint8_t> requests;
+  for (const auto& payload : rfc2217::set_requests(options_.setting)) {
+    const auto bytes = telnet::subnegotiation(telnet::kComPortOption, payload);
+    requests.insert(requests.end(), bytes.begin(), bytes.end());
+  }
+  sent = co_await send_all(alive, std::move(requests));
+  if (alive.expired()) co_return Unexpected(std::string("stopped"));
+  if (!sent) co_return sent;
+  rfc2217::Acknowledgements acks(options_.setting);
+  while (!acks.complete()) {
+    const Expected<Done, std::string> read = co_await read_commands(alive);
+    if (alive.expired()) co_return Unexpected(std::string("stopped"));
+    if (!read) {
+      co_return Unexpected(deadline_passed_ ? "the server did not confirm the " + acks.missing() +
+                                                  " within " +
+                                                  std::to_string(options_.connect_timeout.count()) +
+                                                  " ms"
+                                            : read.error());
+    }
+    for (const telnet::Command& command : commands_) {
+      if (command.verb != telnet::kSb || command.option != telnet::kComPortOption) continue;
+      if (const auto reply = rfc2217::read_answer(command.payload)) acks.take(*reply);
+    }
+    answer(commands_);
+    commands_.clear();
+    if (acks.refused()) co_return Unexpected(*acks.refused());
+  }
+  co_return Done{};
+}
+
+void NetworkPort::answer(const std::vector<telnet::Command>& commands) {
+  for (const telnet::Command& command : commands) {
+    std::uint8_t reply = 0;
+    if (command.verb == telnet::kDo && !among(kWeWill, command.option)) reply = telnet::kWont;
+    if (command.verb == telnet::kWill && !among(kWeDo, command.option)) reply = telnet::kDont;
+    if (reply == 0 || among(refused_options_, command.option)) continue;
+    refused_options_.push_back(command.option);
+    const auto bytes = telnet::negotiation(reply, command.option);
+    (void)write_now(bytes);  // three bytes on an idle socket; a lost one only leaves it offered
+  }
+}
+
+Expected<std::size_t, std::string> NetworkPort::write_now(std::span<const std::uint8_t> bytes) {
+  for (;;) {
+    const ssize_t sent = ::send(stream_.native_handle(), bytes.data(), bytes.size(),
+                                MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (sent >= 0) return std::size_t(sent);
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return std::size_t{0};
+    if (errno != EINTR) return Unexpected(errno_text(errno));
+  }
+}
+
+Expected<Done, std::string> NetworkPort::discard_input() {
+  std::array<std::uint8_t, 512> buffer{};
+  for (;;) {
+    const ssize_t received =
+        ::recv(stream_.native_handle(), buffer.data(), buffer.size(), MSG_DONTWAIT);
+    if (received > 0) {
+      (void)incoming(std::span(buffer.data(), std::size_t(received)));
+      continue;
+    }
+    if (received == 0) return Unexpected(std::string("the server closed the connection"));
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return Done{};
+    if (errno != EINTR) return Unexpected(errno_text(errno));
+  }
+}
+
+std::span<const std::uint8_t> NetworkPort::outgoing(std::span<const std::uint8_t> bytes) {
+  if (!is_telnet()) return bytes;
+  escaped_.clear();
+  telnet::escape(bytes, escaped_);
+  return escaped_;
+}
+
+std::size_t NetworkPort::incoming(std::span<std::uint8_t> chunk) {
+  if (!is_telnet()) return chunk.size();
+  const std::size_t data = reader_.take(chunk, commands_);
+  if (!commands_.empty()) {
+    answer(commands_);  // notifications (modem or line state) are read past
+    commands_.clear();
+  }
+  return data;
+}
+
+Expected<Done, std::string> NetworkPort::switch_parity(Parity) {
+  return Unexpected(std::string("a parity per byte cannot be carried to a device server"));
+}
+
+std::chrono::microseconds NetworkPort::network_allowance() const {
+  const std::optional<TcpRoundTrip> measured = read_round_trip(fd_);
+  if (!measured) return {};
+  return measured->smoothed + 4 * measured->variation;
+}
+
+std::chrono::microseconds NetworkPort::round_trip() const {
+  const std::optional<TcpRoundTrip> measured = read_round_trip(fd_);
+  return measured ? measured->least : std::chrono::microseconds{0};
+}
+
+}  // namespace tiltgate
