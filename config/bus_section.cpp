@@ -49,6 +49,11 @@ std::vector<std::string_view> protocols_with_master_address(FamilyList families,
 void read_baud(TableReader& in, BusConfig& bus, const ProtocolDescriptor* protocol) {
   const auto baud = in.integer("baud", kAnyInteger, kAnyIntegerMax);
   if (protocol == nullptr) return;
+  // Devices that speak TCP themselves have no line rate: baud 0, no wire time.
+  if (protocol->devices_speak_tcp && !baud) {
+    bus.baud = 0;
+    return;
+  }
   const std::span<const std::int64_t> rates = protocol->bauds;
   const std::string expected = fmt::format("expected one of {}", fmt::join(rates, ", "));
   if (!baud) {

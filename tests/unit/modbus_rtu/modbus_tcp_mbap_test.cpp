@@ -24,7 +24,7 @@
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;
-using test::hex;
+using modbus_rtu::test::hex;
 
 namespace {
 
@@ -135,7 +135,7 @@ TEST_CASE("MBAP framing: every unit id 0..255 is a device's, and each request a 
   // The serial line's RTU framing of the same request is unchanged.
   auto rtu = AduFraming(Adu::rtu).exchange(17, build);
   REQUIRE(rtu.has_value());
-  CHECK((*rtu)->request_bytes() == test::framed("11 04 00 00 00 02"));
+  CHECK((*rtu)->request_bytes() == modbus_rtu::test::framed("11 04 00 00 00 02"));
   CHECK_FALSE(AduFraming(Adu::rtu).exchange(255, build).has_value());
   CHECK(adu_of("modbus-tcp") == Adu::mbap);
   CHECK(adu_of("modbus-rtu") == Adu::rtu);
@@ -178,7 +178,7 @@ TEST_CASE("MBAP scan: a gateway's 0x0B (or 0x0A) for a unit id is nobody there, 
 
 TEST_CASE("Modbus TCP driver: polls a device over MBAP and never takes a late reply") {
   boost::asio::io_context io;
-  test::FakeLine line(io.get_executor());
+  tiltgate::test::FakeLine line(io.get_executor());
   SimulatedDevice device = rtu_inclinometer(3);
   set_inclinometer_angles(device, 1.5, -2.5);
   std::vector<Bytes> sent;
@@ -200,7 +200,7 @@ TEST_CASE("Modbus TCP driver: polls a device over MBAP and never takes a late re
     return concat(mbap_bytes(MbapFrame{std::uint16_t(asked.transaction - 1), asked.unit, stale}),
                   mbap_bytes(MbapFrame{asked.transaction, asked.unit, pdu}));
   };
-  auto profile = parse_device_profile(test::kRtuTestProfile, "test.toml");
+  auto profile = parse_device_profile(tiltgate::test::kRtuTestProfile, "test.toml");
   REQUIRE(profile.has_value());
   RtuDriverOptions options;
   options.name = "tcp-device";
