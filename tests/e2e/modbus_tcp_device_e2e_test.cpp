@@ -4,7 +4,9 @@
 // build/tiltgate has a bus with port = "tcp://127.0.0.1:PORT" on the first one's Modbus TCP port
 // and a sensor at address 3 read through examples/devices/tiltgate-unit.toml. A libmodbus client
 // of the second gateway sees the first one's angles, and its pass-through unit 30 reaches the
-// device behind the first gateway (two hops: MBAP, then RTU).
+// device behind the first gateway (two hops: MBAP, then RTU). `tiltgate scan` over the same URL
+// finds the first gateway's units and nothing where it answers 0x0A (no route for the unit id)
+// or 0x0B (a passed-through unit nobody answers).
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -26,6 +28,7 @@ namespace {
 constexpr int kFarUnit = 3;     // the inclinometer's unit on the first gateway
 constexpr int kNearUnit = 5;    // the same sensor's unit on the second
 constexpr int kPassedUnit = 30; // the device behind both gateways' pass-through
+constexpr int kSilentUnit = 32; // passed through by the first gateway, no device there
 constexpr std::size_t kRegisters = 8;
 
 struct TwoGateways {
@@ -57,9 +60,9 @@ struct TwoGateways {
         "device.toml",
         server_table(device_port) +
             bus_table("rtu-line", (dir.path() / "ttyRtu").string(),
-                      fmt::format("protocol = \"modbus-rtu\"\nbaud = 19200\ntimeout_ms = 100\n"
-                                  "pass_through = [{}]",
-                                  kPassedUnit)) +
+                      fmt::format("protocol = \"modbus-rtu\"\nbaud = 19200\ntimeout_ms = 50\n"
+                                  "retries = 0\npass_through = [{}, {}]",
+                                  kPassedUnit, kSilentUnit)) +
             sensor_table("boom", "rtu-line", "modbus-rtu", 17, kFarUnit,
                          fmt::format("poll_ms = 50\ndevice = \"{}/examples/devices/rtu-inclinometer.toml\"",
                                      TILTGATE_SOURCE_DIR)));
@@ -131,4 +134,18 @@ TEST_CASE("pass-through on a modbus-tcp bus reaches the device behind the far ga
   // Past the device's registers: the device's own 0x02, relayed through both gateways.
   CHECK(client.holding(6, 4).empty());
   CHECK(client.exception() == 0x02);
+}
+
+TEST_CASE("scan over tcp:// finds the far gateway's units, a 0x0A or 0x0B unit id is nobody there") {
+  TwoGateways plant;
+  const auto scan = run_tiltgate({"scan", "--port", fmt::format("tcp://127.0.0.1:{}", plant.device_port),
+                                  "--protocol", "modbus-tcp", "--probe-timeout-ms", "1000", "--device",
+                                  fmt::format("{}/examples/devices/tiltgate-unit.toml", TILTGATE_SOURCE_DIR)});
+  INFO(scan.out << scan.err);
+  CHECK(scan.exit_code == 0);
+  // Unit 3 is the inclinometer; unit 30 the passed-through device, which refuses the profile's
+  // read (it has 8 registers): an exception from it is a device there. Every other unit id of
+  // the first gateway answers 0x0A, and unit 32 (passed through, nobody at slave 32) 0x0B.
+  CHECK(scan.out.find("2 sensor(s) found") != std::string::npos);
+  CHECK(scan.out.find("found at 0 baud: 3, 30;") != std::string::npos);
 }
