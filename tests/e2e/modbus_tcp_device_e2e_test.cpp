@@ -1,12 +1,13 @@
 // A Modbus TCP device read by a gateway (protocol "modbus-tcp", model "modbus-tcp"): the device
 // is a first build/tiltgate serving an RTU inclinometer (slave 17, unit 3) from the RTU simulator
-// over Modbus TCP, with pass_through = [30] to a simulated device at slave 30. A second
+// over Modbus TCP, with pass_through = [30, 32] to a simulated device at slave 30. A second
 // build/tiltgate has a bus with port = "tcp://127.0.0.1:PORT" on the first one's Modbus TCP port
 // and a sensor at address 3 read through examples/devices/tiltgate-unit.toml. A libmodbus client
 // of the second gateway sees the first one's angles, and its pass-through unit 30 reaches the
 // device behind the first gateway (two hops: MBAP, then RTU). `tiltgate scan` over the same URL
 // finds the first gateway's units and nothing where it answers 0x0A (no route for the unit id)
-// or 0x0B (a passed-through unit nobody answers).
+// or 0x0B (a passed-through unit nobody answers), and `tiltgate info` asks a unit's function 43
+// over it.
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -148,4 +149,15 @@ TEST_CASE("scan over tcp:// finds the far gateway's units, a 0x0A or 0x0B unit i
   // the first gateway answers 0x0A, and unit 32 (passed through, nobody at slave 32) 0x0B.
   CHECK(scan.out.find("2 sensor(s) found") != std::string::npos);
   CHECK(scan.out.find("found at 0 baud: 3, 30;") != std::string::npos);
+}
+
+TEST_CASE("info over tcp:// without a profile asks the far unit's identification over MBAP") {
+  TwoGateways plant;
+  const auto info = run_tiltgate({"info", "--port", fmt::format("tcp://127.0.0.1:{}", plant.device_port),
+                                  "--protocol", "modbus-tcp", "--address", std::to_string(kFarUnit)});
+  INFO(info.out << info.err);
+  CHECK(info.exit_code == 0);
+  // The first gateway's function 43 for its Modbus RTU inclinometer.
+  CHECK(info.out.find("vendor:     generic\n") != std::string::npos);
+  CHECK(info.out.find("product:    Modbus RTU device\n") != std::string::npos);
 }
