@@ -12,7 +12,8 @@ Adu adu_of(std::string_view protocol) {
 
 std::uint16_t fresh_transaction_id() {
   const auto now = std::chrono::steady_clock::now().time_since_epoch();
-  return static_cast<std::uint16_t>(std::chrono::duration_cast<std::chrono::microseconds>(now).count());
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(now).count();
+  return static_cast<std::uint16_t>(us);
 }
 
 std::unique_ptr<ModbusReplyFramer> AduFraming::framer(Request request) {

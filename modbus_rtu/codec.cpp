@@ -140,7 +140,8 @@ Expected<Reply, CodecError> parse_reply_pdu(const Request& request,
   }
   if (auto checked = check_data(request, pdu); !checked) return Unexpected{checked.error()};
   if (function == kReadHoldingRegisters || function == kReadInputRegisters)
-    for (std::size_t at = 2; at + 2 <= pdu.size(); at += 2) reply.registers.push_back(get_u16(pdu, at));
+    for (std::size_t at = 2; at + 2 <= pdu.size(); at += 2)
+      reply.registers.push_back(get_u16(pdu, at));
   return reply;
 }
 

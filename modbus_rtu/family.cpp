@@ -196,9 +196,9 @@ Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio:
                                                                     const SimulatorSetup& setup) {
   // A Modbus TCP device is served by a gateway itself (its Modbus TCP port): no pty simulator.
   if (adu_of(setup.protocol) == Adu::mbap)
-    return Unexpected{std::string("--protocol tcp: the simulator serves Modbus RTU only; for a Modbus "
-                                  "TCP device, point a modbus-tcp bus at a running gateway "
-                                  "(tiltgate demo) and its unit id")};
+    return Unexpected{std::string(
+        "--protocol tcp: the simulator serves Modbus RTU only; for a Modbus TCP device, point a "
+        "modbus-tcp bus at a running gateway (tiltgate demo) and its unit id")};
   auto slaves = parse_sensor_list(setup.sensors, parse_slave, setup.shared_addresses);
   if (!slaves) return Unexpected{slaves.error()};
   RtuSimulatorOptions options;

@@ -37,7 +37,8 @@ FramerReport MbapReplyFramer::report() const {
   FramerReport report;
   if (frame_) report.reply = mbap_bytes(*frame_);
   report.reply_verdict = fmt::format("MBAP transaction {} unit {}", transaction_, request_.slave);
-  if (reply_ && !*reply_) report.reply_verdict += std::string(", but ") + to_string(reply_->error());
+  if (reply_ && !*reply_)
+    report.reply_verdict += std::string(", but ") + to_string(reply_->error());
   // Other transactions' frames are only skipped (as another slave's on a serial line); bytes
   // that start no frame are a broken stream.
   if (stream_.bytes_discarded() > discarded_before_) report.rejected_verdict = "not MBAP";

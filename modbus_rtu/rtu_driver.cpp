@@ -7,7 +7,6 @@
 #include <cmath>
 #include <limits>
 
-
 namespace tiltgate::modbus_rtu {
 
 namespace asio = boost::asio;
@@ -78,7 +77,8 @@ void RtuDriver::count_refusal(std::uint8_t code) {
 template <class Build>
 asio::awaitable<Expected<Reply, WriteError>> RtuDriver::exchange(Line& line, Build build) {
   auto framer = framing_.exchange(options_.slave, build);
-  if (!framer) co_return Unexpected{WriteError{WriteErrorKind::bad_value, to_string(framer.error())}};
+  if (!framer)
+    co_return Unexpected{WriteError{WriteErrorKind::bad_value, to_string(framer.error())}};
   co_return co_await exchange(line, **framer);
 }
 
@@ -107,7 +107,8 @@ asio::awaitable<WriteResult> RtuDriver::write(Line& line, WriteTarget target, do
   auto checked = check_write(target, value);
   if (!checked) co_return checked;
   const ProfileValue& v = options_.profile.values[target.device_index()];
-  auto reply = co_await exchange(line, [&](std::uint8_t slave) { return write_request(slave, v, value); });
+  auto reply = co_await exchange(
+      line, [&](std::uint8_t slave) { return write_request(slave, v, value); });
   state_.last_write_failed = !reply;
   if (!reply) co_return Unexpected{reply.error()};
   // What the device now holds, until the next poll reads it back.

@@ -32,6 +32,14 @@ constexpr int kPassedUnit = 30; // the device behind both gateways' pass-through
 constexpr int kSilentUnit = 32; // passed through by the first gateway, no device there
 constexpr std::size_t kRegisters = 8;
 
+// An example device profile: examples/devices/NAME.toml.
+std::string example(std::string_view name) {
+  return fmt::format("{}/examples/devices/{}.toml", TILTGATE_SOURCE_DIR, name);
+}
+
+// The device's Modbus TCP port as a bus's port.
+std::string tcp_url(std::uint16_t port) { return fmt::format("tcp://127.0.0.1:{}", port); }
+
 struct TwoGateways {
   TwoGateways()
       : sim(simulator_options(dir)),
@@ -65,8 +73,8 @@ struct TwoGateways {
                                   "retries = 0\npass_through = [{}, {}]",
                                   kPassedUnit, kSilentUnit)) +
             sensor_table("boom", "rtu-line", "modbus-rtu", 17, kFarUnit,
-                         fmt::format("poll_ms = 50\ndevice = \"{}/examples/devices/rtu-inclinometer.toml\"",
-                                     TILTGATE_SOURCE_DIR)));
+                         fmt::format("poll_ms = 50\ndevice = \"{}\"",
+                                     example("rtu-inclinometer"))));
   }
 
   // The second gateway: reads the first one over Modbus TCP.
@@ -74,13 +82,12 @@ struct TwoGateways {
     return dir.write(
         "reader.toml",
         server_table(reader_port) +
-            bus_table("far", fmt::format("tcp://127.0.0.1:{}", device_port),
+            bus_table("far", tcp_url(device_port),
                       fmt::format("protocol = \"modbus-tcp\"\ntimeout_ms = 500\n"
                                   "pass_through = [{}]",
                                   kPassedUnit)) +
             sensor_table("far-boom", "far", "modbus-tcp", kFarUnit, kNearUnit,
-                         fmt::format("poll_ms = 50\ndevice = \"{}/examples/devices/tiltgate-unit.toml\"",
-                                     TILTGATE_SOURCE_DIR)));
+                         fmt::format("poll_ms = 50\ndevice = \"{}\"", example("tiltgate-unit"))));
   }
 
   TempDir dir;
@@ -137,11 +144,11 @@ TEST_CASE("pass-through on a modbus-tcp bus reaches the device behind the far ga
   CHECK(client.exception() == 0x02);
 }
 
-TEST_CASE("scan over tcp:// finds the far gateway's units, a 0x0A or 0x0B unit id is nobody there") {
+TEST_CASE("scan over tcp:// finds the far units, and nobody where the gateway answers 0x0A or 0x0B") {
   TwoGateways plant;
-  const auto scan = run_tiltgate({"scan", "--port", fmt::format("tcp://127.0.0.1:{}", plant.device_port),
-                                  "--protocol", "modbus-tcp", "--probe-timeout-ms", "1000", "--device",
-                                  fmt::format("{}/examples/devices/tiltgate-unit.toml", TILTGATE_SOURCE_DIR)});
+  const auto scan =
+      run_tiltgate({"scan", "--port", tcp_url(plant.device_port), "--protocol", "modbus-tcp",
+                    "--probe-timeout-ms", "1000", "--device", example("tiltgate-unit")});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 0);
   // Unit 3 is the inclinometer; unit 30 the passed-through device, which refuses the profile's
@@ -153,8 +160,8 @@ TEST_CASE("scan over tcp:// finds the far gateway's units, a 0x0A or 0x0B unit i
 
 TEST_CASE("info over tcp:// without a profile asks the far unit's identification over MBAP") {
   TwoGateways plant;
-  const auto info = run_tiltgate({"info", "--port", fmt::format("tcp://127.0.0.1:{}", plant.device_port),
-                                  "--protocol", "modbus-tcp", "--address", std::to_string(kFarUnit)});
+  const auto info = run_tiltgate({"info", "--port", tcp_url(plant.device_port), "--protocol",
+                                  "modbus-tcp", "--address", std::to_string(kFarUnit)});
   INFO(info.out << info.err);
   CHECK(info.exit_code == 0);
   // The first gateway's function 43 for its Modbus RTU inclinometer.
