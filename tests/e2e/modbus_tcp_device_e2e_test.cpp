@@ -144,7 +144,7 @@ TEST_CASE("pass-through on a modbus-tcp bus reaches the device behind the far ga
   CHECK(client.exception() == 0x02);
 }
 
-TEST_CASE("scan over tcp:// finds the far units, and nobody where the gateway answers 0x0A or 0x0B") {
+TEST_CASE("scan over tcp:// finds the far units, none where the gateway answers 0x0A or 0x0B") {
   TwoGateways plant;
   const auto scan =
       run_tiltgate({"scan", "--port", tcp_url(plant.device_port), "--protocol", "modbus-tcp",
