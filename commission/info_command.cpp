@@ -28,7 +28,8 @@ boost::asio::awaitable<int> self_report(CommissionBus& bus, const CommissionedSe
                              bus.config().protocol);
     co_return 2;
   }
-  const SelfReport report = co_await family->identify.ask(bus.line(), sensor.config.address);
+  const SelfReport report = co_await family->identify.ask(bus.line(), bus.config().protocol,
+                                                             sensor.config.address);
   std::cout << "address:    " << sensor.config.address << "\n" << report.text;
   if (!report.answered) {
     std::cout << "status:     no reply\n";

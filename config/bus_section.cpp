@@ -222,6 +222,9 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   if (auto n = in.integer("retries", 0, 10)) bus.retries = int(*n);
   if (devices_speak_tcp(protocol)) {
     refuse_serial_line_keys(in, protocol);
+    // No serial line: no wire time (baud 0) and no quiet time between requests.
+    bus.baud = 0;
+    bus.gap = std::chrono::microseconds{0};
   } else {
     read_baud(in, bus, protocol.protocol);
     read_framing(in, bus, protocol.protocol, families);

@@ -152,7 +152,9 @@ struct SelfReport {
 };
 
 struct IdentifyDescriptor {
-  boost::asio::awaitable<SelfReport> (*ask)(Line& line, std::uint32_t address) = nullptr;
+  // `protocol`: the bus's, a ProtocolDescriptor name of the family (its framing may differ).
+  boost::asio::awaitable<SelfReport> (*ask)(Line& line, std::string_view protocol,
+                                            std::uint32_t address) = nullptr;
 };
 
 struct FamilyCommands {

@@ -46,6 +46,9 @@ LineBudget line_budget(const BusConfig& bus, const std::vector<SensorConfig>& se
   budget.poll = whole_ms(
       wire_time(std::size_t(size.request_characters + size.reply_characters), bits, bus.baud) +
       size.exchanges * per_exchange);
+  // Baud 0: no serial line under the bus (devices that speak TCP themselves), so no wire time
+  // to count; an exchange takes what the device and the network take, at most the reply wait.
+  if (bus.baud == 0) budget.poll = size.exchanges * bus.timeout;
   const auto request = wire_time(
       std::size_t(size.request_characters / std::max(size.exchanges, 1)), bits, bus.baud);
   const LateWindow window{bus.timeout, bus.late_guard};

@@ -10,7 +10,8 @@
 //                                    R otherwise
 //
 //   p  one healthy poll: the wire time of its characters (ProtocolDescriptor::poll_size), and
-//      per exchange the bus's gap and 1 ms for the sensor to turn round;
+//      per exchange the bus's gap and 1 ms for the sensor to turn round; on a bus without a
+//      serial line (baud 0, devices that speak TCP) the reply wait per exchange;
 //   R  one poll of each of the line's other healthy sensors;
 //   W  the longest turn of a failing sensor: its request's wire time, its reply wait and the
 //      late-reply window (serial/late_window.h), with a reply wait adapted up to max_timeout_ms;

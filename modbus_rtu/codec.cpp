@@ -19,23 +19,23 @@ Request finish(std::uint8_t slave, Bytes frame) {
   return Request{slave, function, std::move(frame)};
 }
 
-// The reply's data once slave, function and CRC are known good.
-Expected<Done, CodecError> check_data(const Request& request, std::span<const std::uint8_t> frame) {
+// The reply's data once function and framing are known good; `pdu` is the reply's PDU
+// (function code first), the request's PDU is its frame's bytes 1..
+Expected<Done, CodecError> check_data(const Request& request, std::span<const std::uint8_t> pdu) {
   const std::span<const std::uint8_t> sent = request.frame;
   switch (request.function) {
     case kReadHoldingRegisters:
     case kReadInputRegisters: {
-      if (frame.size() < 5) return Unexpected{CodecError::too_short};
-      if (frame[2] != 2 * get_u16(sent, 4)) return Unexpected{CodecError::bad_byte_count};
-      if (frame.size() != 5u + frame[2]) return Unexpected{CodecError::bad_length};
+      if (pdu[1] != 2 * get_u16(sent, 4)) return Unexpected{CodecError::bad_byte_count};
+      if (pdu.size() != 2u + pdu[1]) return Unexpected{CodecError::bad_length};
       return Done{};
     }
     case kWriteSingleRegister:
     case kWriteMultipleRegisters:
-      // FC 6 echoes address and value, FC 16 address and count: the request's bytes 2..5.
-      if (frame.size() != 8) return Unexpected{CodecError::bad_length};
-      for (std::size_t i = 2; i < 6; ++i)
-        if (frame[i] != sent[i]) return Unexpected{CodecError::echo_mismatch};
+      // FC 6 echoes address and value, FC 16 address and count: the request's PDU bytes 1..4.
+      if (pdu.size() != 5) return Unexpected{CodecError::bad_length};
+      for (std::size_t i = 1; i < 5; ++i)
+        if (pdu[i] != sent[i + 1]) return Unexpected{CodecError::echo_mismatch};
       return Done{};
     default:
       return Done{};  // a pass-through: framing checked, the data is the client's business
@@ -123,21 +123,36 @@ Expected<Reply, CodecError> parse_reply(const Request& request,
   if (frame.size() < 5) return Unexpected{CodecError::too_short};  // the shortest: an exception
   if (!crc_ok(frame)) return Unexpected{CodecError::crc_mismatch};
   if (frame[0] != request.slave) return Unexpected{CodecError::wrong_slave};
-  const std::uint8_t function = frame[1];
+  return parse_reply_pdu(request, frame.subspan(1, frame.size() - 3));
+}
+
+Expected<Reply, CodecError> parse_reply_pdu(const Request& request,
+                                            std::span<const std::uint8_t> pdu) {
+  if (pdu.size() < 2) return Unexpected{CodecError::too_short};
+  const std::uint8_t function = pdu[0];
   if ((function & ~kExceptionBit) != request.function)
     return Unexpected{CodecError::wrong_function};
-  const std::span<const std::uint8_t> pdu = frame.subspan(1, frame.size() - 3);
   Reply reply{request.slave, request.function, std::nullopt, {}, Bytes(pdu.begin(), pdu.end())};
   if (function & kExceptionBit) {
-    if (frame.size() != 5) return Unexpected{CodecError::bad_length};
-    reply.exception = frame[2];
+    if (pdu.size() != 2) return Unexpected{CodecError::bad_length};
+    reply.exception = pdu[1];
     return reply;
   }
-  if (auto checked = check_data(request, frame); !checked) return Unexpected{checked.error()};
+  if (auto checked = check_data(request, pdu); !checked) return Unexpected{checked.error()};
   if (function == kReadHoldingRegisters || function == kReadInputRegisters)
-    for (std::size_t at = 3; at + 2 <= frame.size() - 2; at += 2)
-      reply.registers.push_back(get_u16(frame, at));
+    for (std::size_t at = 2; at + 2 <= pdu.size(); at += 2)
+      reply.registers.push_back(get_u16(pdu, at));
   return reply;
+}
+
+Request readdressed(const Request& request, std::uint8_t slave) {
+  Bytes frame(request.frame.begin(), request.frame.end() - 2);
+  frame[0] = slave;
+  return finish(slave, std::move(frame));
+}
+
+std::span<const std::uint8_t> request_pdu(const Request& request) {
+  return std::span<const std::uint8_t>(request.frame).subspan(1, request.frame.size() - 3);
 }
 
 Bytes exception_pdu(std::uint8_t function, ExceptionCode code) {

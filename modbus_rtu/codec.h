@@ -74,7 +74,9 @@ const char* to_string(CodecError error);
 struct Request {
   std::uint8_t slave = 0;
   std::uint8_t function = 0;
-  Bytes frame;  // what goes on the wire, CRC included
+  // The RTU frame, CRC included: what goes on a serial line. Over Modbus TCP its PDU goes in
+  // an MBAP frame instead (modbus_rtu/mbap_codec.h).
+  Bytes frame;
 };
 
 struct Reply {
@@ -99,6 +101,17 @@ Expected<Request, CodecError> raw_request(std::uint8_t slave, std::span<const st
 // Checks `frame` (one whole frame, CRC included) as the reply to `request`: slave, function,
 // CRC, lengths, byte count and, for writes, the echo. An exception reply is a valid Reply.
 Expected<Reply, CodecError> parse_reply(const Request& request, std::span<const std::uint8_t> frame);
+// The same checks on a reply's PDU alone (function code and data; no address, no CRC), for
+// framings that carry the address and the integrity check elsewhere (Modbus TCP's MBAP
+// header, modbus_rtu/mbap_codec.h).
+Expected<Reply, CodecError> parse_reply_pdu(const Request& request,
+                                            std::span<const std::uint8_t> pdu);
+
+// The request's PDU: its frame without the address and the CRC.
+std::span<const std::uint8_t> request_pdu(const Request& request);
+// The same request for another address, unchecked: Modbus TCP unit ids take every value
+// 0..255, where the builders above accept the serial line's slave addresses only.
+Request readdressed(const Request& request, std::uint8_t slave);
 
 // An exception reply's frame: what a slave sends when it refuses a request.
 Bytes exception_frame(std::uint8_t slave, std::uint8_t function, ExceptionCode code);

@@ -10,6 +10,7 @@
 #include "driver/text_list.h"
 #include "mapping/common_block.h"
 #include "mapping/register_map.h"
+#include "modbus_rtu/adu_framing.h"
 #include "modbus_rtu/example_profile.h"
 #include "modbus_rtu/forwarding.h"
 #include "modbus_rtu/identification_probe.h"
@@ -43,6 +44,14 @@ std::chrono::microseconds frame_gap(std::uint32_t baud, Framing framing) {
   return rtu_timing(baud, bits_per_character(parity_of(framing), stop_bits_of(framing))).frame_gap;
 }
 
+// Modbus TCP devices have no serial line: no character time, no gap between requests (each
+// travels whole in its own segment).
+std::chrono::microseconds no_gap(std::uint32_t, Framing) { return std::chrono::microseconds{0}; }
+
+// Unit ids a Modbus TCP device is usually at: 255 (the Implementation Guide's advice for a
+// device addressed by its IP alone) and 0, which many such devices answer too.
+constexpr std::uint32_t kTcpDeviceUnits[] = {255, 0};
+
 const ProtocolDescriptor kProtocols[] = {{
     .name = "modbus-rtu",
     .short_name = "rtu",
@@ -67,6 +76,34 @@ const ProtocolDescriptor kProtocols[] = {{
              .probe_time = probe_time,
              .probe = device_probe,
              .ask_address = nullptr},  // broadcasts get no reply (Serial Line 2.2)
+}, {
+    // Devices that speak Modbus TCP themselves, each reached by its unit id over one
+    // connection to tcp://HOST:PORT: the same device profiles, their PDUs in MBAP frames
+    // (modbus_rtu/adu_framing.h).
+    .name = "modbus-tcp",
+    .short_name = "tcp",
+    .title = "Modbus TCP",
+    .framing = Framing::eight_none_one,  // unused: no serial line
+    .bauds = {},
+    .default_baud = std::nullopt,
+    // Every unit id MBAP carries: a device behind a Modbus TCP gateway has its serial address
+    // (1..247), a device addressed by its IP alone usually 255 or 0 (Implementation Guide 4.4.2).
+    .addresses = {0, 255},
+    .master_addresses = std::nullopt,
+    .min_gap = std::chrono::microseconds{0},
+    .replies_name_sender = true,  // a reply carries its request's transaction and unit ids
+    // One read of ten registers: 7 header bytes and 5 asked, 7 and 22 answered.
+    .poll_size = {.exchanges = 1, .request_characters = 12, .reply_characters = 29},
+    .bus_chooses_framing = false,
+    .default_gap = no_gap,
+    .forward = forward_mbap_request,  // [[bus]] pass_through
+    .scan = {.first = 1,
+             .last = 247,
+             .factory_addresses = kTcpDeviceUnits,
+             .probe_time = mbap_probe_time,
+             .probe = mbap_device_probe,
+             .ask_address = nullptr},
+    .devices_speak_tcp = true,
 }};
 
 // The common block, whose settings (filter, zero, commands, baud, address) a generic device
@@ -83,6 +120,14 @@ const ModelDescriptor kModels[] = {{
     .name = "modbus-rtu",
     .model_code = 4,
     .identity = {"generic", "Modbus RTU device", "Modbus RTU device"},
+    .axes = 2,
+    .default_map = rtu_default_map,
+    .sources = {},
+    .settings = {},
+}, {
+    .name = "modbus-tcp",
+    .model_code = 5,
+    .identity = {"generic", "Modbus TCP device", "Modbus TCP device"},
     .axes = 2,
     .default_map = rtu_default_map,
     .sources = {},
@@ -115,6 +160,10 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   options.slave = std::uint8_t(setup.address);
   options.profile = std::move(*profile);
   options.reply_timeouts = setup.reply_timeouts;
+  // The framing follows the bus: either model may sit on either protocol's bus.
+  options.adu = adu_of(setup.protocol);
+  for (const ModelDescriptor& model : kModels)
+    if (model.name == setup.model) options.model = model.name;
   return std::make_unique<RtuDriver>(std::move(options));
 }
 
@@ -145,6 +194,11 @@ Expected<SimulatedSlave, std::string> parse_slave(std::string_view item, std::si
 // default framing.
 Expected<std::unique_ptr<BusSimulator>, std::string> make_simulator(boost::asio::io_context& io,
                                                                     const SimulatorSetup& setup) {
+  // A Modbus TCP device is served by a gateway itself (its Modbus TCP port): no pty simulator.
+  if (adu_of(setup.protocol) == Adu::mbap)
+    return Unexpected{std::string(
+        "--protocol tcp: the simulator serves Modbus RTU only; for a Modbus TCP device, point a "
+        "modbus-tcp bus at a running gateway (tiltgate demo) and its unit id")};
   auto slaves = parse_sensor_list(setup.sensors, parse_slave, setup.shared_addresses);
   if (!slaves) return Unexpected{slaves.error()};
   RtuSimulatorOptions options;

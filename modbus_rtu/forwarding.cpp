@@ -1,6 +1,32 @@
 #include "modbus_rtu/forwarding.h"
 
+#include "modbus_rtu/adu_framing.h"
+
 namespace tiltgate::modbus_rtu {
+
+namespace {
+
+class MbapForwardedExchange final : public ForwardedExchange {
+ public:
+  explicit MbapForwardedExchange(Request request)
+      : framer_(std::move(request), fresh_transaction_id()) {}
+
+  const std::vector<std::uint8_t>& request_bytes() const override {
+    return framer_.request_bytes();
+  }
+  ReplyFramer& framer() override { return framer_; }
+  // The PDU of the frame with this request's transaction and unit ids, unchecked: the client
+  // judges its content, as on a serial line.
+  Expected<std::vector<std::uint8_t>, std::string> reply_pdu() const override {
+    if (!framer_.frame()) return Unexpected{std::string("no reply frame")};
+    return framer_.frame()->pdu;
+  }
+
+ private:
+  MbapReplyFramer framer_;
+};
+
+}  // namespace
 
 RtuForwardedExchange::RtuForwardedExchange(Request request)
     : request_(std::move(request)),
@@ -42,6 +68,15 @@ Expected<std::unique_ptr<ForwardedExchange>, std::string> forward_request(
   if (!request) return Unexpected{std::string(to_string(request.error()))};
   return std::unique_ptr<ForwardedExchange>(
       std::make_unique<RtuForwardedExchange>(std::move(*request)));
+}
+
+Expected<std::unique_ptr<ForwardedExchange>, std::string> forward_mbap_request(
+    std::uint8_t unit, std::span<const std::uint8_t> pdu) {
+  auto request = AduFraming(Adu::mbap).request_for(
+      unit, [pdu](std::uint8_t slave) { return raw_request(slave, pdu); });
+  if (!request) return Unexpected{std::string(to_string(request.error()))};
+  return std::unique_ptr<ForwardedExchange>(
+      std::make_unique<MbapForwardedExchange>(std::move(*request)));
 }
 
 }  // namespace tiltgate::modbus_rtu

@@ -12,6 +12,7 @@
 #include "driver/forwarded_exchange.h"
 #include "modbus_rtu/codec.h"
 #include "modbus_rtu/frame_parser.h"
+#include "modbus_rtu/mbap_reply_framer.h"
 
 namespace tiltgate::modbus_rtu {
 
@@ -37,5 +38,11 @@ class RtuForwardedExchange final : public ForwardedExchange, private ReplyFramer
 // ProtocolDescriptor::forward of the modbus-rtu protocol: slave 1..247, a PDU of 1..253 bytes.
 Expected<std::unique_ptr<ForwardedExchange>, std::string> forward_request(
     std::uint8_t slave, std::span<const std::uint8_t> pdu);
+
+// ProtocolDescriptor::forward of the modbus-tcp protocol: the PDU in an MBAP frame for unit id
+// 0..255 with a transaction id of its own, and the reply PDU of the first frame with that
+// transaction id and unit id, relayed as the device sent it (modbus_rtu/mbap_reply_framer.h).
+Expected<std::unique_ptr<ForwardedExchange>, std::string> forward_mbap_request(
+    std::uint8_t unit, std::span<const std::uint8_t> pdu);
 
 }  // namespace tiltgate::modbus_rtu

@@ -6,8 +6,8 @@
 #include <optional>
 
 #include "driver/hex.h"
+#include "modbus_rtu/adu_framing.h"
 #include "modbus_rtu/codec.h"
-#include "modbus_rtu/reply_framer.h"
 #include "modbus_rtu/simulated_identification.h"
 
 namespace tiltgate::modbus_rtu {
@@ -42,16 +42,18 @@ bool printable(std::span<const std::uint8_t> bytes) {
 }
 
 // One request's reply: the checked reply, or none when nothing valid came back.
-asio::awaitable<std::optional<Reply>> ask(Line& line, std::uint8_t slave, Bytes pdu) {
-  auto request = raw_request(slave, pdu);
-  if (!request) co_return std::nullopt;
-  RtuReplyFramer framer(*request);
+asio::awaitable<std::optional<Reply>> ask(Line& line, AduFraming& framing, std::uint8_t slave,
+                                          Bytes pdu) {
+  auto framer =
+      framing.exchange(slave, [&pdu](std::uint8_t address) { return raw_request(address, pdu); });
+  if (!framer) co_return std::nullopt;
   LineRequest line_request;
-  line_request.bytes = request->frame;
-  line_request.framer = &framer;
+  line_request.bytes = (*framer)->request_bytes();
+  line_request.framer = framer->get();
   const auto sent = co_await line.transact(std::move(line_request));
-  if (!sent || !framer.reply() || !*framer.reply()) co_return std::nullopt;
-  co_return **framer.reply();
+  const auto& reply = (*framer)->reply();
+  if (!sent || !reply || !*reply) co_return std::nullopt;
+  co_return **reply;
 }
 
 std::string refusal(std::string_view what, std::uint8_t code) {
@@ -65,14 +67,15 @@ struct Asked {
 };
 
 // FC 43 / 14 in `code`'s stream, page by page.
-asio::awaitable<Asked> ask_device_id(Line& line, std::uint8_t slave, std::uint8_t code) {
+asio::awaitable<Asked> ask_device_id(Line& line, AduFraming& framing, std::uint8_t slave,
+                                     std::uint8_t code) {
   Asked asked;
   std::vector<std::pair<std::uint8_t, std::string>> objects;
   std::uint8_t next = 0;
   for (int page = 0; page < kMaxDeviceIdPages; ++page) {
     // Named: g++ 12 cannot co_await a call with a braced temporary among its arguments.
     Bytes pdu{kEncapsulatedInterface, kMeiReadDeviceId, code, next};
-    const auto reply = co_await ask(line, slave, std::move(pdu));
+    const auto reply = co_await ask(line, framing, slave, std::move(pdu));
     if (!reply) break;
     asked.answered = true;
     if (reply->exception) {
@@ -135,19 +138,21 @@ std::string server_id_text(std::span<const std::uint8_t> pdu) {
   return text + ", " + (printable(data) ? std::string(data.begin(), data.end()) : hex_bytes(data));
 }
 
-asio::awaitable<SelfReport> ask_identification(Line& line, std::uint32_t address) {
+asio::awaitable<SelfReport> ask_identification(Line& line, std::string_view protocol,
+                                               std::uint32_t address) {
   const auto slave = static_cast<std::uint8_t>(address);
+  AduFraming framing(adu_of(protocol));
   SelfReport report;
-  Asked device_id = co_await ask_device_id(line, slave, kRegularStream);
+  Asked device_id = co_await ask_device_id(line, framing, slave, kRegularStream);
   // A device with the basic objects only may refuse the regular stream (exception 03).
   if (device_id.answered && !device_id.identified)
-    if (Asked basic = co_await ask_device_id(line, slave, kBasicStream); basic.identified)
+    if (Asked basic = co_await ask_device_id(line, framing, slave, kBasicStream); basic.identified)
       device_id = basic;
   report.answered = device_id.answered;
   report.identified = device_id.identified;
   report.text = device_id.text;
   Bytes server_id_request{kReportServerId};
-  const auto server = co_await ask(line, slave, std::move(server_id_request));
+  const auto server = co_await ask(line, framing, slave, std::move(server_id_request));
   if (server) {
     report.answered = true;
     if (server->exception) {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -33,6 +34,8 @@ std::string device_id_text(std::span<const std::pair<std::uint8_t, std::string>>
 // run indicator (0x00 OFF, 0xFF ON), then device-specific data, shown as text where it is.
 std::string server_id_text(std::span<const std::uint8_t> pdu);
 
-boost::asio::awaitable<SelfReport> ask_identification(Line& line, std::uint32_t address);
+// Over MBAP on a modbus-tcp bus (modbus_rtu/adu_framing.h), in RTU frames on modbus-rtu.
+boost::asio::awaitable<SelfReport> ask_identification(Line& line, std::string_view protocol,
+                                                      std::uint32_t address);
 
 }  // namespace tiltgate::modbus_rtu

@@ -4,8 +4,8 @@
 #include <fmt/ranges.h>
 
 #include "driver/hex.h"
+#include "modbus_rtu/adu_framing.h"
 #include "modbus_rtu/codec.h"
-#include "modbus_rtu/reply_framer.h"
 
 namespace tiltgate::modbus_rtu {
 
@@ -16,10 +16,11 @@ constexpr RawLimits kLimits{"Modbus function code", 1, 127, kMaxPduSize - 1};
 
 class Exchange final : public RawExchange {
  public:
-  explicit Exchange(Request request) : RawExchange(request.frame), framer_(std::move(request)) {}
+  explicit Exchange(std::unique_ptr<ModbusReplyFramer> framer)
+      : RawExchange(framer->request_bytes()), framer_(std::move(framer)) {}
 
   RawReply decode() const override {
-    const Expected<Reply, CodecError>& reply = *framer_.reply();
+    const Expected<Reply, CodecError>& reply = *framer_->reply();
     if (!reply)
       return {true, fmt::format("reply:    not a valid reply to the request: {}", to_string(reply.error()))};
     if (reply->exception)
@@ -33,9 +34,9 @@ class Exchange final : public RawExchange {
   }
 
  private:
-  ReplyFramer& framer() override { return framer_; }
+  ReplyFramer& framer() override { return *framer_; }
 
-  RtuReplyFramer framer_;
+  std::unique_ptr<ModbusReplyFramer> framer_;
 };
 
 }  // namespace
@@ -44,9 +45,11 @@ Expected<std::unique_ptr<RawExchange>, std::string> make_raw_exchange(const RawS
   if (auto checked = check_raw_setup(setup, kLimits); !checked) return Unexpected{checked.error()};
   Bytes pdu{std::uint8_t(setup.function)};
   pdu.insert(pdu.end(), setup.data.begin(), setup.data.end());
-  auto request = raw_request(std::uint8_t(setup.address), pdu);
-  if (!request) return Unexpected{fmt::format("--data: {}", to_string(request.error()))};
-  return std::unique_ptr<RawExchange>(std::make_unique<Exchange>(std::move(*request)));
+  auto framer = AduFraming(adu_of(setup.protocol))
+                    .exchange(std::uint8_t(setup.address),
+                              [&pdu](std::uint8_t slave) { return raw_request(slave, pdu); });
+  if (!framer) return Unexpected{fmt::format("--data: {}", to_string(framer.error()))};
+  return std::unique_ptr<RawExchange>(std::make_unique<Exchange>(std::move(*framer)));
 }
 
 }  // namespace tiltgate::modbus_rtu

@@ -14,11 +14,26 @@
 
 namespace tiltgate::modbus_rtu {
 
-class RtuReplyFramer : public ReplyFramer {
+// One Modbus request as its framing sends it, and the framer that finds its checked reply: the
+// RTU frame below, or an MBAP frame (modbus_rtu/mbap_reply_framer.h). The driver, scan and raw
+// exchanges hold one of these and never look at the framing.
+class ModbusReplyFramer : public ReplyFramer {
+ public:
+  // The request as it goes on the wire.
+  virtual const Bytes& request_bytes() const = 0;
+  // The checked reply once feed() returned true.
+  virtual const std::optional<Expected<Reply, CodecError>>& reply() const = 0;
+  // Frames that failed the framing's integrity check (an RTU CRC; MBAP has none of its own).
+  virtual std::uint64_t crc_errors() const = 0;
+};
+
+class RtuReplyFramer : public ModbusReplyFramer {
  public:
   explicit RtuReplyFramer(Request request)
       : request_(std::move(request)),
         parser_(FrameKind::reply, Expectation{request_.slave, request_.function}) {}
+
+  const Bytes& request_bytes() const override { return request_.frame; }
 
   void reset() override {
     parser_.reset();
@@ -48,10 +63,9 @@ class RtuReplyFramer : public ReplyFramer {
     return report;
   }
 
-  // The checked reply once feed() returned true.
-  const std::optional<Expected<Reply, CodecError>>& reply() const { return reply_; }
+  const std::optional<Expected<Reply, CodecError>>& reply() const override { return reply_; }
   const Request& request() const { return request_; }
-  std::uint64_t crc_errors() const { return parser_.counters().crc_errors; }
+  std::uint64_t crc_errors() const override { return parser_.counters().crc_errors; }
 
  private:
   Request request_;

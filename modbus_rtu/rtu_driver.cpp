@@ -7,8 +7,6 @@
 #include <cmath>
 #include <limits>
 
-#include "modbus_rtu/reply_framer.h"
-
 namespace tiltgate::modbus_rtu {
 
 namespace asio = boost::asio;
@@ -24,7 +22,9 @@ double value_named(const std::vector<NamedValue>& values, std::string_view name)
 }  // namespace
 
 RtuDriver::RtuDriver(RtuDriverOptions options)
-    : PolledSensorDriver(options.reply_timeouts), options_(std::move(options)) {
+    : PolledSensorDriver(options.reply_timeouts),
+      options_(std::move(options)),
+      framing_(options_.adu) {
   state_.bus_address = options_.slave;
   const DeviceProfile& profile = options_.profile;
   for (const ReadBlock& block : profile.reads) {
@@ -74,11 +74,18 @@ void RtuDriver::count_refusal(std::uint8_t code) {
   state_.counters.last_refusal = code;
 }
 
+template <class Build>
+asio::awaitable<Expected<Reply, WriteError>> RtuDriver::exchange(Line& line, Build build) {
+  auto framer = framing_.exchange(options_.slave, build);
+  if (!framer)
+    co_return Unexpected{WriteError{WriteErrorKind::bad_value, to_string(framer.error())}};
+  co_return co_await exchange(line, **framer);
+}
+
 asio::awaitable<Expected<Reply, WriteError>> RtuDriver::exchange(Line& line,
-                                                                  const Request& request) {
-  RtuReplyFramer framer(request);
+                                                                  ModbusReplyFramer& framer) {
   LineRequest line_request;
-  line_request.bytes = request.frame;
+  line_request.bytes = framer.request_bytes();
   line_request.framer = &framer;
   auto sent = co_await transact_counted(line, std::move(line_request), ExchangeOptions{});
   state_.counters.checksum_errors += std::uint32_t(framer.crc_errors());
@@ -100,10 +107,8 @@ asio::awaitable<WriteResult> RtuDriver::write(Line& line, WriteTarget target, do
   auto checked = check_write(target, value);
   if (!checked) co_return checked;
   const ProfileValue& v = options_.profile.values[target.device_index()];
-  auto request = write_request(options_.slave, v, value);
-  if (!request)
-    co_return Unexpected{WriteError{WriteErrorKind::bad_value, to_string(request.error())}};
-  auto reply = co_await exchange(line, *request);
+  auto reply = co_await exchange(
+      line, [&](std::uint8_t slave) { return write_request(slave, v, value); });
   state_.last_write_failed = !reply;
   if (!reply) co_return Unexpected{reply.error()};
   // What the device now holds, until the next poll reads it back.
@@ -118,10 +123,12 @@ asio::awaitable<bool> RtuDriver::read_identity(Line& line) {
   PolledBlocks blocks(profile.reads.size());
   for (std::size_t i = 0; i < profile.reads.size(); ++i) {
     if (!identity_block_[i]) continue;
-    auto request = read_request(options_.slave, profile.reads[i].bank, profile.reads[i].address,
-                                profile.reads[i].count);
-    if (!request) continue;  // the profile's checks keep blocks valid
-    auto reply = co_await exchange(line, *request);
+    const ReadBlock& block = profile.reads[i];
+    auto reply = co_await exchange(line, [&](std::uint8_t slave) {
+      return read_request(slave, block.bank, block.address, block.count);
+    });
+    // The profile's checks keep blocks valid: a request the codec refuses is not sent.
+    if (!reply && reply.error().kind == WriteErrorKind::bad_value) continue;
     if (!reply && reply.error().kind == WriteErrorKind::no_response) co_return false;
     if (!reply) {
       // A device that refuses its identity block still measures: carry on without it rather
@@ -160,9 +167,9 @@ void RtuDriver::take_identity(const PolledBlocks& blocks) {
 
 asio::awaitable<std::optional<std::vector<std::uint16_t>>> RtuDriver::read_block(
     Line& line, const ReadBlock& block) {
-  auto request = read_request(options_.slave, block.bank, block.address, block.count);
-  if (!request) co_return std::nullopt;  // the profile's checks keep blocks valid
-  auto reply = co_await exchange(line, *request);
+  auto reply = co_await exchange(line, [&](std::uint8_t slave) {
+    return read_request(slave, block.bank, block.address, block.count);
+  });
   if (!reply) {
     if (reply.error().kind == WriteErrorKind::refused)
       spdlog::warn("{}: slave {}: {}", options_.name, options_.slave, reply.error().detail);

@@ -10,6 +10,9 @@
 // offline (it may have been replaced): a block that holds identity values only is read then,
 // not every poll.
 //
+// The same driver serves devices that speak Modbus TCP themselves (protocol "modbus-tcp"): its
+// requests then travel as MBAP frames, the slave being the unit id (modbus_rtu/adu_framing.h).
+//
 // The profile's writable values are the driver's settings (WriteTarget::device_value(index)):
 // a write is checked against the value's range, sent with FC 6 (one register) or FC 16, and
 // answered once the device has replied; the device's exception is relayed with its own code.
@@ -19,22 +22,25 @@
 #include <string>
 
 #include "driver/polled_sensor_driver.h"
+#include "modbus_rtu/adu_framing.h"
 #include "modbus_rtu/device_profile.h"
 
 namespace tiltgate::modbus_rtu {
 
 struct RtuDriverOptions {
   std::string name;        // the configured sensor name, for log lines
-  std::uint8_t slave = 1;  // 1..247
+  std::uint8_t slave = 1;  // 1..247 on a serial line; a unit id 0..255 over MBAP
   DeviceProfile profile;
   ReplyTimeouts reply_timeouts;
+  Adu adu = Adu::rtu;                   // the bus's protocol's framing
+  std::string_view model = "modbus-rtu";  // a ModelDescriptor name (static storage)
 };
 
 class RtuDriver final : public PolledSensorDriver {
  public:
   explicit RtuDriver(RtuDriverOptions options);
 
-  std::string_view model() const override { return "modbus-rtu"; }
+  std::string_view model() const override { return options_.model; }
   WriteResult check_write(WriteTarget target, double value) const override;
   boost::asio::awaitable<WriteResult> write(Line& line, WriteTarget target, double value) override;
   void follow_address(std::uint32_t address) override;
@@ -51,13 +57,18 @@ class RtuDriver final : public PolledSensorDriver {
   // One read block's registers, or nullopt when the exchange failed or the device refused it.
   boost::asio::awaitable<std::optional<std::vector<std::uint16_t>>> read_block(
       Line& line, const ReadBlock& block);
-  // One exchange with the device, counted; the checked reply, or why there is none.
-  boost::asio::awaitable<Expected<Reply, WriteError>> exchange(Line& line, const Request& request);
+  // One exchange with the device, counted, for the request `build(slave)` makes (a codec
+  // builder, AduFraming::exchange); the checked reply, or why there is none.
+  template <class Build>
+  boost::asio::awaitable<Expected<Reply, WriteError>> exchange(Line& line, Build build);
+  boost::asio::awaitable<Expected<Reply, WriteError>> exchange(Line& line,
+                                                               ModbusReplyFramer& framer);
   void count_refusal(std::uint8_t code);
   // The identity's strings from the registers just read.
   void take_identity(const PolledBlocks& blocks);
 
   RtuDriverOptions options_;
+  AduFraming framing_;
   // Per read block: whether it holds an identity value, and whether it is polled with every
   // measurement (all blocks but those holding identity values only).
   std::vector<bool> identity_block_;

@@ -142,7 +142,7 @@ TEST_CASE("config: missing required keys are reported at the table header") {
   REQUIRE(errors.size() == 3);
   for (const ConfigError& e : errors) CHECK(e.line == 10);
   CHECK(errors[0].key == "sensor[1].model");
-  CHECK(errors[0].message == "required key is missing; expected \"h6\", \"h4360\", \"dyna\" or \"modbus-rtu\"");
+  CHECK(errors[0].message == "required key is missing; expected \"h6\", \"h4360\", \"dyna\", \"modbus-rtu\" or \"modbus-tcp\"");
   CHECK(errors[1].key == "sensor[1].address");
   CHECK(errors[1].message == "required key is missing; expected an integer");
   CHECK(errors[2].key == "sensor[1].unit_id");
@@ -188,7 +188,7 @@ TEST_CASE("config: every error in a file is reported, in line order") {
   CHECK(errors[2].line == 7);
   CHECK(errors[3].line == 11);
   CHECK(errors[4].line == 13);
-  CHECK(errors[3].message == "\"h7\" is not valid, expected \"h6\", \"h4360\", \"dyna\" or \"modbus-rtu\"");
+  CHECK(errors[3].message == "\"h7\" is not valid, expected \"h6\", \"h4360\", \"dyna\", \"modbus-rtu\" or \"modbus-tcp\"");
 }
 
 TEST_CASE("config: a file that cannot be opened says why") {

@@ -92,6 +92,24 @@ TEST_CASE("raw on a Modbus RTU bus: the PDU framed with slave and CRC, and an ex
   CHECK(usage_error("modbus-rtu", 128).find("not a Modbus function code") != std::string::npos);
 }
 
+TEST_CASE("raw on a modbus-tcp bus: the PDU in an MBAP frame, and only its transaction's reply") {
+  auto raw = exchange("modbus-tcp", 255, 3, {0x00, 0x00, 0x00, 0x02});
+  const LineRequest request = raw->request();
+  REQUIRE(request.bytes.size() == 12);
+  // Transaction id (the gateway's own), protocol 0, length 6, unit 255, then the PDU.
+  CHECK(hex_bytes({request.bytes.data() + 2, 10}) == "00 00 00 06 FF 03 00 00 00 02");
+  std::vector<std::uint8_t> reply{request.bytes[0], request.bytes[1], 0x00, 0x00, 0x00, 0x07,
+                                  0xFF, 0x03, 0x04, 0x00, 0x04, 0xDA, 0x15};
+  std::vector<std::uint8_t> other = reply;
+  other[1] ^= 0x01;  // another transaction's reply: not this one's
+  request.framer->reset();
+  CHECK_FALSE(request.framer->feed(other));
+  CHECK(request.framer->feed(reply));
+  const RawReply read = raw->decode();
+  CHECK_FALSE(read.refused);
+  CHECK(read.text == "reply:    function 0x03, PDU 03 04 00 04 DA 15\nregisters: 4 55829");
+}
+
 TEST_CASE("raw on a Dyna bus: Modbus-ASCII command and data with LRC, and on 9-bit the command character after the address byte") {
   auto ascii = exchange("spectron-modbus", 1, 0x69, {0x00, 0x10});
   const LineRequest request = ascii->request();

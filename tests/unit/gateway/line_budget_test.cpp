@@ -104,3 +104,16 @@ TEST_CASE("line budget: a longer late-reply window, or more sensors, warns on th
   CHECK(warnings[0].find("the reading of \"s1\" can get 1241 ms old, past its stale_ms (1000 ms)") !=
         std::string::npos);
 }
+
+TEST_CASE("line budget: a bus of devices that speak Modbus TCP (baud 0) counts the reply wait") {
+  // No serial line, so no baud: nothing divides by it, and a poll is bounded by the reply
+  // wait (timeout_ms, 50 ms by default) instead of a wire time.
+  BusConfig tcp = bus("modbus-tcp", 0);
+  tcp.gap = 0us;
+  const LineBudget budget = line_budget(tcp, sensors(4, "modbus-tcp"), protocol("modbus-tcp"));
+  CHECK(budget.poll == tcp.timeout);
+  CHECK(budget.poll == 50ms);
+  CHECK(budget.others == 50ms);               // the one other healthy sensor
+  CHECK(budget.short_look == 70ms);           // no request wire time: 50 ms and 20 ms
+  CHECK(budget.failures == budget.failing_turn + 2 * budget.short_look);
+}

@@ -86,8 +86,12 @@ TEST_CASE("RTU pass-through has no reply PDU before the reply, and starts over o
   CHECK_FALSE(forwarded->reply_pdu().has_value());
 }
 
-TEST_CASE("the modbus-rtu protocol offers pass-through") {
-  REQUIRE(kFamily.protocols.size() == 1);
-  const bool offers = kFamily.protocols[0].forward == &forward_request;
-  CHECK(offers);
+TEST_CASE("the modbus-rtu and modbus-tcp protocols offer pass-through, each in its framing") {
+  REQUIRE(kFamily.protocols.size() == 2);
+  CHECK(kFamily.protocols[0].name == "modbus-rtu");
+  const bool rtu = kFamily.protocols[0].forward == &forward_request;
+  CHECK(rtu);
+  CHECK(kFamily.protocols[1].name == "modbus-tcp");
+  const bool mbap = kFamily.protocols[1].forward == &forward_mbap_request;
+  CHECK(mbap);
 }
