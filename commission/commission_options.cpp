@@ -78,13 +78,16 @@ UsageErrors combination_errors(const BusOptions& o) {
 }
 
 // The model the command line's sensors get: the one given, else the first of the protocol's
-// family (a line without a protocol gets the first family's first protocol, as the loader does).
+// family that speaks it (a line without a protocol gets the first family's first protocol, as
+// the loader does).
 std::string command_line_model(const BusOptions& o, FamilyList families) {
   if (!o.model.empty() || families.empty()) return o.model;
   const std::string_view protocol =
       o.protocol.empty() ? families.front()->protocols.front().name : o.protocol;
-  if (const ProtocolEntry entry = find_protocol(families, protocol); entry.family)
-    return std::string(entry.family->models.front().name);
+  if (const ProtocolEntry entry = find_protocol(families, protocol); entry.family) {
+    if (const ModelDescriptor* model = first_model_speaking(*entry.family, protocol))
+      return std::string(model->name);
+  }
   return {};
 }
 

@@ -34,7 +34,11 @@ boost::asio::awaitable<ModelCheck> check_model(CommissionBus& bus, CommissionedS
   ModelCheck check;
   check.polled_as = sensor.config.model;
   const ModelEntry entry = find_model(bus.families(), sensor.config.model);
-  check.family_models = entry.family ? entry.family->models.size() : 0;
+  // Only the models that speak the bus's protocol can be the sensor's.
+  if (entry.family) {
+    for (const ModelDescriptor& model : entry.family->models)
+      if (model.speaks(bus.config().protocol)) ++check.family_models;
+  }
   check.polled = co_await poll_for_identity(bus.line(), *sensor.driver, stopping);
   if (check.polled.result == PollResult::reading) {
     check.measured_as = sensor.config.model;
@@ -47,7 +51,7 @@ boost::asio::awaitable<ModelCheck> check_model(CommissionBus& bus, CommissionedS
                              : std::string("with no usable reading");
   if (!entry.family) co_return check;
   for (const ModelDescriptor& model : entry.family->models) {
-    if (model.name == sensor.config.model) continue;
+    if (model.name == sensor.config.model || !model.speaks(bus.config().protocol)) continue;
     SensorConfig as_other = sensor.config;
     as_other.model = std::string(model.name);
     auto driver = make_driver(bus.families(), as_other, bus.config());

@@ -124,6 +124,10 @@ std::string repeated_note(const RepeatedSensor& r) {
                      r.serial, r.address, fmt::join(r.other_bauds, ", "), r.kept_baud);
 }
 
+// A rate for the table and the summaries; "-" for a bus without a serial line (baud 0: devices
+// that speak TCP themselves).
+std::string baud_text(std::uint32_t baud) { return baud == 0 ? "-" : fmt::format("{}", baud); }
+
 std::string scan_header() {
   return fmt::format(fmt::runtime(kScanRowFormat), "ADDRESS", "BAUD", "MODEL", "SERIAL", "FIRMWARE",
                      "LOCK", "STATUS");
@@ -132,7 +136,7 @@ std::string scan_header() {
 std::string scan_row(const FoundSensor& s) {
   std::string status = s.collision ? "probable collision (two sensors at this address?)" : "ok";
   if (!s.detail.empty()) status += fmt::format(": {}", s.detail);
-  return fmt::format(fmt::runtime(kScanRowFormat), s.address, s.baud, or_dash(s.model),
+  return fmt::format(fmt::runtime(kScanRowFormat), s.address, baud_text(s.baud), or_dash(s.model),
                      or_dash(s.serial), or_dash(s.firmware),
                      s.lock_level ? fmt::format("{}", *s.lock_level) : std::string("-"), status);
 }
@@ -146,7 +150,9 @@ std::string scan_summary(const std::vector<FoundSensor>& found, std::size_t prob
     if (!s.collision && std::find(bauds.begin(), bauds.end(), s.baud) == bauds.end())
       bauds.push_back(s.baud);
   std::string text = fmt::format("{} sensor(s) found", sensors.size());
-  if (!sensors.empty())
+  if (!sensors.empty() && bauds == std::vector<std::uint32_t>{0})
+    text += fmt::format(": {}", fmt::join(sensors, ", "));
+  else if (!sensors.empty())
     text += fmt::format(" at {} baud: {}", fmt::join(bauds, "/"), fmt::join(sensors, ", "));
   if (!collisions.empty())
     text += fmt::format("; {} probable collision(s) (address {})", collisions.size(),
@@ -159,8 +165,9 @@ std::string progress_line(std::size_t done, std::size_t total, std::uint32_t bau
                           const std::vector<FoundSensor>& found, std::size_t width) {
   constexpr std::size_t kBar = 20;
   const std::size_t filled = total == 0 ? kBar : std::min(kBar, done * kBar / total);
-  std::string line = fmt::format("[{}{}] {}/{} at {} baud, found: ", std::string(filled, '#'),
-                                 std::string(kBar - filled, '.'), done, total, baud);
+  std::string line = fmt::format("[{}{}] {}/{}{}, found: ", std::string(filled, '#'),
+                                 std::string(kBar - filled, '.'), done, total,
+                                 baud == 0 ? std::string() : fmt::format(" at {} baud", baud));
   const std::vector<std::uint32_t> sensors = addresses_of(found, false);
   line += sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(sensors, " "));
   if (line.size() > width) line = line.substr(0, width - 3) + "...";
@@ -177,9 +184,10 @@ std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor
       "# Written by `tiltgate scan`: the sensors that answered on this bus.\n"
       "# Edit each sensor's name (what it measures, e.g. \"boom\") and its unit_id (the Modbus\n"
       "# unit id the PLC reads it at), then: tiltgate check --config THIS_FILE\n";
-  text += fmt::format("\n[[bus]]\nname = {}\nport = {}\nprotocol = {}\nbaud = {}\n",
-                      toml_string(bus_name), toml_string(bus.port), toml_string(bus.protocol),
-                      baud);
+  text += fmt::format("\n[[bus]]\nname = {}\nport = {}\nprotocol = {}\n", toml_string(bus_name),
+                      toml_string(bus.port), toml_string(bus.protocol));
+  // A bus without a serial line (devices that speak TCP) has no rate to write.
+  if (baud != 0) text += fmt::format("baud = {}\n", baud);
   if (bus.framing)
     text += fmt::format("parity = {}\nstop_bits = {}\n", toml_string(parity_name(*bus.framing)),
                         stop_bits_of(*bus.framing));

@@ -116,12 +116,15 @@ const ParsedBus* find_bus(const std::vector<ParsedBus>& buses, const std::string
 
 // A model fits a bus whose protocol is one of its own family's.
 bool model_fits(const ModelEntry& model, const ProtocolEntry& protocol) {
-  return model.family == nullptr || model.family == protocol.family;
+  return model.family == nullptr ||
+         (model.family == protocol.family && model.model->speaks(protocol.protocol->name));
 }
 
-std::string protocols_of(const FamilyDescriptor& family) {
+// The protocols a model's sensors speak: its own list, else its family's.
+std::string protocols_of(const ModelEntry& model) {
   std::vector<std::string_view> names;
-  for (const ProtocolDescriptor& protocol : family.protocols) names.push_back(protocol.name);
+  for (const ProtocolDescriptor& protocol : model.family->protocols)
+    if (model.model->speaks(protocol.name)) names.push_back(protocol.name);
   return or_list(names);
 }
 
@@ -182,7 +185,7 @@ void check_against_bus(const ParsedSensor& sensor, std::span<const ParsedSensor>
     sensor.where.report(
         errors, "model",
         fmt::format("model \"{}\" needs a {} bus, but bus \"{}\" is {}", sensor.config.model,
-                    protocols_of(*model.family), bus->config.name, bus->config.protocol));
+                    protocols_of(model), bus->config.name, bus->config.protocol));
   }
   check_address(sensor, *bus, *protocol.protocol, earlier, errors);
 }

@@ -18,6 +18,13 @@ ModelEntry find_model(FamilyList families, std::string_view name) {
   return {};
 }
 
+const ModelDescriptor* first_model_speaking(const FamilyDescriptor& family,
+                                           std::string_view protocol) {
+  for (const ModelDescriptor& model : family.models)
+    if (model.speaks(protocol)) return &model;
+  return nullptr;
+}
+
 std::vector<std::string_view> model_setting_names(FamilyList families) {
   std::vector<std::string_view> names;
   for (const FamilyDescriptor* family : families)

@@ -7,6 +7,7 @@
 // members left null: every family answers every question.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -160,6 +161,15 @@ struct ModelDescriptor {
   std::span<const ValueSource> sources;
   // The settings the driver accepts writes of.
   std::span<const SettingDescriptor> settings;
+  // The protocols its sensors speak (ProtocolDescriptor::name); empty: every protocol of its
+  // family. A sensor of the model goes only on such a bus, and a command that finds a sensor
+  // on a bus tries only these models.
+  std::span<const std::string_view> protocols{};
+
+  bool speaks(std::string_view protocol) const {
+    return protocols.empty() ||
+           std::find(protocols.begin(), protocols.end(), protocol) != protocols.end();
+  }
 };
 
 // How a family reads its own [[sensor]] keys: the config loader's reader, which checks types
@@ -230,6 +240,9 @@ struct ModelEntry {
 // Null members when no family has it.
 ProtocolEntry find_protocol(FamilyList families, std::string_view name);
 ModelEntry find_model(FamilyList families, std::string_view name);
+// The first of `family`'s models whose sensors speak `protocol`; null when none does.
+const ModelDescriptor* first_model_speaking(const FamilyDescriptor& family,
+                                           std::string_view protocol);
 // Every model's own settings' names (SettingDescriptor::name), each once, in family order.
 std::vector<std::string_view> model_setting_names(FamilyList families);
 // The family's keys a sensor of it must give, in the family's order.

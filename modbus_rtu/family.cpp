@@ -116,6 +116,10 @@ RegisterMap rtu_default_map() {
   return RegisterMap(common_block(m));
 }
 
+// Each model on its own protocol: a scan of a modbus-tcp bus writes model = "modbus-tcp".
+constexpr std::string_view kRtuProtocols[] = {"modbus-rtu"};
+constexpr std::string_view kTcpProtocols[] = {"modbus-tcp"};
+
 const ModelDescriptor kModels[] = {{
     .name = "modbus-rtu",
     .model_code = 4,
@@ -124,6 +128,7 @@ const ModelDescriptor kModels[] = {{
     .default_map = rtu_default_map,
     .sources = {},
     .settings = {},
+    .protocols = kRtuProtocols,
 }, {
     .name = "modbus-tcp",
     .model_code = 5,
@@ -132,6 +137,7 @@ const ModelDescriptor kModels[] = {{
     .default_map = rtu_default_map,
     .sources = {},
     .settings = {},
+    .protocols = kTcpProtocols,
 }};
 
 constexpr SensorKey kSensorKeys[] = {{.name = "device", .required = true}};

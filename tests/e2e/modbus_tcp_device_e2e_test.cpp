@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdint>
 #include <fmt/format.h>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -146,16 +147,40 @@ TEST_CASE("pass-through on a modbus-tcp bus reaches the device behind the far ga
 
 TEST_CASE("scan over tcp:// finds the far units, none where the gateway answers 0x0A or 0x0B") {
   TwoGateways plant;
+  const std::string config_out = (plant.dir.path() / "scanned.toml").string();
   const auto scan =
       run_tiltgate({"scan", "--port", tcp_url(plant.device_port), "--protocol", "modbus-tcp",
-                    "--probe-timeout-ms", "1000", "--device", example("tiltgate-unit")});
+                    "--probe-timeout-ms", "1000", "--device", example("tiltgate-unit"),
+                    "--config-out", config_out});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 0);
+  // Found as Modbus TCP devices, on a bus with no rate: the written configuration checks as
+  // it is (a modbus-tcp bus refuses `baud`, and a modbus-rtu model).
+  CHECK(scan.out.find(" modbus-tcp ") != std::string::npos);
+  CHECK(scan.out.find("modbus-rtu") == std::string::npos);
+  const auto checked = run_tiltgate({"check", "--config", config_out});
+  INFO(checked.out << checked.err);
+  CHECK(checked.exit_code == 0);
   // Unit 3 is the inclinometer; unit 30 the passed-through device, which refuses the profile's
   // read (it has 8 registers): an exception from it is a device there. Every other unit id of
   // the first gateway answers 0x0A, and unit 32 (passed through, nobody at slave 32) 0x0B.
   CHECK(scan.out.find("2 sensor(s) found") != std::string::npos);
-  CHECK(scan.out.find("found at 0 baud: 3, 30;") != std::string::npos);
+  CHECK(scan.out.find("found: 3, 30;") != std::string::npos);
+}
+
+TEST_CASE("a modbus-rtu sensor on a modbus-tcp bus is refused: each model has its protocol") {
+  TempDir dir;
+  const std::string config = (dir.path() / "wrong-model.toml").string();
+  std::ofstream(config) << "[[bus]]\nname = \"far\"\nport = \"tcp://127.0.0.1:1502\"\n"
+                           "protocol = \"modbus-tcp\"\n\n[[sensor]]\nname = \"boom\"\n"
+                           "bus = \"far\"\nmodel = \"modbus-rtu\"\naddress = 3\nunit_id = 1\n"
+                           "device = \""
+                        << example("tiltgate-unit") << "\"\n";
+  const auto checked = run_tiltgate({"check", "--config", config});
+  INFO(checked.out << checked.err);
+  CHECK(checked.exit_code != 0);
+  CHECK((checked.out + checked.err).find("model \"modbus-rtu\" needs a modbus-rtu bus") !=
+        std::string::npos);
 }
 
 TEST_CASE("info over tcp:// without a profile asks the far unit's identification over MBAP") {
