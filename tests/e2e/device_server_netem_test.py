@@ -24,6 +24,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sup
 import spb_path  # noqa: F401,E402
 from network_plant import Gateway, ModbusReader, Simulator, bus, close_to  # noqa: E402
 from ser2net_server import Ser2net  # noqa: E402
+import run_netns_mount  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
 
@@ -61,9 +62,13 @@ def make_network():
     return None
 
 
+NETNS_MOUNTED_BEFORE = run_netns_mount.was_mounted()
+
+
 def remove_network():
     sh("ip", "link", "del", HOST_LINK)  # takes its peer along
     sh("ip", "netns", "del", NETNS)
+    run_netns_mount.release(NETNS_MOUNTED_BEFORE)
 
 
 def netem(action, spec):

@@ -18,6 +18,8 @@ import threading
 import time
 from collections import deque
 
+import run_netns_mount
+
 TUNSETIFF = 0x400454CA
 IFF_TUN = 0x0001
 IFF_NO_PI = 0x1000
@@ -46,6 +48,7 @@ class TunDelayLine:
         self._fds = []
         self._stop = False
         self._thread = None
+        self._netns_mounted_before = run_netns_mount.was_mounted()
 
     def start(self):
         """Makes the namespace and the devices; raises OSError, saying why, where it cannot."""
@@ -78,6 +81,7 @@ class TunDelayLine:
         self._fds = []
         subprocess.run(["ip", "netns", "del", self.netns], stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
+        run_netns_mount.release(self._netns_mounted_before)
 
     def _carry(self):
         """Each packet read from one device is written to the other delay_s later, in order."""
