@@ -32,16 +32,6 @@ constexpr int kKeepaliveIntervalSeconds = 5;
 constexpr int kKeepaliveProbes = 3;
 constexpr unsigned kUserTimeoutMs = 20000;
 
-// RFC 2217 asks the client to say WILL COM-PORT-OPTION; binary mode keeps CR and 0x00 bytes
-// as they are (RFC 856), and suppress-go-ahead is what every device server expects.
-constexpr std::array<std::uint8_t, 3> kWeWill{telnet::kBinary, telnet::kSuppressGoAhead,
-                                              telnet::kComPortOption};
-constexpr std::array<std::uint8_t, 2> kWeDo{telnet::kBinary, telnet::kSuppressGoAhead};
-
-bool among(std::span<const std::uint8_t> options, std::uint8_t option) {
-  return std::find(options.begin(), options.end(), option) != options.end();
-}
-
 std::string errno_text(int error) {
   return std::error_code(error, std::generic_category()).message();
 }
@@ -100,7 +90,7 @@ void NetworkPort::close_socket() {
   error_code ignored;
   stream_.close(ignored);
   fd_ = -1;
-  reader_ = telnet::Reader{};
+  telnet_.reset();
 }
 
 void NetworkPort::lose(const std::string& why) {
@@ -252,7 +242,7 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::send_all(
   co_return Done{};
 }
 
-asio::awaitable<Expected<Done, std::string>> NetworkPort::read_commands(Alive alive) {
+asio::awaitable<Expected<Done, std::string>> NetworkPort::read_negotiation(Alive alive) {
   std::array<std::uint8_t, 256> buffer{};
   error_code ec;
   const std::size_t received = co_await stream_.async_read_some(
@@ -261,88 +251,44 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::read_commands(Alive al
   if (ec == asio::error::eof) co_return Unexpected(std::string("the server closed the connection"));
   if (ec) co_return Unexpected(ec.message());
   // Data bytes before the port is set (a sensor's chatter at the old rate) mean nothing.
-  (void)reader_.take(std::span(buffer.data(), received), commands_);
+  (void)incoming(std::span(buffer.data(), received));
   co_return Done{};
 }
 
 asio::awaitable<Expected<Done, std::string>> NetworkPort::negotiate(Alive alive) {
-  const std::string timed_out_hint =
-      "is the server's port in RFC 2217 mode? A port in raw TCP mode is tcp://";
-  commands_.clear();
-  refused_options_.clear();
-  std::vector<std::uint8_t> offer;
-  for (const std::uint8_t option : kWeWill) {
-    const auto bytes = telnet::negotiation(telnet::kWill, option);
-    offer.insert(offer.end(), bytes.begin(), bytes.end());
-  }
-  for (const std::uint8_t option : kWeDo) {
-    const auto bytes = telnet::negotiation(telnet::kDo, option);
-    offer.insert(offer.end(), bytes.begin(), bytes.end());
-  }
-  Expected<Done, std::string> sent = co_await send_all(alive, std::move(offer));
+  telnet_.emplace(options_.setting);
+  Expected<Done, std::string> sent = co_await send_all(alive, Rfc2217Session::offer());
   if (alive.expired()) co_return Unexpected(std::string("stopped"));
   if (!sent) co_return sent;
   // The server agrees to the COM-PORT-OPTION (DO) before it takes any of its commands.
-  bool agreed = false;
-  while (!agreed) {
-    const Expected<Done, std::string> read = co_await read_commands(alive);
+  while (!telnet_->agreed() && !telnet_->refusal()) {
+    const Expected<Done, std::string> read = co_await read_negotiation(alive);
     if (alive.expired()) co_return Unexpected(std::string("stopped"));
     if (!read) {
       co_return Unexpected(deadline_passed_
-                               ? "no answer to the RFC 2217 negotiation (" + timed_out_hint + ")"
+                               ? std::string("no answer to the RFC 2217 negotiation (is the "
+                                             "server's port in RFC 2217 mode? A port in raw TCP "
+                                             "mode is tcp://)")
                                : read.error());
     }
-    for (const telnet::Command& command : commands_) {
-      if (command.option != telnet::kComPortOption) continue;
-      if (command.verb == telnet::kDo) agreed = true;
-      if (command.verb == telnet::kDont) {
-        co_return Unexpected(std::string(
-            "the server refused RFC 2217's COM-PORT-OPTION (is its port in RFC 2217 mode?)"));
-      }
-    }
-    answer(commands_);
-    commands_.clear();
   }
-  std::vector<std::uint8_t> requests;
-  for (const auto& payload : rfc2217::set_requests(options_.setting)) {
-    const auto bytes = telnet::subnegotiation(telnet::kComPortOption, payload);
-    requests.insert(requests.end(), bytes.begin(), bytes.end());
-  }
-  sent = co_await send_all(alive, std::move(requests));
+  if (const auto refused = telnet_->refusal()) co_return Unexpected(*refused);
+  sent = co_await send_all(alive, telnet_->setting_requests());
   if (alive.expired()) co_return Unexpected(std::string("stopped"));
   if (!sent) co_return sent;
-  rfc2217::Acknowledgements acks(options_.setting);
-  while (!acks.complete()) {
-    const Expected<Done, std::string> read = co_await read_commands(alive);
+  while (!telnet_->confirmed()) {
+    const Expected<Done, std::string> read = co_await read_negotiation(alive);
     if (alive.expired()) co_return Unexpected(std::string("stopped"));
     if (!read) {
-      co_return Unexpected(deadline_passed_ ? "the server did not confirm the " + acks.missing() +
-                                                  " within " +
-                                                  std::to_string(options_.connect_timeout.count()) +
-                                                  " ms"
-                                            : read.error());
+      co_return Unexpected(deadline_passed_
+                               ? "the server did not confirm the " + telnet_->missing() +
+                                     " within " +
+                                     std::to_string(options_.connect_timeout.count()) + " ms"
+                               : read.error());
     }
-    for (const telnet::Command& command : commands_) {
-      if (command.verb != telnet::kSb || command.option != telnet::kComPortOption) continue;
-      if (const auto reply = rfc2217::read_answer(command.payload)) acks.take(*reply);
-    }
-    answer(commands_);
-    commands_.clear();
-    if (acks.refused()) co_return Unexpected(*acks.refused());
+    if (const auto refused = telnet_->refusal()) co_return Unexpected(*refused);
   }
   co_return Done{};
-}
-
-void NetworkPort::answer(const std::vector<telnet::Command>& commands) {
-  for (const telnet::Command& command : commands) {
-    std::uint8_t reply = 0;
-    if (command.verb == telnet::kDo && !among(kWeWill, command.option)) reply = telnet::kWont;
-    if (command.verb == telnet::kWill && !among(kWeDo, command.option)) reply = telnet::kDont;
-    if (reply == 0 || among(refused_options_, command.option)) continue;
-    refused_options_.push_back(command.option);
-    const auto bytes = telnet::negotiation(reply, command.option);
-    (void)write_now(bytes);  // three bytes on an idle socket; a lost one only leaves it offered
-  }
 }
 
 Expected<std::size_t, std::string> NetworkPort::write_now(std::span<const std::uint8_t> bytes) {
@@ -371,19 +317,15 @@ Expected<Done, std::string> NetworkPort::discard_input() {
 }
 
 std::span<const std::uint8_t> NetworkPort::outgoing(std::span<const std::uint8_t> bytes) {
-  if (!is_telnet()) return bytes;
-  escaped_.clear();
-  telnet::escape(bytes, escaped_);
-  return escaped_;
+  return telnet_ ? telnet_->escaped(bytes) : bytes;
 }
 
 std::size_t NetworkPort::incoming(std::span<std::uint8_t> chunk) {
-  if (!is_telnet()) return chunk.size();
-  const std::size_t data = reader_.take(chunk, commands_);
-  if (!commands_.empty()) {
-    answer(commands_);  // notifications (modem or line state) are read past
-    commands_.clear();
-  }
+  if (!telnet_) return chunk.size();
+  const std::size_t data = telnet_->take(chunk);
+  // Three bytes at most per option on an idle socket; a lost one only leaves it offered.
+  if (const std::vector<std::uint8_t> replies = telnet_->take_replies(); !replies.empty())
+    (void)write_now(replies);
   return data;
 }
 

@@ -36,7 +36,7 @@
 
 #include "device_server/com_port_option.h"
 #include "device_server/port_url.h"
-#include "device_server/telnet_codec.h"
+#include "device_server/rfc2217_session.h"
 #include "serial/line_port.h"
 
 namespace tiltgate {
@@ -97,15 +97,13 @@ class NetworkPort final : public LinePort {
       Alive alive, const boost::asio::ip::tcp::endpoint& endpoint);
   // RFC 2217: option negotiation, then the far port's settings, confirmed.
   boost::asio::awaitable<Expected<Done, std::string>> negotiate(Alive alive);
-  // Sends all of `bytes` on the connection being made; false on failure.
+  // Sends all of `bytes` on the connection being made.
   boost::asio::awaitable<Expected<Done, std::string>> send_all(Alive alive,
                                                                std::vector<std::uint8_t> bytes);
-  // Reads during negotiation, taking the commands out into commands_; nothing on failure.
-  boost::asio::awaitable<Expected<Done, std::string>> read_commands(Alive alive);
+  // One read during negotiation, through the session (data bytes dropped).
+  boost::asio::awaitable<Expected<Done, std::string>> read_negotiation(Alive alive);
   // Cancels what the connect is waiting for when `limit` has passed.
   void arm_deadline(std::chrono::milliseconds limit);
-  // Refuses the options the peer offers that were not asked for, once each.
-  void answer(const std::vector<telnet::Command>& commands);
   void close_socket();
   bool is_telnet() const { return options_.address.scheme == PortScheme::rfc2217; }
 
@@ -123,10 +121,8 @@ class NetworkPort final : public LinePort {
   bool warned_ = false;  // this outage has been logged as a warning already
   std::uint64_t generation_ = 0;
   int fd_ = -1;  // the socket's, for TCP_INFO; -1 while closed
-  telnet::Reader reader_;
-  std::vector<telnet::Command> commands_;
-  std::vector<std::uint8_t> refused_options_;  // answered WONT/DONT already
-  std::vector<std::uint8_t> escaped_;           // outgoing()'s copy
+  // The RFC 2217 conversation of the connection being made or open (rfc2217:// only).
+  std::optional<Rfc2217Session> telnet_;
   // Lets handlers and the connect coroutine that outlive the port see that it is gone.
   std::shared_ptr<int> alive_ = std::make_shared<int>(0);
 };
