@@ -6,10 +6,14 @@
 // counts as an error and the exit status is 1.
 //
 // Prints one line: requests, errors, requests/s and the p50 / p99 / p99.9 latency (us) from the
-// request's send to its reply's last byte.
+// request's send to its reply's last byte, and the exception replies (with --count-exceptions,
+// which counts them apart instead of failing on the first: requests/s and the latencies are the
+// answered reads'). With --rate R each connection sends R requests a second, as a client with a
+// scan time would, instead of the next one the moment a reply is in.
 //
 // Usage: bench_modbus_load --port N [--host 127.0.0.1] [--clients 1] [--function 4]
 //                          [--address 0] [--quantity 10] [--unit 1] [--seconds 2]
+//                          [--count-exceptions] [--rate R]
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
@@ -43,6 +47,10 @@ struct Options {
   int quantity = 10;
   int unit = 1;
   double seconds = 2;
+  // Exception replies are counted (and the client goes on) instead of failing the run.
+  bool count_exceptions = false;
+  // Requests a second per connection (0: each sent the moment the previous reply is in).
+  double rate = 0;
 };
 
 struct Client {
@@ -52,12 +60,14 @@ struct Client {
   std::array<std::uint8_t, 260> reply{};
   std::size_t received = 0;
   bool waiting = false;
+  Clock::time_point due{};  // with --rate: when its next request is to be sent
 };
 
 [[noreturn]] void usage(const char* why) {
   std::fprintf(stderr,
                "%s\nusage: bench_modbus_load --port N [--host ADDR] [--clients N] "
-               "[--function 3|4] [--address A] [--quantity Q] [--unit U] [--seconds S]\n",
+               "[--function 3|4] [--address A] [--quantity Q] [--unit U] [--seconds S] "
+               "[--count-exceptions] [--rate R]\n",
                why);
   std::exit(2);
 }
@@ -66,6 +76,10 @@ Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string_view key = argv[i];
+    if (key == "--count-exceptions") {
+      o.count_exceptions = true;
+      continue;
+    }
     if (i + 1 >= argc) usage("every option takes a value");
     const char* value = argv[++i];
     if (key == "--host") o.host = value;
@@ -76,6 +90,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--quantity") o.quantity = std::atoi(value);
     else if (key == "--unit") o.unit = std::atoi(value);
     else if (key == "--seconds") o.seconds = std::atof(value);
+    else if (key == "--rate") o.rate = std::atof(value);
     else usage("unknown option");
   }
   if (o.port <= 0 || o.port > 65535) usage("--port is required");
@@ -124,12 +139,15 @@ class Load {
     std::array<epoll_event, 256> events{};
     Clock::time_point now = start;
     while (now < end && errors_ == 0) {
-      const int n = ::epoll_wait(epoll_, events.data(), int(events.size()), 100);
+      const int n = ::epoll_wait(epoll_, events.data(), int(events.size()), wait_ms(now));
       now = Clock::now();
       for (int i = 0; i < n; ++i) {
         Client& c = clients_[events[std::size_t(i)].data.u64];
-        if (receive(c, now) && now < end) send_request(c);
+        if (receive(c, now) && now < end && o_.rate <= 0) send_request(c);
       }
+      if (o_.rate > 0 && now < end)
+        for (Client& c : clients_)
+          if (!c.waiting && c.fd >= 0 && now >= c.due) send_request(c);
     }
     elapsed_ = std::chrono::duration<double>(now - start).count();
     // Replies still due when time is up get up to a second, then count as errors.
@@ -147,9 +165,10 @@ class Load {
       if (latencies_.empty()) return 0.0;
       return latencies_[std::min(latencies_.size() - 1, std::size_t(q * double(latencies_.size())))] / 1000.0;
     };
-    std::printf("requests=%zu errors=%zu req_per_s=%.0f p50_us=%.1f p99_us=%.1f p999_us=%.1f\n",
+    std::printf("requests=%zu errors=%zu req_per_s=%.0f p50_us=%.1f p99_us=%.1f p999_us=%.1f"
+                " exceptions=%zu\n",
                 latencies_.size(), errors_, double(latencies_.size()) / elapsed_, at(0.50),
-                at(0.99), at(0.999));
+                at(0.99), at(0.999), exceptions_);
   }
 
   std::size_t errors() const { return errors_; }
@@ -160,7 +179,21 @@ class Load {
                                      [](const Client& c) { return c.waiting; }));
   }
 
+  // How long epoll may sleep: 100 ms, or until the next paced request is due.
+  int wait_ms(Clock::time_point now) const {
+    if (o_.rate <= 0) return 100;
+    Clock::time_point next = now + std::chrono::milliseconds(100);
+    for (const Client& c : clients_)
+      if (!c.waiting && c.fd >= 0) next = std::min(next, c.due);
+    return int(std::max<long>(0, std::chrono::ceil<std::chrono::milliseconds>(next - now).count()));
+  }
+
   void send_request(Client& c) {
+    if (o_.rate > 0) {
+      const auto period =
+          std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / o_.rate));
+      c.due = std::max(c.due + period, Clock::now());
+    }
     ++c.transaction;
     const std::uint8_t request[12] = {
         std::uint8_t(c.transaction >> 8), std::uint8_t(c.transaction), 0, 0, 0, 6,
@@ -184,8 +217,13 @@ class Load {
     c.received += std::size_t(n);
     if (!c.waiting) return fail(c, "a reply nobody asked for");
     if (c.received < expected) {
-      // An exception reply is 9 bytes: wrong either way, say so.
-      if (c.received >= 9 && (c.reply[7] & 0x80)) return fail(c, "exception reply");
+      // An exception reply is 9 bytes: counted with --count-exceptions, else a failure.
+      if (c.received >= 9 && (c.reply[7] & 0x80)) {
+        if (!o_.count_exceptions || c.received != 9) return fail(c, "exception reply");
+        c.waiting = false;
+        if (count) ++exceptions_;
+        return true;
+      }
       return false;
     }
     const auto& r = c.reply;
@@ -209,6 +247,7 @@ class Load {
     ++errors_;
     c.waiting = false;
     ::epoll_ctl(epoll_, EPOLL_CTL_DEL, c.fd, nullptr);
+    c.fd = -1;
     return false;
   }
 
@@ -216,6 +255,7 @@ class Load {
   std::vector<Client> clients_;
   std::vector<std::uint32_t> latencies_;  // ns
   std::size_t errors_ = 0;
+  std::size_t exceptions_ = 0;  // with --count-exceptions
   double elapsed_ = 0;
   int epoll_ = -1;
 };
