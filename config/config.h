@@ -36,6 +36,11 @@ struct ServerTlsConfig {
 // (docs/operations.md, "The state directory").
 inline constexpr std::string_view kDefaultStateDir = "/var/lib/tiltgate";
 
+// [server] max_requests_per_s and max_client_requests_per_s when not given: measured on a
+// 2-core box (docs/performance.md, "A flood and the line").
+inline constexpr int kDefaultMaxRequestsPerSecond = 20000;
+inline constexpr int kDefaultMaxClientRequestsPerSecond = 20000;
+
 struct ServerConfig {
   std::string listen = "0.0.0.0";
   std::uint16_t port = 502;
@@ -52,6 +57,11 @@ struct ServerConfig {
   std::chrono::milliseconds idle_timeout{60000};   // a client silent this long is closed
   std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
   std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
+  // Requests a second answered over Modbus TCP, from every client together and from each
+  // connection: beyond them a request waits for its turn (modbus_tcp/request_rate.h), so a
+  // flood of requests never takes the cores the serial lines need. 0: no limit.
+  int max_requests_per_s = kDefaultMaxRequestsPerSecond;
+  int max_client_requests_per_s = kDefaultMaxClientRequestsPerSecond;
   // The Unix socket commissioning commands reach the buses through (control/control_server.h),
   // an absolute path; empty: none.
   std::string control_socket = std::string(kDefaultControlSocket);

@@ -187,6 +187,9 @@ ServerConfig read_server(const toml::table& table, ErrorList& errors) {
     server.request_timeout = milliseconds(*ms);
   if (auto ms = in.integer("write_timeout_ms", 100, 600'000))
     server.write_timeout = milliseconds(*ms);
+  if (auto n = in.integer("max_requests_per_s", 0, 1'000'000)) server.max_requests_per_s = int(*n);
+  if (auto n = in.integer("max_client_requests_per_s", 0, 1'000'000))
+    server.max_client_requests_per_s = int(*n);
   if (auto path = in.string("control_socket")) {
     // sun_path holds 108 bytes with the terminating NUL.
     if (!path->empty() && path->front() != '/')

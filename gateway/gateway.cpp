@@ -321,6 +321,8 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
                                       bus_rates_.rate(2 * i), bus_rates_.rate(2 * i + 1)));
   // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
   for (const ModbusTcpServer* listener : listeners_.servers()) add_listener_counts(status, *listener);
+  status.modbus_max_requests_per_s = config_.server.max_requests_per_s;
+  status.modbus_max_client_requests_per_s = config_.server.max_client_requests_per_s;
   status.process_start_seconds = start_seconds_;
   if (const auto descriptors = process_descriptors()) {
     status.process_open_fds = descriptors->open;

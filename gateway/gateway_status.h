@@ -144,6 +144,12 @@ struct GatewayStatus {
   HttpClientsClosed http_clients_closed;
   ConsoleCounts console;
   std::uint64_t modbus_tls_refused = 0;           // TLS handshakes failed (certificate, version)
+  // [server] max_requests_per_s and max_client_requests_per_s in force (0: no limit), the
+  // requests that waited for their turn under them, and how long they waited together.
+  int modbus_max_requests_per_s = 0;
+  int modbus_max_client_requests_per_s = 0;
+  std::uint64_t modbus_requests_delayed = 0;
+  double modbus_request_delay_seconds = 0;
   std::vector<ModbusFunctionCount> modbus_requests;
   std::vector<ModbusExceptionCount> modbus_exceptions;
   std::optional<MqttStats> mqtt;      // none without [mqtt]

@@ -28,6 +28,8 @@ ModbusServerOptions modbus_server_options(const ServerConfig& server) {
                                    tls->cert_file, tls->key_file, tls->ca_file, tls->port};
   options.idle_timeout = server.idle_timeout;
   options.request_timeout = server.request_timeout;
+  options.max_requests_per_s = server.max_requests_per_s;
+  options.max_client_requests_per_s = server.max_client_requests_per_s;
   // The handler's own deadline is write_timeout; past it and a margin for the buses' thread,
   // something failed inside the gateway and the client gets its 0x0B.
   options.handler_timeout = server.write_timeout + kHandlerMargin;
@@ -47,8 +49,8 @@ ModbusListeners::ModbusListeners(boost::asio::any_io_executor bus_executor,
     : executor_(std::move(bus_executor)), server_(server), workers_(workers), retired_(executor_) {
   main_.port = kMainListener;
   main_.router = std::make_unique<RequestRouter>(executor_, router_options());
-  main_.server = std::make_unique<ModbusTcpServer>(executor_, *main_.router,
-                                                   modbus_server_options(server_), &workers_);
+  main_.server = std::make_unique<ModbusTcpServer>(
+      executor_, *main_.router, modbus_server_options(server_), &workers_, &total_rate_);
 }
 
 ModbusListeners::~ModbusListeners() = default;
@@ -65,7 +67,7 @@ RequestRouter& ModbusListeners::router_for(std::uint16_t listener) {
   made.port = listener;
   made.router = std::make_unique<RequestRouter>(executor_, router_options());
   made.server = std::make_unique<ModbusTcpServer>(
-      executor_, *made.router, bus_listener_options(server_, listener), &workers_);
+      executor_, *made.router, bus_listener_options(server_, listener), &workers_, &total_rate_);
   bus_listeners_.push_back(std::move(made));
   return *bus_listeners_.back().router;
 }

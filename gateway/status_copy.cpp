@@ -116,6 +116,8 @@ void add_listener_counts(GatewayStatus& status, const ModbusTcpServer& listener)
   status.modbus_connections_denied += server.denied;
   status.modbus_writes_denied += server.writes_denied;
   status.modbus_tls_refused += server.tls_refused;
+  status.modbus_requests_delayed += server.requests_delayed;
+  status.modbus_request_delay_seconds += double(server.delay_ns) / 1e9;
   add_counts(status.modbus_requests, listener.request_counts().requests());
   add_counts(status.modbus_exceptions, listener.request_counts().exceptions());
 }

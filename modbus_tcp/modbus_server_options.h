@@ -38,6 +38,11 @@ struct ModbusServerOptions {
   // cache) is answered 0x0B after this long, and the handler's late reply dropped: the handler
   // has deadlines of its own (write_timeout_ms), so this is a backstop no connection waits past.
   std::chrono::milliseconds handler_timeout{15000};
+  // Requests a second the server answers, from every client together (across every server
+  // sharing one SharedRateLimit) and from each connection; a request beyond them waits for its
+  // turn (modbus_tcp/request_rate.h). 0: no limit.
+  double max_requests_per_s = 0;
+  double max_client_requests_per_s = 0;
   AddressAllowList allow;        // other clients are closed at accept
   AddressAllowList write_allow;  // other clients' writes (any function but a read) get 0x01
   // A TLS client's writes get 0x01 too when its certificate's role may only read.

@@ -22,13 +22,15 @@ struct ModbusServerStats {
   std::uint64_t framing_errors = 0;    // connections closed for a bad MBAP header
   std::uint64_t request_timeouts = 0;  // connections closed with a request or reply stuck
   std::uint64_t idle_timeouts = 0;     // connections closed for silence
+  std::uint64_t requests_delayed = 0;  // requests that waited for their turn under the rates
+  std::uint64_t delay_ns = 0;          // the time they waited, together
 };
 
 // ModbusServerStats, counted from any thread.
 struct ModbusServerCounters {
   std::atomic<std::uint64_t> accepted{0}, refused{0}, replaced{0}, denied{0}, writes_denied{0},
       tls_refused{0}, requests{0}, forwarded{0}, rejected{0}, framing_errors{0},
-      request_timeouts{0}, idle_timeouts{0};
+      request_timeouts{0}, idle_timeouts{0}, requests_delayed{0}, delay_ns{0};
 
   ModbusServerStats snapshot() const;
 };

@@ -167,6 +167,7 @@ void ModbusTcpConnection::serve() {
   while (!ended_) {
     // Every whole request buffered, in order; their replies go out together.
     bool capped = false;  // stopped by kMaxQueuedReplies, with more whole requests buffered
+    bool waiting = false;  // the next request waits for its turn
     while (!blocked_) {
       if (out_.size() >= kMaxQueuedReplies) {
         capped = true;
@@ -182,6 +183,10 @@ void ModbusTcpConnection::serve() {
       }
       const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next);
       if (adu == nullptr) break;  // need more
+      if (!admitted()) {
+        waiting = true;
+        break;
+      }
       const Answer answer = this->answer(*adu);
       if (answer == Answer::close) {
         end();
@@ -201,6 +206,11 @@ void ModbusTcpConnection::serve() {
     if (!out_.empty() && frames_.buffered() == 0)
       expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
     if (!flush()) return;
+    if (waiting) {
+      // Nothing more is read meanwhile: the client's socket fills and holds it back.
+      expect(ModbusWait::turn, *turn_);
+      return;
+    }
     if (blocked_) {
       // From the first reply the client did not take, not from its last progress.
       if (waiting_for_ != ModbusWait::reply)
@@ -243,6 +253,29 @@ void ModbusTcpConnection::serve() {
       idle_since_.store(loop_.now().time_since_epoch().count(), std::memory_order_relaxed);
     expect(ModbusWait::idle, loop_.now() + options.idle_timeout);
   }
+}
+
+bool ModbusTcpConnection::admitted() {
+  const Clock::time_point now = loop_.now();
+  if (!turn_) {
+    const double own = options_.latest().max_client_requests_per_s;
+    if (own != own_rate_per_second_) {
+      own_rate_per_second_ = own;
+      own_schedule_ = RateSchedule::of(own);
+    }
+    // Its own turn first, then a place among everyone's from then: a client held to its own
+    // rate keeps no slot of the total idle meanwhile.
+    const Clock::time_point own_turn = own_rate_.reserve(now, own_schedule_);
+    turn_ = context_.total_rate.reserve(own_turn);
+    if (*turn_ > now) {
+      ++context_.counters.requests_delayed;
+      context_.counters.delay_ns += std::uint64_t(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(*turn_ - now).count());
+    }
+  }
+  if (*turn_ > now) return false;
+  turn_.reset();
+  return true;
 }
 
 ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uint8_t> adu) {
@@ -388,6 +421,10 @@ void ModbusTcpConnection::expect(ModbusWait what, Clock::time_point when) {
 ConnectionLoop::Clock::time_point ModbusTcpConnection::on_deadline(Clock::time_point now) {
   if (ended_) return Clock::time_point::max();
   if (now < deadline_) return deadline_;
+  if (waiting_for_ == ModbusWait::turn) {
+    serve();  // its turn came
+    return ended_ ? Clock::time_point::max() : deadline_;
+  }
   if (waiting_for_ == ModbusWait::handler) {
     answer_handler_late();  // the client is owed an answer, not a close
     return ended_ ? Clock::time_point::max() : deadline_;
@@ -417,6 +454,7 @@ void ModbusTcpConnection::expire() {
                   fmt::format("reply not taken within {} ms", options.request_timeout.count()));
       break;
     case ModbusWait::handler: break;  // answered 0x0B instead (answer_handler_late())
+    case ModbusWait::turn: break;     // served when it comes (on_deadline())
   }
 }
 

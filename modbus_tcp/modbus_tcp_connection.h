@@ -36,6 +36,7 @@
 #include "modbus_tcp/modbus_server_stats.h"
 #include "modbus_tcp/modbus_stream.h"
 #include "modbus_tcp/modbus_types.h"
+#include "modbus_tcp/request_rate.h"
 
 namespace tiltgate {
 
@@ -51,6 +52,8 @@ struct ModbusConnectionContext {
   ModbusServerCounters& counters;
   ModbusRequestCounts& request_counts;
   const ModbusOptionsInForce& options;  // read through the connection's own Reader
+  // Every client's requests together ([server] max_requests_per_s), shared by all servers.
+  SharedRateLimit& total_rate;
   ClientProblemLog& problem_log;
   // Called once, on the connection's loop, when it is closed and its serving ends.
   std::function<void(const std::shared_ptr<ModbusTcpConnection>&)> finished;
@@ -65,6 +68,7 @@ enum class ModbusWait {
   request,  // the rest of a request whose first byte arrived: request_timeout
   handler,  // the handler is working: handler_timeout, a backstop (writes have their own)
   reply,    // the client taking its reply: request_timeout
+  turn,     // a whole request waits for its turn under the request rates (request_rate.h)
 };
 
 // Its stream, buffers and deadline belong to its loop's thread; the accepting thread reads
@@ -111,6 +115,9 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   // Reads what arrived, answers every whole request and sends the replies, until it has to
   // wait: for the socket, the client or the handler.
   void serve();
+  // Whether the request at the head may be answered now under the request rates; if not,
+  // turn_ says when.
+  bool admitted();
   // One framed request: its reply queued, or handed to the handler.
   Answer answer(std::span<const std::uint8_t> adu);
   // request_ answered by the reader from its cache (a read: without an allocation); false
@@ -175,6 +182,12 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   bool with_handler_ = false;  // a request is with the handler: answer nothing else
   std::uint64_t handler_turn_ = 0;  // hand_over()s so far
   std::vector<std::uint8_t> handed_adu_;  // the request with the handler
+  // [server] max_client_requests_per_s: this client's own limit, and its schedule for the rate
+  // it was made for.
+  RateLimit own_rate_;
+  double own_rate_per_second_ = 0;
+  RateSchedule own_schedule_;
+  std::optional<Clock::time_point> turn_;  // when the request at the head may be answered
 };
 
 }  // namespace tiltgate

@@ -86,6 +86,10 @@ std::string modbus_json(const GatewayStatus& s) {
                         {"denied", s.modbus_connections_denied},
                         {"writes_denied", s.modbus_writes_denied},
                         {"tls_refused", s.modbus_tls_refused},
+                        {"max_requests_per_s", s.modbus_max_requests_per_s},
+                        {"max_client_requests_per_s", s.modbus_max_client_requests_per_s},
+                        {"requests_delayed", s.modbus_requests_delayed},
+                        {"request_delay_seconds", s.modbus_request_delay_seconds},
                         {"http_denied", s.http_connections_denied}});
 }
 

@@ -160,6 +160,20 @@ const GatewaySingle kModbusSingles[] = {
      "Modbus/TCP Security connections closed in the TLS handshake: no client certificate, one "
      "not signed by the configured CA, or an older TLS",
      [](const GatewayStatus& g) { return double(g.modbus_tls_refused); }},
+    {"tiltgate_modbus_max_requests_per_second", "gauge",
+     "[server] max_requests_per_s in force: Modbus TCP requests answered a second from every "
+     "client together, beyond which a request waits for its turn (0: no limit)",
+     [](const GatewayStatus& g) { return double(g.modbus_max_requests_per_s); }},
+    {"tiltgate_modbus_max_client_requests_per_second", "gauge",
+     "[server] max_client_requests_per_s in force: the same for each connection (0: no limit)",
+     [](const GatewayStatus& g) { return double(g.modbus_max_client_requests_per_s); }},
+    {"tiltgate_modbus_requests_delayed_total", "counter",
+     "Modbus TCP requests that waited for their turn under the request rates (answered later, "
+     "never refused)",
+     [](const GatewayStatus& g) { return double(g.modbus_requests_delayed); }},
+    {"tiltgate_modbus_request_delay_seconds_total", "counter",
+     "The time those requests waited for their turn, together",
+     [](const GatewayStatus& g) { return g.modbus_request_delay_seconds; }},
     {"tiltgate_http_connections_denied_total", "counter",
      "HTTP connections closed at once: the address is not in [http] allow",
      [](const GatewayStatus& g) { return double(g.http_connections_denied); }},

@@ -83,6 +83,10 @@ GatewayStatus plant() {
   status.http_connections_denied = 2;
   status.http_clients_closed = {.refused = 7, .replaced = 8, .timed_out = 9, .bad_request = 10};
   status.modbus_tls_refused = 6;
+  status.modbus_max_requests_per_s = 20000;
+  status.modbus_max_client_requests_per_s = 5000;
+  status.modbus_requests_delayed = 11;
+  status.modbus_request_delay_seconds = 0.25;
   status.modbus_requests = {{0x03, 7}, {0x2B, 1}};
   status.modbus_exceptions = {{0x03, 0x02, 1}};
   status.process_start_seconds = 1700000000.5;
@@ -231,12 +235,18 @@ TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus request
   CHECK(text.find("tiltgate_modbus_writes_denied_total 5\n") != std::string::npos);
   CHECK(text.find("tiltgate_http_connections_denied_total 2\n") != std::string::npos);
   CHECK(text.find("tiltgate_modbus_tls_refused_total 6\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_max_requests_per_second 20000\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_max_client_requests_per_second 5000\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_requests_delayed_total 11\n") != std::string::npos);
+  CHECK(text.find("tiltgate_modbus_request_delay_seconds_total 0.25\n") != std::string::npos);
 }
 
 TEST_CASE("JSON: /api/modbus counts the connections and who was kept out") {
   CHECK(modbus_json(plant()) ==
         "{\"clients\":2,\"connections\":6,\"refused\":1,\"replaced\":3,\"denied\":4,"
-        "\"writes_denied\":5,\"tls_refused\":6,\"http_denied\":2}");
+        "\"writes_denied\":5,\"tls_refused\":6,\"max_requests_per_s\":20000,"
+        "\"max_client_requests_per_s\":5000,\"requests_delayed\":11,"
+        "\"request_delay_seconds\":0.25,\"http_denied\":2}");
 }
 
 TEST_CASE("metrics: the MQTT feed's series only when [mqtt] is on") {
