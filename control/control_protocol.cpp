@@ -75,7 +75,8 @@ constexpr std::pair<LineError, std::string_view> kLineErrors[] = {
     {LineError::io, "io"},
     {LineError::closed, "closed"},
     {LineError::cancelled, "cancelled"},
-    {LineError::expired, "expired"}};
+    {LineError::expired, "expired"},
+    {LineError::overloaded, "overloaded"}};
 
 std::string_view word_of(LineError error) {
   for (const auto& [e, word] : kLineErrors)

@@ -9,6 +9,7 @@ const char* to_string(LineError e) {
     case LineError::closed: return "port not open";
     case LineError::cancelled: return "cancelled";
     case LineError::expired: return "not sent: its deadline would pass first";
+    case LineError::overloaded: return "the machine held the reply back: overloaded";
   }
   return "unknown";
 }

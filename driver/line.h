@@ -22,7 +22,11 @@ enum class LineError {
   cancelled, // shutdown
   // Not sent: the one it was sent for must have its answer before the attempt could end (a
   // write's write_timeout_ms, gateway/line_claimant.h). The sensor was not asked.
-  expired
+  expired,
+  // The machine held what the line received past the reply wait and a long grace after it (the
+  // kernel's tty worker did not run: serial/delivery_probe.h): nothing was learnt of the device,
+  // whose reply may well have come.
+  overloaded
 };
 
 const char* to_string(LineError e);
@@ -88,6 +92,10 @@ struct LineStats {
   std::uint64_t late_replies = 0;  // bursts of bytes after a time-out, discarded (LineTiming)
   std::uint64_t io_errors = 0;  // failed reads/writes
   std::uint64_t reopens = 0;    // successful (re)opens after the first
+  // Reply waits made longer because this machine had not handed on what the line received by
+  // their deadline (serial/delivery_probe.h), and attempts given up as overloaded.
+  std::uint64_t machine_held = 0;
+  std::uint64_t overloaded = 0;
 };
 
 // What the Line saw of the timing of the last transact(), for drivers that adapt their reply
@@ -113,6 +121,9 @@ struct LineTiming {
   // The last attempt timed out silent and the line was given up after a short look
   // (LineRequest::release_when_silent): until then the device's late reply may still come.
   std::optional<std::chrono::steady_clock::time_point> late_window_end;
+  // How long this machine held what the line received past reply deadlines (the reply waits
+  // were made that much longer): the machine's lateness, none of the device's.
+  std::chrono::milliseconds machine_held{0};
 };
 
 class Line {

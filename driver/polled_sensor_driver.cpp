@@ -119,9 +119,11 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     if (!holding_online_) state_.online = true;
     state_.unanswered = false;
     state_.last_answer = SteadyClock::now();
-  } else if (sent.error() == LineError::expired || sent.error() == LineError::cancelled) {
-    // Never sent, or cut off by a stop (the gateway's, a reload's): nothing was learnt of the
-    // sensor, which must not be logged as having stopped answering.
+  } else if (sent.error() == LineError::expired || sent.error() == LineError::cancelled ||
+             sent.error() == LineError::overloaded) {
+    // Never sent, cut off by a stop (the gateway's, a reload's), or held back by an overloaded
+    // machine: nothing was learnt of the sensor, which must not be logged as having stopped
+    // answering.
   } else {
     if (sent.error() == LineError::timeout) {
       ++state_.counters.timeouts;

@@ -64,8 +64,8 @@ class PolledSensorDriver : public SensorDriver {
   // transactions, time-outs, port errors, late replies, and online (whether anything valid
   // came back). Sends the request with the sensor's reply time-out, adapted after each
   // attempt; `options.retries` -1 retries as the line's retries() says. A request the line
-  // did not send (LineError::expired), or one a stop cut off (LineError::cancelled), changes
-  // nothing of the sensor's state.
+  // did not send (LineError::expired), one a stop cut off (LineError::cancelled) or one the
+  // machine held back (LineError::overloaded) changes nothing of the sensor's state.
   boost::asio::awaitable<Expected<Done, LineError>> transact_counted(Line& line,
                                                                     LineRequest request,
                                                                     ExchangeOptions options);

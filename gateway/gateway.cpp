@@ -316,9 +316,12 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
     if (const auto share = rounded(sensor_rates_.rate(2 * i + 1), 1000))
       status.sensors.back().line_share = std::min(*share, 1.0);
   }
-  for (std::size_t i = 0; i < buses_.size(); ++i)
+  for (std::size_t i = 0; i < buses_.size(); ++i) {
     status.buses.push_back(bus_status(config_.buses[i], buses_[i]->scheduler->stats(),
                                       bus_rates_.rate(2 * i), bus_rates_.rate(2 * i + 1)));
+    status.buses.back().machine_held = buses_[i]->line->stats().machine_held;
+    status.buses.back().overloaded = buses_[i]->line->stats().overloaded;
+  }
   // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
   for (const ModbusTcpServer* listener : listeners_.servers()) add_listener_counts(status, *listener);
   status.modbus_max_requests_per_s = config_.server.max_requests_per_s;

@@ -70,6 +70,10 @@ struct BusStatus {
   std::uint64_t forwarded = 0;
   // The bus's loop or a poller failed and went on (BusSchedulerStats::restarts).
   std::uint64_t restarts = 0;
+  // Reply waits made longer because this machine had not handed on what the line received by
+  // their deadline, and attempts given up as overloaded (LineStats; serial/serial_line.h).
+  std::uint64_t machine_held = 0;
+  std::uint64_t overloaded = 0;
   // Seconds the bus spent in transactions (polls, writes, forwarded requests, commands),
   // waiting for replies and time-outs included: the wire's time this bus has used.
   double busy_seconds = 0;

@@ -16,6 +16,7 @@ namespace {
 void add_attempt(LineTiming& total, const LineTiming& attempt) {
   total.reply_delay = attempt.reply_delay;
   total.late_replies += attempt.late_replies;
+  total.machine_held += attempt.machine_held;
   if (attempt.late_delay)
     total.late_delay = std::max(total.late_delay.value_or(attempt.late_delay.value()),
                                 *attempt.late_delay);

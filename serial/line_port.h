@@ -20,6 +20,8 @@
 
 namespace tiltgate {
 
+class DeliveryProbe;
+
 class LinePort {
  public:
   virtual ~LinePort() = default;
@@ -73,6 +75,10 @@ class LinePort {
   // measured round trip with its variation (zero on a tty). The line adds it to every reply
   // wait and late-reply window.
   virtual std::chrono::microseconds network_allowance() const { return {}; }
+  // What tells whether this machine has handed on what the port received (a tty's bytes pass a
+  // kernel worker: serial/delivery_probe.h); none where the path has no such hold (a network
+  // port, whose round trip the line allows for instead).
+  virtual DeliveryProbe* delivery_probe() { return nullptr; }
   // The connection's smoothed round trip alone, which the line takes off a measured reply time
   // so that a sensor's adapted reply wait stays the sensor's own (zero on a tty).
   virtual std::chrono::microseconds round_trip() const { return {}; }

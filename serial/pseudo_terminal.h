@@ -22,6 +22,8 @@ class PseudoTerminal {
   int master_fd() const { return master_fd_; }
   // Gives up ownership of the master descriptor (to an asio stream_descriptor, say).
   int release_master();
+  // The slave side the pair holds open (closed with it).
+  int slave_fd() const { return slave_fd_; }
   const std::string& slave_path() const { return slave_path_; }
   // Closes both sides: to the process on the slave side it looks like an unplugged adapter.
   void close();

@@ -15,6 +15,7 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <utility>
 
+#include "serial/delivery_probe.h"
 #include "serial/frame_trace.h"
 #include "serial/late_window.h"
 
@@ -102,6 +103,13 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
     if (port_->stopped()) co_return Unexpected(LineError::cancelled);
     if (!port_->is_open()) co_return Unexpected(LineError::closed);
     Attempt outcome = co_await attempt(request, timeout);
+    if (outcome == Attempt::overloaded) {
+      // Its reply may still come: kept off the next request like a late one.
+      const auto guarded =
+          co_await discard_late_replies(late_window_end(request, timeout), packet_end_);
+      co_return Unexpected(guarded == Attempt::cancelled ? LineError::cancelled
+                                                         : LineError::overloaded);
+    }
     if (outcome == Attempt::timed_out) {
       ++stats_.timeouts;
       spdlog::debug("{}: no reply within {} ms", options_.name, timeout.count());
@@ -131,6 +139,7 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
       case Attempt::replied: co_return Done{};
       case Attempt::failed: co_return Unexpected(LineError::io);
       case Attempt::cancelled: co_return Unexpected(LineError::cancelled);
+      case Attempt::overloaded: co_return Unexpected(LineError::overloaded);
       case Attempt::timed_out:
         if (attempts_left <= 1) co_return Unexpected(LineError::timeout);
         break;
@@ -313,11 +322,21 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
                                                          Clock::time_point deadline) {
   std::span<const std::uint8_t> echo;
   if (options_.echo) echo = std::span<const std::uint8_t>(request.bytes);
+  const Clock::duration wait = deadline - packet_end_;
+  const Clock::time_point hold_limit = deadline + kMaxMachineHold;
   std::array<std::uint8_t, 256> buffer{};
+  bool last_look = false;  // the deadline passed with the machine caught up: one read more
   for (;;) {
     // Also ends an attempt drowned in bytes that never make a reply.
-    if (Clock::now() >= deadline) co_return Attempt::timed_out;
-    const Expected<std::size_t, Attempt> received = co_await read_before(buffer, deadline);
+    if (Clock::now() >= deadline) {
+      if (last_look) co_return Attempt::timed_out;
+      const std::optional<Attempt> held = co_await wait_for_machine(deadline, hold_limit, wait);
+      if (held) co_return *held;
+      last_look = Clock::now() >= deadline;
+    }
+    const Expected<std::size_t, Attempt> received =
+        co_await read_before(buffer, last_look ? Clock::now() : deadline);
+    if (!received && received.error() == Attempt::timed_out) continue;  // the deadline's turn
     if (!received) co_return received.error();
     std::span<const std::uint8_t> chunk(buffer.data(), *received);
     if (!echo.empty()) {
@@ -333,7 +352,8 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
     if (tracing_) traced_received_.insert(traced_received_.end(), chunk.begin(), chunk.end());
     if (!chunk.empty()) heard_ = true;
     if (!chunk.empty() && request.framer->feed(chunk)) {
-      timing_.reply_delay = whole_ms(last_byte_at_ - packet_end_ - port_->round_trip());
+      timing_.reply_delay =
+          whole_ms(last_byte_at_ - packet_end_ - port_->round_trip() - timing_.machine_held);
       if (tracing_) {
         for (const std::string& line :
              traced_reply(traced_received_, request.framer->report(), *timing_.reply_delay)) {
@@ -343,6 +363,39 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
       co_return Attempt::replied;
     }
   }
+}
+
+asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::wait_for_machine(
+    Clock::time_point& deadline, Clock::time_point hold_limit, Clock::duration wait) {
+  DeliveryProbe* probe = port_->delivery_probe();
+  if (probe == nullptr && !delivery_check_) co_return std::nullopt;
+  const auto limit = std::max(
+      std::chrono::ceil<std::chrono::milliseconds>(hold_limit - Clock::now()),
+      std::chrono::milliseconds{1});
+  const std::optional<std::chrono::microseconds> lag =
+      delivery_check_ ? co_await delivery_check_(limit) : co_await probe->measure(limit);
+  if (port_->stopped()) co_return Attempt::cancelled;
+  if (!lag || *lag >= kMachineBehind) {
+    timing_.machine_held += std::chrono::ceil<std::chrono::milliseconds>(lag.value_or(limit));
+    ++(lag ? stats_.machine_held : stats_.overloaded);
+  }
+  if (!lag) {
+    const Clock::time_point now = Clock::now();
+    if (!overload_logged_at_ || now - *overload_logged_at_ >= kOverloadLogInterval) {
+      spdlog::warn("{}: this machine held the line's bytes more than {} s past a reply deadline "
+                   "({} time(s) in all): attempts given up as overloaded, no device blamed",
+                   options_.name, kMaxMachineHold.count(), stats_.overloaded);
+      overload_logged_at_ = now;
+    }
+    co_return Attempt::overloaded;
+  }
+  if (*lag >= kMachineBehind) {
+    spdlog::debug("{}: the machine was {} us behind at a reply deadline: the reply wait starts "
+                  "again",
+                  options_.name, lag->count());
+    deadline = Clock::now() + wait;
+  }
+  co_return std::nullopt;
 }
 
 asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_before(

@@ -32,6 +32,17 @@
 // answer may still be on its way. A line that never falls quiet (a babbling device) is given
 // up on one guard time after the window, so the bus cannot be held forever.
 //
+// The machine's own lateness: a tty's received bytes reach the line through a kernel worker
+// that a loaded machine can leave waiting (serial/delivery_probe.h). So a reply wait that ends
+// without a whole reply first waits until this machine has handed on everything the port had
+// received by then (a probe byte through the same path), then looks once more: a reply whose
+// bytes were in the kernel before the deadline is on time, however late they were handed on
+// or the event loop woke. If the machine was behind (the probe took kMachineBehind or more),
+// the reply wait starts again from then (a pseudo-terminal's request waits for the same
+// worker), counted in stats().machine_held and LineTiming::machine_held. A machine still
+// holding the bytes kMaxMachineHold after the deadline gives the attempt up as
+// LineError::overloaded: nothing is learnt of the device, and it is not retried.
+//
 // Echo (an adapter that hears its own transmission): the echo is read back and compared with
 // what was sent. A mismatch means another transmitter collided with ours; that attempt fails
 // like a time-out (retried, counted in stats().timeouts and echo_mismatches()), because the
@@ -102,6 +113,10 @@ class SerialLine final : public Line {
   // so a test can see the parity an address byte went out with.
   using WriteObserver = std::function<void(std::span<const std::uint8_t> written,
                                            Parity applied, const TtySettings& in_force)>;
+  // Test hook: asked at a reply deadline instead of the port's delivery probe, as
+  // DeliveryProbe::measure() is (how long the machine took to hand on what it had received).
+  using DeliveryCheck = std::function<boost::asio::awaitable<
+      std::optional<std::chrono::microseconds>>(std::chrono::milliseconds limit)>;
 
   // Makes the port the line runs on; `on_reopened` is to be called after each successful open
   // but the first.
@@ -147,9 +162,17 @@ class SerialLine final : public Line {
   // low_latency is off).
   const std::optional<LowLatencyResult>& low_latency() const { return port_->low_latency(); }
   void observe_writes(WriteObserver observer) { write_observer_ = std::move(observer); }
+  void check_delivery_with(DeliveryCheck check) { delivery_check_ = std::move(check); }
 
  private:
-  enum class Attempt { replied, timed_out, failed, cancelled };
+  enum class Attempt { replied, timed_out, overloaded, failed, cancelled };
+
+  // A probe through the kernel taking this long means the machine was behind.
+  static constexpr std::chrono::milliseconds kMachineBehind{2};
+  // How long past a reply deadline the machine may hold the line's bytes.
+  static constexpr std::chrono::seconds kMaxMachineHold{2};
+  // An overloaded machine is logged at most this often.
+  static constexpr std::chrono::seconds kOverloadLogInterval{60};
   using Clock = std::chrono::steady_clock;
 
   // A read, write or termios call that failed: counted, and the port given up for reopening.
@@ -181,6 +204,12 @@ class SerialLine final : public Line {
   boost::asio::awaitable<std::optional<Attempt>> write_segment(std::span<const std::uint8_t> bytes,
                                                                Parity parity);
   boost::asio::awaitable<Attempt> receive(const LineRequest& request, Clock::time_point deadline);
+  // At a reply wait's deadline: waits until the machine has handed on what the port received
+  // so far; moves `deadline` a whole `wait` past now when it was behind. Returns the attempt's
+  // end when the machine still held the bytes at `hold_limit`, or the line stopped.
+  boost::asio::awaitable<std::optional<Attempt>> wait_for_machine(Clock::time_point& deadline,
+                                                                  Clock::time_point hold_limit,
+                                                                  Clock::duration wait);
   // One read that gives up at `deadline`: how many bytes came, or timed_out when none came in
   // time, or the outcome of a failed port or a stopped line.
   boost::asio::awaitable<Expected<std::size_t, Attempt>> read_before(std::span<std::uint8_t> buffer,
@@ -199,6 +228,8 @@ class SerialLine final : public Line {
   LineStats stats_;
   LineTiming timing_;
   WriteObserver write_observer_;
+  DeliveryCheck delivery_check_;
+  std::optional<Clock::time_point> overload_logged_at_;
   // --log-level trace (serial/frame_trace.h): set per transaction; the bytes read in the
   // current attempt, kept only while tracing.
   bool tracing_ = false;

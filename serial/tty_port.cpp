@@ -27,7 +27,8 @@ TtyPort::TtyPort(boost::asio::any_io_executor executor, TtyPortOptions options,
     : options_(std::move(options)),
       on_reopened_(std::move(on_reopened)),
       stream_(executor),
-      reopen_timer_(executor) {
+      reopen_timer_(executor),
+      probe_(executor) {
   // A zero back-off would spin; a maximum below the minimum would make no sense.
   options_.reopen_min = std::max(options_.reopen_min, std::chrono::milliseconds{1});
   options_.reopen_max = std::max(options_.reopen_max, options_.reopen_min);
@@ -50,6 +51,7 @@ bool TtyPort::open() {
 void TtyPort::stop() {
   stopped_ = true;
   reopen_timer_.cancel();
+  probe_.stop();
   error_code ignored;
   stream_.close(ignored);  // a pending read or write completes with operation_aborted
 }

@@ -31,6 +31,7 @@
 #include <string>
 
 #include "driver/expected.h"
+#include "serial/delivery_probe.h"
 #include "serial/line_port.h"
 #include "serial/low_latency.h"
 #include "serial/termios_settings.h"
@@ -77,6 +78,7 @@ class TtyPort final : public LinePort {
   Expected<Done, std::string> wait_until_sent() override;
   std::optional<TtySettings> settings_in_force() override;
   const std::optional<LowLatencyResult>& low_latency() const override { return low_latency_; }
+  DeliveryProbe* delivery_probe() override { return &probe_; }
 
  private:
   Expected<Done, std::string> open_now();
@@ -88,6 +90,7 @@ class TtyPort final : public LinePort {
   std::function<void()> on_reopened_;
   boost::asio::posix::stream_descriptor stream_;
   boost::asio::steady_timer reopen_timer_;
+  DeliveryProbe probe_;
   std::chrono::milliseconds reopen_delay_;
   bool stopped_ = false;
   bool warned_rs485_ = false;

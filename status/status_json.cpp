@@ -65,6 +65,8 @@ Json bus_object(const BusStatus& b) {
               {"polls", b.polls},
               {"writes", b.writes},
               {"forwarded", b.forwarded},
+              {"machine_held", b.machine_held},
+              {"overloaded", b.overloaded},
               {"busy_seconds", json_number(b.busy_seconds)},
               {"polls_per_s", json_number(b.polls_per_s)},
               {"utilisation", json_number(b.utilisation)}};

@@ -124,6 +124,15 @@ const BusFamily kBusFamilies[] = {
      "Times the bus's loop or a sensor's poller failed (an exception, logged at error) and went "
      "on after a pause; 0 in a healthy gateway",
      [](const BusStatus& b) -> std::optional<double> { return double(b.restarts); }},
+    {"tiltgate_bus_machine_held_total", "counter",
+     "Reply waits made longer because this machine had not handed on what the line received by "
+     "their deadline (the kernel's tty worker waited for a core): the machine's lateness, no "
+     "device's",
+     [](const BusStatus& b) -> std::optional<double> { return double(b.machine_held); }},
+    {"tiltgate_bus_overloaded_total", "counter",
+     "Attempts given up because this machine held the line's bytes more than 2 s past the reply "
+     "deadline: nothing learnt of the device, which is not blamed",
+     [](const BusStatus& b) -> std::optional<double> { return double(b.overloaded); }},
     {"tiltgate_bus_utilisation_ratio", "gauge",
      "Share of the last seconds the bus was busy, 0 to 1 (1: it cannot poll faster)",
      [](const BusStatus& b) { return b.utilisation; }},

@@ -74,6 +74,8 @@ GatewayStatus plant() {
   status.buses[0].busy_seconds = 1.25;
   status.buses[0].polls_per_s = 9.5;
   status.buses[0].utilisation = 0.5;
+  status.buses[0].machine_held = 3;
+  status.buses[0].overloaded = 1;
   status.modbus_clients = 2;
   status.modbus_connections = 6;
   status.modbus_connections_refused = 1;
@@ -165,7 +167,8 @@ TEST_CASE("status JSON: the sensor and bus lists are arrays") {
   CHECK(two.find("},{\"name\":\"mast\"") != std::string::npos);
   CHECK(buses_json(plant().buses) ==
         R"([{"name":"line1","port":"/dev/ttyUSB0","baud":125000,"protocol":"p1","polls":12,)"
-        R"("writes":1,"forwarded":0,"busy_seconds":1.25,"polls_per_s":9.5,"utilisation":0.5}])");
+        R"("writes":1,"forwarded":0,"machine_held":3,"overloaded":1,"busy_seconds":1.25,)"
+        R"("polls_per_s":9.5,"utilisation":0.5}])");
   CHECK(buses_json({bus("line2", "/dev/ttyUSB1", 9600)}).find(R"("polls_per_s":null,"utilisation":null})") != std::string::npos);
 }
 
@@ -224,6 +227,8 @@ TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus request
   CHECK(text.find("tiltgate_sensor_naks_total{sensor=\"mast\"") == std::string::npos);
   CHECK(text.find("tiltgate_bus_busy_seconds_total{bus=\"line1\"} 1.25\n") != std::string::npos);
   CHECK(text.find("tiltgate_bus_utilisation_ratio{bus=\"line1\"} 0.5\n") != std::string::npos);
+  CHECK(text.find("tiltgate_bus_machine_held_total{bus=\"line1\"} 3\n") != std::string::npos);
+  CHECK(text.find("tiltgate_bus_overloaded_total{bus=\"line1\"} 1\n") != std::string::npos);
   CHECK(text.find("tiltgate_modbus_requests_total{function=\"03\"} 7\n") != std::string::npos);
   CHECK(text.find("tiltgate_modbus_requests_total{function=\"2B\"} 1\n") != std::string::npos);
   CHECK(text.find("tiltgate_modbus_exceptions_total{function=\"03\",code=\"02\"} 1\n") !=
