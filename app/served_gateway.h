@@ -33,6 +33,8 @@ class ServedGateway {
 
  private:
   // Before the gateway: the buses' writes and the services record into it until they stop.
+  // So it goes last, and its destructor writes every record still queued for its writer
+  // thread before the process exits (AuditTrail::close).
   AuditTrail audit_{""};
   Gateway gateway_;  // first: the services refer to it, and go before it
   HttpService http_;

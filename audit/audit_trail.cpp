@@ -1,6 +1,7 @@
 #include "audit/audit_trail.h"
 
 #include <chrono>
+#include <limits>
 #include <spdlog/spdlog.h>
 
 #include "audit/audit_json.h"
@@ -42,9 +43,11 @@ AuditTrail::AuditTrail(std::string state_dir, std::size_t max_records)
   if (!state_dir.empty()) open(state_dir);
 }
 
+AuditTrail::~AuditTrail() { close(); }
+
 void AuditTrail::open(const std::string& state_dir) {
   const std::lock_guard lock(mutex_);
-  if (store_ || state_dir.empty()) return;
+  if (!folder_.empty() || closed_ || state_dir.empty()) return;
   const std::string folder = audit_folder(state_dir);
   // One gateway per folder: two appending to the same files would tear each other's records.
   std::error_code made;
@@ -57,9 +60,10 @@ void AuditTrail::open(const std::string& state_dir) {
                   folder_lock.error());
     return;
   }
+  // Synced by the writer, once a batch (write_out), never by the count of appends.
   auto opened = store::RecordStore::open(
       folder, {.budget_bytes = kAuditStoreBytes, .segment_bytes = kAuditSegmentBytes,
-               .sync_every = 1});
+               .sync_every = std::numeric_limits<std::size_t>::max()});
   if (!opened) {
     spdlog::error("audit: cannot keep the trail in {}: {}; it is kept in memory only", folder,
                   opened.error());
@@ -74,15 +78,19 @@ void AuditTrail::open(const std::string& state_dir) {
   }
   lock_ = std::move(*folder_lock);
   store_.emplace(std::move(*opened));
+  folder_ = folder;
+  log_store_notices();
   std::deque<AuditRecord> meanwhile = std::move(records_);
   records_.clear();
   for (const store::Record& stored : *found)
     if (auto record = from_stored(stored)) keep(std::move(*record));
+  // From here on the store is the writer's.
+  writer_ = std::make_unique<AuditWriter>(
+      [this](const std::vector<AuditRecord>& batch) { return write_out(batch); });
   for (AuditRecord& record : meanwhile) {
-    store_record(record);
+    writer_->push(record);
     keep(std::move(record));
   }
-  log_store_notices();
   spdlog::info("audit: the trail is kept in {} ({} records)", folder, records_.size());
 }
 
@@ -91,11 +99,31 @@ void AuditTrail::record(AuditRecord record) {
   spdlog::info("audit: {}", audit_text(record));
   const std::lock_guard lock(mutex_);
   ++counts_[{record.origin.door, std::string(audit_result_class(record.result))}];
-  if (store_) {
-    store_record(record);
-    log_store_notices();
-  }
+  if (writer_) writer_->push(record);
   keep(std::move(record));
+}
+
+bool AuditTrail::flush() {
+  AuditWriter* writer = nullptr;
+  {
+    const std::lock_guard lock(mutex_);
+    writer = writer_.get();  // set once, by open(), and kept until the trail goes
+  }
+  // Not under mutex_: record() goes on while the writer works.
+  return writer != nullptr && writer->flush();
+}
+
+void AuditTrail::close() {
+  AuditWriter* writer = nullptr;
+  {
+    const std::lock_guard lock(mutex_);
+    if (closed_) return;
+    closed_ = true;
+    writer = writer_.get();
+  }
+  if (writer != nullptr && !writer->close())
+    spdlog::error("audit: the disk still refuses the newest records of the trail; they are lost "
+                  "as the gateway stops");
 }
 
 void AuditTrail::keep(AuditRecord record) {
@@ -103,9 +131,14 @@ void AuditTrail::keep(AuditRecord record) {
   while (records_.size() > max_records_) records_.pop_front();
 }
 
-void AuditTrail::store_record(const AuditRecord& record) {
-  if (auto appended = store_->append(to_stored(record)); !appended)
-    spdlog::error("audit: record not kept on disk: {}", appended.error());
+bool AuditTrail::write_out(const std::vector<AuditRecord>& batch) {
+  for (const AuditRecord& record : batch)
+    if (auto appended = store_->append(to_stored(record)); !appended)
+      spdlog::error("audit: record not kept on disk: {}", appended.error());  // never fits
+  const bool synced = store_->sync().has_value();
+  log_store_notices();
+  // A refused append is held in the store's memory, written out by a later sync.
+  return synced && !store_->disk_fault();
 }
 
 void AuditTrail::log_store_notices() {
@@ -131,7 +164,7 @@ AuditCounts AuditTrail::counts() const {
 
 std::string AuditTrail::folder() const {
   const std::lock_guard lock(mutex_);
-  return store_ ? store_->directory().string() : std::string();
+  return folder_;
 }
 
 std::vector<AuditRecord> select_audit(const std::deque<AuditRecord>& all,

@@ -8,17 +8,23 @@
 //
 // Bound: the newest max_records in memory (what recent() searches), and at most
 // kAuditStoreBytes on disk, the oldest dropped first (whole segments of kAuditSegmentBytes).
-// Each record is fsynced as it is written: changes are rare, and a power cut right after one
-// must not lose it.
 //
-// Threads: any (one mutex). Owned by the composition root (app/served_gateway.h), which gives
-// the gateway a reference to it; no global.
+// Durability: record() takes the record in memory at once (recent() and counts() see it) and
+// queues it for the trail's writer thread (audit/audit_writer.h), which appends what queued up
+// and syncs it to disk, one sync a batch, as soon as it can: a power cut loses at most the
+// records of the moment. record() never waits for the disk: it is called on the buses' thread
+// for every write carried out. Records the disk refuses are kept in memory and written by the
+// writer's next try. close() (and the destructor) writes everything queued before it returns.
+//
+// Threads: any (one mutex; the store is the writer's once it runs). Owned by the composition
+// root (app/served_gateway.h), which gives the gateway a reference to it; no global.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -27,6 +33,7 @@
 
 #include "audit/audit_counts.h"
 #include "audit/audit_record.h"
+#include "audit/audit_writer.h"
 #include "store/record_store.h"
 
 namespace tiltgate {
@@ -40,16 +47,25 @@ class AuditTrail {
   // state_dir empty: kept in memory only (tiltgate demo). An unusable folder: logged, memory
   // only.
   explicit AuditTrail(std::string state_dir, std::size_t max_records = kAuditMaxRecords);
+  ~AuditTrail();  // close()
   AuditTrail(const AuditTrail&) = delete;
   AuditTrail& operator=(const AuditTrail&) = delete;
 
   // Keeps the trail in <state_dir>/audit/ from now on (the composition root calls it once the
   // gateway serves as its own user, so the files are that user's): the records found there
-  // come first, then those recorded in memory meanwhile, which are written there too.
+  // come first, then those recorded in memory meanwhile, which are written there too. Starts
+  // the writer thread.
   void open(const std::string& state_dir);
 
-  // Any thread; stamps the time when the record has none. Also logged: "audit: ...".
+  // Any thread; stamps the time when the record has none. Also logged: "audit: ...". Returns
+  // at once: the writer takes it to disk.
   void record(AuditRecord record);
+  // Waits until what was recorded before is on disk; false when the disk refused it (kept in
+  // memory, tried again) or the trail is in memory only.
+  bool flush();
+  // Writes everything queued and ends the writer thread; a record after it is written by its
+  // caller. At shutdown, once nothing records any more. Idempotent.
+  void close();
 
   // Empty fields match every record; `who` matches a part ("10.0.0.5" finds its connections),
   // the others the whole field. limit 0: no limit.
@@ -66,14 +82,18 @@ class AuditTrail {
 
  private:
   void keep(AuditRecord record);  // in memory, within max_records_
-  void store_record(const AuditRecord& record);
+  // The writer's sink (AuditWriter::Sink): the batch appended to the store, and one sync.
+  bool write_out(const std::vector<AuditRecord>& batch);
   void log_store_notices();
 
   mutable std::mutex mutex_;
   std::size_t max_records_;
   std::deque<AuditRecord> records_;  // oldest first
+  std::string folder_;    // where the trail is kept; empty while in memory only
   store::UniqueFd lock_;  // before the store: released after it closed
-  std::optional<store::RecordStore> store_;
+  std::optional<store::RecordStore> store_;  // touched by the writer alone once it runs
+  std::unique_ptr<AuditWriter> writer_;      // after the store: it ends first
+  bool closed_ = false;
   std::map<std::pair<std::string, std::string>, std::uint64_t> counts_;  // (door, class)
 };
 

@@ -76,27 +76,35 @@ void HttpService::start() {
   boost::asio::co_spawn(gateway_.executor(), record_history(), boost::asio::detached);
 }
 
-void HttpService::start_http() {
+void HttpService::start_http(HttpThread::PortRelease replaced) {
   if (!http_) return;
-  if (auto started = http_->start(); !started)
-    spdlog::warn("HTTP status API off: {}", started.error());
-  else
-    spdlog::info("HTTP status API and metrics on {}://{}:{}/{}", config_.https() ? "https" : "http",
-                 config_.listen, http_->local_port(),
-                 config_.users_file.empty() ? "" : " (web console: accounts in " + config_.users_file + ")");
+  // Said at once, or from the HTTP thread once a replaced server has let the port go.
+  http_->start(
+      [https = config_.https(), listen = config_.listen, users_file = config_.users_file](
+          const Expected<Done, std::string>& started, std::uint16_t port) {
+        if (!started)
+          spdlog::warn("HTTP status API off: {}", started.error());
+        else
+          spdlog::info("HTTP status API and metrics on {}://{}:{}/{}", https ? "https" : "http",
+                       listen, port,
+                       users_file.empty() ? "" : " (web console: accounts in " + users_file + ")");
+      },
+      std::move(replaced));
 }
 
 bool HttpService::reload(const Config& loaded, const ConfigDiff& diff) {
   config_ = loaded.http;
   if (diff.http_changed) {
+    HttpThread::PortRelease replaced;
     if (http_) {
-      http_->stop();
+      http_->stop();  // returns at once; the new server binds once the port is free
+      replaced = http_->port_released();
       retired_.add(std::move(http_));
       handler_.reset();
     }
     std::unique_ptr<HistoryRecorder> previous = std::move(history_);
     make_http(previous.get());
-    start_http();
+    start_http(std::move(replaced));
     return true;
   }
   if (history_ && !diff.sensors_unchanged()) {

@@ -42,14 +42,16 @@ class HttpService final : public GatewayService {
   HttpClientsClosed clients_closed() const {
     return http_ ? http_->stats().closed : HttpClientsClosed{};
   }
-  // The bound port; 0 when [http] is off or its port could not be bound.
+  // The bound port; 0 when [http] is off or its port could not be bound (or not yet: a
+  // reload's server waits for the one it replaced to let the port go).
   std::uint16_t port() const { return http_ ? http_->local_port() : 0; }
   // The web console's logins and sessions; zeros while the server is off.
   ConsoleCounts console_counts() const;
 
  private:
   void make_http(const HistoryRecorder* previous);
-  void start_http();
+  // `replaced`: the port of the server a reload replaced, while that one still holds it.
+  void start_http(HttpThread::PortRelease replaced = {});
   // The rings for the sensors served now; those of `previous` (by name) carry over.
   void make_history(const HistoryRecorder* previous);
   // Every history_interval_ms: each sensor's angles into its ring.

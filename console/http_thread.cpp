@@ -8,8 +8,6 @@
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
-#include <future>
-
 namespace tiltgate {
 
 namespace asio = boost::asio;
@@ -24,34 +22,68 @@ HttpThread::~HttpThread() {
   io_.stop();
   if (thread_.joinable()) thread_.join();
   server_.reset();
+  released_->store(true);
 }
 
-Expected<Done, std::string> HttpThread::start() {
-  if (auto started = server_->start(); !started) return started;
+void HttpThread::bound() {
   port_ = server_->local_port();
+  released_->store(false);
+}
+
+void HttpThread::start(Started report, PortRelease replaced) {
+  // Looked at before the bind: a port let go after a failed bind is still tried again.
+  const bool port_held = replaced && !replaced->load();
+  auto started = server_->start();
+  if (!started && !port_held) {
+    report(started, 0);
+    return;
+  }
+  if (started) {
+    bound();
+    report(started, port_);
+  } else {
+    asio::co_spawn(io_, bind_when_released(std::move(replaced), std::move(report)),
+                   asio::detached);
+  }
   running_ = true;
   thread_ = std::thread([this] {
     try {
       io_.run();
     } catch (const std::exception& error) {
       spdlog::error("HTTP server stopped: {}", error.what());
+      server_->stop();  // the port goes with it
     }
+    released_->store(true);
     running_ = false;
   });
-  return Done{};
+}
+
+asio::awaitable<void> HttpThread::bind_when_released(PortRelease replaced, Started report) {
+  const auto give_up = std::chrono::steady_clock::now() + kRebindPatience;
+  asio::steady_timer pause(io_);
+  for (;;) {
+    if (stopping_) co_return;
+    const bool port_held = !replaced->load() && std::chrono::steady_clock::now() < give_up;
+    auto started = server_->start();
+    if (started) bound();
+    if (started || !port_held) {
+      report(started, port_);
+      co_return;
+    }
+    pause.expires_after(kRebindPause);
+    boost::system::error_code ec;
+    co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+  }
 }
 
 void HttpThread::stop() {
   if (stopping_.exchange(true) || !running_) return;
-  // Waited for: once this returns the port is free, so the server a reload makes next can bind
-  // it (the HTTP thread is never busy for long; should it be stuck, the wait gives up).
-  auto stopped = std::make_shared<std::promise<void>>();
-  std::future<void> done = stopped->get_future();
-  asio::post(io_, [this, stopped] {
+  // Not waited for: the buses' thread goes on at once. The server a reload makes next binds
+  // the port once this one has let it go (port_released()).
+  asio::post(io_, [this] {
     server_->stop();
-    stopped->set_value();
+    released_->store(true);
   });
-  done.wait_for(std::chrono::seconds(2));
 }
 
 }  // namespace tiltgate

@@ -2,16 +2,20 @@
 // relays what the bus received to the command over the control socket and asks whether the
 // reply is whole. The command holds the real framer; this one only carries its answers.
 //
-// A Line asks a framer synchronously, so the question is asked and answered synchronously
-// too, on the socket's descriptor: the command is a local process that answers at once, and a
-// command that does not answer within kAnswerWait is taken as gone (every later chunk is
-// then refused and the transaction ends in a time-out), so the event loop never waits longer.
+// The question is asked asynchronously (asks_asynchronously(): the Line awaits feed_async()),
+// on the socket the session owns, with Asio on the buses' executor: while the command thinks,
+// every other bus goes on. A command that does not answer within kAnswerWait is taken as gone
+// (every later chunk is then refused and the transaction ends in a time-out). reset() sends
+// its line without waiting at all: the socket is idle then (the command reads each line the
+// moment it comes), and one that cannot take a line at once is as gone as a silent command.
 #pragma once
 
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/streambuf.hpp>
 #include <chrono>
 #include <cstdint>
 #include <span>
-#include <string>
 
 #include "driver/line.h"
 
@@ -19,10 +23,18 @@ namespace tiltgate {
 
 class ControlRelayFramer final : public ReplyFramer {
  public:
-  explicit ControlRelayFramer(int socket_fd) : fd_(socket_fd) {}
+  // The session's socket and its input buffer, lent for the exchange: the session awaits the
+  // exchange meanwhile, and reads on from what the relay leaves in `input`.
+  ControlRelayFramer(boost::asio::local::stream_protocol::socket& socket,
+                     boost::asio::streambuf& input)
+      : socket_(socket), input_(input) {}
 
   void reset() override;
+  // Not asked so: a Line asks this framer asynchronously, and a synchronous question could
+  // only be answered by waiting. The command is then taken as gone.
   bool feed(std::span<const std::uint8_t> bytes) override;
+  bool asks_asynchronously() const override { return true; }
+  boost::asio::awaitable<bool> feed_async(std::span<const std::uint8_t> bytes) override;
 
   // The command stopped answering (or sent something else): the transaction is lost to it.
   bool broken() const { return broken_; }
@@ -30,9 +42,8 @@ class ControlRelayFramer final : public ReplyFramer {
   static constexpr std::chrono::milliseconds kAnswerWait{100};
 
  private:
-  bool send_line(const std::string& line);
-
-  int fd_;
+  boost::asio::local::stream_protocol::socket& socket_;
+  boost::asio::streambuf& input_;
   bool broken_ = false;
 };
 

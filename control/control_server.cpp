@@ -218,7 +218,7 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       reply = formatted(control::Refused{"ask for a bus first (hello PORT)"});
       done = true;
     } else if (const auto* transact = std::get_if<control::Transact>(&*message)) {
-      ControlRelayFramer relay(socket->native_handle());
+      ControlRelayFramer relay(*socket, input);
       LineRequest request{transact->bytes,    transact->address_bytes,
                           transact->expects_reply ? &relay : nullptr,
                           transact->timeout,  transact->retries,

@@ -1,6 +1,7 @@
 // Blocking, deadline-bounded line I/O on a control-socket descriptor, for the two places that
-// cannot await: the gateway's relay framer (a Line asks a framer synchronously) and a command's
-// handshake before its event loop runs. Lines are control_protocol.h's, without the newline.
+// do not await: a command's handshake before its event loop runs, and the gateway's relay
+// framer's reset() (control/control_relay.h), whose deadline is now: a send that never waits.
+// Lines are control_protocol.h's, without the newline.
 #pragma once
 
 #include <chrono>

@@ -57,6 +57,15 @@ class ReplyFramer {
   // What the framer made of the bytes fed since reset(), for the trace log. The Line asks only
   // when trace logging is on. The default knows no checksum: the Line then shows what it read.
   virtual FramerReport report() const { return {}; }
+
+  // A framer that must ask someone else whether the reply is whole (the gateway's relay to a
+  // commissioning command, control/control_relay.h) says so: the Line then awaits
+  // feed_async() instead of calling feed(), so that its event loop never waits for the answer.
+  // Every other framer is asked with feed(): no coroutine frame per chunk on the polls' path.
+  virtual bool asks_asynchronously() const { return false; }
+  virtual boost::asio::awaitable<bool> feed_async(std::span<const std::uint8_t> bytes) {
+    co_return feed(bytes);
+  }
 };
 
 struct LineRequest {

@@ -351,7 +351,13 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
     }
     if (tracing_) traced_received_.insert(traced_received_.end(), chunk.begin(), chunk.end());
     if (!chunk.empty()) heard_ = true;
-    if (!chunk.empty() && request.framer->feed(chunk)) {
+    // A framer that asks someone else is awaited (driver/line.h); the others are not.
+    bool whole = false;
+    if (!chunk.empty() && request.framer->asks_asynchronously())
+      whole = co_await request.framer->feed_async(chunk);
+    else if (!chunk.empty())
+      whole = request.framer->feed(chunk);
+    if (whole) {
       timing_.reply_delay =
           whole_ms(last_byte_at_ - packet_end_ - port_->round_trip() - timing_.machine_held);
       if (tracing_) {

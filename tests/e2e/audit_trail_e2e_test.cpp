@@ -157,7 +157,14 @@ TEST_CASE("a Modbus write and a set through the control socket are audited with 
   INFO("after the restart: exception " << after_restart.exception() << ", "
                                        << plant.gateway->log());
   REQUIRE(written);
-  const CommandResult all = plant.audit();
+  // The trail's writer thread takes the record to disk a moment after the write's answer.
+  CommandResult all = plant.audit();
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (!has(all.out, "line1/boom filter = 1: ack\n") &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(50ms);
+    all = plant.audit();
+  }
   INFO("audit: " << all.out << all.err);
   CHECK(all.exit_code == 0);
   CHECK(has(all.out, "line1/boom filter = 2: ack\n"));

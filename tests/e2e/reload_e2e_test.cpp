@@ -309,3 +309,31 @@ TEST_CASE("SIGHUP: a changed [http] table restarts the status API, kept sensors 
   client.unit(1);
   CHECK(client.input(0, 4).size() == 4);
 }
+
+TEST_CASE("SIGHUP: a changed [http] table on the same port restarts the status API on that port") {
+  ReloadPlant plant;
+  const std::uint16_t http_port = free_tcp_port();
+  auto http = [http_port](int history_seconds) {
+    return http_table(http_port, fmt::format("history_seconds = {}", history_seconds));
+  };
+  const std::string sensors = h6_sensor("left", 221, 1, 50);
+  plant.start(plant.file("", sensors, 0, http(60)));
+  const std::string serving = "HTTP status API and metrics on";
+  REQUIRE(ReloadPlant::count(plant.gateway->log(), serving) == 1);
+  REQUIRE(get(http_port, "/healthz").status == 200);
+
+  // The old server lets the port go on its own thread; the new one binds it then.
+  plant.reload(plant.file("", sensors, 0, http(120)), "configuration reloaded");
+  CHECK(plant.gateway->log().find("restarted: http") != std::string::npos);
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (ReloadPlant::count(plant.gateway->log(), serving) < 2 &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(20ms);
+  const std::string log = plant.gateway->log();
+  INFO("gateway log: " << log);
+  REQUIRE(ReloadPlant::count(log, serving) == 2);
+  CHECK(log.find("HTTP status API off") == std::string::npos);
+  CHECK(log.find(fmt::format(":{}/", http_port), log.rfind(serving)) != std::string::npos);
+  CHECK(get(http_port, "/healthz").status == 200);
+  CHECK(plant.gateway->running());
+}

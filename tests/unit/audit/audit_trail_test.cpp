@@ -1,6 +1,8 @@
 // The audit trail (audit/audit_trail.h): what recent() finds and in what order, its bound,
 // the records kept across a restart, what a torn last record costs, reading the folder
-// beside the trail, and the counts /metrics shows.
+// beside the trail, and the counts /metrics shows; its writer thread: records on disk after a
+// flush, everything queued written at shutdown, and records a full disk refused written once
+// it takes them again.
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -8,13 +10,17 @@
 #include <filesystem>
 #include <fstream>
 #include <spdlog/spdlog.h>
+#include <optional>
 #include <string>
+#include <thread>
 
 #include "audit/audit_json.h"
 #include "audit/audit_text.h"
 #include "audit/audit_trail.h"
+#include "unit/support/small_disk.h"
 
 using namespace tiltgate;
+using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
 namespace {
@@ -170,6 +176,7 @@ TEST_CASE("the audit trail's disk stays within its budget, the oldest records dr
     trail.record(std::move(r));
   }
   spdlog::set_level(level);
+  REQUIRE(trail.flush());
   std::uintmax_t bytes = 0;
   for (const fs::path& segment : segments(dir.path)) bytes += fs::file_size(segment);
   CHECK(bytes <= kAuditStoreBytes);
@@ -201,7 +208,69 @@ TEST_CASE("a second audit trail on the same state_dir keeps its records in memor
   CHECK(second.folder().empty());
   second.record(change(1, "modbus", "line1/a", "filter"));
   first.record(change(2, "modbus", "line1/a", "zero"));
+  REQUIRE(first.flush());
+  CHECK_FALSE(second.flush());  // in memory only
   const auto read = read_audit_folder(audit_folder(dir.path));
   REQUIRE(read.has_value());
   CHECK(times(*read) == std::vector<std::int64_t>{2});
+}
+
+TEST_CASE("a record is seen at once and is on disk after a flush") {
+  StateDir dir;
+  AuditTrail trail(dir.path);
+  for (int i = 1; i <= 3; ++i) trail.record(change(i * 1000, "modbus", "line1/a", "filter"));
+  CHECK(times(trail.recent({})) == std::vector<std::int64_t>{3000, 2000, 1000});
+  CHECK(trail.counts() == AuditCounts{AuditCount{"modbus", "ack", 3}});
+  REQUIRE(trail.flush());
+  const auto read = read_audit_folder(audit_folder(dir.path));
+  REQUIRE(read.has_value());
+  CHECK(times(*read) == std::vector<std::int64_t>{1000, 2000, 3000});
+}
+
+TEST_CASE("at shutdown the audit trail writes everything queued, and a record after close() too") {
+  StateDir dir;
+  const auto level = spdlog::get_level();
+  spdlog::set_level(spdlog::level::warn);
+  {
+    AuditTrail trail(dir.path);
+    for (int i = 1; i <= 500; ++i) trail.record(change(i, "modbus", "line1/a", "filter"));
+  }  // no flush: the destructor's close()
+  AuditTrail closed(dir.path);
+  closed.close();
+  closed.record(change(501, "modbus", "line1/a", "filter"));
+  spdlog::set_level(level);
+  const auto read = read_audit_folder(audit_folder(dir.path));
+  REQUIRE(read.has_value());
+  REQUIRE(read->size() == 501);
+  for (std::size_t i = 0; i < read->size(); ++i) CHECK((*read)[i].unix_ms == std::int64_t(i + 1));
+}
+
+TEST_CASE("records a full disk refuses stay in memory and the writer writes them once it has room") {
+  test::SmallDisk disk;
+  if (test::no_small_disk(disk)) return;
+  const std::string state_dir = disk.path("state").string();
+  AuditTrail trail(state_dir);
+  trail.record(change(1, "modbus", "line1/a", "filter"));
+  REQUIRE(trail.flush());
+  const auto level = spdlog::get_level();
+  spdlog::set_level(spdlog::level::critical);  // the store's notices, and 60 journal lines
+  disk.fill();
+  // More than the segment's last page holds: some must wait for room.
+  for (int i = 2; i <= 61; ++i) trail.record(change(i, "modbus", "line1/a", "filter"));
+  CHECK_FALSE(trail.flush());
+  CHECK(trail.recent(only([](AuditTrail::Filter& f) { f.limit = 0; })).size() == 61);
+  disk.free();
+  // The writer's own next try, without a flush.
+  std::optional<std::vector<AuditRecord>> read;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  do {
+    std::this_thread::sleep_for(50ms);
+    auto found = read_audit_folder(audit_folder(state_dir));
+    if (found) read = std::move(*found);
+  } while ((!read || read->size() < 61) && std::chrono::steady_clock::now() < deadline);
+  spdlog::set_level(level);
+  REQUIRE(read.has_value());
+  REQUIRE(read->size() == 61);
+  for (std::size_t i = 0; i < read->size(); ++i) CHECK((*read)[i].unix_ms == std::int64_t(i + 1));
+  CHECK(trail.flush());
 }

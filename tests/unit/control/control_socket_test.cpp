@@ -1,8 +1,9 @@
 // The control socket end to end inside one process: a ControlServer on a real Unix socket in
 // front of a BusScheduler with the fake line (its own thread, as the gateway's event loop), and
 // a command's RemoteLine. A transaction reaches the bus as the command sent it and the reply
-// is framed by the command's framer; a sensor the command moved is followed; a tty the gateway
-// does not own, a missing gateway, a stale and a live socket file are each told apart.
+// is framed by the command's framer, while the gateway's other bus keeps polling however long
+// the command thinks; a sensor the command moved is followed; a tty the gateway does not own, a
+// missing gateway, a stale and a live socket file are each told apart.
 #include <doctest/doctest.h>
 
 #include <boost/asio/co_spawn.hpp>
@@ -13,6 +14,7 @@
 #include <boost/asio/read_until.hpp>
 #include <boost/asio/streambuf.hpp>
 #include <boost/asio/write.hpp>
+#include <atomic>
 #include <future>
 #include <sys/stat.h>
 #include <thread>
@@ -49,6 +51,29 @@ class FixedLengthReply final : public ReplyFramer {
   std::size_t size_;
 };
 
+// A slow command: each chunk is thought over for `think` before the framer is asked; how
+// often the gateway's other bus was polled meanwhile is kept.
+class SlowReply final : public ReplyFramer {
+ public:
+  SlowReply(std::size_t size, std::chrono::milliseconds think, const std::atomic<int>& polls)
+      : size_(size), think_(think), polls_(polls) {}
+  void reset() override { received_ = 0; }
+  bool feed(std::span<const std::uint8_t> bytes) override {
+    const int before = polls_;
+    std::this_thread::sleep_for(think_);
+    polls_while_thinking.push_back(polls_ - before);
+    received_ += bytes.size();
+    return received_ >= size_;
+  }
+  std::vector<int> polls_while_thinking;
+
+ private:
+  std::size_t size_;
+  std::chrono::milliseconds think_;
+  const std::atomic<int>& polls_;
+  std::size_t received_ = 0;
+};
+
 BusConfig bus_on(std::string port) {
   BusConfig bus;
   bus.name = "line1";
@@ -58,7 +83,8 @@ BusConfig bus_on(std::string port) {
   return bus;
 }
 
-// A gateway's side: one bus with one sensor at address 223, its event loop on its own thread.
+// A gateway's side: one bus with one sensor at address 223, its event loop on its own thread,
+// and beside it a second bus whose sensor is polled every 10 ms (counted in other_polls).
 struct Gateway {
   ScratchDir dir{"tiltgate-control"};
   std::string socket_path = dir.path("control.sock");
@@ -68,6 +94,11 @@ struct Gateway {
   BusScheduler scheduler{io.get_executor(), line, "line1"};
   BusEvents events;
   std::unique_ptr<GatewaySensor> sensor = fake_sensor("boom", 1, 223, events, 10s);
+  FakeLine other_line{io.get_executor()};
+  BusScheduler other_scheduler{io.get_executor(), other_line, "line2"};
+  BusEvents other_events;
+  std::unique_ptr<GatewaySensor> other_sensor = fake_sensor("other", 2, 1, other_events, 10ms);
+  std::atomic<int> other_polls{0};
   std::vector<LineRequest> sent;
   std::string port;
   ControlServer server;
@@ -82,14 +113,18 @@ struct Gateway {
       return std::vector<std::uint8_t>{0xA0, 0xA1, 0xA2};
     };
     scheduler.add(*sensor);
+    fake_driver(*other_sensor).on_poll = [this] { ++other_polls; };
+    other_scheduler.add(*other_sensor);
     REQUIRE(server.start());
     asio::co_spawn(io, scheduler.run(), asio::detached);
+    asio::co_spawn(io, other_scheduler.run(), asio::detached);
     thread = std::thread([this] { io.run(); });
   }
   ~Gateway() {
     asio::post(io, [this] {
       server.stop();
       scheduler.stop();
+      other_scheduler.stop();
       work.reset();
     });
     io.stop();
@@ -155,6 +190,19 @@ TEST_CASE("control socket: each attempt of a command's transaction is a turn of 
     CHECK(*sent.late_guard <= RemoteLine::kMaxLateGuard);
   }
   CHECK((*line)->stats().attempts == 3);
+}
+
+TEST_CASE("control socket: while a command thinks over a chunk, the gateway's other bus keeps polling") {
+  Gateway gateway;
+  asio::io_context io;
+  auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
+  REQUIRE(line);
+  SlowReply framer(3, 80ms, gateway.other_polls);  // within the gateway's 100 ms wait
+  const auto done = transact(**line, io, LineRequest{{0x00, 0xDF, 0x04}, 0, &framer, 10ms, 0});
+  CHECK(done.has_value());
+  REQUIRE(framer.polls_while_thinking.size() == 1);
+  // Every 10 ms: a gateway that waited for the answer on its event loop would poll none.
+  CHECK(framer.polls_while_thinking[0] >= 3);
 }
 
 TEST_CASE("control socket: a sensor a command moved is polled at its new address") {

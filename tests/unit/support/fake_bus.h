@@ -45,7 +45,13 @@ class FakeLine : public Line {
     if (!reply || request.framer == nullptr) co_return Done{};
     request.framer->reset();
     const std::vector<std::uint8_t> bytes = reply(request);
-    if (!request.framer->feed(bytes)) co_return Unexpected{LineError::timeout};
+    // As SerialLine asks: a framer that asks someone else is awaited.
+    bool whole = false;
+    if (request.framer->asks_asynchronously())
+      whole = co_await request.framer->feed_async(bytes);
+    else
+      whole = request.framer->feed(bytes);
+    if (!whole) co_return Unexpected{LineError::timeout};
     co_return Done{};
   }
 
