@@ -45,6 +45,7 @@ GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   GatewayStatus status = gateway_.status(now);
   status.http_connections_denied = http_.connections_denied();
   status.http_clients_closed = http_.clients_closed();
+  status.http_rates = http_.request_rates();
   status.console = http_.console_counts();
   status.mqtt = mqtt_.stats();
   if (status.mqtt) status.stores.push_back(status.mqtt->store);

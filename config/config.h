@@ -41,6 +41,11 @@ inline constexpr std::string_view kDefaultStateDir = "/var/lib/tiltgate";
 inline constexpr int kDefaultMaxRequestsPerSecond = 20000;
 inline constexpr int kDefaultMaxClientRequestsPerSecond = 20000;
 
+// [http] max_requests_per_s and max_client_requests_per_s when not given: 16 console sessions
+// refreshing ask for about 100 a second (docs/performance.md, "A flood and the line").
+inline constexpr int kDefaultHttpMaxRequestsPerSecond = 400;
+inline constexpr int kDefaultHttpMaxClientRequestsPerSecond = 100;
+
 struct ServerConfig {
   std::string listen = "0.0.0.0";
   std::uint16_t port = 502;
@@ -88,6 +93,11 @@ struct HttpConfig {
   // Connections from one client address, of the server's 16; the next one from it replaces
   // that address's own connection waiting longest for a request, or is closed.
   int max_clients_per_host = 8;
+  // Requests a second answered from every client together and from each connection: beyond
+  // them a request waits for its turn (modbus_tcp/request_rate.h), since a status or console
+  // request copies the gateway's state on the buses' thread. 0: no limit.
+  int max_requests_per_s = kDefaultHttpMaxRequestsPerSecond;
+  int max_client_requests_per_s = kDefaultHttpMaxClientRequestsPerSecond;
   // The status page's graph: each sensor's angles sampled every history_interval, kept for
   // history_seconds (status/angle_history.h).
   std::chrono::seconds history_seconds{600};
@@ -164,6 +174,10 @@ struct SparkplugConfig {
   std::chrono::milliseconds max_interval{10000};
   std::optional<std::string> primary_host_id;
   bool commands = false;              // DCMD writes settings; off: every DCMD ignored, counted
+  // Messages from the broker (NCMD, DCMD, STATE) taken a second: beyond it the next one waits
+  // for its turn, and the connection reads nothing meanwhile (modbus_tcp/request_rate.h). 0: no
+  // limit.
+  int max_commands_per_s = 20;
   double buffer_mb = 64;              // the store's budget on disk, MiB (a fraction for tests)
 
   bool operator==(const SparkplugConfig&) const = default;

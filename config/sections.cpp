@@ -238,6 +238,9 @@ HttpConfig read_http(const toml::table& table, ErrorList& errors) {
   }
   // At most the HTTP server's max_clients (16, status/http_server.h).
   if (auto n = in.integer("max_clients_per_host", 1, 16)) http.max_clients_per_host = int(*n);
+  if (auto n = in.integer("max_requests_per_s", 0, 1'000'000)) http.max_requests_per_s = int(*n);
+  if (auto n = in.integer("max_client_requests_per_s", 0, 1'000'000))
+    http.max_client_requests_per_s = int(*n);
   if (auto seconds = in.integer("history_seconds", 10, 86400))
     http.history_seconds = std::chrono::seconds(*seconds);
   if (auto interval = in.integer("history_interval_ms", 100, 60000))

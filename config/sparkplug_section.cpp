@@ -85,6 +85,8 @@ SparkplugConfig read_sparkplug(const toml::table& table, ErrorList& errors) {
   }
   sparkplug.primary_host_id = read_id(in, "primary_host_id", Presence::optional);
   if (auto commands = in.boolean("commands")) sparkplug.commands = *commands;
+  if (auto n = in.integer("max_commands_per_s", 0, 100'000))
+    sparkplug.max_commands_per_s = int(*n);
   // A fraction is allowed: a test fills a store of 0.05 MiB in seconds. The least still holds
   // two segments of records (store/record_store.h); 64 GiB is more than a gateway's disk.
   if (auto buffer = in.number_in("buffer_mb", 0.01, 65536)) sparkplug.buffer_mb = *buffer;

@@ -23,6 +23,13 @@ HttpService::HttpService(const Gateway& gateway, StatusSource status,
 
 HttpService::~HttpService() = default;
 
+HttpRequestRates HttpService::request_rates() const {
+  if (!http_) return {};
+  const HttpServerStats stats = http_->stats();
+  return {config_.max_requests_per_s, config_.max_client_requests_per_s, stats.requests_delayed,
+          stats.delay_seconds};
+}
+
 void HttpService::make_http(const HistoryRecorder* previous) {
   if (!config_.enabled) return;
   HttpServerOptions http;
@@ -30,6 +37,8 @@ void HttpService::make_http(const HistoryRecorder* previous) {
   http.port = config_.port;
   http.allow = config_.allow;
   http.max_clients_per_host = config_.max_clients_per_host;
+  http.max_requests_per_s = config_.max_requests_per_s;
+  http.max_client_requests_per_s = config_.max_client_requests_per_s;
   // A configuration's text is the largest body the console takes.
   if (!config_.users_file.empty()) http.max_body_bytes = 512 * 1024;
   http.tls_cert_pem = config_.tls_cert_pem;

@@ -42,6 +42,8 @@ class HttpService final : public GatewayService {
   HttpClientsClosed clients_closed() const {
     return http_ ? http_->stats().closed : HttpClientsClosed{};
   }
+  // The request rates in force and what waited under them; zeros while the server is off.
+  HttpRequestRates request_rates() const;
   // The bound port; 0 when [http] is off or its port could not be bound (or not yet: a
   // reload's server waits for the one it replaced to let the port go).
   std::uint16_t port() const { return http_ ? http_->local_port() : 0; }

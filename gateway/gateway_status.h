@@ -116,6 +116,8 @@ struct SparkplugStats {
   std::uint64_t refused = 0;
   std::uint64_t ignored = 0;
   std::uint64_t malformed = 0;
+  int max_commands_per_s = 0;          // [sparkplug] max_commands_per_s in force (0: no limit)
+  std::uint64_t commands_delayed = 0;  // waited for their turn under it
 };
 
 // HTTP clients closed for cause since [http] last started (status/http_server.h).
@@ -124,6 +126,15 @@ struct HttpClientsClosed {
   std::uint64_t replaced = 0;     // waiting for a whole request, closed to make room for a new one
   std::uint64_t timed_out = 0;    // no whole request within the request time-out
   std::uint64_t bad_request = 0;  // malformed or too large
+};
+
+// The HTTP server's request rates ([http] max_requests_per_s, max_client_requests_per_s; 0: no
+// limit), the requests that waited for their turn under them and how long, together.
+struct HttpRequestRates {
+  int max_requests_per_s = 0;
+  int max_client_requests_per_s = 0;
+  std::uint64_t requests_delayed = 0;
+  double delay_seconds = 0;
 };
 
 // The web console's logins (console/console_handler.h); all 0 without [http] users_file.
@@ -146,6 +157,7 @@ struct GatewayStatus {
                                                   // or a TLS client's role may only read
   std::uint64_t http_connections_denied = 0;      // closed at accept: not in [http] allow
   HttpClientsClosed http_clients_closed;
+  HttpRequestRates http_rates;
   ConsoleCounts console;
   std::uint64_t modbus_tls_refused = 0;           // TLS handshakes failed (certificate, version)
   // [server] max_requests_per_s and max_client_requests_per_s in force (0: no limit), the

@@ -6,6 +6,7 @@
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/post.hpp>
 #include <future>
+#include <thread>
 #include <system_error>
 
 #include "sparkplug/bd_seq_file.h"
@@ -72,7 +73,8 @@ EdgeNode::EdgeNode(boost::asio::any_io_executor executor, const Gateway& gateway
       config_(config),
       dir_(fs::path(config.state_dir) / "sparkplug"),
       sampler_(gateway, families),
-      writer_(gateway, families) {}
+      writer_(gateway, families),
+      command_rate_(config.max_commands_per_s) {}
 
 EdgeNode::~EdgeNode() { stop(); }
 
@@ -132,6 +134,14 @@ Expected<Done, std::string> EdgeNode::start() {
     });
   };
   hooks.message = [this](std::string topic, std::vector<std::uint8_t> payload) {
+    // A flood of commands waits for its turns here, on the network thread: it reads nothing
+    // meanwhile and the broker holds the rest, so the buses' thread (where each is handled)
+    // keeps its time for the lines.
+    const auto arrived = std::chrono::steady_clock::now();
+    if (const auto turn = command_rate_.reserve(arrived); turn > arrived) {
+      ++commands_delayed_;
+      std::this_thread::sleep_until(turn);
+    }
     post([this, topic = std::move(topic), payload = std::move(payload)] {
       const std::uint64_t malformed = session_->commands().malformed;
       carry_out(session_->on_message(topic, payload, now()));
@@ -324,6 +334,8 @@ SparkplugStats EdgeNode::stats() const {
     stats.ignored = commands.ignored;
     stats.malformed = commands.malformed;
   }
+  stats.max_commands_per_s = config_.max_commands_per_s;
+  stats.commands_delayed = commands_delayed_;
   return stats;
 }
 

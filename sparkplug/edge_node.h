@@ -24,6 +24,7 @@
 #include "gateway/gateway.h"
 #include "gateway/gateway_status.h"
 #include "modbus_tcp/log_throttle.h"
+#include "modbus_tcp/request_rate.h"
 #include "mqtt/mqtt_client.h"
 #include "sparkplug/ddata_backlog.h"
 #include "sparkplug/device_sampler.h"
@@ -90,6 +91,9 @@ class EdgeNode {
   std::uint64_t ticks_ = 0;
   std::uint64_t published_ = 0;
   std::uint64_t writes_refused_ = 0;
+  // [sparkplug] max_commands_per_s, taken on the client's network thread, and what waited.
+  SharedRateLimit command_rate_;
+  std::atomic<std::uint64_t> commands_delayed_ = 0;
   std::chrono::steady_clock::time_point malformed_logged_at_{};
   std::size_t writes_in_flight_ = 0;
   LogThrottle refusal_log_;  // per sensor

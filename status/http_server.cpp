@@ -71,6 +71,7 @@ struct HttpServer::Connection {
   // while it waits, a new client may close it to make room.
   bool waiting = true;
   Clock::time_point waiting_since;
+  RateLimit own_rate;  // [http] max_client_requests_per_s
   bool served = false;  // it has answered a request: kept alive, it gives way first too
   bool closed = false;  // by stop() or to make room: its coroutine ends on a later loop turn
   std::variant<beast::tcp_stream, TlsStream> stream;
@@ -81,6 +82,8 @@ HttpServer::HttpServer(asio::any_io_executor executor, HttpHandler handler,
     : executor_(executor),
       handler_(std::move(handler)),
       options_(std::move(options)),
+      client_schedule_(RateSchedule::of(options_.max_client_requests_per_s)),
+      total_rate_(options_.max_requests_per_s),
       acceptor_(executor),
       problem_log_(executor, "HTTP", LogThrottleOptions{}) {}
 
@@ -225,6 +228,18 @@ void HttpServer::count_unserved(Connection& connection, boost::system::error_cod
   }
 }
 
+Clock::time_point HttpServer::take_turn(Connection& connection) {
+  const Clock::time_point now = Clock::now();
+  const Clock::time_point turn =
+      total_rate_.reserve(connection.own_rate.reserve(now, client_schedule_));
+  if (turn > now)
+    count([&](HttpServerStats& s) {
+      ++s.requests_delayed;
+      s.delay_seconds += std::chrono::duration<double>(turn - now).count();
+    });
+  return turn;
+}
+
 asio::awaitable<void> HttpServer::serve(std::shared_ptr<Connection> connection) {
   if (auto* tls = std::get_if<Connection::TlsStream>(&connection->stream)) {
     // The handshake is part of the first request's time: a client that opens a connection
@@ -289,6 +304,12 @@ asio::awaitable<void> HttpServer::serve_on(Connection& connection, Stream& strea
     }
     if (connection.closed) break;  // made room for another after its request came in
     connection.waiting = false;
+    // Its turn under the request rates: nothing more is read from it meanwhile.
+    if (const Clock::time_point turn = take_turn(connection); turn > Clock::now()) {
+      asio::steady_timer wait(executor_, turn);
+      co_await wait.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+      if (connection.closed) break;
+    }
     count([](HttpServerStats& s) { ++s.requests; });
     auto& request = parser.get();
     HttpRequest asked;

@@ -27,6 +27,7 @@
 #include "driver/expected.h"
 #include "gateway/gateway_status.h"
 #include "modbus_tcp/client_problem_log.h"
+#include "modbus_tcp/request_rate.h"
 #include "status/http_routes.h"
 
 namespace tiltgate {
@@ -43,6 +44,11 @@ struct HttpServerOptions {
   // The body: the read-only API takes none; the web console a configuration's text.
   std::size_t max_body_bytes = 8192;
   AddressAllowList allow;                // other clients are closed at accept
+  // Requests a second answered from every client together and from each connection; a request
+  // beyond them waits for its turn, its connection reading nothing meanwhile
+  // (modbus_tcp/request_rate.h). 0: no limit.
+  int max_requests_per_s = 0;
+  int max_client_requests_per_s = 0;
   std::string tls_cert_pem, tls_key_pem;  // both: HTTPS only
 };
 
@@ -53,6 +59,8 @@ struct HttpServerStats {
   std::uint64_t denied = 0;     // address not in allow
   std::uint64_t requests = 0;
   HttpClientsClosed closed;     // for cause: refused, replaced, timed out, bad request
+  std::uint64_t requests_delayed = 0;  // waited for their turn under the request rates
+  double delay_seconds = 0;            // how long they waited, together
 };
 
 // Everything runs on `executor`, which must be single-threaded. Call stop() and let the event
@@ -90,10 +98,14 @@ class HttpServer {
   // A connection that ended without a whole request: counted and logged, unless it was closed
   // for another reason already or was a kept-alive one simply left idle.
   void count_unserved(Connection& connection, boost::system::error_code ec, bool got_some);
+  // When the request that just came in on `connection` may be answered (now, or later).
+  std::chrono::steady_clock::time_point take_turn(Connection& connection);
 
   boost::asio::any_io_executor executor_;
   HttpHandler handler_;
   HttpServerOptions options_;
+  RateSchedule client_schedule_;  // options_.max_client_requests_per_s
+  SharedRateLimit total_rate_;    // options_.max_requests_per_s
   std::unique_ptr<boost::asio::ssl::context> tls_;  // none: plain HTTP
   boost::asio::ip::tcp::acceptor acceptor_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;

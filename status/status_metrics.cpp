@@ -186,6 +186,19 @@ const GatewaySingle kModbusSingles[] = {
     {"tiltgate_http_connections_denied_total", "counter",
      "HTTP connections closed at once: the address is not in [http] allow",
      [](const GatewayStatus& g) { return double(g.http_connections_denied); }},
+    {"tiltgate_http_max_requests_per_second", "gauge",
+     "[http] max_requests_per_s in force: HTTP requests answered a second from every client "
+     "together, beyond which a request waits for its turn (0: no limit)",
+     [](const GatewayStatus& g) { return double(g.http_rates.max_requests_per_s); }},
+    {"tiltgate_http_max_client_requests_per_second", "gauge",
+     "[http] max_client_requests_per_s in force: the same for each connection (0: no limit)",
+     [](const GatewayStatus& g) { return double(g.http_rates.max_client_requests_per_s); }},
+    {"tiltgate_http_requests_delayed_total", "counter",
+     "HTTP requests that waited for their turn under the request rates (answered later)",
+     [](const GatewayStatus& g) { return double(g.http_rates.requests_delayed); }},
+    {"tiltgate_http_request_delay_seconds_total", "counter",
+     "The time those requests waited for their turn, together",
+     [](const GatewayStatus& g) { return g.http_rates.delay_seconds; }},
     {"tiltgate_http_logins_total", "counter", "Web console logins that succeeded",
      [](const GatewayStatus& g) { return double(g.console.logins); }},
     {"tiltgate_http_login_failures_total", "counter",
@@ -234,6 +247,14 @@ const SparkplugSingle kSparkplugSingles[] = {
     {"tiltgate_sparkplug_published_total", "counter",
      "Sparkplug B messages handed to the broker connection (births, data, deaths, replayed)",
      [](const SparkplugStats& s) { return double(s.published); }},
+    {"tiltgate_sparkplug_max_commands_per_second", "gauge",
+     "[sparkplug] max_commands_per_s in force: messages from the broker taken a second, beyond "
+     "which the next waits for its turn (0: no limit)",
+     [](const SparkplugStats& s) { return double(s.max_commands_per_s); }},
+    {"tiltgate_sparkplug_commands_delayed_total", "counter",
+     "Messages from the broker (NCMD, DCMD, STATE) that waited for their turn under "
+     "max_commands_per_s",
+     [](const SparkplugStats& s) { return double(s.commands_delayed); }},
 };
 
 void add_sparkplug_families(Exposition& out, const SparkplugStats& stats) {

@@ -88,6 +88,8 @@ GatewayStatus plant() {
   status.modbus_max_requests_per_s = 20000;
   status.modbus_max_client_requests_per_s = 5000;
   status.modbus_requests_delayed = 11;
+  status.http_rates = {.max_requests_per_s = 400, .max_client_requests_per_s = 100,
+                       .requests_delayed = 7, .delay_seconds = 0.5};
   status.modbus_request_delay_seconds = 0.25;
   status.modbus_requests = {{0x03, 7}, {0x2B, 1}};
   status.modbus_exceptions = {{0x03, 0x02, 1}};
@@ -244,6 +246,10 @@ TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus request
   CHECK(text.find("tiltgate_modbus_max_client_requests_per_second 5000\n") != std::string::npos);
   CHECK(text.find("tiltgate_modbus_requests_delayed_total 11\n") != std::string::npos);
   CHECK(text.find("tiltgate_modbus_request_delay_seconds_total 0.25\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_max_requests_per_second 400\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_max_client_requests_per_second 100\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_requests_delayed_total 7\n") != std::string::npos);
+  CHECK(text.find("tiltgate_http_request_delay_seconds_total 0.5\n") != std::string::npos);
 }
 
 TEST_CASE("JSON: /api/modbus counts the connections and who was kept out") {
