@@ -268,6 +268,7 @@ bool ModbusTcpConnection::admitted() {
     const Clock::time_point own_turn = own_rate_.reserve(now, own_schedule_);
     turn_ = context_.total_rate.reserve(own_turn);
     if (*turn_ > now) {
+      turn_ = take_up(*turn_);
       ++context_.counters.requests_delayed;
       context_.counters.delay_ns += std::uint64_t(
           std::chrono::duration_cast<std::chrono::nanoseconds>(*turn_ - now).count());

@@ -9,6 +9,12 @@
 // next free slot (one every 1/rate seconds) and may start up to a burst's worth of slots
 // early, so requests are served in arrival order across every client and thread, in bursts
 // short enough to leave the cores idle in between. A limit of 0 admits everything at once.
+//
+// A request that must wait is taken up a little after its slot, on a grid (take_up()): one
+// wake-up of a thread then serves every client whose slot has come, and a client held to a
+// rate gets its next requests at once, in a burst, rather than each after a wait of its own.
+// Waking for every slot cost more CPU than answering the request (at 20000 a second, one wake
+// every 50 us).
 #pragma once
 
 #include <atomic>
@@ -43,6 +49,16 @@ inline RateSlot reserve_slot(std::chrono::nanoseconds tat, std::chrono::nanoseco
   if (schedule.interval.count() == 0) return {at, tat};
   const std::chrono::nanoseconds start = tat - schedule.tolerance > at ? tat - schedule.tolerance : at;
   return {start, (tat > at ? tat : at) + schedule.interval};
+}
+
+// When a request whose slot starts at `start` (later than now) is taken up: kHold after it,
+// rounded up to the next kGrid.
+inline constexpr std::chrono::microseconds kHold{1000};
+inline constexpr std::chrono::microseconds kGrid{1000};
+inline std::chrono::steady_clock::time_point take_up(std::chrono::steady_clock::time_point start) {
+  const auto held = (start + kHold).time_since_epoch();
+  const auto grid = std::chrono::duration_cast<std::chrono::steady_clock::duration>(kGrid);
+  return std::chrono::steady_clock::time_point((held + grid - std::chrono::nanoseconds(1)) / grid * grid);
 }
 
 // One client's limit, used on its connection's thread only.

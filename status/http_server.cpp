@@ -230,13 +230,13 @@ void HttpServer::count_unserved(Connection& connection, boost::system::error_cod
 
 Clock::time_point HttpServer::take_turn(Connection& connection) {
   const Clock::time_point now = Clock::now();
-  const Clock::time_point turn =
-      total_rate_.reserve(connection.own_rate.reserve(now, client_schedule_));
-  if (turn > now)
-    count([&](HttpServerStats& s) {
-      ++s.requests_delayed;
-      s.delay_seconds += std::chrono::duration<double>(turn - now).count();
-    });
+  Clock::time_point turn = total_rate_.reserve(connection.own_rate.reserve(now, client_schedule_));
+  if (turn <= now) return turn;
+  turn = take_up(turn);
+  count([&](HttpServerStats& s) {
+    ++s.requests_delayed;
+    s.delay_seconds += std::chrono::duration<double>(turn - now).count();
+  });
   return turn;
 }
 
