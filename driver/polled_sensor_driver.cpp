@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <utility>
 
 namespace tiltgate {
@@ -149,6 +150,9 @@ boost::asio::awaitable<bool> PolledSensorDriver::read_settings(Line& line) {
 
 void PolledSensorDriver::note_timing(const LineTiming& timing, const std::string& line_name) {
   state_.counters.late_replies += timing.late_replies;
+  if (timing.reply_delay)
+    state_.counters.slowest_reply =
+        std::max(state_.counters.slowest_reply, *timing.reply_delay + timing.machine_held);
   const auto before = reply_timeout_.current();
   const bool was_late = reply_timeout_.answers_late();
   reply_timeout_.record(timing);

@@ -45,6 +45,10 @@ struct SensorCounters {
   std::optional<std::uint8_t> last_refusal;
   // Times another device than the configured serial was found answering in its place.
   std::uint32_t wrong_device_found = 0;
+  // The longest a reply took since start, from the end of its request to its last byte, as
+  // the line waited for it (what this machine held it back included: the line's timing, not
+  // the sensor's alone).
+  std::chrono::milliseconds slowest_reply{0};
 };
 
 struct SensorState {

@@ -48,6 +48,7 @@ struct SensorStatus {
   std::uint64_t checksum_errors = 0;  // a reply dropped for its CRC or LRC
   std::uint64_t io_errors = 0;        // the port failed or was closed
   std::uint64_t late_replies = 0;     // answers after the time-out, discarded
+  std::int64_t slowest_reply_ms = 0;  // SensorCounters::slowest_reply
   // Requests the sensor refused (NAK), by its protocol's refusal code; only codes seen.
   std::vector<std::pair<std::uint8_t, std::uint64_t>> refusals;
   // Seconds its bus's line spent on this sensor's polls, writes and retries, waiting for

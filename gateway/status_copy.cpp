@@ -61,6 +61,7 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.checksum_errors = state.counters.checksum_errors;
   s.io_errors = state.counters.io_errors;
   s.late_replies = state.counters.late_replies;
+  s.slowest_reply_ms = state.counters.slowest_reply.count();
   s.line_seconds = std::chrono::duration<double>(sensor.line_time).count();
   if (sensor.model != nullptr)
     for (const SettingDescriptor& setting : sensor.model->settings)

@@ -50,6 +50,7 @@ Json sensor_object(const SensorStatus& s) {
                     {"checksum", s.checksum_errors},
                     {"io_error", s.io_errors},
                     {"late_reply", s.late_replies}}},
+                  {"slowest_reply_ms", s.slowest_reply_ms},
                   {"naks", naks_json(s.refusals)},
                   {"line_seconds", json_number(s.line_seconds)},
                   {"line_share", json_number(s.line_share)},

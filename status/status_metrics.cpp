@@ -334,6 +334,11 @@ void add_sensor_families(Exposition& out, const std::vector<SensorStatus>& senso
   out.family("tiltgate_sensor_late_replies_total", "counter",
              "Replies that arrived after the reply time-out and were discarded");
   for (const SensorStatus& s : sensors) out.sample(sensor_labels(s), double(s.late_replies));
+  out.family("tiltgate_sensor_slowest_reply_seconds", "gauge",
+             "The longest a reply took since start, from the end of its request to its last "
+             "byte, as the line waited for it (what this machine held it back included)");
+  for (const SensorStatus& s : sensors)
+    out.sample(sensor_labels(s), double(s.slowest_reply_ms) / 1000.0);
   out.family("tiltgate_sensor_naks_total", "counter",
              "Requests the sensor refused, by the refusal code of its protocol");
   for (const SensorStatus& s : sensors)

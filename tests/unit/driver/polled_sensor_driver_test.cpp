@@ -1,6 +1,6 @@
 // The poll cycle's verdict on a sensor (driver/polled_sensor_driver.h) when the line could not
 // tell whether it answered: a machine that held the reply back (LineError::overloaded) blames
-// nobody, while a time-out still takes the sensor offline.
+// nobody, while a time-out still takes the sensor offline. And the slowest reply it keeps.
 #include <doctest/doctest.h>
 
 #include <boost/asio/co_spawn.hpp>
@@ -32,11 +32,11 @@ class ScriptedLine final : public Line {
   const LineTiming& last_timing() const override { return timing_; }
 
   std::deque<LineError> outcomes;
+  LineTiming timing_;  // what every transaction reports
 
  private:
   std::string name_ = "line1";
   LineStats stats_;
-  LineTiming timing_;
 };
 
 // Identity and measurement, one transaction each.
@@ -97,4 +97,19 @@ TEST_CASE("a reply the machine held back (overloaded) leaves an online sensor on
   poll(driver, line);
   CHECK_FALSE(driver.state().online);
   CHECK(driver.state().counters.timeouts == 1);
+}
+
+TEST_CASE("the slowest reply is kept as the line waited for it, the machine's hold included") {
+  ScriptedLine line;
+  OneRequestDriver driver;
+  line.timing_.reply_delay = std::chrono::milliseconds{3};
+  poll(driver, line);
+  CHECK(driver.state().counters.slowest_reply == std::chrono::milliseconds{3});
+  line.timing_.machine_held = std::chrono::milliseconds{5};
+  poll(driver, line);
+  CHECK(driver.state().counters.slowest_reply == std::chrono::milliseconds{8});
+  line.timing_ = LineTiming{};
+  line.timing_.reply_delay = std::chrono::milliseconds{2};
+  poll(driver, line);
+  CHECK(driver.state().counters.slowest_reply == std::chrono::milliseconds{8});
 }

@@ -39,6 +39,7 @@ SensorStatus boom() {
   s.timeouts = 3;
   s.checksum_errors = 1;
   s.late_replies = 4;
+  s.slowest_reply_ms = 7;
   s.refusals = {{3, 2}, {5, 1}};
   s.line_seconds = 12.5;
   s.line_share = 0.031;
@@ -106,7 +107,7 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"("online":true,"stale":false,"x":1.5,"y":-2.25,)"
         R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
-        R"("naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031,)"
+        R"("slowest_reply_ms":7,"naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031,)"
         R"("settings":{"filter":2,"zero_x":null}})");
 }
 
@@ -223,6 +224,8 @@ TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus request
   CHECK(text.find("tiltgate_sensor_failures_total{" + labels + ",reason=\"io_error\"} 0\n") !=
         std::string::npos);
   CHECK(text.find("tiltgate_sensor_late_replies_total{" + labels + "} 4\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sensor_slowest_reply_seconds{" + labels + "} 0.007\n") !=
+        std::string::npos);
   CHECK(text.find("tiltgate_sensor_naks_total{" + labels + ",code=\"3\"} 2\n") != std::string::npos);
   CHECK(text.find("tiltgate_sensor_naks_total{" + labels + ",code=\"5\"} 1\n") != std::string::npos);
   // Only codes seen: the silent sensor has no NAK series.
