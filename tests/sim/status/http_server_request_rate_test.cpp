@@ -77,7 +77,7 @@ TEST_CASE("HTTP: a client beyond max_client_requests_per_s waits for its turns, 
   CHECK(stats.closed.timed_out == 0);
 }
 
-TEST_CASE("HTTP: max_requests_per_s holds the clients together; without rates nothing waits") {
+TEST_CASE("HTTP: max_requests_per_s holds the clients together, and without rates nothing waits") {
   HttpServerOptions options;
   options.max_requests_per_s = 50;
   int answered = 0;
