@@ -50,7 +50,7 @@ ModbusListeners::ModbusListeners(boost::asio::any_io_executor bus_executor,
   main_.port = kMainListener;
   main_.router = std::make_unique<RequestRouter>(executor_, router_options());
   main_.server = std::make_unique<ModbusTcpServer>(
-      executor_, *main_.router, modbus_server_options(server_), &workers_, &total_rate_);
+      executor_, *main_.router, modbus_server_options(server_), &workers_);
 }
 
 ModbusListeners::~ModbusListeners() = default;
@@ -67,7 +67,7 @@ RequestRouter& ModbusListeners::router_for(std::uint16_t listener) {
   made.port = listener;
   made.router = std::make_unique<RequestRouter>(executor_, router_options());
   made.server = std::make_unique<ModbusTcpServer>(
-      executor_, *made.router, bus_listener_options(server_, listener), &workers_, &total_rate_);
+      executor_, *made.router, bus_listener_options(server_, listener), &workers_);
   bus_listeners_.push_back(std::move(made));
   return *bus_listeners_.back().router;
 }

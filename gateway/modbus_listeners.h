@@ -78,8 +78,6 @@ class ModbusListeners {
   boost::asio::any_io_executor executor_;
   ServerConfig server_;
   TcpWorkerPool& workers_;
-  // [server] max_requests_per_s: every listener's clients together (declared before them).
-  SharedRateLimit total_rate_;
   Listener main_;
   std::vector<Listener> bus_listeners_;
   Retired<Listener> retired_;

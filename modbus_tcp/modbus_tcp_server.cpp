@@ -26,13 +26,10 @@ constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
 }  // namespace
 
 ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHandler& handler,
-                                 ModbusServerOptions options, TcpWorkerPool* workers,
-                                 SharedRateLimit* total_rate)
+                                 ModbusServerOptions options, TcpWorkerPool* workers)
     : executor_(executor),
       own_workers_(workers == nullptr ? std::make_unique<TcpWorkerPool>(1) : nullptr),
       workers_(workers != nullptr ? workers : own_workers_.get()),
-      own_total_rate_(total_rate == nullptr ? std::make_unique<SharedRateLimit>() : nullptr),
-      total_rate_(total_rate != nullptr ? total_rate : own_total_rate_.get()),
       options_(std::move(options)),
       acceptor_(executor),
       tls_acceptor_(executor),
@@ -43,14 +40,14 @@ ModbusTcpServer::ModbusTcpServer(asio::any_io_executor executor, ModbusRequestHa
           .counters = stats_,
           .request_counts = request_counts_,
           .options = options_,
-          .total_rate = *total_rate_,
+          .total_rate = workers_->total_rate(),
           .problem_log = problem_log_,
           .finished = [this](const std::shared_ptr<ModbusTcpConnection>& connection) {
             forget(connection);
           },
           .in_use = std::make_shared<int>(0),
       } {
-  total_rate_->set(options_.current()->max_requests_per_s);
+  workers_->total_rate().set(options_.current()->max_requests_per_s);
 }
 
 ModbusTcpServer::~ModbusTcpServer() {
@@ -146,7 +143,7 @@ void ModbusTcpServer::apply(ModbusServerOptions options) {
     options.listen = current->listen;
     options.port = current->port;
   }
-  total_rate_->set(options.max_requests_per_s);
+  workers_->total_rate().set(options.max_requests_per_s);
   options_.replace(std::move(options));
 }
 

@@ -38,11 +38,11 @@ class TcpWorkerPool;
 // destroying the server.
 class ModbusTcpServer {
  public:
-  // `total_rate`: the limit of every client's requests together, shared with other servers
-  // (none: the server's own); each server puts its options' max_requests_per_s in force there.
+  // `workers`: the threads it serves its connections on (none: one of its own), whose request
+  // rate (TcpWorkerPool::total_rate) every server on them shares; each server puts its
+  // options' max_requests_per_s in force there.
   ModbusTcpServer(boost::asio::any_io_executor executor, ModbusRequestHandler& handler,
-                  ModbusServerOptions options, TcpWorkerPool* workers = nullptr,
-                  SharedRateLimit* total_rate = nullptr);
+                  ModbusServerOptions options, TcpWorkerPool* workers = nullptr);
   ~ModbusTcpServer();
   ModbusTcpServer(const ModbusTcpServer&) = delete;
   ModbusTcpServer& operator=(const ModbusTcpServer&) = delete;
@@ -90,8 +90,6 @@ class ModbusTcpServer {
   boost::asio::any_io_executor executor_;
   std::unique_ptr<TcpWorkerPool> own_workers_;  // when none were given
   TcpWorkerPool* workers_;
-  std::unique_ptr<SharedRateLimit> own_total_rate_;  // when none was given
-  SharedRateLimit* total_rate_;
   ModbusOptionsInForce options_;
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::ip::tcp::acceptor tls_acceptor_;

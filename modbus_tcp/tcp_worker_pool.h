@@ -1,7 +1,9 @@
 // The threads that serve Modbus TCP connections ([server] threads): one ConnectionLoop and one
 // thread each, so each connection's socket, buffers and deadlines live on one thread and need
 // no lock. The buses stay on the main event loop, which no TCP work reaches but writes and
-// forwarded requests (gateway/request_router.h).
+// forwarded requests (gateway/request_router.h). What the threads answer together is held to
+// one request rate ([server] max_requests_per_s, modbus_tcp/request_rate.h): every server
+// served on the pool takes its requests' turns from it.
 #pragma once
 
 #include <atomic>
@@ -12,6 +14,7 @@
 #include <vector>
 
 #include "modbus_tcp/connection_loop.h"
+#include "modbus_tcp/request_rate.h"
 
 namespace tiltgate {
 
@@ -27,6 +30,8 @@ class TcpWorkerPool {
   // The next thread's loop, round robin: where the next connection is served.
   ConnectionLoop& next();
   std::size_t size() const { return workers_.size(); }
+  // Every connection's requests together, on every thread (the servers set its rate).
+  SharedRateLimit& total_rate() { return total_rate_; }
 
   // Lets each thread end once its connections have ended (their sockets closed by the
   // servers' stop()), waiting up to `grace`; what is still running then is stopped, and the
@@ -39,6 +44,7 @@ class TcpWorkerPool {
     std::thread thread;
   };
 
+  SharedRateLimit total_rate_;
   std::vector<std::unique_ptr<Worker>> workers_;
   std::atomic<std::size_t> next_ = 0;
   bool stopped_ = false;
