@@ -150,9 +150,15 @@ boost::asio::awaitable<bool> PolledSensorDriver::read_settings(Line& line) {
 
 void PolledSensorDriver::note_timing(const LineTiming& timing, const std::string& line_name) {
   state_.counters.late_replies += timing.late_replies;
-  if (timing.reply_delay)
-    state_.counters.slowest_reply =
-        std::max(state_.counters.slowest_reply, *timing.reply_delay + timing.machine_held);
+  if (timing.reply_delay) {
+    const std::chrono::milliseconds took = *timing.reply_delay + timing.machine_held;
+    SensorCounters& counters = state_.counters;
+    counters.slowest_reply = std::max(counters.slowest_reply, took);
+    const auto bound = std::lower_bound(kReplyBucketsMs.begin(), kReplyBucketsMs.end(),
+                                        took.count());
+    ++counters.reply_buckets[std::size_t(bound - kReplyBucketsMs.begin())];
+    counters.reply_ms_sum += std::uint64_t(took.count());
+  }
   const auto before = reply_timeout_.current();
   const bool was_late = reply_timeout_.answers_late();
   reply_timeout_.record(timing);

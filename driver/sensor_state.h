@@ -28,6 +28,11 @@ struct Reading {
   std::vector<double> device_values;
 };
 
+// The bounds of the reply-time histogram (SensorCounters::reply_buckets), milliseconds; one
+// more bucket counts the replies beyond the last.
+inline constexpr std::array<int, 11> kReplyBucketsMs = {1, 2, 5, 10, 20, 50, 100, 200, 500,
+                                                        1000, 2000};
+
 // Counters a field engineer reads when a bus misbehaves.
 struct SensorCounters {
   std::uint32_t transactions = 0;   // request/reply exchanges started, retries not counted
@@ -49,6 +54,10 @@ struct SensorCounters {
   // the line waited for it (what this machine held it back included: the line's timing, not
   // the sensor's alone).
   std::chrono::milliseconds slowest_reply{0};
+  // Every reply's time, as slowest_reply's, by the first bound of kReplyBucketsMs it is within
+  // (whole milliseconds, rounded up), and their sum.
+  std::array<std::uint32_t, kReplyBucketsMs.size() + 1> reply_buckets{};
+  std::uint64_t reply_ms_sum = 0;
 };
 
 struct SensorState {

@@ -3,6 +3,7 @@
 // (status/status_json.h, status/status_metrics.h) is pure and testable without a bus.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "audit/audit_counts.h"
+#include "driver/sensor_state.h"
 #include "modbus_tcp/modbus_request_counts.h"
 
 namespace tiltgate {
@@ -49,6 +51,9 @@ struct SensorStatus {
   std::uint64_t io_errors = 0;        // the port failed or was closed
   std::uint64_t late_replies = 0;     // answers after the time-out, discarded
   std::int64_t slowest_reply_ms = 0;  // SensorCounters::slowest_reply
+  // SensorCounters::reply_buckets and reply_ms_sum: the reply-time histogram.
+  std::array<std::uint32_t, kReplyBucketsMs.size() + 1> reply_buckets{};
+  std::uint64_t reply_ms_sum = 0;
   // Requests the sensor refused (NAK), by its protocol's refusal code; only codes seen.
   std::vector<std::pair<std::uint8_t, std::uint64_t>> refusals;
   // Seconds its bus's line spent on this sensor's polls, writes and retries, waiting for

@@ -62,6 +62,8 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.io_errors = state.counters.io_errors;
   s.late_replies = state.counters.late_replies;
   s.slowest_reply_ms = state.counters.slowest_reply.count();
+  s.reply_buckets = state.counters.reply_buckets;
+  s.reply_ms_sum = state.counters.reply_ms_sum;
   s.line_seconds = std::chrono::duration<double>(sensor.line_time).count();
   if (sensor.model != nullptr)
     for (const SettingDescriptor& setting : sensor.model->settings)

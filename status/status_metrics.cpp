@@ -45,6 +45,13 @@ class Exposition {
     if (!labels.empty()) text_ += "{" + labels + "}";
     text_ += " " + metrics_value(value) + "\n";
   }
+  // One sample of a histogram's series: the family's name with `suffix` (_bucket, _sum, _count).
+  void sample(std::string_view suffix, const std::string& labels, double value) {
+    text_ += name_;
+    text_ += suffix;
+    if (!labels.empty()) text_ += "{" + labels + "}";
+    text_ += " " + metrics_value(value) + "\n";
+  }
   std::string take() { return std::move(text_); }
 
  private:
@@ -339,6 +346,22 @@ void add_sensor_families(Exposition& out, const std::vector<SensorStatus>& senso
              "byte, as the line waited for it (what this machine held it back included)");
   for (const SensorStatus& s : sensors)
     out.sample(sensor_labels(s), double(s.slowest_reply_ms) / 1000.0);
+  out.family("tiltgate_sensor_reply_seconds", "histogram",
+             "Reply times, from the end of the request to the reply's last byte as the line "
+             "waited for it (what this machine held it back included), whole milliseconds");
+  for (const SensorStatus& s : sensors) {
+    std::uint64_t below = 0;
+    for (std::size_t i = 0; i < kReplyBucketsMs.size(); ++i) {
+      below += s.reply_buckets[i];
+      out.sample("_bucket", fmt::format("{},le=\"{}\"", sensor_labels(s),
+                                        metrics_value(kReplyBucketsMs[i] / 1000.0)),
+                 double(below));
+    }
+    below += s.reply_buckets.back();
+    out.sample("_bucket", sensor_labels(s) + ",le=\"+Inf\"", double(below));
+    out.sample("_sum", sensor_labels(s), double(s.reply_ms_sum) / 1000.0);
+    out.sample("_count", sensor_labels(s), double(below));
+  }
   out.family("tiltgate_sensor_naks_total", "counter",
              "Requests the sensor refused, by the refusal code of its protocol");
   for (const SensorStatus& s : sensors)

@@ -112,4 +112,10 @@ TEST_CASE("the slowest reply is kept as the line waited for it, the machine's ho
   line.timing_.reply_delay = std::chrono::milliseconds{2};
   poll(driver, line);
   CHECK(driver.state().counters.slowest_reply == std::chrono::milliseconds{8});
+  // Two transactions a poll (identity once, then measurements): 3 ms twice, 8 ms, 2 ms.
+  const auto& buckets = driver.state().counters.reply_buckets;
+  CHECK(buckets[1] == 1);  // within 2 ms
+  CHECK(buckets[2] == 2);  // within 5 ms
+  CHECK(buckets[3] == 1);  // within 10 ms
+  CHECK(driver.state().counters.reply_ms_sum == 3 + 3 + 8 + 2);
 }

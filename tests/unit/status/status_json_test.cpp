@@ -40,6 +40,9 @@ SensorStatus boom() {
   s.checksum_errors = 1;
   s.late_replies = 4;
   s.slowest_reply_ms = 7;
+  s.reply_buckets[1] = 8;  // within 2 ms
+  s.reply_buckets[3] = 2;  // within 10 ms
+  s.reply_ms_sum = 30;
   s.refusals = {{3, 2}, {5, 1}};
   s.line_seconds = 12.5;
   s.line_share = 0.031;
@@ -226,6 +229,17 @@ TEST_CASE("metrics: failures by reason, NAKs by code, bus use and Modbus request
   CHECK(text.find("tiltgate_sensor_late_replies_total{" + labels + "} 4\n") != std::string::npos);
   CHECK(text.find("tiltgate_sensor_slowest_reply_seconds{" + labels + "} 0.007\n") !=
         std::string::npos);
+  CHECK(text.find("# TYPE tiltgate_sensor_reply_seconds histogram\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sensor_reply_seconds_bucket{" + labels + ",le=\"0.001\"} 0\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_reply_seconds_bucket{" + labels + ",le=\"0.002\"} 8\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_reply_seconds_bucket{" + labels + ",le=\"0.01\"} 10\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_reply_seconds_bucket{" + labels + ",le=\"+Inf\"} 10\n") !=
+        std::string::npos);
+  CHECK(text.find("tiltgate_sensor_reply_seconds_sum{" + labels + "} 0.03\n") != std::string::npos);
+  CHECK(text.find("tiltgate_sensor_reply_seconds_count{" + labels + "} 10\n") != std::string::npos);
   CHECK(text.find("tiltgate_sensor_naks_total{" + labels + ",code=\"3\"} 2\n") != std::string::npos);
   CHECK(text.find("tiltgate_sensor_naks_total{" + labels + ",code=\"5\"} 1\n") != std::string::npos);
   // Only codes seen: the silent sensor has no NAK series.
@@ -304,7 +318,7 @@ TEST_CASE("metrics: the Sparkplug edge node's series only when [sparkplug] is on
 
 TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the 0.0.4 format") {
   const std::regex help(R"(# HELP (tiltgate_[a-z_]+) .+)");
-  const std::regex type(R"(# TYPE (tiltgate_[a-z_]+) (gauge|counter))");
+  const std::regex type(R"(# TYPE (tiltgate_[a-z_]+) (gauge|counter|histogram))");
   const std::regex sample(
       R"((tiltgate_[a-z_]+)(\{([a-z_]+="([^"\\\n]|\\[\\"n])*")(,[a-z_]+="([^"\\\n]|\\[\\"n])*")*\})? )"
       R"((-?[0-9.]+(e[-+]?[0-9]+)?|NaN|[+-]Inf))");
@@ -313,7 +327,7 @@ TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the
   status.sparkplug = SparkplugStats{true, 42, 1, 2, 3, 4, 5};
   status.stores.push_back(StoreStats{"sparkplug", 4096, 7, 8, 9});
   std::istringstream lines(metrics_text(status));
-  std::string line, helped, typed;
+  std::string line, helped, typed, kind;
   std::set<std::string> families;
   int samples = 0;
   while (std::getline(lines, line)) {
@@ -324,11 +338,15 @@ TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the
       CHECK(families.insert(helped).second);  // each family once
     } else if (std::regex_match(line, m, type)) {
       typed = m[1];
+      kind = m[2];
       CHECK(typed == helped);
       if (m[2] == "counter") CHECK(typed.ends_with("_total"));
     } else {
       REQUIRE(std::regex_match(line, m, sample));
-      CHECK(m[1] == typed);
+      if (kind == "histogram")  // its series: _bucket (with le), _sum and _count
+        CHECK((m[1] == typed + "_bucket" || m[1] == typed + "_sum" || m[1] == typed + "_count"));
+      else
+        CHECK(m[1] == typed);
       ++samples;
     }
   }
