@@ -263,12 +263,8 @@ bool ModbusTcpConnection::admitted() {
       own_rate_per_second_ = own;
       own_schedule_ = RateSchedule::of(own);
     }
-    // Its own turn first, then a place among everyone's from then: a client held to its own
-    // rate keeps no slot of the total idle meanwhile.
-    const Clock::time_point own_turn = own_rate_.reserve(now, own_schedule_);
-    turn_ = context_.total_rate.reserve(own_turn);
+    turn_ = next_turn(now, own_rate_, own_schedule_, context_.total_rate);
     if (*turn_ > now) {
-      turn_ = take_up(*turn_);
       ++context_.counters.requests_delayed;
       context_.counters.delay_ns += std::uint64_t(
           std::chrono::duration_cast<std::chrono::nanoseconds>(*turn_ - now).count());

@@ -93,4 +93,14 @@ class SharedRateLimit {
   std::atomic<std::int64_t> tat_ns_{0};
 };
 
+// When a request arriving `now` may be served: its client's own turn first, then a place among
+// everyone's from then (a client held to its own rate keeps no slot of the total idle
+// meanwhile); a turn later than now is taken up on the grid (take_up()).
+inline std::chrono::steady_clock::time_point next_turn(std::chrono::steady_clock::time_point now,
+                                                       RateLimit& own, const RateSchedule& own_schedule,
+                                                       SharedRateLimit& total) {
+  const std::chrono::steady_clock::time_point turn = total.reserve(own.reserve(now, own_schedule));
+  return turn > now ? take_up(turn) : turn;
+}
+
 }  // namespace tiltgate

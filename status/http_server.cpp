@@ -230,9 +230,8 @@ void HttpServer::count_unserved(Connection& connection, boost::system::error_cod
 
 Clock::time_point HttpServer::take_turn(Connection& connection) {
   const Clock::time_point now = Clock::now();
-  Clock::time_point turn = total_rate_.reserve(connection.own_rate.reserve(now, client_schedule_));
+  const Clock::time_point turn = next_turn(now, connection.own_rate, client_schedule_, total_rate_);
   if (turn <= now) return turn;
-  turn = take_up(turn);
   count([&](HttpServerStats& s) {
     ++s.requests_delayed;
     s.delay_seconds += std::chrono::duration<double>(turn - now).count();
