@@ -10,12 +10,7 @@ set -u
 tiltgate=${1:?usage: flooded_line_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
 script_setup tiltgate-flood
-load="$(dirname "$tiltgate")/bench/bench_modbus_load"
-if [ ! -x "$load" ]; then
-  echo "FAIL: $load not built (cmake --build build --target bench_modbus_load)"
-  echo "0 passed, 1 failed"
-  exit 1
-fi
+require_load_binary "$tiltgate"
 
 start_sim "$tiltgate" rieker h6:223 "$dir/ttyUSB0"
 port=$(free_port)

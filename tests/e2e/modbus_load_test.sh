@@ -6,12 +6,7 @@ set -u
 tiltgate=${1:?usage: modbus_load_test.sh path/to/tiltgate}
 source "$(dirname "$0")/support/script_lib.sh"
 script_setup tiltgate-load
-load="$(dirname "$tiltgate")/bench/bench_modbus_load"
-if [ ! -x "$load" ]; then
-  echo "FAIL: $load not built (cmake --build build --target bench_modbus_load)"
-  echo "0 passed, 1 failed"
-  exit 1
-fi
+require_load_binary "$tiltgate"
 
 # `tiltgate run` on a simulated H6 with a long reply wait: on one event loop a flood of TCP
 # requests still delays bus transactions, and the default 50 ms wait can take the sensor

@@ -44,6 +44,16 @@ require_mbpoll() {
   exit 1
 }
 
+# require_load_binary TILTGATE: sets $load to the bench's load generator built beside TILTGATE
+# (bench/modbus_load.cpp), or fails the script when it was not built.
+require_load_binary() {
+  load="$(dirname "$1")/bench/bench_modbus_load"
+  [ -x "$load" ] && return 0
+  echo "FAIL: $load not built (cmake --build build --target bench_modbus_load)"
+  echo "0 passed, 1 failed"
+  exit 1
+}
+
 # free_port: a TCP port nothing listens on now (the kernel's choice), or a random high one;
 # never one it handed out before in this script (kept in $dir/.ports): the kernel gives a port
 # just freed out again, and two listeners of one gateway on one port cannot both bind.
