@@ -84,8 +84,19 @@ TEST_CASE("HTTP: /metrics is strict Prometheus text with each sensor's series") 
       R"(([a-zA-Z_:][a-zA-Z0-9_:]*)(\{[a-zA-Z_][a-zA-Z0-9_]*="(?:[^"\\\n]|\\[\\"n])*")"
       R"((?:,[a-zA-Z_][a-zA-Z0-9_]*="(?:[^"\\\n]|\\[\\"n])*")*\})? )"
       R"((-?[0-9]+(?:\.[0-9]+)?(?:e[-+]?[0-9]+)?|NaN|[+-]Inf))");
-  std::set<std::string> helped, typed;
+  std::set<std::string> helped, typed, histograms;
   std::map<std::string, std::string> samples;  // series -> value
+  // A histogram's samples are its name with _bucket (labelled le), _sum and _count.
+  const auto family_of = [&](const std::string& name) {
+    for (const char* suffix : {"_bucket", "_sum", "_count"}) {
+      const std::string_view end(suffix);
+      if (name.ends_with(end)) {
+        const std::string family = name.substr(0, name.size() - end.size());
+        if (histograms.count(family) == 1) return family;
+      }
+    }
+    return name;
+  };
   std::istringstream lines(metrics.body);
   std::string line;
   while (std::getline(lines, line)) {
@@ -97,9 +108,10 @@ TEST_CASE("HTTP: /metrics is strict Prometheus text with each sensor's series") 
       CHECK(helped.count(m[1]) == 1);
       CHECK(typed.insert(m[1]).second);
       if (m[2] == "counter") CHECK(std::string(m[1]).ends_with("_total"));
+      if (m[2] == "histogram") histograms.insert(m[1]);
     } else {
       REQUIRE(std::regex_match(line, m, sample));
-      CHECK(typed.count(m[1]) == 1);
+      CHECK(typed.count(family_of(m[1])) == 1);
       samples[std::string(m[1]) + std::string(m[2])] = m[3];
     }
   }
@@ -111,6 +123,10 @@ TEST_CASE("HTTP: /metrics is strict Prometheus text with each sensor's series") 
   CHECK(std::stoul(samples["tiltgate_polls_total{" + left + ",result=\"ok\"}"]) > 0);
   CHECK(samples.count("tiltgate_polls_total{" + left + ",result=\"failed\"}") == 1);
   CHECK(std::stoul(samples["tiltgate_bus_polls_total{bus=\"line1\"}"]) > 0);
+  // Every reply in the histogram: its +Inf bucket is its count, and there were replies.
+  const std::string replies = samples["tiltgate_sensor_reply_seconds_count{" + left + "}"];
+  CHECK(std::stoul(replies) > 0);
+  CHECK(samples["tiltgate_sensor_reply_seconds_bucket{" + left + ",le=\"+Inf\"}"] == replies);
   CHECK(std::stod(samples["tiltgate_process_start_time_seconds"]) > 1.6e9);
   // The plant read every unit's angles with function 04 before this, and one 04 failed.
   CHECK(std::stoul(samples["tiltgate_modbus_requests_total{function=\"04\"}"]) >= 4);
