@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <variant>
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/this_coro.hpp>
@@ -15,6 +16,7 @@
 #include "console/console_reply.h"
 #include "console/console_requests.h"
 #include "console/request_guard.h"
+#include "driver/visible_text.h"
 #include "gateway/gateway.h"
 
 namespace tiltgate {
@@ -56,6 +58,13 @@ ConsoleHandler::~ConsoleHandler() {
   hashing_.join();
 }
 
+bool ConsoleHandler::signed_in(std::string_view cookie_header) const {
+  const std::string token = session_token(cookie_header);
+  if (token.empty()) return false;
+  std::lock_guard lock(state_->mutex);
+  return state_->sessions.live(token, Clock::now());
+}
+
 ConsoleStats ConsoleHandler::stats() const {
   std::lock_guard lock(state_->mutex);
   ConsoleStats stats = state_->stats;
@@ -64,13 +73,18 @@ ConsoleStats ConsoleHandler::stats() const {
 }
 
 std::shared_ptr<const UsersFile> ConsoleHandler::users() {
+  // One stat() a request (about a microsecond): the file as it is now, checked on this thread
+  // just before the request's session is looked up, so no request is served on a session its
+  // account no longer allows. `tiltgate user` replaces the file by a rename (a new inode); an
+  // editor may write it in place (a new size, mtime or ctime).
   struct stat info {};
-  const std::int64_t mtime =
-      ::stat(config_.users_file.c_str(), &info) == 0
-          ? std::int64_t(info.st_mtim.tv_sec) * 1'000'000'000 + info.st_mtim.tv_nsec
-          : -2;
-  if (mtime == users_mtime_ns_) return users_;
-  users_mtime_ns_ = mtime;
+  UsersFileStamp stamp;
+  if (::stat(config_.users_file.c_str(), &info) == 0)
+    stamp = {std::uint64_t(info.st_dev), std::uint64_t(info.st_ino), std::int64_t(info.st_size),
+             std::int64_t(info.st_mtim.tv_sec) * 1'000'000'000 + info.st_mtim.tv_nsec,
+             std::int64_t(info.st_ctim.tv_sec) * 1'000'000'000 + info.st_ctim.tv_nsec};
+  if (users_stamp_ && *users_stamp_ == stamp) return users_;
+  users_stamp_ = stamp;
   auto loaded = UsersFile::load(config_.users_file);
   if (!loaded) {
     if (users_error_ != loaded.error())
@@ -83,14 +97,24 @@ std::shared_ptr<const UsersFile> ConsoleHandler::users() {
     spdlog::info("web console: {} account(s) from {}", users_->accounts().size(),
                  config_.users_file);
   }
-  const auto current = users_;
-  std::lock_guard lock(state_->mutex);
-  state_->sessions.keep_only([&](const std::string& name) -> std::optional<Role> {
-    if (!current) return std::nullopt;
-    const UserAccount* account = current->find(name);
-    return account ? std::optional<Role>(account->role) : std::nullopt;
-  });
+  std::size_t ended = 0;
+  {
+    std::lock_guard lock(state_->mutex);
+    ended = state_->sessions.end_changed(users_.get());
+  }
+  if (ended > 0)
+    spdlog::info("web console: {} session(s) ended: their account was removed, or its role or "
+                 "password changed",
+                 ended);
   return users_;
+}
+
+bool ConsoleHandler::unchanged_account(const UsersFile& checked, std::string_view user) {
+  const std::shared_ptr<const UsersFile> now = users();
+  const UserAccount* then_account = checked.find(user);
+  const UserAccount* now_account = now ? now->find(user) : nullptr;
+  return then_account != nullptr && now_account != nullptr &&
+         then_account->role == now_account->role && then_account->hash == now_account->hash;
 }
 
 void ConsoleHandler::record(const ConsoleSession& session, std::string sensor,
@@ -137,6 +161,9 @@ asio::awaitable<HttpReply> ConsoleHandler::handle(HttpRequest request) {
     if (request.method != "POST") co_return error_reply(405, "log in with POST");
     co_return co_await login(request);
   }
+  // The users file as it is now, before any session is looked up (docs/web-console.md, "When a
+  // session ends").
+  users();
   if (path == "/api/session" && request.method == "GET") co_return session_reply(request);
   // A copy: the table may drop the session while this request waits (a logout, an expiry).
   ConsoleSession session;
@@ -181,22 +208,30 @@ asio::awaitable<HttpReply> ConsoleHandler::login(const HttpRequest& request) {
     co_return error_reply(403, fmt::format("a login from {} is not accepted here", request.origin));
   auto asked = parse_login_request(request.body);
   if (!asked) co_return error_reply(400, asked.error());
-  const auto now = Clock::now();
-  std::optional<std::chrono::seconds> wait;
-  {
-    std::lock_guard lock(state_->mutex);
-    wait = state_->throttle.wait(asked->user, request.address, now);
-    if (wait) ++state_->stats.logins_throttled;
-  }
-  if (wait) {
-    HttpReply reply = json_reply(
-        429, json{{"error", fmt::format("too many failed logins: try again in {} s", wait->count())},
-                  {"retry_after_s", wait->count()}});
-    reply.headers.emplace_back("Retry-After", std::to_string(wait->count()));
-    co_return reply;
-  }
   const std::shared_ptr<const UsersFile> accounts = users();
   if (!accounts) co_return error_reply(503, "no accounts can be read: see the gateway's log");
+  // Counted before the hash, so attempts sent together cannot all pass
+  // (docs/web-console.md, "Logins and guessing").
+  std::variant<LoginThrottle::Admitted, LoginThrottle::Refused> admission;
+  {
+    std::lock_guard lock(state_->mutex);
+    admission = state_->throttle.admit(asked->user, accounts->find(asked->user) != nullptr,
+                                       request.address, Clock::now());
+    if (std::holds_alternative<LoginThrottle::Refused>(admission)) {
+      ++state_->stats.logins_throttled;
+    }
+  }
+  if (const auto* refused = std::get_if<LoginThrottle::Refused>(&admission)) {
+    const auto wait = refused->wait.count();
+    const std::string why =
+        refused->limit == LoginThrottle::Limit::address
+            ? fmt::format("too many failed logins from this address: try again in {} s", wait)
+            : fmt::format("too many login attempts for this account: try again in {} s", wait);
+    HttpReply reply = json_reply(429, json{{"error", why}, {"retry_after_s", wait}});
+    reply.headers.emplace_back("Retry-After", std::to_string(wait));
+    co_return reply;
+  }
+  const LoginThrottle::Admitted attempt = std::get<LoginThrottle::Admitted>(admission);
   // The hash on its own thread: it costs tens of milliseconds by design.
   const std::string user = asked->user;
   const std::string password = std::move(asked->password);
@@ -204,26 +239,29 @@ asio::awaitable<HttpReply> ConsoleHandler::login(const HttpRequest& request) {
   auto check = [accounts, user, password]() -> asio::awaitable<std::optional<Role>> {
     co_return accounts->verify(user, password);
   };
-  const std::optional<Role> role =
+  std::optional<Role> role =
       co_await asio::co_spawn(hashing_.get_executor(), std::move(check), asio::use_awaitable);
+  // The file may have changed while the hash was checked (a `tiltgate user passwd` meanwhile):
+  // a session opens only for the account as it is now, so the old password opens none.
+  if (role && !unchanged_account(*accounts, user)) role.reset();
   if (!role) {
     {
       std::lock_guard lock(state_->mutex);
-      state_->throttle.failed(user, request.address, Clock::now());
-      ++state_->stats.login_failures;
+      ++state_->stats.login_failures;  // the throttle counted it already
     }
-    spdlog::warn("web console: failed login as \"{}\" from {}", user, request.address);
+    spdlog::warn("web console: failed login as \"{}\" from {}", visible_text(user),
+                 request.address);
     co_return error_reply(401, "wrong user name or password");
   }
   std::string token, csrf;
   {
     std::lock_guard lock(state_->mutex);
-    state_->throttle.succeeded(user, request.address);
-    token = state_->sessions.open(user, *role, Clock::now());
+    state_->throttle.succeeded(attempt);
+    token = state_->sessions.open(user, *role, accounts->find(user)->hash, Clock::now());
     csrf = state_->sessions.use(token, Clock::now())->csrf;
     ++state_->stats.logins;
   }
-  spdlog::info("web console: {} logged in from {} as {}", user, request.address,
+  spdlog::info("web console: {} logged in from {} as {}", visible_text(user), request.address,
                role_name(*role));
   HttpReply reply = json_reply(
       200, json{{"user", user}, {"role", role_name(*role)}, {"csrf", csrf}});

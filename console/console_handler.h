@@ -73,6 +73,9 @@ class ConsoleHandler {
   ~ConsoleHandler();
 
   boost::asio::awaitable<HttpReply> handle(HttpRequest request);
+  // Whether a Cookie header names a live session: what the HTTP server gives logged-in users
+  // their share of itself by (HttpServerOptions::signed_in). Any thread.
+  bool signed_in(std::string_view cookie_header) const;
   ConsoleStats stats() const;
 
  private:
@@ -101,8 +104,17 @@ class ConsoleHandler {
   std::optional<HttpReply> refuse_forgery(const HttpRequest& request,
                                           const ConsoleSession& session) const;
   // The users file, read again when it changed on disk (`tiltgate user` while the gateway runs);
-  // sessions of removed users, or of users whose role changed, end then.
+  // the sessions of accounts removed, or whose role or password changed, end then. Called at
+  // every /api/ request and login, before anything else is done with it.
   std::shared_ptr<const UsersFile> users();
+  // Whether `user`'s account in the users file now is the one in `checked` (same role, same hash).
+  bool unchanged_account(const UsersFile& checked, std::string_view user);
+  // What stat() says of the users file; all zero when it is missing.
+  struct UsersFileStamp {
+    std::uint64_t device = 0, inode = 0;
+    std::int64_t size = -1, mtime_ns = 0, ctime_ns = 0;
+    bool operator==(const UsersFileStamp&) const = default;
+  };
   void record(const ConsoleSession& session, std::string sensor, std::string setting,
               std::string old_value, std::string new_value, std::string result);
 
@@ -114,7 +126,7 @@ class ConsoleHandler {
   std::shared_ptr<ConsoleState> state_;
   std::shared_ptr<const UsersFile> users_;
   std::string users_error_;
-  std::int64_t users_mtime_ns_ = -1;
+  std::optional<UsersFileStamp> users_stamp_;  // none: not read yet
   boost::asio::thread_pool hashing_{1};
 };
 

@@ -60,6 +60,11 @@ void HttpService::make_http(const HistoryRecorder* previous) {
   if (!console_state_)
     console_state_ = std::make_shared<ConsoleState>(config_.session_idle, config_.session_max);
   handler_ = std::make_shared<ConsoleHandler>(std::move(console), config_, console_state_);
+  // With accounts, logged-in users keep half of the server however many others come.
+  if (!config_.users_file.empty())
+    http.signed_in = [handler = handler_](std::string_view cookie) {
+      return handler->signed_in(cookie);
+    };
   http_ = std::make_unique<HttpThread>(
       [handler = handler_](HttpRequest request) { return handler->handle(std::move(request)); },
       http);

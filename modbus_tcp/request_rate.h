@@ -103,4 +103,15 @@ inline std::chrono::steady_clock::time_point next_turn(std::chrono::steady_clock
   return turn > now ? take_up(turn) : turn;
 }
 
+// The same for a request that must also find a place within a share of the total first (the
+// console's requests without a session: half of [http] max_requests_per_s), so that the rest
+// of the total stays free for the others.
+inline std::chrono::steady_clock::time_point next_turn(std::chrono::steady_clock::time_point now,
+                                                       RateLimit& own, const RateSchedule& own_schedule,
+                                                       SharedRateLimit& share, SharedRateLimit& total) {
+  const std::chrono::steady_clock::time_point turn =
+      total.reserve(share.reserve(own.reserve(now, own_schedule)));
+  return turn > now ? take_up(turn) : turn;
+}
+
 }  // namespace tiltgate

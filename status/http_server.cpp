@@ -73,6 +73,7 @@ struct HttpServer::Connection {
   Clock::time_point waiting_since;
   RateLimit own_rate;  // [http] max_client_requests_per_s
   bool served = false;  // it has answered a request: kept alive, it gives way first too
+  bool signed_in = false;  // it has carried a request with a live console session
   bool closed = false;  // by stop() or to make room: its coroutine ends on a later loop turn
   std::variant<beast::tcp_stream, TlsStream> stream;
 };
@@ -84,6 +85,7 @@ HttpServer::HttpServer(asio::any_io_executor executor, HttpHandler handler,
       options_(std::move(options)),
       client_schedule_(RateSchedule::of(options_.max_client_requests_per_s)),
       total_rate_(options_.max_requests_per_s),
+      anonymous_rate_(options_.signed_in ? options_.max_requests_per_s / 2.0 : 0),
       acceptor_(executor),
       problem_log_(executor, "HTTP", LogThrottleOptions{}) {}
 
@@ -173,12 +175,19 @@ bool HttpServer::admit(tcp::socket& socket, const std::string& address) {
   // Connections closed for an earlier client may still be winding down: they hold no place.
   std::vector<Connection*> live;
   std::vector<OpenConnection> open;
+  std::size_t signed_in = 0;
+  for (const auto& connection : connections_)
+    signed_in += !connection->closed && connection->signed_in;
+  // Logged-in users' connections keep their places up to half of them: anonymous newcomers make
+  // room among each other (docs/web-console.md, "Logins and guessing").
+  const bool keep_signed_in = signed_in <= std::size_t(options_.max_clients) / 2;
   for (const auto& connection : connections_) {
     if (connection->closed) continue;
     live.push_back(connection.get());
+    const bool kept = keep_signed_in && connection->signed_in;
     // A new client's request may take a round trip to come; if the clients flooding the port
     // (from many addresses) went strictly by age, a burst of them could close it meanwhile.
-    open.push_back({connection->address, connection->waiting, connection->waiting_since,
+    open.push_back({connection->address, connection->waiting && !kept, connection->waiting_since,
                     connection->served || connection->from_troubled_address});
   }
   const Admission admission = admit_connection(
@@ -228,9 +237,11 @@ void HttpServer::count_unserved(Connection& connection, boost::system::error_cod
   }
 }
 
-Clock::time_point HttpServer::take_turn(Connection& connection) {
+Clock::time_point HttpServer::take_turn(Connection& connection, bool signed_in) {
   const Clock::time_point now = Clock::now();
-  const Clock::time_point turn = next_turn(now, connection.own_rate, client_schedule_, total_rate_);
+  const Clock::time_point turn =
+      signed_in ? next_turn(now, connection.own_rate, client_schedule_, total_rate_)
+                : next_turn(now, connection.own_rate, client_schedule_, anonymous_rate_, total_rate_);
   if (turn <= now) return turn;
   count([&](HttpServerStats& s) {
     ++s.requests_delayed;
@@ -267,6 +278,17 @@ std::string header_of(const http::request<http::string_body>& request, http::fie
   return std::string(found->value());
 }
 
+// Holds the body of the request whose header `parser` has read to `limit`: one that says it is
+// longer is refused at once (Beast checks a Content-Length against the limit only at the end of
+// the header), a chunked one as its chunks come.
+boost::system::error_code limit_body(http::request_parser<http::string_body>& parser,
+                                     std::size_t limit) {
+  if (const auto length = parser.content_length(); length && *length > limit)
+    return http::error::body_limit;
+  parser.body_limit(limit);
+  return {};
+}
+
 std::string header_of(const http::request<http::string_body>& request, std::string_view name) {
   const auto found = request.find(beast::string_view(name.data(), name.size()));
   if (found == request.end()) return {};
@@ -286,8 +308,17 @@ asio::awaitable<void> HttpServer::serve_on(Connection& connection, Stream& strea
     // response, however the bytes trickle in: a client sending a byte a second is dropped.
     connection.lowest().expires_after(options_.request_timeout);
     boost::system::error_code ec;
-    co_await http::async_read(stream, buffer, parser,
-                              asio::redirect_error(asio::use_awaitable, ec));
+    co_await http::async_read_header(stream, buffer, parser,
+                                     asio::redirect_error(asio::use_awaitable, ec));
+    bool signed_in = true;
+    if (!ec && options_.signed_in) {
+      signed_in = options_.signed_in(header_of(parser.get(), http::field::cookie));
+      // No session: a few KiB, whatever the body says it holds (a login's is under 200 bytes).
+      if (!signed_in) ec = limit_body(parser, options_.max_anonymous_body_bytes);
+    }
+    if (!ec && !parser.is_done())
+      co_await http::async_read(stream, buffer, parser,
+                                asio::redirect_error(asio::use_awaitable, ec));
     if (ec) {
       count_unserved(connection, ec, parser.got_some());
       if (ec == http::error::header_limit || ec == http::error::body_limit) {
@@ -304,7 +335,8 @@ asio::awaitable<void> HttpServer::serve_on(Connection& connection, Stream& strea
     if (connection.closed) break;  // made room for another after its request came in
     connection.waiting = false;
     // Its turn under the request rates: nothing more is read from it meanwhile.
-    if (const Clock::time_point turn = take_turn(connection); turn > Clock::now()) {
+    connection.signed_in = connection.signed_in || (signed_in && options_.signed_in);
+    if (const Clock::time_point turn = take_turn(connection, signed_in); turn > Clock::now()) {
       asio::steady_timer wait(executor_, turn);
       co_await wait.async_wait(asio::redirect_error(asio::use_awaitable, ec));
       if (connection.closed) break;

@@ -21,6 +21,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <unordered_set>
 
 #include "config/address_allow_list.h"
@@ -50,6 +51,14 @@ struct HttpServerOptions {
   int max_requests_per_s = 0;
   int max_client_requests_per_s = 0;
   std::string tls_cert_pem, tls_key_pem;  // both: HTTPS only
+  // Whether a request's Cookie header names a live console session (docs/web-console.md,
+  // "Logins and guessing"). With it, requests without one ("anonymous") get a body of at most
+  // max_anonymous_body_bytes and half of max_requests_per_s, and connections that have carried
+  // a signed-in request keep their places while they hold half of max_clients or fewer, so
+  // a flood of anonymous clients leaves logged-in users at least half of the server. None:
+  // every request is treated alike, as the read-only API always was.
+  std::function<bool(std::string_view cookie_header)> signed_in;
+  std::size_t max_anonymous_body_bytes = 4096;
 };
 
 using HttpHandler = std::function<boost::asio::awaitable<HttpReply>(HttpRequest)>;
@@ -98,14 +107,16 @@ class HttpServer {
   // A connection that ended without a whole request: counted and logged, unless it was closed
   // for another reason already or was a kept-alive one simply left idle.
   void count_unserved(Connection& connection, boost::system::error_code ec, bool got_some);
-  // When the request that just came in on `connection` may be answered (now, or later).
-  std::chrono::steady_clock::time_point take_turn(Connection& connection);
+  // When the request that just came in on `connection` may be answered (now, or later); an
+  // anonymous one takes its turn within the anonymous share first.
+  std::chrono::steady_clock::time_point take_turn(Connection& connection, bool signed_in);
 
   boost::asio::any_io_executor executor_;
   HttpHandler handler_;
   HttpServerOptions options_;
   RateSchedule client_schedule_;  // options_.max_client_requests_per_s
   SharedRateLimit total_rate_;    // options_.max_requests_per_s
+  SharedRateLimit anonymous_rate_;  // half of it, for requests without a session
   std::unique_ptr<boost::asio::ssl::context> tls_;  // none: plain HTTP
   boost::asio::ip::tcp::acceptor acceptor_;
   std::unordered_set<std::shared_ptr<Connection>> connections_;

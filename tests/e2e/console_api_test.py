@@ -38,14 +38,17 @@ def add_users(tiltgate, users_file):
 class Client:
     """One browser-like client: keeps its session cookie and CSRF token."""
 
-    def __init__(self, port):
+    def __init__(self, port, source=None):
         self.port = port
+        self.source = source  # the loopback address its connections come from; None: any
         self.cookie = None
         self.csrf = None
         self.last_headers = {}
 
     def request(self, method, path, body=None, csrf=True, origin=None, headers=None):
-        connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=30)
+        connection = http.client.HTTPConnection(
+            "127.0.0.1", self.port, timeout=30,
+            source_address=(self.source, 0) if self.source else None)
         sent = dict(headers or {})
         if body is not None:
             sent["Content-Type"] = "application/json"
@@ -130,6 +133,20 @@ def start_gateway(tiltgate, config, log_path, http_port):
     if not processes.wait_until(healthy, 20):
         raise RuntimeError("the gateway did not start:\n" + processes.tail(log_path))
     return process
+
+
+def start_console(t, tiltgate, users_file):
+    """The simulator and the gateway with the console on `users_file`, their logs shown on a
+    failure; the HTTP port."""
+    sim = Simulator(tiltgate, t.dir)
+    t.logs.append(("simulator", sim.err_path))
+    modbus_port, http_port = processes.free_port(), processes.free_port()
+    config = os.path.join(t.dir, "gateway.toml")
+    write_config(config, modbus_port, http_port, sim, t.dir, users_file)
+    log_path = os.path.join(t.dir, "gateway.log")
+    t.logs.append(("gateway", log_path))
+    start_gateway(tiltgate, config, log_path, http_port)
+    return http_port
 
 
 def scenario(t):

@@ -48,6 +48,20 @@ check "a name with a colon is a usage error (2)" exits 2 bash -c "echo x | '$til
 check "user without an action is a usage error (2)" exits 2 "$tiltgate" user
 check "the failures changed nothing" test "$(user list)" = "$(printf 'alice  admin\nbob    viewer')"
 
+# The password rules (docs/web-console.md, "Password rules"; issue 52, item 8).
+check "add refuses a password of 1 character (1)" exits 1 bash -c "echo x | '$tiltgate' user add carol --role viewer --users-file '$users'"
+check "  saying it needs 10" bash -c "echo x | '$tiltgate' user add carol --role viewer --users-file '$users' 2>&1 | grep -q 'at least 10 characters'"
+check "add refuses a password of 9 characters (1)" exits 1 bash -c "echo 'abcdefgh9' | '$tiltgate' user add nine --role viewer --users-file '$users'"
+check "add refuses the account's name as its password (1)" exits 1 bash -c "echo 'carol.shift' | '$tiltgate' user add carol.shift --role viewer --users-file '$users'"
+check "add refuses a common password (1)" exits 1 bash -c "echo 'password123' | '$tiltgate' user add common --role viewer --users-file '$users'"
+bob_line=$(grep '^bob:' "$users")
+check "passwd refuses a short password (1)" exits 1 bash -c "echo 'short' | '$tiltgate' user passwd bob --users-file '$users'"
+check "  and bob's hash is untouched" test "$(grep '^bob:' "$users")" = "$bob_line"
+check "the refusals changed nothing" test "$(user list)" = "$(printf 'alice  admin\nbob    viewer')"
+check "add --allow-weak takes a short password, for a test rig" bash -c "echo x | '$tiltgate' user add rig --role viewer --allow-weak --users-file '$users'"
+check "passwd --allow-weak takes one too" bash -c "echo y | '$tiltgate' user passwd rig --allow-weak --users-file '$users'"
+user remove rig >/dev/null
+
 # At a terminal: the password typed twice, never echoed. TYPED... are the lines typed; prints
 # what the terminal showed, exits with the command's code.
 at_terminal() {
