@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "modbus_tcp/connection_admission.h"
+#include "modbus_tcp/tls_suites.h"
 
 namespace tiltgate {
 
@@ -93,9 +94,9 @@ Expected<Done, std::string> HttpServer::start() {
   if (acceptor_.is_open()) return Unexpected{std::string("HTTP server already started")};
   if (!options_.tls_cert_pem.empty()) {
     tls_ = std::make_unique<asio::ssl::context>(asio::ssl::context::tls_server);
-    SSL_CTX_set_min_proto_version(tls_->native_handle(), TLS1_2_VERSION);
     boost::system::error_code ec;
-    tls_->use_certificate_chain(asio::buffer(options_.tls_cert_pem), ec);
+    if (!offer_only_aead_suites(tls_->native_handle())) ec = asio::error::no_protocol_option;
+    if (!ec) tls_->use_certificate_chain(asio::buffer(options_.tls_cert_pem), ec);
     if (!ec) tls_->use_private_key(asio::buffer(options_.tls_key_pem), asio::ssl::context::pem, ec);
     if (!ec && SSL_CTX_check_private_key(tls_->native_handle()) != 1)
       ec = asio::error::invalid_argument;
