@@ -15,6 +15,7 @@
 #include "console/console_reply.h"
 #include "console/console_requests.h"
 #include "console/request_guard.h"
+#include "driver/visible_text.h"
 #include "gateway/gateway.h"
 
 namespace tiltgate {
@@ -74,14 +75,14 @@ std::shared_ptr<const UsersFile> ConsoleHandler::users() {
   auto loaded = UsersFile::load(config_.users_file);
   if (!loaded) {
     if (users_error_ != loaded.error())
-      spdlog::error("web console: no logins: {}", loaded.error());
+      spdlog::error("web console: no logins: {}", visible_text(loaded.error()));
     users_error_ = loaded.error();
     users_.reset();
   } else {
     users_error_.clear();
     users_ = std::make_shared<const UsersFile>(std::move(*loaded));
     spdlog::info("web console: {} account(s) from {}", users_->accounts().size(),
-                 config_.users_file);
+                 visible_text(config_.users_file));
   }
   const auto current = users_;
   std::lock_guard lock(state_->mutex);
@@ -212,7 +213,8 @@ asio::awaitable<HttpReply> ConsoleHandler::login(const HttpRequest& request) {
       state_->throttle.failed(user, request.address, Clock::now());
       ++state_->stats.login_failures;
     }
-    spdlog::warn("web console: failed login as \"{}\" from {}", user, request.address);
+    spdlog::warn("web console: failed login as \"{}\" from {}", visible_text(user),
+                 request.address);
     co_return error_reply(401, "wrong user name or password");
   }
   std::string token, csrf;
@@ -223,7 +225,7 @@ asio::awaitable<HttpReply> ConsoleHandler::login(const HttpRequest& request) {
     csrf = state_->sessions.use(token, Clock::now())->csrf;
     ++state_->stats.logins;
   }
-  spdlog::info("web console: {} logged in from {} as {}", user, request.address,
+  spdlog::info("web console: {} logged in from {} as {}", visible_text(user), request.address,
                role_name(*role));
   HttpReply reply = json_reply(
       200, json{{"user", user}, {"role", role_name(*role)}, {"csrf", csrf}});

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 HttpService::HttpService(const Gateway& gateway, StatusSource status,
@@ -92,11 +94,13 @@ void HttpService::start_http(HttpThread::PortRelease replaced) {
       [https = config_.https(), listen = config_.listen, users_file = config_.users_file](
           const Expected<Done, std::string>& started, std::uint16_t port) {
         if (!started)
-          spdlog::warn("HTTP status API off: {}", started.error());
+          spdlog::warn("HTTP status API off: {}", visible_text(started.error()));
         else
           spdlog::info("HTTP status API and metrics on {}://{}:{}/{}", https ? "https" : "http",
                        listen, port,
-                       users_file.empty() ? "" : " (web console: accounts in " + users_file + ")");
+                       users_file.empty()
+                           ? ""
+                           : " (web console: accounts in " + visible_text(users_file) + ")");
       },
       std::move(replaced));
 }
