@@ -8,7 +8,9 @@
 
 #include <filesystem>
 
+#include "config/broker_keys.h"
 #include "driver/visible_text.h"
+#include "status/host_check.h"
 
 namespace tiltgate {
 
@@ -45,6 +47,9 @@ void HttpService::make_http(const HistoryRecorder* previous) {
   if (!config_.users_file.empty()) http.max_body_bytes = 512 * 1024;
   http.tls_cert_pem = config_.tls_cert_pem;
   http.tls_key_pem = config_.tls_key_pem;
+  http.server_names = config_.server_names.empty()
+                          ? default_server_names(config_.listen, config::host_name())
+                          : config_.server_names;
   make_history(previous);
   ConsoleContext console = console_;
   console.gateway_executor = gateway_.executor();

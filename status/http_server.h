@@ -22,6 +22,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_set>
+#include <vector>
 
 #include "config/address_allow_list.h"
 #include "driver/expected.h"
@@ -50,6 +51,9 @@ struct HttpServerOptions {
   int max_requests_per_s = 0;
   int max_client_requests_per_s = 0;
   std::string tls_cert_pem, tls_key_pem;  // both: HTTPS only
+  // The names a request's Host header may give (status/host_check.h); the address a request
+  // came in on is always one. Any other: 421, and the request never reaches the handler.
+  std::vector<std::string> server_names;
 };
 
 using HttpHandler = std::function<boost::asio::awaitable<HttpReply>(HttpRequest)>;
