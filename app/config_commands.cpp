@@ -16,6 +16,7 @@
 #include "app/served_gateway.h"
 #include "app/run_as_user.h"
 #include "app/service_notify.h"
+#include "driver/visible_text.h"
 #include "gateway/line_budget.h"
 #include "mapping/aggregate_layout.h"
 
@@ -27,8 +28,11 @@ namespace {
 std::optional<Config> load_or_report(const std::string& path, FamilyList families) {
   auto loaded = load_config_file(path, families);
   if (!loaded) {
-    for (const ConfigError& error : loaded.error()) std::cerr << error.to_string() << "\n";
-    std::cerr << fmt::format("{}: {} error(s); nothing started\n", path, loaded.error().size());
+    // Under systemd stderr is the journal: a value quoted in an error is shown escaped there.
+    for (const ConfigError& error : loaded.error())
+      std::cerr << visible_text(error.to_string()) << "\n";
+    std::cerr << fmt::format("{}: {} error(s); nothing started\n", visible_text(path),
+                             loaded.error().size());
     return std::nullopt;
   }
   return std::move(*loaded);
@@ -71,7 +75,7 @@ int check_command(const std::string& config_path, FamilyList families) {
   if (!config) return 1;
   // Not errors: the file is valid and runs; the line's settings may not keep its promise.
   for (const std::string& warning : line_budget_warnings(*config, families))
-    std::cerr << fmt::format("{}: warning: {}\n", config_path, warning);
+    std::cerr << fmt::format("{}: warning: {}\n", visible_text(config_path), visible_text(warning));
   std::cout << fmt::format("{}: OK ({} bus(es), {} sensor(s){})\n", config_path,
                            config->buses.size(), config->sensors.size(),
                            config->aggregates.empty()
@@ -101,10 +105,11 @@ int map_command(const std::string& config_path, const std::string& format, Famil
 // SIGHUP: the file again, through the loader `check` uses. A valid file is applied to the
 // running gateway; an invalid one is refused with every error logged, as `check` prints them.
 void reload_or_refuse(Gateway& gateway, const std::string& config_path, FamilyList families) {
-  spdlog::info("SIGHUP: reloading {}", config_path);
+  spdlog::info("SIGHUP: reloading {}", visible_text(config_path));
   auto loaded = load_config_file(config_path, families);
   if (!loaded) {
-    for (const ConfigError& error : loaded.error()) spdlog::error("{}", error.to_string());
+    for (const ConfigError& error : loaded.error())
+      spdlog::error("{}", visible_text(error.to_string()));
     spdlog::error("reload refused: {} error(s); still serving the configuration loaded at {}",
                   loaded.error().size(), gateway.loaded_at());
     return;
@@ -145,7 +150,7 @@ Expected<Done, std::string> switch_to_serving_user(const Config& config) {
   if (!user) return Unexpected{user.error()};
   if (geteuid() == 0 && user->uid != 0)
     for (const std::string& error : make_folders_for(*user, folders_written(config)))
-      spdlog::error("{}", error);
+      spdlog::error("{}", visible_text(error));
   return run_as_user(*user);
 }
 
@@ -160,16 +165,16 @@ int run_command(const std::string& config_path, FamilyList families) {
   Gateway& gateway = served.gateway();
   auto started = gateway.start();
   if (!started) {
-    spdlog::critical("{}", started.error());
+    spdlog::critical("{}", visible_text(started.error()));
     return 1;
   }
   // The ttys and listeners are open: root is no longer needed.
   if (!config->server.user.empty()) {
     if (auto switched = switch_to_serving_user(*config); !switched) {
-      spdlog::critical("{}", switched.error());
+      spdlog::critical("{}", visible_text(switched.error()));
       return 1;
     }
-    spdlog::info("serving as user {} (uid {})", config->server.user, getuid());
+    spdlog::info("serving as user {} (uid {})", visible_text(config->server.user), getuid());
   } else if (geteuid() == 0) {
     spdlog::warn("running as root: set [server] user to serve unprivileged once started "
                  "(docs/operations.md, \"Running without root\")");

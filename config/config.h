@@ -114,6 +114,10 @@ struct HttpConfig {
   // whatever it does.
   std::chrono::seconds session_idle{900};
   std::chrono::seconds session_max{28800};
+  // The names a request's Host header may give, host names or addresses (status/host_check.h):
+  // any other is answered 421, against DNS rebinding. Empty: not written, and the HTTP service
+  // takes the listen address, localhost and this machine's name.
+  std::vector<std::string> server_names;
 
   bool https() const { return !tls_cert_pem.empty(); }
   bool operator==(const HttpConfig&) const = default;

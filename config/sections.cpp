@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <filesystem>
 #include <limits>
 #include <span>
 
 #include "config/sensor_options.h"
 #include "driver/text_list.h"
+#include "driver/visible_text.h"
 #include "toml/toml_reader.h"
 
 namespace tiltgate::config {
@@ -44,6 +46,40 @@ bool is_ip_address(const std::string& text) {
   unsigned char buffer[sizeof(in6_addr)];
   return inet_pton(AF_INET, text.c_str(), buffer) == 1 ||
          inet_pton(AF_INET6, text.c_str(), buffer) == 1;
+}
+
+// A DNS host name: dot-separated labels of 1 to 63 letters, digits and '-', not starting or
+// ending with '-', 253 characters at most (RFC 1123, 2.1).
+bool is_host_name(std::string_view text) {
+  if (text.empty() || text.size() > 253) return false;
+  std::size_t label = 0;
+  for (std::size_t i = 0; i <= text.size(); ++i) {
+    if (i == text.size() || text[i] == '.') {
+      if (label == 0 || label > 63 || text[i - 1] == '-' || text[i - label] == '-') return false;
+      label = 0;
+    } else if (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '-') {
+      ++label;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+// [http] server_names: each a host name (letters, digits, '-' in dot-separated labels of at
+// most 63) or an IP address, at most 32 of them; a port is not part of a name.
+void read_server_names(TableReader& in, HttpConfig& http) {
+  auto names = in.strings("server_names");
+  if (!names) return;
+  if (names->empty() || names->size() > 32)
+    return in.error("server_names", fmt::format("{} names, expected 1 to 32", names->size()));
+  for (const std::string& name : *names)
+    if (!is_ip_address(name) && !is_host_name(name))
+      return in.error("server_names",
+                      fmt::format("\"{}\" is not a host name or an IP address, expected e.g. "
+                                  "\"gw-3.plant.example\" or \"10.0.0.5\" (no port)",
+                                  visible_text(name)));
+  http.server_names = std::move(*names);
 }
 
 std::vector<std::string_view> model_names(FamilyList families) {
@@ -259,6 +295,7 @@ HttpConfig read_http(const toml::table& table, ErrorList& errors) {
              fmt::format("{} s of history every {} ms is fewer than 2 samples, expected a "
                          "history_interval_ms of at most half of history_seconds",
                          http.history_seconds.count(), http.history_interval.count()));
+  read_server_names(in, http);
   read_console_keys(in, http, errors);
   in.reject_unknown_keys();
   return http;

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "console/child_command.h"
+#include "driver/visible_text.h"
 #include "toml/text_file.h"
 
 namespace tiltgate {
@@ -95,7 +96,7 @@ json BusActions::start_scan(const std::string& bus, const ScanRequest& request,
     args.insert(args.end(), {"--from", std::to_string(request.from)});
     if (request.to > 0) args.insert(args.end(), {"--to", std::to_string(request.to)});
   }
-  spdlog::info("web console: {} scans bus {}", who, bus);
+  spdlog::info("web console: {} scans bus {}", visible_text(who), visible_text(bus));
   asio::co_spawn(executor_, run_scan(scan, std::move(args), std::string(config_out)),
                  asio::detached);
   status = 202;
@@ -166,8 +167,8 @@ asio::awaitable<json> BusActions::raw(std::string bus, RawRequest request, std::
   args.insert(args.end(), {"--address", std::to_string(request.address), "--function",
                            std::to_string(request.function)});
   if (!request.data.empty()) args.insert(args.end(), {"--data", request.data});
-  spdlog::info("web console: {} sends function {} to address {} on bus {}", who,
-               request.function, request.address, bus);
+  spdlog::info("web console: {} sends function {} to address {} on bus {}", visible_text(who),
+               request.function, request.address, visible_text(bus));
   std::function<void(std::string_view)> no_lines;  // named: see run_scan()
   const ChildResult result =
       co_await run_child_command(executor_, std::move(args), kRawLimit, std::move(no_lines));

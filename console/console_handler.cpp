@@ -88,14 +88,14 @@ std::shared_ptr<const UsersFile> ConsoleHandler::users() {
   auto loaded = UsersFile::load(config_.users_file);
   if (!loaded) {
     if (users_error_ != loaded.error())
-      spdlog::error("web console: no logins: {}", loaded.error());
+      spdlog::error("web console: no logins: {}", visible_text(loaded.error()));
     users_error_ = loaded.error();
     users_.reset();
   } else {
     users_error_.clear();
     users_ = std::make_shared<const UsersFile>(std::move(*loaded));
     spdlog::info("web console: {} account(s) from {}", users_->accounts().size(),
-                 config_.users_file);
+                 visible_text(config_.users_file));
   }
   std::size_t ended = 0;
   {

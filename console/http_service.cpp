@@ -8,6 +8,10 @@
 
 #include <filesystem>
 
+#include "config/broker_keys.h"
+#include "driver/visible_text.h"
+#include "status/host_check.h"
+
 namespace tiltgate {
 
 HttpService::HttpService(const Gateway& gateway, StatusSource status,
@@ -43,6 +47,9 @@ void HttpService::make_http(const HistoryRecorder* previous) {
   if (!config_.users_file.empty()) http.max_body_bytes = 512 * 1024;
   http.tls_cert_pem = config_.tls_cert_pem;
   http.tls_key_pem = config_.tls_key_pem;
+  http.server_names = config_.server_names.empty()
+                          ? default_server_names(config_.listen, config::host_name())
+                          : config_.server_names;
   make_history(previous);
   ConsoleContext console = console_;
   console.gateway_executor = gateway_.executor();
@@ -97,11 +104,13 @@ void HttpService::start_http(HttpThread::PortRelease replaced) {
       [https = config_.https(), listen = config_.listen, users_file = config_.users_file](
           const Expected<Done, std::string>& started, std::uint16_t port) {
         if (!started)
-          spdlog::warn("HTTP status API off: {}", started.error());
+          spdlog::warn("HTTP status API off: {}", visible_text(started.error()));
         else
           spdlog::info("HTTP status API and metrics on {}://{}:{}/{}", https ? "https" : "http",
                        listen, port,
-                       users_file.empty() ? "" : " (web console: accounts in " + users_file + ")");
+                       users_file.empty()
+                           ? ""
+                           : " (web console: accounts in " + visible_text(users_file) + ")");
       },
       std::move(replaced));
 }

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 ControlService::ControlService(const Gateway& gateway)
@@ -32,7 +34,7 @@ void ControlService::start_as_user() {
     retry_.schedule([this] { return start_again(); });
     return;
   }
-  spdlog::info("control socket {}", server_->path());
+  spdlog::info("control socket {}", visible_text(server_->path()));
 }
 
 bool ControlService::start_again() {
@@ -41,7 +43,7 @@ bool ControlService::start_again() {
     spdlog::debug("control socket still off: {}", started.error());
     return false;
   }
-  spdlog::info("control socket {}", server_->path());
+  spdlog::info("control socket {}", visible_text(server_->path()));
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "control/control_socket_io.h"
+#include "driver/visible_text.h"
 #include "serial/frame_trace.h"
 
 namespace tiltgate {
@@ -155,7 +156,7 @@ asio::awaitable<Expected<Done, LineError>> RemoteLine::attempt(const LineRequest
     std::getline(stream, line);
     auto message = control::parse_gateway(line);
     if (!message) {
-      spdlog::error("{}: {} from the gateway", name_, message.error());
+      spdlog::error("{}: {} from the gateway", name_, visible_text(message.error()));
       break;
     }
     if (std::holds_alternative<control::Reset>(*message)) {
@@ -185,7 +186,7 @@ asio::awaitable<Expected<Done, LineError>> RemoteLine::attempt(const LineRequest
       if (*ended->error == LineError::timeout) ++stats_.timeouts;
       co_return Unexpected{*ended->error};
     } else {
-      spdlog::error("{}: unexpected \"{}\" from the gateway", name_, line);
+      spdlog::error("{}: unexpected \"{}\" from the gateway", name_, visible_text(line));
       break;
     }
   }

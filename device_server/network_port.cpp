@@ -18,6 +18,8 @@
 #include <system_error>
 #include <utility>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 namespace asio = boost::asio;
@@ -97,7 +99,8 @@ void NetworkPort::lose(const std::string& why) {
   ready_ = false;
   close_socket();
   if (stopped_ || connecting_) return;
-  spdlog::warn("{}: connection to {} lost ({}), reconnecting", options_.name, options_.url, why);
+  spdlog::warn("{}: connection to {} lost ({}), reconnecting", options_.name,
+               visible_text(options_.url), why);
   warned_ = true;
   connecting_ = true;
   reopen_delay_ = options_.reopen_min;
@@ -122,12 +125,12 @@ asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::mil
     if (connected) break;
     close_socket();
     if (!warned_) {
-      spdlog::warn("{}: cannot connect to {} ({}), retrying", options_.name, options_.url,
-                   connected.error());
+      spdlog::warn("{}: cannot connect to {} ({}), retrying", options_.name,
+                   visible_text(options_.url), connected.error());
       warned_ = true;
     } else {
       spdlog::debug("{}: {} still unavailable ({}), next try in {} ms", options_.name,
-                    options_.url, connected.error(), reopen_delay_.count());
+                    visible_text(options_.url), connected.error(), reopen_delay_.count());
     }
     delay = reopen_delay_;
     reopen_delay_ = std::min(reopen_delay_ * 2, options_.reopen_max);
@@ -139,9 +142,9 @@ asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::mil
   ++generation_;
   if (is_telnet()) {
     spdlog::info("{}: connected to {}, {} baud {} confirmed by the server", options_.name,
-                 options_.url, options_.setting.baud, framing_text(options_.setting));
+                 visible_text(options_.url), options_.setting.baud, framing_text(options_.setting));
   } else {
-    spdlog::info("{}: connected to {}", options_.name, options_.url);
+    spdlog::info("{}: connected to {}", options_.name, visible_text(options_.url));
   }
   if (generation_ > 1 && on_reopened_) on_reopened_();
 }

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 namespace {
@@ -85,7 +87,8 @@ void PolledSensorDriver::check_serial() {
     if (changed)
       spdlog::warn("{}: the {} at address {} now reports serial '{}', was '{}': another device? "
                    "([[sensor]] serial makes the gateway refuse one)",
-                   log_name(), kind(), state_.bus_address, state_.serial, before);
+                   log_name(), kind(), state_.bus_address, visible_text(state_.serial),
+                   visible_text(before));
     return;
   }
   state_.wrong_device = state_.serial != expected_serial_;
@@ -93,10 +96,11 @@ void PolledSensorDriver::check_serial() {
     ++state_.counters.wrong_device_found;
     spdlog::error("{}: wrong device at address {}: serial '{}' answers, the configured sensor is "
                   "serial '{}'; its measurements read as offline and writes are refused",
-                  log_name(), state_.bus_address, state_.serial, expected_serial_);
+                  log_name(), state_.bus_address, visible_text(state_.serial),
+                  visible_text(expected_serial_));
   } else if (was_wrong && !state_.wrong_device) {
     spdlog::info("{}: serial '{}' answers at address {} again: served", log_name(),
-                 state_.serial, state_.bus_address);
+                 visible_text(state_.serial), state_.bus_address);
   }
 }
 

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "audit/audit_trail.h"
+#include "driver/visible_text.h"
 #include "gateway/exception_text.h"
 
 namespace tiltgate {
@@ -351,7 +352,7 @@ std::optional<std::string> BusScheduler::follow_address(std::uint32_t from, std:
   polled->held_until.reset();
   reschedule(*polled);
   spdlog::info("{}: sensor \"{}\" moved from address {} to {} by a commissioning command of {}",
-               name_, polled->sensor->config.name, from, to, by.who);
+               name_, polled->sensor->config.name, from, to, visible_text(by.who));
   return polled->sensor->config.name;
 }
 
@@ -377,7 +378,7 @@ std::optional<std::string> BusScheduler::note_setting(std::uint32_t address, Wri
   sensor.driver->note_acknowledged(setting, value);
   sensor.publish();
   spdlog::info("{}: sensor \"{}\": {} = {} set by a commissioning command of {}", name_,
-               sensor.config.name, name, value, by.who);
+               sensor.config.name, visible_text(name), value, visible_text(by.who));
   return sensor.config.name;
 }
 

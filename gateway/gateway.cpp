@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "driver/family.h"
+#include "driver/visible_text.h"
 #include "gateway/config_diff.h"
 #include "gateway/driver_registry.h"
 #include "gateway/line_budget.h"
@@ -151,7 +152,7 @@ Expected<Done, std::string> Gateway::start() {
   for (const BusConfig& bus : config_.buses)
     if (bus.tcp_port) spdlog::info("bus {}: its units on Modbus TCP port {}", bus.name, *bus.tcp_port);
   for (const std::string& warning : line_budget_warnings(config_, families_))
-    spdlog::warn("{}", warning);
+    spdlog::warn("{}", visible_text(warning));
   for (GatewayService* service : services_) service->start();
   return Done{};
 }
@@ -216,10 +217,11 @@ void Gateway::reload(const Config& loaded) {
   for (GatewayService* service : services_)
     if (service->reload(config_, diff)) restarted.push_back(service->name());
   loaded_at_ = local_time_now();
-  spdlog::info("configuration reloaded from {}: {}{}{}", config_.path, summarize(diff),
+  spdlog::info("configuration reloaded from {}: {}{}{}", visible_text(config_.path),
+               summarize(diff),
                restarted.empty() ? "" : ". restarted: ", fmt::join(restarted, ", "));
   for (const std::string& warning : line_budget_warnings(config_, families_))
-    spdlog::warn("{}", warning);
+    spdlog::warn("{}", visible_text(warning));
 }
 
 std::vector<std::size_t> Gateway::reload_buses(const Config& loaded, const ConfigDiff& diff) {

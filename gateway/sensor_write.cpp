@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "audit/audit_trail.h"
+#include "driver/visible_text.h"
 #include "gateway/bus_scheduler.h"
 
 namespace tiltgate {
@@ -62,7 +63,8 @@ WriteResult SensorWrite::check(const BusScheduler& bus, std::size_t first) const
 WriteResult SensorWrite::admit(const BusScheduler& bus) const {
   WriteResult checked = check(bus);
   if (!checked) {
-    spdlog::warn("{}: write refused: {}", sensor_->config.name, checked.error().detail);
+    spdlog::warn("{}: write refused: {}", sensor_->config.name,
+                 visible_text(checked.error().detail));
     audit_rest(bus, 0, "refused: " + checked.error().detail);
   }
   return checked;
@@ -97,7 +99,8 @@ asio::awaitable<WriteResult> SensorWrite::write_setting(Line& line, const BusSch
     sensor_->driver->abandon(std::span(settings_).first(index));
     co_return done;
   }
-  spdlog::info("{}: wrote {} = {}", sensor_->config.name, step.point->name, step.value);
+  spdlog::info("{}: wrote {} = {}", sensor_->config.name, visible_text(step.point->name),
+               step.value);
   std::copy(step.words.begin(), step.words.end(),
             sensor_->written.begin() + step.point->address);
   co_return done;
@@ -112,8 +115,8 @@ WriteResult SensorWrite::fail(const BusScheduler& bus, WriteError why) const {
 
 void SensorWrite::log_failure(std::size_t index, const WriteError& error) const {
   const PlannedWrite& step = plan_[index];
-  spdlog::warn("{}: write {} = {} failed: {}", sensor_->config.name, step.point->name,
-               step.value, error.detail);
+  spdlog::warn("{}: write {} = {} failed: {}", sensor_->config.name,
+               visible_text(step.point->name), step.value, visible_text(error.detail));
 }
 
 void SensorWrite::audit(const BusScheduler& bus, std::size_t index,

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate::modbus_rtu {
 
 namespace asio = boost::asio;
@@ -147,7 +149,8 @@ asio::awaitable<bool> RtuDriver::read_identity(Line& line) {
   state_.identity_known = true;
   if (!profile.identity.empty())
     spdlog::info("{}: slave {} is serial '{}', firmware '{}', model '{}'", options_.name,
-                 options_.slave, state_.serial, state_.firmware, state_.model);
+                 options_.slave, visible_text(state_.serial), visible_text(state_.firmware),
+                 visible_text(state_.model));
   co_return true;
 }
 

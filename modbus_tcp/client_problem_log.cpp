@@ -8,6 +8,8 @@
 #include <spdlog/spdlog.h>
 #include <vector>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 namespace asio = boost::asio;
@@ -36,14 +38,16 @@ bool ClientProblemLog::admit_problem(const std::string& address, Clock::time_poi
 void ClientProblemLog::log_closing(const std::string& peer, const std::string& address,
                                    spdlog::level::level_enum level, std::string_view why) {
   const auto now = Clock::now();
-  if (admit_problem(address, now)) spdlog::log(level, "closing {} client {}: {}", service_, peer, why);
+  if (admit_problem(address, now))
+    spdlog::log(level, "closing {} client {}: {}", service_, visible_text(peer), visible_text(why));
   log_suppressed(now);
 }
 
 void ClientProblemLog::log_problem(const std::string& peer, const std::string& address,
                                    std::string_view what) {
   const auto now = Clock::now();
-  if (admit_problem(address, now)) spdlog::warn("{} client {}: {}", service_, peer, what);
+  if (admit_problem(address, now))
+    spdlog::warn("{} client {}: {}", service_, visible_text(peer), visible_text(what));
   log_suppressed(now);
 }
 

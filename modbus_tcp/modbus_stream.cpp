@@ -1,4 +1,5 @@
 #include "modbus_tcp/modbus_stream.h"
+#include "modbus_tcp/tls_suites.h"
 
 #include <fcntl.h>
 #include <openssl/err.h>
@@ -109,8 +110,10 @@ StreamResult ModbusStream::write(std::span<const std::uint8_t> bytes) {
 Expected<std::unique_ptr<asio::ssl::context>, std::string> make_tls_context(
     const ModbusTlsOptions& options) {
   auto context = std::make_unique<asio::ssl::context>(asio::ssl::context::tls_server);
-  // Modbus/TCP Security (MB-TCP-Security-v21, R-01): TLS 1.2 or later, mutual authentication.
-  SSL_CTX_set_min_proto_version(context->native_handle(), TLS1_2_VERSION);
+  // Modbus/TCP Security (MB-TCP-Security-v21, R-01): TLS 1.2 or later, mutual authentication;
+  // under TLS 1.2 the AEAD suites only (modbus_tcp/tls_suites.h).
+  if (!offer_only_aead_suites(context->native_handle()))
+    return Unexpected(std::string("TLS: OpenSSL offers none of the AEAD cipher suites"));
   context->set_options(asio::ssl::context::default_workarounds |
                        asio::ssl::context::single_dh_use);
   boost::system::error_code ec;

@@ -14,6 +14,7 @@
 #include <thread>
 #include <utility>
 
+#include "driver/visible_text.h"
 #include "mqtt/mqtt_payload.h"
 
 namespace tiltgate {
@@ -125,7 +126,8 @@ void MqttClient::run() {
       if (!socket_open || now - *stop_seen > std::chrono::seconds(1)) break;
     }
     if (!socket_open && (first || start_afresh()) && prepare_connect()) {
-      spdlog::debug("{}: connecting to {}:{}", options_.log_name, options_.host, options_.port);
+      spdlog::debug("{}: connecting to {}:{}", options_.log_name, visible_text(options_.host),
+                    options_.port);
       connect_sent_ = false;
       // Non-blocking TCP connect; only the name lookup can wait, and it waits on this thread.
       const int rc = mosquitto_connect_async(mosq_, options_.host.c_str(), options_.port,
@@ -137,7 +139,7 @@ void MqttClient::run() {
         continue;
       }
       spdlog::debug("{}: broker {}:{} not reached ({}); next attempt in {} s", options_.log_name,
-                    options_.host, options_.port,
+                    visible_text(options_.host), options_.port,
                     rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
                     delay.count());
     } else if (socket_open) {
@@ -150,8 +152,8 @@ void MqttClient::run() {
       }
       socket_open = false;
       if (stopping_.load()) break;
-      spdlog::debug("{}: connection to {}:{} ended ({}); next attempt in {} s",
-                    options_.log_name, options_.host, options_.port,
+      spdlog::debug("{}: connection to {}:{} ended ({}); next attempt in {} s", options_.log_name,
+                    visible_text(options_.host), options_.port,
                     rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
                     delay.count());
     }
@@ -168,7 +170,7 @@ bool MqttClient::prepare_connect() {
   const int rc = mosquitto_will_set(mosq_, will->topic.c_str(), int(will->payload.size()),
                                     will->payload.data(), will->qos, will->retain);
   if (rc != MOSQ_ERR_SUCCESS) {
-    spdlog::warn("{}: last will on {}: {}", options_.log_name, will->topic,
+    spdlog::warn("{}: last will on {}: {}", options_.log_name, visible_text(will->topic),
                  mosquitto_strerror(rc));
     return false;
   }
@@ -256,7 +258,8 @@ void MqttClient::on_connect(struct mosquitto* mosq, void* self, int rc) {
     // A refusal (bad credentials, client id) repeats at every attempt: logged when it changes.
     if (rc != client.last_refusal_)
       spdlog::warn("{}: broker {}:{} refused the connection: {}", client.options_.log_name,
-                   client.options_.host, client.options_.port, mosquitto_connack_string(rc));
+                   visible_text(client.options_.host), client.options_.port,
+                   mosquitto_connack_string(rc));
     client.last_refusal_ = rc;
     return;
   }
@@ -268,8 +271,8 @@ void MqttClient::on_connect(struct mosquitto* mosq, void* self, int rc) {
   }
   ++client.connections_;
   client.connected_ = true;
-  spdlog::info("{}: connected to {}:{} as {}", client.options_.log_name, client.options_.host,
-               client.options_.port, client.options_.client_id);
+  spdlog::info("{}: connected to {}:{} as {}", client.options_.log_name,
+               visible_text(client.options_.host), client.options_.port, client.options_.client_id);
   if (client.hooks_.connection) client.hooks_.connection(true);
 }
 
@@ -278,11 +281,11 @@ void MqttClient::on_disconnect(struct mosquitto*, void* self, int rc) {
   if (!client.connected_.exchange(false)) return;  // a failed attempt: run() logs it
   if (client.hooks_.connection) client.hooks_.connection(false);
   if (rc == 0)
-    spdlog::info("{}: disconnected from {}:{}", client.options_.log_name, client.options_.host,
-                 client.options_.port);
+    spdlog::info("{}: disconnected from {}:{}", client.options_.log_name,
+                 visible_text(client.options_.host), client.options_.port);
   else
     spdlog::warn("{}: lost the broker {}:{} ({}); reconnecting", client.options_.log_name,
-                 client.options_.host, client.options_.port,
+                 visible_text(client.options_.host), client.options_.port,
                  rc == MOSQ_ERR_ERRNO ? "connection closed" : mosquitto_strerror(rc));
 }
 
@@ -311,9 +314,9 @@ void MqttClient::on_log(struct mosquitto*, void* self, int level, const char* te
   const std::string_view line = text;
   if (level == MOSQ_LOG_ERR || level == MOSQ_LOG_WARNING ||
       line.find("sending CONNECT") != std::string_view::npos)
-    spdlog::debug("{}: libmosquitto: {}", client_of(self).options_.log_name, line);
+    spdlog::debug("{}: libmosquitto: {}", client_of(self).options_.log_name, visible_text(line));
   else
-    spdlog::trace("{}: libmosquitto: {}", client_of(self).options_.log_name, line);
+    spdlog::trace("{}: libmosquitto: {}", client_of(self).options_.log_name, visible_text(line));
 }
 
 }  // namespace tiltgate

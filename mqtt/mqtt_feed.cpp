@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "driver/visible_text.h"
 #include "mqtt/memory_backlog.h"
 #include "mqtt/mqtt_payload.h"
 #include "mqtt/stored_backlog.h"
@@ -134,10 +135,10 @@ void MqttFeed::open_backlog() {
     auto stored = StoredBacklog::open(dir, limits, config_.qos);
     if (stored) {
       for (const std::string& repair : stored->repairs())
-        spdlog::warn("MQTT: backlog {}: {}", dir.string(), repair);
+        spdlog::warn("MQTT: backlog {}: {}", visible_text(dir.string()), repair);
       if (!stored->empty())
         spdlog::info("MQTT: {} messages kept in {} from before the start", stored->stats().records,
-                     dir.string());
+                     visible_text(dir.string()));
       backlog_ = std::make_unique<StoredBacklog>(std::move(*stored));
       return;
     }
@@ -160,7 +161,7 @@ void MqttFeed::retry_state_dir(Clock::time_point now) {
   auto stored = StoredBacklog::open(dir, backlog_limits(config_), config_.qos);
   if (!stored) return;  // said when it first failed
   for (const std::string& repair : stored->repairs())
-    spdlog::warn("MQTT: backlog {}: {}", dir.string(), repair);
+    spdlog::warn("MQTT: backlog {}: {}", visible_text(dir.string()), repair);
   // What the memory held goes after what the directory kept: both are replayed, oldest first.
   replay_.cancel();
   const StoreStats before = backlog_->stats();
@@ -171,8 +172,8 @@ void MqttFeed::retry_state_dir(Clock::time_point now) {
   // The counters go on from where the memory's stood: a counter never goes back.
   memory_counts_.dropped += before.dropped;
   memory_counts_.replayed += before.replayed;
-  spdlog::info("MQTT: the backlog is in {} now: {} messages moved there from memory", dir.string(),
-               held ? held->size() : 0);
+  spdlog::info("MQTT: the backlog is in {} now: {} messages moved there from memory",
+               visible_text(dir.string()), held ? held->size() : 0);
   backlog_ = std::make_unique<StoredBacklog>(std::move(*stored));
   store_unused_ = false;
 }

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 MqttService::MqttService(boost::asio::any_io_executor executor, StatusSource status,
@@ -21,9 +23,10 @@ void MqttService::make_feed() {
 void MqttService::start_as_user() {
   if (!feed_) return;
   if (auto started = feed_->start(); !started)
-    spdlog::warn("MQTT feed off: {}", started.error());
+    spdlog::warn("MQTT feed off: {}", visible_text(started.error()));
   else
-    spdlog::info("MQTT feed to {}:{} under {}/", config_.host, config_.port, config_.topic_prefix);
+    spdlog::info("MQTT feed to {}:{} under {}/", visible_text(config_.host), config_.port,
+                 visible_text(config_.topic_prefix));
 }
 
 bool MqttService::reload(const Config& loaded, const ConfigDiff& diff) {

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "driver/visible_text.h"
 #include "rieker/reply_framer.h"
 
 namespace tiltgate::rieker {
@@ -153,7 +154,7 @@ asio::awaitable<bool> RiekerDriver::read_identity(Line& line) {
   if (state_.identity_known) {
     if (!rechecking_wrong_device())
       spdlog::info("{}: Rieker sensor at {} is serial '{}', firmware '{}'", options_.name,
-                   options_.address, state_.serial, state_.firmware);
+                   options_.address, visible_text(state_.serial), visible_text(state_.firmware));
   } else {
     spdlog::warn("{}: could not read the identity of the sensor at {}", options_.name,
                  options_.address);

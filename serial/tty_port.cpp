@@ -10,6 +10,8 @@
 #include <system_error>
 #include <utility>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 using boost::system::error_code;
@@ -39,10 +41,12 @@ bool TtyPort::open() {
   if (stopped_ || stream_.is_open()) return stream_.is_open();
   auto opened = open_now();
   if (opened) {
-    spdlog::info("{}: {} opened at {} baud", options_.name, options_.path, options_.baud);
+    spdlog::info("{}: {} opened at {} baud", options_.name, visible_text(options_.path),
+                 options_.baud);
     return true;
   }
-  spdlog::warn("{}: cannot open {} ({}), retrying", options_.name, options_.path, opened.error());
+  spdlog::warn("{}: cannot open {} ({}), retrying", options_.name, visible_text(options_.path),
+               opened.error());
   reopen_delay_ = options_.reopen_min;
   schedule_reopen();
   return false;
@@ -112,7 +116,7 @@ Expected<Done, std::string> TtyPort::open_now() {
       // Not fatal: USB adapters switch direction themselves and reject the ioctl.
       warned_rs485_ = true;
       spdlog::warn("{}: {} has no kernel RS485 mode ({}), continuing without it", options_.name,
-                   options_.path, rs485.error().message());
+                   visible_text(options_.path), rs485.error().message());
     }
   }
   (void)tiltgate::discard_input(fd);  // whatever arrived before we were listening
@@ -159,23 +163,24 @@ void TtyPort::reopen_now() {
   if (!opened) {
     reopen_delay_ = std::min(reopen_delay_ * 2, options_.reopen_max);
     spdlog::debug("{}: {} still unavailable ({}), next try in {} ms", options_.name,
-                  options_.path, opened.error(), reopen_delay_.count());
+                  visible_text(options_.path), opened.error(), reopen_delay_.count());
     schedule_reopen();
     return;
   }
   reopen_delay_ = options_.reopen_min;
   if (generation_ > 1) {
     if (on_reopened_) on_reopened_();
-    spdlog::info("{}: {} reopened", options_.name, options_.path);
+    spdlog::info("{}: {} reopened", options_.name, visible_text(options_.path));
   } else {
-    spdlog::info("{}: {} opened at {} baud", options_.name, options_.path, options_.baud);
+    spdlog::info("{}: {} opened at {} baud", options_.name, visible_text(options_.path),
+                 options_.baud);
   }
 }
 
 void TtyPort::lose(const std::string& why) {
   error_code ignored;
   stream_.close(ignored);
-  spdlog::warn("{}: {} lost ({}), reopening", options_.name, options_.path, why);
+  spdlog::warn("{}: {} lost ({}), reopening", options_.name, visible_text(options_.path), why);
   reopen_delay_ = options_.reopen_min;
   schedule_reopen();
 }

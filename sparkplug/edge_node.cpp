@@ -9,6 +9,7 @@
 #include <thread>
 #include <system_error>
 
+#include "driver/visible_text.h"
 #include "sparkplug/bd_seq_file.h"
 #include "store/file_io.h"
 
@@ -147,8 +148,8 @@ Expected<Done, std::string> EdgeNode::start() {
       carry_out(session_->on_message(topic, payload, now()));
       if (session_->commands().malformed != malformed &&
           due(malformed_logged_at_, std::chrono::steady_clock::now()))
-        spdlog::warn("Sparkplug: a malformed message on {} ignored ({} so far)", topic,
-                     session_->commands().malformed);
+        spdlog::warn("Sparkplug: a malformed message on {} ignored ({} so far)",
+                     visible_text(topic), session_->commands().malformed);
     });
   };
   client_ = std::make_unique<MqttClient>(client_options(config_), std::move(hooks));
@@ -293,8 +294,8 @@ void EdgeNode::write_setting(Write write) {
       [this, write](std::exception_ptr error, SettingOutcome outcome) {
         --writes_in_flight_;
         if (!error && outcome.result == SettingOutcome::Result::ack) {
-          spdlog::info("Sparkplug: DCMD wrote {} = {} on {}", write.setting, write.value,
-                       write.device);
+          spdlog::info("Sparkplug: DCMD wrote {} = {} on {}", visible_text(write.setting),
+                       write.value, visible_text(write.device));
           return;
         }
         // With an exception co_spawn hands over a default outcome (refused, no detail): the
@@ -307,7 +308,8 @@ void EdgeNode::write_setting(Write write) {
         // up in one line (log_refusal_summaries()).
         if (refusal_log_.admit(write.device, std::chrono::steady_clock::now()))
           spdlog::warn("Sparkplug: DCMD write of {} = {} on {} refused: {} ({} refused so far)",
-                       write.setting, write.value, write.device, why, writes_refused_);
+                       visible_text(write.setting), write.value, visible_text(write.device),
+                       visible_text(why), writes_refused_);
         log_refusal_summaries();
       });
 }

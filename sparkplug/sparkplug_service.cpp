@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "driver/visible_text.h"
+
 namespace tiltgate {
 
 namespace {
@@ -61,8 +63,9 @@ bool SparkplugService::start_again() {
 
 void SparkplugService::log_started() {
   started_ = true;
-  spdlog::info("Sparkplug edge node {}/{} to {}:{}, state in {}", config_.group_id,
-               config_.edge_node_id, config_.host, config_.port, config_.state_dir);
+  spdlog::info("Sparkplug edge node {}/{} to {}:{}, state in {}", visible_text(config_.group_id),
+               visible_text(config_.edge_node_id), visible_text(config_.host), config_.port,
+               visible_text(config_.state_dir));
 }
 
 bool SparkplugService::reload(const Config& loaded, const ConfigDiff& diff) {

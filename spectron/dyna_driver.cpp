@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <utility>
 
+#include "driver/visible_text.h"
 #include "spectron/eeprom_map.h"
 
 namespace tiltgate::spectron {
@@ -108,7 +109,7 @@ asio::awaitable<bool> DynaDriver::read_identity(Line& line) {
   if (state_.identity_known) {
     if (!rechecking_wrong_device())
       spdlog::info("{}: Dyna at {} is serial '{}', firmware '{}'", options_.name, options_.address,
-                   state_.serial, state_.firmware);
+                   visible_text(state_.serial), visible_text(state_.firmware));
   } else {
     spdlog::warn("{}: could not read the identity of the Dyna at {}: {}", options_.name,
                  options_.address, firmware ? serial.error().detail : firmware.error().detail);

@@ -1,14 +1,16 @@
-# cmake -DINPUT=page.html -DOUTPUT=status_page.h -P embed_page.cmake
-# Writes the page as a C++ raw string literal, kStatusPage (status/http_routes.cpp serves it).
+# cmake -DINPUT=status_page.js -DOUTPUT=status_page_js.h -DVARIABLE=kStatusPageJs -P embed_page.cmake
+# Writes one of the page's files as a C++ raw string literal named VARIABLE
+# (status/http_routes.cpp serves it).
 file(READ ${INPUT} page)
 string(FIND "${page}" ")tiltgate_page\"" clash)
 if(NOT clash EQUAL -1)
   message(FATAL_ERROR "${INPUT} contains the raw string's end marker")
 endif()
+get_filename_component(source ${INPUT} NAME)
 file(WRITE ${OUTPUT}.tmp
-  "// Generated from status/status_page.html by status/embed_page.cmake: edit the page.\n"
+  "// Generated from status/${source} by status/embed_page.cmake: edit that file.\n"
   "#pragma once\n#include <string_view>\nnamespace tiltgate {\n"
-  "inline constexpr std::string_view kStatusPage = R\"tiltgate_page(${page})tiltgate_page\";\n"
+  "inline constexpr std::string_view ${VARIABLE} = R\"tiltgate_page(${page})tiltgate_page\";\n"
   "}  // namespace tiltgate\n")
 file(COPY_FILE ${OUTPUT}.tmp ${OUTPUT} ONLY_IF_DIFFERENT)
 file(REMOVE ${OUTPUT}.tmp)

@@ -5,7 +5,9 @@
 #include "status/history_format.h"
 #include "status/status_json.h"
 #include "status/status_metrics.h"
-#include "status/status_page.h"
+#include "status/status_page_css.h"
+#include "status/status_page_html.h"
+#include "status/status_page_js.h"
 
 namespace tiltgate {
 
@@ -96,6 +98,12 @@ HttpReply route_http(std::string_view method, std::string_view target,
   const std::string_view path = target.substr(0, target.find('?'));
   if (path == "/" || path == "/index.html")
     return HttpReply{200, "text/html; charset=utf-8", std::string(kStatusPage)};
+  // The page's style sheet and script, files of their own: the Content-Security-Policy
+  // (status/http_server.cpp) allows no inline style or script.
+  if (path == "/status_page.css")
+    return HttpReply{200, "text/css; charset=utf-8", std::string(kStatusPageCss)};
+  if (path == "/status_page.js")
+    return HttpReply{200, "text/javascript; charset=utf-8", std::string(kStatusPageJs)};
   if (path == "/healthz") return text(200, "ok\n");
   if (path == "/metrics")
     return HttpReply{200, std::string(kMetricsContentType), metrics_text(status())};
@@ -116,8 +124,9 @@ HttpReply route_http(std::string_view method, std::string_view target,
     }
     return text(404, "no such sensor\n");
   }
-  return text(404, "not found: the endpoints are /, /healthz, /api/sensors, /api/sensors/NAME, "
-                   "/api/sensors/NAME/history[.csv], /api/buses, /api/modbus and /metrics\n");
+  return text(404, "not found: the endpoints are / (with /status_page.css and /status_page.js), "
+                   "/healthz, /api/sensors, /api/sensors/NAME, /api/sensors/NAME/history[.csv], "
+                   "/api/buses, /api/modbus and /metrics\n");
 }
 
 }  // namespace tiltgate

@@ -17,6 +17,9 @@
 #include <vector>
 
 #include "modbus_tcp/connection_admission.h"
+#include "modbus_tcp/tls_suites.h"
+#include "status/host_check.h"
+#include "status/http_response.h"
 
 namespace tiltgate {
 
@@ -29,6 +32,12 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 constexpr auto accept_retry_pause = std::chrono::milliseconds(100);
+
+std::string local_address_of(const tcp::socket& socket) {
+  boost::system::error_code ec;
+  const tcp::endpoint local = socket.local_endpoint(ec);
+  return ec ? std::string() : local.address().to_string();
+}
 
 bool is_loopback_address(const std::string& text) {
   boost::system::error_code ec;
@@ -44,6 +53,7 @@ struct HttpServer::Connection {
              asio::ssl::context* tls)
       : peer(peer_of(socket)),
         address(std::move(address)),
+        local_address(local_address_of(socket)),
         from_troubled_address(from_troubled_address),
         waiting_since(Clock::now()),
         stream(make_stream(std::move(socket), tls)) {}
@@ -64,6 +74,7 @@ struct HttpServer::Connection {
   }
   const std::string peer;     // "127.0.0.1:50312", for the log
   const std::string address;  // without the port: what max_clients_per_host counts
+  const std::string local_address;  // the address it came in on: a Host that is always ours
   // Clients from its address were closed for cause lately (a flood reconnecting from many
   // addresses, say): while it waits, it gives way before the others.
   const bool from_troubled_address;
@@ -95,9 +106,9 @@ Expected<Done, std::string> HttpServer::start() {
   if (acceptor_.is_open()) return Unexpected{std::string("HTTP server already started")};
   if (!options_.tls_cert_pem.empty()) {
     tls_ = std::make_unique<asio::ssl::context>(asio::ssl::context::tls_server);
-    SSL_CTX_set_min_proto_version(tls_->native_handle(), TLS1_2_VERSION);
     boost::system::error_code ec;
-    tls_->use_certificate_chain(asio::buffer(options_.tls_cert_pem), ec);
+    if (!offer_only_aead_suites(tls_->native_handle())) ec = asio::error::no_protocol_option;
+    if (!ec) tls_->use_certificate_chain(asio::buffer(options_.tls_cert_pem), ec);
     if (!ec) tls_->use_private_key(asio::buffer(options_.tls_key_pem), asio::ssl::context::pem, ec);
     if (!ec && SSL_CTX_check_private_key(tls_->native_handle()) != 1)
       ec = asio::error::invalid_argument;
@@ -361,21 +372,24 @@ asio::awaitable<void> HttpServer::serve_on(Connection& connection, Stream& strea
     // While the handler works (a console write waits for the sensor), the client's time-out
     // does not run: the reply's own time starts when it is ready.
     connection.lowest().expires_never();
-    const HttpReply reply = co_await handler_(std::move(asked));
+    // Checked before any route, for every request (DNS rebinding: status/host_check.h).
+    const HostVerdict host =
+        check_host(asked.host, options_.server_names, connection.local_address);
+    if (host != HostVerdict::ours)  // throttled per address; the Host shown escaped
+      problem_log_.log_problem(connection.peer, connection.address,
+                               host == HostVerdict::missing
+                                   ? std::string("a request without a Host header: answered 400")
+                                   : fmt::format("Host \"{}\" is not among [http] server_names: "
+                                                 "answered 421",
+                                                 asked.host));
+    HttpReply reply;
+    if (host == HostVerdict::ours)
+      reply = co_await handler_(std::move(asked));
+    else
+      reply = misdirected_reply(host, asked.host);
     if (connection.closed) break;
-    http::response<http::string_body> response{http::status(reply.status), version};
-    response.set(http::field::server, "tiltgate");
-    response.set(http::field::content_type, reply.content_type);
-    response.set(http::field::cache_control, "no-store");
-    if (reply.allow_get) response.set(http::field::allow, "GET, HEAD");
-    if (!reply.content_disposition.empty())
-      response.set(http::field::content_disposition, reply.content_disposition);
-    for (const auto& [name, value] : reply.headers) response.insert(name, value);
-    if (tls_) response.set(http::field::strict_transport_security, "max-age=31536000");
-    response.set("X-Content-Type-Options", "nosniff");
-    response.set("X-Frame-Options", "DENY");
+    http::response<http::string_body> response = http_response(reply, version, tls_ != nullptr);
     response.keep_alive(keep_alive);
-    response.body() = reply.body;
     response.prepare_payload();
     if (head) response.body().clear();
     connection.lowest().expires_after(options_.request_timeout);  // a client that takes nothing

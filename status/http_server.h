@@ -23,6 +23,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_set>
+#include <vector>
 
 #include "config/address_allow_list.h"
 #include "driver/expected.h"
@@ -59,6 +60,9 @@ struct HttpServerOptions {
   // every request is treated alike, as the read-only API always was.
   std::function<bool(std::string_view cookie_header)> signed_in;
   std::size_t max_anonymous_body_bytes = 4096;
+  // The names a request's Host header may give (status/host_check.h); the address a request
+  // came in on is always one. Any other: 421, and the request never reaches the handler.
+  std::vector<std::string> server_names;
 };
 
 using HttpHandler = std::function<boost::asio::awaitable<HttpReply>(HttpRequest)>;

@@ -124,6 +124,21 @@ unit_id = 1
     t.check("a client that does not trust the test CA refuses the certificate", not verified)
     t.check("the gateway still serves after both", up())
 
+    def tls12_handshake(suite):
+        """openssl s_client offering TLS 1.2 with only `suite`: (handshake done, its output)."""
+        done = subprocess.run(["openssl", "s_client", "-connect", "127.0.0.1:%d" % https_port,
+                               "-tls1_2", "-cipher", suite], stdin=subprocess.DEVNULL,
+                              capture_output=True, text=True, timeout=30)
+        out = done.stdout + done.stderr
+        return done.returncode == 0 and ("Cipher is " + suite) in out, out
+    accepted, out = tls12_handshake("ECDHE-RSA-AES128-GCM-SHA256")
+    t.check("TLS 1.2 with an AEAD suite (ECDHE-RSA-AES128-GCM-SHA256) is accepted", accepted, out)
+    for suite in ("AES128-SHA", "ECDHE-RSA-AES128-SHA", "AES128-SHA256"):
+        accepted, out = tls12_handshake(suite)
+        t.check("TLS 1.2 with the CBC suite %s is refused by the gateway" % suite,
+                not accepted and "alert handshake failure" in out, out)
+    t.check("the gateway still serves after the refused suites", up())
+
 
 if __name__ == "__main__":
     sys.exit(Checks("console-tls").run(scenario))

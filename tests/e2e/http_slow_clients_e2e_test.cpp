@@ -64,7 +64,7 @@ bool closed_by_server(tcp::socket& socket) {
 
 // Sends a request's header a byte a second, never ending it; reconnects when closed.
 asio::awaitable<void> trickle(std::string from, std::uint16_t port) {
-  const std::string header = "GET /api/sensors HTTP/1.1\r\nHost: gateway\r\nX-Slow: " +
+  const std::string header = "GET /api/sensors HTTP/1.1\r\nHost: localhost\r\nX-Slow: " +
                              std::string(8000, 'a');
   for (;;) {
     tcp::socket socket = co_await connect_from(from, port);
@@ -139,7 +139,7 @@ bool page_answered(std::uint16_t port, std::chrono::seconds limit) {
   bool answered = false;
   if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) {
     const std::string request =
-        "GET /api/sensors HTTP/1.1\r\nHost: gateway\r\nConnection: close\r\n\r\n";
+        "GET /api/sensors HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n";
     if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == ssize_t(request.size()))
       answered = read_to_close(fd).starts_with("HTTP/1.1 200");
   }
@@ -207,7 +207,7 @@ TEST_CASE("HTTP: a client trickling its request a byte every half second is clos
   HttpDemo demo;
   const int fd = connect_to(demo.http_port, 30);
   const auto start = std::chrono::steady_clock::now();
-  const std::string header = "GET /api/sensors HTTP/1.1\r\nHost: gateway\r\nX-Slow: " +
+  const std::string header = "GET /api/sensors HTTP/1.1\r\nHost: localhost\r\nX-Slow: " +
                              std::string(100, 'a');
   bool closed = false;
   for (const char byte : header) {

@@ -157,6 +157,25 @@ check "a client whose certificate another CA signed is refused" refused "$tls_po
 check "plain TCP still works beside TLS" read_registers "plain:$port"
 check "a plain Modbus client on the TLS port gets no answer" refused "plain:$tls_port"
 check "the refused handshakes are logged" grep -q "TLS handshake failed" "$dir/gateway.err"
+# tls12_suite SUITE: a TLS 1.2 handshake offering only SUITE (with the PLC's certificate) ends
+# with that suite (docs/operations.md, "Modbus/TCP Security": AEAD suites only).
+tls12_suite() {
+  openssl s_client -connect "127.0.0.1:$tls_port" -tls1_2 -cipher "$1" -cert "$dir/plc.pem" \
+    -key "$dir/plc.key" </dev/null >"$dir/s_client.out" 2>&1 &&
+    grep -q "Cipher is $1" "$dir/s_client.out"
+}
+# tls12_refused SUITE: the gateway ends that handshake with a handshake failure alert (the
+# client offered the suite: it is the server that has none in common).
+tls12_refused() {
+  ! tls12_suite "$1" && grep -q "alert handshake failure" "$dir/s_client.out"
+}
+check "TLS 1.2 with an AEAD suite (ECDHE-ECDSA-AES128-GCM-SHA256) is accepted" \
+  tls12_suite ECDHE-ECDSA-AES128-GCM-SHA256
+check "TLS 1.2 with a CBC-SHA1 suite (ECDHE-ECDSA-AES128-SHA) is refused" \
+  tls12_refused ECDHE-ECDSA-AES128-SHA
+check "TLS 1.2 with a CBC-SHA256 suite (ECDHE-ECDSA-AES128-SHA256) is refused" \
+  tls12_refused ECDHE-ECDSA-AES128-SHA256
+check "the PLC still reads over TLS after the refused suites" read_registers "$tls_port" plc
 kill "$gateway"
 wait "$gateway" 2>/dev/null
 

@@ -24,6 +24,13 @@ import time
 import urllib.request
 
 
+CSP_WATCH = """document.addEventListener('securitypolicyviolation', (e) => {
+  const seen = JSON.parse(sessionStorage.getItem('csp-violations') || '[]');
+  seen.push(e.violatedDirective + ' ' + (e.blockedURI || 'inline') + ' ' + (e.sample || ''));
+  sessionStorage.setItem('csp-violations', JSON.stringify(seen));
+});"""
+
+
 class Chromium:
     def __init__(self, width=1280, height=800):
         self.binary = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -103,7 +110,15 @@ class Chromium:
         self.send("Emulation.setDeviceMetricsOverride",
                   {"width": width, "height": height, "deviceScaleFactor": 1,
                    "mobile": width < 600})
+        # What the page's Content-Security-Policy blocked (an inline script or style, a style
+        # attribute, a request elsewhere), kept across reloads of the tab: the page must need
+        # nothing the policy refuses (docs/web-console.md, "Headers and host names").
+        self.send("Page.enable", {})
+        self.send("Page.addScriptToEvaluateOnNewDocument", {"source": CSP_WATCH})
         self.send("Page.navigate", {"url": url})
+
+    def csp_violations(self):
+        return self.evaluate("JSON.parse(sessionStorage.getItem('csp-violations') || '[]')")
 
     def evaluate(self, expression):
         result = self.send("Runtime.evaluate", {"expression": expression, "returnByValue": True})
@@ -198,6 +213,11 @@ def check(url, gateway_pid):
         else:
             print("page: %d updates; the angles of every sensor (%s) changed on the page" %
                   (page["updates"], ", ".join(names)))
+        blocked = browser.csp_violations()
+        if blocked != []:
+            failures.append("the Content-Security-Policy blocked: %s" % blocked)
+        else:
+            print("page: the Content-Security-Policy blocked nothing")
         # The gateway goes away: the banner says so.
         os.kill(gateway_pid, signal.SIGKILL)
         banner = browser.wait_for(
@@ -371,6 +391,11 @@ def console_check(url, operator, viewer, sensor, setting):
                 failures.append("the viewer has enabled actions %s, tabs %s" % (enabled, admin_tabs))
             else:
                 print("console: the viewer sees the settings with no enabled action and no admin tab")
+        blocked = browser.csp_violations()
+        if blocked != []:
+            failures.append("the Content-Security-Policy blocked: %s" % blocked)
+        else:
+            print("console: the Content-Security-Policy blocked nothing")
     finally:
         browser.close()
     for failure in failures:

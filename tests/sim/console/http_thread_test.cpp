@@ -50,7 +50,7 @@ std::optional<std::string> get_body(std::uint16_t port, const std::string& targe
   socket.connect({asio::ip::make_address("127.0.0.1"), port}, ec);
   if (ec) return std::nullopt;
   const std::string request =
-      "GET " + target + " HTTP/1.1\r\nHost: gateway\r\nConnection: close\r\n\r\n";
+      "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
   asio::write(socket, asio::buffer(request), ec);
   std::string response;
   asio::read(socket, asio::dynamic_buffer(response), ec);  // to the end: Connection: close

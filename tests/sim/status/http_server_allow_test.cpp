@@ -34,7 +34,7 @@ TEST_CASE("HTTP: a host outside [http] allow is closed at accept, an allowed one
   RawSocket stranger(server.local_port(), "127.0.0.2");
   CHECK(stranger.closed_by_server());
   RawSocket local(server.local_port(), "127.0.0.1");
-  const std::string request = "GET /healthz HTTP/1.1\r\nHost: gateway\r\n\r\n";
+  const std::string request = "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
   local.send(Bytes(request.begin(), request.end()));
   const Bytes reply = local.receive(12);
   CHECK(std::string(reply.begin(), reply.end()) == "HTTP/1.1 200");

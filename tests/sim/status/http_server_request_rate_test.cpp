@@ -21,7 +21,7 @@ namespace {
 // `count` GETs of /healthz in one send, kept alive: answered one after another.
 Bytes pipelined_gets(int count) {
   std::string all;
-  for (int i = 0; i < count; ++i) all += "GET /healthz HTTP/1.1\r\nHost: gateway\r\n\r\n";
+  for (int i = 0; i < count; ++i) all += "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
   return Bytes(all.begin(), all.end());
 }
 

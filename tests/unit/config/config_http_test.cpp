@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <string>
+#include <vector>
 
 #include "config/config_loader.h"
 #include "unit/support/config_text.h"
@@ -72,4 +73,34 @@ TEST_CASE("config: [http] max_clients_per_host is 8 by default, read, and at mos
                "http.max_clients_per_host", "17 is out of range, expected 1..16");
   expect_error("[http]\nmax_clients_per_host = 0\n" + valid_plus(""), 2,
                "http.max_clients_per_host", "0 is out of range, expected 1..16");
+}
+
+TEST_CASE("config: [http] server_names left out is empty: the HTTP service takes the defaults") {
+  CHECK(loads(valid_plus("")).http.server_names.empty());
+}
+
+TEST_CASE("config: [http] server_names are read, host names and addresses") {
+  const Config config = loads(
+      "[http]\nserver_names = [\"gw-3.plant.example\", \"10.0.0.5\", \"fd00::5\", \"gw-3\"]\n" +
+      valid_plus(""));
+  CHECK(config.http.server_names ==
+        std::vector<std::string>{"gw-3.plant.example", "10.0.0.5", "fd00::5", "gw-3"});
+}
+
+TEST_CASE("config: [http] server_names mistakes are reported at their key") {
+  expect_error("[http]\nserver_names = []\n" + valid_plus(""), 2, "http.server_names",
+               "0 names, expected 1 to 32");
+  expect_error("[http]\nserver_names = [\"gw-3:8080\"]\n" + valid_plus(""), 2,
+               "http.server_names",
+               "\"gw-3:8080\" is not a host name or an IP address, expected e.g. "
+               "\"gw-3.plant.example\" or \"10.0.0.5\" (no port)");
+  expect_error("[http]\nserver_names = [\"*\"]\n" + valid_plus(""), 2, "http.server_names",
+               "\"*\" is not a host name or an IP address, expected e.g. "
+               "\"gw-3.plant.example\" or \"10.0.0.5\" (no port)");
+  expect_error("[http]\nserver_names = [\"gw\\nx\"]\n" + valid_plus(""), 2, "http.server_names",
+               "\"gw\\nx\" is not a host name or an IP address, expected e.g. "
+               "\"gw-3.plant.example\" or \"10.0.0.5\" (no port)");
+  expect_error("[http]\nserver_names = [\"-gw\"]\n" + valid_plus(""), 2, "http.server_names",
+               "\"-gw\" is not a host name or an IP address, expected e.g. "
+               "\"gw-3.plant.example\" or \"10.0.0.5\" (no port)");
 }

@@ -1,6 +1,7 @@
-// The status page at / and the per-sensor history endpoints: the page is one self-contained
-// HTML document (nothing fetched from another host), the history comes as JSON and as a CSV
-// download, and an unknown sensor is a 404 like everywhere else in the API.
+// The status page at / and the per-sensor history endpoints: the page is self-contained (its
+// markup, script and style sheet all from the gateway, nothing inline, nothing from another
+// host), the history comes as JSON and as a CSV download, and an unknown sensor is a 404 like
+// everywhere else in the API.
 #include <doctest/doctest.h>
 
 #include <regex>
@@ -45,18 +46,42 @@ TEST_CASE("status page: / is an HTML page that loads nothing from another host")
   CHECK(page.content_type == "text/html; charset=utf-8");
   CHECK(page.body.starts_with("<!doctype html>"));
   CHECK(page.body.find("<meta name=\"viewport\"") != std::string::npos);
-  // Self-contained: no absolute URL at all (a script, style sheet, font or image from a CDN
-  // would need one), and no protocol-relative one in src/href either.
-  CHECK(page.body.find("http://") == std::string::npos);
-  CHECK(page.body.find("https://") == std::string::npos);
-  CHECK_FALSE(std::regex_search(page.body, std::regex(R"((src|href)\s*=\s*["']//)")));
-  CHECK_FALSE(std::regex_search(page.body, std::regex(R"(@import|url\()")));
+  const HttpReply script = route_http("GET", "/status_page.js", no_sensors);
+  CHECK(script.status == 200);
+  CHECK(script.content_type == "text/javascript; charset=utf-8");
+  const HttpReply style = route_http("GET", "/status_page.css", no_sensors);
+  CHECK(style.status == 200);
+  CHECK(style.content_type == "text/css; charset=utf-8");
+  for (const std::string& body : {page.body, script.body, style.body}) {
+    // Self-contained: no absolute URL at all (a script, style sheet, font or image from a CDN
+    // would need one), and no protocol-relative one in src/href either.
+    CHECK(body.find("http://") == std::string::npos);
+    CHECK(body.find("https://") == std::string::npos);
+    CHECK_FALSE(std::regex_search(body, std::regex(R"((src|href)\s*=\s*["']//)")));
+    CHECK_FALSE(std::regex_search(body, std::regex(R"(@import|url\()")));
+  }
   // It reads the JSON API the gateway serves, by relative path.
-  CHECK(page.body.find("\"/api/sensors\"") != std::string::npos);
-  CHECK(page.body.find("\"/api/buses\"") != std::string::npos);
-  CHECK(page.body.find("/history") != std::string::npos);
+  CHECK(script.body.find("\"/api/sensors\"") != std::string::npos);
+  CHECK(script.body.find("\"/api/buses\"") != std::string::npos);
+  CHECK(script.body.find("/history") != std::string::npos);
   CHECK(route_http("HEAD", "/", no_sensors).status == 200);
   CHECK(route_http("POST", "/", no_sensors).status == 405);
+}
+
+// The Content-Security-Policy (status/http_response.h) allows scripts and styles from the
+// gateway's files only: an inline one would not run in the browser.
+TEST_CASE("status page: no inline script, style, style attribute or event handler") {
+  const std::string page = route_http("GET", "/", no_sensors).body;
+  const std::string script = route_http("GET", "/status_page.js", no_sensors).body;
+  CHECK(page.find("<script src=\"/status_page.js\"></script>") != std::string::npos);
+  CHECK(page.find("<link rel=\"stylesheet\" href=\"/status_page.css\">") != std::string::npos);
+  CHECK_FALSE(std::regex_search(page, std::regex(R"(<script(?![^>]*\bsrc=)[^>]*>)")));
+  for (const std::string& markup : {page, script}) {  // the script makes markup too
+    CHECK(markup.find("<style") == std::string::npos);
+    CHECK_FALSE(std::regex_search(markup, std::regex(R"(\sstyle\s*=\s*["'])")));
+    CHECK_FALSE(std::regex_search(markup, std::regex(R"(<[^>]*\son[a-z]+\s*=)")));
+    CHECK(markup.find("javascript:") == std::string::npos);
+  }
 }
 
 TEST_CASE("status page: a sensor's history as JSON and as a CSV download") {

@@ -1,0 +1,1009 @@
+// The status page's and console's script (status/status_page.html), served as
+// /status_page.js: the Content-Security-Policy allows no inline script
+// (docs/web-console.md, "Headers and host names").
+"use strict";
+const POLL_MS = 400;        // about 2.5 updates a second
+const TIMEOUT_MS = 2500;    // a request not answered by then counts as the gateway unreachable
+const HISTORY_MS = 2000;    // an open graph is redrawn this often
+// mapping/derived_state.h alarm_bit
+const ALARMS = [[1, "X high"], [2, "X low"], [4, "Y high"], [8, "Y low"], [16, "tilt high"],
+                [32, "rate of change"]];
+
+const cards = new Map();    // sensor name -> {root, parts, last}
+const busRows = new Map();  // bus name -> {root, parts}
+const rates = new Map();    // key -> {count, at, rate}: polls/s when the API gives none
+let unreachableSince = null;
+let openSensor = null;
+let historyTimer = null;
+
+const $ = (id) => document.getElementById(id);
+function esc(text) {
+  return String(text).replace(/[&<>"']/g, (c) => ({"&": "&amp;", "<": "&lt;", ">": "&gt;",
+                                                    "\"": "&quot;", "'": "&#39;"})[c]);
+}
+function pad(n) { return String(n).padStart(2, "0"); }
+function clock(date) { return pad(date.getHours()) + ":" + pad(date.getMinutes()) + ":" + pad(date.getSeconds()); }
+function degrees(v) { return v === null || v === undefined ? "\u2013" : v.toFixed(3) + "\u00B0"; }
+function age(ms) {
+  if (ms === null || ms === undefined) return "no reading";
+  if (ms < 10000) return (ms / 1000).toFixed(1) + " s ago";
+  if (ms < 120000) return Math.round(ms / 1000) + " s ago";
+  if (ms < 7200000) return Math.round(ms / 60000) + " min ago";
+  return Math.round(ms / 3600000) + " h ago";
+}
+function perSecond(v) { return v === null || v === undefined ? "\u2013" : (v < 10 ? v.toFixed(1) : v.toFixed(0)); }
+
+// A counter's rate over the last updates, for a gateway whose API has no polls_per_s.
+function rateOf(key, count) {
+  const now = performance.now();
+  const r = rates.get(key);
+  if (!r || count < r.count) { rates.set(key, {count, at: now, rate: null}); return null; }
+  if (now - r.at >= 2000) {
+    r.rate = (count - r.count) * 1000 / (now - r.at);
+    r.count = count; r.at = now;
+  }
+  return r.rate;
+}
+
+// A 401 means the session is gone (logged out elsewhere, expired): not an unreachable gateway.
+class LoggedOut extends Error {}
+
+async function getJson(path) {
+  const abort = new AbortController();
+  const timer = setTimeout(() => abort.abort(), TIMEOUT_MS);
+  try {
+    const reply = await fetch(path, {cache: "no-store", signal: abort.signal});
+    if (reply.status === 401) { showLogin(); throw new LoggedOut(path); }
+    if (!reply.ok) throw new Error(path + ": " + reply.status);
+    return await reply.json();
+  } finally {
+    clearTimeout(timer);
+  }
+}
+
+function stateOf(s) {
+  // Another device answers at the sensor's address: nothing it says is the sensor's.
+  if (s.wrong_device) return ["wrong", "wrong device"];
+  if (!s.online) return ["offline", "offline"];
+  if (s.x === null || s.x === undefined) return ["none", "no reading"];
+  if (s.stale) return ["stale", "stale"];
+  return ["online", "online"];
+}
+
+// The gauge's full scale: the smallest of these that holds the tilt with some room.
+const SCALES = [0.5, 1, 2, 5, 10, 20, 45, 90, 180];
+function gaugeScale(x, y) {
+  const m = Math.hypot(x || 0, y || 0);
+  return SCALES.find((s) => m <= 0.8 * s) || 180;
+}
+
+function newCard(s) {
+  const root = document.createElement("article");
+  root.className = "card none";
+  root.tabIndex = 0;
+  root.setAttribute("role", "button");
+  root.dataset.name = s.name;
+  root.dataset.changes = "0";
+  root.innerHTML =
+    '<div class="head"><span class="name"></span><span class="pill"></span></div>' +
+    '<div class="meta"></div><div class="meta where"></div>' +
+    '<div class="body"><div class="gauge-box">' +
+    '<svg class="gauge" viewBox="-1.1 -1.1 2.2 2.2" aria-hidden="true">' +
+    '<circle class="face" r="1"/><circle class="ring" r="0.4"/>' +
+    '<line class="cross" x1="-1" y1="0" x2="1" y2="0"/><line class="cross" x1="0" y1="-1" x2="0" y2="1"/>' +
+    '<circle class="bubble" r="0.2" cx="0" cy="0"/></svg>' +
+    '<span class="scale num" title="full scale of the tilt gauge"></span></div>' +
+    '<div class="angles num"><span class="axis x">X</span><span class="value x">\u2013</span>' +
+    '<span class="axis y">Y</span><span class="value y">\u2013</span></div></div>' +
+    '<div class="foot num"><span class="age"></span><span class="rate"></span><span class="errors"></span></div>' +
+    '<div class="alarms"></div>';
+  const q = (sel) => root.querySelector(sel);
+  const parts = {name: q(".name"), pill: q(".pill"), meta: q(".meta"), where: q(".where"), bubble: q(".bubble"),
+                 scale: q(".scale"), x: q(".value.x"), y: q(".value.y"), yAxis: q(".axis.y"),
+                 age: q(".age"), rate: q(".rate"), errors: q(".errors"), alarms: q(".alarms")};
+  root.addEventListener("click", () => openHistory(s.name));
+  root.addEventListener("keydown", (e) => { if (e.key === "Enter" || e.key === " ") { e.preventDefault(); openHistory(s.name); } });
+  return {root, parts, last: null};
+}
+
+function errorsText(s) {
+  if (s.failures && typeof s.failures === "object") {
+    const named = Object.entries(s.failures).filter(([, n]) => n > 0);
+    const total = named.reduce((sum, [, n]) => sum + n, 0);
+    if (total === 0) return ["no errors", false];
+    return [total + " error" + (total === 1 ? "" : "s") + ": " +
+            named.map(([why, n]) => why + " " + n).join(", "), true];
+  }
+  const failed = s.polls_failed || 0;
+  return failed === 0 ? ["no errors", false] : [failed + " failed poll" + (failed === 1 ? "" : "s"), true];
+}
+
+function updateCard(card, s) {
+  const p = card.parts;
+  const [cls, label] = stateOf(s);
+  card.root.className = "card " + cls;
+  p.name.textContent = s.name;
+  p.pill.textContent = label;
+  p.meta.textContent = s.model + " \u00B7 " + (s.serial ? "S/N " + s.serial : "S/N not read yet") +
+    (s.wrong_device ? ", configured S/N " + s.configured_serial : "");
+  p.where.textContent = "bus " + s.bus + " \u00B7 address " + s.address;
+  const x = degrees(s.x), y = degrees(s.y);
+  const single = (s.y === null || s.y === undefined) && s.x !== null && s.x !== undefined;
+  p.yAxis.style.visibility = p.y.style.visibility = single ? "hidden" : "";
+  if (card.last !== null && (card.last.x !== x || card.last.y !== y))
+    card.root.dataset.changes = String(Number(card.root.dataset.changes) + 1);
+  card.last = {x, y};
+  card.sensor = s;
+  p.x.textContent = x;
+  p.y.textContent = y;
+  card.root.dataset.x = x;
+  // The bubble shows the tilt's direction and size, held inside the face when off scale.
+  const scale = gaugeScale(s.x, s.y);
+  let gx = (s.x || 0) / scale, gy = (s.y || 0) / scale;
+  const r = Math.hypot(gx, gy);
+  if (r > 1) { gx /= r; gy /= r; }
+  // Full scale puts the bubble against the rim (its centre at 0.8 of the face's radius).
+  p.bubble.setAttribute("cx", (0.8 * gx).toFixed(3));
+  p.bubble.setAttribute("cy", (-0.8 * gy).toFixed(3));
+  p.bubble.style.visibility = s.x === null || s.x === undefined ? "hidden" : "";
+  p.scale.textContent = "\u00B1" + scale + "\u00B0";
+  p.age.textContent = age(s.age_ms);
+  const rate = typeof s.polls_per_s === "number" ? s.polls_per_s
+             : rateOf("sensor:" + s.name, (s.polls_ok || 0) + (s.polls_failed || 0));
+  p.rate.textContent = perSecond(rate) + " polls/s";
+  const [errors, bad] = errorsText(s);
+  p.errors.textContent = errors;
+  p.errors.className = "errors" + (bad ? " bad" : "");
+  const words = ALARMS.filter(([bit]) => (s.alarms || 0) & bit).map(([, word]) => word);
+  const alarmHtml = words.map((w) => '<span class="alarm">' + esc(w) + "</span>").join("");
+  if (p.alarms.innerHTML !== alarmHtml) p.alarms.innerHTML = alarmHtml;
+}
+
+function renderSensors(list) {
+  const host = $("sensors");
+  const seen = new Set();
+  for (const s of list) {
+    seen.add(s.name);
+    let card = cards.get(s.name);
+    if (!card) { card = newCard(s); cards.set(s.name, card); }
+    updateCard(card, s);
+    host.appendChild(card.root);  // keeps the API's order; a no-op move when unchanged
+  }
+  for (const [name, card] of cards) if (!seen.has(name)) { card.root.remove(); cards.delete(name); }
+  if (list.length === 0) host.innerHTML = '<div class="empty">No sensors configured.</div>';
+  else host.querySelector(".empty")?.remove();
+}
+
+function renderBuses(list) {
+  const host = $("buses");
+  const seen = new Set();
+  for (const b of list) {
+    seen.add(b.name);
+    let row = busRows.get(b.name);
+    if (!row) {
+      const root = document.createElement("div");
+      root.className = "bus";
+      root.innerHTML = '<span class="name"></span><span class="port muted"></span>' +
+                       '<span class="protocol muted"></span><span class="rate num"></span>' +
+                       '<span class="meter num"><span class="track"><span class="fill"></span></span><span class="use"></span></span>';
+      const q = (sel) => root.querySelector(sel);
+      row = {root, parts: {name: q(".name"), port: q(".port"), protocol: q(".protocol"),
+                           rate: q(".rate"), fill: q(".fill"), use: q(".use")}};
+      busRows.set(b.name, row);
+    }
+    const p = row.parts;
+    p.name.textContent = b.name;
+    p.port.textContent = b.port + " @ " + b.baud + " baud";
+    p.protocol.textContent = b.protocol;
+    const rate = typeof b.polls_per_s === "number" ? b.polls_per_s : rateOf("bus:" + b.name, b.polls || 0);
+    p.rate.textContent = perSecond(rate) + " polls/s";
+    if (typeof b.utilisation === "number") {
+      const pct = Math.max(0, Math.min(1, b.utilisation)) * 100;
+      p.fill.parentElement.hidden = false;
+      p.fill.style.width = pct.toFixed(1) + "%";
+      p.fill.className = "fill" + (pct >= 85 ? " high" : "");
+      p.use.textContent = pct.toFixed(0) + "% of wire";
+      p.use.className = "use";
+    } else {
+      p.fill.parentElement.hidden = true;
+      p.use.textContent = "wire use not reported";
+      p.use.className = "use absent";
+    }
+    host.appendChild(row.root);
+  }
+  for (const [name, row] of busRows) if (!seen.has(name)) { row.root.remove(); busRows.delete(name); }
+}
+
+function renderSummary(sensors) {
+  const count = (cls) => sensors.filter((s) => stateOf(s)[0] === cls).length;
+  const parts = ["<b>" + count("online") + "</b> of " + sensors.length + " online"];
+  const stale = count("stale"), offline = count("offline");
+  if (stale) parts.push("<b>" + stale + "</b> stale");
+  if (offline) parts.push("<b>" + offline + "</b> offline");
+  const wrong = count("wrong");
+  if (wrong) parts.push("<b>" + wrong + "</b> wrong device");
+  $("summary").innerHTML = parts.join(" \u00B7 ");
+}
+
+function setReachable(ok) {
+  const body = document.body;
+  if (ok) {
+    unreachableSince = null;
+    body.classList.remove("unreachable");
+    body.dataset.state = "live";
+    $("banner").hidden = true;
+    return;
+  }
+  if (unreachableSince === null) unreachableSince = new Date();
+  body.classList.add("unreachable");
+  body.dataset.state = "unreachable";
+  $("banner").hidden = false;
+  $("banner").textContent = "Gateway unreachable since " + clock(unreachableSince) +
+                            " \u2014 the values shown are from before then; retrying.";
+}
+
+let lastBuses = [];
+async function poll() {
+  if (document.body.dataset.state === "login") { setTimeout(poll, POLL_MS); return; }
+  try {
+    const [sensors, buses] = await Promise.all([getJson("/api/sensors"), getJson("/api/buses")]);
+    renderSensors(sensors);
+    renderBuses(buses);
+    renderSummary(sensors);
+    lastBuses = buses;
+    setReachable(true);
+    document.body.dataset.updates = String(Number(document.body.dataset.updates) + 1);
+    $("updated").textContent = "updated " + clock(new Date());
+  } catch (e) {
+    if (!(e instanceof LoggedOut)) setReachable(false);
+  } finally {
+    setTimeout(poll, POLL_MS);
+  }
+}
+
+// ---- the history graph ----
+function niceStep(span, ticks) {
+  const raw = span / ticks;
+  const power = Math.pow(10, Math.floor(Math.log10(raw)));
+  for (const m of [1, 2, 2.5, 5, 10]) if (raw <= m * power) return m * power;
+  return 10 * power;
+}
+
+function drawGraph(samples) {
+  const W = 900, H = 320, L = 62, R = 16, T = 14, B = 34;
+  const values = [];
+  for (const s of samples) for (const v of [s.x, s.y]) if (v !== null && v !== undefined) values.push(v);
+  if (samples.length === 0 || values.length === 0)
+    return '<div class="empty">No readings recorded yet: the gateway keeps one sample a period and the graph fills as they come.</div>';
+  let lo = Math.min(...values), hi = Math.max(...values);
+  if (hi - lo < 0.01) { lo -= 0.005; hi += 0.005; }
+  const padding = (hi - lo) * 0.08;
+  lo -= padding; hi += padding;
+  const t0 = samples[0].t, t1 = Math.max(samples[samples.length - 1].t, t0 + 1000);
+  const px = (t) => L + (t - t0) * (W - L - R) / (t1 - t0);
+  const py = (v) => T + (hi - v) * (H - T - B) / (hi - lo);
+  let svg = '<svg class="graph" viewBox="0 0 ' + W + " " + H + '" role="img" aria-label="angles over time">';
+  const step = niceStep(hi - lo, 5);
+  const decimals = Math.max(0, Math.min(4, -Math.floor(Math.log10(step) + 1e-9)));
+  for (let v = Math.ceil(lo / step) * step; v <= hi; v += step) {
+    const y = py(v).toFixed(1);
+    svg += '<line class="gridline" x1="' + L + '" x2="' + (W - R) + '" y1="' + y + '" y2="' + y + '"/>';
+    svg += '<text class="label" x="' + (L - 8) + '" y="' + y + '" dy="4" text-anchor="end">' + v.toFixed(decimals) + "\u00B0</text>";
+  }
+  const tStep = [1, 2, 5, 10, 15, 30, 60, 120, 300, 600, 900, 1800, 3600].map((s) => s * 1000)
+                  .find((s) => (t1 - t0) / s <= 7) || 7200000;
+  for (let t = Math.ceil(t0 / tStep) * tStep; t <= t1; t += tStep) {
+    const x = px(t).toFixed(1);
+    svg += '<line class="gridline" x1="' + x + '" x2="' + x + '" y1="' + T + '" y2="' + (H - B) + '"/>';
+    svg += '<text class="label" x="' + x + '" y="' + (H - B + 18) + '" text-anchor="middle">' + clock(new Date(t)) + "</text>";
+  }
+  for (const axis of ["x", "y"]) {
+    let d = "", pen = false;
+    for (const s of samples) {
+      const v = s[axis];
+      if (v === null || v === undefined) { pen = false; continue; }
+      d += (pen ? "L" : "M") + px(s.t).toFixed(1) + " " + py(v).toFixed(1);
+      pen = true;
+    }
+    if (d) svg += '<path class="line ' + axis + '" d="' + d + '"/>';
+  }
+  return svg + "</svg>";
+}
+
+async function refreshHistory() {
+  if (openSensor === null) return;
+  const name = openSensor;
+  try {
+    const samples = await getJson("/api/sensors/" + encodeURIComponent(name) + "/history");
+    if (openSensor !== name) return;
+    $("detail-graph").innerHTML = drawGraph(samples);
+    const minutes = samples.length > 1 ? (samples[samples.length - 1].t - samples[0].t) / 60000 : 0;
+    $("detail-range").textContent = samples.length + " samples" +
+      (minutes > 0 ? " over the last " + (minutes < 2 ? Math.round(minutes * 60) + " s" : minutes.toFixed(0) + " min") : "");
+  } catch (e) {
+    // The page's banner already says the gateway is away; keep the last graph.
+  }
+}
+
+function openHistory(name) {
+  if (document.body.classList.contains("unreachable")) return;
+  openSensor = name;
+  const card = cards.get(name);
+  $("detail-name").textContent = name;
+  $("detail-sub").textContent = card ? card.parts.meta.textContent + " \u00B7 " + card.parts.where.textContent : "";
+  $("detail-csv").href = "/api/sensors/" + encodeURIComponent(name) + "/history.csv";
+  $("detail-csv").setAttribute("download", name + "-history.csv");
+  $("detail-graph").innerHTML = '<div class="empty">Loading&hellip;</div>';
+  $("detail").hidden = false;
+  refreshHistory();
+  clearInterval(historyTimer);
+  historyTimer = setInterval(refreshHistory, HISTORY_MS);
+  $("detail-console").hidden = !session.accounts;
+  if (session.accounts) loadSensorConsole(name);
+  $("detail-close").focus();
+}
+
+function closeHistory() {
+  openSensor = null;
+  settingsFor = null;
+  clearInterval(historyTimer);
+  $("detail").hidden = true;
+}
+
+$("detail-close").addEventListener("click", closeHistory);
+$("detail").addEventListener("click", (e) => { if (e.target === $("detail")) closeHistory(); });
+document.addEventListener("keydown", (e) => {
+  if (e.key !== "Escape") return;
+  if (!$("confirm").hidden) answerConfirm(false); else closeHistory();
+});
+// ---- the console: accounts, roles and actions (only when /api/session says accounts) ----
+const ACTION_TIMEOUT_MS = 30000;   // a setting waits for the sensor's ACK; the gateway answers 504 itself
+const SCAN_POLL_MS = 500;
+const RANKS = {viewer: 0, operator: 1, admin: 2};
+let session = {accounts: false, user: null, role: null, csrf: null};
+let currentTab = "sensors";
+let servedConfig = null;           // the text the gateway serves, for the diff
+
+function may(role) {
+  return session.accounts && (RANKS[session.role] ?? -1) >= (RANKS[role] ?? 99);
+}
+
+// Disables every control marked data-needs="ROLE" the user's role may not use, saying why, and
+// hides the tabs the role cannot open.
+function applyRole(root = document) {
+  for (const el of root.querySelectorAll("[data-needs]")) {
+    const allowed = may(el.dataset.needs);
+    if (el.classList.contains("tab")) { el.hidden = !allowed; continue; }
+    el.disabled = !allowed;
+    if (allowed) el.removeAttribute("title");
+    else el.title = "needs the " + el.dataset.needs + " role (you are " + (session.role || "not logged in") + ")";
+  }
+}
+
+class ApiError extends Error {
+  constructor(status, body) {
+    super((body && body.error) || ("the gateway answered " + status));
+    this.status = status;
+    this.body = body || {};
+  }
+}
+
+// Every console request: JSON in and out; a change carries the session's CSRF token.
+async function api(method, path, body) {
+  const headers = {};
+  const init = {method, headers, cache: "no-store", credentials: "same-origin"};
+  if (method !== "GET") {
+    headers["Content-Type"] = "application/json";
+    headers["X-CSRF-Token"] = session.csrf || "";
+    init.body = JSON.stringify(body === undefined ? {} : body);
+  }
+  const abort = new AbortController();
+  const timer = setTimeout(() => abort.abort(), ACTION_TIMEOUT_MS);
+  init.signal = abort.signal;
+  let reply;
+  try {
+    reply = await fetch(path, init);
+  } catch (e) {
+    throw new ApiError(0, {error: "the gateway did not answer"});
+  } finally {
+    clearTimeout(timer);
+  }
+  let data = null;
+  try { data = await reply.json(); } catch (e) { data = null; }
+  if (reply.status === 401 && path !== "/api/login") {
+    showLogin("Your session ended: log in again.");
+    throw new ApiError(401, data);
+  }
+  if (!reply.ok) throw new ApiError(reply.status, data);
+  return data;
+}
+
+function say(id, text, kind) {
+  const el = $(id);
+  el.textContent = text;
+  el.className = "message" + (kind ? " " + kind : "");
+}
+
+// ---- session and login ----
+function setSession(data) {
+  session = {accounts: true, user: data.user, role: data.role, csrf: data.csrf};
+  document.body.dataset.role = data.role;
+  $("brand-sub").textContent = "console";
+  document.title = "tiltgate console";
+  $("who-name").textContent = data.user;
+  $("who-role").textContent = data.role;
+  $("who").hidden = false;
+  $("tabs").hidden = false;
+  $("login").hidden = true;
+  if (document.body.dataset.state === "login") document.body.dataset.state = "connecting";
+  applyRole();
+  showTab(may(tabNeeds(currentTab)) ? currentTab : "sensors");
+}
+
+function tabNeeds(tab) {
+  return document.querySelector('.tab[data-tab="' + tab + '"]').dataset.needs || "viewer";
+}
+
+function showLogin(message) {
+  session = {accounts: true, user: null, role: null, csrf: null};
+  delete document.body.dataset.role;
+  closeHistory();
+  answerConfirm(false);
+  document.body.dataset.state = "login";
+  document.body.classList.remove("unreachable");
+  $("banner").hidden = true;
+  $("brand-sub").textContent = "console";
+  document.title = "tiltgate console";
+  $("who").hidden = true;
+  $("tabs").hidden = true;
+  for (const main of document.querySelectorAll("main")) main.hidden = true;
+  // Nothing a previous user loaded stays on the page.
+  $("editor").value = "";
+  servedConfig = null;
+  document.querySelector("#audit-table tbody").innerHTML = "";
+  $("login").hidden = false;
+  say("login-message", message || "", "bad");
+  $("login-password").value = "";
+  $(($("login-user").value ? "login-password" : "login-user")).focus();
+}
+
+async function logIn(event) {
+  event.preventDefault();
+  say("login-message", "");
+  $("login-submit").disabled = true;
+  try {
+    const data = await api("POST", "/api/login",
+                           {user: $("login-user").value, password: $("login-password").value});
+    $("login-password").value = "";
+    setSession(data);
+  } catch (e) {
+    if (e.status === 429) {
+      const wait = e.body.retry_after_s;
+      say("login-message", "Too many failed logins: try again in " +
+          (typeof wait === "number" ? Math.ceil(wait) + " s" : "a while") + ".", "bad");
+    } else if (e.status === 403) {
+      say("login-message", (e.body.error || "Logins from another machine need HTTPS.") +
+          " Open the gateway's address with https in front.", "bad");
+    } else if (e.status === 401) {
+      say("login-message", e.body.error || "Wrong user name or password.", "bad");
+    } else {
+      say("login-message", e.message, "bad");
+    }
+  } finally {
+    $("login-submit").disabled = false;
+  }
+}
+
+async function logOut() {
+  try { await api("POST", "/api/logout"); } catch (e) { /* gone already: the form either way */ }
+  showLogin("Logged out.");
+  say("login-message", "Logged out.", "ok");
+}
+
+// ---- tabs ----
+function showTab(tab) {
+  currentTab = tab;
+  for (const button of document.querySelectorAll(".tab"))
+    button.setAttribute("aria-selected", String(button.dataset.tab === tab));
+  for (const main of document.querySelectorAll("main")) main.hidden = main.id !== "tab-" + tab;
+  if (tab === "buses") renderScans();
+  if (tab === "raw") fillRawBuses();
+  if (tab === "config" && servedConfig === null) loadConfig();
+  if (tab === "audit") loadAudit();
+}
+
+// ---- a sensor: identity, settings, changes ----
+let settingsFor = null;
+
+async function loadSensorConsole(name, keepMessage) {
+  settingsFor = name;
+  $("detail-identity").innerHTML = "";
+  document.querySelector("#detail-settings tbody").innerHTML =
+    '<tr><td colspan="4" class="empty">Reading the settings from the sensor&hellip;</td></tr>';
+  if (!keepMessage) say("detail-message", "");
+  const path = "/api/sensors/" + encodeURIComponent(name);
+  try {
+    const [sensor, settings] = await Promise.all([api("GET", path), api("GET", path + "/settings")]);
+    if (settingsFor !== name) return;
+    renderIdentity(sensor);
+    renderSettings(name, sensor, settings.settings || []);
+  } catch (e) {
+    if (settingsFor === name) say("detail-message", "Could not read the settings: " + e.message, "bad");
+  }
+}
+
+function renderIdentity(s) {
+  const rows = [["Model", s.model], ["Serial", s.serial || "not read yet"],
+                ["Firmware", s.firmware || "not read"], ["Bus", s.bus], ["Address", s.address],
+                ["Modbus unit", s.unit_id]];
+  if (s.wrong_device) rows.push(["Configured serial", s.configured_serial]);
+  $("detail-identity").innerHTML = rows.filter(([, v]) => v !== undefined && v !== null && v !== "")
+    .map(([k, v]) => "<dt>" + esc(k) + "</dt><dd>" + esc(v) + "</dd>").join("");
+}
+
+function valueText(v) { return v === null || v === undefined ? "unknown" : String(v); }
+
+function renderSettings(name, sensor, settings) {
+  const body = document.querySelector("#detail-settings tbody");
+  body.innerHTML = "";
+  if (settings.length === 0)
+    body.innerHTML = '<tr><td colspan="4" class="empty">This sensor\'s map names no settings.</td></tr>';
+  for (const setting of settings) {
+    const row = document.createElement("tr");
+    row.dataset.setting = setting.name;
+    const units = setting.units ? " " + setting.units : "";
+    const action = setting.min === setting.max;  // e.g. restart: one value, a button
+    row.innerHTML = '<td><b></b><div class="sub"></div></td><td class="num value-cell"></td>' +
+                    '<td class="num range"></td><td class="change"></td>';
+    row.querySelector("b").textContent = setting.name;
+    row.querySelector(".sub").textContent = setting.description || "";
+    row.querySelector(".value-cell").textContent = valueText(setting.value) + (setting.value === null ? "" : units);
+    row.querySelector(".range").textContent = action ? "" : setting.min + " \u2026 " + setting.max + units;
+    const cell = row.querySelector(".change");
+    const button = document.createElement("button");
+    button.type = "button";
+    button.className = "button" + (action ? " danger" : "");
+    button.dataset.needs = setting.role || "admin";
+    button.dataset.action = "set";
+    let input = null;
+    if (action) {
+      button.textContent = setting.name;
+    } else {
+      input = document.createElement("input");
+      input.type = "number";
+      input.min = setting.min;
+      input.max = setting.max;
+      input.step = "any";
+      input.inputMode = "decimal";
+      input.dataset.needs = button.dataset.needs;
+      if (setting.value !== null && setting.value !== undefined) input.value = setting.value;
+      input.setAttribute("aria-label", "new " + setting.name);
+      cell.appendChild(input);
+      button.textContent = "Set";
+    }
+    cell.appendChild(button);
+    button.addEventListener("click", () =>
+      changeSetting(name, sensor.bus, setting, action ? setting.min : Number(input.value), input));
+    // Values of an admin setting an operator may write too (a Rieker's command 1 and 2: zero).
+    for (const v of setting.role === "admin" ? setting.operator_values || [] : []) {
+      const quick = document.createElement("button");
+      quick.type = "button";
+      quick.className = "button";
+      quick.dataset.needs = "operator";
+      quick.dataset.action = "set";
+      quick.textContent = "Write " + v;
+      quick.setAttribute("aria-label", "write " + v + " to " + setting.name);
+      quick.addEventListener("click", () => changeSetting(name, sensor.bus, setting, v, null));
+      cell.appendChild(quick);
+    }
+    body.appendChild(row);
+  }
+  applyRole($("detail-settings"));
+}
+
+async function changeSetting(name, bus, setting, value, input) {
+  if (input && (input.value === "" || !Number.isFinite(value))) {
+    say("detail-message", "Enter a number for " + setting.name + ".", "bad");
+    return;
+  }
+  const where = (bus ? bus + "/" : "") + name;
+  const question = setting.min === setting.max
+    ? "Set " + setting.name + " of " + where + " (writes " + value + ")?"
+    : "Set " + setting.name + " of " + where + " from " + valueText(setting.value) + " to " + value + "?";
+  if (!await askConfirm(question)) return;
+  say("detail-message", setting.name + ": waiting for the sensor\u2026");
+  try {
+    const r = await api("POST", "/api/sensors/" + encodeURIComponent(name) + "/settings",
+                        {setting: setting.name, value});
+    say("detail-message", setting.name + " of " + where + ": " + valueText(r.old) + " \u2192 " +
+        valueText(r.value) + " (" + r.result + ")", "ok");
+    document.body.dataset.lastResult = r.result;
+  } catch (e) {
+    const result = e.body.result ? " (" + e.body.result + ")" : "";
+    const why = e.status === 409 ? "the sensor refused" : e.status === 504 ? "no answer from the sensor"
+              : e.status === 403 ? "your role may not" : "refused";
+    say("detail-message", setting.name + " of " + where + ": " + why + ": " + e.message + result, "bad");
+    document.body.dataset.lastResult = e.body.result || "error " + e.status;
+    if (e.status === 401) return;
+  }
+  if (settingsFor === name) loadSensorConsole(name, true);
+}
+
+// ---- the confirmation dialog (a page's own: window.confirm is no use on some phones) ----
+let confirmAnswer = null;
+function askConfirm(text, detail) {
+  $("confirm-text").textContent = text;
+  $("confirm-detail").hidden = !detail;
+  $("confirm-detail").innerHTML = detail || "";
+  $("confirm").hidden = false;
+  $("confirm-ok").focus();
+  return new Promise((resolve) => { confirmAnswer = resolve; });
+}
+function answerConfirm(yes) {
+  $("confirm").hidden = true;
+  if (confirmAnswer) { const resolve = confirmAnswer; confirmAnswer = null; resolve(yes); }
+}
+
+// ---- buses: scan ----
+const scanPanels = new Map();   // bus name -> {root, timer}
+
+function renderScans() {
+  const host = $("scans");
+  if (lastBuses.length === 0) { host.innerHTML = '<div class="empty">No buses yet.</div>'; return; }
+  host.querySelector(".empty")?.remove();
+  for (const b of lastBuses) {
+    if (scanPanels.has(b.name)) continue;
+    const root = document.createElement("form");
+    root.className = "box";
+    root.dataset.bus = b.name;
+    root.innerHTML =
+      '<h3></h3><div class="sub port"></div>' +
+      '<div class="row gap-above">' +
+      '<label class="field">From address <input class="from" type="number" min="0" max="255" value="1" inputmode="numeric"></label>' +
+      '<label class="field">To address <input class="to" type="number" min="0" max="255" value="32" inputmode="numeric"></label>' +
+      '<button class="button primary scan" type="submit" data-needs="admin">Scan</button></div>' +
+      '<div class="progress" hidden><span></span></div><div class="message"></div>' +
+      '<pre class="output" hidden></pre><div class="scroll found"></div>';
+    root.querySelector("h3").textContent = b.name;
+    root.querySelector(".port").textContent = b.port + " @ " + b.baud + " baud \u00B7 " + b.protocol;
+    root.addEventListener("submit", (e) => { e.preventDefault(); startScan(b.name); });
+    host.appendChild(root);
+    scanPanels.set(b.name, {root, timer: null});
+    applyRole(root);
+    pollScan(b.name, false);   // shows a scan already running, or the last one's results
+  }
+}
+
+async function startScan(bus) {
+  const panel = scanPanels.get(bus);
+  const from = Number(panel.root.querySelector(".from").value);
+  const to = Number(panel.root.querySelector(".to").value);
+  const message = panel.root.querySelector(".message");
+  try {
+    await api("POST", "/api/buses/" + encodeURIComponent(bus) + "/scan", {from, to});
+    message.textContent = "Scanning " + from + " to " + to + "\u2026";
+    message.className = "message";
+    pollScan(bus, true);
+  } catch (e) {
+    message.textContent = (e.status === 409 ? "A scan is running already: " : "") + e.message;
+    message.className = "message bad";
+    if (e.status === 409) pollScan(bus, true);
+  }
+}
+
+async function pollScan(bus, started) {
+  const panel = scanPanels.get(bus);
+  if (!panel) return;
+  clearTimeout(panel.timer);
+  let state;
+  try {
+    state = await api("GET", "/api/buses/" + encodeURIComponent(bus) + "/scan");
+  } catch (e) {
+    if (started) panel.timer = setTimeout(() => pollScan(bus, true), SCAN_POLL_MS * 4);
+    return;
+  }
+  renderScan(bus, state);
+  if (state.running && currentTab === "buses" && session.role)
+    panel.timer = setTimeout(() => pollScan(bus, true), SCAN_POLL_MS);
+}
+
+function renderScan(bus, state) {
+  const root = scanPanels.get(bus).root;
+  const progress = root.querySelector(".progress");
+  const message = root.querySelector(".message");
+  const running = !!state.running;
+  const fraction = Math.max(0, Math.min(1, Number(state.progress) || 0));
+  progress.hidden = !running && !state.output && !(state.found || []).length;
+  progress.firstElementChild.style.width = (fraction * 100).toFixed(1) + "%";
+  root.dataset.running = String(running);
+  root.querySelector(".scan").disabled = running || !may("admin");
+  if (running) {
+    message.textContent = "Scanning\u2026 " + Math.round(fraction * 100) + "%";
+    message.className = "message";
+  } else if (state.error) {
+    message.textContent = "The scan failed: " + state.error;
+    message.className = "message bad";
+  } else if (state.output || (state.found || []).length) {
+    message.textContent = "Scan finished: " + (state.found || []).length + " found.";
+    message.className = "message ok";
+  }
+  const output = root.querySelector(".output");
+  output.hidden = !state.output;
+  if (output.textContent !== (state.output || "")) {
+    output.textContent = state.output || "";
+    output.scrollTop = output.scrollHeight;
+  }
+  const found = state.found || [];
+  const host = root.querySelector(".found");
+  if (found.length === 0) { host.innerHTML = ""; return; }
+  host.innerHTML = '<table class="list"><thead><tr><th>Address</th><th>Model</th><th>Serial</th>' +
+                   "<th>Firmware</th><th></th></tr></thead><tbody></tbody></table>";
+  const tbody = host.querySelector("tbody");
+  for (const f of found) {
+    const row = document.createElement("tr");
+    row.innerHTML = '<td class="num"></td><td></td><td></td><td></td><td></td>';
+    [f.address, f.model, f.serial, f.firmware].forEach((v, i) => { row.children[i].textContent = valueText(v); });
+    const add = document.createElement("button");
+    add.type = "button";
+    add.className = "button";
+    add.textContent = "Add to the configuration";
+    add.dataset.needs = "admin";
+    add.addEventListener("click", () => addToConfiguration(f.config || ""));
+    row.children[4].appendChild(add);
+    tbody.appendChild(row);
+  }
+  applyRole(host);
+}
+
+async function addToConfiguration(text) {
+  if (servedConfig === null) await loadConfig();
+  const editor = $("editor");
+  const current = editor.value;
+  editor.value = current + (current === "" || current.endsWith("\n\n") ? "" : current.endsWith("\n") ? "\n" : "\n\n") +
+                 text + (text.endsWith("\n") ? "" : "\n");
+  showTab("config");
+  say("config-message", "Added to the editor: check, look at the changes, then apply.", "ok");
+  editor.focus();
+  editor.setSelectionRange(editor.value.length, editor.value.length);
+  editor.scrollTop = editor.scrollHeight;
+}
+
+// ---- raw frames ----
+function fillRawBuses() {
+  const select = $("raw-bus");
+  const names = lastBuses.map((b) => b.name);
+  if ([...select.options].map((o) => o.value).join("\n") === names.join("\n")) return;
+  const chosen = select.value;
+  select.innerHTML = names.map((n) => "<option>" + esc(n) + "</option>").join("");
+  if (names.includes(chosen)) select.value = chosen;
+}
+
+function spacedHex(hex) {
+  return (hex || "").replace(/\s+/g, "").replace(/(..)(?=.)/g, "$1 ").toUpperCase();
+}
+
+async function sendRaw(event) {
+  event.preventDefault();
+  const bus = $("raw-bus").value;
+  if (!bus) { say("raw-message", "No bus to send on.", "bad"); return; }
+  say("raw-message", "Sending\u2026");
+  try {
+    const r = await api("POST", "/api/buses/" + encodeURIComponent(bus) + "/raw", {
+      address: Number($("raw-address").value), function: Number($("raw-function").value),
+      data: $("raw-data").value.trim()});
+    $("raw-result").hidden = false;
+    $("raw-sent").textContent = spacedHex(r.sent);
+    $("raw-received").textContent = r.received === null || r.received === undefined ? "no reply" : spacedHex(r.received);
+    $("raw-verdict").textContent = r.verdict || "";
+    $("raw-decoded").textContent = r.decoded || r.output || "";
+    if (r.error) say("raw-message", r.error, "bad"); else say("raw-message", "Answered.", "ok");
+  } catch (e) {
+    say("raw-message", e.message, "bad");
+  }
+}
+
+// ---- configuration: view, edit, check, diff, apply, download ----
+async function loadConfig() {
+  try {
+    const c = await api("GET", "/api/config");
+    servedConfig = c.text;
+    $("editor").value = c.text;
+    const loaded = typeof c.loaded_at === "number" ? new Date(c.loaded_at).toLocaleString() : c.loaded_at;
+    $("config-where").textContent = c.path + (loaded ? " \u00B7 loaded " + loaded : "");
+    $("config-errors").innerHTML = "";
+    $("config-diff-out").hidden = true;
+    say("config-message", "");
+  } catch (e) {
+    say("config-message", "Could not read the configuration: " + e.message, "bad");
+  }
+}
+
+function showConfigErrors(errors) {
+  const list = $("config-errors");
+  list.innerHTML = "";
+  for (const err of errors || []) {
+    const item = document.createElement("li");
+    const button = document.createElement("button");
+    button.type = "button";
+    button.textContent = "line " + err.line + ":" + err.column + ": " + err.message;
+    button.addEventListener("click", () => jumpToLine(err.line, err.column));
+    item.appendChild(button);
+    list.appendChild(item);
+  }
+}
+
+function jumpToLine(line, column) {
+  const editor = $("editor");
+  const lines = editor.value.split("\n");
+  let at = 0;
+  for (let i = 0; i < Math.min(line - 1, lines.length); i++) at += lines[i].length + 1;
+  const length = (lines[line - 1] || "").length;
+  editor.focus();
+  editor.setSelectionRange(at + Math.max(0, Math.min((column || 1) - 1, length)), at + length);
+  const lineHeight = parseFloat(getComputedStyle(editor).lineHeight) || 17;
+  editor.scrollTop = Math.max(0, (line - 4) * lineHeight);
+}
+
+async function checkConfig() {
+  say("config-message", "Checking\u2026");
+  try {
+    const r = await api("POST", "/api/config/check", {text: $("editor").value});
+    showConfigErrors(r.errors);
+    if (r.ok) say("config-message", "The configuration is valid.", "ok");
+    else say("config-message", (r.errors || []).length + " problem(s): click one to go to its line.", "bad");
+    return r.ok;
+  } catch (e) {
+    say("config-message", e.message, "bad");
+    return false;
+  }
+}
+
+// A line diff by longest common subsequence, after taking off the common head and tail; a
+// middle too big for the table is shown as all removed and all added.
+function lineDiff(before, after) {
+  const a = before.split("\n"), b = after.split("\n");
+  let head = 0;
+  while (head < a.length && head < b.length && a[head] === b[head]) head++;
+  let tail = 0;
+  while (tail < a.length - head && tail < b.length - head &&
+         a[a.length - 1 - tail] === b[b.length - 1 - tail]) tail++;
+  const x = a.slice(head, a.length - tail), y = b.slice(head, b.length - tail);
+  const ops = [];
+  for (let i = 0; i < head; i++) ops.push([" ", a[i], i + 1]);
+  if (x.length * y.length > 4000000) {
+    x.forEach((l, i) => ops.push(["-", l, head + i + 1]));
+    y.forEach((l) => ops.push(["+", l, null]));
+  } else {
+    const n = x.length, m = y.length, w = m + 1;
+    const lcs = new Uint32Array((n + 1) * w);
+    for (let i = n - 1; i >= 0; i--)
+      for (let j = m - 1; j >= 0; j--)
+        lcs[i * w + j] = x[i] === y[j] ? lcs[(i + 1) * w + j + 1] + 1
+                                       : Math.max(lcs[(i + 1) * w + j], lcs[i * w + j + 1]);
+    let i = 0, j = 0;
+    while (i < n || j < m) {
+      if (i < n && j < m && x[i] === y[j]) { ops.push([" ", x[i], head + i + 1]); i++; j++; }
+      else if (i < n && (j === m || lcs[(i + 1) * w + j] >= lcs[i * w + j + 1])) { ops.push(["-", x[i], head + i + 1]); i++; }
+      else { ops.push(["+", y[j], null]); j++; }
+    }
+  }
+  for (let i = a.length - tail; i < a.length; i++) ops.push([" ", a[i], i + 1]);
+  return ops;
+}
+
+// The diff as HTML: changed lines with two lines of context, each hunk headed by its line.
+function diffHtml(ops) {
+  const CONTEXT = 2;
+  const keep = ops.map(() => false);
+  ops.forEach(([op], i) => {
+    if (op === " ") return;
+    for (let k = Math.max(0, i - CONTEXT); k <= Math.min(ops.length - 1, i + CONTEXT); k++) keep[k] = true;
+  });
+  let html = "", previous = -2, added = 0, removed = 0;
+  ops.forEach(([op, text, line], i) => {
+    if (op === "+") added++;
+    if (op === "-") removed++;
+    if (!keep[i]) return;
+    if (i !== previous + 1) {
+      const at = ops.slice(i).find((o) => o[2] !== null);
+      html += '<span class="hunk">@@ line ' + (at ? at[2] : "end") + " @@</span>";
+    }
+    previous = i;
+    const cls = op === "+" ? "add" : op === "-" ? "del" : "";
+    const line_ = esc(op + " " + text);
+    html += cls ? '<span class="' + cls + '">' + line_ + "</span>" : line_ + "\n";
+  });
+  return {html, added, removed};
+}
+
+function showDiff() {
+  if (servedConfig === null) return null;
+  const d = diffHtml(lineDiff(servedConfig, $("editor").value));
+  const out = $("config-diff-out");
+  out.hidden = false;
+  out.innerHTML = d.added + d.removed === 0 ? "No changes from the served file." : d.html;
+  out.dataset.added = String(d.added);
+  out.dataset.removed = String(d.removed);
+  return d;
+}
+
+async function applyConfig() {
+  const d = showDiff();
+  if (!d) return;
+  if (d.added + d.removed === 0) { say("config-message", "Nothing to apply: the text is the served file."); return; }
+  if (!await askConfirm("Apply this configuration to the gateway (+" + d.added + " \u2212" + d.removed +
+                        " lines)? It is written, the previous file kept, and reloaded.", d.html)) return;
+  say("config-message", "Applying\u2026");
+  try {
+    const r = await api("PUT", "/api/config", {text: $("editor").value});
+    await loadConfig();
+    say("config-message", "Applied and reloaded; the previous file is kept as " + r.previous + ".", "ok");
+  } catch (e) {
+    if (e.status === 422) {
+      showConfigErrors(e.body.errors);
+      say("config-message", "Not applied, nothing changed: " + (e.body.errors || []).length +
+          " problem(s); click one to go to its line.", "bad");
+    } else {
+      say("config-message", "Not applied: " + e.message, "bad");
+    }
+  }
+}
+
+// ---- the audit trail ----
+async function loadAudit(event) {
+  if (event) event.preventDefault();
+  const query = new URLSearchParams();
+  for (const key of ["door", "sensor", "who", "setting", "limit"]) {
+    const v = $("audit-" + key).value.trim();
+    if (v !== "") query.set(key, v);
+  }
+  try {
+    const r = await api("GET", "/api/audit?" + query.toString());
+    const tbody = document.querySelector("#audit-table tbody");
+    tbody.innerHTML = "";
+    for (const rec of r.records || []) {
+      const row = document.createElement("tr");
+      for (const key of ["time", "door", "who", "sensor", "setting", "old", "new", "result"]) {
+        const cell = document.createElement("td");
+        cell.textContent = key === "time" && !rec.time && rec.unix_ms ? new Date(rec.unix_ms).toISOString()
+                         : valueText(rec[key]);
+        cell.dataset.key = key;
+        row.appendChild(cell);
+      }
+      tbody.appendChild(row);
+    }
+    say("audit-message", (r.records || []).length + " record(s), newest first.");
+  } catch (e) {
+    say("audit-message", "Could not read the audit trail: " + e.message, "bad");
+  }
+}
+
+// ---- start: which page is this? ----
+async function start() {
+  let data = null, status = 0;
+  try {
+    const reply = await fetch("/api/session", {cache: "no-store", credentials: "same-origin"});
+    status = reply.status;
+    data = await reply.json();
+  } catch (e) {
+    data = null;   // an older gateway, or none: today's page, whose polls say which
+  }
+  if (data && data.accounts && status === 200) setSession(data);
+  else if (data && data.accounts) showLogin();
+  poll();
+}
+
+$("login").addEventListener("submit", logIn);
+$("logout").addEventListener("click", logOut);
+for (const button of document.querySelectorAll(".tab"))
+  button.addEventListener("click", () => showTab(button.dataset.tab));
+$("confirm-ok").addEventListener("click", () => answerConfirm(true));
+$("confirm-cancel").addEventListener("click", () => answerConfirm(false));
+$("raw-form").addEventListener("submit", sendRaw);
+$("config-reload").addEventListener("click", loadConfig);
+$("config-check").addEventListener("click", checkConfig);
+$("config-diff").addEventListener("click", showDiff);
+$("config-apply").addEventListener("click", applyConfig);
+$("audit-form").addEventListener("submit", loadAudit);
+
+start();
