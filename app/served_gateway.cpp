@@ -3,6 +3,9 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include "app/audit_journal.h"
+#include "app/journal_log.h"
+
 namespace tiltgate {
 
 namespace {
@@ -17,6 +20,17 @@ ConsoleContext console_context(AuditTrail& audit, FamilyList families) {
   context.families = families;
   context.reload = [] { ::kill(::getpid(), SIGHUP); };
   return context;
+}
+
+// The trail's options from [audit], and its journal entries when stderr is the journal's
+// stream: each record with its fields and chain hash (app/audit_journal.h).
+AuditOptions audit_options(const AuditConfig& config) {
+  AuditOptions options;
+  options.memory_budget_bytes = std::uint64_t(config.memory_kib) * 1024;
+  options.when_full = config.when_full == AuditConfig::WhenFull::refuse ? AuditWhenFull::refuse
+                                                                         : AuditWhenFull::keep;
+  if (stderr_is_journal()) options.journal = send_audit_to_journal;
+  return options;
 }
 
 }  // namespace
@@ -37,7 +51,7 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
 }
 
 void ServedGateway::start_as_user() {
-  audit_.open(gateway_.config().server.state_dir);
+  audit_.open(gateway_.config().server.state_dir, audit_options(gateway_.config().audit));
   gateway_.start_as_user();
 }
 

@@ -28,6 +28,20 @@ std::string audit_record_json(const AuditRecord& record) {
   return to_json(record).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+std::string audit_record_json(const AuditRecord& record, std::string_view prev) {
+  nlohmann::json object = to_json(record);
+  object["prev"] = std::string(prev);
+  return object.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::optional<std::string> audit_record_prev(std::string_view text) {
+  const nlohmann::json object = nlohmann::json::parse(text, nullptr, false);
+  if (!object.is_object()) return std::nullopt;
+  const auto prev = object.find("prev");
+  if (prev == object.end() || !prev->is_string()) return std::nullopt;
+  return prev->get<std::string>();
+}
+
 std::optional<AuditRecord> audit_record_from_json(std::string_view text) {
   const nlohmann::json object = nlohmann::json::parse(text, nullptr, false);
   if (!object.is_object()) return std::nullopt;

@@ -2,10 +2,13 @@
 
 #include <chrono>
 #include <limits>
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "audit/audit_chain.h"
 #include "audit/audit_json.h"
 #include "audit/audit_text.h"
+#include "driver/visible_text.h"
 #include "store/record_reader.h"
 
 namespace tiltgate {
@@ -21,9 +24,13 @@ std::optional<AuditRecord> from_stored(const store::Record& stored) {
   return audit_record_from_json(std::string_view(text, stored.payload.size()));
 }
 
-store::Record to_stored(const AuditRecord& record) {
-  const std::string json = audit_record_json(record);
+store::Record to_stored(const AuditRecord& record, std::string_view prev) {
+  const std::string json = audit_record_json(record, prev);
   return {kAuditTopic, std::vector<std::uint8_t>(json.begin(), json.end()), record.unix_ms, 0};
+}
+
+std::string payload_text(const store::Record& stored) {
+  return std::string(reinterpret_cast<const char*>(stored.payload.data()), stored.payload.size());
 }
 
 std::int64_t now_unix_ms() {
@@ -45,9 +52,10 @@ AuditTrail::AuditTrail(std::string state_dir, std::size_t max_records)
 
 AuditTrail::~AuditTrail() { close(); }
 
-void AuditTrail::open(const std::string& state_dir) {
+void AuditTrail::open(const std::string& state_dir, AuditOptions options) {
   const std::lock_guard lock(mutex_);
   if (!folder_.empty() || closed_ || state_dir.empty()) return;
+  options_ = std::move(options);
   const std::string folder = audit_folder(state_dir);
   // One gateway per folder: two appending to the same files would tear each other's records.
   std::error_code made;
@@ -82,8 +90,13 @@ void AuditTrail::open(const std::string& state_dir) {
   log_store_notices();
   std::deque<AuditRecord> meanwhile = std::move(records_);
   records_.clear();
-  for (const store::Record& stored : *found)
-    if (auto record = from_stored(stored)) keep(std::move(*record));
+  chain_head_ = std::string(kAuditChainStart);
+  for (const store::Record& stored : *found) {
+    if (auto record = from_stored(stored)) {
+      keep(std::move(*record));
+      chain_head_ = audit_hash(payload_text(stored));
+    }
+  }
   // From here on the store is the writer's.
   writer_ = std::make_unique<AuditWriter>(
       [this](const std::vector<AuditRecord>& batch) { return write_out(batch); });
@@ -96,11 +109,21 @@ void AuditTrail::open(const std::string& state_dir) {
 
 void AuditTrail::record(AuditRecord record) {
   if (record.unix_ms == 0) record.unix_ms = now_unix_ms();
-  spdlog::info("audit: {}", audit_text(record));
-  const std::lock_guard lock(mutex_);
-  ++counts_[{record.origin.door, std::string(audit_result_class(record.result))}];
-  if (writer_) writer_->push(record);
-  keep(std::move(record));
+  for (std::string* text : {&record.origin.door, &record.origin.who, &record.sensor,
+                            &record.setting, &record.old_value, &record.new_value, &record.result})
+    *text = visible_text(*text);
+  AuditWriter* after_close = nullptr;
+  {
+    const std::lock_guard lock(mutex_);
+    // With a journal of its own the writer logs it, with its chain hash.
+    if (!options_.journal || !writer_) spdlog::info("audit: {}", audit_text(record));
+    ++counts_[{record.origin.door, std::string(audit_result_class(record.result))}];
+    if (writer_ && !closed_) writer_->push(record);  // only queued: the writer's thread writes
+    if (writer_ && closed_) after_close = writer_.get();
+    keep(record);
+  }
+  // Written on this thread now, which takes mutex_ (append_lost_notice).
+  if (after_close != nullptr) after_close->push(std::move(record));
 }
 
 bool AuditTrail::flush() {
@@ -122,8 +145,9 @@ void AuditTrail::close() {
     writer = writer_.get();
   }
   if (writer != nullptr && !writer->close())
-    spdlog::error("audit: the disk still refuses the newest records of the trail; they are lost "
-                  "as the gateway stops");
+    spdlog::error("audit: the disk still refuses the newest records of the trail: {} records "
+                  "held in memory are lost as the gateway stops",
+                  held_.load());
 }
 
 void AuditTrail::keep(AuditRecord record) {
@@ -132,13 +156,72 @@ void AuditTrail::keep(AuditRecord record) {
 }
 
 bool AuditTrail::write_out(const std::vector<AuditRecord>& batch) {
+  // What the disk refused before goes first, so the trail keeps its order.
+  if (store_->disk_fault()) (void)store_->sync();
+  if (!store_->disk_fault() && lost_now_ > 0) append_lost_notice();
   for (const AuditRecord& record : batch)
-    if (auto appended = store_->append(to_stored(record)); !appended)
-      spdlog::error("audit: record not kept on disk: {}", appended.error());  // never fits
+    if (fits_memory_budget(record)) append_chained(record);
   const bool synced = store_->sync().has_value();
   log_store_notices();
+  const bool refuses = !synced || store_->disk_fault().has_value();
+  held_ = store_->in_memory();
+  refusing_changes_ = refuses && options_.when_full == AuditWhenFull::refuse;
+  if (refuses != disk_refuses_.exchange(refuses) &&
+      options_.when_full == AuditWhenFull::refuse)
+    spdlog::log(refuses ? spdlog::level::err : spdlog::level::info,
+                refuses ? "audit: [audit] when_full = \"refuse\": changes to devices are refused "
+                          "until the disk takes the trail again"
+                        : "audit: the disk takes the trail again: changes to devices are "
+                          "accepted again");
   // A refused append is held in the store's memory, written out by a later sync.
-  return synced && !store_->disk_fault();
+  return !refuses;
+}
+
+void AuditTrail::append_chained(const AuditRecord& record) {
+  const store::Record stored = to_stored(record, chain_head_);
+  if (auto appended = store_->append(stored); !appended) {
+    spdlog::error("audit: record not kept on disk: {}", appended.error());  // never fits
+    return;
+  }
+  chain_head_ = audit_hash(payload_text(stored));
+  if (options_.journal) options_.journal(record, chain_head_);
+}
+
+bool AuditTrail::fits_memory_budget(const AuditRecord& record) {
+  if (!store_->disk_fault()) return true;
+  const std::uint64_t size = store::frame_size(to_stored(record, chain_head_));
+  if (store_->in_memory_bytes() + size <= options_.memory_budget_bytes) return true;
+  if (lost_now_ == 0) {
+    lost_first_ms_ = record.unix_ms;
+    spdlog::error("audit: the disk refuses the trail and the records held for it fill the memory "
+                  "budget ([audit] memory_kib = {}): records are lost from now on until the disk "
+                  "takes the trail again (counted in tiltgate_audit_records_lost_total)",
+                  options_.memory_budget_bytes / 1024);
+  }
+  ++lost_now_;
+  ++lost_total_;
+  lost_last_ms_ = record.unix_ms;
+  spdlog::error("audit: record lost: {}", audit_text(record));
+  return false;
+}
+
+void AuditTrail::append_lost_notice() {
+  AuditRecord notice;
+  notice.unix_ms = now_unix_ms();
+  notice.origin = {"gateway", "audit trail"};
+  notice.setting = "records lost";
+  notice.new_value = std::to_string(lost_now_);
+  notice.result = fmt::format("error: {} records from {} to {} were lost: the disk refused the "
+                              "trail and the memory budget ([audit] memory_kib = {}) was full",
+                              lost_now_, audit_time_text(lost_first_ms_),
+                              audit_time_text(lost_last_ms_), options_.memory_budget_bytes / 1024);
+  spdlog::error("audit: {}", audit_text(notice));
+  lost_now_ = 0;
+  append_chained(notice);
+  {
+    const std::lock_guard lock(mutex_);
+    keep(notice);
+  }
 }
 
 void AuditTrail::log_store_notices() {
@@ -160,6 +243,14 @@ AuditCounts AuditTrail::counts() const {
   AuditCounts counts;
   for (const auto& [key, n] : counts_) counts.push_back({key.first, key.second, n});
   return counts;
+}
+
+bool AuditTrail::accepts_changes() const {
+  return !refusing_changes_;
+}
+
+AuditHealth AuditTrail::health() const {
+  return {held_.load(), lost_total_.load(), disk_refuses_.load()};
 }
 
 std::string AuditTrail::folder() const {

@@ -293,12 +293,23 @@ struct AggregateConfig {
   bool operator==(const AggregateConfig&) const = default;
 };
 
+// [audit] (docs/configuration.md, "[audit]"): what the audit trail does when its disk refuses
+// records (docs/operations.md, "A disk that refuses the trail"). Read at start.
+struct AuditConfig {
+  enum class WhenFull { keep, refuse };
+  WhenFull when_full = WhenFull::keep;
+  std::int64_t memory_kib = 1024;  // records held for a refusing disk, at most
+
+  bool operator==(const AuditConfig&) const = default;
+};
+
 struct Config {
   std::string path;                 // the file it came from
   ServerConfig server;
   HttpConfig http;
   MqttConfig mqtt;
   SparkplugConfig sparkplug;
+  AuditConfig audit;
   std::vector<BusConfig> buses;
   std::vector<SensorConfig> sensors;
   std::vector<AggregateConfig> aggregates;

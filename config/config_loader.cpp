@@ -29,10 +29,11 @@ namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
 constexpr std::string_view kTopLevel =
-    "[server], [http], [mqtt], [sparkplug], [[bus]], [[sensor]] and [[aggregate]]";
+    "[server], [http], [mqtt], [sparkplug], [audit], [[bus]], [[sensor]] and [[aggregate]]";
 
 std::string table_header(std::string_view name) {
-  return name == "server" || name == "http" || name == "mqtt" || name == "sparkplug"
+  return name == "server" || name == "http" || name == "mqtt" || name == "sparkplug" ||
+                 name == "audit"
              ? fmt::format("[{}]", name)
              : fmt::format("[[{}]]", name);
 }
@@ -61,8 +62,8 @@ void read_table_array(std::string_view name, const toml::key& key, const toml::n
 
 void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
   const bool is_table = node.is_table() || node.is_array_of_tables();
-  const std::vector<std::string> known{"server", "http",   "mqtt",     "sparkplug",
-                                       "bus",    "sensor", "aggregate"};
+  const std::vector<std::string> known{"server", "http",   "mqtt",      "sparkplug",
+                                       "audit",  "bus",    "sensor", "aggregate"};
   const std::string guess = closest_key(key.str(), known);
   std::string message = is_table ? "unknown table" : "unknown key at the top level";
   if (!guess.empty())
@@ -127,6 +128,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   HttpConfig http;
   MqttConfig mqtt;
   SparkplugConfig sparkplug;
+  AuditConfig audit;
   std::optional<Place> sparkplug_at;
   std::vector<ParsedBus> buses;
   std::vector<ParsedSensor> sensors;
@@ -157,6 +159,12 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
       else
         errors.add(*sparkplug_at, "sparkplug",
                    fmt::format("expected a table ([sparkplug]), got {}", type_name(node.type())));
+    } else if (key == "audit") {
+      if (const toml::table* table = node.as_table())
+        audit = read_audit(*table, errors);
+      else
+        errors.add(place_of(key.source()), "audit",
+                   fmt::format("expected a table ([audit]), got {}", type_name(node.type())));
     } else if (key == "bus") {
       read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
         buses.push_back(read_bus(table, std::move(path), errors, families));
@@ -199,6 +207,7 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
                            std::move(sensors), std::move(aggregates));
   config.mqtt = std::move(mqtt);
   config.sparkplug = std::move(sparkplug);
+  config.audit = audit;
   return config;
 }
 

@@ -60,6 +60,8 @@ void read_console_keys(TableReader& in, HttpConfig& http, ErrorList& errors);
 MqttConfig read_mqtt(const toml::table& table, ErrorList& errors);
 // [sparkplug] (sparkplug_section.cpp); state_dir as written, resolved by the loader.
 SparkplugConfig read_sparkplug(const toml::table& table, ErrorList& errors);
+// [audit] (audit_section.cpp).
+AuditConfig read_audit(const toml::table& table, ErrorList& errors);
 // Protocols, bauds, addresses and models come from the families' descriptors.
 ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors,
                    FamilyList families);

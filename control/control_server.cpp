@@ -14,8 +14,10 @@
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <utility>
 
 #include "control/control_protocol.h"
+#include "control/setting_claim.h"
 #include "control/control_relay.h"
 #include "control/peer_identity.h"
 #include "device_server/port_url.h"
@@ -190,6 +192,8 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
   asio::streambuf input(control::kMaxLine);
   ServedBus* bus = nullptr;
   std::vector<std::uint32_t> held;  // addresses this session holds; released when it ends
+  // How its latest transaction since its last `setting` report ended (control/setting_claim.h).
+  control::CarriedOutcome carried = control::CarriedOutcome::none;
   while (listening_) {
     boost::system::error_code ec;
     co_await asio::async_read_until(*socket, input, '\n',
@@ -231,6 +235,7 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       ended.busy = result.expired;
       ended.timing = result.timing;
       ended.generation = result.generation;
+      carried = control::carried_outcome(ended);
       reply = formatted(ended);
       if (relay.broken()) break;  // the command stopped answering mid-transaction
     } else if (const auto* follow = std::get_if<control::Follow>(&*message)) {
@@ -242,10 +247,14 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       if (sensor) held.push_back(hold->address);
       reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
     } else if (const auto* changed = std::get_if<control::SettingChanged>(&*message)) {
-      const auto sensor =
-          bus->scheduler->note_setting(changed->address, WriteTarget{changed->setting},
-                                       changed->value, audit_result(*changed), by);
-      reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
+      // Recorded either way; only a report a transaction stands behind changes what is shown.
+      const auto refusal = control::setting_claim_refusal(std::exchange(carried, {}), *changed);
+      const auto sensor = bus->scheduler->note_setting(
+          changed->address, WriteTarget{changed->setting}, changed->value,
+          refusal ? "refused: " + *refusal : audit_result(*changed), by);
+      reply = refusal ? formatted(control::Refused{"setting: " + *refusal})
+                      : formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor
+                                                           : ""});
     } else if (const auto* release = std::get_if<control::Release>(&*message)) {
       bus->scheduler->release(release->address);
       std::erase(held, release->address);

@@ -311,6 +311,7 @@ void Gateway::record_counters(SteadyClock::time_point now) {
 GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   GatewayStatus status;
   status.audit = audit_->counts();
+  status.audit_health = audit_->health();
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
     status.sensors.push_back(sensor_status(*sensors_[i], now));
     status.sensors.back().polls_per_s = rounded(sensor_rates_.rate(2 * i), 100);

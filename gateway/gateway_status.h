@@ -178,6 +178,7 @@ struct GatewayStatus {
   std::optional<SparkplugStats> sparkplug;  // none without [sparkplug]
   std::vector<StoreStats> stores;     // the feeds' stores on disk
   AuditCounts audit;                  // the audit trail's records since start
+  AuditHealth audit_health;           // its disk: records held, lost, refusing now
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
   // Descriptors open now and the limit of them (gateway/process_descriptors.h); none without
   // /proc.

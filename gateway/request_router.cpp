@@ -9,7 +9,9 @@
 #include <string_view>
 #include <vector>
 
+#include "audit/audit_trail.h"
 #include "gateway/bus_scheduler.h"
+#include "gateway/pass_through_audit.h"
 #include "gateway/router_reader.h"
 #include "gateway/sensor_read.h"
 #include "gateway/sensor_write.h"
@@ -227,23 +229,39 @@ ModbusException exception_for(ForwardFailure failure) {
 
 boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_id,
                                                               std::vector<std::uint8_t> pdu,
-                                                              std::string client) {
+                                                              std::string client,
+                                                              WriteOrigin origin) {
   const std::shared_ptr<const Routes> routes = this->routes();
   std::shared_ptr<BusScheduler> bus = routes->forwarded[unit_id];
   if (bus == nullptr) co_return Unexpected{ModbusException::gateway_path_unavailable};
+  const bool may_change = !reads_only(pdu);
   // As for the cached sensors: nobody on the plant network changes a device by default.
-  if (!routes->options.writes && !reads_only(pdu)) {
+  if (!routes->options.writes && may_change) {
     spdlog::debug("unit {}: function {:02X} not passed through: [server] writes is false",
                   unit_id, pdu.empty() ? 0 : pdu[0]);
+    if (AuditTrail* trail = bus->audit())
+      trail->record(pass_through_refusal(bus->name(), unit_id, pdu, "[server] writes is false",
+                                         std::move(origin)));
     co_return Unexpected{ModbusException::illegal_function};
+  }
+  // [audit] when_full = "refuse": no change the trail cannot keep on disk.
+  if (AuditTrail* trail = bus->audit(); may_change && trail && !trail->accepts_changes()) {
+    trail->record(pass_through_refusal(bus->name(), unit_id, pdu, kAuditRefusesChanges,
+                                       std::move(origin)));
+    co_return Unexpected{ModbusException::device_failure};
   }
   if (stopping_) co_return Unexpected{ModbusException::gateway_target_failed};
   // The server's write_timeout bounds the wait for the bus, as it does for writes.
   const auto deadline = SteadyClock::now() + routes->options.write_timeout;
   // The bus serves its clients' requests in turn, each client known by its address.
   const std::uint64_t client_key = std::hash<std::string>{}(client);
+  // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.
+  std::optional<WriteOrigin> audit;
+  if (may_change) audit = std::move(origin);
   std::optional<ForwardedReply> reply = co_await boost::asio::co_spawn(
-      bus_executor_, forward_on_bus(std::move(bus), unit_id, std::move(pdu), deadline, client_key),
+      bus_executor_,
+      forward_on_bus(std::move(bus), unit_id, std::move(pdu), deadline, client_key,
+                     std::move(audit)),
       boost::asio::use_awaitable);
   co_return std::move(*reply);
 }
@@ -252,8 +270,12 @@ boost::asio::awaitable<ForwardedReply> RequestRouter::forward(std::uint8_t unit_
 // a result it can default-construct.
 boost::asio::awaitable<std::optional<ForwardedReply>> RequestRouter::forward_on_bus(
     std::shared_ptr<BusScheduler> bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
-    SteadyClock::time_point deadline, std::uint64_t client) {
+    SteadyClock::time_point deadline, std::uint64_t client, std::optional<WriteOrigin> audit) {
+  // Kept for the record: the request is handed to the bus.
+  std::vector<std::uint8_t> request = audit ? pdu : std::vector<std::uint8_t>{};
   auto reply = co_await bus->forward(unit_id, std::move(pdu), deadline, client);
+  if (AuditTrail* trail = bus->audit(); audit && trail)
+    trail->record(pass_through_record(bus->name(), unit_id, request, reply, std::move(*audit)));
   if (!reply) co_return ForwardedReply{Unexpected{exception_for(reply.error())}};
   co_return ForwardedReply{std::move(*reply)};
 }

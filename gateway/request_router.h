@@ -74,9 +74,11 @@ class RequestRouter : public ModbusRequestHandler {
     std::lock_guard lock(routes_mutex_);
     return routes_->forwarded[unit_id] != nullptr;
   }
+  // A request that may change the device (every function but the reads) is recorded in the
+  // bus's audit trail with its outcome, refused ones too (gateway/pass_through_audit.h).
   boost::asio::awaitable<ForwardedReply> forward(std::uint8_t unit_id,
                                                  std::vector<std::uint8_t> pdu,
-                                                 std::string client) override;
+                                                 std::string client, WriteOrigin origin) override;
 
  private:
   using Routes = UnitRoutes;
@@ -90,7 +92,7 @@ class RequestRouter : public ModbusRequestHandler {
                                                ModbusRequest request, RouterOptions options);
   boost::asio::awaitable<std::optional<ForwardedReply>> forward_on_bus(
       std::shared_ptr<BusScheduler> bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
-      SteadyClock::time_point deadline, std::uint64_t client);
+      SteadyClock::time_point deadline, std::uint64_t client, std::optional<WriteOrigin> audit);
 
   boost::asio::any_io_executor bus_executor_;
   mutable std::mutex routes_mutex_;  // guards the pointer only

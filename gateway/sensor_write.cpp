@@ -45,6 +45,9 @@ SensorWrite::SensorWrite(std::shared_ptr<GatewaySensor> sensor, std::vector<Plan
 WriteResult SensorWrite::check(const BusScheduler& bus, std::size_t first) const {
   // A zero meant for the configured sensor is not applied to the device answering in its place.
   const SensorState& state = sensor_->driver->state();
+  // [audit] when_full = "refuse": no change the trail cannot keep on disk.
+  if (bus.audit() != nullptr && !bus.audit()->accepts_changes())
+    return Unexpected(WriteError{WriteErrorKind::refused, std::string(kAuditRefusesChanges)});
   if (state.wrong_device) {
     return Unexpected(WriteError{
         WriteErrorKind::refused,

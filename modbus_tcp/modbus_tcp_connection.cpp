@@ -51,12 +51,13 @@ asio::awaitable<std::vector<std::uint8_t>> handler_reply(ModbusRequestHandler& h
 // The same for a unit passed through: the device's reply relayed under the request's header.
 asio::awaitable<std::vector<std::uint8_t>> forwarded_reply(ModbusRequestHandler& handler,
                                                            std::vector<std::uint8_t> adu,
-                                                           std::string client) {
+                                                           std::string client,
+                                                           WriteOrigin origin) {
   const std::uint8_t unit_id = adu[6];
   ForwardedReply relayed = Unexpected{ModbusException::device_failure};
   try {
     relayed = co_await handler.forward(unit_id, {adu.begin() + mbap_header_size, adu.end()},
-                                       std::move(client));
+                                       std::move(client), std::move(origin));
   } catch (const std::exception& e) {
     spdlog::warn("Modbus pass-through to unit {} failed: {}", unit_id, e.what());
   }
@@ -296,7 +297,9 @@ ModbusTcpConnection::Answer ModbusTcpConnection::answer(std::span<const std::uin
                                : context_.handler.passes_through(adu[6]));
   if (passed) {
     ++context_.counters.forwarded;
-    hand_over(forwarded_reply(context_.handler, {adu.begin(), adu.end()}, address_), adu);
+    hand_over(forwarded_reply(context_.handler, {adu.begin(), adu.end()}, address_,
+                              WriteOrigin{"modbus", who_}),
+              adu);
     return Answer::with_handler;
   }
   if (auto problem = parse_adu_into(adu, request_)) {

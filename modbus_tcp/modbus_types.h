@@ -101,10 +101,12 @@ class ModbusRequestHandler {
   // function passes through) once the MBAP framing is valid.
   virtual bool passes_through(std::uint8_t /*unit_id*/) const { return false; }
   // Forwards the request PDU (function code and data) of a unit that passes through, for the
-  // client at `client` (its address: a bus serves its clients' requests in turn).
+  // client at `client` (its address: a bus serves its clients' requests in turn); `origin` is
+  // who sent it, for the audit trail's record of one that may change the device.
   virtual boost::asio::awaitable<ForwardedReply> forward(std::uint8_t /*unit_id*/,
                                                          std::vector<std::uint8_t> /*pdu*/,
-                                                         std::string /*client*/) {
+                                                         std::string /*client*/,
+                                                         WriteOrigin /*origin*/) {
     co_return Unexpected{ModbusException::gateway_path_unavailable};
   }
 };

@@ -413,6 +413,15 @@ std::string metrics_text(const GatewayStatus& status) {
     out.sample(fmt::format("door=\"{}\",result=\"{}\"", metrics_label_value(count.door),
                            metrics_label_value(count.result)),
                double(count.records));
+  out.single("tiltgate_audit_records_held", "gauge",
+             "Audit records the disk refused, held in memory to be written once it takes them",
+             double(status.audit_health.held));
+  out.single("tiltgate_audit_records_lost_total", "counter",
+             "Audit records lost since start: the disk refused them past [audit] memory_kib",
+             double(status.audit_health.lost));
+  out.single("tiltgate_audit_disk_refuses", "gauge",
+             "1 while the disk refuses the audit trail's records",
+             status.audit_health.disk_refuses ? 1.0 : 0.0);
   out.single("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds",
              status.process_start_seconds);

@@ -97,6 +97,7 @@ class RecordStore {
   // Not yet replayed, on disk and in memory.
   std::uint64_t records() const { return records_ - cursor_index_ + memory_.size(); }
   std::uint64_t in_memory() const { return memory_.size(); }  // refused by the disk, kept
+  std::uint64_t in_memory_bytes() const { return memory_bytes_; }  // their frames' bytes
   std::uint64_t dropped() const { return dropped_; }    // since open(): dropped for the budget
   std::uint64_t lost() const { return lost_; }          // since open(): lost to damage
   // The disk's last refusal while one lasts (records or the cursor held in memory).

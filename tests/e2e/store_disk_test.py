@@ -18,27 +18,15 @@ needs root, as CI runs (exit 77, skipped, otherwise).
 Usage: /usr/bin/python3 store_disk_test.py path/to/tiltgate
 """
 import collections
-import errno
 import fcntl
 import os
-import subprocess
 import sys
 import time
 
-if os.geteuid() != 0:
-    print("skipped: needs root to mount a tmpfs")
-    sys.exit(77)
-if os.environ.get("TILTGATE_OWN_MOUNTS") != "1":
-    # A chroot whose root is no mount point cannot have a private mount namespace; a tmpfs
-    # mounted without one could outlive the test, so there it is skipped.
-    probe = subprocess.run(["unshare", "-m", "--propagation", "private", "true"],
-                           capture_output=True, text=True)
-    if probe.returncode != 0:
-        print("skipped: no private mount namespace here (%s)" % probe.stderr.strip())
-        sys.exit(77)
-    os.environ["TILTGATE_OWN_MOUNTS"] = "1"
-    os.execvp("unshare", ["unshare", "-m", "--propagation", "private", sys.executable] + sys.argv)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from small_disk import SmallDisk, run_in_own_mount_namespace  # noqa: E402
 
+run_in_own_mount_namespace()
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sparkplug"))
 from mqtt_store_test import JsonObserver, kept, mqtt_table, store_metrics  # noqa: E402
 from spb_e2e import codec as spb_codec  # noqa: E402
@@ -52,32 +40,6 @@ from spb_e2e.processes import wait_until  # noqa: E402
 WAIT = 20
 # The replay of a few hundred states at 500 a second, after the reconnect's back-off: generous.
 REPLAY_WAIT = 60
-
-
-class SmallDisk:
-    """A tmpfs of `kib` KiB at `path`, in this process's own mount namespace."""
-
-    def __init__(self, path, kib):
-        self.path = path
-        os.makedirs(path, exist_ok=True)
-        subprocess.run(["mount", "-t", "tmpfs", "-o", "size=%dk" % kib, "tmpfs", path], check=True)
-
-    def fill(self):
-        """Every free block taken: the next write that needs one gets ENOSPC."""
-        with open(os.path.join(self.path, "filler"), "ab", buffering=0) as f:
-            for size in (65536, 4096, 512, 64, 8, 1):
-                try:
-                    while True:
-                        f.write(b"x" * size)
-                except OSError as e:
-                    if e.errno != errno.ENOSPC:
-                        raise
-
-    def free(self):
-        os.remove(os.path.join(self.path, "filler"))
-
-    def unmount(self):
-        subprocess.run(["umount", "-l", self.path])
 
 
 def mqtt_replay_on_a_full_disk(t, tiltgate, broker, sim, disk):

@@ -38,7 +38,7 @@ class FakeHandler : public ModbusRequestHandler {
   static constexpr std::uint8_t kPassedUnit = 9;
   bool passes_through(std::uint8_t unit_id) const override { return unit_id == kPassedUnit; }
   boost::asio::awaitable<ForwardedReply> forward(std::uint8_t, std::vector<std::uint8_t> pdu,
-                                                 std::string) override {
+                                                 std::string, WriteOrigin) override {
     co_return pdu;
   }
 

@@ -36,6 +36,7 @@ const std::map<std::string, std::string> kSections{
     {"http", "## `[http]`"},
     {"mqtt", "## `[mqtt]`"},
     {"sparkplug", "## `[sparkplug]`"},
+    {"audit", "## `[audit]`"},
     {"bus", "## `[[bus]]`"},
     {"sensor", "## `[[sensor]]`"},
     {"sensor.mounting", "### `mounting`"},

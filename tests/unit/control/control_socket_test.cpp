@@ -19,6 +19,7 @@
 #include <sys/stat.h>
 #include <thread>
 
+#include "audit/audit_trail.h"
 #include "gateway/bus_scheduler.h"
 #include "control/control_server.h"
 #include "control/remote_line.h"
@@ -291,4 +292,42 @@ TEST_CASE("control socket: a garbled message is refused and ends that session on
   // Everyone else is still served.
   auto fine = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
   CHECK(fine);
+}
+
+TEST_CASE("control socket: a setting reported with no transaction behind it is refused and recorded as refused") {
+  AuditTrail trail("");  // before the gateway: it outlives the bus that records into it
+  Gateway gateway;
+  gateway.scheduler.set_audit(trail);
+  asio::io_context io;
+  auto remote = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
+  REQUIRE(remote);
+  const control::SettingChanged filter_2{223, WriteTarget::filter.id, 2, std::nullopt, false};
+  const auto forged = (*remote)->setting_changed(filter_2);
+  REQUIRE_FALSE(forged.has_value());
+  CHECK(forged.error().find("no transaction of this session") != std::string::npos);
+  auto records = trail.recent({});
+  REQUIRE(records.size() == 1);
+  CHECK(records[0].result.starts_with("refused: a setting reported with no transaction"));
+
+  SUBCASE("one reported right after a transaction the line carried is taken, once") {
+    FixedLengthReply framer(3);
+    REQUIRE(transact(**remote, io, LineRequest{{0x00, 0xDF, 0x01}, 0, &framer}));
+    CHECK((*remote)->setting_changed(filter_2).has_value());
+    CHECK(trail.recent({}).front().result == "ack");
+    // The same transaction does not stand behind a second report.
+    CHECK_FALSE((*remote)->setting_changed(filter_2).has_value());
+  }
+  SUBCASE("one reported answered after a transaction that timed out is refused") {
+    std::promise<void> silenced;  // on the gateway's thread, where the line is used
+    asio::post(gateway.io, [&] {
+      gateway.line.silent = [](const LineRequest&) { return true; };
+      silenced.set_value();
+    });
+    silenced.get_future().wait();
+    FixedLengthReply framer(3);
+    (void)transact(**remote, io, LineRequest{{0x00, 0xDF, 0x01}, 0, &framer, 20ms, 0});
+    const auto claimed = (*remote)->setting_changed(filter_2);
+    CHECK_FALSE(claimed.has_value());
+    CHECK(trail.recent({}).front().result.starts_with("refused: a setting reported answered"));
+  }
 }
