@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "config/config_loader.h"
+#include "config/machine_checks.h"
 #include "app/config_commands.h"
 #include "app/served_gateway.h"
 #include "app/run_as_user.h"
@@ -23,9 +24,14 @@ namespace tiltgate {
 
 namespace {
 
+// What a command asks of a configuration: valid, or valid and servable here (check, run).
+enum class Checked { file, on_this_machine };
+
 // Loads and validates; prints every problem to stderr, compiler style.
-std::optional<Config> load_or_report(const std::string& path, FamilyList families) {
+std::optional<Config> load_or_report(const std::string& path, FamilyList families,
+                                     Checked checked) {
   auto loaded = load_config_file(path, families);
+  if (checked == Checked::on_this_machine) loaded = checked_on_this_machine(std::move(loaded));
   if (!loaded) {
     for (const ConfigError& error : loaded.error()) std::cerr << error.to_string() << "\n";
     std::cerr << fmt::format("{}: {} error(s); nothing started\n", path, loaded.error().size());
@@ -67,7 +73,7 @@ std::optional<UnitMap> aggregate_unit(const Config& config, const AggregateConfi
 }
 
 int check_command(const std::string& config_path, FamilyList families) {
-  auto config = load_or_report(config_path, families);
+  auto config = load_or_report(config_path, families, Checked::on_this_machine);
   if (!config) return 1;
   // Not errors: the file is valid and runs; the line's settings may not keep its promise.
   for (const std::string& warning : line_budget_warnings(*config, families))
@@ -81,7 +87,7 @@ int check_command(const std::string& config_path, FamilyList families) {
 }
 
 int map_command(const std::string& config_path, const std::string& format, FamilyList families) {
-  auto config = load_or_report(config_path, families);
+  auto config = load_or_report(config_path, families, Checked::file);
   if (!config) return 1;
   // A deque: the units point into it as it grows.
   std::deque<RegisterMap> maps;
@@ -102,7 +108,7 @@ int map_command(const std::string& config_path, const std::string& format, Famil
 // running gateway; an invalid one is refused with every error logged, as `check` prints them.
 void reload_or_refuse(Gateway& gateway, const std::string& config_path, FamilyList families) {
   spdlog::info("SIGHUP: reloading {}", config_path);
-  auto loaded = load_config_file(config_path, families);
+  auto loaded = checked_on_this_machine(load_config_file(config_path, families));
   if (!loaded) {
     for (const ConfigError& error : loaded.error()) spdlog::error("{}", error.to_string());
     spdlog::error("reload refused: {} error(s); still serving the configuration loaded at {}",
@@ -150,7 +156,7 @@ Expected<Done, std::string> switch_to_serving_user(const Config& config) {
 }
 
 int run_command(const std::string& config_path, FamilyList families) {
-  auto config = load_or_report(config_path, families);
+  auto config = load_or_report(config_path, families, Checked::on_this_machine);
   if (!config) return 1;
   boost::asio::io_context io;
   // Before start(): a SIGHUP from then on reloads rather than ends the process.

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "config/config_loader.h"
+#include "config/machine_checks.h"
 #include "console/console_reply.h"
 #include "store/whole_file_write.h"
 #include "toml/text_file.h"
@@ -47,7 +48,7 @@ HttpReply ConfigEndpoint::download() const {
 HttpReply ConfigEndpoint::check(const ConfigText& text) const {
   // Checked as the served file: relative map files resolve against its folder.
   const std::string name = path_.empty() ? std::string("(console)") : path_;
-  auto loaded = load_config_string(text.text, name, families_);
+  auto loaded = checked_on_this_machine(load_config_string(text.text, name, families_));
   if (!loaded) return json_reply(200, json{{"ok", false}, {"errors", errors_json(loaded.error())}});
   return json_reply(200, json{{"ok", true}, {"errors", json::array()}});
 }
@@ -58,7 +59,7 @@ HttpReply ConfigEndpoint::apply(const ConfigText& text, std::string& audit_resul
     return error_reply(status, std::move(why));
   };
   if (path_.empty()) return failed(404, "this gateway runs without a configuration file");
-  auto loaded = load_config_string(text.text, path_, families_);
+  auto loaded = checked_on_this_machine(load_config_string(text.text, path_, families_));
   if (!loaded) {
     audit_result = "refused: the configuration has errors";
     return json_reply(422, json{{"ok", false},
