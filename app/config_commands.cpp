@@ -156,25 +156,31 @@ Expected<Done, std::string> switch_to_serving_user(const Config& config) {
 }
 
 int run_command(const std::string& config_path, FamilyList families) {
+  // A console apply left unconfirmed while no gateway ran: the previous file, before loading.
+  const std::optional<PendingApply> rolled_back = ConfirmWindow::roll_back_if_due(config_path);
   auto config = load_or_report(config_path, families, Checked::on_this_machine);
-  if (!config) return 1;
+  if (!config) {
+    ConfirmWindow::roll_back_failed_start(config_path);
+    return 1;
+  }
   boost::asio::io_context io;
   // Before start(): a SIGHUP from then on reloads rather than ends the process.
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   boost::asio::signal_set hangups(io, SIGHUP);
   ServedGateway served(io, *config, families);
   Gateway& gateway = served.gateway();
-  auto started = gateway.start();
-  if (!started) {
-    spdlog::critical("{}", started.error());
+  // An applied configuration that cannot start is not kept for the next start.
+  const auto give_up = [&](const std::string& why) {
+    spdlog::critical("{}", why);
+    ConfirmWindow::roll_back_failed_start(config_path);
     return 1;
-  }
+  };
+  auto started = gateway.start();
+  if (!started) return give_up(started.error());
   // The ttys and listeners are open: root is no longer needed.
   if (!config->server.user.empty()) {
-    if (auto switched = switch_to_serving_user(*config); !switched) {
-      spdlog::critical("{}", switched.error());
-      return 1;
-    }
+    if (auto switched = switch_to_serving_user(*config); !switched)
+      return give_up(switched.error());
     spdlog::info("serving as user {} (uid {})", config->server.user, getuid());
   } else if (geteuid() == 0) {
     spdlog::warn("running as root: set [server] user to serve unprivileged once started "
@@ -183,6 +189,7 @@ int run_command(const std::string& config_path, FamilyList families) {
   // Only now the services that write files: the stores and the control socket are the
   // serving user's, and it can replace them at a reload.
   served.start_as_user();
+  served.confirm_window().resume(rolled_back);
   // Listeners bound, ttys opened, privileges dropped: systemd may now count the service as up.
   ServiceNotifier notifier(io);
   notifier.ready();

@@ -12,6 +12,7 @@ import http.client
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -130,6 +131,14 @@ def start_gateway(tiltgate, config, log_path, http_port):
     if not processes.wait_until(healthy, 20):
         raise RuntimeError("the gateway did not start:\n" + processes.tail(log_path))
     return process
+
+
+def listening(port):
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=2).close()
+        return True
+    except OSError:
+        return False
 
 
 def scenario(t):
@@ -279,6 +288,9 @@ def scenario(t):
     t.check("and reloaded", processes.wait_until(
         lambda: "configuration reloaded from" in processes.tail(log_path, 400), 20),
         processes.tail(log_path))
+    # [http] changed: its server binds again a moment after the reload's line (it waits for the
+    # old one to let the port go), so the next request waits for it.
+    processes.wait_until(lambda: listening(http_port), 20)
 
     status, body = bob.request("POST", "/api/buses/line1/scan", {"from": 100, "to": 102})
     t.check("the admin starts a scan: 202", status == 202, (status, body))
