@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "config/config_loader.h"
+#include "config/machine_checks.h"
 #include "app/config_commands.h"
 #include "app/served_gateway.h"
 #include "app/run_as_user.h"
@@ -24,9 +25,14 @@ namespace tiltgate {
 
 namespace {
 
+// What a command asks of a configuration: valid, or valid and servable here (check, run).
+enum class Checked { file, on_this_machine };
+
 // Loads and validates; prints every problem to stderr, compiler style.
-std::optional<Config> load_or_report(const std::string& path, FamilyList families) {
+std::optional<Config> load_or_report(const std::string& path, FamilyList families,
+                                     Checked checked) {
   auto loaded = load_config_file(path, families);
+  if (checked == Checked::on_this_machine) loaded = checked_on_this_machine(std::move(loaded));
   if (!loaded) {
     // Under systemd stderr is the journal: a value quoted in an error is shown escaped there.
     for (const ConfigError& error : loaded.error())
@@ -71,7 +77,7 @@ std::optional<UnitMap> aggregate_unit(const Config& config, const AggregateConfi
 }
 
 int check_command(const std::string& config_path, FamilyList families) {
-  auto config = load_or_report(config_path, families);
+  auto config = load_or_report(config_path, families, Checked::on_this_machine);
   if (!config) return 1;
   // Not errors: the file is valid and runs; the line's settings may not keep its promise.
   for (const std::string& warning : line_budget_warnings(*config, families))
@@ -85,7 +91,7 @@ int check_command(const std::string& config_path, FamilyList families) {
 }
 
 int map_command(const std::string& config_path, const std::string& format, FamilyList families) {
-  auto config = load_or_report(config_path, families);
+  auto config = load_or_report(config_path, families, Checked::file);
   if (!config) return 1;
   // A deque: the units point into it as it grows.
   std::deque<RegisterMap> maps;
@@ -106,7 +112,7 @@ int map_command(const std::string& config_path, const std::string& format, Famil
 // running gateway; an invalid one is refused with every error logged, as `check` prints them.
 void reload_or_refuse(Gateway& gateway, const std::string& config_path, FamilyList families) {
   spdlog::info("SIGHUP: reloading {}", visible_text(config_path));
-  auto loaded = load_config_file(config_path, families);
+  auto loaded = checked_on_this_machine(load_config_file(config_path, families));
   if (!loaded) {
     for (const ConfigError& error : loaded.error())
       spdlog::error("{}", visible_text(error.to_string()));
@@ -155,25 +161,31 @@ Expected<Done, std::string> switch_to_serving_user(const Config& config) {
 }
 
 int run_command(const std::string& config_path, FamilyList families) {
-  auto config = load_or_report(config_path, families);
-  if (!config) return 1;
+  // A console apply left unconfirmed while no gateway ran: the previous file, before loading.
+  const std::optional<PendingApply> rolled_back = ConfirmWindow::roll_back_if_due(config_path);
+  auto config = load_or_report(config_path, families, Checked::on_this_machine);
+  if (!config) {
+    ConfirmWindow::roll_back_failed_start(config_path);
+    return 1;
+  }
   boost::asio::io_context io;
   // Before start(): a SIGHUP from then on reloads rather than ends the process.
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   boost::asio::signal_set hangups(io, SIGHUP);
   ServedGateway served(io, *config, families);
   Gateway& gateway = served.gateway();
-  auto started = gateway.start();
-  if (!started) {
-    spdlog::critical("{}", visible_text(started.error()));
+  // An applied configuration that cannot start is not kept for the next start.
+  const auto give_up = [&](const std::string& why) {
+    spdlog::critical("{}", visible_text(why));
+    ConfirmWindow::roll_back_failed_start(config_path);
     return 1;
-  }
+  };
+  auto started = gateway.start();
+  if (!started) return give_up(started.error());
   // The ttys and listeners are open: root is no longer needed.
   if (!config->server.user.empty()) {
-    if (auto switched = switch_to_serving_user(*config); !switched) {
-      spdlog::critical("{}", visible_text(switched.error()));
-      return 1;
-    }
+    if (auto switched = switch_to_serving_user(*config); !switched)
+      return give_up(switched.error());
     spdlog::info("serving as user {} (uid {})", visible_text(config->server.user), getuid());
   } else if (geteuid() == 0) {
     spdlog::warn("running as root: set [server] user to serve unprivileged once started "
@@ -182,6 +194,7 @@ int run_command(const std::string& config_path, FamilyList families) {
   // Only now the services that write files: the stores and the control socket are the
   // serving user's, and it can replace them at a reload.
   served.start_as_user();
+  served.confirm_window().resume(rolled_back);
   // Listeners bound, ttys opened, privileges dropped: systemd may now count the service as up.
   ServiceNotifier notifier(io);
   notifier.ready();

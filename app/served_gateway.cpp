@@ -11,14 +11,17 @@ namespace tiltgate {
 namespace {
 
 // What the web console reaches besides the gateway (console/console_handler.h): the trail its
-// changes are recorded in, the families a configuration is checked with, and a reload as
+// changes are recorded in, the families a configuration is checked with, a reload as
 // `systemctl reload` asks for one (SIGHUP, app/config_commands.cpp), so an applied file is
-// taken up exactly as an edited one is.
-ConsoleContext console_context(AuditTrail& audit, FamilyList families) {
+// taken up exactly as an edited one is, and the window an applied file awaits confirmation in.
+void reload_by_hangup() { ::kill(::getpid(), SIGHUP); }
+
+ConsoleContext console_context(AuditTrail& audit, FamilyList families, ConfirmWindow& window) {
   ConsoleContext context;
   context.audit = &audit;
   context.families = families;
-  context.reload = [] { ::kill(::getpid(), SIGHUP); };
+  context.reload = reload_by_hangup;
+  context.confirm_window = &window;
   return context;
 }
 
@@ -37,9 +40,10 @@ AuditOptions audit_options(const AuditConfig& config) {
 
 ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
                              FamilyList families)
-    : gateway_(io, config, families),
+    : confirm_window_(config.path, &audit_, reload_by_hangup),
+      gateway_(io, config, families),
       http_(gateway_, [this] { return status(SteadyClock::now()); },
-            console_context(audit_, families)),
+            console_context(audit_, families, confirm_window_)),
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
       control_(gateway_) {

@@ -12,6 +12,7 @@
 #include "gateway/gateway.h"
 #include "mqtt/mqtt_service.h"
 #include "sparkplug/sparkplug_service.h"
+#include "console/confirm_window.h"
 #include "console/http_service.h"
 
 namespace tiltgate {
@@ -27,6 +28,8 @@ class ServedGateway {
   // its files are that user's; then the services' start_as_user().
   void start_as_user();
   const Gateway& gateway() const { return gateway_; }
+  // Where a configuration applied through the console awaits its confirmation.
+  ConfirmWindow& confirm_window() { return confirm_window_; }
   // The status the API, the metrics, the history and the MQTT feed show: the core's, with the
   // services' own counters.
   GatewayStatus status(SteadyClock::time_point now) const;
@@ -36,6 +39,8 @@ class ServedGateway {
   // So it goes last, and its destructor writes every record still queued for its writer
   // thread before the process exits (AuditTrail::close).
   AuditTrail audit_{""};
+  // Before the console, which applies through it; after the trail, which it records in.
+  ConfirmWindow confirm_window_;
   Gateway gateway_;  // first: the services refer to it, and go before it
   HttpService http_;
   MqttService mqtt_;

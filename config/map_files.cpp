@@ -16,7 +16,7 @@ namespace tiltgate::config {
 
 using toml_input::place_of;
 using toml_input::ErrorList;
-using toml_input::read_text_file;
+using toml_input::read_toml_file;
 namespace {
 
 struct MapFile {
@@ -38,7 +38,7 @@ std::string resolve(std::string_view config_path, const std::string& map_file) {
 
 std::unique_ptr<MapFile> load(const std::string& path, FamilyList families) {
   auto file = std::make_unique<MapFile>(path);
-  auto text = read_text_file(path);
+  auto text = read_toml_file(path);
   if (!text) {
     file->open_error = text.error();
     return file;

@@ -43,7 +43,7 @@ ConsoleHandler::ConsoleHandler(ConsoleContext context, const HttpConfig& config,
                                std::shared_ptr<ConsoleState> state)
     : context_(std::move(context)),
       config_(config),
-      config_endpoint_(context_.config_path, context_.families),
+      config_endpoint_(context_.config_path, context_.families, context_.confirm_window),
       settings_endpoint_(context_.gateway, context_.families, context_.audit),
       state_(std::move(state)) {
   {
@@ -292,18 +292,8 @@ asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
     if (method != "GET") co_return error_reply(405, "GET only");
     co_return audit_reply(context_.audit, request.target);
   }
-  if (path == "/api/config" || path == "/api/config.toml" || path == "/api/config/check") {
-    if (!role_allows(session.role, Role::admin))
-      co_return error_reply(403, "the configuration is for the admin role");
-    // When the served file was loaded: the buses' thread's to say (a reload changes it).
-    // (Not a conditional expression around the co_await: g++ 12 destroys its temporary twice.)
-    std::string loaded_at;
-    if (path == "/api/config" && request.method == "GET") {
-      const ServedFacts facts = co_await served_facts();
-      loaded_at = facts.loaded_at;
-    }
-    co_return config_change(request, path, session, loaded_at);
-  }
+  if (path == "/api/config" || path.starts_with("/api/config/") || path == "/api/config.toml")
+    co_return co_await config_route(request, path, session);
   if (path.starts_with(kSensorPrefix) && path.ends_with(kSettingsSuffix))
     co_return co_await settings(request, path, session);
   if (path.starts_with(kBusPrefix) && (path.ends_with("/scan") || path.ends_with("/raw")))
@@ -377,31 +367,6 @@ asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request
   record(session, *bus, "raw", "", what,
          error.empty() ? (body["received"].is_null() ? "timeout" : "ok") : "error: " + error);
   co_return json_reply(status, body);
-}
-
-HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_view path,
-                                        const ConsoleSession& session,
-                                        const std::string& loaded_at) {
-  const std::string& method = request.method;
-  if (path == "/api/config.toml") {
-    if (method != "GET") return error_reply(405, "GET only");
-    return config_endpoint_.download();
-  }
-  if (path == "/api/config/check") {
-    if (method != "POST") return error_reply(405, "POST the text to check");
-    auto text = parse_config_text(request.body);
-    if (!text) return error_reply(400, text.error());
-    return config_endpoint_.check(*text);
-  }
-  if (method == "GET") return config_endpoint_.show(loaded_at);
-  if (method != "PUT") return error_reply(405, "GET the configuration, or PUT a new one");
-  auto text = parse_config_text(request.body);
-  if (!text) return error_reply(400, text.error());
-  std::string result;
-  HttpReply reply = config_endpoint_.apply(*text, result);
-  record(session, "", "config", "", config_endpoint_.path(), result);
-  if (reply.status == 200 && context_.reload) context_.reload();
-  return reply;
 }
 
 }  // namespace tiltgate

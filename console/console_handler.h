@@ -46,6 +46,8 @@ struct ConsoleContext {
   std::string control_socket;  // [server] control_socket: the console's scan and raw go through it
   // Asks the gateway to reload its configuration file (as SIGHUP does), on any thread.
   std::function<void()> reload;
+  // Where an applied configuration awaits its confirmation; none: applies are refused.
+  ConfirmWindow* confirm_window = nullptr;
 };
 
 // Counted for /metrics.
@@ -90,14 +92,22 @@ class ConsoleHandler {
                                              const ConsoleSession& session);
   boost::asio::awaitable<HttpReply> bus_action(const HttpRequest& request, std::string_view path,
                                                const ConsoleSession& session);
+  boost::asio::awaitable<HttpReply> config_route(const HttpRequest& request, std::string_view path,
+                                                 const ConsoleSession& session);
   HttpReply config_change(const HttpRequest& request, std::string_view path,
-                          const ConsoleSession& session, const std::string& loaded_at);
+                          const ConsoleSession& session, const ServedConfig& served);
   // What the served configuration says that a request needs, read on the buses' thread, where
   // a reload changes it.
   struct ServedFacts {
     std::vector<std::string> buses;
     std::string loaded_at;
   };
+  // A copy of the served configuration and Gateway::loads(), for an apply or a confirm.
+  struct ServedCopy {
+    std::optional<Config> config;
+    std::uint64_t loads = 0;
+  };
+  boost::asio::awaitable<ServedCopy> served_copy();
   boost::asio::awaitable<ServedFacts> served_facts();
   // Refused with the reply when the request may not change anything: no CSRF token of the
   // session, or an Origin that is not this server.

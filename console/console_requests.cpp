@@ -79,7 +79,12 @@ Expected<ConfigText, std::string> parse_config_text(std::string_view body) {
   if (!object) return Unexpected{object.error()};
   auto text = string_field(*object, "text", 1 << 20);
   if (!text) return Unexpected{text.error()};
-  return ConfigText{std::move(*text)};
+  auto confirm = integer_field(*object, "confirm_s", ConfigText::kDefaultConfirmSeconds, false);
+  if (!confirm) return Unexpected{confirm.error()};
+  if (*confirm < ConfigText::kMinConfirmSeconds || *confirm > ConfigText::kMaxConfirmSeconds)
+    return Unexpected{fmt::format("\"confirm_s\" is {}, expected {} to {} seconds", *confirm,
+                                  ConfigText::kMinConfirmSeconds, ConfigText::kMaxConfirmSeconds)};
+  return ConfigText{std::move(*text), *confirm};
 }
 
 Expected<ScanRequest, std::string> parse_scan_request(std::string_view body) {

@@ -21,6 +21,12 @@ struct SettingRequest {
 };
 struct ConfigText {
   std::string text;
+  // PUT /api/config's "confirm_s": how long the applied file waits for POST
+  // /api/config/confirm before the previous one is restored
+  // (docs/web-console.md, "Applying with a confirmation window").
+  std::int64_t confirm_s = kDefaultConfirmSeconds;
+  static constexpr std::int64_t kDefaultConfirmSeconds = 120;
+  static constexpr std::int64_t kMinConfirmSeconds = 5, kMaxConfirmSeconds = 3600;
 };
 struct ScanRequest {
   std::int64_t from = 1, to = 0;  // to 0: the protocol's whole range

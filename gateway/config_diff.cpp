@@ -84,4 +84,28 @@ std::string summarize(const ConfigDiff& diff) {
       listed(diff.sensors_added), listed(diff.sensors_removed));
 }
 
+std::string describe_changes(const Config& running, const Config& loaded) {
+  const ConfigDiff diff = diff_configs(running, loaded);
+  std::vector<std::string> sections;
+  if (diff.server_changed) sections.emplace_back("server");
+  if (diff.http_changed) sections.emplace_back("http");
+  if (diff.mqtt_changed) sections.emplace_back("mqtt");
+  if (diff.sparkplug_changed) sections.emplace_back("sparkplug");
+  if (running.aggregates != loaded.aggregates) sections.emplace_back("aggregate");
+  std::string text =
+      fmt::format("{}. sections changed: {}", summarize(diff), listed(sections));
+  const auto door = [&](std::string_view name, const std::string& listen_before,
+                        unsigned port_before, const std::string& listen_after, unsigned port_after) {
+    if (listen_before != listen_after || port_before != port_after)
+      text += fmt::format(". [{}] {}:{} -> {}:{}", name, listen_before, port_before, listen_after,
+                          port_after);
+  };
+  door("server", running.server.listen, running.server.port, loaded.server.listen,
+       loaded.server.port);
+  door("http", running.http.listen, running.http.port, loaded.http.listen, loaded.http.port);
+  if (running.http.enabled != loaded.http.enabled)
+    text += loaded.http.enabled ? ". [http] enabled" : ". [http] disabled";
+  return text;
+}
+
 }  // namespace tiltgate

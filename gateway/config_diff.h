@@ -48,4 +48,9 @@ ConfigDiff diff_configs(const Config& running, const Config& loaded);
 // "-" for an empty list.
 std::string summarize(const ConfigDiff& diff);
 
+// What an applied file changes, for the audit trail: summarize()'s line, then the sections
+// changed ("sections changed: server, http" or "-"), then each door's address that moved
+// ("[http] 127.0.0.1:8080 -> 0.0.0.0:8081"). Names and addresses only: never a password.
+std::string describe_changes(const Config& running, const Config& loaded);
+
 }  // namespace tiltgate

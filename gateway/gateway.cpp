@@ -217,6 +217,7 @@ void Gateway::reload(const Config& loaded) {
   for (GatewayService* service : services_)
     if (service->reload(config_, diff)) restarted.push_back(service->name());
   loaded_at_ = local_time_now();
+  ++loads_;
   spdlog::info("configuration reloaded from {}: {}{}{}", visible_text(config_.path),
                summarize(diff),
                restarted.empty() ? "" : ". restarted: ", fmt::join(restarted, ", "));

@@ -60,6 +60,9 @@ class Gateway {
   // time.
   const Config& config() const { return config_; }
   const std::string& loaded_at() const { return loaded_at_; }
+  // How many configurations it has served: 1 from the start, one more at each reload applied
+  // (a console apply's confirmation waits for the one after it, console/confirm_window.h).
+  std::uint64_t loads() const { return loads_; }
   boost::asio::any_io_executor executor() const { return io_.get_executor(); }
 
   // The main Modbus listener's port, and the buses' own listeners' ([[bus]] tcp_port).
@@ -126,6 +129,7 @@ class Gateway {
   std::vector<std::shared_ptr<Bus>> retired_buses_;
   std::vector<std::shared_ptr<GatewaySensor>> sensors_;  // in config_.sensors' order
   std::string loaded_at_;
+  std::uint64_t loads_ = 1;
   // The Modbus TCP connections' threads ([server] threads). Everything else of the gateway (the
   // buses first) runs on io_, which a TCP flood therefore cannot hold up.
   std::unique_ptr<TcpWorkerPool> tcp_workers_;

@@ -182,7 +182,7 @@ Expected<DeviceProfile, FileErrors> load_device_profile(
   if (error) return fail("cannot read the size: " + error.message());
   if (size > kMaxProfileBytes)
     return fail(fmt::format("{} bytes is more than a profile's limit of {}", size, kMaxProfileBytes));
-  auto text = toml_input::read_text_file(path);
+  auto text = toml_input::read_toml_file(path);
   if (!text) return fail(text.error());
   return parse_device_profile(*text, path, setting_names);
 }

@@ -813,8 +813,59 @@ async function loadConfig() {
     $("config-errors").innerHTML = "";
     $("config-diff-out").hidden = true;
     say("config-message", "");
+    showPending(c.pending, null);
   } catch (e) {
     say("config-message", "Could not read the configuration: " + e.message, "bad");
+  }
+}
+
+// ---- the confirmation window of an apply: a countdown, and Confirm where the new file serves ----
+const CONFIRM_S = 120;             // PUT /api/config's confirm_s
+let pendingTimer = null;
+
+// The console's address as the applied file serves it, or null when it is this page's.
+function newConsoleUrl(console_) {
+  if (!console_) return null;
+  const wildcard = console_.listen === "0.0.0.0" || console_.listen === "::";
+  const protocol = console_.https ? "https:" : "http:";
+  const port = String(console_.port);
+  const herePort = location.port || (location.protocol === "https:" ? "443" : "80");
+  if (protocol === location.protocol && port === herePort &&
+      (wildcard || console_.listen === location.hostname.replace(/^\[|\]$/g, ""))) return null;
+  const host = wildcard ? location.hostname : (console_.listen.includes(":") ? "[" + console_.listen + "]" : console_.listen);
+  return protocol + "//" + host + ":" + port + "/";
+}
+
+// `pending`: GET /api/config's (or the apply's) window; `console_`: where the applied file serves
+// the console (null: here).
+function showPending(pending, console_) {
+  clearInterval(pendingTimer);
+  $("config-pending").hidden = !pending;
+  if (!pending) return;
+  const end = Date.now() + pending.seconds_left * 1000;
+  const url = console_ && console_.enabled === false ? "" : newConsoleUrl(console_);
+  $("config-confirm").hidden = url !== null;
+  $("config-confirm-link").hidden = !url;
+  if (url) $("config-confirm-link").href = url;
+  const tick = () => {
+    const left = Math.max(0, Math.round((end - Date.now()) / 1000));
+    const where = url === "" ? "The applied file turns the console off: nobody can confirm it, so"
+                : url ? "Confirm at " + url + " (log in there), or"
+                : "Confirm once you have checked the gateway, or";
+    $("config-pending-text").textContent = where + " the previous file comes back in " + left + " s.";
+    if (left === 0) { clearInterval(pendingTimer); setTimeout(loadConfig, 3000); }
+  };
+  tick();
+  pendingTimer = setInterval(tick, 1000);
+}
+
+async function confirmConfig() {
+  try {
+    await api("POST", "/api/config/confirm");
+    showPending(null);
+    say("config-message", "Confirmed: the applied configuration stays.", "ok");
+  } catch (e) {
+    say("config-message", "Not confirmed: " + e.message, "bad");
   }
 }
 
@@ -825,8 +876,10 @@ function showConfigErrors(errors) {
     const item = document.createElement("li");
     const button = document.createElement("button");
     button.type = "button";
-    button.textContent = "line " + err.line + ":" + err.column + ": " + err.message;
-    button.addEventListener("click", () => jumpToLine(err.line, err.column));
+    // A problem of the machine (a user, an address, a certificate) has no line.
+    button.textContent = err.line ? "line " + err.line + ":" + err.column + ": " + err.message
+                                  : err.text;
+    if (err.line) button.addEventListener("click", () => jumpToLine(err.line, err.column));
     item.appendChild(button);
     list.appendChild(item);
   }
@@ -932,11 +985,13 @@ async function applyConfig() {
   if (!d) return;
   if (d.added + d.removed === 0) { say("config-message", "Nothing to apply: the text is the served file."); return; }
   if (!await askConfirm("Apply this configuration to the gateway (+" + d.added + " \u2212" + d.removed +
-                        " lines)? It is written, the previous file kept, and reloaded.", d.html)) return;
+                        " lines)? It is written, the previous file kept, and reloaded; unless you " +
+                        "confirm it within " + CONFIRM_S + " s, the previous file comes back.", d.html)) return;
   say("config-message", "Applying\u2026");
   try {
-    const r = await api("PUT", "/api/config", {text: $("editor").value});
+    const r = await api("PUT", "/api/config", {text: $("editor").value, confirm_s: CONFIRM_S});
     await loadConfig();
+    showPending({seconds_left: r.confirm_s}, r.console);
     say("config-message", "Applied and reloaded; the previous file is kept as " + r.previous + ".", "ok");
   } catch (e) {
     if (e.status === 422) {
@@ -1004,6 +1059,7 @@ $("config-reload").addEventListener("click", loadConfig);
 $("config-check").addEventListener("click", checkConfig);
 $("config-diff").addEventListener("click", showDiff);
 $("config-apply").addEventListener("click", applyConfig);
+$("config-confirm").addEventListener("click", confirmConfig);
 $("audit-form").addEventListener("submit", loadAudit);
 
 start();

@@ -61,4 +61,13 @@ Expected<std::string, std::string> read_text_file(const std::string& path) {
   return text;
 }
 
+Expected<std::string, std::string> read_toml_file(const std::string& path) {
+  auto text = read_text_file(path);
+  if (!text) return text;
+  if (!path.ends_with(".toml"))
+    return Unexpected(std::string(
+        "is not named *.toml: only a TOML file is read here, and nothing of another is shown"));
+  return text;
+}
+
 }  // namespace tiltgate::toml_input

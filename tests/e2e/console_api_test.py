@@ -12,6 +12,7 @@ import http.client
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -147,6 +148,14 @@ def start_console(t, tiltgate, users_file):
     t.logs.append(("gateway", log_path))
     start_gateway(tiltgate, config, log_path, http_port)
     return http_port
+
+
+def listening(port):
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=2).close()
+        return True
+    except OSError:
+        return False
 
 
 def scenario(t):
@@ -296,6 +305,9 @@ def scenario(t):
     t.check("and reloaded", processes.wait_until(
         lambda: "configuration reloaded from" in processes.tail(log_path, 400), 20),
         processes.tail(log_path))
+    # [http] changed: its server binds again a moment after the reload's line (it waits for the
+    # old one to let the port go), so the next request waits for it.
+    processes.wait_until(lambda: listening(http_port), 20)
 
     status, body = bob.request("POST", "/api/buses/line1/scan", {"from": 100, "to": 102})
     t.check("the admin starts a scan: 202", status == 202, (status, body))

@@ -97,6 +97,11 @@ def scenario(t):
             t.check("and the gateway reloads it", processes.wait_until(
                 lambda: "configuration reloaded from" in processes.tail(log_path, 400), 20),
                 processes.tail(log_path))
+            t.check("the window awaiting confirmation is kept beside it, the service's",
+                    os.stat(config + ".pending").st_uid == service.pw_uid, os.listdir(etc))
+            t.check("the admin confirms it", processes.wait_until(
+                lambda: bob.request("POST", "/api/config/confirm")[0] == 200, 20),
+                bob.request("POST", "/api/config/confirm"))
             t.check("nothing else is left in the folder",
                     sorted(os.listdir(etc)) == ["tiltgate.toml", "tiltgate.toml.previous", "users"],
                     os.listdir(etc))

@@ -8,6 +8,8 @@ driver package is needed.
     chromium_page.py screenshot URL OUT.png WIDTH HEIGHT [SENSOR]
     chromium_page.py console URL OPERATOR VIEWER SENSOR SETTING
         the console test (tests/e2e/console_page_test.sh): OPERATOR and VIEWER are NAME:PASSWORD
+    chromium_page.py confirm URL ADMIN   the apply's confirmation window in the Configuration tab
+        (tests/e2e/console_confirm_page_test.sh): a countdown, then Confirm
     chromium_page.py tabs URL ADMIN OUT_PREFIX SENSOR   a screenshot of each console tab,
         OUT_PREFIX-TAB.png (1280x800), OUT_PREFIX-phone[-sensor].png (390x844)
 """
@@ -403,6 +405,56 @@ def console_check(url, operator, viewer, sensor, setting):
     return 1 if failures else 0
 
 
+def confirm_check(url, admin):
+    """Apply an edit in the Configuration tab: the page counts the window down; Confirm keeps it."""
+    browser = Chromium()
+    try:
+        browser.open(url, 1280, 800)
+        if log_in(browser, admin) != "admin":
+            print("FAIL: the admin could not log in")
+            return 1
+        browser.click('.tab[data-tab="config"]')
+        if not browser.wait_for("document.getElementById('editor').value !== ''", 10):
+            print("FAIL: the Configuration tab shows no file")
+            return 1
+        browser.run("const e = document.getElementById('editor');"
+                    "e.value = '# edited through the page\\n' + e.value;")
+        browser.click("#config-apply")
+        if not browser.wait_for("!document.getElementById('confirm').hidden", 5):
+            print("FAIL: Apply asked nothing")
+            return 1
+        browser.click("#confirm-ok")
+        countdown = browser.wait_for(
+            "!document.getElementById('config-pending').hidden && "
+            "!document.getElementById('config-confirm').hidden && "
+            "/comes back in \\d+ s/.test(document.getElementById('config-pending-text').textContent) && "
+            "document.getElementById('config-pending-text').textContent", 15)
+        if not countdown:
+            print("FAIL: no countdown after the apply: %r" % browser.evaluate(
+                "document.getElementById('config-message').textContent"))
+            return 1
+        print("confirm: " + countdown)
+        browser.click("#config-confirm")
+        confirmed = browser.wait_for(
+            "document.getElementById('config-pending').hidden && "
+            "/Confirmed/.test(document.getElementById('config-message').textContent)", 15)
+        if not confirmed:
+            # Too early (the gateway had not reloaded yet): the page says so; once more.
+            time.sleep(2)
+            browser.click("#config-confirm")
+            confirmed = browser.wait_for(
+                "document.getElementById('config-pending').hidden && "
+                "/Confirmed/.test(document.getElementById('config-message').textContent)", 15)
+        if not confirmed:
+            print("FAIL: Confirm did not confirm: %r" % browser.evaluate(
+                "document.getElementById('config-message').textContent"))
+            return 1
+        print("confirm: confirmed through the page")
+    finally:
+        browser.close()
+    return 0
+
+
 def tab_screenshots(url, admin, prefix, sensor):
     """The login form, then each tab in use, as the docs show them."""
     browser = Chromium(1280, 800)
@@ -476,6 +528,8 @@ def main(argv):
                           argv[6] if len(argv) > 6 else None)
     if len(argv) >= 7 and argv[1] == "console":
         return console_check(argv[2], argv[3], argv[4], argv[5], argv[6])
+    if len(argv) >= 4 and argv[1] == "confirm":
+        return confirm_check(argv[2], argv[3])
     if len(argv) >= 6 and argv[1] == "tabs":
         return tab_screenshots(argv[2], argv[3], argv[4], argv[5])
     print(__doc__, file=sys.stderr)

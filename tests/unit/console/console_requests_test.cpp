@@ -67,3 +67,15 @@ TEST_CASE("the sensors a scan's configuration holds, each with its own table") {
   CHECK(found[1].address == 9);
   CHECK(found[1].serial.empty());
 }
+
+TEST_CASE("a configuration body: the text, and a confirmation window of 5 to 3600 s") {
+  auto plain = parse_config_text(R"({"text": "[server]\n"})");
+  REQUIRE(plain);
+  CHECK(plain->confirm_s == 120);
+  CHECK(parse_config_text(R"({"text": "", "confirm_s": 30})")->confirm_s == 30);
+  CHECK(parse_config_text(R"({"text": "", "confirm_s": 4})").error() ==
+        "\"confirm_s\" is 4, expected 5 to 3600 seconds");
+  CHECK_FALSE(parse_config_text(R"({"text": "", "confirm_s": 3601})"));
+  CHECK(parse_config_text(R"({"text": "", "confirm_s": "60"})").error() ==
+        "\"confirm_s\" is not a whole number");
+}

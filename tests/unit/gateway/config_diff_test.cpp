@@ -162,3 +162,15 @@ TEST_CASE("config diff: the summary names every bus and sensor by what happens t
         "buses kept: line1, line2; reopened: -; added: -; removed: -. sensors kept: boom; "
         "changed: -; added: stick; removed: arm");
 }
+
+TEST_CASE("config diff: an apply's audit text names the sections changed and a door that moved") {
+  const Config before = loads(two_buses_plus(kBoomAndArm));
+  const Config after = loads("[http]\nlisten = \"0.0.0.0\"\nport = 8081\n[server]\nwrites = true\n" +
+                             two_buses_plus(sensor_text("boom", "line1", 223, 1)));
+  const std::string text = describe_changes(before, after);
+  CHECK(text.find("sensors kept: boom; changed: -; added: -; removed: arm") != std::string::npos);
+  CHECK(text.find("sections changed: server, http") != std::string::npos);
+  CHECK(text.find("[http] 127.0.0.1:8080 -> 0.0.0.0:8081") != std::string::npos);
+  CHECK(text.find("[server]") == std::string::npos);  // its address did not move
+  CHECK(describe_changes(before, before).find("sections changed: -") != std::string::npos);
+}
