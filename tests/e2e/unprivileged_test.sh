@@ -69,7 +69,7 @@ kill "$gateway"; wait "$gateway" 2>/dev/null
 write_config "$(free_port)" tiltgate-no-such-user
 timeout 20 "$tiltgate" run --config "$dir/gateway.toml" 2>"$dir/nouser.err"
 check "a missing user exits 1" test $? -eq 1
-check "a missing user is named" grep -q "no user 'tiltgate-no-such-user'" "$dir/nouser.err"
+check "a missing user is named" grep -qE "no user ['\"]tiltgate-no-such-user['\"]" "$dir/nouser.err"
 
 # 3 and 4 start the gateway as nobody, which must be able to reach the binary at all: not so in
 # a chroot whose root folder only root may enter (a test harness's, never a gateway's).

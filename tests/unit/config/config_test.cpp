@@ -98,7 +98,7 @@ TEST_CASE("config: an unknown table is rejected, with a suggestion when one is c
   expect_error(valid_plus("[sensors]\nx = 1\n"), 10, "sensors",
                "unknown table; did you mean [[sensor]]?");
   expect_error(valid_plus("[logging]\nlevel = 1\n"), 10, "logging",
-               "unknown table; expected the tables [server], [http], [mqtt], [sparkplug], [[bus]], "
+               "unknown table; expected the tables [server], [http], [mqtt], [sparkplug], [audit], [[bus]], "
                "[[sensor]] and [[aggregate]]");
 }
 

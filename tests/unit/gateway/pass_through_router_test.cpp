@@ -127,7 +127,7 @@ TEST_CASE("a relayed reply keeps the request's transaction, protocol and unit id
   CHECK(reply[5] == 254);
 }
 
-TEST_CASE("a passed-through write is one audit record with who sent it and what the device answered; a read none") {
+TEST_CASE("a passed-through write is one audit record with who sent it and what the device answered, and a read none") {
   Plant plant(true);
   REQUIRE(plant.forward(30, {0x03, 0, 0, 0, 1}).has_value());
   CHECK(plant.trail.recent({}).empty());
