@@ -131,8 +131,11 @@ def state_dir_usable_later(t, tiltgate, broker, sim):
                        WAIT) and not kept(state_dir), store_metrics(gateway))
     holder.close()  # the directory is free now
     t.check("once the directory can be used, what memory held moves there, no restart needed",
-            wait_until(lambda: len(kept(state_dir)) > 10, WAIT + 15) and
-            "messages moved there from memory" in gateway.log(), gateway.log()[-800:])
+            # Both in one wait: the records reach the files before the line that says so
+            # reaches the log, and a look between the two must not fail the test.
+            wait_until(lambda: len(kept(state_dir)) > 10 and
+                       "messages moved there from memory" in gateway.log(), WAIT + 15),
+            gateway.log()[-800:])
     broker.start()
     t.check("and is replayed from there once the broker is back",
             wait_until(lambda: gateway.metric("tiltgate_store_records", feed="mqtt") == 0 and
