@@ -271,28 +271,4 @@ std::span<std::uint8_t> ModbusFrameAssembler::space() {
   return std::span(buffer_).subspan(end_);
 }
 
-// Application Protocol V1.1b3 section 6.21: MEI type 14 reads the device identification.
-constexpr std::uint8_t kMeiReadDeviceIdentification = 0x0E;
-
-bool reads_only(std::span<const std::uint8_t> pdu) {
-  if (pdu.empty()) return false;
-  switch (pdu[0]) {
-    case modbus_function::read_coils:
-    case modbus_function::read_discrete_inputs:
-    case modbus_function::read_holding_registers:
-    case modbus_function::read_input_registers:
-    case 0x07:  // read exception status
-    case 0x0B:  // get comm event counter
-    case 0x0C:  // get comm event log
-    case 0x11:  // report server id
-    case 0x14:  // read file record
-    case 0x18:  // read FIFO queue
-      return true;
-    case modbus_function::encapsulated_interface:
-      return pdu.size() >= 2 && pdu[1] == kMeiReadDeviceIdentification;
-    default:
-      return false;
-  }
-}
-
 }  // namespace tiltgate

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "driver/expected.h"
+#include "driver/modbus_reads.h"
 #include "modbus_tcp/modbus_types.h"
 
 namespace tiltgate {
@@ -65,13 +66,6 @@ using AduProblem = std::variant<RejectedRequest, FramingError>;
 std::optional<AduProblem> parse_adu_into(std::span<const std::uint8_t> adu,
                                          ModbusRequest& request);
 
-// Whether a request PDU only reads, so that it may pass through while [server] writes is
-// false, and come from a host outside [server] write_allow: 01, 02, 03, 04 (reads), 07 (read
-// exception status), 0B and 0C (communication event counter and log), 11 (report server id),
-// 14 (read file record), 18 (read FIFO queue) and 2B/0E (read device identification).
-// Everything else may change the device (08 diagnostics can restart it or clear its counters)
-// and is refused with 0x01.
-bool reads_only(std::span<const std::uint8_t> pdu);
 
 // The exception reply to an ADU (at least its MBAP header and function code).
 std::vector<std::uint8_t> exception_reply(std::span<const std::uint8_t> adu, ModbusException code);
