@@ -121,7 +121,9 @@ MqttStats MqttFeed::stats() const {
 
 void MqttFeed::schedule() {
   timer_.expires_after(period_);
+  tick_waiting_ = true;
   timer_.async_wait([this](const boost::system::error_code& ec) {
+    tick_waiting_ = false;
     if (ec || !running_) return;
     tick();
     schedule();

@@ -35,9 +35,10 @@ class MqttFeed {
   // backlog (a feed made by a reload opens it again); call before the event loop is stopped.
   void stop();
   MqttStats stats() const;
-  // Stopped: its client's thread has ended and its timer is cancelled, so a reload that replaced
-  // it may free it.
-  bool finished() const { return !running_; }
+  // Stopped: its client's thread has ended and its timer's handler has run (cancelling does not
+  // take back a handler the timer's expiry already queued), so a reload that replaced it may
+  // free it.
+  bool finished() const { return !running_ && !tick_waiting_; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -59,6 +60,7 @@ class MqttFeed {
   void report_backlog_error(const std::string& error);
 
   boost::asio::steady_timer timer_;
+  bool tick_waiting_ = false;  // the timer's handler is still to run
   StatusSource status_;
   MqttConfig config_;
   MqttPublisher publisher_;

@@ -211,7 +211,9 @@ Instant EdgeNode::now() const {
 
 void EdgeNode::schedule() {
   timer_.expires_after(kTick);
+  tick_waiting_ = true;
   timer_.async_wait([this](const boost::system::error_code& ec) {
+    tick_waiting_ = false;
     if (ec || !running_) return;
     tick();
     schedule();
@@ -322,7 +324,8 @@ void EdgeNode::log_refusal_summaries() {
                  std::chrono::duration_cast<std::chrono::seconds>(summary.span).count());
 }
 
-bool EdgeNode::finished() const { return !running_ && writes_in_flight_ == 0; }
+// Its timer's handler too: cancelling does not take back one the timer's expiry already queued.
+bool EdgeNode::finished() const { return !running_ && writes_in_flight_ == 0 && !tick_waiting_; }
 
 SparkplugStats EdgeNode::stats() const {
   SparkplugStats stats;

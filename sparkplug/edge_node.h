@@ -74,6 +74,7 @@ class EdgeNode {
 
   boost::asio::any_io_executor executor_;
   boost::asio::steady_timer timer_;
+  bool tick_waiting_ = false;  // the timer's handler is still to run
   const Gateway& gateway_;
   const SparkplugConfig config_;
   std::filesystem::path dir_;  // state_dir/sparkplug
