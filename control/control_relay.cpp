@@ -18,6 +18,7 @@ namespace tiltgate {
 namespace asio = boost::asio;
 
 void ControlRelayFramer::reset() {
+  received_.clear();
   // A deadline of now: sent if the socket takes it at once, never waited for.
   if (!broken_ && !control::send_line(socket_.native_handle(),
                                       control::format(control::GatewayMessage{control::Reset{}}),
@@ -32,6 +33,7 @@ bool ControlRelayFramer::feed(std::span<const std::uint8_t>) {
 
 asio::awaitable<bool> ControlRelayFramer::feed_async(std::span<const std::uint8_t> bytes) {
   if (broken_ || bytes.empty()) co_return false;
+  received_.insert(received_.end(), bytes.begin(), bytes.end());
   // Formatted before the co_await: g++ 12 destroys a braced temporary there twice.
   const std::string line =
       control::format(control::GatewayMessage{control::Received{{bytes.begin(), bytes.end()}}}) +

@@ -38,6 +38,8 @@ class ControlRelayFramer final : public ReplyFramer {
 
   // The command stopped answering (or sent something else): the transaction is lost to it.
   bool broken() const { return broken_; }
+  // What the line received in the latest attempt, for the audit trail (control/carried_change.h).
+  const std::vector<std::uint8_t>& received() const { return received_; }
 
   static constexpr std::chrono::milliseconds kAnswerWait{100};
 
@@ -45,6 +47,7 @@ class ControlRelayFramer final : public ReplyFramer {
   boost::asio::local::stream_protocol::socket& socket_;
   boost::asio::streambuf& input_;
   bool broken_ = false;
+  std::vector<std::uint8_t> received_;
 };
 
 }  // namespace tiltgate

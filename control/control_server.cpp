@@ -16,6 +16,8 @@
 #include <unistd.h>
 #include <utility>
 
+#include "audit/audit_trail.h"
+#include "control/carried_change.h"
 #include "control/control_protocol.h"
 #include "control/setting_claim.h"
 #include "control/control_relay.h"
@@ -194,6 +196,18 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
   std::vector<std::uint32_t> held;  // addresses this session holds; released when it ends
   // How its latest transaction since its last `setting` report ended (control/setting_claim.h).
   control::CarriedOutcome carried = control::CarriedOutcome::none;
+  // The change its latest changing transaction carried, until a report names it or it is
+  // recorded as it is (control/carried_change.h). Reads between the change and its report (a
+  // read-back, the lock) leave it waiting; the same request again (the command's retry)
+  // replaces it.
+  std::optional<control::CarriedChange> change;
+  auto record_change = [&] {
+    if (change && bus != nullptr)
+      bus->scheduler->note_carried(change->address, std::move(change->function),
+                                   std::move(change->data), std::move(change->result),
+                                   change->unix_ms, by);
+    change.reset();
+  };
   while (listening_) {
     boost::system::error_code ec;
     co_await asio::async_read_until(*socket, input, '\n',
@@ -207,6 +221,12 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
     std::string reply;
     bool done = false;
     auto message = control::parse_command(line);
+    // A report after the transaction names its change: one record, the report's.
+    const bool keeps_change =
+        message && (std::holds_alternative<control::SettingChanged>(*message) ||
+                    std::holds_alternative<control::Follow>(*message) ||
+                    std::holds_alternative<control::Transact>(*message));
+    if (!keeps_change) record_change();
     if (!message) {
       reply = formatted(control::Refused{message.error()});
       done = true;
@@ -222,6 +242,24 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       reply = formatted(control::Refused{"ask for a bus first (hello PORT)"});
       done = true;
     } else if (const auto* transact = std::get_if<control::Transact>(&*message)) {
+      std::optional<control::CarriedChange> asked;
+      if (bus->protocol != nullptr) asked = control::change_asked(*bus->protocol, transact->bytes);
+      const bool changing = asked.has_value();
+      if (changing) {
+        if (change && !control::same_request(*change, *asked)) record_change();
+        change = std::move(asked);
+      }
+      // [audit] when_full = "refuse": no change the trail cannot keep on disk.
+      if (AuditTrail* trail = bus->scheduler->audit();
+          changing && trail != nullptr && !trail->accepts_changes()) {
+        change->result = fmt::format("refused: {}", kAuditRefusesChanges);
+        change->unix_ms = control::now_unix_ms();
+        record_change();
+        carried = control::CarriedOutcome::not_sent;
+        reply = formatted(control::Refused{std::string(kAuditRefusesChanges)});
+        if (!co_await send(*socket, std::move(reply))) break;
+        continue;
+      }
       ControlRelayFramer relay(*socket, input);
       LineRequest request{transact->bytes,    transact->address_bytes,
                           transact->expects_reply ? &relay : nullptr,
@@ -236,9 +274,17 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       ended.timing = result.timing;
       ended.generation = result.generation;
       carried = control::carried_outcome(ended);
+      if (changing) {
+        change->result = control::carried_result(*bus->protocol, ended,
+                                                 transact->expects_reply, relay.received());
+        change->unix_ms = control::now_unix_ms();
+      }
       reply = formatted(ended);
       if (relay.broken()) break;  // the command stopped answering mid-transaction
     } else if (const auto* follow = std::get_if<control::Follow>(&*message)) {
+      // The move's own record stands for the transaction that made it.
+      if (change && change->address != follow->from) record_change();
+      change.reset();
       const auto moved = bus->scheduler->follow_address(follow->from, follow->to, by);
       std::erase(held, follow->from);
       reply = formatted(control::Followed{moved ? bus->config.name + "/" + *moved : ""});
@@ -247,8 +293,11 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
       if (sensor) held.push_back(hold->address);
       reply = formatted(control::Followed{sensor ? bus->config.name + "/" + *sensor : ""});
     } else if (const auto* changed = std::get_if<control::SettingChanged>(&*message)) {
-      // Recorded either way; only a report a transaction stands behind changes what is shown.
+      // Recorded either way; only a report a transaction stands behind changes what is shown,
+      // and its record then stands for the transaction's.
       const auto refusal = control::setting_claim_refusal(std::exchange(carried, {}), *changed);
+      if (refusal) record_change();
+      change.reset();
       const auto sensor = bus->scheduler->note_setting(
           changed->address, WriteTarget{changed->setting}, changed->value,
           refusal ? "refused: " + *refusal : audit_result(*changed), by);
@@ -265,6 +314,7 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
     }
     if (!co_await send(*socket, std::move(reply)) || done) break;
   }
+  record_change();
   // A command that went away mid re-address must not leave a sensor unpolled.
   if (bus != nullptr && listening_)
     for (const std::uint32_t address : held) bus->scheduler->release(address);

@@ -23,6 +23,7 @@
 
 #include "config/config.h"
 #include "driver/expected.h"
+#include "driver/family.h"
 #include "gateway/bus_scheduler.h"
 
 namespace tiltgate {
@@ -32,6 +33,9 @@ class ControlServer {
   struct ServedBus {
     BusConfig config;
     std::shared_ptr<BusScheduler> scheduler;  // held while the server may use it
+    // Reads what a command's transaction asks of a device, for the audit trail
+    // (control/carried_change.h).
+    const ProtocolDescriptor* protocol = nullptr;
   };
 
   ControlServer(boost::asio::any_io_executor executor, std::string path,

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "driver/adaptive_reply_timeout.h"
+#include "driver/carried_request.h"
 #include "driver/file_error.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
@@ -87,6 +88,10 @@ struct ProtocolDescriptor {
   ForwardFactory forward = nullptr;
   // How `tiltgate scan` finds the protocol's sensors (driver/scan.h).
   ScanDescriptor scan{};
+  // What a command's request on the line asks of a device, and whether a reply refuses it: the
+  // control socket records every one that may change a device (driver/carried_request.h).
+  ReadRequest read_request = nullptr;
+  ReadRefusal read_refusal = nullptr;
   // The devices speak TCP themselves (Modbus TCP): a bus's port must be tcp://HOST:PORT, and
   // there is no serial line behind it, so no baud, parity, stop bits or gap apply. False: a
   // serial protocol, on a tty or behind a serial device server (device_server/port_url.h).

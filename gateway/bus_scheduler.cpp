@@ -382,6 +382,17 @@ std::optional<std::string> BusScheduler::note_setting(std::uint32_t address, Wri
   return sensor.config.name;
 }
 
+void BusScheduler::note_carried(std::optional<std::uint32_t> address, std::string function,
+                                std::string data, std::string result, std::int64_t unix_ms,
+                                const WriteOrigin& by) {
+  if (audit_ == nullptr) return;
+  const Polled* polled = address ? find_polled(*address) : nullptr;
+  std::string sensor = name_;
+  if (address) sensor += "/" + (polled ? polled->sensor->config.name : std::to_string(*address));
+  audit_->record({unix_ms, by, std::move(sensor), std::move(function), "", std::move(data),
+                  std::move(result)});
+}
+
 void BusScheduler::record_command(const WriteOrigin& by, const GatewaySensor* sensor,
                                   std::uint32_t address, std::string setting,
                                   std::string old_value, std::string new_value,

@@ -146,6 +146,12 @@ class BusScheduler {
                                           double value, const std::string& result,
                                           const WriteOrigin& by);
 
+  // A commissioning command's transaction that may have changed the device at `address` (none:
+  // not known), as control/carried_change.h words it, recorded with `by` at `unix_ms`.
+  void note_carried(std::optional<std::uint32_t> address, std::string function,
+                    std::string data, std::string result, std::int64_t unix_ms,
+                    const WriteOrigin& by);
+
   const std::string& name() const { return name_; }
   BusSchedulerStats stats() const;
   Line& line() { return line_.line(); }

@@ -55,6 +55,8 @@ class Gateway {
   // composition root's, given before start(); until then the gateway's own, in memory.
   void set_audit(AuditTrail& trail);
   AuditTrail& audit() const { return *audit_; }
+  // The sensor families the configuration was loaded with.
+  FamilyList families() const { return families_; }
 
   // The configuration served now, and when it was loaded (start-up or the last reload), local
   // time.

@@ -17,6 +17,7 @@
 #include "modbus_rtu/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 #include "modbus_rtu/raw.h"
+#include "modbus_rtu/request_reader.h"
 #include "modbus_rtu/rtu_driver.h"
 #include "modbus_rtu/scan_probe.h"
 #include "modbus_rtu/simulator.h"
@@ -76,6 +77,8 @@ const ProtocolDescriptor kProtocols[] = {{
              .probe_time = probe_time,
              .probe = device_probe,
              .ask_address = nullptr},  // broadcasts get no reply (Serial Line 2.2)
+    .read_request = read_rtu_request,
+    .read_refusal = read_rtu_refusal,
 }, {
     // Devices that speak Modbus TCP themselves, each reached by its unit id over one
     // connection to tcp://HOST:PORT: the same device profiles, their PDUs in MBAP frames
@@ -103,6 +106,8 @@ const ProtocolDescriptor kProtocols[] = {{
              .probe_time = mbap_probe_time,
              .probe = mbap_device_probe,
              .ask_address = nullptr},
+    .read_request = read_mbap_request,
+    .read_refusal = read_mbap_refusal,
     .devices_speak_tcp = true,
 }};
 

@@ -5,6 +5,7 @@
 #include "mapping/register_map.h"
 #include "rieker/codec.h"
 #include "rieker/raw.h"
+#include "rieker/request_reader.h"
 #include "mapping/value_source.h"
 #include "rieker/default_maps.h"
 #include "rieker/rieker_driver.h"
@@ -46,6 +47,8 @@ const ProtocolDescriptor kProtocols[] = {{
              .probe_time = probe_time,
              .probe = check_address_probe,
              .ask_address = broadcast_get_address_probe},
+    .read_request = read_request,
+    .read_refusal = read_refusal,
 }};
 
 // Set Filter Response (41), Set Zero To Value (16, per axis), the zero/restart commands, Set

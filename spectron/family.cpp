@@ -10,6 +10,7 @@
 #include "spectron/scan_probe.h"
 #include "spectron/eeprom_map.h"
 #include "spectron/raw.h"
+#include "spectron/request_reader.h"
 #include "spectron/sensor_spec.h"
 #include "spectron/settings.h"
 #include "spectron/simulator.h"
@@ -50,6 +51,8 @@ const ProtocolDescriptor kProtocols[] = {
                  .probe_time = probe_time,
                  .probe = nine_bit_read_sensor_probe,
                  .ask_address = nullptr},
+        .read_request = read_nine_bit_request,
+        .read_refusal = read_refusal,
     },
     {
         .name = "spectron-modbus",
@@ -70,6 +73,8 @@ const ProtocolDescriptor kProtocols[] = {
                  .probe_time = probe_time,
                  .probe = ascii_read_sensor_probe,
                  .ask_address = nullptr},
+        .read_request = read_ascii_request,
+        .read_refusal = read_refusal,
     },
 };
 

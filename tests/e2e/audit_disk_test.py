@@ -9,7 +9,8 @@ items 2 and 4), with build/tiltgate, `tiltgate sim rieker` and the trail's state
 - [audit] memory_kib = 16: past the budget records are lost, counted in
   tiltgate_audit_records_lost_total, said at error, and the trail says so itself afterwards.
 - [audit] when_full = "refuse": while the disk refuses, a write is refused (exception 04),
-  and taken again once the disk has room.
+  and so is a `tiltgate raw --via-gateway` that would change a sensor (a read goes through);
+  both are taken again once the disk has room.
 - `tiltgate audit --verify` exits 0 on the trails above, and 1 naming the record once one
   record was edited (its frame's CRC made right again, as a hostile hand would).
 
@@ -59,6 +60,16 @@ def records(tiltgate, state_dir):
     return json.loads(done.stdout) if done.returncode == 0 else []
 
 
+def raw_via_gateway(tiltgate, gateway, sim, function, data=None):
+    """`tiltgate raw --via-gateway` to the H6 at 223 through the gateway's control socket."""
+    command = [tiltgate, "raw", "--via-gateway", "--control-socket", gateway.control_socket,
+               "--port", sim.link, "--protocol", "rieker", "--address", "223",
+               "--function", str(function)]
+    if data is not None:
+        command += ["--data", data]
+    return subprocess.run(command, capture_output=True, text=True, timeout=30)
+
+
 def audit_metrics(gateway):
     """What a failed check shows: the trail's series of /metrics and the writes' exceptions."""
     return {k: v for k, v in gateway.metrics().items()
@@ -67,9 +78,11 @@ def audit_metrics(gateway):
 
 def gateway_on(t, tiltgate, sim, state_dir, name, audit_keys=""):
     gateway = Gateway(tiltgate, t.dir, sim, None, name=name)
+    gateway.control_socket = os.path.join(t.dir, name + ".sock")
     with open(gateway.config_path) as f:
         text = f.read()
     text = text.replace("[server]\n", '[server]\nwrites = true\nstate_dir = "%s"\n' % state_dir, 1)
+    text = text.replace('control_socket = ""', 'control_socket = "%s"' % gateway.control_socket)
     if audit_keys:
         text += "\n[audit]\n" + audit_keys + "\n"
     with open(gateway.config_path, "w") as f:
@@ -162,6 +175,13 @@ def refused_when_full(t, tiltgate, sim, disk):
             gateway.metric("tiltgate_audit_disk_refuses") == 1, audit_metrics(gateway))
     answer = modbus_write(gateway.modbus_port, 2)
     t.check("a write is then refused with exception 04", answer == "exception 4", answer)
+    raw = raw_via_gateway(tiltgate, gateway, sim, 41, "02")
+    t.check("and so is a raw Set Filter through the control socket, saying why",
+            raw.returncode != 0 and "audit trail" in raw.stderr, raw.stdout + raw.stderr)
+    raw = raw_via_gateway(tiltgate, gateway, sim, 37)
+    t.check("while a raw Get Serial, which changes nothing, is answered",
+            raw.returncode == 0 and "serial" in raw.stdout,
+            raw.stdout + raw.stderr)
     disk.free()
     t.check("once the disk has room again",
             wait_until(lambda: gateway.metric("tiltgate_audit_disk_refuses") == 0, WAIT),
@@ -170,8 +190,10 @@ def refused_when_full(t, tiltgate, sim, disk):
     t.check("writes are carried out again", answer == "ok", answer)
     refused = lambda: [r for r in records(tiltgate, state_dir)
                        if r["result"].startswith("refused: the audit trail's disk")]
-    t.check("and the refused write is in the trail with its reason",
-            wait_until(lambda: len(refused()) == 1, WAIT), records(tiltgate, state_dir))
+    t.check("and the refused write and raw request are in the trail with their reason",
+            wait_until(lambda: len(refused()) == 2, WAIT) and
+            "function 41 (set filter response)" in [r["setting"] for r in refused()],
+            records(tiltgate, state_dir))
     gateway.stop()
 
 

@@ -178,3 +178,41 @@ TEST_CASE("a Modbus write and a set through the control socket are audited with 
   CHECK(modbus.out.find("door control socket") == std::string::npos);
   CHECK(modbus.out.find("nak") == std::string::npos);  // only the newest
 }
+
+TEST_CASE("a raw request through the control socket that may change a sensor is one record of what the gateway carried, and a raw read is none") {
+  AuditedGateway plant;
+  auto raw = [&](int function, std::string data) {
+    std::vector<std::string> args{"raw",       "--via-gateway", "--control-socket", plant.socket,
+                                  "--port",    plant.tty,       "--protocol",       "rieker",
+                                  "--address", "223",           "--function",       std::to_string(function)};
+    if (!data.empty()) args.insert(args.end(), {"--data", data});
+    return run_tiltgate(args);
+  };
+  // Set Filter Response, without the unlock before it: the sensor refuses it (NAK 4), which
+  // the gateway reads from the reply itself.
+  const CommandResult written = raw(41, "05");
+  INFO("raw 41: " << written.out << written.err);
+  CHECK(written.exit_code == 1);
+  const CommandResult read = raw(37, "");  // Get Serial
+  INFO("raw 37: " << read.out << read.err);
+  CHECK(read.exit_code == 0);
+  const CommandResult set = plant.set_filter(3);  // its own record only, the setting's
+  INFO("set: " << set.out << set.err);
+  CHECK(set.exit_code == 0);
+  CommandResult all = plant.audit({"--door", "control socket"});
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (!has(all.out, "filter") && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(50ms);
+    all = plant.audit({"--door", "control socket"});
+  }
+  INFO("audit: " << all.out << all.err);
+  CHECK(has(all.out, "line1/boom function 41 (set filter response) = 05: nak 0x04\n"));
+  CHECK_FALSE(has(all.out, "function 37"));
+  CHECK_FALSE(has(all.out, "= 03:"));  // the set's transaction is not recorded beside it
+  CHECK(has(all.out, "line1/boom filter"));
+  std::size_t records = 0;
+  for (std::size_t at = all.out.find("door control socket"); at != std::string::npos;
+       at = all.out.find("door control socket", at + 1))
+    ++records;
+  CHECK(records == 2);
+}
