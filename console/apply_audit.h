@@ -17,6 +17,13 @@ inline void record_apply(AuditTrail* audit, const std::string& user, const std::
   record_console_change(audit, user, "", "config", "", changes, std::move(result));
 }
 
+// An attempt at the configuration refused before anything was tried (the role, a body that is
+// not a configuration text): `setting` "config" for an apply, "config confirm" for a confirm.
+inline void record_config_refused(AuditTrail* audit, const std::string& user,
+                                  std::string setting, const std::string& why) {
+  record_console_change(audit, user, "", std::move(setting), "", "", "refused: " + why);
+}
+
 inline void record_confirmed(AuditTrail* audit, const std::string& user,
                              const PendingApply& pending) {
   record_console_change(audit, user, "", "config confirm", "", pending.changes,

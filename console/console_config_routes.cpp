@@ -1,9 +1,11 @@
 // The web console's configuration routes: GET, check, PUT (an apply under a confirmation window,
 // docs/web-console.md, "Applying with a confirmation window"), confirm and the file's download.
 // The endpoint (console/config_endpoint.h) does the work; this part of the handler reads what
-// the gateway serves on the buses' thread and records the apply.
+// the gateway serves on the buses' thread and records the apply, and every refused attempt at
+// a change.
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <fmt/format.h>
 
 #include "console/apply_audit.h"
 #include "console/console_handler.h"
@@ -33,8 +35,15 @@ asio::awaitable<ConsoleHandler::ServedCopy> ConsoleHandler::served_copy() {
 asio::awaitable<HttpReply> ConsoleHandler::config_route(const HttpRequest& request,
                                                       std::string_view path,
                                                       const ConsoleSession& session) {
-  if (!role_allows(session.role, Role::admin))
+  if (!role_allows(session.role, Role::admin)) {
+    // An attempt to change it is recorded; a look, or a check, changes nothing and is not.
+    const bool apply = path == "/api/config" && request.method == "PUT";
+    if (apply || (path == "/api/config/confirm" && request.method == "POST"))
+      record_config_refused(context_.audit, session.user, apply ? "config" : "config confirm",
+                            fmt::format("the {} role may not change the configuration",
+                                        role_name(session.role)));
     co_return error_reply(403, "the configuration is for the admin role");
+  }
   // What the buses' thread says is served (a reload changes it): when it was loaded, for GET;
   // the configuration and how many loads, to diff an apply and to tell a confirm that came
   // after the applied file's reload. (Not a conditional expression around the co_await: g++ 12
@@ -76,7 +85,10 @@ HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_
   if (path != "/api/config") return error_reply(404, "no such configuration endpoint");
   if (method != "PUT") return error_reply(405, "GET the configuration, or PUT a new one");
   auto text = parse_config_text(request.body);
-  if (!text) return error_reply(400, text.error());
+  if (!text) {
+    record_config_refused(context_.audit, session.user, "config", text.error());
+    return error_reply(400, text.error());
+  }
   ApplyOutcome outcome;
   HttpReply reply = config_endpoint_.apply(*text, session.user, served, outcome);
   record_apply(context_.audit, session.user, outcome.changes, outcome.result);

@@ -2,11 +2,9 @@
 
 #include <sys/stat.h>
 
-#include <algorithm>
 #include <variant>
 
 #include <boost/asio/co_spawn.hpp>
-#include <boost/asio/this_coro.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -29,7 +27,6 @@ namespace {
 
 constexpr std::string_view kSensorPrefix = "/api/sensors/";
 constexpr std::string_view kSettingsSuffix = "/settings";
-constexpr std::string_view kBusPrefix = "/api/buses/";
 
 std::string_view path_of(std::string_view target) { return target.substr(0, target.find('?')); }
 
@@ -326,47 +323,6 @@ asio::awaitable<HttpReply> ConsoleHandler::settings(const HttpRequest& request,
   };
   co_return co_await asio::co_spawn(context_.gateway_executor, std::move(on_bus),
                                     asio::use_awaitable);
-}
-
-asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request,
-                                                      std::string_view path,
-                                                      const ConsoleSession& session) {
-  const bool scan = path.ends_with("/scan");
-  const std::string_view rest = path.substr(kBusPrefix.size());
-  const auto bus = path_name(rest.substr(0, rest.rfind('/')));
-  if (!bus) co_return error_reply(404, "no such bus");
-  const ServedFacts facts = co_await served_facts();
-  if (std::find(facts.buses.begin(), facts.buses.end(), *bus) == facts.buses.end())
-    co_return error_reply(404, "no such bus");
-  if (!bus_actions_) {
-    // Not one expression with the co_await: g++ 12 destroys its temporaries twice.
-    const asio::any_io_executor here = co_await asio::this_coro::executor;
-    BusActionSetup setup{context_.config_path, context_.control_socket};
-    bus_actions_ = std::make_unique<BusActions>(here, std::move(setup));
-  }
-  if (scan && request.method == "GET")
-    co_return json_reply(200, bus_actions_->scan_state(*bus));
-  if (request.method != "POST") co_return error_reply(405, "POST to start it");
-  if (!role_allows(session.role, Role::admin))
-    co_return error_reply(403, scan ? "a scan is for the admin role" : "raw frames are for the admin role");
-  unsigned status = 200;
-  if (scan) {
-    auto asked = parse_scan_request(request.body);
-    if (!asked) co_return error_reply(400, asked.error());
-    json body = bus_actions_->start_scan(*bus, *asked, session.user, status);
-    record(session, *bus, "scan", "", fmt::format("{}..{}", asked->from, asked->to),
-           status == 202 ? "ok" : "refused: " + body.value("error", std::string()));
-    co_return json_reply(status, body);
-  }
-  auto asked = parse_raw_request(request.body);
-  if (!asked) co_return error_reply(400, asked.error());
-  const std::string what = fmt::format("address {} function {} data {}", asked->address,
-                                       asked->function, asked->data.empty() ? "-" : asked->data);
-  json body = co_await bus_actions_->raw(*bus, *asked, session.user, status);
-  const std::string error = body["error"].is_string() ? body["error"].get<std::string>() : "";
-  record(session, *bus, "raw", "", what,
-         error.empty() ? (body["received"].is_null() ? "timeout" : "ok") : "error: " + error);
-  co_return json_reply(status, body);
 }
 
 }  // namespace tiltgate

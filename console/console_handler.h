@@ -90,6 +90,8 @@ class ConsoleHandler {
   boost::asio::awaitable<HttpReply> api(const HttpRequest& request, const ConsoleSession& session);
   boost::asio::awaitable<HttpReply> settings(const HttpRequest& request, std::string_view path,
                                              const ConsoleSession& session);
+  // /api/buses/NAME/scan and /api/buses/NAME/raw (console/console_bus_routes.cpp).
+  static constexpr std::string_view kBusPrefix = "/api/buses/";
   boost::asio::awaitable<HttpReply> bus_action(const HttpRequest& request, std::string_view path,
                                                const ConsoleSession& session);
   boost::asio::awaitable<HttpReply> config_route(const HttpRequest& request, std::string_view path,

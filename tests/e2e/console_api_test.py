@@ -334,8 +334,9 @@ def scenario(t):
             any(r["setting"] == "bus_address" and r["result"].startswith("refused")
                 for r in records) and
             any(r["setting"] == "config" and r["who"] == "bob" for r in records) and
-            any(r["setting"] == "scan" for r in records) and
-            any(r["setting"] == "raw" for r in records), records[:10])
+            any(r["setting"] == "scan" and r["who"] == "bob" and r["result"] == "ok"
+                for r in records) and
+            any(r["setting"] == "raw" and r["who"] == "bob" for r in records), records[:10])
 
     attacker = Client(http_port)
     codes = [attacker.login("mallory", "guess%d" % i)[0] for i in range(5)]
