@@ -62,6 +62,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
 BAUD = 115200
+# The trail keeps some 15,000 records on disk (docs/operations.md, "The audit trail"): a round
+# with more writes than this is not counted against it.
+MOST_WRITES_COUNTED = 12000
 CACHED_SLAVE, CACHED_UNIT, PASSED_SLAVE = 17, 1, 30
 PROFILE = os.path.join(ROOT, "examples", "devices", "rtu-inclinometer.toml")
 # The new binary's keys the old one does not know (issue 51's request admission).
@@ -84,6 +87,13 @@ class PassThroughGateway:
             if os.path.exists(link):
                 break
             time.sleep(0.05)
+        try:
+            self.start_gateway(binary, folder, link, max_clients)
+        except BaseException:
+            stop(self.sim)  # nothing of a failed start is left running
+            raise
+
+    def start_gateway(self, binary, folder, link, max_clients):
         self.port = distinct_port()
         config = os.path.join(folder, "bench.toml")
         # offline = "last": a poll the busy machine answers late must not turn the readers'
@@ -137,7 +147,7 @@ device = "{PROFILE}"
                 if not reply[0] & 0x80:
                     return
                 time.sleep(0.1)
-        self.stop()
+        stop(self.process)
         sys.exit(f"{self.binary}: the cached sensor never answered")
 
     def peak_rss_kib(self):
@@ -267,7 +277,8 @@ def run_round(round_, binaries, args, folder, scenarios, load_binary):
             g.stop()
     writes = {name: sum(w["requests"] for (n, _, f), w in windows.items() if n == name and f == 6)
               for name in gateways}
-    records = {name: g.audit_records("function 06") for name, g in gateways.items()}
+    records = {name: g.audit_records("function 06") if writes[name] <= MOST_WRITES_COUNTED
+               else None for name, g in gateways.items()}
     return windows, rss, writes, records
 
 
@@ -335,17 +346,19 @@ def report(rounds, scenarios, args, load_before, load_after):
                 f"| {ratio('readers_per_s'):.3f} |" if readers else "| - | - | - |")
         print(row)
     print()
-    print("| binary | peak RSS (MiB) | FC 06 answered | audit records of FC 06 "
-          "| exception answers to the pass-through client |")
+    # Only the rounds whose writes the trail can hold all (MOST_WRITES_COUNTED) are counted.
+    counted = [r for r in rounds if None not in r[3].values()]
+    print(f"| binary | peak RSS (MiB) | FC 06 answered (rounds counted: {len(counted)}) "
+          "| audit records of FC 06 | exception answers to the pass-through client |")
     print("| --- | ---: | ---: | ---: | ---: |")
     for name in ("new", "old"):
         rss = statistics.median(r[1][name] for r in rounds) / 1024
-        writes = sum(r[2][name] for r in rounds)
-        records = sum(r[3][name] for r in rounds)
+        writes = sum(r[2][name] for r in counted)
+        records = sum(r[3][name] for r in counted)
         exceptions = sum(w["exceptions"] for r in rounds for (n, _, _), w in r[0].items()
                          if n == name)
         print(f"| {name} | {rss:.1f} | {writes} | {records} | {exceptions} |")
-    new_writes, new_records = (sum(r[i]["new"] for r in rounds) for i in (2, 3))
+    new_writes, new_records = (sum(r[i]["new"] for r in counted) for i in (2, 3))
     if new_records != new_writes:
         sys.exit(f"\nThe new binary's trail holds {new_records} records of FC 06 for "
                  f"{new_writes} writes answered")
