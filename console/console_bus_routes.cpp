@@ -73,9 +73,14 @@ asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request
   if (!admin) co_return refused(403, "raw frames are for the admin role", what);
   if (!asked) co_return refused(400, asked.error(), what);
   json body = co_await bus_actions_->raw(*bus, *asked, session.user, status);
-  const std::string error = body["error"].is_string() ? body["error"].get<std::string>() : "";
-  record(session, *bus, setting, "", what,
-         error.empty() ? (body["received"].is_null() ? "timeout" : "ok") : "error: " + error);
+  // A frame the line carried is the gateway's to record: the control socket records it, for
+  // this user, from what it carried and got back when it may have changed the device, and a
+  // read not at all (control/carried_change.h). One that never reached the line is this
+  // door's, with why.
+  if (body["sent"].is_null()) {
+    const std::string error = body["error"].is_string() ? body["error"].get<std::string>() : "";
+    record(session, *bus, setting, "", what, "error: " + (error.empty() ? "not sent" : error));
+  }
   co_return json_reply(status, body);
 }
 

@@ -10,7 +10,7 @@ using namespace tiltgate::modbus_rtu;
 using tiltgate::modbus_rtu::test::framed;
 using tiltgate::modbus_rtu::test::hex;
 
-TEST_CASE("an RTU write is a change with its function and data; a read is not") {
+TEST_CASE("an RTU write is a change with its function and data, and a read is not") {
   const auto write = read_rtu_request(framed("11 06 0001 0003"));
   REQUIRE(write);
   CHECK(write->address == 17);

@@ -19,7 +19,7 @@ std::vector<std::uint8_t> nine_bit(std::uint8_t address, std::string_view line) 
 
 }  // namespace
 
-TEST_CASE("a 9-bit write EEPROM or reset may change the module; the reads do not") {
+TEST_CASE("a 9-bit write EEPROM or reset may change the module, and the reads do not") {
   const auto write = read_nine_bit_request(nine_bit(7, "E100 355\r\n"));
   REQUIRE(write);
   CHECK(write->address == 7);
@@ -40,7 +40,7 @@ TEST_CASE("a 9-bit request without CR LF or with an unknown command is not read"
   CHECK_FALSE(read_nine_bit_request({}));
 }
 
-TEST_CASE("a Modbus-ASCII write EEPROM may change the module; a read sensor does not") {
+TEST_CASE("a Modbus-ASCII write EEPROM may change the module, and a read sensor does not") {
   const auto write = read_ascii_request(test::bytes(":0268006401639C\r\n"));
   REQUIRE(write);
   CHECK(write->address == 2);
