@@ -59,9 +59,14 @@ boost::asio::awaitable<HttpReply> SettingsEndpoint::change(std::string name, Set
   const auto setting = std::find_if(list.begin(), list.end(), [&](const SensorSetting& s) {
     return s.name == asked.setting;
   });
-  if (setting == list.end())
-    co_return error_reply(400, fmt::format("{} is not a setting of {}'s map", asked.setting,
-                                           sensor->config.name));
+  if (setting == list.end()) {
+    // A refused attempt is one record too, with the reason the reply gives.
+    const std::string why =
+        fmt::format("{} is not a setting of {}'s map", asked.setting, sensor->config.name);
+    record_console_change(audit_, user, full_name, asked.setting, "", number_text(asked.value),
+                          "refused: " + why);
+    co_return error_reply(400, why);
+  }
   const Role needed = role_to_write(*setting, asked.value) == SettingRole::operator_
                           ? Role::operator_
                           : Role::admin;

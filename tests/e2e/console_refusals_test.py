@@ -84,7 +84,9 @@ def scenario(t):
             ("/api/config", {"text": "[server]\n", "confirm_s": 1}, "config",
              "\"confirm_s\" is 1, expected 5 to 3600 seconds"),
             ("/api/buses/line1/scan", {"from": "one"}, "scan", "\"from\" is not a whole number"),
-            ("/api/buses/line1/raw", {"address": 223}, "raw", "\"function\" is missing")):
+            ("/api/buses/line1/raw", {"address": 223}, "raw", "\"function\" is missing"),
+            ("/api/sensors/boom/settings", {"setting": "nosuch", "value": 1}, "nosuch",
+             "nosuch is not a setting of boom's map")):
         before = [r for r in console_records(bob) if r["who"] == "bob"]
         status, reply = bob.request("PUT" if path == "/api/config" else "POST", path, body)
         after = [r for r in console_records(bob) if r["who"] == "bob"]
