@@ -19,60 +19,21 @@ import json
 import os
 import signal
 import socket
-import subprocess
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sparkplug"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from console_gateway import ConsoleGateway  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
-from spb_e2e.plant import Simulator  # noqa: E402
 from spb_e2e import processes  # noqa: E402
-
-CONFIG = """[server]
-listen = "127.0.0.1"
-port = %(modbus)d
-control_socket = ""
-state_dir = "%(dir)s/state"
-
-[http]
-listen = "127.0.0.1"
-port = %(http)d
-users_file = "%(users)s"
-%(http_keys)s
-
-[[bus]]
-name = "line1"
-port = "%(tty)s"
-protocol = "rieker"
-
-[[sensor]]
-name = "boom"
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-"""
 
 
 def scenario(t):
     tiltgate, _ = arguments()
-    users = os.path.join(t.dir, "users")
-    subprocess.run([tiltgate, "user", "add", "bob", "--role", "admin", "--users-file", users],
-                   input="admin-pass-22\n", text=True, check=True, capture_output=True,
-                   timeout=30)
-    sim = Simulator(tiltgate, t.dir)
-    keys = {"modbus": processes.free_port(), "http": processes.free_port(), "dir": t.dir,
-            "users": users, "tty": sim.link}
-    port = keys["http"]
-    config = os.path.join(t.dir, "gateway.toml")
-
-    def write_config(http_keys=""):
-        with open(config, "w") as f:
-            f.write(CONFIG % dict(keys, http_keys=http_keys))
-    write_config()
-    log_path = os.path.join(t.dir, "gateway.log")
-    t.logs.append(("gateway", log_path))
-    gateway = processes.start([tiltgate, "run", "--config", config],
-                              stdout=open(log_path, "w"), stderr=subprocess.STDOUT)
+    plant = ConsoleGateway(t, tiltgate, "bob")
+    port = plant.http_port
+    log_path = plant.log_path
+    plant.start()
+    gateway = plant.process
 
     def request(method, path, host=None, body=None):
         """(status, headers with lower-case names, body); `host` replaces the Host header."""
@@ -88,14 +49,8 @@ def scenario(t):
         r = c.getresponse()
         return r.status, {k.lower(): v for k, v in r.getheaders()}, r.read().decode()
 
-    def serving():
-        if gateway.poll() is not None:
-            return False
-        try:
-            return request("GET", "/healthz")[0] == 200
-        except OSError:
-            return False
-    t.check("the gateway serves", processes.wait_until(serving, 20), processes.tail(log_path))
+    t.check("the gateway serves", processes.wait_until(plant.serving, 20),
+            processes.tail(log_path))
 
     # The headers, on every kind of answer.
     for path, kind in (("/", "text/html"), ("/status_page.js", "text/javascript"),
@@ -149,7 +104,7 @@ def scenario(t):
     t.check("a login under Host localhost works", status == 200, (status, body))
 
     # [http] server_names written, applied by a reload.
-    write_config('server_names = ["gw-3.plant.example"]')
+    plant.write_config('server_names = ["gw-3.plant.example"]')
     gateway.send_signal(signal.SIGHUP)
 
     def named_only():

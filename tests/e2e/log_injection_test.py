@@ -20,38 +20,15 @@ import signal
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sparkplug"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from console_gateway import ConsoleGateway  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
-from spb_e2e.plant import Simulator  # noqa: E402
 from spb_e2e import processes  # noqa: E402
 
 FORGED_LINE = "2026-12-06 03:50:00.000 info  web console: admin1 logged in"
 FORGED_NAME = "x\n" + FORGED_LINE
 SHOWN = "x\\n" + FORGED_LINE  # what the log should show: the newline as backslash and n
 
-CONFIG = """[server]
-listen = "127.0.0.1"
-port = %(modbus)d
-control_socket = ""
-state_dir = "%(dir)s/state"
-
-[http]
-listen = "127.0.0.1"
-port = %(http)d
-users_file = "%(users)s"
-
-[[bus]]
-name = "line1"
-port = "%(tty)s"
-protocol = "rieker"
-
-[[sensor]]
-name = %(sensor)s
-bus = "line1"
-model = "h6"
-address = 223
-unit_id = 1
-"""
 
 
 def forged_lines(log_path, since=0):
@@ -68,40 +45,20 @@ def log_shows(log_path, text):
 
 def scenario(t):
     tiltgate, _ = arguments()
-    users = os.path.join(t.dir, "users")
-    subprocess.run([tiltgate, "user", "add", "admin1", "--role", "admin", "--users-file", users],
-                   input="admin-pass-22\n", text=True, check=True, capture_output=True,
-                   timeout=30)
-    sim = Simulator(tiltgate, t.dir)
-    ports = {"modbus": processes.free_port(), "http": processes.free_port(), "dir": t.dir,
-             "users": users, "tty": sim.link}
-    config = os.path.join(t.dir, "gateway.toml")
-
-    def write_config(sensor_name):
-        with open(config, "w") as f:
-            f.write(CONFIG % dict(ports, sensor=json.dumps(sensor_name)))
-    write_config("boom")
-    log_path = os.path.join(t.dir, "gateway.log")
-    t.logs.append(("gateway", log_path))
-    gateway = processes.start([tiltgate, "run", "--config", config],
-                              stdout=open(log_path, "w"), stderr=subprocess.STDOUT)
+    plant = ConsoleGateway(t, tiltgate, "admin1")
+    log_path = plant.log_path
+    plant.start()
+    gateway = plant.process
 
     def request(method, path, body=None):
-        c = http.client.HTTPConnection("127.0.0.1", ports["http"], timeout=10)
+        c = http.client.HTTPConnection("127.0.0.1", plant.http_port, timeout=10)
         headers = {"Content-Type": "application/json"} if body is not None else {}
         c.request(method, path, body=json.dumps(body) if body is not None else None,
                   headers=headers)
         r = c.getresponse()
         return r.status, r.read().decode()
 
-    def serving():
-        if gateway.poll() is not None:
-            return False
-        try:
-            return request("GET", "/healthz")[0] == 200
-        except OSError:
-            return False
-    t.check("the gateway serves", processes.wait_until(serving, 20), processes.tail(log_path))
+    t.check("the gateway serves", processes.wait_until(plant.serving, 20), processes.tail(log_path))
 
     # The console's login, its user name the forged text.
     before = os.path.getsize(log_path)
@@ -112,11 +69,11 @@ def scenario(t):
             processes.tail(log_path))
     t.check("the log has no forged line after the login", not forged_lines(log_path, before),
             forged_lines(log_path, before))
-    t.check("the gateway still serves after the forged login", serving())
+    t.check("the gateway still serves after the forged login", plant.serving())
 
     # The configuration file, a sensor's name the forged text: the reload is refused, and the
     # error quotes the name.
-    write_config(FORGED_NAME)
+    plant.write_config(sensor=FORGED_NAME)
     before = os.path.getsize(log_path)
     gateway.send_signal(signal.SIGHUP)
     t.check("the reload with the forged sensor name is refused, the name shown with \\n",
@@ -124,11 +81,11 @@ def scenario(t):
                                  10), processes.tail(log_path))
     t.check("the log has no forged line after the reload", not forged_lines(log_path, before),
             forged_lines(log_path, before))
-    t.check("the gateway still serves after the refused reload", serving())
+    t.check("the gateway still serves after the refused reload", plant.serving())
 
     # `tiltgate check` prints the same error on stderr, which is the journal under systemd.
-    checked = subprocess.run([tiltgate, "check", "--config", config], capture_output=True,
-                             text=True, timeout=30)
+    checked = subprocess.run([tiltgate, "check", "--config", plant.config_path],
+                             capture_output=True, text=True, timeout=30)
     printed = checked.stdout + checked.stderr
     t.check("tiltgate check shows the forged name with \\n and prints no forged line",
             checked.returncode != 0 and SHOWN in printed and
