@@ -385,20 +385,23 @@ std::optional<std::string> BusScheduler::note_setting(std::uint32_t address, Wri
 void BusScheduler::note_carried(std::optional<std::uint32_t> address, std::string function,
                                 std::string data, std::string result, std::int64_t unix_ms,
                                 const WriteOrigin& by) {
-  if (audit_ == nullptr) return;
-  const Polled* polled = address ? find_polled(*address) : nullptr;
-  std::string sensor = name_;
-  if (address) sensor += "/" + (polled ? polled->sensor->config.name : std::to_string(*address));
-  audit_->record({unix_ms, by, std::move(sensor), std::move(function), "", std::move(data),
-                  std::move(result)});
+  if (address) {
+    const Polled* polled = find_polled(*address);
+    record_command(by, polled ? polled->sensor.get() : nullptr, *address, std::move(function), "",
+                   std::move(data), std::move(result), unix_ms);
+  } else if (audit_ != nullptr) {  // the bus's, the device not known
+    audit_->record({unix_ms, by, name_, std::move(function), "", std::move(data),
+                    std::move(result)});
+  }
 }
 
 void BusScheduler::record_command(const WriteOrigin& by, const GatewaySensor* sensor,
                                   std::uint32_t address, std::string setting,
                                   std::string old_value, std::string new_value,
-                                  std::string result) const {
+                                  std::string result, std::int64_t unix_ms) const {
   if (audit_ == nullptr) return;
   AuditRecord record;
+  record.unix_ms = unix_ms;
   record.origin = by;
   record.sensor = name_ + "/" + (sensor ? sensor->config.name : std::to_string(address));
   record.setting = std::move(setting);

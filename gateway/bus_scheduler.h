@@ -195,10 +195,11 @@ class BusScheduler {
   void reschedule(Polled& polled);
   Polled* find_polled(std::uint32_t address);
   // A commissioning command's change, in the audit trail: the sensor's ("bus/sensor"), or
-  // the device's at `address` ("bus/223") when no configured sensor is there.
+  // the device's at `address` ("bus/223") when no configured sensor is there; at `unix_ms`
+  // (0: now).
   void record_command(const WriteOrigin& by, const GatewaySensor* sensor, std::uint32_t address,
                       std::string setting, std::string old_value, std::string new_value,
-                      std::string result) const;
+                      std::string result, std::int64_t unix_ms = 0) const;
   // Known offline, or its poll waits to retry after an attempt it did not answer.
   bool not_answering(const GatewaySensor& sensor) const;
 
