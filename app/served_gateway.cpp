@@ -5,6 +5,7 @@
 
 #include "app/audit_journal.h"
 #include "app/journal_log.h"
+#include "driver/family_commands.h"
 
 namespace tiltgate {
 
@@ -20,6 +21,7 @@ ConsoleContext console_context(AuditTrail& audit, FamilyList families, ConfirmWi
   ConsoleContext context;
   context.audit = &audit;
   context.families = families;
+  context.commands = registered_family_commands();
   context.reload = reload_by_hangup;
   context.confirm_window = &window;
   return context;

@@ -11,6 +11,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include "control/setting_claim.h"
 #include "gateway/driver_registry.h"
 #include "gateway/serial_options.h"
 
@@ -79,9 +80,11 @@ CommissionBus::~CommissionBus() {
 void CommissionBus::stop() {
   if (serial_) serial_->stop();
   if (remote_) remote_->stop();
+  if (served_) served_->stop();
 }
 
 void CommissionBus::address_changing(std::uint32_t from) {
+  if (served_) served_->hold(from);
   if (!remote_) return;
   if (const auto held = remote_->hold(from); !held)
     std::cerr << fmt::format("warning: the gateway was not told of the move ({}): its polls of "
@@ -90,6 +93,7 @@ void CommissionBus::address_changing(std::uint32_t from) {
 }
 
 void CommissionBus::address_changed(std::uint32_t from, std::uint32_t to) {
+  if (served_) served_->follow(from, to);
   if (!remote_) return;
   const auto followed = remote_->follow(from, to);
   if (!followed)
@@ -105,7 +109,7 @@ void CommissionBus::address_changed(std::uint32_t from, std::uint32_t to) {
 void CommissionBus::setting_changed(std::uint32_t address, WriteTarget setting, double value,
                                     const WriteResult& result,
                                     std::optional<std::uint8_t> refusal_code) {
-  if (!remote_) return;
+  if (!remote_ && !served_) return;
   control::SettingChanged changed{address, setting.id, value, std::nullopt, false};
   if (!result) {
     const WriteError& error = result.error();
@@ -118,14 +122,18 @@ void CommissionBus::setting_changed(std::uint32_t address, WriteTarget setting, 
     else
       return;  // not the sensor's answer: nothing was changed, nor refused by it
   }
+  if (served_) {
+    served_->setting_changed(address, setting, value, control::setting_result(changed), true);
+    return;
+  }
   if (const auto told = remote_->setting_changed(changed); !told)
     std::cerr << fmt::format("warning: the gateway was not told of the change: {}; its holding "
                              "registers show the setting's old value\n",
                              told.error());
 }
 
-Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus::open(
-    boost::asio::any_io_executor executor, const CommissionTarget& target) {
+Expected<std::vector<CommissionedSensor>, CommissionBus::OpenError> CommissionBus::make_sensors(
+    const CommissionTarget& target) {
   std::vector<CommissionedSensor> sensors;
   for (const SensorConfig& sensor : target.sensors) {
     if (target.without_drivers) {
@@ -139,11 +147,18 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
                          sensor.model, target.bus.protocol)}};
     sensors.push_back({sensor, std::move(driver), target.model_source});
   }
+  return sensors;
+}
+
+Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus::open(
+    boost::asio::any_io_executor executor, const CommissionTarget& target) {
+  auto sensors = make_sensors(target);
+  if (!sensors) return Unexpected{sensors.error()};
   auto remote = bus_through_gateway(executor, target);
   if (!remote) return Unexpected{remote.error()};
   if (*remote) {
     std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, -1));
-    bus->sensors_ = std::move(sensors);
+    bus->sensors_ = std::move(*sensors);
     bus->config_.baud = (*remote)->bus().baud;
     bus->remote_ = remote->get();
     bus->remote_->set_defaults({target.bus.timeout, target.bus.retries, target.bus.late_guard});
@@ -153,9 +168,22 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
   auto lock = open_and_lock(target.bus.port);
   if (!lock) return Unexpected{OpenError{1, lock.error()}};
   std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, *lock));
-  bus->sensors_ = std::move(sensors);
+  bus->sensors_ = std::move(*sensors);
   bus->executor_ = executor;
   if (auto started = bus->start_line(); !started) return Unexpected{OpenError{1, started.error()}};
+  return bus;
+}
+
+Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus::on_served_line(
+    const CommissionTarget& target, std::unique_ptr<ServedBusLine> line) {
+  auto sensors = make_sensors(target);
+  if (!sensors) return Unexpected{sensors.error()};
+  std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, -1));
+  bus->sensors_ = std::move(*sensors);
+  bus->config_.baud = line->bus().config.baud;
+  bus->served_ = line.get();
+  bus->served_->set_defaults({target.bus.timeout, target.bus.retries, target.bus.late_guard});
+  bus->line_ = std::move(line);
   return bus;
 }
 
@@ -170,10 +198,11 @@ Expected<Done, std::string> CommissionBus::start_line() {
 
 Expected<Done, std::string> CommissionBus::reopen_at(std::uint32_t baud) {
   // The running gateway's bus stays at its rate: its other sensors are set to it.
-  if (remote_)
+  if (remote_ || served_)
     return Unexpected{fmt::format("the running gateway keeps bus {} at {} baud; another rate "
                                   "needs the tty: stop the gateway first",
-                                  remote_->bus().name, config_.baud)};
+                                  remote_ ? remote_->bus().name : served_->bus().config.name,
+                                  config_.baud)};
   // Over raw TCP the far port's rate is the device server's own setting.
   if (const auto port = parse_port(config_.port); port && port->scheme == PortScheme::tcp)
     return Unexpected{fmt::format("{} is raw TCP: the device server keeps its port at {} baud "

@@ -17,6 +17,7 @@
 #include "driver/sensor_driver.h"
 #include "commission/commission_options.h"
 #include "control/remote_line.h"
+#include "control/served_bus_line.h"
 #include "serial/serial_line.h"
 
 namespace tiltgate {
@@ -43,6 +44,10 @@ class CommissionBus {
 
   static Expected<std::unique_ptr<CommissionBus>, OpenError> open(
       boost::asio::any_io_executor executor, const CommissionTarget& target);
+  // The bus a command runs on inside the gateway (the web console's): `line` on the bus the
+  // gateway serves, whose baud it keeps. The sensors' drivers are made as open() makes them.
+  static Expected<std::unique_ptr<CommissionBus>, OpenError> on_served_line(
+      const CommissionTarget& target, std::unique_ptr<ServedBusLine> line);
   ~CommissionBus();
   CommissionBus(const CommissionBus&) = delete;
   CommissionBus& operator=(const CommissionBus&) = delete;
@@ -56,8 +61,8 @@ class CommissionBus {
   std::vector<CommissionedSensor>& sensors() { return sensors_; }
   // Cancels what is on the line; a suspended poll returns at once.
   void stop();
-  // Whether the bus is a running gateway's, reached through its control socket.
-  bool through_gateway() const { return remote_ != nullptr; }
+  // Whether the bus is a running gateway's, reached through its control socket or in it.
+  bool through_gateway() const { return remote_ != nullptr || served_ != nullptr; }
 
   // A command is about to move the sensor at `from` (set address): a running gateway that
   // owns the bus stops polling it, so that no poll at the old address fails while it moves,
@@ -83,6 +88,9 @@ class CommissionBus {
 
  private:
   CommissionBus(BusConfig config, FamilyList families, int lock_fd);
+  // The target's sensors, each with its driver unless the target goes without.
+  static Expected<std::vector<CommissionedSensor>, OpenError> make_sensors(
+      const CommissionTarget& target);
   Expected<Done, std::string> start_line();
 
   boost::asio::any_io_executor executor_;
@@ -92,6 +100,7 @@ class CommissionBus {
   std::unique_ptr<Line> line_;
   SerialLine* serial_ = nullptr;  // line_, on a tty of our own
   RemoteLine* remote_ = nullptr;  // line_, through a gateway
+  ServedBusLine* served_ = nullptr;  // line_, in the gateway
   std::vector<CommissionedSensor> sensors_;
 };
 

@@ -1,12 +1,12 @@
-// `tiltgate raw`: the vendor User App's command section. One request built by the bus's family
-// from a function number and data (RawDescriptor, driver/family_commands.h), sent once; the exact bytes
-// each way in hex, the checksum's verdict from the family's framer, and the reply decoded.
+// `tiltgate raw` on the command line: the engine's request (commission/raw_engine.h) shown as
+// text, the exact bytes each way in hex, the checksum's verdict and the reply decoded.
 #include <fmt/format.h>
 #include <iostream>
 
-#include "driver/hex.h"
 #include "commission/commands.h"
 #include "commission/commission_run.h"
+#include "commission/event_text.h"
+#include "commission/raw_engine.h"
 
 namespace tiltgate {
 
@@ -14,71 +14,25 @@ namespace {
 
 namespace asio = boost::asio;
 
-struct RawOptions {
-  std::int64_t function = 0;
-  std::string data;  // hex bytes; empty: none
-};
-
-std::string sent_text(const LineRequest& request) {
-  std::string text = "sent:     " + hex_bytes(request.bytes);
-  if (request.address_bytes > 0)
-    text += fmt::format("  (the first {} with the 9th bit set)",
-                        request.address_bytes == 1 ? std::string("byte")
-                                                   : fmt::format("{} bytes", request.address_bytes));
-  return text;
-}
-
-asio::awaitable<int> raw_work(CommissionBus& bus, const bool& stopping, const RawOptions& raw,
-                              FamilyCommandsList commands) {
-  if (bus.sensors().size() != 1) {
-    std::cerr << "tiltgate raw: give one sensor (--address A, or --config FILE --sensor NAME)\n";
-    co_return 2;
+// The request's events as the command line shows them: the bytes each way and the reply
+// decoded on stdout, a failure as "tiltgate raw: ..." on stderr.
+void show(const CommissionEvent& event) {
+  if (const auto* exchange = std::get_if<ExchangeEvent>(&event)) {
+    std::cout << exchange_text(*exchange) << std::flush;
+  } else if (const auto* failed = std::get_if<FailedEvent>(&event)) {
+    std::cerr << "tiltgate raw: " << failed->message << "\n";
+  } else if (const auto* note = std::get_if<NoteEvent>(&event)) {
+    std::cerr << "tiltgate raw: " << (note->warning ? "warning: " : "") << note->text << "\n";
   }
-  const CommissionedSensor& sensor = bus.sensors().front();
-  const ProtocolEntry protocol = find_protocol(bus.families(), bus.config().protocol);
-  const FamilyCommands* family = find_commands(commands, protocol.family);
-  if (!family || !family->raw.make) {
-    std::cerr << fmt::format("tiltgate raw: no raw requests on a {} bus\n", bus.config().protocol);
-    co_return 2;
-  }
-  const std::optional<std::vector<std::uint8_t>> data = parse_hex_bytes(raw.data);
-  if (!data) {
-    std::cerr << fmt::format("tiltgate raw: --data: \"{}\" is not hex bytes (e.g. \"01 0A\")\n", raw.data);
-    co_return 2;
-  }
-  const RawSetup setup{bus.config().protocol, sensor.config.address, bus.config().master_address,
-                       raw.function, *data};
-  auto exchange = family->raw.make(setup);
-  if (!exchange) {
-    std::cerr << "tiltgate raw: " << exchange.error() << "\n";
-    co_return 2;
-  }
-  LineRequest request = (*exchange)->request();
-  // Sent once: a raw request may change the sensor, and a repeat could land twice.
-  request.retries = 0;
-  std::cout << sent_text(request) << "\n" << std::flush;
-  const ReplyFramer& framer = *request.framer;
-  const auto result = co_await bus.line().transact(std::move(request));
-  if (stopping) co_return 0;
-  const FramerReport report = framer.report();
-  if (!result) {
-    std::cout << "received: nothing"
-              << (report.rejected_verdict.empty() ? "" : " valid (" + report.rejected_verdict + ")")
-              << "\n";
-    std::cerr << "tiltgate raw: " << bus.no_reply_message(sensor) << "\n";
-    co_return 1;
-  }
-  std::cout << fmt::format("received: {}  ({})\n", hex_bytes(report.reply), report.reply_verdict);
-  const RawReply reply = (*exchange)->decode();
-  std::cout << reply.text << "\n" << std::flush;
-  co_return reply.refused ? 1 : 0;
 }
 
 int raw_command(const BusOptions& options, const RawOptions& raw, FamilyList families,
                 FamilyCommandsList commands) {
   return run_commissioning("raw", options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
-                             co_return co_await raw_work(bus, stopping, raw, commands);
+                             const EventSink report = show;
+                             co_return co_await raw_exchange(bus, raw, commands, report,
+                                                             stopping);
                            });
 }
 

@@ -174,29 +174,31 @@ std::string progress_line(std::size_t done, std::size_t total, std::uint32_t bau
   return line;
 }
 
-std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor>& found,
-                             const std::vector<SensorKeyValue>& sensor_keys) {
+namespace {
+
+// The rate the configuration is written at: the first sensor's that answered clearly.
+std::uint32_t configured_baud(const BusConfig& bus, const std::vector<FoundSensor>& found) {
   const auto first = std::find_if(found.begin(), found.end(),
                                   [](const FoundSensor& s) { return !s.collision; });
-  const std::uint32_t baud = first == found.end() ? bus.baud : first->baud;
-  const std::string bus_name = bus.name == kCommandLineBus ? "line1" : bus.name;
-  std::string text =
-      "# Written by `tiltgate scan`: the sensors that answered on this bus.\n"
-      "# Edit each sensor's name (what it measures, e.g. \"boom\") and its unit_id (the Modbus\n"
-      "# unit id the PLC reads it at), then: tiltgate check --config THIS_FILE\n";
-  text += fmt::format("\n[[bus]]\nname = {}\nport = {}\nprotocol = {}\n", toml_string(bus_name),
-                      toml_string(bus.port), toml_string(bus.protocol));
-  // A bus without a serial line (devices that speak TCP) has no rate to write.
-  if (baud != 0) text += fmt::format("baud = {}\n", baud);
-  if (bus.framing)
-    text += fmt::format("parity = {}\nstop_bits = {}\n", toml_string(parity_name(*bus.framing)),
-                        stop_bits_of(*bus.framing));
-  if (bus.master_address != 0) text += fmt::format("master_address = {}\n", bus.master_address);
+  return first == found.end() ? bus.baud : first->baud;
+}
+
+std::string written_bus_name(const BusConfig& bus) {
+  return bus.name == kCommandLineBus ? "line1" : bus.name;
+}
+
+}  // namespace
+
+std::vector<SensorTable> sensor_tables(const BusConfig& bus, const std::vector<FoundSensor>& found,
+                                       const std::vector<SensorKeyValue>& sensor_keys) {
+  const std::uint32_t baud = configured_baud(bus, found);
+  const std::string bus_name = written_bus_name(bus);
+  std::vector<SensorTable> tables;
   int unit_id = 1;
   for (const FoundSensor& s : found) {
     if (s.collision || s.baud != baud) continue;
-    text += fmt::format("\n[[sensor]]\nname = {}    # edit: what it measures\n",
-                        toml_string(fmt::format("sensor_{}", s.address)));
+    std::string text = fmt::format("[[sensor]]\nname = {}    # edit: what it measures\n",
+                                   toml_string(fmt::format("sensor_{}", s.address)));
     text += fmt::format("bus = {}\n", toml_string(bus_name));
     if (!s.model.empty()) text += fmt::format("model = {}\n", toml_string(s.model));
     text += fmt::format("address = {}\nunit_id = {}    # edit: the PLC's unit id for it\n",
@@ -209,7 +211,29 @@ std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor
                           or_dash(s.firmware));
     else if (!s.firmware.empty())
       text += fmt::format("# serial -, firmware {}\n", s.firmware);
+    tables.push_back({s.address, s.model, s.serial, s.firmware, std::move(text)});
   }
+  return tables;
+}
+
+std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor>& found,
+                             const std::vector<SensorKeyValue>& sensor_keys) {
+  const std::uint32_t baud = configured_baud(bus, found);
+  std::string text =
+      "# Written by `tiltgate scan`: the sensors that answered on this bus.\n"
+      "# Edit each sensor's name (what it measures, e.g. \"boom\") and its unit_id (the Modbus\n"
+      "# unit id the PLC reads it at), then: tiltgate check --config THIS_FILE\n";
+  text += fmt::format("\n[[bus]]\nname = {}\nport = {}\nprotocol = {}\n",
+                      toml_string(written_bus_name(bus)), toml_string(bus.port),
+                      toml_string(bus.protocol));
+  // A bus without a serial line (devices that speak TCP) has no rate to write.
+  if (baud != 0) text += fmt::format("baud = {}\n", baud);
+  if (bus.framing)
+    text += fmt::format("parity = {}\nstop_bits = {}\n", toml_string(parity_name(*bus.framing)),
+                        stop_bits_of(*bus.framing));
+  if (bus.master_address != 0) text += fmt::format("master_address = {}\n", bus.master_address);
+  for (const SensorTable& table : sensor_tables(bus, found, sensor_keys))
+    text += "\n" + table.text;
   for (const FoundSensor& s : found) {
     if (s.collision)
       text += fmt::format(

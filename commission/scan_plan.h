@@ -110,4 +110,14 @@ struct SensorKeyValue {
 std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor>& found,
                              const std::vector<SensorKeyValue>& sensor_keys);
 
+// The [[sensor]] tables of that configuration, one per sensor it adds, each with what it was
+// made from: what the web console offers to add to the served configuration.
+struct SensorTable {
+  std::uint32_t address = 0;
+  std::string model, serial, firmware;
+  std::string text;  // the table's TOML, "[[sensor]]" to its last key
+};
+std::vector<SensorTable> sensor_tables(const BusConfig& bus, const std::vector<FoundSensor>& found,
+                                       const std::vector<SensorKeyValue>& sensor_keys);
+
 }  // namespace tiltgate

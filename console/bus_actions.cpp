@@ -1,15 +1,15 @@
 #include "console/bus_actions.h"
 
-#include <unistd.h>
-
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
+#include <boost/asio/use_awaitable.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "console/child_command.h"
+#include "commission/event_text.h"
+#include "commission/raw_engine.h"
+#include "driver/hex.h"
 #include "driver/visible_text.h"
-#include "toml/text_file.h"
 
 namespace tiltgate {
 
@@ -18,120 +18,111 @@ using json = nlohmann::json;
 
 namespace {
 
-// A scan reads every address at most once per rate; 10 minutes is past any bus's worst case.
-constexpr std::chrono::seconds kScanLimit{600};
-constexpr std::chrono::seconds kRawLimit{20};
-
-std::string quoted_value(std::string_view line) {
-  const auto open = line.find('"');
-  const auto close = open == std::string_view::npos ? open : line.find('"', open + 1);
-  if (close == std::string_view::npos) return {};
-  return std::string(line.substr(open + 1, close - open - 1));
+// The console's commands read the bus (and a raw frame's sensor) from the served file, as an
+// engineer's `tiltgate scan --config FILE --bus NAME` does.
+BusOptions console_bus_options(const std::string& config_path, const std::string& bus) {
+  BusOptions options;
+  options.config = config_path;
+  options.bus = bus;
+  return options;
 }
 
-std::string_view trimmed(std::string_view text) {
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\r')) text.remove_suffix(1);
-  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+std::string joined(const UsageErrors& errors) {
+  std::string text;
+  for (const std::string& error : errors) text += (text.empty() ? "" : "; ") + error;
   return text;
+}
+
+// The command's line on the served bus, for the engine, recorded under the console user.
+Expected<std::unique_ptr<CommissionBus>, std::string> console_line(const BusActionSetup& setup,
+                                                                  const CommissionTarget& target,
+                                                                  const std::string& bus,
+                                                                  const std::string& who) {
+  std::optional<ServedBus> served = setup.served_bus(bus);
+  if (!served) return Unexpected{fmt::format("the gateway no longer serves bus {}", bus)};
+  auto line = std::make_unique<ServedBusLine>(std::move(*served), WriteOrigin{"console", who});
+  auto opened = CommissionBus::on_served_line(target, std::move(line));
+  if (!opened) return Unexpected{opened.error().message};
+  return std::move(*opened);
 }
 
 }  // namespace
 
-std::vector<ScanFound> found_in_scan_config(const std::string& text) {
-  std::vector<ScanFound> found;
-  std::size_t at = 0;
-  ScanFound* current = nullptr;
-  while (at < text.size()) {
-    const auto end = text.find('\n', at);
-    const std::string_view line(text.data() + at,
-                                (end == std::string::npos ? text.size() : end) - at);
-    at = end == std::string::npos ? text.size() : end + 1;
-    if (line.starts_with("[")) {
-      current = nullptr;
-      if (trimmed(line) == "[[sensor]]") current = &found.emplace_back();
-    }
-    if (current == nullptr) continue;
-    current->config += std::string(line) + "\n";
-    if (line.starts_with("address = ")) current->address = std::atoll(line.data() + 10);
-    if (line.starts_with("model = ")) current->model = quoted_value(line);
-    if (line.starts_with("serial = ")) {
-      current->serial = quoted_value(line);
-      if (const auto mark = line.find("# firmware "); mark != std::string_view::npos)
-        current->firmware = std::string(trimmed(line.substr(mark + 11)));
-    }
-  }
-  for (ScanFound& sensor : found)
-    while (sensor.config.size() > 1 && sensor.config.ends_with("\n\n")) sensor.config.pop_back();
-  return found;
-}
-
-std::vector<std::string> BusActions::common_args(const std::string& command,
-                                                 const std::string& bus,
-                                                 const std::string& who) const {
-  return {command, "--config", setup_.config_path, "--bus", bus, "--via-gateway",
-          "--control-socket", setup_.control_socket, "--audit-as",
-          fmt::format("console user {}", who)};
-}
-
 json BusActions::start_scan(const std::string& bus, const ScanRequest& request,
                             const std::string& who, unsigned& status) {
-  if (setup_.control_socket.empty() || setup_.config_path.empty()) {
+  if (setup_.config_path.empty()) {
     status = 409;
-    return json{{"error", "the console scans through the control socket: [server] "
-                          "control_socket is off"}};
+    return json{{"error", "the console scans the buses of a configuration file; this gateway "
+                          "runs without one"}};
   }
   auto& scan = scans_[bus];
-  if (scan && scan->running) {
-    status = 409;
-    return json{{"error", fmt::format("a scan of {} is running", bus)}};
+  if (scan) {
+    const std::lock_guard lock(scan->mutex);
+    if (scan->running) {
+      status = 409;
+      return json{{"error", fmt::format("a scan of {} is running", bus)}};
+    }
+  }
+  ScanOptions options;
+  if (request.from > 0 || request.to > 0) {
+    options.from = request.from;
+    if (request.to > 0) options.to = request.to;
+  }
+  BusOptions bus_options = console_bus_options(setup_.config_path, bus);
+  auto prepared = prepare_scan(bus_options, options, setup_.families);
+  if (!prepared) {
+    status = 400;
+    return json{{"error", joined(prepared.error())}};
   }
   scan = std::make_shared<Scan>();
   scan->running = true;
-  char config_out[] = "/tmp/tiltgate-scan-XXXXXX";
-  const int fd = ::mkstemp(config_out);
-  if (fd >= 0) ::close(fd);
-  std::vector<std::string> args = common_args("scan", bus, who);
-  args.insert(args.end(), {"--progress-lines", "--config-out", config_out, "--force"});
-  if (request.from > 0 || request.to > 0) {
-    args.insert(args.end(), {"--from", std::to_string(request.from)});
-    if (request.to > 0) args.insert(args.end(), {"--to", std::to_string(request.to)});
-  }
   spdlog::info("web console: {} scans bus {}", visible_text(who), visible_text(bus));
-  asio::co_spawn(executor_, run_scan(scan, std::move(args), std::string(config_out)),
-                 asio::detached);
+  asio::co_spawn(setup_.gateway_executor,
+                 run_scan(scan, setup_, std::move(*prepared), bus, who), asio::detached);
   status = 202;
   return json{{"running", true}};
 }
 
-asio::awaitable<void> BusActions::run_scan(std::shared_ptr<Scan> scan,
-                                           std::vector<std::string> args, std::string config_out) {
-  // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice (and
-  // with it the scan it holds).
-  const std::string wrote = "wrote " + config_out;  // the file is ours, not the user's
-  std::function<void(std::string_view)> on_line = [scan, wrote](std::string_view line) {
-    if (line == wrote) return;
-    if (line.starts_with("progress ")) {
-      unsigned long done = 0, total = 0;
-      if (std::sscanf(std::string(line).c_str(), "progress %lu %lu", &done, &total) == 2 &&
-          total > 0)
-        scan->progress = double(done) / double(total);
-      return;
+void BusActions::take(Scan& scan, const CommissionEvent& event) {
+  const std::lock_guard lock(scan.mutex);
+  if (const auto* progress = std::get_if<ProgressEvent>(&event)) {
+    if (progress->total > 0) scan.progress = double(progress->done) / double(progress->total);
+  } else if (const auto* finished = std::get_if<ScanFinishedEvent>(&event)) {
+    scan.output += scan_result_text(*finished);
+    scan.found = finished->tables;
+  } else if (const auto* note = std::get_if<NoteEvent>(&event)) {
+    scan.output += (note->warning ? "warning: " : "") + note->text + "\n";
+  } else if (const auto* failed = std::get_if<FailedEvent>(&event)) {
+    scan.output += failed->message + "\n";
+    scan.error = failed->message.substr(0, failed->message.find('\n'));
+  }
+}
+
+asio::awaitable<void> BusActions::run_scan(std::shared_ptr<Scan> scan, BusActionSetup setup,
+                                           PreparedScan prepared, std::string bus,
+                                           std::string who) {
+  // Whatever happens to the scan, it ends: its bus is free for the next one, and a failure is
+  // said once, in the log and in the scan's state.
+  std::string failure;
+  try {
+    auto line = console_line(setup, prepared.bus, bus, who);
+    if (!line) {
+      failure = line.error();
+    } else {
+      const EventSink report = [scan](const CommissionEvent& event) { take(*scan, event); };
+      const bool stopping = false;
+      co_await setup.scan(**line, prepared, report, stopping);
     }
-    scan->output += std::string(line) + "\n";
-  };
-  const ChildResult result =
-      co_await run_child_command(executor_, std::move(args), kScanLimit, std::move(on_line));
-  if (auto text = toml_input::read_text_file(config_out); text && result.exit_code == 0)
-    scan->found = found_in_scan_config(*text);
-  ::unlink(config_out.c_str());
-  if (!result.error.empty())
-    scan->error = result.error;
-  else if (result.timed_out)
-    scan->error = "the scan took too long and was stopped";
-  else if (result.exit_code == 1 && scan->found.empty())
-    scan->error = "no sensor answered";
-  else if (result.exit_code != 0)
-    scan->error = fmt::format("the scan failed (exit code {})", result.exit_code);
+  } catch (const std::exception& e) {
+    failure = fmt::format("the scan failed: {}", e.what());
+    spdlog::error("web console: the scan of bus {} for {} failed: {}", visible_text(bus),
+                  visible_text(who), e.what());
+  }
+  const std::lock_guard lock(scan->mutex);
+  if (!failure.empty()) {
+    scan->error = failure;
+    scan->output += failure + "\n";
+  }
   scan->progress = 1;
   scan->running = false;
 }
@@ -142,13 +133,14 @@ json BusActions::scan_state(const std::string& bus) const {
     return json{{"running", false}, {"progress", 0}, {"output", ""}, {"found", json::array()},
                 {"error", nullptr}};
   const Scan& scan = *found->second;
+  const std::lock_guard lock(scan.mutex);
   json sensors = json::array();
-  for (const ScanFound& sensor : scan.found)
+  for (const SensorTable& sensor : scan.found)
     sensors.push_back({{"address", sensor.address},
                        {"model", sensor.model},
                        {"serial", sensor.serial},
                        {"firmware", sensor.firmware},
-                       {"config", sensor.config}});
+                       {"config", sensor.text}});
   return json{{"running", scan.running},
               {"progress", scan.progress},
               {"output", scan.output},
@@ -158,60 +150,58 @@ json BusActions::scan_state(const std::string& bus) const {
 
 asio::awaitable<json> BusActions::raw(std::string bus, RawRequest request, std::string who,
                                       unsigned& status) {
-  if (setup_.control_socket.empty() || setup_.config_path.empty()) {
+  json reply{{"sent", nullptr}, {"received", nullptr}, {"verdict", ""}, {"decoded", ""},
+             {"error", nullptr}, {"output", ""}};
+  if (setup_.config_path.empty()) {
     status = 409;
-    co_return json{{"error", "the console sends raw frames through the control socket: "
-                             "[server] control_socket is off"}};
+    reply["error"] = "the console sends raw frames on the buses of a configuration file; this "
+                     "gateway runs without one";
+    co_return reply;
   }
-  std::vector<std::string> args = common_args("raw", bus, who);
-  args.insert(args.end(), {"--address", std::to_string(request.address), "--function",
-                           std::to_string(request.function)});
-  if (!request.data.empty()) args.insert(args.end(), {"--data", request.data});
+  BusOptions options = console_bus_options(setup_.config_path, bus);
+  options.addresses = {request.address};
+  options.driver_optional = true;  // the request is built here: no device profile needed
+  const auto target = resolve_bus_options(options, setup_.families);
+  if (!target) {
+    status = 400;
+    reply["error"] = joined(target.error());
+    co_return reply;
+  }
   spdlog::info("web console: {} sends function {} to address {} on bus {}", visible_text(who),
                request.function, request.address, visible_text(bus));
-  std::function<void(std::string_view)> no_lines;  // named: see run_scan()
-  const ChildResult result =
-      co_await run_child_command(executor_, std::move(args), kRawLimit, std::move(no_lines));
-  json reply{{"sent", nullptr}, {"received", nullptr}, {"verdict", ""}, {"decoded", ""},
-             {"error", nullptr}, {"output", result.output}};
-  std::string decoded, errors;
-  std::size_t at = 0;
-  const std::string& out = result.output;
-  while (at < out.size()) {
-    const auto end = out.find('\n', at);
-    const std::string line = out.substr(at, (end == std::string::npos ? out.size() : end) - at);
-    at = end == std::string::npos ? out.size() : end + 1;
-    if (line.starts_with("sent:")) {
-      std::string hex = line.substr(5);
-      hex = hex.substr(0, hex.find("  ("));
-      reply["sent"] = std::string(trimmed(hex));
-    } else if (line.starts_with("received:")) {
-      const std::string rest = line.substr(9);
-      const auto paren = rest.rfind("  (");
-      if (rest.find("nothing") != std::string::npos) {
-        reply["verdict"] = std::string(trimmed(rest));
-      } else {
-        reply["received"] = std::string(trimmed(rest.substr(0, paren)));
-        if (paren != std::string::npos) {
-          std::string verdict = rest.substr(paren + 3);
-          if (!verdict.empty() && verdict.back() == ')') verdict.pop_back();
-          reply["verdict"] = verdict;
-        }
-      }
-    } else if (line.starts_with("tiltgate raw:") || line.starts_with("tiltgate:")) {
-      errors += line + "\n";
-    } else {
-      decoded += line + "\n";
+  // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.
+  auto exchange = [&]() -> asio::awaitable<int> {
+    auto line = console_line(setup_, *target, bus, who);
+    if (!line) {
+      reply["error"] = line.error();
+      co_return 1;
     }
+    const EventSink report = [&reply](const CommissionEvent& event) {
+      if (const auto* exchanged = std::get_if<ExchangeEvent>(&event)) {
+        reply["sent"] = hex_bytes(exchanged->sent);
+        if (exchanged->answered) reply["received"] = hex_bytes(exchanged->received);
+        reply["verdict"] = received_verdict(*exchanged);
+        if (exchanged->answered) reply["decoded"] = exchanged->decoded + "\n";
+        reply["output"] = reply["output"].get<std::string>() + exchange_text(*exchanged);
+      } else if (const auto* failed = std::get_if<FailedEvent>(&event)) {
+        reply["error"] = failed->message;
+        reply["output"] = reply["output"].get<std::string>() + failed->message + "\n";
+      }
+    };
+    const RawOptions raw{request.function, request.data};
+    const bool stopping = false;
+    co_return co_await raw_exchange(**line, raw, setup_.commands, report, stopping);
+  };
+  int exit_code = 1;
+  try {
+    exit_code = co_await asio::co_spawn(setup_.gateway_executor, std::move(exchange),
+                                        asio::use_awaitable);
+  } catch (const std::exception& e) {
+    spdlog::error("web console: a raw frame on bus {} for {} failed: {}", visible_text(bus),
+                  visible_text(who), e.what());
+    reply["error"] = fmt::format("the request failed: {}", e.what());
   }
-  reply["decoded"] = decoded;
-  if (!result.error.empty())
-    reply["error"] = result.error;
-  else if (result.timed_out)
-    reply["error"] = "the command took too long and was stopped";
-  else if (result.exit_code != 0)
-    reply["error"] = errors.empty() ? fmt::format("exit code {}", result.exit_code) : errors;
-  status = result.exit_code == 2 ? 400 : 200;
+  status = exit_code == 2 ? 400 : 200;
   co_return reply;
 }
 

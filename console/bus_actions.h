@@ -1,41 +1,52 @@
-// A bus's scan and raw frames from the web console (admin), each run as `tiltgate scan|raw
-// --via-gateway` through the gateway's own control socket (console/child_command.h), on behalf
-// of the console user, who the audit trail names. One scan per bus at a time; its progress,
-// output and results are kept until the next one starts, so a page that reloads finds them.
+// A bus's scan and raw frames from the web console (admin), run by the commissioning engine in
+// the gateway itself (commission/scan_engine.h, commission/raw_engine.h) on a command's line of
+// the served bus (control/served_bus_line.h): their transactions take the line's spare time, as
+// an engineer's command through the control socket does, and what they change is recorded in
+// the audit trail under the console user. The engine reports events; this turns them into the
+// JSON of docs/web-console.md. One scan per bus at a time; its progress, output and results are
+// kept until the next one starts, so a page that reloads finds them.
+//
+// Threads: called on the HTTP server's thread; the engine runs on the buses' executor, and a
+// scan's state is shared between the two under its mutex.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/awaitable.hpp>
+#include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
+#include "commission/scan_engine.h"
 #include "console/console_requests.h"
+#include "control/served_bus_line.h"
+#include "driver/family_commands.h"
 
 namespace tiltgate {
 
-struct ScanFound {
-  std::int64_t address = 0;
-  std::string model, serial, firmware;
-  std::string config;  // its [[sensor]] table, as `scan --config-out` writes it
-};
-
-// The sensors in a configuration `scan --config-out` wrote, each with its own table's text.
-std::vector<ScanFound> found_in_scan_config(const std::string& text);
-
-// What the console's commands need to know to run: the served file and the control socket.
+// What the console's commands need to run.
 struct BusActionSetup {
-  std::string config_path;
-  std::string control_socket;  // empty: [server] control_socket is off
+  std::string config_path;  // the served file, whose [[bus]] and [[sensor]] tables they read
+  boost::asio::any_io_executor gateway_executor;  // the buses'
+  // The bus of that name as the gateway serves it now; called on the buses' executor.
+  std::function<std::optional<ServedBus>(const std::string&)> served_bus;
+  FamilyList families;
+  FamilyCommandsList commands;
+  // The scan's work on its bus: the engine's (scan_bus); a test's may fail on purpose.
+  std::function<boost::asio::awaitable<int>(CommissionBus&, const PreparedScan&,
+                                            const EventSink&, const bool&)>
+      scan = scan_bus;
 };
 
 class BusActions {
  public:
-  BusActions(boost::asio::any_io_executor executor, BusActionSetup setup)
-      : executor_(std::move(executor)), setup_(std::move(setup)) {}
+  explicit BusActions(BusActionSetup setup) : setup_(std::move(setup)) {}
 
-  // POST /api/buses/NAME/scan: 202, or 409 while one runs; `who` for the audit trail.
+  // POST /api/buses/NAME/scan: 202, 400 for a request the bus cannot take, or 409 while one
+  // runs; `who` names the console user in the audit trail.
   nlohmann::json start_scan(const std::string& bus, const ScanRequest& request,
                             const std::string& who, unsigned& status);
   // GET /api/buses/NAME/scan.
@@ -46,20 +57,20 @@ class BusActions {
 
  private:
   struct Scan {
+    mutable std::mutex mutex;
     bool running = false;
     double progress = 0;
     std::string output;
-    std::vector<ScanFound> found;
+    std::vector<SensorTable> found;
     std::string error;
   };
-  std::vector<std::string> common_args(const std::string& command, const std::string& bus,
-                                       const std::string& who) const;
-  boost::asio::awaitable<void> run_scan(std::shared_ptr<Scan> scan, std::vector<std::string> args,
-                                        std::string config_out);
+  static void take(Scan& scan, const CommissionEvent& event);
+  static boost::asio::awaitable<void> run_scan(std::shared_ptr<Scan> scan, BusActionSetup setup,
+                                               PreparedScan prepared, std::string bus,
+                                               std::string who);
 
-  boost::asio::any_io_executor executor_;
   BusActionSetup setup_;
-  std::map<std::string, std::shared_ptr<Scan>> scans_;
+  std::map<std::string, std::shared_ptr<Scan>> scans_;  // the HTTP thread's
 };
 
 }  // namespace tiltgate

@@ -3,7 +3,6 @@
 // with the audit record of each.
 #include <algorithm>
 
-#include <boost/asio/this_coro.hpp>
 #include <fmt/format.h>
 
 #include "console/console_handler.h"
@@ -42,9 +41,15 @@ asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request
     co_return error_reply(404, "no such bus");
   if (!bus_actions_) {
     // Not one expression with the co_await: g++ 12 destroys its temporaries twice.
-    const asio::any_io_executor here = co_await asio::this_coro::executor;
-    BusActionSetup setup{context_.config_path, context_.control_socket};
-    bus_actions_ = std::make_unique<BusActions>(here, std::move(setup));
+    BusActionSetup setup;
+    setup.config_path = context_.config_path;
+    setup.gateway_executor = context_.gateway_executor;
+    setup.served_bus = [gateway = context_.gateway](const std::string& name) {
+      return served_bus(*gateway, name);
+    };
+    setup.families = context_.families;
+    setup.commands = context_.commands;
+    bus_actions_ = std::make_unique<BusActions>(std::move(setup));
   }
   if (scan && request.method == "GET")
     co_return json_reply(200, bus_actions_->scan_state(*bus));
@@ -73,10 +78,9 @@ asio::awaitable<HttpReply> ConsoleHandler::bus_action(const HttpRequest& request
   if (!admin) co_return refused(403, "raw frames are for the admin role", what);
   if (!asked) co_return refused(400, asked.error(), what);
   json body = co_await bus_actions_->raw(*bus, *asked, session.user, status);
-  // A frame the line carried is the gateway's to record: the control socket records it, for
-  // this user, from what it carried and got back when it may have changed the device, and a
-  // read not at all (control/carried_change.h). One that never reached the line is this
-  // door's, with why.
+  // A frame the line carried is recorded by the command's line, for this user, from what it
+  // carried and got back when it may have changed the device, and a read not at all
+  // (control/served_bus_line.h). One that never reached the line is recorded here, with why.
   if (body["sent"].is_null()) {
     const std::string error = body["error"].is_string() ? body["error"].get<std::string>() : "";
     record(session, *bus, setting, "", what, "error: " + (error.empty() ? "not sent" : error));

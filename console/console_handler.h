@@ -28,6 +28,7 @@
 #include "console/session_table.h"
 #include "console/settings_endpoint.h"
 #include "driver/family.h"
+#include "driver/family_commands.h"
 #include "status/http_routes.h"
 
 namespace tiltgate {
@@ -43,7 +44,7 @@ struct ConsoleContext {
   FamilyList families;
   AuditTrail* audit = nullptr;
   std::string config_path;  // the served file; empty: none (the demo)
-  std::string control_socket;  // [server] control_socket: the console's scan and raw go through it
+  FamilyCommandsList commands;  // the families' raw requests, for a raw frame
   // Asks the gateway to reload its configuration file (as SIGHUP does), on any thread.
   std::function<void()> reload;
   // Where an applied configuration awaits its confirmation; none: applies are refused.

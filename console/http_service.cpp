@@ -63,7 +63,6 @@ void HttpService::make_http(const HistoryRecorder* previous) {
   // The demo's configuration is made in memory: it has no file to show or replace.
   if (console.config_path.empty() && std::filesystem::is_regular_file(gateway_.config().path))
     console.config_path = gateway_.config().path;
-  console.control_socket = gateway_.config().server.control_socket;
   if (!console_state_)
     console_state_ = std::make_shared<ConsoleState>(config_.session_idle, config_.session_max);
   handler_ = std::make_shared<ConsoleHandler>(std::move(console), config_, console_state_);

@@ -104,6 +104,7 @@ Unexpected<std::string> malformed(std::string_view line) {
 std::string format(const CommandMessage& message) {
   return std::visit(
       Overloaded{
+          [](const Version& m) { return fmt::format("version {} {}", m.protocol, m.product); },
           [](const Hello& m) { return "hello " + m.port; },
           [](const Transact& m) {
             return fmt::format("transact {} {} {} {} {} {} {}", m.address_bytes,
@@ -128,6 +129,7 @@ std::string format(const CommandMessage& message) {
 std::string format(const GatewayMessage& message) {
   return std::visit(
       Overloaded{
+          [](const Version& m) { return fmt::format("version {} {}", m.protocol, m.product); },
           [](const BusGranted& m) {
             return fmt::format("bus {} {} {}", m.name, m.protocol, m.baud);
           },
@@ -146,9 +148,38 @@ std::string format(const GatewayMessage& message) {
       message);
 }
 
+namespace {
+
+std::optional<Version> parse_version(const std::vector<std::string_view>& w) {
+  if (w.size() != 3 || w[0] != "version") return std::nullopt;
+  const auto protocol = number<unsigned>(w[1]);
+  if (!protocol) return std::nullopt;
+  return Version{*protocol, std::string(w[2])};
+}
+
+}  // namespace
+
+std::string version_mismatch(std::string_view gateway, const std::optional<Version>& command) {
+  const std::string commands =
+      command ? fmt::format("this command (tiltgate {}) speaks control protocol {}",
+                            command->product, command->protocol)
+              : std::string("this command (an older tiltgate) speaks control protocol 1");
+  return fmt::format("version {} {}: this gateway (tiltgate {}) speaks control protocol {}, {}: "
+                     "run the tiltgate of the gateway's own version",
+                     kProtocolVersion, gateway, gateway, kProtocolVersion, commands);
+}
+
+std::string older_gateway(std::string_view command_product) {
+  return fmt::format("the running gateway speaks control protocol 1 (an older tiltgate), this "
+                     "command (tiltgate {}) speaks control protocol {}: run the tiltgate of the "
+                     "gateway's own version",
+                     command_product, kProtocolVersion);
+}
+
 Expected<CommandMessage, std::string> parse_command(std::string_view line) {
   const std::vector<std::string_view> w = words(line);
   if (w.empty()) return malformed(line);
+  if (const auto version = parse_version(w)) return CommandMessage{*version};
   if (w[0] == "hello" && w.size() >= 2) {
     const std::string_view port = after_words(line, 1);
     if (port.empty()) return malformed(line);
@@ -207,6 +238,7 @@ Expected<CommandMessage, std::string> parse_command(std::string_view line) {
 Expected<GatewayMessage, std::string> parse_gateway(std::string_view line) {
   const std::vector<std::string_view> w = words(line);
   if (w.empty()) return malformed(line);
+  if (const auto version = parse_version(w)) return GatewayMessage{*version};
   if (w[0] == "bus" && w.size() == 4) {
     const auto baud = number<std::uint32_t>(w[3]);
     if (!baud) return malformed(line);

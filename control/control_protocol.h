@@ -3,6 +3,7 @@
 // so a person can follow a session with socat. Pure formatting and parsing.
 //
 //   command -> gateway                      gateway -> command
+//   version 2 0.1.0                         version 2 0.1.0          first, both: see below
 //   hello /dev/ttyUSB0                      bus line1 PROTOCOL 125000
 //                                           (or: error the gateway has no bus on /dev/ttyUSB0 ...)
 //   transact 0 50 2 0 1 - 00DF0000000400..  reset                    before each attempt
@@ -51,6 +52,13 @@ namespace tiltgate::control {
 // times over.
 inline constexpr std::size_t kMaxLine = 4096;
 
+inline constexpr unsigned kProtocolVersion = 2;
+
+// Said by both sides: the protocol's number and the product's version ("0.1.0").
+struct Version {
+  unsigned protocol = 0;
+  std::string product;
+};
 struct Hello {
   std::string port;  // the tty the command wants, or the bus's name
 };
@@ -86,8 +94,8 @@ struct SettingChanged {
 struct ActingFor {
   std::string who;  // "console user alice"
 };
-using CommandMessage = std::variant<Hello, Transact, FramerAnswer, Follow, Hold, Release,
-                                    SettingChanged, ActingFor>;
+using CommandMessage = std::variant<Version, Hello, Transact, FramerAnswer, Follow, Hold,
+                                    Release, SettingChanged, ActingFor>;
 
 struct BusGranted {
   std::string name;
@@ -112,11 +120,21 @@ struct Ended {
 struct Followed {
   std::string sensor;  // "bus/sensor" that moved; empty when no configured sensor was there
 };
-using GatewayMessage = std::variant<BusGranted, Refused, Reset, Received, Ended, Followed>;
+using GatewayMessage =
+    std::variant<Version, BusGranted, Refused, Reset, Received, Ended, Followed>;
 
 // Each without its trailing newline.
 std::string format(const CommandMessage& message);
 std::string format(const GatewayMessage& message);
+
+// The one line that ends a session whose two ends speak different versions, naming both:
+// `gateway` is the gateway's product version; `command` the command's version line, none for a
+// command of protocol 1 (which sent no version). Sent by the gateway as it is, not as "error
+// ...", so that a command of protocol 1 shows it.
+std::string version_mismatch(std::string_view gateway, const std::optional<Version>& command);
+// What a command of `command_product` says when a gateway of protocol 1 refused its version
+// line (as a malformed message).
+std::string older_gateway(std::string_view command_product);
 
 // What is wrong with a line is the error, for the other side's log.
 Expected<CommandMessage, std::string> parse_command(std::string_view line);

@@ -38,8 +38,10 @@ class ControlRelayFramer final : public ReplyFramer {
 
   // The command stopped answering (or sent something else): the transaction is lost to it.
   bool broken() const { return broken_; }
-  // What the line received in the latest attempt, for the audit trail (control/carried_change.h).
-  const std::vector<std::uint8_t>& received() const { return received_; }
+  // What the line received in the latest attempt as the reply, for the audit trail
+  // (control/carried_change.h): the command's framer took it whole; its checksum is the
+  // command's to judge.
+  FramerReport report() const override { return FramerReport{received_, "", ""}; }
 
   static constexpr std::chrono::milliseconds kAnswerWait{100};
 

@@ -24,19 +24,13 @@
 #include "config/config.h"
 #include "driver/expected.h"
 #include "driver/family.h"
-#include "gateway/bus_scheduler.h"
+#include "control/served_bus_line.h"
 
 namespace tiltgate {
 
 class ControlServer {
  public:
-  struct ServedBus {
-    BusConfig config;
-    std::shared_ptr<BusScheduler> scheduler;  // held while the server may use it
-    // Reads what a command's transaction asks of a device, for the audit trail
-    // (control/carried_change.h).
-    const ProtocolDescriptor* protocol = nullptr;
-  };
+  using ServedBus = tiltgate::ServedBus;
 
   ControlServer(boost::asio::any_io_executor executor, std::string path,
                 std::vector<ServedBus> buses);
@@ -58,10 +52,6 @@ class ControlServer {
 
   // Sessions at once; more are told so and closed. Commissioning is one engineer at a time.
   static constexpr std::size_t kMaxSessions = 8;
-  // How long a command's transaction may wait for its turn on a busy bus.
-  static constexpr std::chrono::seconds kQueueDeadline{10};
-  // The longest a command may keep the gateway from polling a sensor it is re-addressing.
-  static constexpr std::chrono::seconds kMaxHold{10};
 
  private:
   void bind_for_owner_and_group(boost::system::error_code& error);

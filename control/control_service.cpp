@@ -16,13 +16,8 @@ ControlService::~ControlService() = default;
 void ControlService::make_server() {
   const Config& config = gateway_.config();
   if (config.server.control_socket.empty()) return;
-  std::vector<ControlServer::ServedBus> served;
-  const std::vector<std::shared_ptr<BusScheduler>> schedulers = gateway_.schedulers();
-  for (std::size_t i = 0; i < schedulers.size(); ++i)
-    served.push_back({config.buses[i], schedulers[i],
-                      find_protocol(gateway_.families(), config.buses[i].protocol).protocol});
   server_ = std::make_unique<ControlServer>(gateway_.executor(), config.server.control_socket,
-                                            std::move(served));
+                                            served_buses(gateway_));
 }
 
 void ControlService::start_as_user() {

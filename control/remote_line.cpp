@@ -43,6 +43,26 @@ struct Fd {
   int release() { return std::exchange(fd, -1); }
 };
 
+// Says this command's version first and reads the gateway's: the same protocol, or why not in
+// one line that names both versions.
+Expected<Done, std::string> agree_versions(int fd, const std::string& socket_path,
+                                           Clock::time_point deadline) {
+  const std::string version = control::format(control::CommandMessage{
+      control::Version{control::kProtocolVersion, TILTGATE_VERSION}});
+  if (auto sent = control::send_line(fd, version, deadline); !sent)
+    return Unexpected{fmt::format("{}: cannot talk to the gateway: {}", socket_path, sent.error())};
+  auto reply = control::read_line(fd, deadline);
+  if (!reply)
+    return Unexpected{fmt::format("{}: the gateway did not answer: {}", socket_path, reply.error())};
+  const auto message = control::parse_gateway(*reply);
+  const auto* agreed = message ? std::get_if<control::Version>(&*message) : nullptr;
+  if (agreed != nullptr && agreed->protocol == control::kProtocolVersion) return Done{};
+  const auto* refused = message ? std::get_if<control::Refused>(&*message) : nullptr;
+  if (refused != nullptr && refused->reason.starts_with("malformed message \"version"))
+    return Unexpected{fmt::format("{}: {}", socket_path, control::older_gateway(TILTGATE_VERSION))};
+  return Unexpected{fmt::format("{}: {}", socket_path, visible_text(*reply))};
+}
+
 }  // namespace
 
 RemoteLine::RemoteLine(local::socket socket, control::BusGranted bus)
@@ -74,6 +94,8 @@ Expected<std::unique_ptr<RemoteLine>, RemoteLine::ConnectError> RemoteLine::conn
                     error == EACCES ? " (is your user in the socket's group?)" : "")}};
   }
   const Clock::time_point deadline = Clock::now() + timeout;
+  if (auto agreed = agree_versions(socket.fd, socket_path, deadline); !agreed)
+    return Unexpected{ConnectError{Kind::failed, agreed.error()}};
   const std::string hello = control::format(control::CommandMessage{control::Hello{port}});
   if (auto sent = control::send_line(socket.fd, hello, deadline); !sent)
     return Unexpected{ConnectError{
@@ -113,17 +135,9 @@ asio::awaitable<bool> RemoteLine::write_line(std::string line) {
 }
 
 asio::awaitable<Expected<Done, LineError>> RemoteLine::transact(LineRequest request) {
-  if (request.timeout.count() <= 0) request.timeout = defaults_.timeout;
-  const int retries = request.retries < 0 ? defaults_.retries : request.retries;
-  request.retries = 0;
-  request.late_guard = std::min(request.late_guard.value_or(defaults_.late_guard), kMaxLateGuard);
-  std::uint32_t late_replies = 0;
-  for (int attempt_number = 0;; ++attempt_number) {
-    auto done = co_await attempt(request);
-    late_replies += timing_.late_replies;
-    timing_.late_replies = late_replies;
-    if (done || done.error() != LineError::timeout || attempt_number >= retries) co_return done;
-  }
+  co_return co_await transact_in_turns(
+      std::move(request), defaults_, timing_,
+      [this](const LineRequest& one) { return attempt(one); });
 }
 
 asio::awaitable<Expected<Done, LineError>> RemoteLine::attempt(const LineRequest& request) {

@@ -5,10 +5,7 @@
 // a tty of their own.
 //
 // The gateway's sensors must keep being polled on time meanwhile, so a command never holds
-// that bus for long: each attempt of a transaction is a turn of its own (retries are made
-// here, with a poll between them), and after a time-out the bus stays quiet for at most
-// kMaxLateGuard before the gateway polls again. A reply later than that reaches the gateway's
-// next poll, whose framer drops it: it comes from another address.
+// that bus for long: each attempt is a turn of its own (control/attempt_turns.h).
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -19,6 +16,7 @@
 #include <string>
 
 #include "driver/expected.h"
+#include "control/attempt_turns.h"
 #include "driver/line.h"
 #include "driver/write_target.h"
 #include "control/control_protocol.h"
@@ -48,17 +46,9 @@ class RemoteLine final : public Line {
   const LineStats& stats() const override { return stats_; }
   const LineTiming& last_timing() const override { return timing_; }
 
-  // What a request that leaves them to the bus gets: the command's own bus settings (its
-  // time-out, retries and late guard), not the gateway's, so that a command behaves the same
-  // on its own tty and through a gateway.
-  struct Defaults {
-    std::chrono::milliseconds timeout{50};
-    int retries = 2;
-    std::chrono::milliseconds late_guard{450};
-  };
-  void set_defaults(Defaults defaults) { defaults_ = defaults; }
+  // What a request that leaves them to the bus gets (control/attempt_turns.h).
+  void set_defaults(CommandLineDefaults defaults) { defaults_ = defaults; }
 
-  static constexpr std::chrono::milliseconds kMaxLateGuard{20};
 
   // The bus the gateway granted: its name, protocol and baud.
   const control::BusGranted& bus() const { return bus_; }
@@ -92,7 +82,7 @@ class RemoteLine final : public Line {
   boost::asio::streambuf input_;
   control::BusGranted bus_;
   std::string name_;
-  Defaults defaults_;
+  CommandLineDefaults defaults_;
   std::uint64_t generation_ = 1;
   bool stopped_ = false;
   LineStats stats_;

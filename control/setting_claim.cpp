@@ -1,5 +1,7 @@
 #include "control/setting_claim.h"
 
+#include <fmt/format.h>
+
 namespace tiltgate::control {
 
 CarriedOutcome carried_outcome(const Ended& ended) {
@@ -24,6 +26,11 @@ std::optional<std::string> setting_claim_refusal(CarriedOutcome carried,
       return std::nullopt;
   }
   return "a setting reported after an unknown outcome";
+}
+
+std::string setting_result(const SettingChanged& changed) {
+  if (changed.nak) return fmt::format("nak 0x{:02X}", *changed.nak);
+  return changed.timeout ? "timeout" : "ack";
 }
 
 }  // namespace tiltgate::control

@@ -23,6 +23,10 @@ enum class CarriedOutcome {
 
 CarriedOutcome carried_outcome(const Ended& ended);
 
+// A setting's outcome as the audit trail words it (audit/audit_record.h): "ack", "nak 0x03",
+// "timeout".
+std::string setting_result(const SettingChanged& changed);
+
 // None: the report may be taken. Otherwise why not, for the refusal and the audit trail.
 std::optional<std::string> setting_claim_refusal(CarriedOutcome carried,
                                                  const SettingChanged& claim);

@@ -336,17 +336,20 @@ def scenario(t):
             any(r["setting"] == "config" and r["who"] == "bob" for r in records) and
             any(r["setting"] == "scan" and r["who"] == "bob" and r["result"] == "ok"
                 for r in records), records[:10])
-    # A raw frame the line carried is the gateway's record, made by its control socket from
-    # what it carried: a Set Filter without the unlock, refused by the sensor (NAK 4); the read
-    # above is none.
+    # A raw frame the line carried is recorded from what the gateway carried, under the
+    # console's door and its user: a Set Filter without the unlock, refused by the sensor
+    # (NAK 4); the read above is none.
     bob.request("POST", "/api/buses/line1/raw", {"address": 223, "function": 41, "data": "02"})
-    status, body = carol.request("GET", "/api/audit?door=control%20socket")
+    status, body = carol.request("GET", "/api/audit?door=console")
     records = body.get("records", []) if isinstance(body, dict) else []
     t.check("a raw frame that may change a sensor is one record of what the gateway carried",
             [(r["who"], r["setting"], r["new"], r["result"]) for r in records
-             if "bob" in r["who"]] ==
-            [("console user bob (via the control socket)", "function 41 (set filter response)",
-              "02", "nak 0x04")], records[:6])
+             if r["who"] == "bob" and r["setting"].startswith("function")] ==
+            [("bob", "function 41 (set filter response)", "02", "nak 0x04")], records[:6])
+    status, body = carol.request("GET", "/api/audit?door=control%20socket")
+    records = body.get("records", []) if isinstance(body, dict) else []
+    t.check("and none under the control socket's door: the console runs it in the gateway",
+            not [r for r in records if "bob" in r["who"]], records[:6])
 
     attacker = Client(http_port)
     codes = [attacker.login("mallory", "guess%d" % i)[0] for i in range(5)]

@@ -75,8 +75,15 @@ def control_answers(path, bus):
         with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
             s.settimeout(5)
             s.connect(path)
-            s.sendall(("hello %s\n" % bus).encode())
-            return s.recv(4096).decode(errors="replace").startswith("bus %s " % bus)
+            s.sendall(("version 2 test\nhello %s\n" % bus).encode())
+            answer = b""
+            while answer.count(b"\n") < 2:
+                chunk = s.recv(4096)
+                if not chunk:
+                    break
+                answer += chunk
+            lines = answer.decode(errors="replace").split("\n")
+            return len(lines) > 1 and lines[1].startswith("bus %s " % bus)
     except OSError:
         return False
 

@@ -234,6 +234,27 @@ TEST_CASE("--config-out writes the family's required keys into every sensor") {
   CHECK(devices == 2);
 }
 
+TEST_CASE("the sensors a scan's configuration holds, each with its own table") {
+  FoundSensor first = found_at(5, 125000, "h6");
+  first.serial = "A123";
+  first.firmware = "2.1";
+  const std::vector<FoundSensor> found{first, found_at(7, 125000, "", true),
+                                       found_at(9, 125000, "")};
+  const std::vector<SensorTable> tables = sensor_tables(scanned_bus(), found, {});
+  REQUIRE(tables.size() == 2);
+  CHECK(tables[0].address == 5);
+  CHECK(tables[0].model == "h6");
+  CHECK(tables[0].serial == "A123");
+  CHECK(tables[0].firmware == "2.1");
+  CHECK(tables[0].text.starts_with("[[sensor]]\nname = \"sensor_5\""));
+  CHECK(tables[0].text.ends_with("# firmware 2.1\n"));
+  CHECK(tables[1].address == 9);
+  CHECK(tables[1].serial.empty());
+  // Each table is the configuration's own, word for word.
+  const std::string text = scan_config_text(scanned_bus(), found, {});
+  for (const SensorTable& table : tables) CHECK(text.find(table.text) != std::string::npos);
+}
+
 TEST_CASE("--baud auto: a serial found again at later rates is one sensor, kept where first found") {
   auto with_serial = [](std::uint32_t address, std::uint32_t baud, std::string serial) {
     FoundSensor s = found_at(address, baud, "h6");

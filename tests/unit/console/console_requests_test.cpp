@@ -50,24 +50,6 @@ TEST_CASE("scan and raw bodies: ranges checked") {
         "\"address\" is not a whole number");
 }
 
-TEST_CASE("the sensors a scan's configuration holds, each with its own table") {
-  const std::string text =
-      "# Written by `tiltgate scan`\n\n[[bus]]\nname = \"line1\"\nport = \"/dev/ttyUSB0\"\n\n"
-      "[[sensor]]\nname = \"sensor_5\"    # edit\nbus = \"line1\"\nmodel = \"H6\"\naddress = 5\n"
-      "unit_id = 1\nserial = \"A123\"    # firmware 2.1\n\n"
-      "[[sensor]]\nname = \"sensor_9\"\nbus = \"line1\"\naddress = 9\nunit_id = 2\n";
-  const auto found = found_in_scan_config(text);
-  REQUIRE(found.size() == 2);
-  CHECK(found[0].address == 5);
-  CHECK(found[0].model == "H6");
-  CHECK(found[0].serial == "A123");
-  CHECK(found[0].firmware == "2.1");
-  CHECK(found[0].config.starts_with("[[sensor]]\nname = \"sensor_5\""));
-  CHECK(found[0].config.ends_with("# firmware 2.1\n"));
-  CHECK(found[1].address == 9);
-  CHECK(found[1].serial.empty());
-}
-
 TEST_CASE("a configuration body: the text, and a confirmation window of 5 to 3600 s") {
   auto plain = parse_config_text(R"({"text": "[server]\n"})");
   REQUIRE(plain);

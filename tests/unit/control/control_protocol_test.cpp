@@ -89,6 +89,28 @@ TEST_CASE("control: a setting the sensor refused or left unanswered says so, and
   CHECK_FALSE(parse_command("as"));
 }
 
+TEST_CASE("control: both ends say their version first; a mismatch is one line naming both") {
+  CHECK(format(CommandMessage{Version{2, "0.1.0"}}) == "version 2 0.1.0");
+  CHECK(format(GatewayMessage{Version{2, "0.1.0"}}) == "version 2 0.1.0");
+  auto said = parse_command("version 2 0.1.0");
+  REQUIRE(said);
+  CHECK(std::get<Version>(*said).protocol == 2);
+  CHECK(std::get<Version>(*said).product == "0.1.0");
+  CHECK(std::get<Version>(*parse_gateway("version 3 1.0.0")).protocol == 3);
+  CHECK_FALSE(parse_command("version two 0.1.0"));
+  CHECK_FALSE(parse_command("version 2"));
+  // Protocol 1 commands show any line they cannot read as it is: the mismatch is not "error".
+  const std::string to_old = version_mismatch("0.2.0", std::nullopt);
+  CHECK(to_old.starts_with("version 2 0.2.0: this gateway (tiltgate 0.2.0) speaks control "
+                           "protocol 2, this command (an older tiltgate) speaks control protocol 1"));
+  CHECK_FALSE(parse_gateway(to_old));  // nor a version line a newer command would take
+  CHECK(version_mismatch("0.2.0", Version{3, "0.3.0"}).find(
+            "this command (tiltgate 0.3.0) speaks control protocol 3") != std::string::npos);
+  CHECK(older_gateway("0.2.0") ==
+        "the running gateway speaks control protocol 1 (an older tiltgate), this command "
+        "(tiltgate 0.2.0) speaks control protocol 2: run the tiltgate of the gateway's own version");
+}
+
 TEST_CASE("control: the gateway's end of a transaction carries its outcome, timing and generation") {
   Ended ok;
   ok.timing.reply_delay = 3ms;

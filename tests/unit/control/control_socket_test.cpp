@@ -86,7 +86,7 @@ BusConfig bus_on(std::string port) {
 
 // A gateway's side: one bus with one sensor at address 223, its event loop on its own thread,
 // and beside it a second bus whose sensor is polled every 10 ms (counted in other_polls).
-struct Gateway {
+struct SocketGateway {
   ScratchDir dir{"tiltgate-control"};
   std::string socket_path = dir.path("control.sock");
   asio::io_context io;
@@ -105,7 +105,7 @@ struct Gateway {
   ControlServer server;
   std::thread thread;
 
-  explicit Gateway(std::string served_port = "/dev/ttyFAKE0")
+  explicit SocketGateway(std::string served_port = "/dev/ttyFAKE0")
       : port(std::move(served_port)),
         server{io.get_executor(), socket_path, {{bus_on(port), lent(scheduler)}}} {
     line.reply = [this](const LineRequest& request) {
@@ -121,7 +121,7 @@ struct Gateway {
     asio::co_spawn(io, other_scheduler.run(), asio::detached);
     thread = std::thread([this] { io.run(); });
   }
-  ~Gateway() {
+  ~SocketGateway() {
     asio::post(io, [this] {
       server.stop();
       scheduler.stop();
@@ -146,7 +146,7 @@ Expected<Done, LineError> transact(RemoteLine& line, asio::io_context& io, LineR
 }  // namespace
 
 TEST_CASE("control socket: a command's transaction goes out on the gateway's bus, framed by the command") {
-  Gateway gateway;
+  SocketGateway gateway;
   asio::io_context io;
   auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
   REQUIRE(line);
@@ -172,7 +172,7 @@ TEST_CASE("control socket: a command's transaction goes out on the gateway's bus
 }
 
 TEST_CASE("control socket: each attempt of a command's transaction is a turn of its own on the gateway's bus") {
-  Gateway gateway;
+  SocketGateway gateway;
   asio::io_context io;
   auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
   REQUIRE(line);
@@ -188,13 +188,13 @@ TEST_CASE("control socket: each attempt of a command's transaction is a turn of 
     CHECK(sent.retries == 0);
     CHECK(sent.timeout == 30ms);
     REQUIRE(sent.late_guard.has_value());
-    CHECK(*sent.late_guard <= RemoteLine::kMaxLateGuard);
+    CHECK(*sent.late_guard <= kMaxCommandLateGuard);
   }
   CHECK((*line)->stats().attempts == 3);
 }
 
 TEST_CASE("control socket: while a command thinks over a chunk, the gateway's other bus keeps polling") {
-  Gateway gateway;
+  SocketGateway gateway;
   asio::io_context io;
   auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
   REQUIRE(line);
@@ -207,7 +207,7 @@ TEST_CASE("control socket: while a command thinks over a chunk, the gateway's ot
 }
 
 TEST_CASE("control socket: a sensor a command moved is polled at its new address") {
-  Gateway gateway;
+  SocketGateway gateway;
   asio::io_context io;
   auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "line1");  // by name
   REQUIRE(line);
@@ -221,7 +221,7 @@ TEST_CASE("control socket: a sensor a command moved is polled at its new address
 }
 
 TEST_CASE("control socket: a tty the gateway does not own, and no gateway at all, are told apart") {
-  Gateway gateway;
+  SocketGateway gateway;
   asio::io_context io;
   auto other = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyUSB7");
   REQUIRE_FALSE(other);
@@ -234,7 +234,7 @@ TEST_CASE("control socket: a tty the gateway does not own, and no gateway at all
 }
 
 TEST_CASE("control socket: a device server's port is found however the command names it") {
-  Gateway gateway("rfc2217://Moxa-3.plant.local:4001");
+  SocketGateway gateway("rfc2217://Moxa-3.plant.local:4001");
   asio::io_context io;
   for (const char* port : {"rfc2217://Moxa-3.plant.local:4001", "tcp://moxa-3.PLANT.local:4001"}) {
     CAPTURE(port);
@@ -249,7 +249,7 @@ TEST_CASE("control socket: a device server's port is found however the command n
 }
 
 TEST_CASE("control socket: the socket file is for owner and group only, and a live one is not taken over") {
-  Gateway gateway;
+  SocketGateway gateway;
   struct stat st {};
   REQUIRE(::stat(gateway.socket_path.c_str(), &st) == 0);
   CHECK((st.st_mode & 0777) == 0660);
@@ -280,14 +280,19 @@ TEST_CASE("control socket: a socket file left by a killed gateway is replaced") 
 }
 
 TEST_CASE("control socket: a garbled message is refused and ends that session only") {
-  Gateway gateway;
+  SocketGateway gateway;
   asio::io_context io;
   asio::local::stream_protocol::socket raw(io);
   raw.connect(asio::local::stream_protocol::endpoint(gateway.socket_path));
-  asio::write(raw, asio::buffer(std::string("transact nonsense\n")));
+  asio::write(raw, asio::buffer(std::string("version 2 test\ntransact nonsense\n")));
   asio::streambuf answer;
   asio::read_until(raw, answer, '\n');
-  std::string line((std::istreambuf_iterator<char>(&answer)), {});
+  std::istream lines(&answer);
+  std::string line;
+  std::getline(lines, line);  // the gateway's version
+  CHECK(line.rfind("version 2 ", 0) == 0);
+  asio::read_until(raw, answer, '\n');
+  std::getline(lines, line);
   CHECK(line.rfind("error malformed message", 0) == 0);
   // Everyone else is still served.
   auto fine = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
@@ -296,7 +301,7 @@ TEST_CASE("control socket: a garbled message is refused and ends that session on
 
 TEST_CASE("control socket: a setting reported with no transaction behind it is refused and recorded as refused") {
   AuditTrail trail("");  // before the gateway: it outlives the bus that records into it
-  Gateway gateway;
+  SocketGateway gateway;
   gateway.scheduler.set_audit(trail);
   asio::io_context io;
   auto remote = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
@@ -330,4 +335,74 @@ TEST_CASE("control socket: a setting reported with no transaction behind it is r
     CHECK_FALSE(claimed.has_value());
     CHECK(trail.recent({}).front().result.starts_with("refused: a setting reported answered"));
   }
+}
+
+namespace {
+
+// One line said on a fresh connection to `path`, and the lines answered until the gateway
+// closes it (or 2 s pass).
+std::vector<std::string> answers_to(const std::string& path, const std::string& said) {
+  asio::io_context io;
+  asio::local::stream_protocol::socket socket(io);
+  socket.connect(asio::local::stream_protocol::endpoint(path));
+  asio::write(socket, asio::buffer(said + "\n"));
+  std::vector<std::string> lines;
+  asio::streambuf input;
+  boost::system::error_code ec;
+  while (!ec && lines.size() < 4) {
+    asio::read_until(socket, input, '\n', ec);
+    if (ec) break;
+    std::istream stream(&input);
+    std::string line;
+    std::getline(stream, line);
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+}  // namespace
+
+TEST_CASE("control socket: a command of protocol 1 (hello first) gets one line naming both versions, then the end") {
+  SocketGateway gateway;
+  const auto lines = answers_to(gateway.socket_path, "hello /dev/ttyFAKE0");
+  REQUIRE(lines.size() == 1);
+  INFO(lines[0]);
+  CHECK(lines[0].starts_with("version 2 "));  // not "error": protocol 1 shows it as it is
+  CHECK(lines[0].find("speaks control protocol 2") != std::string::npos);
+  CHECK(lines[0].find("speaks control protocol 1") != std::string::npos);
+}
+
+TEST_CASE("control socket: a command of another protocol is told both versions, and the session ends") {
+  SocketGateway gateway;
+  const auto lines = answers_to(gateway.socket_path, "version 3 9.9.9");
+  REQUIRE(lines.size() == 1);
+  INFO(lines[0]);
+  CHECK(lines[0].find("(tiltgate 9.9.9) speaks control protocol 3") != std::string::npos);
+  CHECK(lines[0].find("speaks control protocol 2") != std::string::npos);
+  // The same version is answered with the gateway's own, and the session goes on.
+  asio::io_context io;
+  auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
+  CHECK(line.has_value());
+}
+
+TEST_CASE("control socket: a gateway of protocol 1 is named as such by a newer command, which does not hang") {
+  ScratchDir dir{"tiltgate-control-old"};
+  const std::string path = dir.path("old.sock");
+  asio::io_context io;
+  asio::local::stream_protocol::acceptor acceptor(io, asio::local::stream_protocol::endpoint(path));
+  // What a gateway of protocol 1 answers a line it cannot read, and then it closes.
+  std::thread old_gateway([&] {
+    asio::local::stream_protocol::socket socket(io);
+    acceptor.accept(socket);
+    asio::streambuf input;
+    asio::read_until(socket, input, '\n');
+    asio::write(socket, asio::buffer(std::string("error malformed message \"version 2 0.1.0\"\n")));
+  });
+  asio::io_context command;
+  auto line = RemoteLine::connect(command.get_executor(), path, "/dev/ttyFAKE0");
+  old_gateway.join();
+  REQUIRE_FALSE(line.has_value());
+  INFO(line.error().message);
+  CHECK(line.error().message.find("speaks control protocol 1") != std::string::npos);
+  CHECK(line.error().message.find("speaks control protocol 2") != std::string::npos);
 }
