@@ -110,7 +110,20 @@ void ControlServer::bind_for_owner_and_group(boost::system::error_code& error) {
 
 void ControlServer::spawn(asio::awaitable<void> work) {
   ++coroutines_;
-  asio::co_spawn(executor_, std::move(work), [this](std::exception_ptr) { --coroutines_; });
+  asio::co_spawn(executor_, std::move(work), [this](std::exception_ptr failure) {
+    --coroutines_;
+    // A session that failed ends alone (its line records what it carried and frees what it
+    // held as it goes); said once, so that it is not a silence.
+    if (failure) {
+      try {
+        std::rethrow_exception(failure);
+      } catch (const std::exception& e) {
+        spdlog::error("control socket: a command's session failed: {}", e.what());
+      } catch (...) {
+        spdlog::error("control socket: a command's session failed");
+      }
+    }
+  });
 }
 
 void ControlServer::stop() {
