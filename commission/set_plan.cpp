@@ -98,6 +98,111 @@ std::string usage_of(const Entry& e) {
 
 std::string number_text(double value) { return fmt::format("{}", value); }
 
+// The entry `name` gives, in either spelling; unknown: what it may have meant, and `list`.
+Expected<const Entry*, std::string> find_entry(const std::vector<Entry>& known,
+                                               const std::string& name, const std::string& list) {
+  const auto entry = std::find_if(known.begin(), known.end(), [&](const Entry& e) {
+    return dashes_to_underscores(e.name) == dashes_to_underscores(name);
+  });
+  if (entry != known.end()) return &*entry;
+  std::vector<std::string> names;
+  for (const Entry& e : known) names.push_back(e.name);
+  std::string suggestion = closest_name(name, names);
+  if (suggestion.empty()) suggestion = closest_name(dashes_to_underscores(name), names);
+  return Unexpected{fmt::format("unknown setting \"{}\"{}; {}", name,
+                                suggestion.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", suggestion),
+                                list)};
+}
+
+// The entry's values as numbers, as many as it takes.
+Expected<std::vector<double>, std::string> parse_values(const Entry& entry,
+                                                        std::span<const std::string> text_values) {
+  if (text_values.size() != entry.value_count) {
+    const std::string count = entry.value_count == 0   ? "no value"
+                              : entry.value_count == 1 ? "one value"
+                                                       : fmt::format("{} values", entry.value_count);
+    return Unexpected{fmt::format("{} takes {}: tiltgate set {}", entry.name, count, usage_of(entry))};
+  }
+  std::vector<double> values;
+  for (const std::string& text : text_values) {
+    const std::optional<double> value = parse_number(text);
+    if (!value) return Unexpected{fmt::format("{}: \"{}\" is not a number", entry.name, text)};
+    values.push_back(*value);
+  }
+  return values;
+}
+
+// One write of the plan, named as the model names its setting (as `entry` where it has none).
+void add_write(SetPlan& plan, const SetTarget& t, const Entry& entry, WriteTarget id,
+               double value) {
+  const SettingDescriptor* descriptor = find_setting(*t.model, id);
+  plan.writes.push_back({id, value});
+  plan.write_names.push_back(descriptor ? std::string(descriptor->name) : entry.name);
+}
+
+// baud: the rate's code, when the protocol offers the rate, and a restart to take it up.
+Expected<Done, std::string> plan_baud(SetPlan& plan, const SetTarget& t, const Entry& entry,
+                                      double rate, const std::string& text) {
+  const bool offered = std::find(t.protocol->bauds.begin(), t.protocol->bauds.end(), rate) !=
+                       t.protocol->bauds.end();
+  const std::optional<std::int64_t> code =
+      offered ? t.commands->set.baud_code(std::int64_t(rate)) : std::nullopt;
+  if (!code)
+    return Unexpected{fmt::format("baud: {} is not a {} baud rate, expected one of {}", text,
+                                  t.protocol->name, fmt::join(t.protocol->bauds, ", "))};
+  add_write(plan, t, entry, WriteTarget::baud_code, double(*code));
+  plan.new_baud = std::uint32_t(rate);
+  // The new rate is in force after a restart: restart at once, so the sensor answers at it.
+  if (const auto restart = command_value(t, SensorCommand::restart)) {
+    add_write(plan, t, entry, WriteTarget::command, *restart);
+    plan.restarts = true;
+  }
+  return Done{};
+}
+
+// The writes that set `entry` to `values` (`texts` as given).
+Expected<Done, std::string> plan_writes(SetPlan& plan, const SetTarget& t, const Entry& entry,
+                                        bool permanent, const std::vector<double>& values,
+                                        std::span<const std::string> texts) {
+  const auto add = [&](WriteTarget id, double value) { add_write(plan, t, entry, id, value); };
+  switch (entry.kind) {
+    case Kind::address:
+      add(WriteTarget::bus_address, values[0]);
+      if (values[0] >= 0 && values[0] <= 0xFFFF'FFFF && values[0] == std::floor(values[0]))
+        plan.new_address = std::uint32_t(values[0]);
+      break;
+    case Kind::baud: return plan_baud(plan, t, entry, values[0], texts[0]);
+    case Kind::filter: add(WriteTarget::filter, values[0]); break;
+    case Kind::zero_x: add(WriteTarget::zero_x, values[0]); break;
+    case Kind::zero_y: add(WriteTarget::zero_y, values[0]); break;
+    case Kind::zero_here: {
+      const SensorCommand command =
+          permanent ? SensorCommand::zero_permanent : SensorCommand::zero_temporary;
+      const std::optional<double> value = command_value(t, command);
+      if (!value)
+        return Unexpected{fmt::format("a {} has no permanent zero to the current angle", t.model->name)};
+      add(WriteTarget::command, *value);
+      break;
+    }
+    case Kind::restart:
+      add(WriteTarget::command, *command_value(t, SensorCommand::restart));
+      plan.restarts = true;
+      break;
+    case Kind::compound: {
+      const CompoundSetting& c = t.commands->set.compound_settings[entry.index];
+      for (std::size_t i = 0; i < c.parts.size(); ++i)
+        add(find_setting(*t.model, c.parts[i])->id, values[i]);
+      break;
+    }
+    case Kind::own: add(t.model->settings[entry.index].id, values[0]); break;
+    case Kind::device:
+      plan.writes.push_back({WriteTarget::device_value(entry.index), values[0]});
+      plan.write_names.push_back(entry.name);
+      break;
+  }
+  return Done{};
+}
+
 }  // namespace
 
 std::string range_text(const SettingDescriptor& setting) {
@@ -117,96 +222,21 @@ Expected<SetPlan, std::string> plan_setting(const SetTarget& t, const SetArgumen
   const std::string list = fmt::format("the settings of a {}: {}", t.model->name,
                                        fmt::join(setting_usages(t), ", "));
   if (arguments.words.empty()) return Unexpected{fmt::format("give a SETTING; {}", list)};
-  const std::string& name = arguments.words.front();
-  const auto entry = std::find_if(known.begin(), known.end(), [&](const Entry& e) {
-    return dashes_to_underscores(e.name) == dashes_to_underscores(name);
-  });
-  if (entry == known.end()) {
-    std::vector<std::string> names;
-    for (const Entry& e : known) names.push_back(e.name);
-    std::string suggestion = closest_name(name, names);
-    if (suggestion.empty()) suggestion = closest_name(dashes_to_underscores(name), names);
-    return Unexpected{fmt::format("unknown setting \"{}\"{}; {}", name,
-                                  suggestion.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", suggestion),
-                                  list)};
-  }
-  if (arguments.permanent && entry->kind != Kind::zero_here)
-    return Unexpected{fmt::format("--permanent goes with zero-here only, not {}", entry->name)};
-  const std::span<const std::string> text_values(arguments.words.data() + 1,
-                                                 arguments.words.size() - 1);
-  if (text_values.size() != entry->value_count) {
-    const std::string count = entry->value_count == 0   ? "no value"
-                              : entry->value_count == 1 ? "one value"
-                                                        : fmt::format("{} values", entry->value_count);
-    return Unexpected{fmt::format("{} takes {}: tiltgate set {}", entry->name, count, usage_of(*entry))};
-  }
-  std::vector<double> values;
-  for (const std::string& text : text_values) {
-    const std::optional<double> value = parse_number(text);
-    if (!value) return Unexpected{fmt::format("{}: \"{}\" is not a number", entry->name, text)};
-    values.push_back(*value);
-  }
-
+  const Expected<const Entry*, std::string> found =
+      find_entry(known, arguments.words.front(), list);
+  if (!found) return Unexpected{found.error()};
+  const Entry& entry = **found;
+  if (arguments.permanent && entry.kind != Kind::zero_here)
+    return Unexpected{fmt::format("--permanent goes with zero-here only, not {}", entry.name)};
+  const std::span<const std::string> texts(arguments.words.data() + 1,
+                                           arguments.words.size() - 1);
+  const Expected<std::vector<double>, std::string> values = parse_values(entry, texts);
+  if (!values) return Unexpected{values.error()};
   SetPlan plan;
-  plan.setting = entry->name;
-  const auto add = [&](WriteTarget id, double value) {
-    const SettingDescriptor* descriptor = find_setting(*t.model, id);
-    plan.writes.push_back({id, value});
-    plan.write_names.push_back(descriptor ? std::string(descriptor->name) : entry->name);
-  };
-  switch (entry->kind) {
-    case Kind::address:
-      add(WriteTarget::bus_address, values[0]);
-      if (values[0] >= 0 && values[0] <= 0xFFFF'FFFF && values[0] == std::floor(values[0]))
-        plan.new_address = std::uint32_t(values[0]);
-      break;
-    case Kind::baud: {
-      const double rate = values[0];
-      const bool offered = std::find(t.protocol->bauds.begin(), t.protocol->bauds.end(), rate) !=
-                           t.protocol->bauds.end();
-      const std::optional<std::int64_t> code =
-          offered ? t.commands->set.baud_code(std::int64_t(rate)) : std::nullopt;
-      if (!code)
-        return Unexpected{fmt::format("baud: {} is not a {} baud rate, expected one of {}",
-                                      text_values[0], t.protocol->name,
-                                      fmt::join(t.protocol->bauds, ", "))};
-      add(WriteTarget::baud_code, double(*code));
-      plan.new_baud = std::uint32_t(rate);
-      // The new rate is in force after a restart: restart at once, so the sensor answers at it.
-      if (const auto restart = command_value(t, SensorCommand::restart)) {
-        add(WriteTarget::command, *restart);
-        plan.restarts = true;
-      }
-      break;
-    }
-    case Kind::filter: add(WriteTarget::filter, values[0]); break;
-    case Kind::zero_x: add(WriteTarget::zero_x, values[0]); break;
-    case Kind::zero_y: add(WriteTarget::zero_y, values[0]); break;
-    case Kind::zero_here: {
-      const SensorCommand command =
-          arguments.permanent ? SensorCommand::zero_permanent : SensorCommand::zero_temporary;
-      const std::optional<double> value = command_value(t, command);
-      if (!value)
-        return Unexpected{fmt::format("a {} has no permanent zero to the current angle", t.model->name)};
-      add(WriteTarget::command, *value);
-      break;
-    }
-    case Kind::restart:
-      add(WriteTarget::command, *command_value(t, SensorCommand::restart));
-      plan.restarts = true;
-      break;
-    case Kind::compound: {
-      const CompoundSetting& c = t.commands->set.compound_settings[entry->index];
-      for (std::size_t i = 0; i < c.parts.size(); ++i)
-        add(find_setting(*t.model, c.parts[i])->id, values[i]);
-      break;
-    }
-    case Kind::own: add(t.model->settings[entry->index].id, values[0]); break;
-    case Kind::device:
-      plan.writes.push_back({WriteTarget::device_value(entry->index), values[0]});
-      plan.write_names.push_back(entry->name);
-      break;
-  }
+  plan.setting = entry.name;
+  const Expected<Done, std::string> planned =
+      plan_writes(plan, t, entry, arguments.permanent, *values, texts);
+  if (!planned) return Unexpected{planned.error()};
   return plan;
 }
 

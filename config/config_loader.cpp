@@ -91,20 +91,107 @@ bool nothing_served(const toml::table& root) {
   return node == nullptr || (node->is_array() && node->as_array()->empty());
 }
 
-Config assemble(std::string path, ServerConfig server, HttpConfig http,
-                std::vector<ParsedBus> buses, std::vector<ParsedSensor> sensors,
-                std::vector<ParsedAggregate> aggregates) {
+// A top-level table ([server], [http], ...): read by `read`, or an error when it is not a table.
+template <class Section, class Read>
+void read_section(std::string_view name, const toml::key& key, const toml::node& node,
+                  ErrorList& errors, Section& section, Read read) {
+  if (const toml::table* table = node.as_table())
+    section = read(*table, errors);
+  else
+    errors.add(place_of(key.source()), std::string(name),
+               fmt::format("expected a table ({}), got {}", table_header(name),
+                           type_name(node.type())));
+}
+
+// Every top-level table of a file as read, before the checks across them.
+struct Sections {
+  ServerConfig server;
+  HttpConfig http;
+  MqttConfig mqtt;
+  SparkplugConfig sparkplug;
+  AuditConfig audit;
+  std::optional<Place> sparkplug_at;  // where [sparkplug] was written, for check_feeds
+  std::vector<ParsedBus> buses;
+  std::vector<ParsedSensor> sensors;
+  std::vector<ParsedAggregate> aggregates;
+};
+
+Sections read_sections(const toml::table& root, ErrorList& errors, FamilyList families) {
+  Sections read;
+  for (auto&& [key, node] : root) {
+    if (key == "server") {
+      read_section("server", key, node, errors, read.server, read_server);
+    } else if (key == "http") {
+      read_section("http", key, node, errors, read.http, read_http);
+    } else if (key == "mqtt") {
+      read_section("mqtt", key, node, errors, read.mqtt, read_mqtt);
+    } else if (key == "sparkplug") {
+      read.sparkplug_at = place_of(key.source());
+      read_section("sparkplug", key, node, errors, read.sparkplug, read_sparkplug);
+    } else if (key == "audit") {
+      read_section("audit", key, node, errors, read.audit, read_audit);
+    } else if (key == "bus") {
+      read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
+        read.buses.push_back(read_bus(table, std::move(path), errors, families));
+      });
+    } else if (key == "sensor") {
+      read_table_array("sensor", key, node, errors,
+                       [&](const toml::table& table, std::string path) {
+                         read.sensors.push_back(
+                             read_sensor(table, std::move(path), errors, families));
+                       });
+    } else if (key == "aggregate") {
+      read_table_array("aggregate", key, node, errors,
+                       [&](const toml::table& table, std::string path) {
+                         read.aggregates.push_back(
+                             read_aggregate(table, std::move(path), errors));
+                       });
+    } else {
+      report_unknown_top_level(key, node, errors);
+    }
+  }
+  return read;
+}
+
+// The checks across tables, and the sensors' map files loaded (their errors are reported at
+// the map file's own lines, so they come back apart).
+ConfigErrors check_sections(const toml::table& root, Sections& read,
+                            std::string_view source_name, ErrorList& errors,
+                            FamilyList families) {
+  if (nothing_served(root))
+    errors.add(Place{}, "sensor", "no [[sensor]] defined, expected at least one");
+  check_buses(read.buses, errors);
+  check_tcp_ports(read.buses, read.server, errors);
+  check_sensors(read.sensors, read.buses, errors, families);
+  check_pass_through(read.buses, read.sensors, errors);
+  // [server] state_dir is the feeds' default; their own key wins.
+  if (!root.at_path("mqtt.state_dir")) read.mqtt.state_dir = read.server.state_dir;
+  if (!root.at_path("sparkplug.state_dir")) read.sparkplug.state_dir = read.server.state_dir;
+  if (read.sparkplug.enabled)
+    check_feeds(read.mqtt, read.sparkplug, read.sparkplug_at.value_or(Place{}), errors);
+  const std::size_t errors_before_maps = errors.size();
+  ConfigErrors map_file_errors = load_sensor_maps(read.sensors, source_name, errors, families);
+  check_aggregates(read.aggregates, read.sensors, read.buses,
+                   map_file_errors.empty() && errors.size() == errors_before_maps, errors,
+                   families);
+  return map_file_errors;
+}
+
+Config assemble(std::string path, Sections read) {
   Config config;
   config.path = std::move(path);
-  config.server = server;
-  config.http = std::move(http);
+  config.server = read.server;
+  config.http = std::move(read.http);
   if (!config.http.allow_given) config.http.allow = config.server.allow;
-  for (ParsedBus& bus : buses) config.buses.push_back(std::move(bus.config));
-  for (ParsedSensor& sensor : sensors) {
+  config.mqtt = std::move(read.mqtt);
+  config.sparkplug = std::move(read.sparkplug);
+  config.audit = read.audit;
+  for (ParsedBus& bus : read.buses) config.buses.push_back(std::move(bus.config));
+  for (ParsedSensor& sensor : read.sensors) {
     sensor.config.address = std::uint32_t(sensor.address);  // range checked against its bus
     config.sensors.push_back(std::move(sensor.config));
   }
-  for (ParsedAggregate& aggregate : aggregates)
+  for (ParsedAggregate& aggregate : read.aggregates)
     config.aggregates.push_back(std::move(aggregate.config));
   return config;
 }
@@ -124,91 +211,14 @@ Expected<Config, ConfigErrors> load_config_string(std::string_view text,
   }
   const toml::table root = std::move(*parsed);
   ErrorList errors{std::string(source_name)};
-  ServerConfig server;
-  HttpConfig http;
-  MqttConfig mqtt;
-  SparkplugConfig sparkplug;
-  AuditConfig audit;
-  std::optional<Place> sparkplug_at;
-  std::vector<ParsedBus> buses;
-  std::vector<ParsedSensor> sensors;
-  std::vector<ParsedAggregate> aggregates;
-  for (auto&& [key, node] : root) {
-    if (key == "server") {
-      if (const toml::table* table = node.as_table())
-        server = read_server(*table, errors);
-      else
-        errors.add(place_of(key.source()), "server",
-                   fmt::format("expected a table ([server]), got {}", type_name(node.type())));
-    } else if (key == "http") {
-      if (const toml::table* table = node.as_table())
-        http = read_http(*table, errors);
-      else
-        errors.add(place_of(key.source()), "http",
-                   fmt::format("expected a table ([http]), got {}", type_name(node.type())));
-    } else if (key == "mqtt") {
-      if (const toml::table* table = node.as_table())
-        mqtt = read_mqtt(*table, errors);
-      else
-        errors.add(place_of(key.source()), "mqtt",
-                   fmt::format("expected a table ([mqtt]), got {}", type_name(node.type())));
-    } else if (key == "sparkplug") {
-      sparkplug_at = place_of(key.source());
-      if (const toml::table* table = node.as_table())
-        sparkplug = read_sparkplug(*table, errors);
-      else
-        errors.add(*sparkplug_at, "sparkplug",
-                   fmt::format("expected a table ([sparkplug]), got {}", type_name(node.type())));
-    } else if (key == "audit") {
-      if (const toml::table* table = node.as_table())
-        audit = read_audit(*table, errors);
-      else
-        errors.add(place_of(key.source()), "audit",
-                   fmt::format("expected a table ([audit]), got {}", type_name(node.type())));
-    } else if (key == "bus") {
-      read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
-        buses.push_back(read_bus(table, std::move(path), errors, families));
-      });
-    } else if (key == "sensor") {
-      read_table_array("sensor", key, node, errors,
-                       [&](const toml::table& table, std::string path) {
-                         sensors.push_back(read_sensor(table, std::move(path), errors, families));
-                       });
-    } else if (key == "aggregate") {
-      read_table_array("aggregate", key, node, errors,
-                       [&](const toml::table& table, std::string path) {
-                         aggregates.push_back(read_aggregate(table, std::move(path), errors));
-                       });
-    } else {
-      report_unknown_top_level(key, node, errors);
-    }
-  }
-  if (nothing_served(root))
-    errors.add(Place{}, "sensor", "no [[sensor]] defined, expected at least one");
-  check_buses(buses, errors);
-  check_tcp_ports(buses, server, errors);
-  check_sensors(sensors, buses, errors, families);
-  check_pass_through(buses, sensors, errors);
-  // [server] state_dir is the feeds' default; their own key wins.
-  if (!root.at_path("mqtt.state_dir")) mqtt.state_dir = server.state_dir;
-  if (!root.at_path("sparkplug.state_dir")) sparkplug.state_dir = server.state_dir;
-  if (sparkplug.enabled) check_feeds(mqtt, sparkplug, sparkplug_at.value_or(Place{}), errors);
-  const std::size_t errors_before_maps = errors.size();
-  ConfigErrors map_file_errors = load_sensor_maps(sensors, source_name, errors, families);
-  check_aggregates(aggregates, sensors, buses,
-                   map_file_errors.empty() && errors.size() == errors_before_maps, errors,
-                   families);
+  Sections read = read_sections(root, errors, families);
+  ConfigErrors map_file_errors = check_sections(root, read, source_name, errors, families);
   if (!errors.empty() || !map_file_errors.empty()) {
     ConfigErrors all = errors.take();
     all.insert(all.end(), map_file_errors.begin(), map_file_errors.end());
     return Unexpected(std::move(all));
   }
-  Config config = assemble(std::string(source_name), server, std::move(http), std::move(buses),
-                           std::move(sensors), std::move(aggregates));
-  config.mqtt = std::move(mqtt);
-  config.sparkplug = std::move(sparkplug);
-  config.audit = audit;
-  return config;
+  return assemble(std::string(source_name), std::move(read));
 }
 
 Expected<Config, ConfigErrors> load_config_file(const std::string& path, FamilyList families) {

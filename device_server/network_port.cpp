@@ -70,9 +70,8 @@ NetworkPort::NetworkPort(asio::any_io_executor executor, NetworkPortOptions opti
 NetworkPort::~NetworkPort() { stop(); }
 
 bool NetworkPort::open() {
-  if (stopped_ || ready_ || connecting_) return ready_;
-  connecting_ = true;
-  first_connect_ = generation_ == 0;
+  // Only a port never opened starts connecting: otherwise it is open, stopped or connecting.
+  if (!states_.on(NetworkPortEvent::open_asked)) return states_.is_open();
   reopen_delay_ = options_.reopen_min;
   asio::co_spawn(stream_.get_executor(), keep_connecting(alive_, std::chrono::milliseconds{0}),
                  asio::detached);
@@ -80,9 +79,7 @@ bool NetworkPort::open() {
 }
 
 void NetworkPort::stop() {
-  stopped_ = true;
-  first_connect_ = false;
-  ready_ = false;
+  states_.on(NetworkPortEvent::stop_asked);  // refused only when stopped already
   timer_.cancel();
   resolver_.cancel();
   close_socket();  // a pending read or write completes with operation_aborted
@@ -96,13 +93,11 @@ void NetworkPort::close_socket() {
 }
 
 void NetworkPort::lose(const std::string& why) {
-  ready_ = false;
   close_socket();
-  if (stopped_ || connecting_) return;
+  // Stopped, or connecting already: the connect under way goes on.
+  if (!states_.on(NetworkPortEvent::lost)) return;
   spdlog::warn("{}: connection to {} lost ({}), reconnecting", options_.name,
                visible_text(options_.url), why);
-  warned_ = true;
-  connecting_ = true;
   reopen_delay_ = options_.reopen_min;
   asio::co_spawn(stream_.get_executor(), keep_connecting(alive_, reopen_delay_), asio::detached);
 }
@@ -113,21 +108,22 @@ asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::mil
       timer_.expires_after(delay);
       error_code ec;
       co_await timer_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-      if (alive.expired() || stopped_) co_return;
+      if (alive.expired() || states_.stopped()) co_return;
     }
     const Expected<Done, std::string> connected = co_await connect_once(alive);
     if (alive.expired()) co_return;
-    first_connect_ = false;
-    if (stopped_) {
+    if (states_.stopped()) {
       close_socket();
       co_return;
     }
     if (connected) break;
     close_socket();
-    if (!warned_) {
+    // The outage is warned of once: at the first connect's failure, or when the line lost it.
+    const bool first_failure = states_.opening();
+    states_.on(NetworkPortEvent::attempt_failed);
+    if (first_failure) {
       spdlog::warn("{}: cannot connect to {} ({}), retrying", options_.name,
                    visible_text(options_.url), connected.error());
-      warned_ = true;
     } else {
       spdlog::debug("{}: {} still unavailable ({}), next try in {} ms", options_.name,
                     visible_text(options_.url), connected.error(), reopen_delay_.count());
@@ -135,9 +131,7 @@ asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::mil
     delay = reopen_delay_;
     reopen_delay_ = std::min(reopen_delay_ * 2, options_.reopen_max);
   }
-  connecting_ = false;
-  ready_ = true;
-  warned_ = false;
+  states_.on(NetworkPortEvent::connected);
   reopen_delay_ = options_.reopen_min;
   ++generation_;
   if (is_telnet()) {
@@ -150,11 +144,11 @@ asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::mil
 }
 
 void NetworkPort::arm_deadline(std::chrono::milliseconds limit) {
-  deadline_passed_ = false;
+  states_.on(NetworkPortEvent::deadline_armed);
   timer_.expires_after(limit);
   timer_.async_wait([this, alive = Alive(alive_)](const error_code& ec) {
     if (ec || alive.expired()) return;
-    deadline_passed_ = true;
+    states_.on(NetworkPortEvent::deadline_passed);
     resolver_.cancel();
     error_code ignored;
     stream_.cancel(ignored);
@@ -170,7 +164,7 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::connect_once(Alive ali
   if (alive.expired()) co_return Unexpected(std::string("stopped"));
   if (ec) {
     timer_.cancel();
-    co_return Unexpected(deadline_passed_ ? std::string("name lookup timed out")
+    co_return Unexpected(states_.deadline_passed() ? std::string("name lookup timed out")
                                           : "cannot resolve " + options_.address.host + ": " +
                                                 ec.message());
   }
@@ -188,7 +182,7 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::connect_once(Alive ali
     }
     failure = connected.error();
     close_socket();
-    if (deadline_passed_) break;
+    if (states_.deadline_passed()) break;
   }
   timer_.cancel();
   co_return Unexpected(failure);
@@ -218,7 +212,8 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::connect_to(
                                 asio::redirect_error(asio::use_awaitable, ec));
     if (alive.expired()) co_return Unexpected(std::string("stopped"));
     if (ec) {
-      co_return Unexpected(deadline_passed_ ? std::string("connect timed out") : ec.message());
+      co_return Unexpected(states_.deadline_passed() ? std::string("connect timed out")
+                                                     : ec.message());
     }
     int error = 0;
     socklen_t size = sizeof error;
@@ -268,7 +263,7 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::negotiate(Alive alive)
     const Expected<Done, std::string> read = co_await read_negotiation(alive);
     if (alive.expired()) co_return Unexpected(std::string("stopped"));
     if (!read) {
-      co_return Unexpected(deadline_passed_
+      co_return Unexpected(states_.deadline_passed()
                                ? std::string("no answer to the RFC 2217 negotiation (is the "
                                              "server's port in RFC 2217 mode? A port in raw TCP "
                                              "mode is tcp://)")
@@ -283,7 +278,7 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::negotiate(Alive alive)
     const Expected<Done, std::string> read = co_await read_negotiation(alive);
     if (alive.expired()) co_return Unexpected(std::string("stopped"));
     if (!read) {
-      co_return Unexpected(deadline_passed_
+      co_return Unexpected(states_.deadline_passed()
                                ? "the server did not confirm the " + telnet_->missing() +
                                      " within " +
                                      std::to_string(options_.connect_timeout.count()) + " ms"

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "device_server/com_port_option.h"
+#include "device_server/network_port_state.h"
 #include "device_server/port_url.h"
 #include "device_server/rfc2217_session.h"
 #include "serial/line_port.h"
@@ -66,9 +67,9 @@ class NetworkPort final : public LinePort {
   void stop() override;
   void lose(const std::string& why) override;
 
-  bool is_open() const override { return ready_; }
-  bool opening() const override { return first_connect_; }
-  bool stopped() const override { return stopped_; }
+  bool is_open() const override { return states_.is_open(); }
+  bool opening() const override { return states_.opening(); }
+  bool stopped() const override { return states_.stopped(); }
   std::uint64_t generation() const override { return generation_; }
   boost::asio::posix::stream_descriptor& stream() override { return stream_; }
 
@@ -113,12 +114,7 @@ class NetworkPort final : public LinePort {
   boost::asio::ip::tcp::resolver resolver_;
   boost::asio::steady_timer timer_;  // the back-off, and the connect's deadline
   std::chrono::milliseconds reopen_delay_;
-  bool stopped_ = false;
-  bool connecting_ = false;
-  bool first_connect_ = false;  // open()'s first connect is under way
-  bool ready_ = false;
-  bool deadline_passed_ = false;
-  bool warned_ = false;  // this outage has been logged as a warning already
+  NetworkPortStates states_;  // closed, opening, reconnecting, open, stopped
   std::uint64_t generation_ = 0;
   int fd_ = -1;  // the socket's, for TCP_INFO; -1 while closed
   // The RFC 2217 conversation of the connection being made or open (rfc2217:// only).

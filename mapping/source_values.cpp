@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "mapping/tilt.h"
 
@@ -45,92 +46,83 @@ double setting_value(const Point& p, const SensorView& v) {
   return v.state.settings.get(*p.write).value_or(NAN);
 }
 
-}  // namespace
+// The measurement: angles, tilt and the raw reading; none for other sources.
+std::optional<double> measured_value(ValueSource source, const SensorView& v) {
+  const auto& reading = v.state.reading;
+  switch (source) {
+    case S::angle_x: return angle(v, true);
+    case S::angle_y: return angle(v, false);
+    case S::angle_x_cdeg: return angle(v, true) * 100.0;
+    case S::angle_y_cdeg: return angle(v, false) * 100.0;
+    case S::tilt: return tilt(v);
+    case S::raw_counts: return reading ? optional_int(reading->raw_counts) : NAN;
+    case S::raw_temperature: return reading ? optional_int(reading->raw_temperature) : NAN;
+    default: return std::nullopt;
+  }
+}
 
-double source_value(ValueSource source, const SensorView& v) {
+// The status word and its bits; none for other sources.
+std::optional<double> status_value(ValueSource source, const SensorView& v) {
+  switch (source) {
+    case S::status: return v.status();
+    case S::online: return bit_of(v.status(), status_bit::online);
+    case S::stale: return bit_of(v.status(), status_bit::stale);
+    case S::last_write_failed: return bit_of(v.status(), status_bit::last_write_failed);
+    case S::identity_unknown: return bit_of(v.status(), status_bit::identity_unknown);
+    case S::alarm_active: return bit_of(v.status(), status_bit::alarm_active);
+    case S::answers_late: return bit_of(v.status(), status_bit::answers_late);
+    case S::wrong_device: return bit_of(v.status(), status_bit::wrong_device);
+    default: return std::nullopt;
+  }
+}
+
+// The alarm word and its bits; none for other sources.
+std::optional<double> alarm_value(ValueSource source, const SensorView& v) {
+  switch (source) {
+    case S::alarms: return v.alarms();
+    case S::alarm_x_high: return bit_of(v.alarms(), alarm_bit::x_high);
+    case S::alarm_x_low: return bit_of(v.alarms(), alarm_bit::x_low);
+    case S::alarm_y_high: return bit_of(v.alarms(), alarm_bit::y_high);
+    case S::alarm_y_low: return bit_of(v.alarms(), alarm_bit::y_low);
+    case S::alarm_tilt: return bit_of(v.alarms(), alarm_bit::tilt_high);
+    case S::alarm_rate: return bit_of(v.alarms(), alarm_bit::rate);
+    default: return std::nullopt;
+  }
+}
+
+// The line's view of the sensor: counters, timing, the last refusal and what it is; none for
+// other sources.
+std::optional<double> line_value(ValueSource source, const SensorView& v) {
   const SensorState& s = v.state;
   const SensorCounters& c = s.counters;
   switch (source) {
-    case S::angle_x:
-      return angle(v, true);
-    case S::angle_y:
-      return angle(v, false);
-    case S::angle_x_cdeg:
-      return angle(v, true) * 100.0;
-    case S::angle_y_cdeg:
-      return angle(v, false) * 100.0;
-    case S::tilt:
-      return tilt(v);
-    case S::raw_counts:
-      return s.reading ? optional_int(s.reading->raw_counts) : NAN;
-    case S::raw_temperature:
-      return s.reading ? optional_int(s.reading->raw_temperature) : NAN;
-    case S::status:
-      return v.status();
-    case S::online:
-      return bit_of(v.status(), status_bit::online);
-    case S::stale:
-      return bit_of(v.status(), status_bit::stale);
-    case S::last_write_failed:
-      return bit_of(v.status(), status_bit::last_write_failed);
-    case S::identity_unknown:
-      return bit_of(v.status(), status_bit::identity_unknown);
-    case S::alarm_active:
-      return bit_of(v.status(), status_bit::alarm_active);
-    case S::answers_late:
-      return bit_of(v.status(), status_bit::answers_late);
-    case S::wrong_device:
-      return bit_of(v.status(), status_bit::wrong_device);
-    case S::alarms:
-      return v.alarms();
-    case S::alarm_x_high:
-      return bit_of(v.alarms(), alarm_bit::x_high);
-    case S::alarm_x_low:
-      return bit_of(v.alarms(), alarm_bit::x_low);
-    case S::alarm_y_high:
-      return bit_of(v.alarms(), alarm_bit::y_high);
-    case S::alarm_y_low:
-      return bit_of(v.alarms(), alarm_bit::y_low);
-    case S::alarm_tilt:
-      return bit_of(v.alarms(), alarm_bit::tilt_high);
-    case S::alarm_rate:
-      return bit_of(v.alarms(), alarm_bit::rate);
-    case S::age_ms:
-      return v.age_ms();
-    case S::polls_ok:
-      return c.polls_ok;
-    case S::polls_failed:
-      return c.polls_failed;
-    case S::transactions:
-      return c.transactions;
-    case S::timeouts:
-      return c.timeouts;
-    case S::checksum_errors:
-      return c.checksum_errors;
-    case S::io_errors:
-      return c.io_errors;
-    case S::late_replies:
-      return c.late_replies;
-    case S::reply_timeout_ms:
-      return double(std::min<long long>(s.reply_timeout.count(), 65535));
-    case S::last_nak:
-      return c.last_refusal ? *c.last_refusal : 65535;
-    case S::lock_level:
-      return s.protection_level ? *s.protection_level : 65535;
-    case S::bus_address:
-      return s.bus_address;
-    case S::sample_seq:
-      return s.sample_seq;
-    case S::model_code:
-      return v.model_code;
-    case S::serial:
-    case S::firmware:
-    case S::written:
-    case S::setting:
-    case S::device_value:
-    case S::bits:
-      return NAN;
+    case S::age_ms: return v.age_ms();
+    case S::polls_ok: return c.polls_ok;
+    case S::polls_failed: return c.polls_failed;
+    case S::transactions: return c.transactions;
+    case S::timeouts: return c.timeouts;
+    case S::checksum_errors: return c.checksum_errors;
+    case S::io_errors: return c.io_errors;
+    case S::late_replies: return c.late_replies;
+    case S::reply_timeout_ms: return double(std::min<long long>(s.reply_timeout.count(), 65535));
+    case S::last_nak: return c.last_refusal ? *c.last_refusal : 65535;
+    case S::lock_level: return s.protection_level ? *s.protection_level : 65535;
+    case S::bus_address: return s.bus_address;
+    case S::sample_seq: return s.sample_seq;
+    case S::model_code: return v.model_code;
+    default: return std::nullopt;
   }
+}
+
+}  // namespace
+
+double source_value(ValueSource source, const SensorView& v) {
+  if (const std::optional<double> value = measured_value(source, v)) return *value;
+  if (const std::optional<double> value = status_value(source, v)) return *value;
+  if (const std::optional<double> value = alarm_value(source, v)) return *value;
+  if (const std::optional<double> value = line_value(source, v)) return *value;
+  // serial, firmware, written, setting, device_value and bits are no number of the view
+  // (point_value() reads the last four).
   return NAN;
 }
 

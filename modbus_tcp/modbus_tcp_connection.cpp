@@ -91,7 +91,7 @@ void ModbusTcpConnection::close() {
 }
 
 void ModbusTcpConnection::begin() {
-  if (ended_) return;
+  if (stages_.is(ConnectionStage::ended)) return;
   if (closed_) {  // closed before its loop took it up
     end();
     return;
@@ -101,18 +101,19 @@ void ModbusTcpConnection::begin() {
     end();
     return;
   }
-  watched_ = true;
-  shaken_ = !stream_.is_tls();
+  stages_.on(stream_.is_tls() ? ConnectionEvent::watched_tls : ConnectionEvent::watched_plain);
   // The client proves itself in the handshake, which may take as long as a request.
-  if (!shaken_) expect(ModbusWait::request, loop_.now() + options_.latest().request_timeout);
-  else expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
+  if (stages_.is(ConnectionStage::handshaking))
+    expect(ModbusWait::request, loop_.now() + options_.latest().request_timeout);
+  else
+    expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
   // What the client sent before the socket was watched comes as its first event.
 }
 
 void ModbusTcpConnection::on_events(std::uint32_t events) {
-  if (ended_) return;
-  if (events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP | EPOLLERR)) drained_ = false;
-  if (!shaken_ && !shake_hands()) return;
+  if (stages_.is(ConnectionStage::ended)) return;
+  if (events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP | EPOLLERR)) incoming_ = Incoming::unknown;
+  if (stages_.is(ConnectionStage::handshaking) && !shake_hands()) return;
   serve();
 }
 
@@ -128,8 +129,9 @@ bool ModbusTcpConnection::shake_hands() {
     end();
     return false;
   }
-  shaken_ = true;
-  drained_ = false;  // the client's first request may have come with the handshake's end
+  stages_.on(ConnectionEvent::handshake_done);
+  // The client's first request may have come with the handshake's end.
+  incoming_ = Incoming::unknown;
   take_certificate();
   return true;
 }
@@ -162,98 +164,125 @@ std::string ModbusTcpConnection::write_refusal(const ModbusServerOptions& option
 }
 
 void ModbusTcpConnection::serve() {
-  if (with_handler_) return;  // take_reply() serves on, in order
-  bool answered = false;
+  // Served only between the handshake and the end; with the handler, take_reply() serves on,
+  // in order.
+  std::size_t answered = 0;
   int reads = 0;
-  while (!ended_) {
+  while (stages_.is(ConnectionStage::serving)) {
     // Every whole request buffered, in order; their replies go out together.
-    bool capped = false;  // stopped by kMaxQueuedReplies, with more whole requests buffered
-    bool waiting = false;  // the next request waits for its turn
-    while (!blocked_) {
-      if (out_.size() >= kMaxQueuedReplies) {
-        capped = true;
-        break;
-      }
-      const auto next = frames_.next();
-      if (const auto* error = std::get_if<FramingError>(&next)) {
-        log_closing(spdlog::level::warn, to_string(*error));
-        ++context_.counters.framing_errors;
-        // The requests before the bad header are answered (if the socket takes it now).
-        if (flush()) end();
-        return;
-      }
-      const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next);
-      if (adu == nullptr) break;  // need more
-      if (!admitted()) {
-        waiting = true;
-        break;
-      }
-      const Answer answer = this->answer(*adu);
-      if (answer == Answer::close) {
-        end();
-        return;
-      }
-      frames_.pop();
-      answered = true;
-      // Pipelined bytes already buffered start their request clock now.
-      if (frames_.buffered() > 0) first_byte_at_ = loop_.now();
-      if (answer == Answer::with_handler) {
-        flush();  // the replies before it go first
-        return;   // take_reply() serves on
-      }
-    }
-    // Nothing left to answer: idle before the replies leave, since admission, on the
-    // accepting thread, must not find busy a connection whose client already has its answer.
-    if (!out_.empty() && frames_.buffered() == 0)
-      expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
-    if (!flush()) return;
-    if (waiting) {
-      // Nothing more is read meanwhile: the client's socket fills and holds it back.
-      expect(ModbusWait::turn, *turn_);
-      return;
-    }
-    if (blocked_) {
-      // From the first reply the client did not take, not from its last progress.
-      if (waiting_for_ != ModbusWait::reply)
-        expect(ModbusWait::reply, loop_.now() + options_.latest().request_timeout);
-      return;
-    }
-    if (capped) continue;
-    if (drained_) break;
+    const Batch batch = answer_buffered();
+    answered += batch.answered;
+    if (batch.end == BatchEnd::handed_over || batch.end == BatchEnd::ended) return;
+    if (!send_batch(batch.end)) return;
+    if (batch.end == BatchEnd::capped) continue;
+    if (incoming_ == Incoming::drained) break;
     if (++reads == kReadsPerTurn) {
       // A client that keeps sending must not keep its loop from the others: the rest of its
       // bytes wait in the socket for a turn of their own, which no edge would start.
       loop_.post([self = shared_from_this()] { self->serve(); });
       break;
     }
-    const std::span<std::uint8_t> space = frames_.space();
-    const StreamResult got = stream_.read(space);
-    if (got.status == StreamStatus::would_block) {
-      drained_ = true;
-      break;
-    }
-    if (got.status != StreamStatus::ok) {
-      if (got.status == StreamStatus::failed)
-        spdlog::debug("Modbus TCP client {}: {}", peer_, stream_.error());
-      end();
-      return;
-    }
-    if (frames_.buffered() == 0) first_byte_at_ = loop_.now();
-    frames_.commit(got.bytes);
-    // A short read emptied the socket: its next event says when more comes. TLS may hold
-    // decrypted bytes back, so it reads until there is nothing.
-    drained_ = !stream_.is_tls() && got.bytes < space.size();
+    const Read read = read_more();
+    if (read == Read::ended) return;
+    if (read == Read::nothing) break;
   }
-  if (ended_) return;
+  if (!stages_.is(ConnectionStage::serving)) return;
+  await_next(answered);
+}
+
+ModbusTcpConnection::Batch ModbusTcpConnection::answer_buffered() {
+  Batch batch{BatchEnd::need_more, 0};
+  while (outgoing_ == Outgoing::taken) {
+    if (out_.size() >= kMaxQueuedReplies) {
+      batch.end = BatchEnd::capped;
+      return batch;
+    }
+    const auto next = frames_.next();
+    if (const auto* error = std::get_if<FramingError>(&next)) {
+      log_closing(spdlog::level::warn, to_string(*error));
+      ++context_.counters.framing_errors;
+      // The requests before the bad header are answered (if the socket takes it now).
+      if (flush()) end();
+      batch.end = BatchEnd::ended;
+      return batch;
+    }
+    const auto* adu = std::get_if<std::span<const std::uint8_t>>(&next);
+    if (adu == nullptr) return batch;  // need more
+    if (!admitted()) {
+      batch.end = BatchEnd::turn_later;
+      return batch;
+    }
+    const Answer answer = this->answer(*adu);
+    if (answer == Answer::close) {
+      end();
+      batch.end = BatchEnd::ended;
+      return batch;
+    }
+    frames_.pop();
+    ++batch.answered;
+    // Pipelined bytes already buffered start their request clock now.
+    if (frames_.buffered() > 0) first_byte_at_ = loop_.now();
+    if (answer == Answer::with_handler) {
+      flush();  // the replies before it go first
+      batch.end = BatchEnd::handed_over;
+      return batch;
+    }
+  }
+  return batch;
+}
+
+bool ModbusTcpConnection::send_batch(BatchEnd end) {
+  // Nothing left to answer: idle before the replies leave, since admission, on the accepting
+  // thread, must not find busy a connection whose client already has its answer.
+  if (!out_.empty() && frames_.buffered() == 0)
+    expect(ModbusWait::idle, loop_.now() + options_.latest().idle_timeout);
+  if (!flush()) return false;
+  if (end == BatchEnd::turn_later) {
+    // Nothing more is read meanwhile: the client's socket fills and holds it back.
+    expect(ModbusWait::turn, *turn_);
+    return false;
+  }
+  if (outgoing_ == Outgoing::blocked) {
+    // From the first reply the client did not take, not from its last progress.
+    if (waiting_for_ != ModbusWait::reply)
+      expect(ModbusWait::reply, loop_.now() + options_.latest().request_timeout);
+    return false;
+  }
+  return true;
+}
+
+ModbusTcpConnection::Read ModbusTcpConnection::read_more() {
+  const std::span<std::uint8_t> space = frames_.space();
+  const StreamResult got = stream_.read(space);
+  if (got.status == StreamStatus::would_block) {
+    incoming_ = Incoming::drained;
+    return Read::nothing;
+  }
+  if (got.status != StreamStatus::ok) {
+    if (got.status == StreamStatus::failed)
+      spdlog::debug("Modbus TCP client {}: {}", peer_, stream_.error());
+    end();
+    return Read::ended;
+  }
+  if (frames_.buffered() == 0) first_byte_at_ = loop_.now();
+  frames_.commit(got.bytes);
+  // A short read emptied the socket: its next event says when more comes. TLS may hold
+  // decrypted bytes back, so it reads until there is nothing.
+  incoming_ = !stream_.is_tls() && got.bytes < space.size() ? Incoming::drained
+                                                            : Incoming::unknown;
+  return Read::got_bytes;
+}
+
+void ModbusTcpConnection::await_next(std::size_t answered) {
   const ModbusServerOptions& options = options_.latest();
   if (frames_.buffered() > 0) {
     expect(ModbusWait::request, first_byte_at_ + options.request_timeout);
-  } else {
-    // A hint for admission on the accepting thread: relaxed, and no locked instruction.
-    if (answered)
-      idle_since_.store(loop_.now().time_since_epoch().count(), std::memory_order_relaxed);
-    expect(ModbusWait::idle, loop_.now() + options.idle_timeout);
+    return;
   }
+  // A hint for admission on the accepting thread: relaxed, and no locked instruction.
+  if (answered > 0)
+    idle_since_.store(loop_.now().time_since_epoch().count(), std::memory_order_relaxed);
+  expect(ModbusWait::idle, loop_.now() + options.idle_timeout);
 }
 
 bool ModbusTcpConnection::admitted() {
@@ -341,7 +370,7 @@ bool ModbusTcpConnection::answer_at_once() {
 
 void ModbusTcpConnection::hand_over(asio::awaitable<std::vector<std::uint8_t>> reply,
                                     std::span<const std::uint8_t> adu) {
-  with_handler_ = true;
+  stages_.on(ConnectionEvent::handed_over);
   handed_adu_.assign(adu.begin(), adu.end());
   const std::uint64_t turn = ++handler_turn_;
   expect(ModbusWait::handler, loop_.now() + options_.latest().handler_timeout);
@@ -355,9 +384,9 @@ void ModbusTcpConnection::hand_over(asio::awaitable<std::vector<std::uint8_t>> r
 }
 
 void ModbusTcpConnection::take_reply(std::uint64_t turn, const std::vector<std::uint8_t>& reply) {
-  if (ended_) return;  // closed while the handler worked
-  if (turn != handler_turn_ || !with_handler_) return;  // answered 0x0B already
-  with_handler_ = false;
+  if (!stages_.is(ConnectionStage::with_handler)) return;  // closed, or answered 0x0B already
+  if (turn != handler_turn_) return;                      // answered 0x0B already
+  stages_.on(ConnectionEvent::handler_done);
   if (reply.empty()) {  // the handler's coroutine failed where it cannot (out of memory)
     log_closing(spdlog::level::warn, "no reply from the handler");
     end();
@@ -368,7 +397,7 @@ void ModbusTcpConnection::take_reply(std::uint64_t turn, const std::vector<std::
 }
 
 void ModbusTcpConnection::answer_handler_late() {
-  with_handler_ = false;
+  stages_.on(ConnectionEvent::handler_done);
   ++handler_turn_;  // its reply, should it come, is dropped
   context_.problem_log.log_problem(
       peer_, address_,
@@ -389,7 +418,7 @@ bool ModbusTcpConnection::flush() {
   while (out_sent_ < out_.size()) {
     const StreamResult sent = stream_.write(std::span(out_).subspan(out_sent_));
     if (sent.status == StreamStatus::would_block) {
-      blocked_ = true;
+      outgoing_ = Outgoing::blocked;
       return true;
     }
     if (sent.status != StreamStatus::ok) {
@@ -402,7 +431,7 @@ bool ModbusTcpConnection::flush() {
   }
   out_.clear();
   out_sent_ = 0;
-  blocked_ = false;
+  outgoing_ = Outgoing::taken;
   return true;
 }
 
@@ -419,15 +448,15 @@ void ModbusTcpConnection::expect(ModbusWait what, Clock::time_point when) {
 }
 
 ConnectionLoop::Clock::time_point ModbusTcpConnection::on_deadline(Clock::time_point now) {
-  if (ended_) return Clock::time_point::max();
+  if (stages_.is(ConnectionStage::ended)) return Clock::time_point::max();
   if (now < deadline_) return deadline_;
   if (waiting_for_ == ModbusWait::turn) {
     serve();  // its turn came
-    return ended_ ? Clock::time_point::max() : deadline_;
+    return stages_.is(ConnectionStage::ended) ? Clock::time_point::max() : deadline_;
   }
   if (waiting_for_ == ModbusWait::handler) {
     answer_handler_late();  // the client is owed an answer, not a close
-    return ended_ ? Clock::time_point::max() : deadline_;
+    return stages_.is(ConnectionStage::ended) ? Clock::time_point::max() : deadline_;
   }
   expire();
   end();
@@ -459,10 +488,10 @@ void ModbusTcpConnection::expire() {
 }
 
 void ModbusTcpConnection::end() {
-  if (ended_) return;
-  ended_ = true;
+  const bool watched = is_watched(stages_.stage());
+  if (!stages_.on(ConnectionEvent::closed)) return;  // ended already
   closed_ = true;
-  if (watched_) loop_.remove(stream_.fd(), *this);
+  if (watched) loop_.remove(stream_.fd(), *this);
   stream_.close();
   context_.finished(shared_from_this());
 }

@@ -30,6 +30,7 @@
 
 #include "modbus_tcp/client_problem_log.h"
 #include "modbus_tcp/connection_loop.h"
+#include "modbus_tcp/connection_stage.h"
 #include "modbus_tcp/modbus_request.h"
 #include "modbus_tcp/modbus_request_counts.h"
 #include "modbus_tcp/modbus_server_options.h"
@@ -99,6 +100,29 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
 
  private:
   enum class Answer { sent, with_handler, close };
+  // Why answering the buffered requests stopped.
+  enum class BatchEnd {
+    need_more,    // no whole request left buffered
+    capped,       // kMaxQueuedReplies queued, with more whole requests buffered
+    turn_later,   // the next request waits for its turn under the request rates (turn_)
+    handed_over,  // a request went to the handler: take_reply() serves on
+    ended,        // the connection ended
+  };
+  struct Batch {
+    BatchEnd end;
+    std::size_t answered;  // requests taken off the buffer
+  };
+  // The edge-triggered socket's two directions, each known apart from the other (all four
+  // pairs occur: a client may send more while it does not take its replies).
+  enum class Incoming {
+    unknown,  // may hold more: its last event came after the last read that emptied it
+    drained,  // read until it had nothing, since its last event
+  };
+  enum class Outgoing {
+    taken,    // it took every reply sent so far
+    blocked,  // it took only part of out_: wait until it is writable
+  };
+  enum class Read { got_bytes, nothing, ended };
 
   void on_events(std::uint32_t events) override;
   Clock::time_point on_deadline(Clock::time_point now) override;
@@ -115,6 +139,14 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   // Reads what arrived, answers every whole request and sends the replies, until it has to
   // wait: for the socket, the client or the handler.
   void serve();
+  // serve()'s steps: answers the whole requests buffered, in order, until it has to stop.
+  Batch answer_buffered();
+  // Sends the batch's replies and sets what it waits for; false when serving must stop here.
+  bool send_batch(BatchEnd end);
+  // One read of the socket into the frame assembler.
+  Read read_more();
+  // Nothing left to do this turn: the deadline of a partial request, or of idleness.
+  void await_next(std::size_t answered);
   // Whether the request at the head may be answered now under the request rates; if not,
   // turn_ says when.
   bool admitted();
@@ -174,12 +206,9 @@ class ModbusTcpConnection final : public ConnectionLoop::Client,
   // Its loop's thread only.
   Clock::time_point deadline_ = Clock::time_point::max();
   Clock::time_point first_byte_at_{};  // of the request being received
-  bool watched_ = false;    // added to its loop
-  bool ended_ = false;
-  bool shaken_ = false;     // the TLS handshake is done (a plain stream needs none)
-  bool drained_ = false;    // read until the socket had nothing more, since its last event
-  bool blocked_ = false;    // the socket took only part of out_: wait until it is writable
-  bool with_handler_ = false;  // a request is with the handler: answer nothing else
+  ConnectionStages stages_;
+  Incoming incoming_ = Incoming::unknown;
+  Outgoing outgoing_ = Outgoing::taken;
   std::uint64_t handler_turn_ = 0;  // hand_over()s so far
   std::vector<std::uint8_t> handed_adu_;  // the request with the handler
   // [server] max_client_requests_per_s: this client's own limit, and its schedule for the rate

@@ -19,6 +19,7 @@
 #include "modbus_tcp/connection_admission.h"
 #include "modbus_tcp/tls_suites.h"
 #include "status/host_check.h"
+#include "status/http_request.h"
 #include "status/http_response.h"
 
 namespace tiltgate {
@@ -37,12 +38,6 @@ std::string local_address_of(const tcp::socket& socket) {
   boost::system::error_code ec;
   const tcp::endpoint local = socket.local_endpoint(ec);
   return ec ? std::string() : local.address().to_string();
-}
-
-bool is_loopback_address(const std::string& text) {
-  boost::system::error_code ec;
-  const auto address = asio::ip::make_address(text, ec);
-  return !ec && address.is_loopback();
 }
 
 }  // namespace
@@ -87,6 +82,16 @@ struct HttpServer::Connection {
   bool signed_in = false;  // it has carried a request with a live console session
   bool closed = false;  // by stop() or to make room: its coroutine ends on a later loop turn
   std::variant<beast::tcp_stream, TlsStream> stream;
+  beast::flat_buffer buffer;  // what was read of its requests and not yet parsed
+};
+
+struct HttpServer::Reading {
+  explicit Reading(const HttpServerOptions& options) {
+    parser.header_limit(std::uint32_t(options.max_request_bytes));
+    parser.body_limit(options.max_body_bytes);
+  }
+  http::request_parser<http::string_body> parser;
+  bool signed_in = true;  // no sessions ([http] users_file unset), or a live one
 };
 
 HttpServer::HttpServer(asio::any_io_executor executor, HttpHandler handler,
@@ -281,124 +286,104 @@ asio::awaitable<void> HttpServer::serve(std::shared_ptr<Connection> connection) 
   connections_.erase(connection);
 }
 
-namespace {
-
-std::string header_of(const http::request<http::string_body>& request, http::field field) {
-  const auto found = request.find(field);
-  if (found == request.end()) return {};
-  return std::string(found->value());
-}
-
-// Holds the body of the request whose header `parser` has read to `limit`: one that says it is
-// longer is refused at once (Beast checks a Content-Length against the limit only at the end of
-// the header), a chunked one as its chunks come.
-boost::system::error_code limit_body(http::request_parser<http::string_body>& parser,
-                                     std::size_t limit) {
-  if (const auto length = parser.content_length(); length && *length > limit)
-    return http::error::body_limit;
-  parser.body_limit(limit);
-  return {};
-}
-
-std::string header_of(const http::request<http::string_body>& request, std::string_view name) {
-  const auto found = request.find(beast::string_view(name.data(), name.size()));
-  if (found == request.end()) return {};
-  return std::string(found->value());
-}
-
-}  // namespace
-
 template <class Stream>
 asio::awaitable<void> HttpServer::serve_on(Connection& connection, Stream& stream) {
-  beast::flat_buffer buffer;
   for (;;) {
-    http::request_parser<http::string_body> parser;
-    parser.header_limit(std::uint32_t(options_.max_request_bytes));
-    parser.body_limit(options_.max_body_bytes);
-    // The whole request must be in within the time-out from the connection or the previous
-    // response, however the bytes trickle in: a client sending a byte a second is dropped.
-    connection.lowest().expires_after(options_.request_timeout);
-    boost::system::error_code ec;
-    co_await http::async_read_header(stream, buffer, parser,
-                                     asio::redirect_error(asio::use_awaitable, ec));
-    bool signed_in = true;
-    if (!ec && options_.signed_in) {
-      signed_in = options_.signed_in(header_of(parser.get(), http::field::cookie));
-      // No session: a few KiB, whatever the body says it holds (a login's is under 200 bytes).
-      if (!signed_in) ec = limit_body(parser, options_.max_anonymous_body_bytes);
-    }
-    if (!ec && !parser.is_done())
-      co_await http::async_read(stream, buffer, parser,
-                                asio::redirect_error(asio::use_awaitable, ec));
-    if (ec) {
-      count_unserved(connection, ec, parser.got_some());
-      if (ec == http::error::header_limit || ec == http::error::body_limit) {
-        http::response<http::string_body> too_large{http::status::payload_too_large, 11};
-        too_large.set(http::field::content_type, "text/plain; charset=utf-8");
-        too_large.body() = "request too large\n";
-        too_large.keep_alive(false);
-        too_large.prepare_payload();
-        co_await http::async_write(stream, too_large,
-                                   asio::redirect_error(asio::use_awaitable, ec));
-      }
+    Reading reading(options_);
+    if (const auto ec = co_await read_request(connection, stream, reading)) {
+      co_await refuse_unread(connection, stream, ec, reading.parser.got_some());
       break;
     }
     if (connection.closed) break;  // made room for another after its request came in
     connection.waiting = false;
-    // Its turn under the request rates: nothing more is read from it meanwhile.
-    connection.signed_in = connection.signed_in || (signed_in && options_.signed_in);
-    if (const Clock::time_point turn = take_turn(connection, signed_in); turn > Clock::now()) {
-      asio::steady_timer wait(executor_, turn);
-      co_await wait.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-      if (connection.closed) break;
-    }
+    connection.signed_in = connection.signed_in || (reading.signed_in && options_.signed_in);
+    // Nothing more is read from it meanwhile.
+    if (!co_await wait_turn(connection, reading.signed_in)) break;
     count([](HttpServerStats& s) { ++s.requests; });
-    auto& request = parser.get();
-    HttpRequest asked;
-    asked.method = std::string(request.method_string());
-    asked.target = std::string(request.target());
-    asked.cookie = header_of(request, http::field::cookie);
-    asked.csrf_token = header_of(request, "X-CSRF-Token");
-    asked.origin = header_of(request, http::field::origin);
-    asked.host = header_of(request, http::field::host);
-    asked.content_type = header_of(request, http::field::content_type);
-    asked.address = connection.address;
-    asked.https = tls_ != nullptr;
-    asked.loopback = is_loopback_address(connection.address);
-    asked.body = std::move(request.body());
-    const bool head = request.method() == http::verb::head;
-    const unsigned version = request.version();
-    const bool keep_alive = request.keep_alive();
+    HttpRequest asked =
+        http_request_of(reading.parser.get(), connection.address, tls_ != nullptr);
     // While the handler works (a console write waits for the sensor), the client's time-out
     // does not run: the reply's own time starts when it is ready.
     connection.lowest().expires_never();
-    // Checked before any route, for every request (DNS rebinding: status/host_check.h).
-    const HostVerdict host =
-        check_host(asked.host, options_.server_names, connection.local_address);
-    if (host != HostVerdict::ours)  // throttled per address; the Host shown escaped
-      problem_log_.log_problem(connection.peer, connection.address,
-                               host == HostVerdict::missing
-                                   ? std::string("a request without a Host header: answered 400")
-                                   : fmt::format("Host \"{}\" is not among [http] server_names: "
-                                                 "answered 421",
-                                                 asked.host));
-    HttpReply reply;
-    if (host == HostVerdict::ours)
-      reply = co_await handler_(std::move(asked));
-    else
-      reply = misdirected_reply(host, asked.host);
+    const HttpReply reply = co_await answer(connection, std::move(asked));
     if (connection.closed) break;
-    http::response<http::string_body> response = http_response(reply, version, tls_ != nullptr);
-    response.keep_alive(keep_alive);
-    response.prepare_payload();
-    if (head) response.body().clear();
-    connection.lowest().expires_after(options_.request_timeout);  // a client that takes nothing
-    co_await http::async_write(stream, response, asio::redirect_error(asio::use_awaitable, ec));
-    if (ec || !response.keep_alive()) break;
+    if (!co_await send_reply(connection, stream, reading, reply)) break;
     connection.served = true;
     connection.waiting = true;
     connection.waiting_since = Clock::now();
   }
+}
+
+template <class Stream>
+asio::awaitable<boost::system::error_code> HttpServer::read_request(Connection& connection,
+                                                                    Stream& stream,
+                                                                    Reading& reading) {
+  // The whole request must be in within the time-out from the connection or the previous
+  // response, however the bytes trickle in: a client sending a byte a second is dropped.
+  connection.lowest().expires_after(options_.request_timeout);
+  boost::system::error_code ec;
+  co_await http::async_read_header(stream, connection.buffer, reading.parser,
+                                   asio::redirect_error(asio::use_awaitable, ec));
+  if (!ec && options_.signed_in) {
+    reading.signed_in = options_.signed_in(header_of(reading.parser.get(), http::field::cookie));
+    // No session: a few KiB, whatever the body says it holds (a login's is under 200 bytes).
+    if (!reading.signed_in) ec = limit_body(reading.parser, options_.max_anonymous_body_bytes);
+  }
+  if (!ec && !reading.parser.is_done())
+    co_await http::async_read(stream, connection.buffer, reading.parser,
+                              asio::redirect_error(asio::use_awaitable, ec));
+  co_return ec;
+}
+
+template <class Stream>
+asio::awaitable<void> HttpServer::refuse_unread(Connection& connection, Stream& stream,
+                                                boost::system::error_code ec, bool got_some) {
+  count_unserved(connection, ec, got_some);
+  if (ec != http::error::header_limit && ec != http::error::body_limit) co_return;
+  http::response<http::string_body> too_large{http::status::payload_too_large, 11};
+  too_large.set(http::field::content_type, "text/plain; charset=utf-8");
+  too_large.body() = "request too large\n";
+  too_large.keep_alive(false);
+  too_large.prepare_payload();
+  co_await http::async_write(stream, too_large, asio::redirect_error(asio::use_awaitable, ec));
+}
+
+asio::awaitable<bool> HttpServer::wait_turn(Connection& connection, bool signed_in) {
+  const Clock::time_point turn = take_turn(connection, signed_in);
+  if (turn <= Clock::now()) co_return true;
+  asio::steady_timer wait(executor_, turn);
+  boost::system::error_code ec;
+  co_await wait.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+  co_return !connection.closed;
+}
+
+asio::awaitable<HttpReply> HttpServer::answer(Connection& connection, HttpRequest asked) {
+  // Checked before any route, for every request (DNS rebinding: status/host_check.h).
+  const HostVerdict host = check_host(asked.host, options_.server_names, connection.local_address);
+  if (host == HostVerdict::ours) co_return co_await handler_(std::move(asked));
+  // Throttled per address; the Host shown escaped.
+  problem_log_.log_problem(connection.peer, connection.address,
+                           host == HostVerdict::missing
+                               ? std::string("a request without a Host header: answered 400")
+                               : fmt::format("Host \"{}\" is not among [http] server_names: "
+                                             "answered 421",
+                                             asked.host));
+  co_return misdirected_reply(host, asked.host);
+}
+
+template <class Stream>
+asio::awaitable<bool> HttpServer::send_reply(Connection& connection, Stream& stream,
+                                             const Reading& reading, const HttpReply& reply) {
+  const auto& request = reading.parser.get();
+  http::response<http::string_body> response =
+      http_response(reply, request.version(), tls_ != nullptr);
+  response.keep_alive(request.keep_alive());
+  response.prepare_payload();
+  if (request.method() == http::verb::head) response.body().clear();
+  connection.lowest().expires_after(options_.request_timeout);  // a client that takes nothing
+  boost::system::error_code ec;
+  co_await http::async_write(stream, response, asio::redirect_error(asio::use_awaitable, ec));
+  co_return !ec && response.keep_alive();
 }
 
 }  // namespace tiltgate

@@ -106,6 +106,25 @@ class HttpServer {
   boost::asio::awaitable<void> serve(std::shared_ptr<Connection> connection);
   template <class Stream>
   boost::asio::awaitable<void> serve_on(Connection& connection, Stream& stream);
+  // serve_on()'s steps, one request each.
+  struct Reading;  // a request as it is read, and whether it carries a console session
+  // Its header, its session, then its body, all within request_timeout.
+  template <class Stream>
+  boost::asio::awaitable<boost::system::error_code> read_request(Connection& connection,
+                                                                 Stream& stream,
+                                                                 Reading& reading);
+  // A request not read whole: counted, logged, and answered 413 when it was too large.
+  template <class Stream>
+  boost::asio::awaitable<void> refuse_unread(Connection& connection, Stream& stream,
+                                             boost::system::error_code ec, bool got_some);
+  // Its turn under the request rates; false: the connection was closed meanwhile.
+  boost::asio::awaitable<bool> wait_turn(Connection& connection, bool signed_in);
+  // The handler's reply, or 400 / 421 for a Host that does not name the gateway.
+  boost::asio::awaitable<HttpReply> answer(Connection& connection, HttpRequest asked);
+  // Sends `reply`; false: the connection ends (failed, or not kept alive).
+  template <class Stream>
+  boost::asio::awaitable<bool> send_reply(Connection& connection, Stream& stream,
+                                          const Reading& reading, const HttpReply& reply);
   // Runs `work` on the executor, counted in coroutines_ until it ends.
   void spawn(boost::asio::awaitable<void> work);
   // A connection that ended without a whole request: counted and logged, unless it was closed

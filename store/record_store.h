@@ -42,6 +42,7 @@
 #include <cstdint>
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -125,6 +126,15 @@ class RecordStore {
   std::filesystem::path segment_path(std::uint64_t id) const;
   Expected<Done, std::string> scan_existing(std::uint64_t cursor_id, std::uint64_t cursor_offset,
                                             bool have_cursor);
+  // scan_existing()'s steps. The segment files by id, directories in their way cleared.
+  Expected<std::map<std::uint64_t, std::filesystem::path>, std::string> list_segment_files();
+  // One segment file read back: kept, cut at its first bad record, or removed without a
+  // header. `cursor_here`: the cursor is in it, at `cursor_offset`.
+  Expected<Done, std::string> scan_segment(std::uint64_t id, const std::filesystem::path& path,
+                                           bool cursor_here, std::uint64_t cursor_offset);
+  // The cursor placed after its record count in the front segment, segments replayed to their
+  // end forgotten, and the last segment opened for appends.
+  Expected<Done, std::string> place_cursor();
   Expected<Done, std::string> start_segment();
   // Writes the record at the end of the last segment (a new one when it is full); makes room
   // for it within the budget first when `make_room`.

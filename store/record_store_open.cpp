@@ -59,6 +59,22 @@ Expected<Done, std::string> RecordStore::scan_existing(std::uint64_t cursor_id,
   // New segments get ids past every file's and the cursor's: one numbered below the cursor
   // would be taken for replayed at the next open.
   if (have_cursor) next_id_ = std::max(next_id_, cursor_id + 1);
+  auto files = list_segment_files();
+  if (!files) return Unexpected(files.error());
+  for (const auto& [id, path] : *files) {
+    next_id_ = std::max(next_id_, id + 1);
+    if (have_cursor && id < cursor_id) {  // replayed, and its deletion was cut short
+      std::error_code error;
+      fs::remove(path, error);
+      continue;
+    }
+    auto scanned = scan_segment(id, path, have_cursor && id == cursor_id, cursor_offset);
+    if (!scanned) return scanned;
+  }
+  return place_cursor();
+}
+
+Expected<std::map<std::uint64_t, fs::path>, std::string> RecordStore::list_segment_files() {
   std::map<std::uint64_t, fs::path> files;
   std::error_code error;
   std::vector<fs::path> in_the_way;  // directories with a segment's name
@@ -77,47 +93,50 @@ Expected<Done, std::string> RecordStore::scan_existing(std::uint64_t cursor_id,
     if (!cleared) return Unexpected(cleared.error());
     if (*cleared) repairs_.push_back(**cleared);
   }
-  for (const auto& [id, path] : files) {
-    next_id_ = std::max(next_id_, id + 1);
-    if (have_cursor && id < cursor_id) {  // replayed, and its deletion was cut short
-      fs::remove(path, error);
-      continue;
-    }
-    auto bytes = read_whole(path);
-    if (!bytes) return Unexpected(bytes.error());
-    const std::span<const std::uint8_t> all(*bytes);
-    if (all.size() < kSegmentHeaderBytes ||
-        !std::equal(kSegmentMagic.begin(), kSegmentMagic.end(), all.begin())) {
-      repairs_.push_back(path.filename().string() + ": no segment header, removed");
-      fs::remove(path, error);
-      continue;
-    }
-    Segment segment{id, kSegmentHeaderBytes, 0};
-    const bool cursor_here = have_cursor && id == cursor_id;
-    std::uint64_t before_cursor = 0;
-    while (segment.size < all.size()) {
-      const FrameRead frame = read_frame(all.subspan(segment.size));
-      if (frame.status != FrameStatus::whole) {
-        const std::uint64_t lost = 1 + whole_frames_after(all, segment.size);
-        lost_ += lost;
-        repairs_.push_back(path.filename().string() + ": cut at byte " +
-                           std::to_string(segment.size) +
-                           (frame.status == FrameStatus::cut_short ? ": a record cut short"
-                                                                   : ": a corrupt record") +
-                           ", " + records_text(lost) + " lost");
-        if (auto cut = truncate_file(path, segment.size); !cut) return cut;
-        break;
-      }
-      if (cursor_here && segment.size < cursor_offset) ++before_cursor;
-      segment.size += frame.size;
-      ++segment.records;
-    }
-    // Without the cursor's segment (replayed and removed) the replay starts at the oldest.
-    if (cursor_here) cursor_index_ = before_cursor;
-    segments_.push_back(segment);
-    bytes_ += segment.size;
-    records_ += segment.records;
+  return files;
+}
+
+Expected<Done, std::string> RecordStore::scan_segment(std::uint64_t id, const fs::path& path,
+                                                      bool cursor_here,
+                                                      std::uint64_t cursor_offset) {
+  auto bytes = read_whole(path);
+  if (!bytes) return Unexpected(bytes.error());
+  const std::span<const std::uint8_t> all(*bytes);
+  if (all.size() < kSegmentHeaderBytes ||
+      !std::equal(kSegmentMagic.begin(), kSegmentMagic.end(), all.begin())) {
+    repairs_.push_back(path.filename().string() + ": no segment header, removed");
+    std::error_code error;
+    fs::remove(path, error);
+    return Done{};
   }
+  Segment segment{id, kSegmentHeaderBytes, 0};
+  std::uint64_t before_cursor = 0;
+  while (segment.size < all.size()) {
+    const FrameRead frame = read_frame(all.subspan(segment.size));
+    if (frame.status != FrameStatus::whole) {
+      const std::uint64_t lost = 1 + whole_frames_after(all, segment.size);
+      lost_ += lost;
+      repairs_.push_back(path.filename().string() + ": cut at byte " +
+                         std::to_string(segment.size) +
+                         (frame.status == FrameStatus::cut_short ? ": a record cut short"
+                                                                 : ": a corrupt record") +
+                         ", " + records_text(lost) + " lost");
+      if (auto cut = truncate_file(path, segment.size); !cut) return cut;
+      break;
+    }
+    if (cursor_here && segment.size < cursor_offset) ++before_cursor;
+    segment.size += frame.size;
+    ++segment.records;
+  }
+  // Without the cursor's segment (replayed and removed) the replay starts at the oldest.
+  if (cursor_here) cursor_index_ = before_cursor;
+  segments_.push_back(segment);
+  bytes_ += segment.size;
+  records_ += segment.records;
+  return Done{};
+}
+
+Expected<Done, std::string> RecordStore::place_cursor() {
   // The cursor sits after its record count in the front segment; segments replayed to their
   // end go (the last one too: appends start a new segment).
   Position front{0, kSegmentHeaderBytes, 0};
