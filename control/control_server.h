@@ -24,7 +24,7 @@
 #include "config/config.h"
 #include "driver/expected.h"
 #include "driver/family.h"
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 
 namespace tiltgate {
 

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "sim/support/captured_log.h"
 #include "unit/support/scheduler_bench.h"
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "driver/sensor_state.h"
-#include "gateway/sensor_processing.h"
+#include "line_scheduling/sensor_processing.h"
 
 namespace tiltgate {
 

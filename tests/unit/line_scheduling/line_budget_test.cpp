@@ -1,4 +1,4 @@
-// The line's time budget (gateway/line_budget.h): the worst age of a healthy sensor's reading
+// The line's time budget (line_scheduling/line_budget.h): the worst age of a healthy sensor's reading
 // while two others on its line fail, from the line's settings and sensors, and the warnings
 // `tiltgate check` prints where it passes stale_ms. The numbers are those docs/operations.md
 // quotes ("One failing sensor never takes its line").
@@ -10,7 +10,7 @@
 
 #include "config/config.h"
 #include "driver/family.h"
-#include "gateway/line_budget.h"
+#include "line_scheduling/line_budget.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

@@ -1,4 +1,4 @@
-#include "gateway/poll_schedule.h"
+#include "line_scheduling/poll_schedule.h"
 
 #include <algorithm>
 

@@ -1,6 +1,6 @@
 // A scan on a line in service: a commissioning command's transactions take the line's spare
-// time (gateway/line_turns.h, rule 2), and a poll a probe held up is made up for
-// (gateway/poll_schedule.h). First the rule on made-up claims, then a line run on the rule and
+// time (line_scheduling/line_turns.h, rule 2), and a poll a probe held up is made up for
+// (line_scheduling/poll_schedule.h). First the rule on made-up claims, then a line run on the rule and
 // the poll schedule alone, in simulated time, with a scan probing silent addresses throughout.
 #include <doctest/doctest.h>
 
@@ -8,8 +8,8 @@
 #include <chrono>
 #include <vector>
 
-#include "gateway/line_turns.h"
-#include "gateway/poll_schedule.h"
+#include "line_scheduling/line_turns.h"
+#include "line_scheduling/poll_schedule.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

@@ -7,7 +7,7 @@
 
 #include <optional>
 
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "unit/support/scheduler_bench.h"
 
 using namespace tiltgate;

@@ -1,4 +1,4 @@
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 
 #include <algorithm>
 #include <boost/asio/co_spawn.hpp>
@@ -9,7 +9,7 @@
 
 #include "audit/audit_trail.h"
 #include "driver/visible_text.h"
-#include "gateway/exception_text.h"
+#include "line_scheduling/exception_text.h"
 
 namespace tiltgate {
 

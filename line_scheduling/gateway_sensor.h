@@ -15,8 +15,8 @@
 #include "config/config.h"
 #include "driver/family.h"
 #include "driver/sensor_driver.h"
-#include "gateway/sensor_processing.h"
-#include "gateway/sensor_snapshot.h"
+#include "line_scheduling/sensor_processing.h"
+#include "line_scheduling/sensor_snapshot.h"
 #include "mapping/map_access.h"
 #include "mapping/register_map.h"
 
@@ -37,7 +37,7 @@ struct GatewaySensor {
   std::uint16_t processed_seq = 0;
   RegisterMap map;
   // Holding shadow, sized to map.holding_end(): what was written through the gateway, kept by
-  // SensorWrite (gateway/sensor_write.h).
+  // SensorWrite (line_scheduling/sensor_write.h).
   std::vector<std::uint16_t> written;
   std::chrono::milliseconds stale_after{1000};
   // The bus that polls it, kept alive by it: a write on its way holds the sensor, and through
@@ -48,7 +48,7 @@ struct GatewaySensor {
   // late-reply guards included (BusScheduler): who eats the line.
   std::chrono::nanoseconds line_time{0};
   // A late reply of the sensor may still come until then (the line was given to others before
-  // its late-reply window closed, gateway/line_claimant.h): nothing is sent to it before.
+  // its late-reply window closed, line_scheduling/line_claimant.h): nothing is sent to it before.
   SteadyClock::time_point quiet_until{};
 
   // Bus thread: copies state, derived values and written registers into a new snapshot, after

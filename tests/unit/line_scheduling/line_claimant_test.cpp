@@ -1,4 +1,4 @@
-// LineClaimant and SharedLine together (gateway/line_claimant.h, gateway/shared_line.h), on a
+// LineClaimant and SharedLine together (line_scheduling/line_claimant.h, line_scheduling/shared_line.h), on a
 // fake line (unit/support/fake_bus.h): an attempt that times out gives the line back before
 // its retry, a claimant whose wait ran out never takes the line from the one holding it, and
 // nothing is sent that could end after a deadline. One transaction on the line at a time,
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/line_claimant.h"
-#include "gateway/shared_line.h"
+#include "line_scheduling/line_claimant.h"
+#include "line_scheduling/shared_line.h"
 #include "unit/support/fake_bus.h"
 
 using namespace tiltgate;

@@ -1,7 +1,7 @@
-// LineTurns, the rule of a bus's line's turns (gateway/line_turns.h), on its own: no Asio, no
+// LineTurns, the rule of a bus's line's turns (line_scheduling/line_turns.h), on its own: no Asio, no
 // line; claims and times are made up. Then the rule run over a simulated line for a simulated
 // hour, with sensors failing and clients writing, against the worst-case age that
-// gateway/line_budget.h promises.
+// line_scheduling/line_budget.h promises.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "gateway/line_turns.h"
+#include "line_scheduling/line_turns.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;
@@ -174,7 +174,7 @@ TEST_CASE("line turns: among failing claims a retry after a garble goes first, t
 // attempt with its late-reply window 531 ms, a short look 81 ms, a write 3 exchanges). Two
 // sensors fall silent at the same moment, at random times; clients write to a healthy sensor
 // all the time. No healthy sensor may go longer between two readings than the bound of
-// gateway/line_budget.h.
+// line_scheduling/line_budget.h.
 TEST_CASE("line turns: over a simulated hour, no healthy reading gets older than the line budget's bound") {
   using std::chrono::milliseconds;
   constexpr int kSensors = 10;
@@ -248,7 +248,7 @@ TEST_CASE("line turns: over a simulated hour, no healthy reading gets older than
     }
     turns.ended(taken, now);
   }
-  // gateway/line_budget.h: the line cannot keep up (R = 7 polls > poll_ms), so Q = R; two
+  // line_scheduling/line_budget.h: the line cannot keep up (R = 7 polls > poll_ms), so Q = R; two
   // failing, each with a short look, and one whole turn.
   const milliseconds bound = 7 * kPoll + (kWindow + 2 * kShortLook) + kPoll;
   CAPTURE(worst.count());

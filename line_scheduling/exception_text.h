@@ -1,6 +1,6 @@
 // What a caught exception says, for a log line: its what(), or that it was not a
-// std::exception. Used where a bus logs a failure it goes on after (gateway/shared_line.h,
-// gateway/bus_scheduler.h).
+// std::exception. Used where a bus logs a failure it goes on after (line_scheduling/shared_line.h,
+// line_scheduling/bus_scheduler.h).
 #pragma once
 
 #include <exception>

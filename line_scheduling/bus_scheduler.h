@@ -1,10 +1,10 @@
-// One serial bus: the only owner of its Line, shared (gateway/shared_line.h) among everyone
+// One serial bus: the only owner of its Line, shared (line_scheduling/shared_line.h) among everyone
 // who needs it. Each sensor has a poller that polls it at its poll period, backing off from a
 // sensor that does not answer; Modbus writes of its sensors, requests forwarded to devices it
 // passes through ([[bus]] pass_through) and the transactions of commissioning commands (the
 // control socket) wait for the line alongside. Each of them is a LineClaimant
-// (gateway/line_claimant.h), and whose turn it is next is decided in one place,
-// gateway/line_turns.h: healthy sensors' polls in rounds, and one other turn (a write, a
+// (line_scheduling/line_claimant.h), and whose turn it is next is decided in one place,
+// line_scheduling/line_turns.h: healthy sensors' polls in rounds, and one other turn (a write, a
 // forwarded request, a command's transaction, a failing sensor's attempt) between rounds, so a
 // failing sensor never takes the line from the others (docs/operations.md, "One failing sensor
 // never takes its line"). Everything runs on the event loop thread; nothing here blocks.
@@ -24,12 +24,12 @@
 #include "driver/forwarded_exchange.h"
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
-#include "gateway/bus_answers.h"
-#include "gateway/gateway_sensor.h"
-#include "gateway/line_claimant.h"
-#include "gateway/poll_schedule.h"
-#include "gateway/sensor_write.h"
-#include "gateway/shared_line.h"
+#include "line_scheduling/bus_answers.h"
+#include "line_scheduling/gateway_sensor.h"
+#include "line_scheduling/line_claimant.h"
+#include "line_scheduling/poll_schedule.h"
+#include "line_scheduling/sensor_write.h"
+#include "line_scheduling/shared_line.h"
 
 namespace tiltgate {
 
@@ -85,7 +85,7 @@ class BusScheduler {
   // line's own stop() cancels it). Its sensors are let go.
   void stop();
 
-  // Where the writes it carries out are recorded (gateway/sensor_write.h); none until given
+  // Where the writes it carries out are recorded (line_scheduling/sensor_write.h); none until given
   // (a scheduler tested on its own).
   void set_audit(AuditTrail& trail) { audit_ = &trail; }
   AuditTrail* audit() const { return audit_; }
@@ -157,7 +157,7 @@ class BusScheduler {
   Line& line() { return line_.line(); }
   boost::asio::any_io_executor executor() const { return line_.executor(); }
 
-  // Longest wait between polls of an offline sensor (gateway/poll_schedule.h).
+  // Longest wait between polls of an offline sensor (line_scheduling/poll_schedule.h).
   static constexpr std::chrono::milliseconds max_backoff{5000};
   // Forwarded requests waiting per bus before clients are held to their share (a Modbus
   // connection waits for each reply, so this many means as many connections).

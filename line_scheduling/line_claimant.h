@@ -1,6 +1,6 @@
 // One who needs a bus's line: a sensor's poller, a Modbus write, a request forwarded to a
 // device passed through, or a commissioning command's transaction. It waits for its turn
-// (gateway/shared_line.h grants them as gateway/line_turns.h decides) and, holding it, is the Line its
+// (line_scheduling/shared_line.h grants them as line_scheduling/line_turns.h decides) and, holding it, is the Line its
 // work runs on: each transaction goes to the bus's line, but before an attempt after one that
 // timed out, and before every attempt but the first of a failing sensor's, it gives the line
 // back and waits for a failing sensor's turn, so its time-outs and late-reply guards take
@@ -25,8 +25,8 @@
 #include <optional>
 
 #include "driver/line.h"
-#include "gateway/gateway_sensor.h"
-#include "gateway/line_turns.h"
+#include "line_scheduling/gateway_sensor.h"
+#include "line_scheduling/line_turns.h"
 
 namespace tiltgate {
 
@@ -93,7 +93,7 @@ class LineClaimant final : public Line {
   bool engaged_ = false;    // its sensor is engaged by it (from its first turn to finish())
   bool yielded_ = false;    // waits between two attempts: a failing turn
   bool yield_next_ = false; // the next attempt needs a turn of its own
-  bool owed_ = false;       // this turn is a round's owed poll (gateway/line_turns.h)
+  bool owed_ = false;       // this turn is a round's owed poll (line_scheduling/line_turns.h)
   SteadyClock::time_point turn_started_{};
   boost::asio::steady_timer wake_;  // cancelled when the wait ends
   LineTiming timing_;

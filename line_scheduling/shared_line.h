@@ -1,9 +1,9 @@
-// A bus's line, shared among those who need it: the claimants (gateway/line_claimant.h)
+// A bus's line, shared among those who need it: the claimants (line_scheduling/line_claimant.h)
 // waiting for it, the one holding it, and, whenever it is free, the next turn as the line's
-// rule decides (gateway/line_turns.h). It keeps a sensor's work in one piece (no one else's
+// rule decides (line_scheduling/line_turns.h). It keeps a sensor's work in one piece (no one else's
 // work for a sensor runs while a claimant is mid-way through its own), measures each turn (the
 // line's busy time, and each sensor's share), and wakes at the next due time. BusScheduler
-// (gateway/bus_scheduler.h) owns one per bus. Everything runs on the buses' thread.
+// (line_scheduling/bus_scheduler.h) owns one per bus. Everything runs on the buses' thread.
 //
 // Should choosing a turn ever fail (an exception: a bug, or memory), run() is told, never the
 // claimant that happened to ask: it logs the failure at error, counts it (restarts()),
@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "driver/line.h"
-#include "gateway/gateway_sensor.h"
-#include "gateway/line_turns.h"
+#include "line_scheduling/gateway_sensor.h"
+#include "line_scheduling/line_turns.h"
 
 namespace tiltgate {
 
@@ -78,7 +78,7 @@ class SharedLine {
   static constexpr std::chrono::seconds kFailureLogInterval{60};
 
   // Told when a failing sensor's claim waits while the round's polls go first (held to its
-  // turn, gateway/line_turns.h).
+  // turn, line_scheduling/line_turns.h).
   std::function<void(const GatewaySensor&, SteadyClock::time_point)> on_held;
 
  private:

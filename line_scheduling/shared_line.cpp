@@ -1,12 +1,12 @@
-#include "gateway/shared_line.h"
+#include "line_scheduling/shared_line.h"
 
 #include <algorithm>
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <spdlog/spdlog.h>
 
-#include "gateway/exception_text.h"
-#include "gateway/line_claimant.h"
+#include "line_scheduling/exception_text.h"
+#include "line_scheduling/line_claimant.h"
 
 namespace tiltgate {
 
@@ -15,7 +15,7 @@ namespace asio = boost::asio;
 namespace {
 
 // A sensor that is offline (its polls are probes at the back-off's pace) or answers late: each
-// of its attempts is a turn of its own, one between rounds (gateway/line_turns.h).
+// of its attempts is a turn of its own, one between rounds (line_scheduling/line_turns.h).
 bool failing(const GatewaySensor& sensor) {
   const SensorState& state = sensor.driver->state();
   return known_offline(state) || state.answers_late;
@@ -184,7 +184,7 @@ void SharedLine::choose_turn() {
     claim.failing = claimant->yielded_;
     if (const GatewaySensor* sensor = claimant->sensor_) {
       claim.failing = claim.failing || failing(*sensor);
-      // A late reply of its may still come until then (gateway/line_claimant.h).
+      // A late reply of its may still come until then (line_scheduling/line_claimant.h).
       claim.due = std::max(claim.due, sensor->quiet_until);
     }
     claims_.push_back(claim);

@@ -1,10 +1,10 @@
-#include "gateway/line_budget.h"
+#include "line_scheduling/line_budget.h"
 
 #include <algorithm>
 #include <fmt/format.h>
 
 #include "driver/scan.h"
-#include "gateway/gateway_sensor.h"
+#include "line_scheduling/gateway_sensor.h"
 #include "serial/late_window.h"
 
 namespace tiltgate {

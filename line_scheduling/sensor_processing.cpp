@@ -1,4 +1,4 @@
-#include "gateway/sensor_processing.h"
+#include "line_scheduling/sensor_processing.h"
 
 #include <chrono>
 #include <cmath>

@@ -1,5 +1,5 @@
 // How old a healthy sensor's reading can get while other sensors on its line fail: the worst
-// case of the line's turns (gateway/line_turns.h) as a formula of the line's settings and
+// case of the line's turns (line_scheduling/line_turns.h) as a formula of the line's settings and
 // sensors, docs/operations.md "One failing sensor never takes its line". Pure: `tiltgate check`
 // prints its warnings, and the gateway logs them at start and at each reload.
 //

@@ -1,4 +1,4 @@
-#include "gateway/line_turns.h"
+#include "line_scheduling/line_turns.h"
 
 #include <algorithm>
 #include <tuple>

@@ -1,9 +1,9 @@
-// The bus's poll timing (gateway/poll_schedule.h) as arithmetic on given time points: the
+// The bus's poll timing (line_scheduling/poll_schedule.h) as arithmetic on given time points: the
 // period while a sensor answers, a back-off that doubles up to the cap while it does not.
 #include <doctest/doctest.h>
 
-#include "gateway/bus_scheduler.h"
-#include "gateway/poll_schedule.h"
+#include "line_scheduling/bus_scheduler.h"
+#include "line_scheduling/poll_schedule.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

@@ -1,10 +1,10 @@
-// Mounting correction, tilt and alarms of gateway/sensor_processing, on hand-made readings.
+// Mounting correction, tilt and alarms of line_scheduling/sensor_processing, on hand-made readings.
 #include <doctest/doctest.h>
 
 #include <chrono>
 #include <cmath>
 
-#include "gateway/sensor_processing.h"
+#include "line_scheduling/sensor_processing.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

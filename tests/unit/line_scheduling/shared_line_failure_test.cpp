@@ -1,8 +1,8 @@
-// A bus whose choice of the next turn fails (gateway/shared_line.h): the failure reaches the
+// A bus whose choice of the next turn fails (line_scheduling/shared_line.h): the failure reaches the
 // line's own loop, never the claimant that happened to ask; it is logged at error and counted,
 // every write, forwarded request and command waiting is refused (answered, not left waiting),
 // and turns are given again after the pause, the pollers keeping their places. And a sensor
-// whose poll throws (gateway/bus_scheduler.h) is logged, counted and polled again, its
+// whose poll throws (line_scheduling/bus_scheduler.h) is logged, counted and polled again, its
 // neighbours untouched. The failures come from the fake driver (unit/support/fake_bus.h).
 #include <doctest/doctest.h>
 
@@ -12,9 +12,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "gateway/bus_scheduler.h"
-#include "gateway/line_claimant.h"
-#include "gateway/shared_line.h"
+#include "line_scheduling/bus_scheduler.h"
+#include "line_scheduling/line_claimant.h"
+#include "line_scheduling/shared_line.h"
 #include "sim/support/captured_log.h"
 #include "unit/support/fake_bus.h"
 #include "unit/support/scheduler_bench.h"

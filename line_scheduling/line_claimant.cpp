@@ -1,9 +1,9 @@
-#include "gateway/line_claimant.h"
+#include "line_scheduling/line_claimant.h"
 
 #include <boost/asio/redirect_error.hpp>
 #include <boost/asio/use_awaitable.hpp>
 
-#include "gateway/shared_line.h"
+#include "line_scheduling/shared_line.h"
 
 namespace tiltgate {
 

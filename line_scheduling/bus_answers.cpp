@@ -1,4 +1,4 @@
-#include "gateway/bus_answers.h"
+#include "line_scheduling/bus_answers.h"
 
 namespace tiltgate {
 

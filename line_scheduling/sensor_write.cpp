@@ -1,4 +1,4 @@
-#include "gateway/sensor_write.h"
+#include "line_scheduling/sensor_write.h"
 
 #include <algorithm>
 #include <fmt/format.h>
@@ -7,7 +7,7 @@
 
 #include "audit/audit_trail.h"
 #include "driver/visible_text.h"
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 
 namespace tiltgate {
 

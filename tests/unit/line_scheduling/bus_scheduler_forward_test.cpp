@@ -9,7 +9,7 @@
 #include <boost/asio/detached.hpp>
 #include <optional>
 
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "unit/support/scheduler_bench.h"
 
 using namespace tiltgate;

@@ -1,6 +1,6 @@
 // Whose turn a bus's line is next: the one rule by which a bus shares its line's time among its
 // sensors' polls, Modbus writes, requests forwarded to devices it passes through, commissioning
-// commands' transactions and failing sensors. Pure: BusScheduler (gateway/bus_scheduler.h)
+// commands' transactions and failing sensors. Pure: BusScheduler (line_scheduling/bus_scheduler.h)
 // says who waits and for what, asks choose(), runs the turn, and says when it ended(). No Asio.
 //
 // 1. Rounds. A healthy sensor's poll is owed once it falls due before the last other turn
@@ -24,7 +24,7 @@
 //
 // A claim is failing when its sensor is offline (its probes come at the back-off's pace),
 // answers late, or is between two attempts of one exchange: each of a failing claim's attempts
-// is a turn of its own (gateway/line_claimant.h), so its time-outs and late-reply guards are
+// is a turn of its own (line_scheduling/line_claimant.h), so its time-outs and late-reply guards are
 // spread over the rounds instead of served back to back. Among failing claims a retry after a
 // garbled reply goes first (its device answers: most likely noise), then a retry after silence,
 // then probes and late sensors' polls; earliest due first within each.

@@ -18,7 +18,7 @@
 #include "audit/audit_record.h"
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
-#include "gateway/gateway_sensor.h"
+#include "line_scheduling/gateway_sensor.h"
 #include "mapping/map_access.h"
 
 namespace tiltgate {
