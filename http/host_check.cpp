@@ -1,4 +1,4 @@
-#include "status/host_check.h"
+#include "http/host_check.h"
 
 #include <boost/asio/ip/address.hpp>
 

@@ -1,5 +1,5 @@
 #include "modbus_tcp/tcp_listen.h"
-#include "status/http_server.h"
+#include "http/http_server.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/redirect_error.hpp>
@@ -18,8 +18,8 @@
 
 #include "modbus_tcp/connection_admission.h"
 #include "modbus_tcp/tls_suites.h"
-#include "status/host_check.h"
-#include "status/http_response.h"
+#include "http/host_check.h"
+#include "http/http_response.h"
 
 namespace tiltgate {
 
@@ -372,7 +372,7 @@ asio::awaitable<void> HttpServer::serve_on(Connection& connection, Stream& strea
     // While the handler works (a console write waits for the sensor), the client's time-out
     // does not run: the reply's own time starts when it is ready.
     connection.lowest().expires_never();
-    // Checked before any route, for every request (DNS rebinding: status/host_check.h).
+    // Checked before any route, for every request (DNS rebinding: http/host_check.h).
     const HostVerdict host =
         check_host(asked.host, options_.server_names, connection.local_address);
     if (host != HostVerdict::ours)  // throttled per address; the Host shown escaped

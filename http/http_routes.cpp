@@ -1,4 +1,4 @@
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 #include <algorithm>
 
@@ -99,7 +99,7 @@ HttpReply route_http(std::string_view method, std::string_view target,
   if (path == "/" || path == "/index.html")
     return HttpReply{200, "text/html; charset=utf-8", std::string(kStatusPage)};
   // The page's style sheet and script, files of their own: the Content-Security-Policy
-  // (status/http_server.cpp) allows no inline style or script.
+  // (http/http_server.cpp) allows no inline style or script.
   if (path == "/status_page.css")
     return HttpReply{200, "text/css; charset=utf-8", std::string(kStatusPageCss)};
   if (path == "/status_page.js")

@@ -1,5 +1,5 @@
 // What each HTTP request is answered with (docs/northbound.md, "HTTP status API and metrics"). Pure: the
-// server (status/http_server.h) hands it the method and target, and a way to take the
+// server (http/http_server.h) hands it the method and target, and a way to take the
 // gateway's status, which is taken only for the endpoints that show it.
 #pragma once
 

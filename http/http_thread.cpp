@@ -1,4 +1,4 @@
-#include "console/http_thread.h"
+#include "http/http_thread.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>

@@ -9,8 +9,8 @@
 #include <string>
 #include <thread>
 
-#include "status/http_routes.h"
-#include "status/http_server.h"
+#include "http/http_routes.h"
+#include "http/http_server.h"
 #include "sim/support/modbus_test_server.h"
 
 using namespace tiltgate;

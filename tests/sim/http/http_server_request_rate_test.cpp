@@ -10,8 +10,8 @@
 #include <thread>
 
 #include "sim/support/modbus_test_server.h"
-#include "status/http_routes.h"
-#include "status/http_server.h"
+#include "http/http_routes.h"
+#include "http/http_server.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;

@@ -1,4 +1,4 @@
-// The HTTP server's thread (console/http_thread.h) as a reload replaces it: stop() returns at
+// The HTTP server's thread (http/http_thread.h) as a reload replaces it: stop() returns at
 // once even while the old server's thread is busy, and the new server on the same port binds
 // it once the old one has let it go, then serves there. A port some other socket holds is an
 // error at once.
@@ -15,7 +15,7 @@
 #include <string>
 #include <thread>
 
-#include "console/http_thread.h"
+#include "http/http_thread.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

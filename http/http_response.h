@@ -8,8 +8,8 @@
 #include <boost/beast/http/string_body.hpp>
 #include <string_view>
 
-#include "status/host_check.h"
-#include "status/http_routes.h"
+#include "http/host_check.h"
+#include "http/http_routes.h"
 
 namespace tiltgate {
 

@@ -1,10 +1,10 @@
-// status/host_check.h: which Host headers name this gateway (issue 52, item 8: DNS rebinding).
+// http/host_check.h: which Host headers name this gateway (issue 52, item 8: DNS rebinding).
 #include <doctest/doctest.h>
 
 #include <string>
 #include <vector>
 
-#include "status/host_check.h"
+#include "http/host_check.h"
 
 using namespace tiltgate;
 

@@ -1,7 +1,7 @@
 // The HTTP server of the status API, the metrics and the web console (docs/northbound.md,
 // docs/web-console.md): HTTP/1.1, or HTTPS with a certificate, with Boost.Beast on an event
-// loop of its own (console/http_thread.h), never the buses'. One coroutine per connection; the
-// handler decides each reply (status/http_routes.h, console/console_handler.h). A client that does not send a whole request in time, or sends too much, is closed:
+// loop of its own (http/http_thread.h), never the buses'. One coroutine per connection; the
+// handler decides each reply (http/http_routes.h, console/console_handler.h). A client that does not send a whole request in time, or sends too much, is closed:
 // it only ever holds up itself. Places are shared as the Modbus TCP server shares them
 // (modbus_tcp/connection_admission.h): one address holds at most max_clients_per_host, and a
 // full server makes room for a new client by closing the connection that has waited longest
@@ -30,7 +30,7 @@
 #include "gateway/gateway_status.h"
 #include "modbus_tcp/client_problem_log.h"
 #include "modbus_tcp/request_rate.h"
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 namespace tiltgate {
 
@@ -60,7 +60,7 @@ struct HttpServerOptions {
   // every request is treated alike, as the read-only API always was.
   std::function<bool(std::string_view cookie_header)> signed_in;
   std::size_t max_anonymous_body_bytes = 4096;
-  // The names a request's Host header may give (status/host_check.h); the address a request
+  // The names a request's Host header may give (http/host_check.h); the address a request
   // came in on is always one. Any other: 421, and the request never reaches the handler.
   std::vector<std::string> server_names;
 };

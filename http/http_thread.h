@@ -17,7 +17,7 @@
 #include <memory>
 #include <thread>
 
-#include "status/http_server.h"
+#include "http/http_server.h"
 
 namespace tiltgate {
 

@@ -10,7 +10,7 @@
 
 #include "status/history_format.h"
 #include "status/history_recorder.h"
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 using namespace tiltgate;
 
@@ -68,7 +68,7 @@ TEST_CASE("status page: / is an HTML page that loads nothing from another host")
   CHECK(route_http("POST", "/", no_sensors).status == 405);
 }
 
-// The Content-Security-Policy (status/http_response.h) allows scripts and styles from the
+// The Content-Security-Policy (http/http_response.h) allows scripts and styles from the
 // gateway's files only: an inline one would not run in the browser.
 TEST_CASE("status page: no inline script, style, style attribute or event handler") {
   const std::string page = route_http("GET", "/", no_sensors).body;

@@ -1,4 +1,4 @@
-#include "status/http_response.h"
+#include "http/http_response.h"
 
 #include <fmt/format.h>
 
