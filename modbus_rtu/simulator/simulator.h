@@ -14,7 +14,7 @@
 
 #include "driver/expected.h"
 #include "modbus_rtu/frame_parser.h"
-#include "modbus_rtu/simulated_device.h"
+#include "modbus_rtu/simulator/simulated_device.h"
 #include "serial/simulated_bus.h"
 
 namespace tiltgate::modbus_rtu {

@@ -1,6 +1,6 @@
 // A model of one Modbus RTU slave: holding and input register banks, answering FC 3, 4, 6 and
 // 16 as the Application Protocol (6.3, 6.4, 6.6, 6.12 and 7.) describes, FC 17 and 43 / 14
-// where it is given an identification (modbus_rtu/simulated_identification.h), and exception 01
+// where it is given an identification (modbus_rtu/simulator/simulated_identification.h), and exception 01
 // for any other function, 02 for registers it does not have, 03 for a bad count or a value
 // its write check refuses. Pure: whole request frames in (CRC already checked), reply frames
 // out, so tests drive it without a pseudo-terminal.
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "modbus_rtu/codec.h"
-#include "modbus_rtu/simulated_identification.h"
+#include "modbus_rtu/simulator/simulated_identification.h"
 
 namespace tiltgate::modbus_rtu {
 

@@ -19,7 +19,7 @@
 
 #include <cstdint>
 
-#include "modbus_rtu/simulated_device.h"
+#include "modbus_rtu/simulator/simulated_device.h"
 
 namespace tiltgate::modbus_rtu {
 

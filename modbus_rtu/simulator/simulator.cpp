@@ -1,4 +1,4 @@
-#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/simulator/simulator.h"
 
 namespace tiltgate::modbus_rtu {
 

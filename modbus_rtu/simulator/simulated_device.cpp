@@ -1,4 +1,4 @@
-#include "modbus_rtu/simulated_device.h"
+#include "modbus_rtu/simulator/simulated_device.h"
 
 #include <algorithm>
 

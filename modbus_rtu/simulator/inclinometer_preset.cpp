@@ -1,4 +1,4 @@
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "modbus_rtu/simulated_identification.h"
+#include "modbus_rtu/simulator/simulated_identification.h"
 
 #include <algorithm>
 
