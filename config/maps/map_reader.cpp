@@ -1,10 +1,10 @@
-#include "config/map_reader.h"
+#include "config/maps/map_reader.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 
-#include "config/point_reader.h"
+#include "config/maps/point_reader.h"
 #include "toml/toml_reader.h"
 #include "mapping/default_maps.h"
 #include "mapping/device_values.h"

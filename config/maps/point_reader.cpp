@@ -1,4 +1,4 @@
-#include "config/point_reader.h"
+#include "config/maps/point_reader.h"
 
 #include <fmt/format.h>
 
