@@ -81,7 +81,7 @@ struct ServerConfig {
   bool operator==(const ServerConfig&) const = default;
 };
 
-// The read-only HTTP status API and Prometheus metrics (status/http_server.h). Loopback by
+// The read-only HTTP status API and Prometheus metrics (http/http_server.h). Loopback by
 // default: it shows every sensor's identity and angles to whoever can reach it.
 struct HttpConfig {
   bool enabled = true;
@@ -114,7 +114,7 @@ struct HttpConfig {
   // whatever it does.
   std::chrono::seconds session_idle{900};
   std::chrono::seconds session_max{28800};
-  // The names a request's Host header may give, host names or addresses (status/host_check.h):
+  // The names a request's Host header may give, host names or addresses (http/host_check.h):
   // any other is answered 421, against DNS rebinding. Empty: not written, and the HTTP service
   // takes the listen address, localhost and this machine's name.
   std::vector<std::string> server_names;

@@ -2,7 +2,7 @@
 // gateway behaves"): idle connections are cheap to open and hold, so a full server replaces the
 // one idle longest rather than turn a PLC (or the HTTP status page's reader) away, and one
 // address may hold only so many. Pure: the server describes its connections, this decides.
-// Used by the Modbus TCP server and the HTTP server (status/http_server.h).
+// Used by the Modbus TCP server and the HTTP server (http/http_server.h).
 #pragma once
 
 #include <chrono>

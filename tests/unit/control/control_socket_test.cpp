@@ -20,7 +20,7 @@
 #include <thread>
 
 #include "audit/audit_trail.h"
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "control/control_server.h"
 #include "control/remote_line.h"
 #include "unit/support/fake_bus.h"
