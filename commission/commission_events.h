@@ -1,7 +1,7 @@
 // What a commissioning command reports while it works. The engine's coroutines (a scan, a raw
 // request: commission/scan_engine.h, commission/raw_engine.h) never print: each front end shows
 // these events its own way (the command line as text, commission/event_text.h; the web console
-// as JSON, commission/event_json.h), so rewording a line of text breaks no other front end.
+// as JSON, console/bus_actions.h), so rewording a line of text breaks no other front end.
 #pragma once
 
 #include <chrono>
