@@ -1,4 +1,4 @@
-#include "modbus_tcp/client_problem_log.h"
+#include "doors/client_problem_log.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/post.hpp>

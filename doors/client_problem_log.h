@@ -1,5 +1,5 @@
 // A TCP server's log of clients closed or refused for cause (the Modbus TCP server's, the HTTP
-// server's), throttled per address (modbus_tcp/log_throttle.h) so a scanner or a broken client
+// server's), throttled per address (doors/log_throttle.h) so a scanner or a broken client
 // cannot flood the log: a few lines per address, then only counts, and each interval's count in
 // one line when the interval ends.
 #pragma once
@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include "modbus_tcp/log_throttle.h"
+#include "doors/log_throttle.h"
 
 namespace tiltgate {
 

@@ -1,4 +1,4 @@
-#include "modbus_tcp/connection_admission.h"
+#include "doors/connection_admission.h"
 
 namespace tiltgate {
 

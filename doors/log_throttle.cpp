@@ -1,4 +1,4 @@
-#include "modbus_tcp/log_throttle.h"
+#include "doors/log_throttle.h"
 
 #include <algorithm>
 #include <utility>

@@ -1,4 +1,4 @@
-#include "modbus_tcp/request_rate.h"
+#include "doors/request_rate.h"
 
 #include <algorithm>
 #include <cmath>

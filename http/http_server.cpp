@@ -16,7 +16,7 @@
 #include <spdlog/spdlog.h>
 #include <vector>
 
-#include "modbus_tcp/connection_admission.h"
+#include "doors/connection_admission.h"
 #include "modbus_tcp/tls_suites.h"
 #include "http/host_check.h"
 #include "http/http_request.h"

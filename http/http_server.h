@@ -3,12 +3,12 @@
 // loop of its own (http/http_thread.h), never the buses'. One coroutine per connection; the
 // handler decides each reply (http/http_routes.h, console/console_handler.h). A client that does not send a whole request in time, or sends too much, is closed:
 // it only ever holds up itself. Places are shared as the Modbus TCP server shares them
-// (modbus_tcp/connection_admission.h): one address holds at most max_clients_per_host, and a
+// (doors/connection_admission.h): one address holds at most max_clients_per_host, and a
 // full server makes room for a new client by closing the connection that has waited longest
 // without a whole request (kept-alive ones between requests, and those from an address whose
 // clients were closed for cause lately, first); one that is being answered is never closed for
 // this. What is closed for cause is counted and logged, throttled per
-// address (modbus_tcp/client_problem_log.h).
+// address (doors/client_problem_log.h).
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -28,8 +28,8 @@
 #include "config/address_allow_list.h"
 #include "driver/expected.h"
 #include "gateway/gateway_status.h"
-#include "modbus_tcp/client_problem_log.h"
-#include "modbus_tcp/request_rate.h"
+#include "doors/client_problem_log.h"
+#include "doors/request_rate.h"
 #include "http/http_routes.h"
 
 namespace tiltgate {
@@ -48,7 +48,7 @@ struct HttpServerOptions {
   AddressAllowList allow;                // other clients are closed at accept
   // Requests a second answered from every client together and from each connection; a request
   // beyond them waits for its turn, its connection reading nothing meanwhile
-  // (modbus_tcp/request_rate.h). 0: no limit.
+  // (doors/request_rate.h). 0: no limit.
   int max_requests_per_s = 0;
   int max_client_requests_per_s = 0;
   std::string tls_cert_pem, tls_key_pem;  // both: HTTPS only

@@ -18,7 +18,7 @@ if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron modbus_rtu; then
   exit 2
 fi
 
-rooms=(config mapping gateway line_scheduling serial driver modbus_tcp status http mqtt control commission app sparkplug settings console accounts audit
+rooms=(config mapping gateway line_scheduling serial driver doors modbus_tcp status http mqtt control commission app sparkplug settings console accounts audit
        store device_server)
 hits=$(grep -rniE "$pattern" "${sources[@]}" "${rooms[@]}")
 if [ -n "$hits" ]; then

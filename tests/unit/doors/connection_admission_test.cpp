@@ -1,9 +1,9 @@
-// Whom a new Modbus TCP connection displaces when the server is full (modbus_tcp/connection_admission.h).
+// Whom a new Modbus TCP connection displaces when the server is full (doors/connection_admission.h).
 #include <doctest/doctest.h>
 
 #include <vector>
 
-#include "modbus_tcp/connection_admission.h"
+#include "doors/connection_admission.h"
 
 using namespace tiltgate;
 

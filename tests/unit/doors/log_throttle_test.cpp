@@ -2,7 +2,7 @@
 // one summary per interval, not one line per request.
 #include <doctest/doctest.h>
 
-#include "modbus_tcp/log_throttle.h"
+#include "doors/log_throttle.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;

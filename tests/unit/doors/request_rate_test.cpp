@@ -1,4 +1,4 @@
-// The request rates' arithmetic (modbus_tcp/request_rate.h): slots one interval apart, a burst
+// The request rates' arithmetic (doors/request_rate.h): slots one interval apart, a burst
 // taken early, arrival order kept, and no limit at 0.
 #include <doctest/doctest.h>
 
@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "modbus_tcp/request_rate.h"
+#include "doors/request_rate.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;
