@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <functional>
 
 #include "driver/closest_name.h"
 
@@ -112,7 +113,10 @@ std::vector<std::string> setting_usages(const SetTarget& target) {
   return out;
 }
 
-Expected<SetPlan, std::string> plan_setting(const SetTarget& t, const SetArguments& arguments) {
+namespace {
+
+// The setting the first word names, or why none does (with the model's list).
+Expected<Entry, std::string> named_entry(const SetTarget& t, const SetArguments& arguments) {
   const std::vector<Entry> known = entries(t);
   const std::string list = fmt::format("the settings of a {}: {}", t.model->name,
                                        fmt::join(setting_usages(t), ", "));
@@ -121,67 +125,88 @@ Expected<SetPlan, std::string> plan_setting(const SetTarget& t, const SetArgumen
   const auto entry = std::find_if(known.begin(), known.end(), [&](const Entry& e) {
     return dashes_to_underscores(e.name) == dashes_to_underscores(name);
   });
-  if (entry == known.end()) {
-    std::vector<std::string> names;
-    for (const Entry& e : known) names.push_back(e.name);
-    std::string suggestion = closest_name(name, names);
-    if (suggestion.empty()) suggestion = closest_name(dashes_to_underscores(name), names);
-    return Unexpected{fmt::format("unknown setting \"{}\"{}; {}", name,
-                                  suggestion.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", suggestion),
-                                  list)};
-  }
-  if (arguments.permanent && entry->kind != Kind::zero_here)
-    return Unexpected{fmt::format("--permanent goes with zero-here only, not {}", entry->name)};
+  if (entry != known.end()) return *entry;
+  std::vector<std::string> names;
+  for (const Entry& e : known) names.push_back(e.name);
+  std::string suggestion = closest_name(name, names);
+  if (suggestion.empty()) suggestion = closest_name(dashes_to_underscores(name), names);
+  return Unexpected{fmt::format("unknown setting \"{}\"{}; {}", name,
+                                suggestion.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", suggestion),
+                                list)};
+}
+
+// The words after the setting's name as its values, or why they are not.
+Expected<std::vector<double>, std::string> entry_values(const Entry& entry,
+                                                        const SetArguments& arguments) {
+  if (arguments.permanent && entry.kind != Kind::zero_here)
+    return Unexpected{fmt::format("--permanent goes with zero-here only, not {}", entry.name)};
   const std::span<const std::string> text_values(arguments.words.data() + 1,
                                                  arguments.words.size() - 1);
-  if (text_values.size() != entry->value_count) {
-    const std::string count = entry->value_count == 0   ? "no value"
-                              : entry->value_count == 1 ? "one value"
-                                                        : fmt::format("{} values", entry->value_count);
-    return Unexpected{fmt::format("{} takes {}: tiltgate set {}", entry->name, count, usage_of(*entry))};
+  if (text_values.size() != entry.value_count) {
+    const std::string count = entry.value_count == 0   ? "no value"
+                              : entry.value_count == 1 ? "one value"
+                                                       : fmt::format("{} values", entry.value_count);
+    return Unexpected{fmt::format("{} takes {}: tiltgate set {}", entry.name, count, usage_of(entry))};
   }
   std::vector<double> values;
   for (const std::string& text : text_values) {
     const std::optional<double> value = parse_number(text);
-    if (!value) return Unexpected{fmt::format("{}: \"{}\" is not a number", entry->name, text)};
+    if (!value) return Unexpected{fmt::format("{}: \"{}\" is not a number", entry.name, text)};
     values.push_back(*value);
   }
+  return values;
+}
 
+// The writes of a baud rate: its code, and the restart that puts it in force.
+Expected<Done, std::string> add_baud(const SetTarget& t, const SetArguments& arguments,
+                                     double rate, SetPlan& plan,
+                                     const std::function<void(WriteTarget, double)>& add) {
+  const bool offered = std::find(t.protocol->bauds.begin(), t.protocol->bauds.end(), rate) !=
+                       t.protocol->bauds.end();
+  const std::optional<std::int64_t> code =
+      offered ? t.commands->set.baud_code(std::int64_t(rate)) : std::nullopt;
+  if (!code)
+    return Unexpected{fmt::format("baud: {} is not a {} baud rate, expected one of {}",
+                                  arguments.words[1], t.protocol->name,
+                                  fmt::join(t.protocol->bauds, ", "))};
+  add(WriteTarget::baud_code, double(*code));
+  plan.new_baud = std::uint32_t(rate);
+  // The new rate is in force after a restart: restart at once, so the sensor answers at it.
+  if (const auto restart = command_value(t, SensorCommand::restart)) {
+    add(WriteTarget::command, *restart);
+    plan.restarts = true;
+  }
+  return Done{};
+}
+
+}  // namespace
+
+Expected<SetPlan, std::string> plan_setting(const SetTarget& t, const SetArguments& arguments) {
+  const auto entry = named_entry(t, arguments);
+  if (!entry) return Unexpected{entry.error()};
+  const auto values = entry_values(*entry, arguments);
+  if (!values) return Unexpected{values.error()};
   SetPlan plan;
   plan.setting = entry->name;
-  const auto add = [&](WriteTarget id, double value) {
+  const std::function<void(WriteTarget, double)> add = [&](WriteTarget id, double value) {
     const SettingDescriptor* descriptor = find_setting(*t.model, id);
     plan.writes.push_back({id, value});
     plan.write_names.push_back(descriptor ? std::string(descriptor->name) : entry->name);
   };
+  const double first = values->empty() ? 0 : values->front();
   switch (entry->kind) {
     case Kind::address:
-      add(WriteTarget::bus_address, values[0]);
-      if (values[0] >= 0 && values[0] <= 0xFFFF'FFFF && values[0] == std::floor(values[0]))
-        plan.new_address = std::uint32_t(values[0]);
+      add(WriteTarget::bus_address, first);
+      if (first >= 0 && first <= 0xFFFF'FFFF && first == std::floor(first))
+        plan.new_address = std::uint32_t(first);
       break;
-    case Kind::baud: {
-      const double rate = values[0];
-      const bool offered = std::find(t.protocol->bauds.begin(), t.protocol->bauds.end(), rate) !=
-                           t.protocol->bauds.end();
-      const std::optional<std::int64_t> code =
-          offered ? t.commands->set.baud_code(std::int64_t(rate)) : std::nullopt;
-      if (!code)
-        return Unexpected{fmt::format("baud: {} is not a {} baud rate, expected one of {}",
-                                      text_values[0], t.protocol->name,
-                                      fmt::join(t.protocol->bauds, ", "))};
-      add(WriteTarget::baud_code, double(*code));
-      plan.new_baud = std::uint32_t(rate);
-      // The new rate is in force after a restart: restart at once, so the sensor answers at it.
-      if (const auto restart = command_value(t, SensorCommand::restart)) {
-        add(WriteTarget::command, *restart);
-        plan.restarts = true;
-      }
+    case Kind::baud:
+      if (auto added = add_baud(t, arguments, first, plan, add); !added)
+        return Unexpected{added.error()};
       break;
-    }
-    case Kind::filter: add(WriteTarget::filter, values[0]); break;
-    case Kind::zero_x: add(WriteTarget::zero_x, values[0]); break;
-    case Kind::zero_y: add(WriteTarget::zero_y, values[0]); break;
+    case Kind::filter: add(WriteTarget::filter, first); break;
+    case Kind::zero_x: add(WriteTarget::zero_x, first); break;
+    case Kind::zero_y: add(WriteTarget::zero_y, first); break;
     case Kind::zero_here: {
       const SensorCommand command =
           arguments.permanent ? SensorCommand::zero_permanent : SensorCommand::zero_temporary;
@@ -198,12 +223,12 @@ Expected<SetPlan, std::string> plan_setting(const SetTarget& t, const SetArgumen
     case Kind::compound: {
       const CompoundSetting& c = t.commands->set.compound_settings[entry->index];
       for (std::size_t i = 0; i < c.parts.size(); ++i)
-        add(find_setting(*t.model, c.parts[i])->id, values[i]);
+        add(find_setting(*t.model, c.parts[i])->id, (*values)[i]);
       break;
     }
-    case Kind::own: add(t.model->settings[entry->index].id, values[0]); break;
+    case Kind::own: add(t.model->settings[entry->index].id, first); break;
     case Kind::device:
-      plan.writes.push_back({WriteTarget::device_value(entry->index), values[0]});
+      plan.writes.push_back({WriteTarget::device_value(entry->index), first});
       plan.write_names.push_back(entry->name);
       break;
   }
