@@ -40,6 +40,11 @@ std::string meaning(const WriteError& error) {
 
 std::string value_text(double value) { return fmt::format("{}", value); }
 
+// What a running gateway that owns the bus could not be told (commission/commission_bus.h).
+void warn(const std::optional<std::string>& warning) {
+  if (warning) std::cerr << "warning: " << *warning << "\n";
+}
+
 // The range a refused value must be in, from the model's descriptor, where it says one.
 std::string descriptor_range(const SetTarget& target, WriteTarget id) {
   for (const SettingDescriptor& s : target.model->settings)
@@ -181,15 +186,15 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
   }
 
   // A gateway that polls this sensor waits while it moves (released when the command ends).
-  if (plan->new_address) bus.address_changing(old_address);
+  if (plan->new_address) warn(bus.address_changing(old_address));
   for (std::size_t i = 0; i < plan->writes.size() && !stopping; ++i) {
     const SettingWrite& w = plan->writes[i];
     const WriteResult result = co_await sensor.driver->write(bus.line(), w.target, w.value);
     if (stopping) co_return 0;
     if (!result) {
       // A running gateway records the refusal or the silence in its audit trail.
-      bus.setting_changed(sensor.config.address, w.target, w.value, result,
-                          sensor.driver->state().counters.last_refusal);
+      warn(bus.setting_changed(sensor.config.address, w.target, w.value, result,
+                               sensor.driver->state().counters.last_refusal));
       sensor.driver->abandon(std::span(plan->writes).first(i));
       std::cerr << fmt::format("tiltgate set: {} := {} at address {}: {} ({})\n",
                                plan->write_names[i], value_text(w.value), sensor.config.address,
@@ -200,13 +205,17 @@ asio::awaitable<int> set_work(CommissionBus& bus, const bool& stopping, const Bu
     }
     // A running gateway keeps the sensor's settings record (a move is followed below).
     if (w.target != WriteTarget::bus_address)
-      bus.setting_changed(sensor.config.address, w.target, w.value, result, std::nullopt);
+      warn(bus.setting_changed(sensor.config.address, w.target, w.value, result, std::nullopt));
   }
   if (stopping) co_return 0;
   std::cout << fmt::format("{}{} at address {}: acknowledged\n", fmt::join(arguments.words, " "),
                            arguments.permanent ? " --permanent" : "", old_address);
   if (plan->new_address) {
-    bus.address_changed(old_address, *plan->new_address);
+    if (const auto followed = bus.address_changed(old_address, *plan->new_address); !followed)
+      warn(followed.error());
+    else if (!followed->empty())
+      std::cout << fmt::format("gateway: sensor {} is polled at address {} from now on\n",
+                               *followed, *plan->new_address);
     sensor.config.address = *plan->new_address;
     std::cout << fmt::format("the sensor now answers at address {}\n", *plan->new_address);
   }
