@@ -116,9 +116,9 @@ Subcommand add_watch(CLI::App& app, FamilyList families, FamilyCommandsList comm
                                                 "row each (the Multi-Unit Angle Display)");
   add_bus_options(*watch, *bus, families);
   watch->add_option("--count", options->watch.count, "stop after this many rounds (plain lines)")
-      ->check(CLI::Range(1, 100'000'000));
+      ->check(CLI::Range(1, kMaxWatchRounds));
   watch->add_option("--interval", options->watch.interval_ms, "ms from one round to the next")
-      ->check(CLI::Range(10, 3'600'000))
+      ->check(CLI::Range(kMinWatchIntervalMs, kMaxWatchIntervalMs))
       ->capture_default_str();
   watch->add_option("--log", options->log,
                     "append every reading to this CSV file (time, address, serial, x_deg, "

@@ -4,6 +4,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/this_coro.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <fmt/format.h>
 
 #include "commission/model_detection.h"
 #include "commission/reading_format.h"
@@ -59,6 +60,17 @@ asio::awaitable<PollOutcome> poll_once(CommissionBus& bus, CommissionedSensor& s
 }
 
 }  // namespace
+
+UsageErrors watch_option_errors(const WatchOptions& options) {
+  UsageErrors errors;
+  if (options.count < 0 || options.count > kMaxWatchRounds)
+    errors.push_back(fmt::format("--count: {} is not in 1..{} (0: until stopped)", options.count,
+                                 kMaxWatchRounds));
+  if (options.interval_ms < kMinWatchIntervalMs || options.interval_ms > kMaxWatchIntervalMs)
+    errors.push_back(fmt::format("--interval: {} is not in {}..{} ms", options.interval_ms,
+                                 kMinWatchIntervalMs, kMaxWatchIntervalMs));
+  return errors;
+}
 
 asio::awaitable<int> watch_sensors(CommissionBus& bus, const WatchOptions& options,
                                    const EventSink& report, const bool& stopping) {

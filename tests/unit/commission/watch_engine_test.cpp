@@ -55,5 +55,16 @@ TEST_CASE("watch shows a silent sensor as no reply in its reading, with no note"
   CHECK(rounds[0].notes == std::vector<std::string>{""});
 }
 
+TEST_CASE("watch's options are checked as the command line checks them, each error naming its option") {
+  CHECK(watch_option_errors(WatchOptions{0, 500}).empty());
+  CHECK(watch_option_errors(WatchOptions{1, 10}).empty());
+  CHECK(watch_option_errors(WatchOptions{100'000'000, 3'600'000}).empty());
+  CHECK(watch_option_errors(WatchOptions{-1, 500}) ==
+        UsageErrors{"--count: -1 is not in 1..100000000 (0: until stopped)"});
+  CHECK(watch_option_errors(WatchOptions{2, 9}) ==
+        UsageErrors{"--interval: 9 is not in 10..3600000 ms"});
+  CHECK(watch_option_errors(WatchOptions{-1, 3'600'001}).size() == 2);
+}
+
 }  // namespace
 }  // namespace tiltgate
