@@ -10,7 +10,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
-#include "control/setting_claim.h"
+#include "audit/audit_trail.h"
 #include "gateway/driver_registry.h"
 #include "gateway/serial_options.h"
 
@@ -39,35 +39,6 @@ Expected<int, std::string> open_and_lock(const std::string& port) {
   return fd;
 }
 
-// The bus through a running gateway's control socket when one there serves the tty; none when
-// no gateway does (the command then opens the tty itself), unless --via-gateway required one.
-// What there is to tell of it goes to `notes`.
-Expected<std::unique_ptr<RemoteLine>, CommissionBus::OpenError> bus_through_gateway(
-    boost::asio::any_io_executor executor, const CommissionTarget& target,
-    std::vector<std::string>& notes) {
-  if (target.control_socket.empty()) return std::unique_ptr<RemoteLine>{};
-  auto remote = RemoteLine::connect(executor, target.control_socket, target.bus.port);
-  if (!remote) {
-    const bool elsewhere = remote.error().kind != RemoteLine::ConnectError::failed;
-    if (!target.via_gateway && elsewhere) return std::unique_ptr<RemoteLine>{};
-    return Unexpected{CommissionBus::OpenError{1, remote.error().message}};
-  }
-  if (!target.audit_as.empty())
-    if (auto acting = (*remote)->act_for(target.audit_as); !acting)
-      return Unexpected{CommissionBus::OpenError{1, "--audit-as: " + acting.error()}};
-  const control::BusGranted& bus = (*remote)->bus();
-  if (bus.protocol != target.bus.protocol)
-    return Unexpected{CommissionBus::OpenError{
-        2, fmt::format("the running gateway's bus {} on {} speaks {}, not {} (--protocol)",
-                       bus.name, target.bus.port, bus.protocol, target.bus.protocol)}};
-  notes.push_back(fmt::format("through the running gateway: bus {} ({} baud), control socket {}",
-                              bus.name, bus.baud, target.control_socket));
-  if (bus.baud != target.bus.baud)
-    notes.push_back(fmt::format("note: the gateway runs {} at {} baud; that rate is used, not {}",
-                                bus.name, bus.baud, target.bus.baud));
-  return std::move(*remote);
-}
-
 }  // namespace
 
 CommissionBus::CommissionBus(BusConfig config, FamilyList families, int lock_fd)
@@ -80,57 +51,39 @@ CommissionBus::~CommissionBus() {
 
 void CommissionBus::stop() {
   if (serial_) serial_->stop();
-  if (remote_) remote_->stop();
   if (served_) served_->stop();
 }
 
 std::optional<std::string> CommissionBus::address_changing(std::uint32_t from) {
   if (served_) served_->hold(from);
-  if (!remote_) return std::nullopt;
-  if (const auto held = remote_->hold(from); !held)
-    return fmt::format("the gateway was not told of the move ({}): its polls of the sensor may "
-                       "fail while it moves",
-                       held.error());
   return std::nullopt;
 }
 
 Expected<std::string, std::string> CommissionBus::address_changed(std::uint32_t from,
                                                                   std::uint32_t to) {
-  if (served_) served_->follow(from, to);
-  if (!remote_) return std::string();
-  auto followed = remote_->follow(from, to);
-  if (!followed)
-    return Unexpected{fmt::format("the gateway was not told of the move: {}; it follows the "
-                                  "sensor after a restart with the new address in its "
-                                  "configuration",
-                                  followed.error())};
-  return std::move(*followed);
+  if (!served_) return std::string();
+  const auto followed = served_->follow(from, to);
+  return followed ? served_->bus().config.name + "/" + *followed : std::string();
 }
 
 std::optional<std::string> CommissionBus::setting_changed(
     std::uint32_t address, WriteTarget setting, double value, const WriteResult& result,
     std::optional<std::uint8_t> refusal_code) {
-  if (!remote_ && !served_) return std::nullopt;
-  control::SettingChanged changed{address, setting.id, value, std::nullopt, false};
+  if (!served_) return std::nullopt;
+  // As the audit trail words a setting's outcome (audit/audit_record.h).
+  std::string outcome = "ack";
   if (!result) {
     const WriteError& error = result.error();
     if (error.kind == WriteErrorKind::no_response)
-      changed.timeout = true;
+      outcome = "timeout";
     else if (error.kind == WriteErrorKind::device_exception)
-      changed.nak = error.device_exception;
+      outcome = fmt::format("nak 0x{:02X}", error.device_exception);
     else if (error.kind == WriteErrorKind::rejected || error.kind == WriteErrorKind::refused)
-      changed.nak = refusal_code.value_or(0);
+      outcome = fmt::format("nak 0x{:02X}", refusal_code.value_or(0));
     else
       return std::nullopt;  // not the sensor's answer: nothing was changed, nor refused by it
   }
-  if (served_) {
-    served_->setting_changed(address, setting, value, control::setting_result(changed), true);
-    return std::nullopt;
-  }
-  if (const auto told = remote_->setting_changed(changed); !told)
-    return fmt::format("the gateway was not told of the change: {}; its holding registers show "
-                       "the setting's old value",
-                       told.error());
+  served_->setting_changed(address, setting, value, std::move(outcome), true);
   return std::nullopt;
 }
 
@@ -156,19 +109,6 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
     boost::asio::any_io_executor executor, const CommissionTarget& target) {
   auto sensors = make_sensors(target);
   if (!sensors) return Unexpected{sensors.error()};
-  std::vector<std::string> notes;
-  auto remote = bus_through_gateway(executor, target, notes);
-  if (!remote) return Unexpected{remote.error()};
-  if (*remote) {
-    std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, -1));
-    bus->opening_notes_ = std::move(notes);
-    bus->sensors_ = std::move(*sensors);
-    bus->config_.baud = (*remote)->bus().baud;
-    bus->remote_ = remote->get();
-    bus->remote_->set_defaults({target.bus.timeout, target.bus.retries, target.bus.late_guard});
-    bus->line_ = std::move(*remote);
-    return bus;
-  }
   auto lock = open_and_lock(target.bus.port);
   if (!lock) return Unexpected{OpenError{1, lock.error()}};
   std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, *lock));
@@ -202,11 +142,10 @@ Expected<Done, std::string> CommissionBus::start_line() {
 
 Expected<Done, std::string> CommissionBus::reopen_at(std::uint32_t baud) {
   // The running gateway's bus stays at its rate: its other sensors are set to it.
-  if (remote_ || served_)
+  if (served_)
     return Unexpected{fmt::format("the running gateway keeps bus {} at {} baud; another rate "
                                   "needs the tty: stop the gateway first",
-                                  remote_ ? remote_->bus().name : served_->bus().config.name,
-                                  config_.baud)};
+                                  served_->bus().config.name, config_.baud)};
   // Over raw TCP the far port's rate is the device server's own setting.
   if (const auto port = parse_port(config_.port); port && port->scheme == PortScheme::tcp)
     return Unexpected{fmt::format("{} is raw TCP: the device server keeps its port at {} baud "
@@ -219,6 +158,9 @@ Expected<Done, std::string> CommissionBus::reopen_at(std::uint32_t baud) {
 }
 
 std::string CommissionBus::no_reply_message(const CommissionedSensor& sensor) const {
+  if (served_ && served_->last_audit_refused())
+    return fmt::format("not sent to address {} on {}: {}", sensor.config.address,
+                       served_->bus().config.name, kAuditRefusesChanges);
   return fmt::format(
       "no reply from address {} on {} at {} baud ({})\n"
       "hint: check the baud rate (--baud), the address (--address), the protocol (--protocol) "

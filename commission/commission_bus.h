@@ -1,7 +1,8 @@
 // One bus opened for a commissioning command: its tty, held with an advisory lock for as long
 // as the command runs, or its device server's port (tcp://, rfc2217://: one connection, no
-// lock), or the same bus through the control socket of a running gateway that
-// owns the tty (control/remote_line.h); and a driver for each sensor the command talks to. The
+// lock), or a command's line on a bus a running gateway serves (control/served_bus_line.h: the
+// web console's commands, and those the control socket brings); and a driver for each sensor
+// the command talks to. The
 // command polls the sensors through their drivers, as the gateway's bus scheduler does, one at
 // a time.
 #pragma once
@@ -16,7 +17,6 @@
 #include "driver/expected.h"
 #include "driver/sensor_driver.h"
 #include "commission/commission_options.h"
-#include "control/remote_line.h"
 #include "control/served_bus_line.h"
 #include "serial/serial_line.h"
 
@@ -44,8 +44,8 @@ class CommissionBus {
 
   static Expected<std::unique_ptr<CommissionBus>, OpenError> open(
       boost::asio::any_io_executor executor, const CommissionTarget& target);
-  // The bus a command runs on inside the gateway (the web console's): `line` on the bus the
-  // gateway serves, whose baud it keeps. The sensors' drivers are made as open() makes them.
+  // The bus a command runs on inside the gateway (the web console's, the control socket's):
+  // `line` on the bus the gateway serves, whose baud it keeps. The sensors' drivers are made as open() makes them.
   static Expected<std::unique_ptr<CommissionBus>, OpenError> on_served_line(
       const CommissionTarget& target, std::unique_ptr<ServedBusLine> line);
   ~CommissionBus();
@@ -61,8 +61,8 @@ class CommissionBus {
   std::vector<CommissionedSensor>& sensors() { return sensors_; }
   // Cancels what is on the line; a suspended poll returns at once.
   void stop();
-  // Whether the bus is a running gateway's, reached through its control socket or in it.
-  bool through_gateway() const { return remote_ != nullptr || served_ != nullptr; }
+  // Whether the bus is a running gateway's: the command runs in the gateway.
+  bool through_gateway() const { return served_ != nullptr; }
 
   // A command is about to move the sensor at `from` (set address): a running gateway that
   // owns the bus stops polling it, so that no poll at the old address fails while it moves,
@@ -86,11 +86,9 @@ class CommissionBus {
   // cannot be done (through a running gateway, whose bus keeps its rate).
   Expected<Done, std::string> reopen_at(std::uint32_t baud);
 
-  // What opening the bus found worth telling, one line each: the running gateway it goes
-  // through, a rate other than the one asked for.
-  const std::vector<std::string>& opening_notes() const { return opening_notes_; }
 
-  // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.
+  // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check; or, in the
+  // gateway, why its line refused to send the request.
   std::string no_reply_message(const CommissionedSensor& sensor) const;
 
  private:
@@ -106,10 +104,8 @@ class CommissionBus {
   int lock_fd_;  // -1 through a gateway, or on a device server's port
   std::unique_ptr<Line> line_;
   SerialLine* serial_ = nullptr;  // line_, on a tty of our own
-  RemoteLine* remote_ = nullptr;  // line_, through a gateway
   ServedBusLine* served_ = nullptr;  // line_, in the gateway
   std::vector<CommissionedSensor> sensors_;
-  std::vector<std::string> opening_notes_;
 };
 
 }  // namespace tiltgate

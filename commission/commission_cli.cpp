@@ -251,9 +251,6 @@ void add_bus_options(CLI::App& command, BusOptions& options, FamilyList families
                 "which keeps serving every other sensor; without it, a running gateway is used "
                 "when it owns the tty, else the tty is opened directly")
       ->group("Through a running gateway");
-  // The web console runs commands for its logged-in users: the gateway's audit trail names the
-  // user, not the console's Unix user. Hidden: a gateway honours it only from its own user.
-  command.add_option("--audit-as", options.audit_as)->group("");
   command
       .add_option("--control-socket", options.control_socket,
                   fmt::format("the gateway's control socket (default: the configuration's "

@@ -279,7 +279,6 @@ Expected<CommissionTarget, UsageErrors> resolve_bus_options(const BusOptions& op
   target->families = families;
   if (!options.control_socket.empty()) target->control_socket = options.control_socket;
   target->via_gateway = options.via_gateway;
-  target->audit_as = options.audit_as;
   if (target->via_gateway && target->control_socket.empty())
     return Unexpected{UsageErrors{
         "--via-gateway: the configuration has no control socket ([server] control_socket is "

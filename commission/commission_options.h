@@ -49,9 +49,6 @@ struct BusOptions {
   // [server] control_socket, else the default.
   bool via_gateway = false;
   std::string control_socket;
-  // Through a gateway: whom the gateway's audit trail names for this command's changes
-  // instead of the socket's Unix user (--audit-as, hidden: the web console's).
-  std::string audit_as;
 };
 
 // Where a commissioned sensor's model comes from.
@@ -69,7 +66,6 @@ struct CommissionTarget {
   FamilyList families;  // the families the bus and its sensors were checked against
   std::string control_socket;  // where a running gateway may serve the bus; empty: none
   bool via_gateway = false;    // only through that gateway, never the tty directly
-  std::string audit_as;        // BusOptions::audit_as
   // The sensors get no driver: their family's needs a file the command line left out
   // (BusOptions::driver_optional). Each is then its address alone.
   bool without_drivers = false;

@@ -30,16 +30,23 @@ class InfoText {
   int shown_ = 0;  // sensors shown so far
 };
 
+// After a gateway's run, as after the work on a tty of the command's own.
+int flushed(int exit_code) {
+  std::cout.flush();
+  return exit_code;
+}
+
 int info_command(const BusOptions& options, FamilyList families, FamilyCommandsList commands) {
+  InfoText text;
+  const EventSink report = [&text](const CommissionEvent& event) { text(event); };
   return run_commissioning(
       "info", options, families,
-      [commands](CommissionBus& bus, const bool& stopping) -> boost::asio::awaitable<int> {
-        InfoText text;
-        const EventSink report = [&text](const CommissionEvent& event) { text(event); };
+      [commands, &report](CommissionBus& bus, const bool& stopping) -> boost::asio::awaitable<int> {
         const int exit_code = co_await show_info(bus, commands, report, stopping);
         std::cout.flush();
         co_return exit_code;
-      });
+      },
+      GatewayRequest{CommandRequest{"info", options, {}, {}, {}, {}}, report, flushed});
 }
 
 }  // namespace

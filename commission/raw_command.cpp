@@ -28,12 +28,14 @@ void show(const CommissionEvent& event) {
 
 int raw_command(const BusOptions& options, const RawOptions& raw, FamilyList families,
                 FamilyCommandsList commands) {
+  const EventSink report = show;
   return run_commissioning("raw", options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
-                             const EventSink report = show;
                              co_return co_await raw_exchange(bus, raw, commands, report,
                                                              stopping);
-                           });
+                           },
+                           GatewayRequest{CommandRequest{"raw", options, {}, raw, {}, {}},
+                                          report, nullptr});
 }
 
 }  // namespace

@@ -124,6 +124,27 @@ int write_config_out(const std::string& path, const std::string& configuration) 
   return 0;
 }
 
+// A scan run by a gateway names the options' file as the gateway read it, by its absolute
+// path: the configuration and tables say it as a scan of the command's own does (as_written).
+CommissionEvent written_as_here(CommissionEvent event, const std::string& device_option,
+                                const std::string& config_out) {
+  auto* finished = std::get_if<ScanFinishedEvent>(&event);
+  if (finished == nullptr || device_option.empty()) return event;
+  const std::string absolute = std::filesystem::absolute(device_option).string();
+  const std::string written = as_written(absolute, device_option, config_out);
+  if (written == absolute) return event;
+  const auto replace_all = [&](std::string& text) {
+    const std::string from = toml_string(absolute);
+    const std::string to = toml_string(written);
+    for (std::size_t at = text.find(from); at != std::string::npos;
+         at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  };
+  replace_all(finished->configuration);
+  for (SensorTable& table : finished->tables) replace_all(table.text);
+  return event;
+}
+
 int scan_command(const BusOptions& bus_options, const ScanOptions& options, FamilyList families) {
   auto scan = prepare_scan(bus_options, options, families);
   if (!scan) return report_usage_errors("scan", scan.error());
@@ -136,11 +157,16 @@ int scan_command(const BusOptions& bus_options, const ScanOptions& options, Fami
       scan_bauds(*scan->protocol.protocol, scan->bus.bus.baud, scan->auto_baud).size();
   ScanText text(::isatty(STDERR_FILENO) && probes > kLongScan, options.progress_lines);
   const EventSink report = [&text](const CommissionEvent& event) { text(event); };
+  const EventSink through_gateway = [&](const CommissionEvent& event) {
+    text(written_as_here(event, bus_options.device, options.config_out));
+  };
   const int exit_code = run_commissioning_on(
       "scan", scan->bus,
       [&](CommissionBus& bus, const bool& stopping) -> boost::asio::awaitable<int> {
         co_return co_await scan_bus(bus, *scan, report, stopping);
-      });
+      },
+      GatewayRequest{CommandRequest{"scan", bus_options, options, {}, {}, {}},
+                     through_gateway, nullptr});
   if (exit_code != 0 || options.config_out.empty() || text.configuration().empty())
     return exit_code;
   return write_config_out(options.config_out, text.configuration());

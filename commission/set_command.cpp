@@ -2,6 +2,7 @@
 // set_engine.h) shown as text: what was acknowledged, the move and the restart, the
 // configuration file that followed, and the sensor read back as `info` shows it.
 #include <iostream>
+#include <optional>
 
 #include "commission/commands.h"
 #include "commission/commission_run.h"
@@ -39,17 +40,61 @@ void show_set_event(const CommissionEvent& event) {
   }
 }
 
+// What a gateway's `set` moved, for the configuration file the command updates itself: the
+// gateway runs the engine, but the file is the engineer's (SetRequest::config_file).
+struct MovedThroughGateway {
+  std::optional<std::uint32_t> from;
+  SetPlan moves;  // new_address, new_baud
+
+  void take(const CommissionEvent& event) {
+    if (const auto* moved = std::get_if<AddressMovedEvent>(&event)) {
+      from = moved->from;
+      moves.new_address = moved->to;
+    } else if (const auto* restarted = std::get_if<SensorRestartedEvent>(&event)) {
+      moves.new_baud = restarted->baud;
+    }
+  }
+};
+
+// The configuration file follows what the gateway's run moved; the command's exit code.
+int follow_in_config(const BusOptions& options, const std::string& config_file,
+                     const MovedThroughGateway& moved, FamilyList families, int exit_code) {
+  std::cout.flush();
+  if (config_file.empty() || (!moved.moves.new_address && !moved.moves.new_baud)) return exit_code;
+  const auto target = resolve_bus_options(options, families);
+  if (!target || target->sensors.size() != 1) return exit_code;
+  SensorConfig sensor = target->sensors.front();
+  const auto updated = update_config_file(config_file, sensor, moved.from.value_or(sensor.address),
+                                          moved.moves);
+  if (!updated) {
+    std::cerr << "tiltgate set: " << updated.error() << "\n";
+    return exit_code == 0 ? 1 : exit_code;
+  }
+  if (!updated->empty()) std::cout << config_updated_text({config_file, *updated}) << std::flush;
+  return exit_code;
+}
+
 int set_command(const BusOptions& options, const SetArguments& arguments, FamilyList families,
                 FamilyCommandsList commands) {
   const SetRequest request{arguments, followed_config_file(options)};
-  return run_commissioning("set", options, families,
-                           [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
-                             const EventSink report = show_set_event;
-                             const int exit_code =
-                                 co_await set_sensor(bus, request, commands, report, stopping);
-                             std::cout.flush();
-                             co_return exit_code;
-                           });
+  MovedThroughGateway moved;
+  const EventSink through_gateway = [&moved](const CommissionEvent& event) {
+    moved.take(event);
+    show_set_event(event);
+  };
+  return run_commissioning(
+      "set", options, families,
+      [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
+        const EventSink report = show_set_event;
+        const int exit_code = co_await set_sensor(bus, request, commands, report, stopping);
+        std::cout.flush();
+        co_return exit_code;
+      },
+      GatewayRequest{CommandRequest{"set", options, {}, {}, {}, arguments},
+                     through_gateway, [&](int exit_code) {
+                       return follow_in_config(options, request.config_file, moved, families,
+                                               exit_code);
+                     }});
 }
 
 }  // namespace

@@ -98,13 +98,17 @@ int watch_command(const BusOptions& bus_options, const WatchCommandOptions& opti
       std::vector<WatchRow> rows;
       for (const SensorReadingEvent& r : round->readings) rows.push_back(watch_row_of(r));
       display.show(rows, round->notes);
+    } else if (const auto* failed = std::get_if<FailedEvent>(&event)) {
+      std::cerr << "tiltgate watch: " << failed->message << "\n";  // through a gateway
     }
   };
   return run_commissioning("watch", bus_options, families,
                            [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
                              co_return co_await watch_sensors(bus, options.watch, report,
                                                               stopping);
-                           });
+                           },
+                           GatewayRequest{CommandRequest{"watch", bus_options, {}, {}, options.watch, {}},
+                                          report, nullptr});
 }
 
 }  // namespace

@@ -1,6 +1,5 @@
-// A command's transaction on a line it shares with a running gateway's polls, whether it reaches
-// that line through the control socket (control/remote_line.h) or inside the gateway
-// (control/served_bus_line.h): each attempt is a turn of its own, with the gateway's polls
+// A command's transaction on a line it shares with a running gateway's polls (control/
+// served_bus_line.h): each attempt is a turn of its own, with the gateway's polls
 // between them, so retries are made here and every attempt goes with none; and after a time-out
 // the line stays quiet for at most kMaxCommandLateGuard before the gateway polls again (a reply
 // later than that reaches the next poll, whose framer drops it: it is from another address).

@@ -35,7 +35,7 @@ bool same_request(const CarriedChange& a, const CarriedChange& b) {
   return a.address == b.address && a.function == b.function && a.data == b.data;
 }
 
-std::string carried_result(const ProtocolDescriptor& protocol, const Ended& ended,
+std::string carried_result(const ProtocolDescriptor& protocol, const CarriedEnd& ended,
                            bool expects_reply, std::span<const std::uint8_t> reply) {
   if (ended.busy) return "error: not sent, the bus did not get to it in time";
   if (ended.error) {

@@ -1,6 +1,6 @@
 // The audit record of a command's transaction that may have changed a device, made from what
 // the gateway carried and got back, never from what the command says it did (issue 52, item 3;
-// docs/web-console.md, "The audit trail"). The control socket relays a command's bytes without
+// docs/web-console.md, "The audit trail"). A command's line on a served bus carries its bytes without
 // knowing what they mean: the bus's protocol reads them (ProtocolDescriptor::read_request), and
 // bytes it cannot read count as a change. Pure.
 #pragma once
@@ -10,7 +10,7 @@
 #include <span>
 #include <string>
 
-#include "control/control_protocol.h"
+#include "driver/line.h"
 #include "driver/carried_request.h"
 
 namespace tiltgate {
@@ -38,9 +38,16 @@ std::optional<CarriedChange> change_asked(const ProtocolDescriptor& protocol,
 bool same_request(const CarriedChange& a, const CarriedChange& b);
 // When a result is known, wall clock, as the audit trail keeps it.
 std::int64_t now_unix_ms();
+// How a carried transaction ended: done, or the Line's error; `busy`: never sent, the bus did
+// not get to it in time.
+struct CarriedEnd {
+  std::optional<LineError> error;
+  bool busy = false;
+};
+
 // How the transaction ended, as the audit trail words it; `reply`: the bytes the line received
 // in its last attempt (read for a refusal).
-std::string carried_result(const ProtocolDescriptor& protocol, const Ended& ended,
+std::string carried_result(const ProtocolDescriptor& protocol, const CarriedEnd& ended,
                            bool expects_reply, std::span<const std::uint8_t> reply);
 
 }  // namespace control

@@ -1,41 +1,24 @@
-// The control socket's messages: how a commissioning command (`tiltgate info --via-gateway`...)
-// borrows a running gateway's bus for one transaction at a time. Text lines, one message each,
-// so a person can follow a session with socat. Pure formatting and parsing.
+// The control socket's messages: how a commissioning command (`tiltgate scan --via-gateway`...)
+// has a running gateway run it on one of its buses. The command sends its request, the gateway
+// runs the commissioning engine (commission/commission_events.h) on the bus between its polls
+// and sends back what happens, one event at a time, and the command renders the events as it
+// does those of a run on its own tty. Text lines, one message each, so a person can follow a
+// session with socat. Pure formatting and parsing.
 //
 //   command -> gateway                      gateway -> command
-//   version 2 0.1.0                         version 2 0.1.0          first, both: see below
+//   version 3 0.1.0                         version 3 0.1.0          first, both: see below
 //   hello /dev/ttyUSB0                      bus line1 PROTOCOL 125000
 //                                           (or: error the gateway has no bus on /dev/ttyUSB0 ...)
-//   transact 0 50 2 0 1 - 00DF0000000400..  reset                    before each attempt
-//                                           bytes 0000DF00...        what the line received
-//   more | done                             (the command's framer: is the reply whole?)
-//                                           end ok 3 0 - 1           or: end timeout 0 - 1
-//   hold 223                                ok line1/boom            (or: ok, none is there)
-//   follow 223 7                            ok line1/boom            (or: ok, none was there)
-//   release 223                             ok
-//   setting 223 0 2                         ok line1/boom            (or: ok, none is there)
-//   setting 223 0 2 nak 3 | ... timeout     ok line1/boom
-//   as console user alice                   ok                       (or: error, not from you)
+//   run {"command":"scan",...}              event {"event":"progress",...}   as they happen
+//                                           ...
+//   stop                  (any time)        exit 0                   the command's exit code
 //
-// setting: the sensor at 223 acknowledged a change of setting 0 (a WriteTarget id,
-// driver/write_target.h) to 2; the gateway's settings record of the sensor follows it, as it
-// does a Modbus write (SensorDriver::note_acknowledged). An address move is a follow instead.
-// With "nak CODE" the sensor refused it, with "timeout" it did not answer: the gateway only
-// records that in its audit trail (audit/audit_trail.h), as it records every setting and move.
-// as: the session acts for someone else from now on, named in the audit trail instead of the
-// socket's peer (the web console runs commands for its logged-in users); honoured only from a
-// process of the gateway's own user.
-// hold: the command is about to move the sensor at 223; the gateway stops polling it (a poll
-// at the old address while it moves would fail and mark it offline) until follow or release,
-// the session's end, or kMaxHold.
-//
-// transact: address bytes, time-out, retries, settle (ms), reply expected, late guard (ms, or -
-// for the bus's own), the request in hex.
-// The command keeps the framer, so the gateway needs no knowledge of the protocol: it moves the
-// request's bytes on its line between polls and relays what comes back.
+// run: the command's options as JSON (commission/command_request.h), read by the gateway as the
+// command line reads them; one run a session, which ends with its exit line. stop: the engineer
+// pressed Ctrl-C; the run ends as a stopped command does, with its exit line. A command that
+// goes away (its socket closes) is stopped the same way.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -44,15 +27,16 @@
 #include <vector>
 
 #include "driver/expected.h"
-#include "driver/line.h"
 
 namespace tiltgate::control {
 
-// The longest line either side sends or accepts: a hex request of a few hundred bytes fits many
-// times over.
+// The longest line the gateway accepts from a command: a request's options fit many times over.
 inline constexpr std::size_t kMaxLine = 4096;
+// The longest line a command accepts from the gateway: an event, e.g. a scan's end with the
+// table of every sensor found on a full bus.
+inline constexpr std::size_t kMaxEventLine = 4 * 1024 * 1024;
 
-inline constexpr unsigned kProtocolVersion = 2;
+inline constexpr unsigned kProtocolVersion = 3;
 
 // Said by both sides: the protocol's number and the product's version ("0.1.0").
 struct Version {
@@ -62,40 +46,11 @@ struct Version {
 struct Hello {
   std::string port;  // the tty the command wants, or the bus's name
 };
-struct Transact {
-  std::size_t address_bytes = 0;
-  std::chrono::milliseconds timeout{0};
-  int retries = -1;
-  std::chrono::milliseconds settle{0};
-  bool expects_reply = true;
-  std::optional<std::chrono::milliseconds> late_guard;  // none: the gateway's bus's own
-  std::vector<std::uint8_t> bytes;
+struct Run {
+  std::string request;  // one JSON object
 };
-struct FramerAnswer {
-  bool done = false;  // "done": the reply is whole; "more": keep reading
-};
-struct Follow {
-  std::uint32_t from = 0;
-  std::uint32_t to = 0;
-};
-struct Hold {
-  std::uint32_t address = 0;
-};
-struct Release {
-  std::uint32_t address = 0;
-};
-struct SettingChanged {
-  std::uint32_t address = 0;
-  std::uint8_t setting = 0;  // WriteTarget::id
-  double value = 0;
-  std::optional<std::uint8_t> nak;  // the sensor refused it, with this code
-  bool timeout = false;             // the sensor did not answer
-};
-struct ActingFor {
-  std::string who;  // "console user alice"
-};
-using CommandMessage = std::variant<Version, Hello, Transact, FramerAnswer, Follow, Hold,
-                                    Release, SettingChanged, ActingFor>;
+struct Stop {};
+using CommandMessage = std::variant<Version, Hello, Run, Stop>;
 
 struct BusGranted {
   std::string name;
@@ -105,23 +60,13 @@ struct BusGranted {
 struct Refused {
   std::string reason;
 };
-struct Reset {};
-struct Received {
-  std::vector<std::uint8_t> bytes;
+struct Event {
+  std::string json;  // one JSON object
 };
-// How the transaction ended: done (the framer accepted a reply, or none was expected), or the
-// Line's error; with the Line's timing and generation.
-struct Ended {
-  std::optional<LineError> error;  // none: done
-  bool busy = false;               // never sent: the bus did not get to it in time
-  LineTiming timing;
-  std::uint64_t generation = 0;
+struct Exit {
+  int code = 0;
 };
-struct Followed {
-  std::string sensor;  // "bus/sensor" that moved; empty when no configured sensor was there
-};
-using GatewayMessage =
-    std::variant<Version, BusGranted, Refused, Reset, Received, Ended, Followed>;
+using GatewayMessage = std::variant<Version, BusGranted, Refused, Event, Exit>;
 
 // Each without its trailing newline.
 std::string format(const CommandMessage& message);

@@ -64,8 +64,12 @@ asio::awaitable<bool> send(local::socket& socket, std::string line) {
 }  // namespace
 
 ControlServer::ControlServer(asio::any_io_executor executor, std::string path,
-                             std::vector<ServedBus> buses)
-    : executor_(executor), path_(std::move(path)), buses_(std::move(buses)), acceptor_(executor) {}
+                             std::vector<ServedBus> buses, CommandRunner runner)
+    : executor_(executor),
+      path_(std::move(path)),
+      buses_(std::move(buses)),
+      runner_(std::move(runner)),
+      acceptor_(executor) {}
 
 ControlServer::~ControlServer() { stop(); }
 
@@ -182,8 +186,7 @@ asio::awaitable<void> ControlServer::session(local::socket accepted) {
     ControlSession::Setup setup{
         [this](const std::string& port) -> const ServedBus* { return find_bus(port); },
         [this] { return bus_list(); },
-        WriteOrigin{"control socket", peer_identity(socket->native_handle())},
-        peer_uid(socket->native_handle()) == ::geteuid()};
+        WriteOrigin{"control socket", peer_identity(socket->native_handle())}, runner_};
     ControlSession session(*socket, input, std::move(setup));
     while (listening_) {
       boost::system::error_code ec;

@@ -2,16 +2,16 @@
 // commands (`tiltgate scan|info|set|raw|watch --via-gateway`) use a running gateway's buses, so
 // that commissioning one sensor never stops the PLC seeing the others.
 //
-// A command asks for the bus on its tty, then sends its transactions one at a time
-// (control/control_protocol.h). Each is queued on that bus between polls (BusScheduler::
-// exchange_for_command) and carried out by the gateway's own Line; the command keeps its
-// driver and framer and decides, chunk by chunk, when the reply is whole. A command that moved
-// a sensor says so, and the gateway polls that sensor at its new address from then on.
+// A command asks for the bus on its tty, then has the gateway run it there
+// (control/control_protocol.h): the gateway's commissioning engine does the command's work on
+// that bus between polls (each transaction a turn of the line's spare time, BusScheduler::
+// exchange_for_command) and sends its events back as they happen, which the command renders
+// as it does a run on its own tty. A sensor it moves is polled at its new address from then on.
 //
 // Anyone who can connect can talk to the sensors and change their settings, whatever
 // [server] writes says: the socket file is made mode 0660, for its owner and group only, from
 // the moment it exists. Who connected (SO_PEERCRED) is named in the log line of a sensor it
-// moved.
+// moved, and in the audit trail of what it changed.
 #pragma once
 
 #include <boost/asio/any_io_executor.hpp>
@@ -24,6 +24,7 @@
 #include "config/config.h"
 #include "driver/expected.h"
 #include "driver/family.h"
+#include "control/command_runner.h"
 #include "control/served_bus_line.h"
 
 namespace tiltgate {
@@ -32,8 +33,9 @@ class ControlServer {
  public:
   using ServedBus = tiltgate::ServedBus;
 
+  // `runner`: what a command's `run` does on its bus (the commissioning engine).
   ControlServer(boost::asio::any_io_executor executor, std::string path,
-                std::vector<ServedBus> buses);
+                std::vector<ServedBus> buses, CommandRunner runner);
   ~ControlServer();
   ControlServer(const ControlServer&) = delete;
   ControlServer& operator=(const ControlServer&) = delete;
@@ -65,6 +67,7 @@ class ControlServer {
   boost::asio::any_io_executor executor_;
   std::string path_;
   std::vector<ServedBus> buses_;
+  CommandRunner runner_;
   boost::asio::local::stream_protocol::acceptor acceptor_;
   std::vector<std::weak_ptr<boost::asio::local::stream_protocol::socket>> sessions_;
   bool listening_ = false;

@@ -6,8 +6,11 @@
 
 namespace tiltgate {
 
-ControlService::ControlService(const Gateway& gateway)
-    : gateway_(gateway), retired_(gateway.executor()), retry_(gateway.executor()) {
+ControlService::ControlService(const Gateway& gateway, CommandRunner runner)
+    : gateway_(gateway),
+      runner_(std::move(runner)),
+      retired_(gateway.executor()),
+      retry_(gateway.executor()) {
   make_server();
 }
 
@@ -17,7 +20,7 @@ void ControlService::make_server() {
   const Config& config = gateway_.config();
   if (config.server.control_socket.empty()) return;
   server_ = std::make_unique<ControlServer>(gateway_.executor(), config.server.control_socket,
-                                            served_buses(gateway_));
+                                            served_buses(gateway_), runner_);
 }
 
 void ControlService::start_as_user() {

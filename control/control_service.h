@@ -1,5 +1,5 @@
 // The control socket ([server] control_socket, control/control_server.h) as a service attached
-// to the gateway (gateway/gateway_service.h): it relays commissioning commands to the
+// to the gateway (gateway/gateway_service.h): it runs commissioning commands on the
 // gateway's buses, so a reload that changes the socket's path or the buses restarts it with
 // the buses served then (a command in progress is ended and reconnects); a socket that could
 // not be had is tried again at every reload.
@@ -17,7 +17,8 @@ namespace tiltgate {
 
 class ControlService final : public GatewayService {
  public:
-  explicit ControlService(const Gateway& gateway);
+  // `runner`: what a command's `run` does on its bus (control/command_runner.h).
+  ControlService(const Gateway& gateway, CommandRunner runner);
   ~ControlService() override;
 
   // Nothing before the switch to [server] user: the socket file is made as that user, so it
@@ -35,6 +36,7 @@ class ControlService final : public GatewayService {
   bool start_again();
 
   const Gateway& gateway_;
+  CommandRunner runner_;
   std::unique_ptr<ControlServer> server_;
   // Servers a reload replaced, freed once their sessions have ended.
   Retired<ControlServer> retired_;

@@ -1,6 +1,5 @@
-// Blocking, deadline-bounded line I/O on a control-socket descriptor, for the two places that
-// do not await: a command's handshake before its event loop runs, and the gateway's relay
-// framer's reset() (control/control_relay.h), whose deadline is now: a send that never waits.
+// Blocking, deadline-bounded line I/O on a control-socket descriptor, for a command's handshake
+// before its event loop runs (control/gateway_command.h).
 // Lines are control_protocol.h's, without the newline.
 #pragma once
 

@@ -56,7 +56,6 @@ bool ServedBusLine::note_asked(control::CarriedChange asked) {
 
 asio::awaitable<Expected<Done, LineError>> ServedBusLine::attempt(const LineRequest& request) {
   timing_ = LineTiming{};
-  busy_ = false;
   audit_refused_ = false;
   if (stopped_) co_return Unexpected{LineError::cancelled};
   std::optional<control::CarriedChange> asked;
@@ -71,9 +70,8 @@ asio::awaitable<Expected<Done, LineError>> ServedBusLine::attempt(const LineRequ
   CommandExchangeResult result = co_await bus_.scheduler->exchange_for_command(request, deadline);
   timing_ = result.timing;
   generation_ = result.generation;
-  busy_ = result.expired;
   if (changing && change_) {
-    control::Ended ended;
+    control::CarriedEnd ended;
     if (!result.done) ended.error = result.done.error();
     ended.busy = result.expired;
     const FramerReport framed = request.framer ? request.framer->report() : FramerReport{};
@@ -97,11 +95,6 @@ std::optional<std::string> ServedBusLine::hold(std::uint32_t address) {
   const auto sensor = bus_.scheduler->hold(address, SteadyClock::now() + kMaxHold);
   if (sensor) held_.push_back(address);
   return sensor;
-}
-
-void ServedBusLine::release(std::uint32_t address) {
-  bus_.scheduler->release(address);
-  std::erase(held_, address);
 }
 
 std::optional<std::string> ServedBusLine::follow(std::uint32_t from, std::uint32_t to) {

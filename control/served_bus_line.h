@@ -1,12 +1,12 @@
-// A command's Line on a bus the gateway serves: how a commissioning command run for someone
-// (the web console's scan and raw frames, in the gateway itself; a command through the control
-// socket, whose session carries its transactions here) talks to that bus's sensors. Each
+// A command's Line on a bus the gateway serves: how a commissioning command the gateway runs
+// for someone (the web console's scan and raw frames; a command line's request through the
+// control socket, control/command_runner.h) talks to that bus's sensors. Each
 // attempt of a transaction is a turn of the line's spare time (BusScheduler::
 // exchange_for_command: every sensor keeps being polled meanwhile; control/attempt_turns.h).
 //
 // What the command may change is recorded in the audit trail from what the gateway carried and
 // got back (control/carried_change.h), under the door and person in `by`: a transaction the
-// bus's protocol reads as a change waits for the command's report of it (a setting
+// bus's protocol reads as a change waits for the engine's report of it (a setting
 // acknowledged, a sensor moved), which then stands for it as one record; anything else records
 // it as it is. With [audit] when_full = "refuse" and the disk refusing, such a transaction is
 // refused before it is sent, and recorded.
@@ -67,20 +67,14 @@ class ServedBusLine final : public Line {
   static constexpr std::chrono::seconds kMaxHold{10};
 
   const ServedBus& bus() const { return bus_; }
-  // Whom the audit trail names from now on (the control socket's `as`).
-  void act_for(WriteOrigin by) { by_ = std::move(by); }
-
-  // How the latest attempt ended, beyond its Expected: never sent because the bus did not get
-  // to it in time (busy), or refused for the audit trail's disk (audit_refused).
-  bool last_busy() const { return busy_; }
+  // Whether the latest attempt was refused before it was sent, for the audit trail's disk
+  // ([audit] when_full = "refuse"): the command says so instead of "no reply".
   bool last_audit_refused() const { return audit_refused_; }
-
   // The command's reports. Each returns the configured sensor ("bus/sensor") it concerned, or
   // none when the gateway polls no sensor there.
-  // It is about to move the sensor at `address`: not polled until follow() or release(), the
+  // It is about to move the sensor at `address`: not polled until follow(), the
   // command's end, or kMaxHold.
   std::optional<std::string> hold(std::uint32_t address);
-  void release(std::uint32_t address);
   // It moved the sensor from `from` to `to`: polled there from now on. The move's own record
   // stands for the transaction that made it.
   std::optional<std::string> follow(std::uint32_t from, std::uint32_t to);
@@ -105,7 +99,6 @@ class ServedBusLine final : public Line {
   WriteOrigin by_;
   CommandLineDefaults defaults_;
   bool stopped_ = false;
-  bool busy_ = false;
   bool audit_refused_ = false;
   std::uint64_t generation_ = 1;
   LineStats stats_;

@@ -75,7 +75,7 @@ def control_answers(path, bus):
         with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
             s.settimeout(5)
             s.connect(path)
-            s.sendall(("version 2 test\nhello %s\n" % bus).encode())
+            s.sendall(("version 3 test\nhello %s\n" % bus).encode())
             answer = b""
             while answer.count(b"\n") < 2:
                 chunk = s.recv(4096)

@@ -53,16 +53,16 @@ TEST_CASE("a carried change's result: ack, the device's refusal, timeout, or nev
   const ProtocolDescriptor protocol = toy();
   const std::vector<std::uint8_t> ack{7, 6};
   const std::vector<std::uint8_t> nak{0xFF, 3};
-  CHECK(carried_result(protocol, Ended{}, true, ack) == "ack");
-  CHECK(carried_result(protocol, Ended{}, true, nak) == "nak 0x03");
-  CHECK(carried_result(protocol, Ended{}, false, {}) == "sent, no reply expected");
-  Ended timed_out;
+  CHECK(carried_result(protocol, CarriedEnd{}, true, ack) == "ack");
+  CHECK(carried_result(protocol, CarriedEnd{}, true, nak) == "nak 0x03");
+  CHECK(carried_result(protocol, CarriedEnd{}, false, {}) == "sent, no reply expected");
+  CarriedEnd timed_out;
   timed_out.error = LineError::timeout;
   CHECK(carried_result(protocol, timed_out, true, {}) == "timeout");
-  Ended busy;
+  CarriedEnd busy;
   busy.busy = true;
   CHECK(carried_result(protocol, busy, true, {}).starts_with("error: not sent"));
-  Ended broken;
+  CarriedEnd broken;
   broken.error = LineError::io;
   CHECK(carried_result(protocol, broken, true, {}).starts_with("error: "));
 }

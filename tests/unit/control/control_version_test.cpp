@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "control/remote_line.h"
+#include "control/gateway_command.h"
 #include "unit/support/scratch_dir.h"
 #include "unit/support/socket_gateway.h"
 
@@ -50,21 +50,22 @@ TEST_CASE("control socket: a command of protocol 1 (hello first) gets one line n
   const auto lines = answers_to(gateway.socket_path, "hello /dev/ttyFAKE0");
   REQUIRE(lines.size() == 1);
   INFO(lines[0]);
-  CHECK(lines[0].starts_with("version 2 "));  // not "error": protocol 1 shows it as it is
-  CHECK(lines[0].find("speaks control protocol 2") != std::string::npos);
+  CHECK(lines[0].starts_with("version 3 "));  // not "error": protocol 1 shows it as it is
+  CHECK(lines[0].find("speaks control protocol 3") != std::string::npos);
   CHECK(lines[0].find("speaks control protocol 1") != std::string::npos);
 }
 
 TEST_CASE("control socket: a command of another protocol is told both versions, and the session ends") {
   SocketGateway gateway;
-  const auto lines = answers_to(gateway.socket_path, "version 3 9.9.9");
+  // The previous release's command, which relayed transactions (protocol 2).
+  const auto lines = answers_to(gateway.socket_path, "version 2 0.0.9");
   REQUIRE(lines.size() == 1);
   INFO(lines[0]);
-  CHECK(lines[0].find("(tiltgate 9.9.9) speaks control protocol 3") != std::string::npos);
-  CHECK(lines[0].find("speaks control protocol 2") != std::string::npos);
+  CHECK(lines[0].find("(tiltgate 0.0.9) speaks control protocol 2") != std::string::npos);
+  CHECK(lines[0].find("speaks control protocol 3") != std::string::npos);
   // The same version is answered with the gateway's own, and the session goes on.
   asio::io_context io;
-  auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
+  auto line = GatewayCommand::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
   CHECK(line.has_value());
 }
 
@@ -79,13 +80,39 @@ TEST_CASE("control socket: a gateway of protocol 1 is named as such by a newer c
     acceptor.accept(socket);
     asio::streambuf input;
     asio::read_until(socket, input, '\n');
-    asio::write(socket, asio::buffer(std::string("error malformed message \"version 2 0.1.0\"\n")));
+    asio::write(socket, asio::buffer(std::string("error malformed message \"version 3 0.1.0\"\n")));
   });
   asio::io_context command;
-  auto line = RemoteLine::connect(command.get_executor(), path, "/dev/ttyFAKE0");
+  auto line = GatewayCommand::connect(command.get_executor(), path, "/dev/ttyFAKE0");
   old_gateway.join();
   REQUIRE_FALSE(line.has_value());
   INFO(line.error().message);
   CHECK(line.error().message.find("speaks control protocol 1") != std::string::npos);
+  CHECK(line.error().message.find("speaks control protocol 3") != std::string::npos);
+}
+
+TEST_CASE("control socket: a gateway of the previous protocol answers with its own mismatch line, which a newer command shows whole") {
+  ScratchDir dir{"tiltgate-control-old"};
+  const std::string path = dir.path("old.sock");
+  asio::io_context io;
+  asio::local::stream_protocol::acceptor acceptor(io, asio::local::stream_protocol::endpoint(path));
+  // What a gateway of protocol 2 answers a version it does not speak, and then it closes.
+  std::thread old_gateway([&] {
+    asio::local::stream_protocol::socket socket(io);
+    acceptor.accept(socket);
+    asio::streambuf input;
+    asio::read_until(socket, input, '\n');
+    asio::write(socket, asio::buffer(std::string(
+                            "version 2 0.0.9: this gateway (tiltgate 0.0.9) speaks control "
+                            "protocol 2, this command (tiltgate 0.1.0) speaks control protocol 3: "
+                            "run the tiltgate of the gateway's own version\n")));
+  });
+  asio::io_context command;
+  auto line = GatewayCommand::connect(command.get_executor(), path, "/dev/ttyFAKE0");
+  old_gateway.join();
+  REQUIRE_FALSE(line.has_value());
+  INFO(line.error().message);
+  CHECK(line.error().kind == GatewayCommand::ConnectError::failed);
   CHECK(line.error().message.find("speaks control protocol 2") != std::string::npos);
+  CHECK(line.error().message.find("speaks control protocol 3") != std::string::npos);
 }

@@ -1,6 +1,7 @@
 // A running gateway's control socket for the control tests (tests/unit/control/): one bus with
 // one sensor at address 223 on a fake line, its event loop on its own thread, and beside it a
-// second bus whose sensor is polled every 10 ms (counted in other_polls).
+// second bus whose sensor is polled every 10 ms (counted in other_polls). A command's `run` is
+// `runner`'s, which a test sets before it connects (default: no events, exit code 0).
 #pragma once
 
 #include <boost/asio/co_spawn.hpp>
@@ -47,12 +48,19 @@ struct SocketGateway {
   std::atomic<int> other_polls{0};
   std::vector<LineRequest> sent;
   std::string port;
+  CommandRunner runner = [](std::string, ServedBus, WriteOrigin, std::function<void(std::string)>,
+                            CommandStop&) -> boost::asio::awaitable<int> { co_return 0; };
   ControlServer server;
   std::thread thread;
 
   explicit SocketGateway(std::string served_port = "/dev/ttyFAKE0")
       : port(std::move(served_port)),
-        server{io.get_executor(), socket_path, {{bus_on(port), lent(scheduler)}}} {
+        server{io.get_executor(), socket_path, {{bus_on(port), lent(scheduler)}},
+               [this](std::string request, ServedBus bus, WriteOrigin by,
+                      std::function<void(std::string)> emit, CommandStop& stop) {
+                 return runner(std::move(request), std::move(bus), std::move(by), std::move(emit),
+                               stop);
+               }} {
     line.reply = [this](const LineRequest& request) {
       sent.push_back(LineRequest{request.bytes, request.address_bytes, nullptr, request.timeout,
                                  request.retries, request.settle, request.late_guard});
