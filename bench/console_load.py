@@ -20,6 +20,9 @@ round so that no phase is always measured on a machine another just left:
 3. scan: the same plus a scan through the console, repeated: POST /api/buses/line0/scan over
    addresses where no sensor is (each probe a time-out), GET .../scan for progress every 0.5 s
    (the page's SCAN_POLL_MS) until it ends, then the next.
+4. command: the polls and the Modbus client, plus the same scan by an engineer's command line
+   through the control socket, repeated: `tiltgate scan --via-gateway` over the same addresses
+   (the gateway runs it and streams its events back; nobody on the console).
 
 Every process of load (the Modbus client, each console user, the scanner) is a process of its
 own, so that none of them waits for another's turn at Python's lock and the Modbus times are the
@@ -57,7 +60,7 @@ USERS = 3
 PAGE_POLL_S, HISTORY_S, LOGIN_AGAIN_S, SCAN_POLL_S = 0.4, 1.0, 5.0, 0.5
 SCAN_FROM, SCAN_TO = 200, 229  # no sensor there: every probe a time-out
 PASSWORD = "bench-console-password"
-PHASES = ("idle", "console", "scan")
+PHASES = ("idle", "console", "scan", "command")
 
 
 def bus_counters(http_port):
@@ -215,6 +218,27 @@ def scanner(port, user, run, stop, quiet, results):
     results.put({"user": user, "scans": scans, "errors": errors})
 
 
+def command_scanner(binary, control_socket, tty, run, stop, quiet, results):
+    """While `run` is set, scans addresses SCAN_FROM..SCAN_TO with `tiltgate scan --via-gateway`,
+    one command after the other; sets `quiet` whenever no command runs."""
+    scans, errors = [], []
+    quiet.set()
+    while not stop.is_set():
+        if not run.wait(0.05):
+            continue
+        quiet.clear()
+        started = time.monotonic()
+        done = subprocess.run([binary, "scan", "--via-gateway", "--control-socket", control_socket,
+                               "--port", tty, "--protocol", "rieker", "--baud", str(BAUD),
+                               "--from", str(SCAN_FROM), "--to", str(SCAN_TO)],
+                              capture_output=True, text=True, timeout=120)
+        scans.append(time.monotonic() - started)
+        if done.returncode != 1 or "no sensor answered" not in done.stderr:
+            errors.append(f"scan --via-gateway: exit {done.returncode}: {done.stderr.strip()}")
+        quiet.set()
+    results.put({"user": "command line", "scans": scans, "errors": errors})
+
+
 def window(http_port, seconds):
     """Polls/s over `seconds` from now, the window's start and end, and the bus's utilisation."""
     t0, (p0, b0) = time.monotonic(), bus_counters(http_port)
@@ -249,6 +273,7 @@ def measure(binary, folder, rounds, seconds, poll_ms):
                       control_socket=os.path.join(folder, "control.sock"))
     fork = multiprocessing.get_context("fork")
     stop, browse, scan, quiet = fork.Event(), fork.Event(), fork.Event(), fork.Event()
+    command, command_quiet = fork.Event(), fork.Event()
     modbus_results, console_results = fork.Queue(), fork.Queue()
     workers = [fork.Process(target=modbus_client, args=(gateway.modbus_port, stop, modbus_results))]
     workers += [fork.Process(target=console_user, args=(gateway.http_port, name, browse, stop,
@@ -256,6 +281,10 @@ def measure(binary, folder, rounds, seconds, poll_ms):
                 for name in names[:USERS]]
     workers.append(fork.Process(target=scanner, args=(gateway.http_port, names[-1], scan, stop,
                                                       quiet, console_results)))
+    workers.append(fork.Process(target=command_scanner,
+                                args=(binary, os.path.join(folder, "control.sock"),
+                                      os.path.join(folder, "tty0"), command, stop, command_quiet,
+                                      console_results)))
     windows = {phase: [] for phase in PHASES}
     try:
         # Every sensor answering and the poll rate settled before the first window.
@@ -268,22 +297,28 @@ def measure(binary, folder, rounds, seconds, poll_ms):
             worker.start()
         time.sleep(1.0)
         for round_ in range(rounds):
-            for phase in PHASES[round_ % 3:] + PHASES[:round_ % 3]:
+            turn = round_ % len(PHASES)
+            for phase in PHASES[turn:] + PHASES[:turn]:
                 if phase in ("console", "scan"):
                     browse.set()
                 if phase == "scan":
                     scan.set()
+                if phase == "command":
+                    command.set()
                 time.sleep(1.0)  # the load under way (the first scan's command started)
                 windows[phase].append(window(gateway.http_port, seconds))
                 browse.clear()
                 scan.clear()
+                command.clear()
                 if not quiet.wait(60):
                     sys.exit("a scan through the console never ended")
+                if not command_quiet.wait(60):
+                    sys.exit("a scan through the control socket never ended")
                 time.sleep(0.5)
         stop.set()
         browse.set()  # a user waiting for its turn sees the stop
         modbus_times = collect(modbus_results, workers)
-        console = [collect(console_results, workers) for _ in names]
+        console = [collect(console_results, workers) for _ in names + ["command line"]]
         for worker in workers:
             worker.join(10)
         failed = [w for w in workers if w.exitcode != 0]
@@ -320,7 +355,8 @@ def report(windows, modbus_times, console, rounds, seconds, poll_ms):
     print(f"Web console load: {SENSORS} x H6 at {BAUD} baud, poll_ms = {poll_ms}; a Modbus client "
           f"reading input registers 0..7 at {MODBUS_READS_PER_S}/s; {USERS} console users "
           f"refreshing as the page does (logging in again every {LOGIN_AGAIN_S:g} s); scans of "
-          f"addresses {SCAN_FROM}..{SCAN_TO} through the console, one after the other; "
+          f"addresses {SCAN_FROM}..{SCAN_TO} through the console, one after the other, and the "
+          f"same by `tiltgate scan --via-gateway`; "
           f"{rounds} rounds of a {seconds:g} s window of each phase; medians over the windows")
     print()
     print("| phase | bus polls/s (median) | ratio to idle | Modbus p50 (ms) | Modbus p99 (ms) "
@@ -334,11 +370,14 @@ def report(windows, modbus_times, console, rounds, seconds, poll_ms):
     requests = [ms for c in console if "took" in c for ms in c["took"]]
     logins = sum(c.get("logins", 0) for c in console)
     scans = [c for c in console if "scans" in c]
-    all_scans = [d for c in scans for d in c["scans"]]
+    all_scans = [d for c in scans if c["user"] != "command line" for d in c["scans"]]
+    command_scans = [d for c in scans if c["user"] == "command line" for d in c["scans"]]
     print(f"Console requests: {len(requests)} (p50 {percentile(requests, 0.5):.1f} ms, "
           f"p99 {percentile(requests, 0.99):.1f} ms), {logins} logins; scans through the "
           f"console: {len(all_scans)} (median {statistics.median(all_scans or [0]):.2f} s from "
-          f"POST to the progress poll that saw it end); Modbus reads in the windows: "
+          f"POST to the progress poll that saw it end); scans by the command line: "
+          f"{len(command_scans)} (median {statistics.median(command_scans or [0]):.2f} s from "
+          f"start to exit); Modbus reads in the windows: "
           + ", ".join(f"{p} {rows[p]['reads']}" for p in PHASES)
           + f"; idle windows' p99: {min(idle['p99s']):.3f}-{max(idle['p99s']):.3f} ms; bus "
           f"utilisation (median): " + ", ".join(f"{p} {rows[p]['busy']:.2f}" for p in PHASES)
@@ -351,7 +390,7 @@ def report(windows, modbus_times, console, rounds, seconds, poll_ms):
         for error in c["errors"][:5]:
             print(f"scan error: {error}")
     print()
-    for phase in ("console", "scan"):
+    for phase in ("console", "scan", "command"):
         row = rows[phase]
         polls_ok = row["polls"] >= 0.99 * idle["polls"]
         p99_ok = row["p99"] <= max(idle["p99s"])

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <istream>
 #include <memory>
+#include <spdlog/spdlog.h>
 
 #include "control/event_writer.h"
 
@@ -79,7 +80,14 @@ asio::awaitable<std::string> ControlSession::run(const control::Run& run) {
     if (!writer->push(formatted(control::Event{std::move(json)})) && !stop.requested)
       stop.request();
   };
-  const int code = co_await setup_.runner(run.request, *bus_, setup_.by, emit, stop);
+  int code = 1;
+  try {
+    code = co_await setup_.runner(run.request, *bus_, setup_.by, emit, stop);
+  } catch (const std::exception& e) {
+    // The runner says its own failures as events; this is one it could not, and the listener
+    // below must still be awaited before this frame goes.
+    spdlog::error("control socket: a command's run failed: {}", e.what());
+  }
   co_await writer->drained();
   run_over = true;
   if (listening) {
