@@ -18,7 +18,7 @@
 #include "app/run_as_user.h"
 #include "app/service_notify.h"
 #include "driver/visible_text.h"
-#include "gateway/line_budget.h"
+#include "line_scheduling/line_budget.h"
 #include "mapping/aggregate_layout.h"
 
 namespace tiltgate {

@@ -209,7 +209,7 @@ def scanner(port, user, run, stop, quiet, results):
             if not state["running"]:
                 break
         scans.append(time.monotonic() - started)
-        if state["error"] != "no sensor answered" or state["found"]:
+        if not (state["error"] or "").startswith("no sensor answered") or state["found"]:
             errors.append(f"scan ended: {state['error']!r}, found {len(state['found'])}")
         quiet.set()
     results.put({"user": user, "scans": scans, "errors": errors})

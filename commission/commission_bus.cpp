@@ -7,7 +7,6 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <iostream>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -42,8 +41,10 @@ Expected<int, std::string> open_and_lock(const std::string& port) {
 
 // The bus through a running gateway's control socket when one there serves the tty; none when
 // no gateway does (the command then opens the tty itself), unless --via-gateway required one.
+// What there is to tell of it goes to `notes`.
 Expected<std::unique_ptr<RemoteLine>, CommissionBus::OpenError> bus_through_gateway(
-    boost::asio::any_io_executor executor, const CommissionTarget& target) {
+    boost::asio::any_io_executor executor, const CommissionTarget& target,
+    std::vector<std::string>& notes) {
   if (target.control_socket.empty()) return std::unique_ptr<RemoteLine>{};
   auto remote = RemoteLine::connect(executor, target.control_socket, target.bus.port);
   if (!remote) {
@@ -59,11 +60,11 @@ Expected<std::unique_ptr<RemoteLine>, CommissionBus::OpenError> bus_through_gate
     return Unexpected{CommissionBus::OpenError{
         2, fmt::format("the running gateway's bus {} on {} speaks {}, not {} (--protocol)",
                        bus.name, target.bus.port, bus.protocol, target.bus.protocol)}};
-  std::cerr << fmt::format("through the running gateway: bus {} ({} baud), control socket {}\n",
-                           bus.name, bus.baud, target.control_socket);
+  notes.push_back(fmt::format("through the running gateway: bus {} ({} baud), control socket {}",
+                              bus.name, bus.baud, target.control_socket));
   if (bus.baud != target.bus.baud)
-    std::cerr << fmt::format("note: the gateway runs {} at {} baud; that rate is used, not {}\n",
-                             bus.name, bus.baud, target.bus.baud);
+    notes.push_back(fmt::format("note: the gateway runs {} at {} baud; that rate is used, not {}",
+                                bus.name, bus.baud, target.bus.baud));
   return std::move(*remote);
 }
 
@@ -83,33 +84,33 @@ void CommissionBus::stop() {
   if (served_) served_->stop();
 }
 
-void CommissionBus::address_changing(std::uint32_t from) {
+std::optional<std::string> CommissionBus::address_changing(std::uint32_t from) {
   if (served_) served_->hold(from);
-  if (!remote_) return;
+  if (!remote_) return std::nullopt;
   if (const auto held = remote_->hold(from); !held)
-    std::cerr << fmt::format("warning: the gateway was not told of the move ({}): its polls of "
-                             "the sensor may fail while it moves\n",
-                             held.error());
+    return fmt::format("the gateway was not told of the move ({}): its polls of the sensor may "
+                       "fail while it moves",
+                       held.error());
+  return std::nullopt;
 }
 
-void CommissionBus::address_changed(std::uint32_t from, std::uint32_t to) {
+Expected<std::string, std::string> CommissionBus::address_changed(std::uint32_t from,
+                                                                  std::uint32_t to) {
   if (served_) served_->follow(from, to);
-  if (!remote_) return;
-  const auto followed = remote_->follow(from, to);
+  if (!remote_) return std::string();
+  auto followed = remote_->follow(from, to);
   if (!followed)
-    std::cerr << fmt::format("warning: the gateway was not told of the move: {}; it follows "
-                             "the sensor after a restart with the new address in its "
-                             "configuration\n",
-                             followed.error());
-  else if (!followed->empty())
-    std::cout << fmt::format("gateway: sensor {} is polled at address {} from now on\n",
-                             *followed, to);
+    return Unexpected{fmt::format("the gateway was not told of the move: {}; it follows the "
+                                  "sensor after a restart with the new address in its "
+                                  "configuration",
+                                  followed.error())};
+  return std::move(*followed);
 }
 
-void CommissionBus::setting_changed(std::uint32_t address, WriteTarget setting, double value,
-                                    const WriteResult& result,
-                                    std::optional<std::uint8_t> refusal_code) {
-  if (!remote_ && !served_) return;
+std::optional<std::string> CommissionBus::setting_changed(
+    std::uint32_t address, WriteTarget setting, double value, const WriteResult& result,
+    std::optional<std::uint8_t> refusal_code) {
+  if (!remote_ && !served_) return std::nullopt;
   control::SettingChanged changed{address, setting.id, value, std::nullopt, false};
   if (!result) {
     const WriteError& error = result.error();
@@ -120,16 +121,17 @@ void CommissionBus::setting_changed(std::uint32_t address, WriteTarget setting, 
     else if (error.kind == WriteErrorKind::rejected || error.kind == WriteErrorKind::refused)
       changed.nak = refusal_code.value_or(0);
     else
-      return;  // not the sensor's answer: nothing was changed, nor refused by it
+      return std::nullopt;  // not the sensor's answer: nothing was changed, nor refused by it
   }
   if (served_) {
     served_->setting_changed(address, setting, value, control::setting_result(changed), true);
-    return;
+    return std::nullopt;
   }
   if (const auto told = remote_->setting_changed(changed); !told)
-    std::cerr << fmt::format("warning: the gateway was not told of the change: {}; its holding "
-                             "registers show the setting's old value\n",
-                             told.error());
+    return fmt::format("the gateway was not told of the change: {}; its holding registers show "
+                       "the setting's old value",
+                       told.error());
+  return std::nullopt;
 }
 
 Expected<std::vector<CommissionedSensor>, CommissionBus::OpenError> CommissionBus::make_sensors(
@@ -154,10 +156,12 @@ Expected<std::unique_ptr<CommissionBus>, CommissionBus::OpenError> CommissionBus
     boost::asio::any_io_executor executor, const CommissionTarget& target) {
   auto sensors = make_sensors(target);
   if (!sensors) return Unexpected{sensors.error()};
-  auto remote = bus_through_gateway(executor, target);
+  std::vector<std::string> notes;
+  auto remote = bus_through_gateway(executor, target, notes);
   if (!remote) return Unexpected{remote.error()};
   if (*remote) {
     std::unique_ptr<CommissionBus> bus(new CommissionBus(target.bus, target.families, -1));
+    bus->opening_notes_ = std::move(notes);
     bus->sensors_ = std::move(*sensors);
     bus->config_.baud = (*remote)->bus().baud;
     bus->remote_ = remote->get();

@@ -66,22 +66,29 @@ class CommissionBus {
 
   // A command is about to move the sensor at `from` (set address): a running gateway that
   // owns the bus stops polling it, so that no poll at the old address fails while it moves,
-  // until address_changed() or the command's end. Nothing to do on a tty of our own.
-  void address_changing(std::uint32_t from);
+  // until address_changed() or the command's end. Nothing to do on a tty of our own. A warning
+  // when the gateway could not be told.
+  std::optional<std::string> address_changing(std::uint32_t from);
   // A command moved a sensor from one bus address to another (set address): a running gateway
-  // that owns the bus follows it at once (said on stdout). Nothing to do on a tty of our own.
-  void address_changed(std::uint32_t from, std::uint32_t to);
+  // that owns the bus follows it at once. The gateway's name for the sensor it now polls at
+  // `to` (empty: none, e.g. on a tty of our own), or a warning when it could not be told.
+  Expected<std::string, std::string> address_changed(std::uint32_t from, std::uint32_t to);
   // The sensor at `address` answered a setting (`result`; a refusal with the protocol's code
   // `refusal_code`): a running gateway that owns the bus records it in its audit trail, and
   // keeps an acknowledged one in the sensor's settings record (what its holding registers
-  // read). Nothing to do on a tty of our own.
-  void setting_changed(std::uint32_t address, WriteTarget setting, double value,
-                       const WriteResult& result, std::optional<std::uint8_t> refusal_code);
+  // read). Nothing to do on a tty of our own. A warning when the gateway could not be told.
+  std::optional<std::string> setting_changed(std::uint32_t address, WriteTarget setting,
+                                             double value, const WriteResult& result,
+                                             std::optional<std::uint8_t> refusal_code);
 
   // Reopens the tty at another baud rate (scan --baud auto; set baud, after the sensor was set
   // to it and restarted), keeping the lock; the bus's config() follows. An error says why it
   // cannot be done (through a running gateway, whose bus keeps its rate).
   Expected<Done, std::string> reopen_at(std::uint32_t baud);
+
+  // What opening the bus found worth telling, one line each: the running gateway it goes
+  // through, a rate other than the one asked for.
+  const std::vector<std::string>& opening_notes() const { return opening_notes_; }
 
   // "no reply from address 5 on /dev/ttyUSB0 at 125000 baud", and what to check.
   std::string no_reply_message(const CommissionedSensor& sensor) const;
@@ -102,6 +109,7 @@ class CommissionBus {
   RemoteLine* remote_ = nullptr;  // line_, through a gateway
   ServedBusLine* served_ = nullptr;  // line_, in the gateway
   std::vector<CommissionedSensor> sensors_;
+  std::vector<std::string> opening_notes_;
 };
 
 }  // namespace tiltgate

@@ -31,6 +31,7 @@ int run_commissioning_on(std::string_view command, const CommissionTarget& targe
     std::cerr << "tiltgate " << command << ": " << bus.error().message << "\n";
     return bus.error().exit_code;
   }
+  for (const std::string& note : (*bus)->opening_notes()) std::cerr << note << "\n";
   bool stopping = false;
   int exit_code = 0;
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);

@@ -1,89 +1,42 @@
-// `tiltgate info`: the vendor User App's Sensor Info, for each sensor asked for. A sensor whose
-// model the options do not name is polled as each model of its family until one measures
-// (commission/model_detection.h). A sensor without its driver (a device whose family needs a
-// --device profile, given none) shows what it says of itself when asked with its protocol's
-// own requests (FamilyCommands::identify).
-#include <fmt/format.h>
-
-#include <algorithm>
+// `tiltgate info` on the command line: the engine's Sensor Info (commission/info_engine.h) shown
+// as text, one block of lines per sensor with a blank line between, and what a sensor did not
+// tell as "tiltgate info: ..." on stderr.
 #include <iostream>
 
 #include "commission/commands.h"
 #include "commission/commission_run.h"
-#include "commission/model_detection.h"
-#include "commission/reading_format.h"
+#include "commission/event_text.h"
+#include "commission/info_engine.h"
 
 namespace tiltgate {
 
 namespace {
 
-// What a sensor without its driver says of itself; the exit code: 0 when it told something.
-boost::asio::awaitable<int> self_report(CommissionBus& bus, const CommissionedSensor& sensor,
-                                        FamilyCommandsList commands) {
-  const FamilyCommands* family =
-      find_commands(commands, find_protocol(bus.families(), bus.config().protocol).family);
-  if (!family || !family->identify.ask) {
-    std::cerr << fmt::format("tiltgate info: a {} sensor is known by its driver only; give what "
-                             "it needs (--device)\n",
-                             bus.config().protocol);
-    co_return 2;
+// The events as the command line shows them; stdout is flushed once, at the end.
+class InfoText {
+ public:
+  void operator()(const CommissionEvent& event) {
+    if (const auto* reading = std::get_if<SensorReadingEvent>(&event)) {
+      if (shown_++ > 0) std::cout << "\n";
+      std::cout << sensor_reading_text(*reading);
+    } else if (const auto* failed = std::get_if<FailedEvent>(&event)) {
+      std::cerr << "tiltgate info: " << failed->message << "\n";
+    } else if (const auto* note = std::get_if<NoteEvent>(&event)) {
+      std::cerr << "tiltgate info: " << (note->warning ? "warning: " : "") << note->text << "\n";
+    }
   }
-  const SelfReport report = co_await family->identify.ask(bus.line(), bus.config().protocol,
-                                                             sensor.config.address);
-  std::cout << "address:    " << sensor.config.address << "\n" << report.text;
-  if (!report.answered) {
-    std::cout << "status:     no reply\n";
-    std::cerr << "tiltgate info: " << bus.no_reply_message(sensor) << "\n";
-    co_return 1;
-  }
-  if (!report.identified) {
-    std::cerr << fmt::format("tiltgate info: address {} answered, but told nothing of itself; "
-                             "give its profile (--device) to read its values\n",
-                             sensor.config.address);
-    co_return 1;
-  }
-  co_return 0;
-}
+
+ private:
+  int shown_ = 0;  // sensors shown so far
+};
 
 int info_command(const BusOptions& options, FamilyList families, FamilyCommandsList commands) {
   return run_commissioning(
       "info", options, families,
       [commands](CommissionBus& bus, const bool& stopping) -> boost::asio::awaitable<int> {
-        int exit_code = 0;
-        bool first = true;
-        for (CommissionedSensor& sensor : bus.sensors()) {
-          if (!sensor.driver) {
-            if (!first) std::cout << "\n";
-            first = false;
-            exit_code = std::max(exit_code, co_await self_report(bus, sensor, commands));
-            if (stopping) co_return 0;
-            continue;
-          }
-          const ModelCheck check = co_await check_model(bus, sensor, stopping);
-          if (stopping) co_return 0;
-          if (const std::string found = model_check_message(sensor, check); !found.empty())
-            std::cerr << "tiltgate info: " << found << "\n";
-          if (!first) std::cout << "\n";
-          first = false;
-          const SensorState& state = sensor.driver->state();
-          const PollOutcome outcome = check.outcome();
-          if (outcome.result == PollResult::reading && state.identity_known) {
-            std::cout << sensor_info_text(sensor.config.address, sensor.driver->model(), state);
-            continue;
-          }
-          exit_code = 1;
-          if (outcome.result == PollResult::reading) {
-            // It measures, but did not tell its serial and firmware: shown as "-".
-            std::cout << sensor_info_text(sensor.config.address, sensor.driver->model(), state);
-            std::cerr << fmt::format("tiltgate info: address {} gave a reading, but not its "
-                                     "identity (serial, firmware)\n",
-                                     sensor.config.address);
-            continue;
-          }
-          std::cout << "address:    " << sensor.config.address
-                    << "\nstatus:     " << poll_status_text(sensor, outcome) << "\n";
-          std::cerr << "tiltgate info: " << poll_outcome_message(bus, sensor, outcome) << "\n";
-        }
+        InfoText text;
+        const EventSink report = [&text](const CommissionEvent& event) { text(event); };
+        const int exit_code = co_await show_info(bus, commands, report, stopping);
         std::cout.flush();
         co_return exit_code;
       });

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "commission/reading_format.h"
 #include "gateway/driver_registry.h"
 
 namespace tiltgate {
@@ -110,6 +111,14 @@ std::string poll_status_text(const CommissionedSensor& sensor, const PollOutcome
     case PollResult::reading: return "ok";
   }
   return "";
+}
+
+SensorReadingEvent sensor_reading(const CommissionedSensor& sensor, const PollOutcome& outcome) {
+  SensorReadingEvent reading = reading_of(sensor.config.address, sensor.driver->model(),
+                                          sensor.driver->state(), SteadyClock::now());
+  reading.result = outcome.result;
+  reading.status = poll_status_text(sensor, outcome);
+  return reading;
 }
 
 }  // namespace tiltgate

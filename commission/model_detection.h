@@ -12,6 +12,7 @@
 
 #include "driver/sensor_driver.h"
 #include "commission/commission_bus.h"
+#include "commission/commission_events.h"
 #include "commission/poll_outcome.h"
 
 namespace tiltgate {
@@ -56,5 +57,8 @@ std::string poll_outcome_message(const CommissionBus& bus, const CommissionedSen
 
 // The same in a few words, for `info`'s "status:" line: "no reply", "refused: NAK 2 (...)".
 std::string poll_status_text(const CommissionedSensor& sensor, const PollOutcome& outcome);
+
+// The sensor as its driver holds it after a poll that came to `outcome`, for the event.
+SensorReadingEvent sensor_reading(const CommissionedSensor& sensor, const PollOutcome& outcome);
 
 }  // namespace tiltgate

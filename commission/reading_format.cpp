@@ -133,26 +133,60 @@ std::string csv_line(std::chrono::system_clock::time_point time, const WatchRow&
                      status_word(s.result));
 }
 
-std::string sensor_info_text(std::uint32_t address, std::string_view model,
-                             const SensorState& state) {
-  const WatchRow s = snapshot_of(address, state, SteadyClock::now(), std::nullopt);
-  const std::string lock = state.protection_level ? fmt::format("{}", *state.protection_level)
-                                                  : std::string("-");
+SensorReadingEvent reading_of(std::uint32_t address, std::string_view model,
+                              const SensorState& state, SteadyClock::time_point now) {
+  const WatchRow row = snapshot_of(address, state, now, std::nullopt);
+  SensorReadingEvent reading;
+  reading.address = address;
+  reading.model = std::string(model);
+  reading.device_model = state.model;
+  reading.serial = state.serial;
+  reading.firmware = state.firmware;
+  reading.lock_level = state.protection_level;
+  reading.result = row.result;
+  reading.angle_x = row.angle_x;
+  reading.angle_y = row.angle_y;
+  reading.age = row.age;
+  reading.polled = std::chrono::system_clock::now();
+  return reading;
+}
+
+WatchRow watch_row_of(const SensorReadingEvent& reading) {
+  WatchRow row;
+  row.address = reading.address;
+  row.serial = reading.serial;
+  row.angle_x = reading.angle_x;
+  row.angle_y = reading.angle_y;
+  row.result = reading.result;
+  row.age = reading.age;
+  row.polls_per_second = reading.readings_per_second;
+  return row;
+}
+
+std::string sensor_info_text(const SensorReadingEvent& reading) {
+  const WatchRow s = watch_row_of(reading);
+  const std::string lock =
+      reading.lock_level ? fmt::format("{}", *reading.lock_level) : std::string("-");
   std::string text;
-  text += fmt::format("address:    {}\n", address);
+  text += fmt::format("address:    {}\n", reading.address);
   // The device's own model where it reports one (a device profile's [identity]), then what
   // it is run as.
-  if (state.model.empty())
-    text += fmt::format("model:      {}\n", model);
+  if (reading.device_model.empty())
+    text += fmt::format("model:      {}\n", reading.model);
   else
-    text += fmt::format("model:      {} ({})\n", state.model, model);
-  text += fmt::format("serial:     {}\n", or_dash(state.serial));
-  text += fmt::format("firmware:   {}\n", or_dash(state.firmware));
+    text += fmt::format("model:      {} ({})\n", reading.device_model, reading.model);
+  text += fmt::format("serial:     {}\n", or_dash(reading.serial));
+  text += fmt::format("firmware:   {}\n", or_dash(reading.firmware));
   text += fmt::format("lock level: {}\n", lock);
   text += fmt::format("angle x:    {}\n", degrees_or_dash(s.angle_x));
   text += fmt::format("angle y:    {}\n", degrees_or_dash(s.angle_y));
   text += fmt::format("tilt:       {}\n", degrees_or_dash(tilt_of(s)));
   return text;
+}
+
+std::string sensor_info_text(std::uint32_t address, std::string_view model,
+                             const SensorState& state) {
+  return sensor_info_text(reading_of(address, model, state, SteadyClock::now()));
 }
 
 }  // namespace tiltgate

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "driver/sensor_state.h"
+#include "commission/commission_events.h"
 #include "commission/poll_outcome.h"
 
 namespace tiltgate {
@@ -68,8 +69,18 @@ std::string iso8601_utc_ms(std::chrono::system_clock::time_point time);
 std::string csv_header();
 std::string csv_line(std::chrono::system_clock::time_point time, const WatchRow& snapshot);
 
+// What `state` holds of the sensor at `address`, run as `model`, for a SensorReadingEvent: its
+// identity, its last reading's angles and age at `now`; the result as the state says
+// (answering or silent) and no status words, for the caller to fill in from its poll.
+SensorReadingEvent reading_of(std::uint32_t address, std::string_view model,
+                              const SensorState& state, SteadyClock::time_point now);
+
+// The event as `watch`'s row.
+WatchRow watch_row_of(const SensorReadingEvent& reading);
+
 // `info`: one "name: value" line each for the address, model, serial, firmware, lock level,
 // angles and tilt; "-" for what the sensor has not told or its protocol does not have.
+std::string sensor_info_text(const SensorReadingEvent& reading);
 std::string sensor_info_text(std::uint32_t address, std::string_view model,
                              const SensorState& state);
 

@@ -13,12 +13,16 @@
 
 namespace tiltgate {
 
-// "updated FILE: sensor NAME address 223 -> 7" for each change written; none when the sensor
-// was not taken from a file or the plan moved nothing; the reason when the file could not be
+// The configuration file a sensor was taken from, which follows what `set` moves: the options'
+// --config, unless --port gave the bus; empty: none.
+std::string followed_config_file(const BusOptions& options);
+
+// "updated FILE: sensor NAME address 223 -> 7" for each change written; none when there is no
+// file (`config_file` empty) or the plan moved nothing; the reason when the file could not be
 // changed.
-Expected<std::optional<std::string>, std::string> update_config_file(const BusOptions& options,
-                                                                      const SensorConfig& sensor,
-                                                                      std::uint32_t old_address,
-                                                                      const SetPlan& plan);
+Expected<std::vector<std::string>, std::string> update_config_file(const std::string& config_file,
+                                                                   const SensorConfig& sensor,
+                                                                   std::uint32_t old_address,
+                                                                   const SetPlan& plan);
 
 }  // namespace tiltgate

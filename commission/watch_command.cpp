@@ -1,9 +1,6 @@
-// `tiltgate watch`: the vendor's Multi-Unit Angle Display. Polls each sensor in turn through
-// its driver and shows one row per sensor: redrawn in place on a terminal, else plain lines.
-#include <boost/asio/redirect_error.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <boost/asio/this_coro.hpp>
-#include <boost/asio/use_awaitable.hpp>
+// `tiltgate watch` on the command line: the engine's rounds (commission/watch_engine.h) as one
+// row per sensor, redrawn in place on a terminal, else plain lines; every reading appended to a
+// CSV file with --log.
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -14,8 +11,8 @@
 
 #include "commission/commands.h"
 #include "commission/commission_run.h"
-#include "commission/model_detection.h"
 #include "commission/reading_format.h"
+#include "commission/watch_engine.h"
 
 namespace tiltgate {
 
@@ -23,14 +20,11 @@ namespace {
 
 namespace asio = boost::asio;
 
-struct WatchOptions {
-  int count = 0;  // rounds before stopping; 0: until SIGINT/SIGTERM
-  int interval_ms = 500;
+// The command line's options beside the engine's.
+struct WatchCommandOptions {
+  WatchOptions watch;
   std::string log;  // CSV file every reading is appended to; empty: none
 };
-
-// The pause between rounds is waited out in slices, so a signal ends it promptly.
-constexpr std::chrono::milliseconds kWaitSlice{50};
 
 // The table, and a note per sensor where there is something to say (the model found, why it
 // gives no reading): below the table when it is redrawn, else on stderr when a note changes.
@@ -73,16 +67,6 @@ class Display {
   std::vector<std::string> told_;  // the notes last written to stderr
 };
 
-// What to tell of one sensor after a poll: why it gave no reading (an answer that is no reading;
-// silence shows in the table), and the model found.
-std::string note_for(const CommissionBus& bus, const CommissionedSensor& sensor,
-                     const PollOutcome& outcome, const std::string& model_found) {
-  if (outcome.result != PollResult::refused && outcome.result != PollResult::no_reading)
-    return model_found;
-  const std::string why = poll_outcome_message(bus, sensor, outcome);
-  return model_found.empty() ? why : why + "; " + model_found;
-}
-
 // Appends to `path`, with the header when the file is new or empty.
 Expected<std::ofstream, std::string> open_log(const std::string& path) {
   std::error_code ec;
@@ -94,16 +78,7 @@ Expected<std::ofstream, std::string> open_log(const std::string& path) {
   return log;
 }
 
-asio::awaitable<void> pause_until(SteadyClock::time_point until, const bool& stopping) {
-  asio::steady_timer timer(co_await asio::this_coro::executor);
-  while (!stopping && SteadyClock::now() < until) {
-    timer.expires_after(std::min<SteadyClock::duration>(kWaitSlice, until - SteadyClock::now()));
-    boost::system::error_code ec;
-    co_await timer.async_wait(asio::redirect_error(asio::use_awaitable, ec));
-  }
-}
-
-int watch_command(const BusOptions& bus_options, const WatchOptions& options,
+int watch_command(const BusOptions& bus_options, const WatchCommandOptions& options,
                   FamilyList families) {
   std::ofstream log;
   if (!options.log.empty()) {
@@ -114,65 +89,36 @@ int watch_command(const BusOptions& bus_options, const WatchOptions& options,
     }
     log = std::move(*opened);
   }
-  const bool redraw = options.count == 0 && ::isatty(STDOUT_FILENO) == 1;
-  return run_commissioning(
-      "watch", bus_options, families,
-      [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
-        Display display(redraw);
-        const std::size_t count = bus.sensors().size();
-        std::vector<ReadingRate> rates(count);
-        // A sensor's model is checked (or found) at its first poll that gets an answer.
-        std::vector<bool> checked(count, false);
-        std::vector<std::string> models_found(count), notes(count);
-        const std::chrono::milliseconds interval(options.interval_ms);
-        for (int round = 1; !stopping; ++round) {
-          const SteadyClock::time_point round_start = SteadyClock::now();
-          std::vector<WatchRow> rows;
-          for (std::size_t i = 0; i < count && !stopping; ++i) {
-            CommissionedSensor& sensor = bus.sensors()[i];
-            PollOutcome outcome;
-            if (!checked[i]) {
-              const ModelCheck check = co_await check_model(bus, sensor, stopping);
-              outcome = check.outcome();
-              checked[i] = outcome.result != PollResult::silent;
-              models_found[i] = model_check_message(sensor, check);
-            } else {
-              const PollMark before = mark_before_poll(sensor.driver->state());
-              co_await sensor.driver->poll(bus.line());
-              outcome = outcome_since(before, sensor.driver->state());
-            }
-            if (stopping) break;
-            rates[i].update(sensor.driver->state());
-            notes[i] = note_for(bus, sensor, outcome, models_found[i]);
-            rows.push_back(snapshot_of(sensor.config.address, sensor.driver->state(),
-                                       SteadyClock::now(), rates[i].per_second(),
-                                       outcome.result));
-            if (log.is_open() && !stopping) {
-              log << csv_line(std::chrono::system_clock::now(), rows.back());
-              log.flush();
-            }
-          }
-          if (stopping) break;
-          display.show(rows, notes);
-          if (options.count > 0 && round >= options.count) break;
-          co_await pause_until(round_start + interval, stopping);
-        }
-        co_return 0;
-      });
+  Display display(options.watch.count == 0 && ::isatty(STDOUT_FILENO) == 1);
+  const EventSink report = [&](const CommissionEvent& event) {
+    if (const auto* reading = std::get_if<SensorReadingEvent>(&event); reading && log.is_open()) {
+      log << csv_line(reading->polled, watch_row_of(*reading));
+      log.flush();
+    } else if (const auto* round = std::get_if<WatchRoundEvent>(&event)) {
+      std::vector<WatchRow> rows;
+      for (const SensorReadingEvent& r : round->readings) rows.push_back(watch_row_of(r));
+      display.show(rows, round->notes);
+    }
+  };
+  return run_commissioning("watch", bus_options, families,
+                           [&](CommissionBus& bus, const bool& stopping) -> asio::awaitable<int> {
+                             co_return co_await watch_sensors(bus, options.watch, report,
+                                                              stopping);
+                           });
 }
 
 }  // namespace
 
 Subcommand add_watch(CLI::App& app, FamilyList families, FamilyCommandsList commands) {
   auto bus = std::make_shared<BusOptions>();
-  auto options = std::make_shared<WatchOptions>();
+  auto options = std::make_shared<WatchCommandOptions>();
   CLI::App* watch = app.add_subcommand("watch", "poll sensors in turn and show their angles, one "
                                                 "row each (the Multi-Unit Angle Display)");
   add_bus_options(*watch, *bus, families);
-  watch->add_option("--count", options->count, "stop after this many rounds (plain lines)")
-      ->check(CLI::Range(1, 100'000'000));
-  watch->add_option("--interval", options->interval_ms, "ms from one round to the next")
-      ->check(CLI::Range(10, 3'600'000))
+  watch->add_option("--count", options->watch.count, "stop after this many rounds (plain lines)")
+      ->check(CLI::Range(1, kMaxWatchRounds));
+  watch->add_option("--interval", options->watch.interval_ms, "ms from one round to the next")
+      ->check(CLI::Range(kMinWatchIntervalMs, kMaxWatchIntervalMs))
       ->capture_default_str();
   watch->add_option("--log", options->log,
                     "append every reading to this CSV file (time, address, serial, x_deg, "

@@ -63,7 +63,7 @@ struct ServerConfig {
   std::chrono::milliseconds request_timeout{5000}; // a half-sent request older than this is dropped
   std::chrono::milliseconds write_timeout{3000};   // a write still queued then is answered 0x06
   // Requests a second answered over Modbus TCP, from every client together and from each
-  // connection: beyond them a request waits for its turn (modbus_tcp/request_rate.h), so a
+  // connection: beyond them a request waits for its turn (doors/request_rate.h), so a
   // flood of requests never takes the cores the serial lines need. 0: no limit.
   int max_requests_per_s = kDefaultMaxRequestsPerSecond;
   int max_client_requests_per_s = kDefaultMaxClientRequestsPerSecond;
@@ -81,7 +81,7 @@ struct ServerConfig {
   bool operator==(const ServerConfig&) const = default;
 };
 
-// The read-only HTTP status API and Prometheus metrics (status/http_server.h). Loopback by
+// The read-only HTTP status API and Prometheus metrics (http/http_server.h). Loopback by
 // default: it shows every sensor's identity and angles to whoever can reach it.
 struct HttpConfig {
   bool enabled = true;
@@ -94,7 +94,7 @@ struct HttpConfig {
   // that address's own connection waiting longest for a request, or is closed.
   int max_clients_per_host = 8;
   // Requests a second answered from every client together and from each connection: beyond
-  // them a request waits for its turn (modbus_tcp/request_rate.h), since a status or console
+  // them a request waits for its turn (doors/request_rate.h), since a status or console
   // request copies the gateway's state on the buses' thread. 0: no limit.
   int max_requests_per_s = kDefaultHttpMaxRequestsPerSecond;
   int max_client_requests_per_s = kDefaultHttpMaxClientRequestsPerSecond;
@@ -114,7 +114,7 @@ struct HttpConfig {
   // whatever it does.
   std::chrono::seconds session_idle{900};
   std::chrono::seconds session_max{28800};
-  // The names a request's Host header may give, host names or addresses (status/host_check.h):
+  // The names a request's Host header may give, host names or addresses (http/host_check.h):
   // any other is answered 421, against DNS rebinding. Empty: not written, and the HTTP service
   // takes the listen address, localhost and this machine's name.
   std::vector<std::string> server_names;
@@ -179,7 +179,7 @@ struct SparkplugConfig {
   std::optional<std::string> primary_host_id;
   bool commands = false;              // DCMD writes settings; off: every DCMD ignored, counted
   // Messages from the broker (NCMD, DCMD, STATE) taken a second: beyond it the next one waits
-  // for its turn, and the connection reads nothing meanwhile (modbus_tcp/request_rate.h). 0: no
+  // for its turn, and the connection reads nothing meanwhile (doors/request_rate.h). 0: no
   // limit.
   int max_commands_per_s = 20;
   double buffer_mb = 64;              // the store's budget on disk, MiB (a fraction for tests)

@@ -272,7 +272,7 @@ HttpConfig read_http(const toml::table& table, ErrorList& errors) {
     http.allow = *allow;
     http.allow_given = true;
   }
-  // At most the HTTP server's max_clients (16, status/http_server.h).
+  // At most the HTTP server's max_clients (16, http/http_server.h).
   if (auto n = in.integer("max_clients_per_host", 1, 16)) http.max_clients_per_host = int(*n);
   if (auto n = in.integer("max_requests_per_s", 0, 1'000'000)) http.max_requests_per_s = int(*n);
   if (auto n = in.integer("max_client_requests_per_s", 0, 1'000'000))

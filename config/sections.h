@@ -12,7 +12,7 @@
 
 #include "config/config.h"
 #include "toml/error_list.h"
-#include "config/map_reader.h"
+#include "config/maps/map_reader.h"
 #include "driver/family.h"
 
 namespace tiltgate::toml_input {

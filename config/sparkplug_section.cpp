@@ -1,7 +1,7 @@
 // [sparkplug]: the Sparkplug B edge node's broker, ids, pacing, state directory and store
 // (docs/northbound.md, "Sparkplug B"). The table's presence turns the edge node on; host and
 // group_id are then required; a relative state_dir is taken from the file's directory. The ids
-// are checked with the Sparkplug topic rules (sparkplug/topic.h), so `tiltgate check` refuses
+// are checked with the Sparkplug topic rules (config/sparkplug_id.h), so `tiltgate check` refuses
 // what a host could not subscribe to.
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 
 #include "config/broker_keys.h"
 #include "config/sections.h"
-#include "sparkplug/topic.h"
+#include "config/sparkplug_id.h"
 #include "toml/toml_reader.h"
 
 namespace tiltgate::config {

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "audit/audit_trail.h"
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 namespace tiltgate {
 

@@ -13,7 +13,7 @@
 #include "console/confirm_window.h"
 #include "console/console_requests.h"
 #include "driver/family.h"
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 namespace tiltgate {
 

@@ -1,5 +1,5 @@
 // Who may do what over HTTP (docs/web-console.md): the one handler of the HTTP server
-// (status/http_server.h). Without [http] users_file it answers as the read-only status API
+// (http/http_server.h). Without [http] users_file it answers as the read-only status API
 // always has. With it, the page, /healthz and /metrics stay open to whoever [http] allow admits;
 // every /api/ endpoint but /api/login needs a session (a cookie), every change also the
 // session's CSRF token in X-CSRF-Token and, when the browser sends one, an Origin that is this
@@ -29,7 +29,7 @@
 #include "console/settings_endpoint.h"
 #include "driver/family.h"
 #include "driver/family_commands.h"
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 namespace tiltgate {
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 namespace tiltgate {
 

@@ -10,7 +10,7 @@
 
 #include "config/broker_keys.h"
 #include "driver/visible_text.h"
-#include "status/host_check.h"
+#include "http/host_check.h"
 
 namespace tiltgate {
 

@@ -1,6 +1,6 @@
 // The HTTP status API, its metrics, the status page and the web console ([http]), with the
 // angle history the page's graphs draw: a service attached to the gateway
-// (gateway/gateway_service.h). The server runs on a thread of its own (console/http_thread.h);
+// (gateway/gateway_service.h). The server runs on a thread of its own (http/http_thread.h);
 // the
 // history is recorded every [http] history_interval_ms from the same status copy the API
 // serves; a reload that changes [http] restarts the server, one that changes the sensors keeps
@@ -19,7 +19,7 @@
 #include "gateway/retired.h"
 #include "console/console_handler.h"
 #include "status/history_recorder.h"
-#include "console/http_thread.h"
+#include "http/http_thread.h"
 
 namespace tiltgate {
 

@@ -14,7 +14,7 @@
 #include "audit/audit_trail.h"
 #include "console/console_requests.h"
 #include "driver/family.h"
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 
 namespace tiltgate {
 

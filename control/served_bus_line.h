@@ -25,7 +25,7 @@
 #include "control/attempt_turns.h"
 #include "driver/line.h"
 #include "driver/write_target.h"
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 
 namespace tiltgate {
 

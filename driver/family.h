@@ -41,7 +41,7 @@ struct AddressRange {
 
 // What one measurement poll of a sensor that answers puts on the line: its exchanges, and the
 // characters of their requests and of their replies, each summed over the exchanges. The
-// line's time budget estimates a poll's time from it (gateway/line_budget.h).
+// line's time budget estimates a poll's time from it (line_scheduling/line_budget.h).
 struct PollSize {
   int exchanges = 1;
   int request_characters = 0;

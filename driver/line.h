@@ -21,7 +21,7 @@ enum class LineError {
   closed,   // the port is not open right now (reopening with back-off)
   cancelled, // shutdown
   // Not sent: the one it was sent for must have its answer before the attempt could end (a
-  // write's write_timeout_ms, gateway/line_claimant.h). The sensor was not asked.
+  // write's write_timeout_ms, line_scheduling/line_claimant.h). The sensor was not asked.
   expired,
   // The machine held what the line received past the reply wait and a long grace after it (the
   // kernel's tty worker did not run: serial/delivery_probe.h): nothing was learnt of the device,
@@ -91,7 +91,7 @@ struct LineRequest {
   // After a time-out with nothing heard at all, the line may be given up after a short look
   // (20 ms past the deadline) instead of the whole late-reply window; a byte in the look holds
   // the whole window. LineTiming::late_window_end then says when the window
-  // would have closed: nothing may be sent to this device before (gateway/line_claimant.h).
+  // would have closed: nothing may be sent to this device before (line_scheduling/line_claimant.h).
   bool release_when_silent = false;
 };
 

@@ -13,7 +13,7 @@
 // (driver/adaptive_reply_timeout.h), which the Line's timing adapts after every attempt: the
 // retries are made here, each attempt a transaction of the Line's, so a sensor whose first
 // reply came late gets its retry with the longer wait, and a gateway's bus can give the line
-// to the other sensors between two attempts (gateway/line_claimant.h). A sensor that is
+// to the other sensors between two attempts (line_scheduling/line_claimant.h). A sensor that is
 // offline is probed without retries: each retry after a time-out costs the bus the late-reply
 // guard too, and the scheduler already tries again after its back-off.
 #pragma once

@@ -16,7 +16,7 @@
 #include "driver/visible_text.h"
 #include "gateway/config_diff.h"
 #include "gateway/driver_registry.h"
-#include "gateway/line_budget.h"
+#include "line_scheduling/line_budget.h"
 #include "gateway/process_descriptors.h"
 #include "gateway/serial_options.h"
 #include "gateway/status_copy.h"

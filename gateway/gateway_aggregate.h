@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "config/config.h"
-#include "gateway/gateway_sensor.h"
+#include "line_scheduling/gateway_sensor.h"
 #include "modbus_tcp/modbus_types.h"
 #include "mapping/aggregate_layout.h"
 

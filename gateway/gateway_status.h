@@ -126,7 +126,7 @@ struct SparkplugStats {
   std::uint64_t commands_delayed = 0;  // waited for their turn under it
 };
 
-// HTTP clients closed for cause since [http] last started (status/http_server.h).
+// HTTP clients closed for cause since [http] last started (http/http_server.h).
 struct HttpClientsClosed {
   std::uint64_t refused = 0;      // a limit reached and no connection could make room
   std::uint64_t replaced = 0;     // waiting for a whole request, closed to make room for a new one

@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "audit/audit_record.h"
-#include "gateway/bus_answers.h"
+#include "line_scheduling/bus_answers.h"
 
 namespace tiltgate {
 

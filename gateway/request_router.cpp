@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "audit/audit_trail.h"
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "gateway/pass_through_audit.h"
 #include "gateway/router_reader.h"
 #include "gateway/sensor_read.h"
-#include "gateway/sensor_write.h"
+#include "line_scheduling/sensor_write.h"
 #include "modbus_tcp/device_identification.h"
 #include "modbus_tcp/modbus_request.h"
 
@@ -194,7 +194,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest
 }
 
 // The router plans the registers into settings; the sensor's bus checks them, carries them
-// out and answers (gateway/sensor_write.h).
+// out and answers (line_scheduling/sensor_write.h).
 boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<GatewaySensor> sensor,
                                                             ModbusRequest request,
                                                             RouterOptions options) {

@@ -1,6 +1,6 @@
 // Answers checked Modbus requests: routes by unit id to a sensor, reads from its cache through
 // its register map, plans register writes into the sensor's settings and hands each request to
-// its bus as one write (gateway/sensor_write.h), lists the sensor's identification objects for
+// its bus as one write (line_scheduling/sensor_write.h), lists the sensor's identification objects for
 // Read Device Identification (43 / 14), and forwards requests for unit ids a bus passes
 // through.
 //
@@ -22,7 +22,7 @@
 
 #include "config/config.h"
 #include "gateway/gateway_aggregate.h"
-#include "gateway/gateway_sensor.h"
+#include "line_scheduling/gateway_sensor.h"
 #include "mapping/register_image.h"
 #include "gateway/unit_routes.h"
 #include "modbus_tcp/modbus_types.h"

@@ -7,7 +7,7 @@
 // (docs/performance.md, "The Modbus read path").
 //
 // What it keeps lives on until its next read or its end: an idle connection may hold a
-// sensor a reload dropped, which holds no I/O (gateway/gateway_sensor.h).
+// sensor a reload dropped, which holds no I/O (line_scheduling/gateway_sensor.h).
 #pragma once
 
 #include <array>

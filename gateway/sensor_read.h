@@ -4,8 +4,8 @@
 // reuses one allocates nothing.
 #pragma once
 
-#include "gateway/gateway_sensor.h"
-#include "gateway/sensor_snapshot.h"
+#include "line_scheduling/gateway_sensor.h"
+#include "line_scheduling/sensor_snapshot.h"
 #include "mapping/map_access.h"
 #include "mapping/register_image.h"
 #include "modbus_tcp/modbus_types.h"

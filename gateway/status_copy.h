@@ -5,8 +5,8 @@
 
 #include <optional>
 
-#include "gateway/bus_scheduler.h"
-#include "gateway/gateway_sensor.h"
+#include "line_scheduling/bus_scheduler.h"
+#include "line_scheduling/gateway_sensor.h"
 #include "gateway/gateway_status.h"
 #include "modbus_tcp/modbus_tcp_server.h"
 

@@ -10,7 +10,7 @@
 
 #include "config/config.h"
 #include "gateway/gateway_aggregate.h"
-#include "gateway/gateway_sensor.h"
+#include "line_scheduling/gateway_sensor.h"
 
 namespace tiltgate {
 

@@ -1,6 +1,6 @@
 // What the gateway derives from each new reading of a sensor, before the register map sees it:
 // angles corrected for the mounting, the tilt magnitude, and alarm flags with their hysteresis
-// and rate state. Computed once per reading (gateway/sensor_processing), read by every point.
+// and rate state. Computed once per reading (line_scheduling/sensor_processing), read by every point.
 #pragma once
 
 #include <cmath>

@@ -14,13 +14,13 @@
 #include "modbus_rtu/example_profile.h"
 #include "modbus_rtu/forwarding.h"
 #include "modbus_rtu/identification_probe.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 #include "modbus_rtu/raw.h"
 #include "modbus_rtu/request_reader.h"
 #include "modbus_rtu/rtu_driver.h"
 #include "modbus_rtu/scan_probe.h"
-#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/simulator/simulator.h"
 #include "modbus_rtu/timing.h"
 
 namespace tiltgate::modbus_rtu {

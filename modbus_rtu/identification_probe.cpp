@@ -8,7 +8,6 @@
 #include "driver/hex.h"
 #include "modbus_rtu/adu_framing.h"
 #include "modbus_rtu/codec.h"
-#include "modbus_rtu/simulated_identification.h"
 
 namespace tiltgate::modbus_rtu {
 

@@ -13,7 +13,7 @@
 
 #include "config/address_allow_list.h"
 #include "config/tls_role_access.h"
-#include "modbus_tcp/log_throttle.h"
+#include "doors/log_throttle.h"
 #include "modbus_tcp/modbus_stream.h"
 
 namespace tiltgate {
@@ -27,7 +27,7 @@ struct ModbusServerOptions {
   // request_timeout.
   std::optional<ModbusTlsOptions> tls;
   // At max_clients a new client replaces the one idle longest, else it is accepted and closed
-  // at once (modbus_tcp/connection_admission.h); an address holding max_clients_per_host replaces
+  // at once (doors/connection_admission.h); an address holding max_clients_per_host replaces
   // its own connection idle longest, else it is closed.
   int max_clients = 32;
   int max_clients_per_host = 8;
@@ -40,7 +40,7 @@ struct ModbusServerOptions {
   std::chrono::milliseconds handler_timeout{15000};
   // Requests a second the server answers, from every client together (across every server
   // sharing one SharedRateLimit) and from each connection; a request beyond them waits for its
-  // turn (modbus_tcp/request_rate.h). 0: no limit.
+  // turn (doors/request_rate.h). 0: no limit.
   double max_requests_per_s = 0;
   double max_client_requests_per_s = 0;
   AddressAllowList allow;        // other clients are closed at accept

@@ -28,7 +28,7 @@
 #include <string_view>
 #include <vector>
 
-#include "modbus_tcp/client_problem_log.h"
+#include "doors/client_problem_log.h"
 #include "modbus_tcp/connection_loop.h"
 #include "modbus_tcp/connection_stage.h"
 #include "modbus_tcp/modbus_request.h"
@@ -37,7 +37,7 @@
 #include "modbus_tcp/modbus_server_stats.h"
 #include "modbus_tcp/modbus_stream.h"
 #include "modbus_tcp/modbus_types.h"
-#include "modbus_tcp/request_rate.h"
+#include "doors/request_rate.h"
 
 namespace tiltgate {
 

@@ -9,7 +9,7 @@
 #include <tuple>
 #include <vector>
 
-#include "modbus_tcp/connection_admission.h"
+#include "doors/connection_admission.h"
 #include "modbus_tcp/tcp_listen.h"
 #include "modbus_tcp/tcp_worker_pool.h"
 

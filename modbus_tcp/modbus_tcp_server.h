@@ -18,7 +18,7 @@
 #include <unordered_set>
 
 #include "driver/expected.h"
-#include "modbus_tcp/client_problem_log.h"
+#include "doors/client_problem_log.h"
 #include "modbus_tcp/modbus_request_counts.h"
 #include "modbus_tcp/modbus_server_options.h"
 #include "modbus_tcp/modbus_server_stats.h"

@@ -2,7 +2,7 @@
 // thread each, so each connection's socket, buffers and deadlines live on one thread and need
 // no lock. The buses stay on the main event loop, which no TCP work reaches but writes and
 // forwarded requests (gateway/request_router.h). What the threads answer together is held to
-// one request rate ([server] max_requests_per_s, modbus_tcp/request_rate.h): every server
+// one request rate ([server] max_requests_per_s, doors/request_rate.h): every server
 // served on the pool takes its requests' turns from it.
 #pragma once
 
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "modbus_tcp/connection_loop.h"
-#include "modbus_tcp/request_rate.h"
+#include "doors/request_rate.h"
 
 namespace tiltgate {
 

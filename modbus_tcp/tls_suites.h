@@ -1,4 +1,4 @@
-// The TLS versions and cipher suites both TLS servers offer, HTTPS (status/http_server.h) and
+// The TLS versions and cipher suites both TLS servers offer, HTTPS (http/http_server.h) and
 // Modbus/TCP Security (modbus_tcp/modbus_stream.h): TLS 1.2 or later, and under TLS 1.2 only
 // AEAD suites (AES-GCM, ChaCha20-Poly1305) with a forward-secret key exchange (ECDHE, DHE), as
 // Mozilla's "intermediate" server profile lists them. The CBC suites with SHA-1 or SHA-256 MACs

@@ -1,6 +1,6 @@
 // How long an attempt that timed out holds a line: its reply wait, then the late-reply window
 // (serial/serial_line.h, "Late replies"). Pure arithmetic, shared by SerialLine and the line's
-// time budget (gateway/line_budget.h), so the two never disagree.
+// time budget (line_scheduling/line_budget.h), so the two never disagree.
 #pragma once
 
 #include <algorithm>

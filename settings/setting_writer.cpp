@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
-#include "gateway/bus_scheduler.h"
-#include "gateway/sensor_write.h"
+#include "line_scheduling/bus_scheduler.h"
+#include "line_scheduling/sensor_write.h"
 #include "mapping/map_access.h"
 #include "settings/sensor_settings.h"
 

@@ -3,7 +3,7 @@
 // the same range checks as a Modbus write of that setting (mapping/map_access.h
 // plan_point_write), checked against the bus (another device answering at the address, an
 // address another sensor has), queued on the sensor's bus as one SensorWrite
-// (gateway/sensor_write.h) with [server] write_timeout, and answered only once the sensor
+// (line_scheduling/sensor_write.h) with [server] write_timeout, and answered only once the sensor
 // acknowledged it, refused it or did not answer (settings/setting_outcome.h).
 //
 // Who may change which setting is the caller's to decide first (SensorSetting::role,

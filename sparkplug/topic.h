@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "config/sparkplug_id.h"
 #include "driver/expected.h"
 
 namespace tiltgate::sparkplug {
@@ -40,11 +41,5 @@ std::string to_string(const Topic& topic);
 // A Sparkplug B topic, or why `text` is not one (another namespace, an unknown message type,
 // a device id missing or one too many, an id that check_id refuses).
 Expected<Topic, std::string> parse_topic(std::string_view text);
-
-// Why `id` cannot be a group, edge node, device or host id, or none when it can: it must be a
-// non-empty UTF-8 string without '+', '#' or '/' (tck-id-topic-structure-namespace-valid-group-id,
-// -valid-edge-node-id, -valid-device-id) and without U+0000, which MQTT forbids in a topic.
-// `what` names the id in the message ("group_id").
-std::optional<std::string> check_id(std::string_view what, std::string_view id);
 
 }  // namespace tiltgate::sparkplug

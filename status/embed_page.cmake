@@ -1,6 +1,6 @@
 # cmake -DINPUT=status_page.js -DOUTPUT=status_page_js.h -DVARIABLE=kStatusPageJs -P embed_page.cmake
 # Writes one of the page's files as a C++ raw string literal named VARIABLE
-# (status/http_routes.cpp serves it).
+# (http/http_routes.cpp serves it).
 file(READ ${INPUT} page)
 string(FIND "${page}" ")tiltgate_page\"" clash)
 if(NOT clash EQUAL -1)

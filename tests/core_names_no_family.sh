@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# No folder but the families' own names a sensor family: the core (config/, mapping/, gateway/,
-# serial/, driver/) and the rooms beside it (modbus_tcp/, status/, mqtt/, control/,
+# No folder but the families' own names a sensor family: the core (config/, mapping/, gateway/, line_scheduling/,
+# serial/, driver/) and the rooms beside it (modbus_tcp/, status/, http/, mqtt/, control/,
 # commission/, app/, sparkplug/, settings/, console/, accounts/, audit/, store/, device_server/) ask the family descriptors
 # (driver/family.h) instead, so a new family is its own folder plus one line in
 # families/families.cmake. Checks the sources (C++ and CMake), comments included.
@@ -18,7 +18,7 @@ if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron modbus_rtu; then
   exit 2
 fi
 
-rooms=(config mapping gateway serial driver modbus_tcp status mqtt control commission app sparkplug settings console accounts audit
+rooms=(config mapping gateway line_scheduling serial driver doors modbus_tcp status http mqtt control commission app sparkplug settings console accounts audit
        store device_server)
 hits=$(grep -rniE "$pattern" "${sources[@]}" "${rooms[@]}")
 if [ -n "$hits" ]; then

@@ -34,7 +34,7 @@ LINES = [
     ("spectron", "spectron", "modbus", "dyna:7", "spectron-modbus", "dyna", 7, 38400,
      "counts 7 1250", (12.5, None)),
     ("rtu", "modbus-rtu", None, "modbus-rtu:5", "modbus-rtu", "modbus-rtu", 5, 38400,
-     None, (1.0, -1.0)),  # the RTU simulator's preset angles (modbus_rtu/inclinometer_preset.h)
+     None, (1.0, -1.0)),  # the RTU simulator's preset angles (modbus_rtu/simulator/inclinometer_preset.h)
 ]
 
 

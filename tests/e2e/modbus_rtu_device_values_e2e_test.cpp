@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "e2e/support/mixed_plant.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "unit/support/rtu_test_profile.h"
 
 using namespace tiltgate;

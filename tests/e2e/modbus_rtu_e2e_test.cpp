@@ -11,7 +11,7 @@
 
 #include "e2e/support/mixed_plant.h"
 #include "modbus_rtu/family.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;

@@ -18,7 +18,7 @@
 #include "e2e/support/mixed_plant.h"
 #include "e2e/support/modbus_client.h"
 #include "e2e/support/simulator_thread.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "e2e/support/mixed_plant.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 
 using namespace tiltgate;
 using namespace tiltgate::test;

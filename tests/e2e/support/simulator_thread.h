@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/simulator/simulator.h"
 #include "rieker/simulator.h"
 #include "spectron/simulator.h"
 

@@ -3,9 +3,9 @@
 // collide and arrive garbled.
 #include <doctest/doctest.h>
 
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/scan_probe.h"
-#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/simulator/simulator.h"
 #include "rieker/scan_probe.h"
 #include "rieker/simulator.h"
 #include "sim/support/driver_bench.h"

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 #include "modbus_rtu/rtu_driver.h"
-#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/simulator/simulator.h"
 #include "sim/support/driver_bench.h"
 
 using namespace tiltgate;

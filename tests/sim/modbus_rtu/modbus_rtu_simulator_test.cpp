@@ -11,9 +11,9 @@
 #include <string>
 #include <thread>
 
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/reply_framer.h"
-#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/simulator/simulator.h"
 #include "sim/support/raw_tty_client.h"
 #include "unit/support/scratch_dir.h"
 

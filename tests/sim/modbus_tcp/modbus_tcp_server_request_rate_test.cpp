@@ -1,7 +1,7 @@
 // [server] max_requests_per_s and max_client_requests_per_s on a real server: a request beyond
 // the rate waits for its turn and is answered, in order, with its registers; nothing is refused
 // or closed. What is checked is what was answered and how many requests waited, never how long:
-// the rates' arithmetic has its own unit tests (tests/unit/modbus_tcp/request_rate_test.cpp).
+// the rates' arithmetic has its own unit tests (tests/unit/doors/request_rate_test.cpp).
 #include <doctest/doctest.h>
 
 #include "sim/support/modbus_test_server.h"

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "driver/hex.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/reply_framer.h"
-#include "modbus_rtu/simulator.h"
+#include "modbus_rtu/simulator/simulator.h"
 #include "serial/serial_line.h"
 #include "sim/support/captured_log.h"
 #include "sim/support/run_coroutine.h"

@@ -89,7 +89,7 @@ TEST_CASE("control: a setting the sensor refused or left unanswered says so, and
   CHECK_FALSE(parse_command("as"));
 }
 
-TEST_CASE("control: both ends say their version first; a mismatch is one line naming both") {
+TEST_CASE("control: both ends say their version first, and a mismatch is one line naming both") {
   CHECK(format(CommandMessage{Version{2, "0.1.0"}}) == "version 2 0.1.0");
   CHECK(format(GatewayMessage{Version{2, "0.1.0"}}) == "version 2 0.1.0");
   auto said = parse_command("version 2 0.1.0");

@@ -20,10 +20,11 @@
 #include <thread>
 
 #include "audit/audit_trail.h"
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "control/control_server.h"
 #include "control/remote_line.h"
 #include "unit/support/fake_bus.h"
+#include "unit/support/socket_gateway.h"
 #include "unit/support/scratch_dir.h"
 
 using namespace tiltgate;
@@ -73,64 +74,6 @@ class SlowReply final : public ReplyFramer {
   std::chrono::milliseconds think_;
   const std::atomic<int>& polls_;
   std::size_t received_ = 0;
-};
-
-BusConfig bus_on(std::string port) {
-  BusConfig bus;
-  bus.name = "line1";
-  bus.port = std::move(port);
-  bus.protocol = "fake";
-  bus.baud = 19200;
-  return bus;
-}
-
-// A gateway's side: one bus with one sensor at address 223, its event loop on its own thread,
-// and beside it a second bus whose sensor is polled every 10 ms (counted in other_polls).
-struct SocketGateway {
-  ScratchDir dir{"tiltgate-control"};
-  std::string socket_path = dir.path("control.sock");
-  asio::io_context io;
-  asio::executor_work_guard<asio::io_context::executor_type> work{io.get_executor()};
-  FakeLine line{io.get_executor()};
-  BusScheduler scheduler{io.get_executor(), line, "line1"};
-  BusEvents events;
-  std::unique_ptr<GatewaySensor> sensor = fake_sensor("boom", 1, 223, events, 10s);
-  FakeLine other_line{io.get_executor()};
-  BusScheduler other_scheduler{io.get_executor(), other_line, "line2"};
-  BusEvents other_events;
-  std::unique_ptr<GatewaySensor> other_sensor = fake_sensor("other", 2, 1, other_events, 10ms);
-  std::atomic<int> other_polls{0};
-  std::vector<LineRequest> sent;
-  std::string port;
-  ControlServer server;
-  std::thread thread;
-
-  explicit SocketGateway(std::string served_port = "/dev/ttyFAKE0")
-      : port(std::move(served_port)),
-        server{io.get_executor(), socket_path, {{bus_on(port), lent(scheduler)}}} {
-    line.reply = [this](const LineRequest& request) {
-      sent.push_back(LineRequest{request.bytes, request.address_bytes, nullptr, request.timeout,
-                                 request.retries, request.settle, request.late_guard});
-      return std::vector<std::uint8_t>{0xA0, 0xA1, 0xA2};
-    };
-    scheduler.add(*sensor);
-    fake_driver(*other_sensor).on_poll = [this] { ++other_polls; };
-    other_scheduler.add(*other_sensor);
-    REQUIRE(server.start());
-    asio::co_spawn(io, scheduler.run(), asio::detached);
-    asio::co_spawn(io, other_scheduler.run(), asio::detached);
-    thread = std::thread([this] { io.run(); });
-  }
-  ~SocketGateway() {
-    asio::post(io, [this] {
-      server.stop();
-      scheduler.stop();
-      other_scheduler.stop();
-      work.reset();
-    });
-    io.stop();
-    thread.join();
-  }
 };
 
 // Runs `line.transact(request)` on a command's own event loop.
@@ -337,72 +280,3 @@ TEST_CASE("control socket: a setting reported with no transaction behind it is r
   }
 }
 
-namespace {
-
-// One line said on a fresh connection to `path`, and the lines answered until the gateway
-// closes it (or 2 s pass).
-std::vector<std::string> answers_to(const std::string& path, const std::string& said) {
-  asio::io_context io;
-  asio::local::stream_protocol::socket socket(io);
-  socket.connect(asio::local::stream_protocol::endpoint(path));
-  asio::write(socket, asio::buffer(said + "\n"));
-  std::vector<std::string> lines;
-  asio::streambuf input;
-  boost::system::error_code ec;
-  while (!ec && lines.size() < 4) {
-    asio::read_until(socket, input, '\n', ec);
-    if (ec) break;
-    std::istream stream(&input);
-    std::string line;
-    std::getline(stream, line);
-    lines.push_back(line);
-  }
-  return lines;
-}
-
-}  // namespace
-
-TEST_CASE("control socket: a command of protocol 1 (hello first) gets one line naming both versions, then the end") {
-  SocketGateway gateway;
-  const auto lines = answers_to(gateway.socket_path, "hello /dev/ttyFAKE0");
-  REQUIRE(lines.size() == 1);
-  INFO(lines[0]);
-  CHECK(lines[0].starts_with("version 2 "));  // not "error": protocol 1 shows it as it is
-  CHECK(lines[0].find("speaks control protocol 2") != std::string::npos);
-  CHECK(lines[0].find("speaks control protocol 1") != std::string::npos);
-}
-
-TEST_CASE("control socket: a command of another protocol is told both versions, and the session ends") {
-  SocketGateway gateway;
-  const auto lines = answers_to(gateway.socket_path, "version 3 9.9.9");
-  REQUIRE(lines.size() == 1);
-  INFO(lines[0]);
-  CHECK(lines[0].find("(tiltgate 9.9.9) speaks control protocol 3") != std::string::npos);
-  CHECK(lines[0].find("speaks control protocol 2") != std::string::npos);
-  // The same version is answered with the gateway's own, and the session goes on.
-  asio::io_context io;
-  auto line = RemoteLine::connect(io.get_executor(), gateway.socket_path, "/dev/ttyFAKE0");
-  CHECK(line.has_value());
-}
-
-TEST_CASE("control socket: a gateway of protocol 1 is named as such by a newer command, which does not hang") {
-  ScratchDir dir{"tiltgate-control-old"};
-  const std::string path = dir.path("old.sock");
-  asio::io_context io;
-  asio::local::stream_protocol::acceptor acceptor(io, asio::local::stream_protocol::endpoint(path));
-  // What a gateway of protocol 1 answers a line it cannot read, and then it closes.
-  std::thread old_gateway([&] {
-    asio::local::stream_protocol::socket socket(io);
-    acceptor.accept(socket);
-    asio::streambuf input;
-    asio::read_until(socket, input, '\n');
-    asio::write(socket, asio::buffer(std::string("error malformed message \"version 2 0.1.0\"\n")));
-  });
-  asio::io_context command;
-  auto line = RemoteLine::connect(command.get_executor(), path, "/dev/ttyFAKE0");
-  old_gateway.join();
-  REQUIRE_FALSE(line.has_value());
-  INFO(line.error().message);
-  CHECK(line.error().message.find("speaks control protocol 1") != std::string::npos);
-  CHECK(line.error().message.find("speaks control protocol 2") != std::string::npos);
-}

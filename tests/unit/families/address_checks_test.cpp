@@ -1,6 +1,6 @@
 // Addresses a driver refuses before anything is sent (the Rieker broadcast and master
 // addresses), and which writes move a sensor, so the bus can refuse an address another of its
-// sensors has (gateway/bus_scheduler.h).
+// sensors has (line_scheduling/bus_scheduler.h).
 #include <doctest/doctest.h>
 
 #include <boost/asio/io_context.hpp>

@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "audit/audit_trail.h"
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "modbus_tcp/modbus_request.h"
 #include "gateway/request_router.h"
 #include "unit/support/fake_bus.h"

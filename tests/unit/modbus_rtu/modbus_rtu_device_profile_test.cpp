@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 
 using namespace tiltgate;

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "modbus_rtu/identification_probe.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
-#include "modbus_rtu/simulated_identification.h"
+#include "modbus_rtu/simulator/simulated_identification.h"
 
 using namespace tiltgate;
 using namespace tiltgate::modbus_rtu;

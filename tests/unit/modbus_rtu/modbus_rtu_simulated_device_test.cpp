@@ -6,8 +6,8 @@
 #include <array>
 
 #include "modbus_rtu/crc.h"
-#include "modbus_rtu/inclinometer_preset.h"
-#include "modbus_rtu/simulated_device.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
+#include "modbus_rtu/simulator/simulated_device.h"
 #include "unit/modbus_rtu/modbus_rtu_test_vectors.h"
 
 using namespace tiltgate;

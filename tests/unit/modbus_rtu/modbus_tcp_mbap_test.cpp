@@ -12,7 +12,7 @@
 #include "modbus_rtu/adu_framing.h"
 #include "modbus_rtu/crc.h"
 #include "modbus_rtu/forwarding.h"
-#include "modbus_rtu/inclinometer_preset.h"
+#include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/mbap_codec.h"
 #include "modbus_rtu/mbap_reply_framer.h"
 #include "modbus_rtu/profile_reader.h"

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "status/http_routes.h"
+#include "http/http_routes.h"
 #include "status/json_values.h"
 #include "status/status_json.h"
 #include "status/status_metrics.h"

@@ -18,7 +18,7 @@
 
 #include "driver/line.h"
 #include "driver/sensor_driver.h"
-#include "gateway/gateway_sensor.h"
+#include "line_scheduling/gateway_sensor.h"
 #include "mapping/default_maps.h"
 
 namespace tiltgate::test {

@@ -1,5 +1,5 @@
 // A device profile for the Modbus RTU simulator's inclinometer preset
-// (modbus_rtu/inclinometer_preset.h) with writable values, shared by the unit, sim and e2e tests
+// (modbus_rtu/simulator/inclinometer_preset.h) with writable values, shared by the unit, sim and e2e tests
 // of profile values in maps and writes. filter_level accepts up to 20 here while the device
 // refuses anything above 8 (exception 03), so a test can reach the device's own refusal; the
 // serial number is writable here but read-only on the device.

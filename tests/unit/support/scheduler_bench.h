@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/bus_scheduler.h"
-#include "gateway/sensor_write.h"
+#include "line_scheduling/bus_scheduler.h"
+#include "line_scheduling/sensor_write.h"
 #include "unit/support/fake_bus.h"
 #include "unit/support/fake_forwarding.h"
 

@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "gateway/bus_scheduler.h"
+#include "line_scheduling/bus_scheduler.h"
 #include "gateway/request_router.h"
 #include "modbus_tcp/modbus_tcp_server.h"
 #include "modbus_tcp/tcp_worker_pool.h"
