@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "commission/command_request.h"
+#include "unit/commission/support/aggregate_fields.h"
 #include "unit/commission/support/json_fields_probe.h"
 
 namespace tiltgate {
@@ -75,6 +76,16 @@ TEST_CASE("each command's request is written with every section, every field set
     CAPTURE(command);
     CHECK(request_json(full_request(command)) == full_wire(command));
   }
+}
+
+TEST_CASE("every field of a request and of each of its sections has its place on the wire") {
+  const json wire = full_wire("scan");
+  CHECK(wire.size() == test::aggregate_field_count<CommandRequest>());
+  CHECK(wire.at("bus").size() == test::aggregate_field_count<BusOptions>());
+  CHECK(wire.at("scan").size() == test::aggregate_field_count<ScanOptions>());
+  CHECK(wire.at("raw").size() == test::aggregate_field_count<RawOptions>());
+  CHECK(wire.at("watch").size() == test::aggregate_field_count<WatchOptions>());
+  CHECK(wire.at("set").size() == test::aggregate_field_count<SetArguments>());
 }
 
 TEST_CASE("each command's request read back from its text is the request written") {

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "commission/event_json.h"
+#include "unit/commission/support/aggregate_fields.h"
 #include "unit/commission/support/json_fields_probe.h"
 
 namespace tiltgate {
@@ -123,6 +124,24 @@ TEST_CASE("every kind of engine event has its wire form checked here") {
   std::set<std::size_t> kinds;
   for (const EventCase& c : event_cases()) kinds.insert(c.event.index());
   CHECK(kinds.size() == std::variant_size_v<CommissionEvent>);
+}
+
+TEST_CASE("every field of every event and of the structs in it has its place on the wire") {
+  for (const EventCase& c : event_cases()) {
+    CAPTURE(c.wire.dump());
+    const std::size_t fields = std::visit(
+        [](const auto& e) { return test::aggregate_field_count<std::decay_t<decltype(e)>>(); },
+        c.event);
+    CHECK(c.wire.size() == fields + 1);  // and "event"
+  }
+  json finished;
+  for (const EventCase& c : event_cases())
+    if (c.wire.at("event") == "scan_finished") finished = c.wire;
+  CHECK(finished.at("found")[0].size() == test::aggregate_field_count<FoundSensor>());
+  CHECK(finished.at("repeated")[0].size() == test::aggregate_field_count<RepeatedSensor>());
+  CHECK(finished.at("tables")[0].size() == test::aggregate_field_count<SensorTable>());
+  const json read = event_json(SettingsReadEvent{1, {{"filter", 1.0}}});
+  CHECK(read.at("settings")[0].size() == test::aggregate_field_count<SettingValue>());
 }
 
 TEST_CASE("each event is written as its fields by name, every field set") {
