@@ -74,8 +74,7 @@ json scan_options_json(const ScanOptions& s) {
               {"config_out", s.config_out},
               {"force", s.force},
               {"broadcast", s.broadcast},
-              {"probe_timeout_ms", json_or_null(s.probe_timeout_ms)},
-              {"progress_lines", s.progress_lines}};
+              {"probe_timeout_ms", json_or_null(s.probe_timeout_ms)}};
 }
 
 ScanOptions read_scan_options(const JsonObjectReader& r) {
@@ -87,7 +86,6 @@ ScanOptions read_scan_options(const JsonObjectReader& r) {
   s.force = r.boolean("force");
   s.broadcast = r.boolean("broadcast");
   s.probe_timeout_ms = r.optional_integer<std::int64_t>("probe_timeout_ms");
-  s.progress_lines = r.boolean("progress_lines");
   return s;
 }
 

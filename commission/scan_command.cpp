@@ -23,18 +23,13 @@ constexpr std::chrono::milliseconds kRedrawEvery{100};
 
 using Clock = std::chrono::steady_clock;
 
-// Shows how far the scan is, redrawn in place on stderr; nothing when not a terminal, unless
-// asked for as lines (ScanOptions::progress_lines).
+// Shows how far the scan is, redrawn in place on stderr; nothing when not a terminal.
 class Progress {
  public:
-  Progress(bool shown, bool lines) : shown_(shown), lines_(lines) {}
+  explicit Progress(bool shown) : shown_(shown) {}
   ~Progress() { clear(); }
   void show(std::size_t done, std::size_t total, std::uint32_t baud,
             const std::vector<FoundSensor>& found) {
-    if (lines_) {
-      std::cerr << "progress " << done << " " << total << "\n" << std::flush;
-      return;
-    }
     if (!shown_) return;
     const auto now = Clock::now();
     if (done < total && now - drawn_at_ < kRedrawEvery) return;
@@ -49,7 +44,6 @@ class Progress {
 
  private:
   bool shown_;
-  bool lines_;
   bool drawn_ = false;
   Clock::time_point drawn_at_{};
 };
@@ -72,7 +66,7 @@ std::string as_written(const std::string& value, const std::string& device_optio
 // summary on stdout, failures as "tiltgate scan: ..." on stderr.
 class ScanText {
  public:
-  ScanText(bool bar, bool lines) : progress_(bar, lines) {}
+  explicit ScanText(bool bar) : progress_(bar) {}
 
   void operator()(const CommissionEvent& event) {
     if (const auto* progress = std::get_if<ProgressEvent>(&event)) {
@@ -155,7 +149,7 @@ int scan_command(const BusOptions& bus_options, const ScanOptions& options, Fami
   const std::size_t probes =
       (scan->broadcast ? 1 : scan->addresses.size()) *
       scan_bauds(*scan->protocol.protocol, scan->bus.bus.baud, scan->auto_baud).size();
-  ScanText text(::isatty(STDERR_FILENO) && probes > kLongScan, options.progress_lines);
+  ScanText text(::isatty(STDERR_FILENO) && probes > kLongScan);
   const EventSink report = [&text](const CommissionEvent& event) { text(event); };
   const EventSink through_gateway = [&](const CommissionEvent& event) {
     text(written_as_here(event, bus_options.device, options.config_out));
@@ -202,8 +196,6 @@ Subcommand add_scan(CLI::App& app, FamilyList families, FamilyCommandsList comma
           "+ 10 ms)")
       ->check(CLI::Range(1, 10'000))
       ->group("Scan");
-  // Hidden: for the web console, which runs scan and draws its own bar.
-  scan->add_flag("--progress-lines", options->progress_lines)->group("");
   scan->footer(scan_help_footer(commands));
   return {scan, [bus, options, families] { return scan_command(*bus, *options, families); },
           true};

@@ -24,9 +24,6 @@ struct ScanOptions {
   bool force = false;      // overwrite config_out
   bool broadcast = false;  // ask every sensor at once (one sensor on the bus only)
   std::optional<std::int64_t> probe_timeout_ms;
-  // "progress DONE TOTAL" lines on stderr, for a program that shows the scan's progress itself
-  // (the web console runs scan so); a terminal gets its bar without it.
-  bool progress_lines = false;
 };
 
 // Added to a protocol's probe time for the default probe time-out: a USB RS485 adapter holds
