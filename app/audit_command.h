@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "commission/commission_cli.h"
+#include "commission_cli/commission_cli.h"
 
 namespace tiltgate {
 

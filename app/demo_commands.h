@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "commission/commission_cli.h"
+#include "commission_cli/commission_cli.h"
 #include "driver/family_commands.h"
 
 namespace tiltgate {

@@ -11,7 +11,7 @@
 #include "app/config_commands.h"
 #include "app/demo_commands.h"
 #include "app/journal_log.h"
-#include "commission/commands.h"
+#include "commission_cli/commands.h"
 
 namespace {
 

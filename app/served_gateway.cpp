@@ -5,7 +5,7 @@
 
 #include "app/audit_journal.h"
 #include "app/journal_log.h"
-#include "commission/requested_command.h"
+#include "commission_wire/requested_command.h"
 #include "driver/family_commands.h"
 
 namespace tiltgate {

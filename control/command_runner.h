@@ -1,6 +1,6 @@
 // What the gateway does with a command's `run` (control/control_protocol.h): the commissioning
 // engine's work on the served bus the command asked for. The composition root makes it from the
-// engine (app/served_gateway.cpp, commission/requested_command.h), so this room carries
+// engine (app/served_gateway.cpp, commission_wire/requested_command.h), so this room carries
 // requests and events without knowing what a scan or a setting is.
 #pragma once
 
@@ -25,8 +25,8 @@ struct CommandStop {
   }
 };
 
-// Runs `request` (one JSON object, commission/command_request.h) on `bus`, its changes recorded
-// under `by`; each event goes to `emit` as one JSON object (commission/event_json.h), in the
+// Runs `request` (one JSON object, commission_wire/command_request.h) on `bus`, its changes recorded
+// under `by`; each event goes to `emit` as one JSON object (commission_wire/event_json.h), in the
 // order they happen. Returns the command's exit code; never throws (a failure is an event).
 using CommandRunner = std::function<boost::asio::awaitable<int>(
     std::string request, ServedBus bus, WriteOrigin by,

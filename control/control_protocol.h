@@ -13,7 +13,7 @@
 //                                           ...
 //   stop                  (any time)        exit 0                   the command's exit code
 //
-// run: the command's options as JSON (commission/command_request.h), read by the gateway as the
+// run: the command's options as JSON (commission_wire/command_request.h), read by the gateway as the
 // command line reads them; one run a session, which ends with its exit line. stop: the engineer
 // pressed Ctrl-C; the run ends as a stopped command does, with its exit line. A command that
 // goes away (its socket closes) is stopped the same way.

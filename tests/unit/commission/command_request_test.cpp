@@ -1,11 +1,11 @@
-// What a command line asks a gateway to run (commission/command_request.h): each command's
+// What a command line asks a gateway to run (commission_wire/command_request.h): each command's
 // request spelled out on the wire and read back through text to the same request, the sections a
 // command may leave out, and every field refused when left out or of the wrong type.
 #include <doctest/doctest.h>
 
 #include <fmt/format.h>
 
-#include "commission/command_request.h"
+#include "commission_wire/command_request.h"
 #include "unit/commission/support/aggregate_fields.h"
 #include "unit/commission/support/json_fields_probe.h"
 

@@ -1,11 +1,11 @@
-// The engine's events as JSON (commission/event_json.h), as the control socket streams them to a
+// The engine's events as JSON (commission_wire/event_json.h), as the control socket streams them to a
 // command line: each event's wire form spelled out, read back to the same event through text,
 // and every field of every event refused when left out or of the wrong type.
 #include <doctest/doctest.h>
 
 #include <set>
 
-#include "commission/event_json.h"
+#include "commission_wire/event_json.h"
 #include "unit/commission/support/aggregate_fields.h"
 #include "unit/commission/support/json_fields_probe.h"
 

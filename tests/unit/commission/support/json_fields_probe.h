@@ -1,5 +1,5 @@
 // Every field of a JSON message, for tests that check a reader refuses each one left out or of
-// the wrong type (commission/json_fields.h): the paths of an object's leaves, as JSON pointers
+// the wrong type (commission_wire/json_fields.h): the paths of an object's leaves, as JSON pointers
 // and as the reader names them in its errors ("/found/0/baud" is "found[0].baud").
 #pragma once
 

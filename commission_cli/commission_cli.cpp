@@ -1,4 +1,4 @@
-#include "commission/commission_cli.h"
+#include "commission_cli/commission_cli.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

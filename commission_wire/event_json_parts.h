@@ -1,18 +1,18 @@
 // The fields of each of the engine's events as JSON, one overload pair an event, for
-// commission/event_json.cpp to dispatch on: `event_fields` writes the event's own fields (the
+// commission_wire/event_json.cpp to dispatch on: `event_fields` writes the event's own fields (the
 // caller adds its "event" name), `read_event_fields` reads them back, throwing JsonFieldError
-// (commission/json_fields.h) for a field that is missing or not what it should be. Internal to
-// the JSON layer: others use commission/event_json.h.
+// (commission_wire/json_fields.h) for a field that is missing or not what it should be. Internal to
+// the JSON layer: others use commission_wire/event_json.h.
 #pragma once
 
 #include <nlohmann/json.hpp>
 
 #include "commission/commission_events.h"
-#include "commission/json_fields.h"
+#include "commission_wire/json_fields.h"
 
 namespace tiltgate {
 
-// commission/scan_event_json.cpp: a scan's progress, the devices it finds, its end.
+// commission_wire/scan_event_json.cpp: a scan's progress, the devices it finds, its end.
 nlohmann::json event_fields(const ProgressEvent& event);
 nlohmann::json event_fields(const DeviceFoundEvent& event);
 nlohmann::json event_fields(const ScanFinishedEvent& event);
@@ -20,13 +20,13 @@ void read_event_fields(const JsonObjectReader& fields, ProgressEvent& event);
 void read_event_fields(const JsonObjectReader& fields, DeviceFoundEvent& event);
 void read_event_fields(const JsonObjectReader& fields, ScanFinishedEvent& event);
 
-// commission/reading_event_json.cpp: a sensor's reading (info, watch, set) and watch's rounds.
+// commission_wire/reading_event_json.cpp: a sensor's reading (info, watch, set) and watch's rounds.
 nlohmann::json event_fields(const SensorReadingEvent& event);
 nlohmann::json event_fields(const WatchRoundEvent& event);
 void read_event_fields(const JsonObjectReader& fields, SensorReadingEvent& event);
 void read_event_fields(const JsonObjectReader& fields, WatchRoundEvent& event);
 
-// commission/set_event_json.cpp: what `set` reports of its writes and what followed them.
+// commission_wire/set_event_json.cpp: what `set` reports of its writes and what followed them.
 nlohmann::json event_fields(const SettingAcknowledgedEvent& event);
 nlohmann::json event_fields(const SettingAppliedEvent& event);
 nlohmann::json event_fields(const AddressMovedEvent& event);
@@ -40,7 +40,7 @@ void read_event_fields(const JsonObjectReader& fields, SensorRestartedEvent& eve
 void read_event_fields(const JsonObjectReader& fields, ConfigUpdatedEvent& event);
 void read_event_fields(const JsonObjectReader& fields, SettingsReadEvent& event);
 
-// commission/event_json.cpp itself: notes, failures, a gateway's warning and raw's exchange.
+// commission_wire/event_json.cpp itself: notes, failures, a gateway's warning and raw's exchange.
 nlohmann::json event_fields(const NoteEvent& event);
 nlohmann::json event_fields(const FailedEvent& event);
 nlohmann::json event_fields(const GatewayWarningEvent& event);

@@ -8,8 +8,8 @@
 #include <iostream>
 #include <unistd.h>
 
-#include "commission/commands.h"
-#include "commission/commission_run.h"
+#include "commission_cli/commands.h"
+#include "commission_cli/commission_run.h"
 #include "commission/event_text.h"
 #include "commission/scan_engine.h"
 

@@ -1,4 +1,4 @@
-#include "commission/commission_run.h"
+#include "commission_cli/commission_run.h"
 
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
@@ -10,7 +10,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "commission/event_json.h"
+#include "commission_wire/event_json.h"
 #include "control/gateway_command.h"
 
 namespace tiltgate {

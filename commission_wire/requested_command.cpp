@@ -1,11 +1,11 @@
-#include "commission/requested_command.h"
+#include "commission_wire/requested_command.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include "commission/command_request.h"
-#include "commission/event_json.h"
+#include "commission_wire/command_request.h"
+#include "commission_wire/event_json.h"
 #include "commission/info_engine.h"
 #include "commission/raw_engine.h"
 #include "commission/scan_engine.h"

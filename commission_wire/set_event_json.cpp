@@ -1,7 +1,7 @@
-// What `set` reports as JSON (commission/event_json_parts.h): each write's answer, the setting
+// What `set` reports as JSON (commission_wire/event_json_parts.h): each write's answer, the setting
 // applied, a move to another address, a restart, the configuration file that followed and the
 // values read back.
-#include "commission/event_json_parts.h"
+#include "commission_wire/event_json_parts.h"
 
 namespace tiltgate {
 

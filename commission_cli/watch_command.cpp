@@ -9,8 +9,8 @@
 #include <iostream>
 #include <unistd.h>
 
-#include "commission/commands.h"
-#include "commission/commission_run.h"
+#include "commission_cli/commands.h"
+#include "commission_cli/commission_run.h"
 #include "commission/reading_format.h"
 #include "commission/watch_engine.h"
 

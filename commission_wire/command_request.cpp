@@ -1,11 +1,11 @@
-#include "commission/command_request.h"
+#include "commission_wire/command_request.h"
 
 #include <array>
 #include <fmt/format.h>
 #include <optional>
 #include <string_view>
 
-#include "commission/json_fields.h"
+#include "commission_wire/json_fields.h"
 
 namespace tiltgate {
 

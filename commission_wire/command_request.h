@@ -1,6 +1,6 @@
 // What a command line asks a running gateway to run for it over the control socket ("run scan
 // ..."): the command and every option it was given, as one JSON object, so the gateway runs the
-// commissioning engine itself and streams back its events (commission/event_json.h). Pure;
+// commissioning engine itself and streams back its events (commission_wire/event_json.h). Pure;
 // reading checks every field, so a request from another version or a broken peer is an error
 // naming what is wrong, never a guess.
 #pragma once

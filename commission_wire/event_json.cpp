@@ -1,7 +1,7 @@
 // Which event an object is, by its "event" name, and the events too small for a file of their
 // own (a note, a failure, a gateway's warning, raw's exchange). The fields of the others:
-// commission/event_json_parts.h.
-#include "commission/event_json.h"
+// commission_wire/event_json_parts.h.
+#include "commission_wire/event_json.h"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "commission/event_json_parts.h"
+#include "commission_wire/event_json_parts.h"
 #include "driver/hex.h"
 
 namespace tiltgate {

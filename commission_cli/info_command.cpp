@@ -3,8 +3,8 @@
 // tell as "tiltgate info: ..." on stderr.
 #include <iostream>
 
-#include "commission/commands.h"
-#include "commission/commission_run.h"
+#include "commission_cli/commands.h"
+#include "commission_cli/commission_run.h"
 #include "commission/event_text.h"
 #include "commission/info_engine.h"
 

@@ -4,8 +4,8 @@
 #include <iostream>
 #include <optional>
 
-#include "commission/commands.h"
-#include "commission/commission_run.h"
+#include "commission_cli/commands.h"
+#include "commission_cli/commission_run.h"
 #include "commission/event_text.h"
 #include "commission/set_config_update.h"
 #include "commission/set_engine.h"

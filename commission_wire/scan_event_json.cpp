@@ -1,6 +1,6 @@
-// A scan's events as JSON (commission/event_json_parts.h): its progress, each device found,
+// A scan's events as JSON (commission_wire/event_json_parts.h): its progress, each device found,
 // and its end with the sensors found, the repeats dropped and the configuration tables.
-#include "commission/event_json_parts.h"
+#include "commission_wire/event_json_parts.h"
 
 namespace tiltgate {
 

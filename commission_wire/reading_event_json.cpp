@@ -1,4 +1,4 @@
-// A sensor's reading as JSON (commission/event_json_parts.h), as `info`, `watch` and `set`
+// A sensor's reading as JSON (commission_wire/event_json_parts.h), as `info`, `watch` and `set`
 // report it, and `watch`'s rounds of them. The poll's result goes by a name of its own, so
 // reordering PollResult changes nothing on the wire; `polled` as milliseconds since the epoch
 // (finer than that is dropped), the reading's age in milliseconds.
@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <utility>
 
-#include "commission/event_json_parts.h"
+#include "commission_wire/event_json_parts.h"
 
 namespace tiltgate {
 

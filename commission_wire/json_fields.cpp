@@ -1,4 +1,4 @@
-#include "commission/json_fields.h"
+#include "commission_wire/json_fields.h"
 
 #include <fmt/format.h>
 

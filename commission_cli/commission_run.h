@@ -8,7 +8,7 @@
 #include <functional>
 #include <string_view>
 
-#include "commission/command_request.h"
+#include "commission_wire/command_request.h"
 #include "commission/commission_bus.h"
 #include "commission/commission_events.h"
 #include "commission/commission_options.h"

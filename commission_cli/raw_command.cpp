@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 #include <iostream>
 
-#include "commission/commands.h"
-#include "commission/commission_run.h"
+#include "commission_cli/commands.h"
+#include "commission_cli/commission_run.h"
 #include "commission/event_text.h"
 #include "commission/raw_engine.h"
 

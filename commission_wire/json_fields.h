@@ -1,6 +1,6 @@
 // Reading a peer's JSON object strictly, field by field, for the engine's events and a command's
-// request as the control socket carries them (commission/event_json.h,
-// commission/command_request.h): every field present and of its type, every integer within its
+// request as the control socket carries them (commission_wire/event_json.h,
+// commission_wire/command_request.h): every field present and of its type, every integer within its
 // C++ type's range (nlohmann's get<> would wrap -1 into 4294967295 or cut 1.5 to 1). A field
 // that fails throws JsonFieldError naming it by its path ("found[2].baud"); only the public
 // readers catch it, so nothing is thrown past them. Fields the reader does not know are
