@@ -1,7 +1,8 @@
-// The front end the commissioning commands' end-to-end tests drive: the command on its own
-// line, as it runs at a bare tty, or, with TILTGATE_E2E_FRONT_END=gateway, the same command
-// through a running gateway that serves its bus (docs/commissioning.md, "With the gateway
-// running"). The tests' assertions are the same for both.
+// The front end the commissioning commands' end-to-end tests drive (tests/CMakeLists.txt
+// registers those tests twice): the command on its own line, as it runs at a bare tty, or, with
+// TILTGATE_E2E_FRONT_END=gateway ("e2e via gateway:"), the same command through a running
+// gateway that serves its bus (docs/commissioning.md, "Every commissioning test through a
+// running gateway"). The tests' assertions are the same for both.
 #pragma once
 
 #include <filesystem>
