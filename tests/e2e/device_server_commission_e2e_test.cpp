@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "e2e/support/front_end.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/simulator_process.h"
 
@@ -114,9 +115,9 @@ TEST_CASE("info reads a sensor behind ser2net over raw TCP and over RFC 2217") {
   SUBCASE("raw: ser2net's port is set to the sensor's rate on its own") {
     TempDir dir;
     Ser2net server(dir, "tcp", sim.tty(), "38400n81");
-    const auto info = run_tiltgate({"info", "--port", server.url("tcp"), "--protocol", "rieker",
-                                    "--baud", "38400", "--address", "223", "--control-socket",
-                                    "/nonexistent/control.sock"});
+    const auto info = run_command({"info", "--port", server.url("tcp"), "--protocol", "rieker",
+                                   "--baud", "38400", "--address", "223", "--control-socket",
+                                   "/nonexistent/control.sock"});
     INFO(info.out << info.err << server.log());
     CHECK(info.exit_code == 0);
     CHECK(has_line(info.out, "serial:     9600223"));
@@ -124,17 +125,17 @@ TEST_CASE("info reads a sensor behind ser2net over raw TCP and over RFC 2217") {
   SUBCASE("RFC 2217: ser2net starts at 9600 and the command sets 38400") {
     TempDir dir;
     Ser2net server(dir, "telnet(rfc2217),tcp", sim.tty(), "9600n81");
-    const auto info = run_tiltgate({"info", "--port", server.url("rfc2217"), "--protocol",
-                                    "rieker", "--baud", "38400", "--address", "223",
-                                    "--control-socket", "/nonexistent/control.sock"});
+    const auto info = run_command({"info", "--port", server.url("rfc2217"), "--protocol",
+                                   "rieker", "--baud", "38400", "--address", "223",
+                                   "--control-socket", "/nonexistent/control.sock"});
     INFO(info.out << info.err << server.log());
     CHECK(info.exit_code == 0);
     CHECK(has_line(info.out, "serial:     9600223"));
     // At 9600, which the command sets now, the sensor does not answer: the rate set over RFC
     // 2217 is what made it answer above.
-    const auto wrong = run_tiltgate({"info", "--port", server.url("rfc2217"), "--protocol",
-                                     "rieker", "--baud", "9600", "--address", "223",
-                                     "--control-socket", "/nonexistent/control.sock"});
+    const auto wrong = run_command({"info", "--port", server.url("rfc2217"), "--protocol",
+                                    "rieker", "--baud", "9600", "--address", "223",
+                                    "--control-socket", "/nonexistent/control.sock"});
     INFO(wrong.out << wrong.err);
     CHECK(wrong.exit_code == 1);
   }

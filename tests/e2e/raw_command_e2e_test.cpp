@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "e2e/support/front_end.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/output_checks.h"
 #include "e2e/support/simulator_process.h"
@@ -23,7 +24,7 @@ CommandResult rieker(const std::string& command, const SimulatorProcess& sim,
                      std::vector<std::string> args) {
   std::vector<std::string> all{command, "--port", sim.tty(), "--protocol", "rieker"};
   all.insert(all.end(), args.begin(), args.end());
-  return run_tiltgate(all);
+  return run_command(all);
 }
 
 }  // namespace
@@ -60,7 +61,7 @@ TEST_CASE("raw on a Modbus RTU bus shows the registers read, and an exception wi
                                      "--device", profile, "--address", "1", "--function", "3"};
   auto args = bus;
   args.insert(args.end(), {"--data", "00 00 00 02"});
-  const auto read = run_tiltgate(args);
+  const auto read = run_command(args);
   INFO(read.out << read.err);
   CHECK(read.exit_code == 0);
   CHECK(has_line(read.out, "sent:     01 03 00 00 00 02 C4 0B"));
@@ -68,22 +69,22 @@ TEST_CASE("raw on a Modbus RTU bus shows the registers read, and an exception wi
   CHECK(has(read.out, "registers: "));
   args = bus;
   args.insert(args.end(), {"--data", "FF 00 00 02"});
-  const auto refused = run_tiltgate(args);
+  const auto refused = run_command(args);
   CHECK(refused.exit_code == 1);
   CHECK(has_line(refused.out, "reply:    exception 0x02 (illegal data address)"));
 }
 
 TEST_CASE("raw on a Modbus RTU line sends its PDU without a device profile") {
   SimulatorProcess sim({"modbus-rtu", "--sensors", "modbus-rtu:1"});
-  const auto read = run_tiltgate({"raw", "--port", sim.tty(), "--protocol", "modbus-rtu",
-                                  "--address", "1", "--function", "3", "--data", "00 03 00 02"});
+  const auto read = run_command({"raw", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                 "--address", "1", "--function", "3", "--data", "00 03 00 02"});
   INFO(read.out << read.err);
   CHECK(read.exit_code == 0);
   CHECK(has_line(read.out, "sent:     01 03 00 03 00 02 34 0B"));
   CHECK(has(read.out, "(CRC ok)"));
   CHECK(has_line(read.out, "registers: 102 360"));  // the preset's firmware and model
-  const auto server_id = run_tiltgate({"raw", "--port", sim.tty(), "--protocol", "modbus-rtu",
-                                       "--address", "1", "--function", "17"});
+  const auto server_id = run_command({"raw", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                      "--address", "1", "--function", "17"});
   INFO(server_id.out << server_id.err);
   CHECK(server_id.exit_code == 0);
   CHECK(has(server_id.out, "reply:    function 0x11, PDU 11 1B 2A FF"));
@@ -91,8 +92,8 @@ TEST_CASE("raw on a Modbus RTU line sends its PDU without a device profile") {
 
 TEST_CASE("raw on a Dyna's 9-bit bus sends the address byte, the command character and CR LF") {
   SimulatorProcess sim({"spectron", "--sensors", "dyna:1"});
-  const auto raw = run_tiltgate({"raw", "--port", sim.tty(), "--protocol", "spectron-9bit", "--baud",
-                                 "28800", "--address", "1", "--function", "65"});
+  const auto raw = run_command({"raw", "--port", sim.tty(), "--protocol", "spectron-9bit", "--baud",
+                                "28800", "--address", "1", "--function", "65"});
   INFO(raw.out << raw.err);
   CHECK(raw.exit_code == 0);
   CHECK(has_line(raw.out, "sent:     01 41 0D 0A  (the first byte with the 9th bit set)"));

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "e2e/support/front_end.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/simulator_process.h"
 
@@ -37,7 +38,7 @@ bool mentions(const std::string& text, const std::string& part) {
 
 TEST_CASE("scan finds every sensor on a Rieker bus, with its model, serial, firmware and lock") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:223,h6:224,h4360:101", "--baud", "125000"});
-  const auto scan = run_tiltgate({"scan", "--port", sim.tty()});
+  const auto scan = run_command({"scan", "--port", sim.tty()});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 0);
   CHECK(row_for(scan.out, "223") ==
@@ -50,7 +51,7 @@ TEST_CASE("scan finds every sensor on a Rieker bus, with its model, serial, firm
 
 TEST_CASE("scan reports two sensors at one address as a probable collision, and goes on") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:5,h6:5,h6:7", "--shared-addresses"});
-  const auto scan = run_tiltgate({"scan", "--port", sim.tty(), "--from", "1", "--to", "10"});
+  const auto scan = run_command({"scan", "--port", sim.tty(), "--from", "1", "--to", "10"});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 0);
   const auto collision = row_for(scan.out, "5");
@@ -63,7 +64,7 @@ TEST_CASE("scan reports two sensors at one address as a probable collision, and 
 
 TEST_CASE("scan of a bus where nothing answers exits 1 with what to check") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:300"});
-  const auto scan = run_tiltgate({"scan", "--port", sim.tty(), "--to", "20"});
+  const auto scan = run_command({"scan", "--port", sim.tty(), "--to", "20"});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 1);
   CHECK(mentions(scan.out, "0 sensor(s) found; 20 probe(s)"));
@@ -72,12 +73,13 @@ TEST_CASE("scan of a bus where nothing answers exits 1 with what to check") {
 }
 
 TEST_CASE("scan at the wrong baud finds nothing, but --baud auto finds the sensor at its rate") {
+  if (skipped_through_gateway("--baud auto is refused: the gateway's bus keeps its rate")) return;
   SimulatorProcess sim({"rieker", "--sensors", "h6:12", "--baud", "38400"});
-  const auto wrong = run_tiltgate({"scan", "--port", sim.tty(), "--from", "10", "--to", "14"});
+  const auto wrong = run_command({"scan", "--port", sim.tty(), "--from", "10", "--to", "14"});
   INFO(wrong.out << wrong.err);
   CHECK(wrong.exit_code == 1);
 
-  const auto found = run_tiltgate(
+  const auto found = run_command(
       {"scan", "--port", sim.tty(), "--baud", "auto", "--from", "10", "--to", "14"});
   INFO(found.out << found.err);
   CHECK(found.exit_code == 0);
@@ -89,9 +91,10 @@ TEST_CASE("scan at the wrong baud finds nothing, but --baud auto finds the senso
 }
 
 TEST_CASE("scan --baud auto lists a sensor that answers at every rate once, and says so") {
+  if (skipped_through_gateway("--baud auto is refused: the gateway's bus keeps its rate")) return;
   // No --baud: the simulated sensor answers at any rate, as one that detects the rate does.
   SimulatorProcess sim({"rieker", "--sensors", "h6:12"});
-  const auto found = run_tiltgate(
+  const auto found = run_command(
       {"scan", "--port", sim.tty(), "--baud", "auto", "--from", "10", "--to", "14"});
   INFO(found.out << found.err);
   CHECK(found.exit_code == 0);
@@ -107,7 +110,7 @@ TEST_CASE("scan --baud auto lists a sensor that answers at every rate once, and 
 
 TEST_CASE("scan of a protocol without a default rate and no --baud names only --baud") {
   SimulatorProcess sim({"spectron", "--protocol", "modbus", "--sensors", "dyna:1"});
-  const auto scan = run_tiltgate({"scan", "--port", sim.tty(), "--protocol", "spectron-modbus"});
+  const auto scan = run_command({"scan", "--port", sim.tty(), "--protocol", "spectron-modbus"});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 2);
   CHECK(mentions(scan.err, "--baud"));
@@ -116,7 +119,7 @@ TEST_CASE("scan of a protocol without a default rate and no --baud names only --
 
 TEST_CASE("scan --broadcast asks the one sensor on the bus for its address, with a warning") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:4242"});
-  const auto scan = run_tiltgate({"scan", "--port", sim.tty(), "--broadcast"});
+  const auto scan = run_command({"scan", "--port", sim.tty(), "--broadcast"});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 0);
   CHECK(row_for(scan.out, "4242").at(2) == "h6");
@@ -126,8 +129,8 @@ TEST_CASE("scan --broadcast asks the one sensor on the bus for its address, with
 TEST_CASE("scan finds Dyna modules in either protocol, the 9-bit factory address 0 included") {
   SimulatorProcess ascii({"spectron", "--protocol", "modbus", "--sensors", "dyna:1,dyna:4",
                           "--baud", "28800"});
-  const auto modbus = run_tiltgate({"scan", "--port", ascii.tty(), "--protocol",
-                                    "spectron-modbus", "--baud", "28800", "--to", "6"});
+  const auto modbus = run_command({"scan", "--port", ascii.tty(), "--protocol",
+                                   "spectron-modbus", "--baud", "28800", "--to", "6"});
   INFO(modbus.out << modbus.err);
   CHECK(modbus.exit_code == 0);
   CHECK(row_for(modbus.out, "1").at(2) == "dyna");
@@ -136,8 +139,8 @@ TEST_CASE("scan finds Dyna modules in either protocol, the 9-bit factory address
 
   SimulatorProcess nine_bit({"spectron", "--protocol", "9bit", "--sensors", "dyna:0,dyna:2,dyna:2",
                              "--shared-addresses"});
-  const auto scan = run_tiltgate({"scan", "--port", nine_bit.tty(), "--protocol", "spectron-9bit",
-                                  "--baud", "9600", "--to", "3"});
+  const auto scan = run_command({"scan", "--port", nine_bit.tty(), "--protocol", "spectron-9bit",
+                                 "--baud", "9600", "--to", "3"});
   INFO(scan.out << scan.err);
   CHECK(scan.exit_code == 0);
   CHECK(row_for(scan.out, "0").at(2) == "dyna");
@@ -147,7 +150,7 @@ TEST_CASE("scan finds Dyna modules in either protocol, the 9-bit factory address
 TEST_CASE("scan finds Modbus RTU devices by FC 17 without a profile, by its first block with one") {
   SimulatorProcess sim({"modbus-rtu", "--sensors", "modbus-rtu:1,modbus-rtu:3,modbus-rtu:3",
                         "--shared-addresses"});
-  const auto bare = run_tiltgate({"scan", "--port", sim.tty(), "--protocol", "modbus-rtu", "--to", "4"});
+  const auto bare = run_command({"scan", "--port", sim.tty(), "--protocol", "modbus-rtu", "--to", "4"});
   INFO(bare.out << bare.err);
   CHECK(bare.exit_code == 0);
   // The preset answers FC 17 (a device without it, found by its "illegal function", is the sim
@@ -155,8 +158,8 @@ TEST_CASE("scan finds Modbus RTU devices by FC 17 without a profile, by its firs
   CHECK(row_for(bare.out, "1") == std::vector<std::string>{"1", "19200", "-", "-", "-", "-", "ok"});
   CHECK(mentions(bare.out, "1 sensor(s) found at 19200 baud: 1; 1 probable collision(s) (address 3)"));
 
-  const auto profiled = run_tiltgate({"scan", "--port", sim.tty(), "--protocol", "modbus-rtu",
-                                      "--device", kRtuProfile, "--to", "4"});
+  const auto profiled = run_command({"scan", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                     "--device", kRtuProfile, "--to", "4"});
   INFO(profiled.out << profiled.err);
   CHECK(profiled.exit_code == 0);
   CHECK(row_for(profiled.out, "1") ==
@@ -164,8 +167,8 @@ TEST_CASE("scan finds Modbus RTU devices by FC 17 without a profile, by its firs
 
   // A configuration of devices without a profile would not pass `tiltgate check`.
   TempDir dir;
-  const auto refused = run_tiltgate({"scan", "--port", sim.tty(), "--protocol", "modbus-rtu",
-                                     "--to", "4", "--config-out", (dir.path() / "x.toml").string()});
+  const auto refused = run_command({"scan", "--port", sim.tty(), "--protocol", "modbus-rtu",
+                                    "--to", "4", "--config-out", (dir.path() / "x.toml").string()});
   CHECK(refused.exit_code == 2);
   CHECK(mentions(refused.err, "--config-out: modbus-rtu sensors need device"));
 }
@@ -188,7 +191,7 @@ TEST_CASE("bad scan options exit 2 and name the option") {
     const auto& message = refused.second;
     std::vector<std::string> args{"scan", "--port", sim.tty()};
     args.insert(args.end(), options.begin(), options.end());
-    const auto scan = run_tiltgate(args);
+    const auto scan = run_command(args);
     INFO(options.front() << ": " << scan.out << scan.err);
     CHECK(scan.exit_code == 2);
     CHECK(mentions(scan.err, message));

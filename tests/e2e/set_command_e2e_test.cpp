@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "e2e/support/front_end.h"
 #include "e2e/support/gateway_process.h"
 #include "e2e/support/output_checks.h"
 #include "e2e/support/simulator_process.h"
@@ -32,7 +33,7 @@ CommandResult rieker(const std::string& command, const SimulatorProcess& sim,
                      std::vector<std::string> args) {
   std::vector<std::string> all{command, "--port", sim.tty(), "--protocol", "rieker"};
   all.insert(all.end(), args.begin(), args.end());
-  return run_tiltgate(all);
+  return run_command(all);
 }
 
 CommandResult set_on(const SimulatorProcess& sim, std::vector<std::string> args) {
@@ -47,7 +48,7 @@ CommandResult info_at(const SimulatorProcess& sim, const std::string& address) {
 
 TEST_CASE("set address moves a factory sensor from 223 to 7: it answers at 7 and no more at 223") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:223,h6:224"});
-  const auto set = run_tiltgate({"set", "--port", sim.tty(), "--address", "223", "address", "7"});
+  const auto set = run_command({"set", "--port", sim.tty(), "--address", "223", "address", "7"});
   INFO(set.out << set.err);
   CHECK(set.exit_code == 0);
   CHECK(has_line(set.out, "the sensor now answers at address 7"));
@@ -59,7 +60,7 @@ TEST_CASE("set address moves a factory sensor from 223 to 7: it answers at 7 and
 
 TEST_CASE("set address refuses an address another sensor answers to, and changes nothing") {
   SimulatorProcess sim({"rieker", "--sensors", "h6:223,h6:224"});
-  const auto set = run_tiltgate({"set", "--port", sim.tty(), "--address", "223", "address", "224"});
+  const auto set = run_command({"set", "--port", sim.tty(), "--address", "223", "address", "224"});
   INFO(set.out << set.err);
   CHECK(set.exit_code == 1);
   CHECK(has(set.err, "address 224 is taken: a sensor already answers there (serial 9600224)"));
@@ -122,6 +123,8 @@ TEST_CASE("set refuses a value out of range, or an unknown setting, with exit 2"
 }
 
 TEST_CASE("set baud restarts the sensor at the new rate and reads it back there") {
+  if (skipped_through_gateway("the gateway's bus keeps its rate: the line does not follow the sensor"))
+    return;
   SimulatorProcess sim({"rieker", "--sensors", "h6:223"});
   const auto set = set_on(sim, {"--address", "223", "baud", "115200"});
   INFO(set.out << set.err);
@@ -133,8 +136,8 @@ TEST_CASE("set baud restarts the sensor at the new rate and reads it back there"
 
 TEST_CASE("set eeprom writes a Dyna's EEPROM location through the window and reads it back") {
   SimulatorProcess sim({"spectron", "--protocol", "modbus", "--sensors", "dyna:1"});
-  const auto set = run_tiltgate({"set", "--port", sim.tty(), "--protocol", "spectron-modbus",
-                                 "--baud", "28800", "--address", "1", "eeprom", "20", "1234"});
+  const auto set = run_command({"set", "--port", sim.tty(), "--protocol", "spectron-modbus",
+                                "--baud", "28800", "--address", "1", "eeprom", "20", "1234"});
   INFO(set.out << set.err);
   CHECK(set.exit_code == 0);
   CHECK(has_line(set.out, "eeprom_location: 20"));
@@ -148,7 +151,7 @@ TEST_CASE("set address with --config --sensor writes the new address into the fi
                              "\"   # the RS485 adapter\n\n[[sensor]]\nname = \"boom\"\nbus = \"line1\"\n"
                              "model = \"h6\"\naddress = 223  # factory\nunit_id = 1\n";
   std::ofstream(path) << before;
-  const auto set = run_tiltgate({"set", "--config", path, "--sensor", "boom", "address", "7"});
+  const auto set = run_command({"set", "--config", path, "--sensor", "boom", "address", "7"});
   INFO(set.out << set.err);
   CHECK(set.exit_code == 0);
   CHECK(has_line(set.out, "updated " + path + ": sensor boom address 223 -> 7"));
@@ -157,5 +160,5 @@ TEST_CASE("set address with --config --sensor writes the new address into the fi
   std::string expected = before;
   expected.replace(expected.find("address = 223"), 13, "address = 7");
   CHECK(after == expected);
-  CHECK(run_tiltgate({"info", "--config", path, "--sensor", "boom"}).exit_code == 0);
+  CHECK(run_command({"info", "--config", path, "--sensor", "boom"}).exit_code == 0);
 }
