@@ -161,6 +161,13 @@ std::string CommissionBus::no_reply_message(const CommissionedSensor& sensor) co
   if (served_ && served_->last_audit_refused())
     return fmt::format("not sent to address {} on {}: {}", sensor.config.address,
                        served_->bus().config.name, kAuditRefusesChanges);
+  // In the gateway the tty is the gateway's: one it cannot open is its line's fault, not the
+  // sensor's, and its log says why.
+  if (served_ && !served_->bus().scheduler->line().is_open())
+    return fmt::format("nothing sent to address {}: the gateway's bus {} on {} is not open "
+                       "(the gateway's log says why: a missing or unplugged adapter, a device "
+                       "server out of reach)",
+                       sensor.config.address, served_->bus().config.name, config_.port);
   return fmt::format(
       "no reply from address {} on {} at {} baud ({})\n"
       "hint: check the baud rate (--baud), the address (--address), the protocol (--protocol) "

@@ -256,3 +256,25 @@ TEST_CASE("through a gateway: none listening, a tty it does not own, and a rate 
   CHECK(has(found_auto.err, "the running gateway keeps " + gateway.sim.tty() + " at 125000 baud"));
   CHECK_FALSE(has(found_auto.out, "probe(s)"));  // refused before the first
 }
+
+TEST_CASE("through a gateway whose tty is missing, a command is told the gateway's bus is not open, not that the sensor is silent") {
+  TempDir dir;
+  const std::string missing = (dir.path() / "ttyUSB9").string();
+  const std::string socket = (dir.path() / "control.sock").string();
+  const std::uint16_t port = free_tcp_port();
+  const auto config = dir.write(
+      "gateway.toml", server_table(port, fmt::format("control_socket = \"{}\"", socket)) +
+                          http_table(free_tcp_port()) + bus_table("line1", missing) +
+                          sensor_table("boom", "line1", "h6", 5, 1));
+  GatewayProcess gateway({"run", "--config", config.string()}, dir.path());
+  REQUIRE_MESSAGE(gateway.wait_listening(port), gateway.log());
+  const auto deadline = Clock::now() + 10s;
+  while (!std::filesystem::exists(socket) && Clock::now() < deadline) std::this_thread::sleep_for(20ms);
+  const auto info = run_tiltgate({"info", "--via-gateway", "--control-socket", socket, "--port",
+                                  missing, "--address", "5"});
+  INFO(info.out << info.err);
+  CHECK(info.exit_code == 1);
+  CHECK(has(info.err, "nothing sent to address 5: the gateway's bus line1 on " + missing +
+                          " is not open"));
+  CHECK_FALSE(has(info.err, "hint: check the baud rate"));
+}
