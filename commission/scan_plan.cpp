@@ -99,8 +99,11 @@ std::vector<RepeatedSensor> drop_repeated_sensors(std::vector<FoundSensor>& foun
   std::vector<RepeatedSensor> repeated;
   std::vector<FoundSensor> kept;
   for (FoundSensor& s : found) {
+    // The same sensor at another rate: its serial at its address. Two devices at one rate are
+    // two, even with one serial (a cloned profile, a simulator): both are listed.
     const auto first = std::find_if(kept.begin(), kept.end(), [&](const FoundSensor& k) {
-      return !s.serial.empty() && !s.collision && !k.collision && k.serial == s.serial;
+      return !s.serial.empty() && !s.collision && !k.collision && k.serial == s.serial &&
+             k.address == s.address && k.baud != s.baud;
     });
     if (first == kept.end()) {
       kept.push_back(std::move(s));

@@ -279,3 +279,18 @@ TEST_CASE("--baud auto: a serial found again at later rates is one sensor, kept 
         "note: serial 9600012 (address 12) answered at 9600, 19200 baud too: one sensor, listed "
         "once, at 125000 baud");
 }
+
+TEST_CASE("two devices at one rate that report one serial are two sensors, both listed") {
+  auto with_serial = [](std::uint32_t address, std::uint32_t baud, std::string serial) {
+    FoundSensor s = found_at(address, baud, "rtu-inclinometer");
+    s.serial = std::move(serial);
+    return s;
+  };
+  std::vector<FoundSensor> found{with_serial(5, 19200, "20240917"),
+                                 with_serial(9, 19200, "20240917")};
+  const std::vector<RepeatedSensor> repeated = drop_repeated_sensors(found);
+  CHECK(repeated.empty());
+  REQUIRE(found.size() == 2);
+  CHECK(found[0].address == 5);
+  CHECK(found[1].address == 9);
+}
