@@ -88,8 +88,14 @@ asio::awaitable<std::string> ControlSession::run(const control::Run& run) {
     // below must still be awaited before this frame goes.
     spdlog::error("control socket: a command's run failed: {}", e.what());
   }
-  co_await writer->drained();
+  // A command that stopped reading near the end of its run must not hold its session (one of
+  // kMaxSessions) for ever: past kDrainTime it is closed, and told nothing more.
+  const bool drained = co_await writer->drained(std::chrono::steady_clock::now() + kDrainTime);
   run_over = true;
+  if (!drained) {
+    boost::system::error_code ignored;
+    socket_.close(ignored);
+  }
   if (listening) {
     boost::system::error_code ignored;
     socket_.cancel(ignored);

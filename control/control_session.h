@@ -8,6 +8,7 @@
 #include <boost/asio/awaitable.hpp>
 #include <boost/asio/local/stream_protocol.hpp>
 #include <boost/asio/streambuf.hpp>
+#include <chrono>
 #include <functional>
 #include <string>
 
@@ -31,6 +32,9 @@ class ControlSession {
   ControlSession(boost::asio::local::stream_protocol::socket& socket,
                  boost::asio::streambuf& input, Setup setup)
       : socket_(socket), input_(input), setup_(std::move(setup)) {}
+
+  // How long the events of a run that ended may take to reach the command.
+  static constexpr std::chrono::seconds kDrainTime{30};
 
   // The answer to one line, formatted; `done` turns true when the session must end after it.
   // A run's events are written before its answer (its exit line).

@@ -48,12 +48,13 @@ asio::awaitable<void> EventWriter::write_all() {
   idle_.cancel();
 }
 
-asio::awaitable<void> EventWriter::drained() {
-  while (writing_) {
-    idle_.expires_at(asio::steady_timer::time_point::max());
+asio::awaitable<bool> EventWriter::drained(std::chrono::steady_clock::time_point deadline) {
+  while (writing_ && std::chrono::steady_clock::now() < deadline) {
+    idle_.expires_at(deadline);
     boost::system::error_code ec;
     co_await idle_.async_wait(asio::redirect_error(asio::use_awaitable, ec));
   }
+  co_return !writing_;
 }
 
 }  // namespace tiltgate

@@ -8,6 +8,7 @@
 #include <boost/asio/awaitable.hpp>
 #include <boost/asio/local/stream_protocol.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <chrono>
 #include <cstddef>
 #include <deque>
 #include <memory>
@@ -21,8 +22,9 @@ class EventWriter : public std::enable_shared_from_this<EventWriter> {
 
   // Queues `line` (a newline is added); false when the writer has given up.
   bool push(std::string line);
-  // Once every queued line is written, or the writer gave up.
-  boost::asio::awaitable<void> drained();
+  // Once every queued line is written, or the writer gave up: true; false when `deadline`
+  // passed first (a command that stopped reading near the end of its run).
+  boost::asio::awaitable<bool> drained(std::chrono::steady_clock::time_point deadline);
   bool broken() const { return broken_; }
 
   static constexpr std::size_t kMaxQueuedBytes = 16 * 1024 * 1024;
