@@ -43,6 +43,28 @@ std::vector<std::string> answers_to(const std::string& path, const std::string& 
   return lines;
 }
 
+// A newer command connecting to an older gateway that answers its first line with `answer`
+// and closes.
+Expected<std::unique_ptr<GatewayCommand>, GatewayCommand::ConnectError> connect_to_old_gateway(
+    const std::string& answer) {
+  ScratchDir dir{"tiltgate-control-old"};
+  const std::string path = dir.path("old.sock");
+  asio::io_context io;
+  asio::local::stream_protocol::acceptor acceptor(io, asio::local::stream_protocol::endpoint(path));
+  std::thread old_gateway([&] {
+    asio::local::stream_protocol::socket socket(io);
+    acceptor.accept(socket);
+    asio::streambuf input;
+    asio::read_until(socket, input, '\n');
+    asio::write(socket, asio::buffer(answer));
+  });
+  // Outlives the call: a command that did connect keeps its socket on it.
+  static asio::io_context command;
+  auto line = GatewayCommand::connect(command.get_executor(), path, "/dev/ttyFAKE0");
+  old_gateway.join();
+  return line;
+}
+
 }  // namespace
 
 TEST_CASE("control socket: a command of protocol 1 (hello first) gets one line naming both versions, then the end") {
@@ -70,21 +92,8 @@ TEST_CASE("control socket: a command of another protocol is told both versions, 
 }
 
 TEST_CASE("control socket: a gateway of protocol 1 is named as such by a newer command, which does not hang") {
-  ScratchDir dir{"tiltgate-control-old"};
-  const std::string path = dir.path("old.sock");
-  asio::io_context io;
-  asio::local::stream_protocol::acceptor acceptor(io, asio::local::stream_protocol::endpoint(path));
   // What a gateway of protocol 1 answers a line it cannot read, and then it closes.
-  std::thread old_gateway([&] {
-    asio::local::stream_protocol::socket socket(io);
-    acceptor.accept(socket);
-    asio::streambuf input;
-    asio::read_until(socket, input, '\n');
-    asio::write(socket, asio::buffer(std::string("error malformed message \"version 3 0.1.0\"\n")));
-  });
-  asio::io_context command;
-  auto line = GatewayCommand::connect(command.get_executor(), path, "/dev/ttyFAKE0");
-  old_gateway.join();
+  const auto line = connect_to_old_gateway("error malformed message \"version 3 0.1.0\"\n");
   REQUIRE_FALSE(line.has_value());
   INFO(line.error().message);
   CHECK(line.error().message.find("speaks control protocol 1") != std::string::npos);
@@ -92,24 +101,10 @@ TEST_CASE("control socket: a gateway of protocol 1 is named as such by a newer c
 }
 
 TEST_CASE("control socket: a gateway of the previous protocol answers with its own mismatch line, which a newer command shows whole") {
-  ScratchDir dir{"tiltgate-control-old"};
-  const std::string path = dir.path("old.sock");
-  asio::io_context io;
-  asio::local::stream_protocol::acceptor acceptor(io, asio::local::stream_protocol::endpoint(path));
   // What a gateway of protocol 2 answers a version it does not speak, and then it closes.
-  std::thread old_gateway([&] {
-    asio::local::stream_protocol::socket socket(io);
-    acceptor.accept(socket);
-    asio::streambuf input;
-    asio::read_until(socket, input, '\n');
-    asio::write(socket, asio::buffer(std::string(
-                            "version 2 0.0.9: this gateway (tiltgate 0.0.9) speaks control "
-                            "protocol 2, this command (tiltgate 0.1.0) speaks control protocol 3: "
-                            "run the tiltgate of the gateway's own version\n")));
-  });
-  asio::io_context command;
-  auto line = GatewayCommand::connect(command.get_executor(), path, "/dev/ttyFAKE0");
-  old_gateway.join();
+  const auto line = connect_to_old_gateway(
+      "version 2 0.0.9: this gateway (tiltgate 0.0.9) speaks control protocol 2, this command "
+      "(tiltgate 0.1.0) speaks control protocol 3: run the tiltgate of the gateway's own version\n");
   REQUIRE_FALSE(line.has_value());
   INFO(line.error().message);
   CHECK(line.error().kind == GatewayCommand::ConnectError::failed);
