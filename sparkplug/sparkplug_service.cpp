@@ -73,6 +73,12 @@ bool SparkplugService::reload(const Config& loaded, const ConfigDiff& diff) {
   // A node that could not start (its state_dir not writable) is tried again: fixing the folder
   // needs no restart.
   const bool off = node_ && !started_;
+  // Off before and after: the sensors may change, but there is no edge node to restart.
+  if (!node_ && !loaded.sparkplug.enabled) {
+    config_ = loaded.sparkplug;
+    devices_ = sensor_names(loaded);
+    return false;
+  }
   if (!off && !diff.sparkplug_changed && sensor_names(loaded) == devices_) return false;
   if (node_) {
     node_->stop();

@@ -300,6 +300,11 @@ TEST_CASE("SIGHUP: a changed [http] table restarts the status API, kept sensors 
   plant.reload(plant.file("", h6_sensor("left", 221, 1, 50), 0, http(second_port)),
                "configuration reloaded");
   CHECK(plant.gateway->log().find("restarted: http") != std::string::npos);
+  // A sensor less is no restart of a service the configuration does not have.
+  const std::string reloaded = plant.gateway->log();
+  const std::size_t restarted = reloaded.find("restarted: ");
+  REQUIRE(restarted != std::string::npos);
+  CHECK(reloaded.substr(restarted, reloaded.find('\n', restarted) - restarted) == "restarted: http");
   const std::size_t kept = samples(second_port);
   CHECK(kept >= 5);
   CHECK(get(second_port, "/api/sensors/right/history").status == 404);
