@@ -1,5 +1,7 @@
 #include "console/confirm_window.h"
 
+#include <sys/stat.h>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -85,9 +87,12 @@ Expected<Done, std::string> ConfirmWindow::apply(const std::string& config_text,
   if (!pending_) {
     auto old = toml_input::read_text_file(config_path_);
     if (!old) return Unexpected{fmt::format("{}: {}", config_path_, old.error())};
-    // Each keeps the owner, group and mode of the file it replaces (the configuration may hold
-    // a broker's password); a first FILE.previous gets 0640.
-    if (auto kept = write_whole_file(previous_file(config_path_), *old, 0640, FileMode::keep_old);
+    // FILE.previous takes the served file's mode, whatever an earlier one had (the
+    // configuration may hold a broker's password: 0640 when the served file cannot be read);
+    // the new file keeps the one it replaces.
+    struct stat served {};
+    const mode_t mode = ::stat(config_path_.c_str(), &served) == 0 ? served.st_mode & 07777 : 0640;
+    if (auto kept = write_whole_file(previous_file(config_path_), *old, mode, FileMode::given);
         !kept)
       return kept;
   }

@@ -78,6 +78,19 @@ TEST_CASE("confirm window: an apply keeps the served file, writes the new one an
   REQUIRE(window.pending());
 }
 
+TEST_CASE("confirm window: FILE.previous takes the served file's mode, whatever an earlier one had") {
+  Folder folder;
+  std::filesystem::permissions(folder.config, std::filesystem::perms(0644));
+  Folder::write(folder.config + ".previous", "# older\n");
+  std::filesystem::permissions(folder.config + ".previous", std::filesystem::perms(0600));
+  AuditTrail trail("");
+  ConfirmWindow window(folder.config, &trail, [] {});
+  REQUIRE(window.apply("# applied\n", due_in(60), 1));
+  CHECK(std::filesystem::status(folder.config).permissions() == std::filesystem::perms(0644));
+  CHECK(std::filesystem::status(folder.config + ".previous").permissions() ==
+        std::filesystem::perms(0644));
+}
+
 TEST_CASE("confirm window: a confirm is refused until the gateway loaded the applied file") {
   Folder folder;
   AuditTrail trail("");
