@@ -83,7 +83,7 @@ std::optional<std::string> CommissionBus::setting_changed(
     else
       return std::nullopt;  // not the sensor's answer: nothing was changed, nor refused by it
   }
-  served_->setting_changed(address, setting, value, std::move(outcome), true);
+  served_->setting_changed(address, setting, value, std::move(outcome));
   return std::nullopt;
 }
 

@@ -106,10 +106,8 @@ std::optional<std::string> ServedBusLine::follow(std::uint32_t from, std::uint32
 
 std::optional<std::string> ServedBusLine::setting_changed(std::uint32_t address,
                                                           WriteTarget setting, double value,
-                                                          std::string result, bool believed) {
-  // Only a report a transaction stands behind changes what is shown, and its record then
-  // stands for the transaction's.
-  if (!believed) record_pending();
+                                                          std::string result) {
+  // The engine's report of the change its transaction carried: one record, the setting's.
   change_.reset();
   return bus_.scheduler->note_setting(address, setting, value, std::move(result), by_);
 }

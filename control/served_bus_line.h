@@ -79,11 +79,10 @@ class ServedBusLine final : public Line {
   // stands for the transaction that made it.
   std::optional<std::string> follow(std::uint32_t from, std::uint32_t to);
   // The sensor at `address` answered a change of `setting` to `value` with `result` ("ack",
-  // "nak 0x03", "timeout", or "refused: WHY" for a report not believed): recorded, and an
-  // acknowledged one kept in the sensor's settings record. A report not believed
-  // (`believed` false) leaves the transaction's own record standing.
+  // "nak 0x03", "timeout"): recorded as the change the latest transaction carried, and an
+  // acknowledged one kept in the sensor's settings record.
   std::optional<std::string> setting_changed(std::uint32_t address, WriteTarget setting,
-                                             double value, std::string result, bool believed);
+                                             double value, std::string result);
   // Something else came between a change and its report: the change is recorded as it is.
   void record_pending();
   // Every later transaction is cancelled.
