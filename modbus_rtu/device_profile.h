@@ -64,6 +64,9 @@ struct DeviceProfile {
   std::vector<ReadBlock> reads;
   std::vector<ProfileValue> values;
   ProfileIdentity identity;
+  // The device's model as people know it ("TLT-2 inclinometer"), shown as its model where the
+  // other families show theirs; empty: the identity's model value, when read.
+  std::string model_name;
 
   const ProfileValue* find(std::string_view name) const;
 };

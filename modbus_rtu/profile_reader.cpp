@@ -156,6 +156,10 @@ Expected<DeviceProfile, FileErrors> parse_device_profile(
   }
   TableReader in(*root, "", errors);
   in.string("description");  // for the reader of the file only
+  const std::optional<std::string> model_name = in.string("model_name");
+  // Shown on a card, in FC 43 and Sparkplug: a name, not a paragraph.
+  if (model_name && (model_name->empty() || model_name->size() > 64))
+    in.error("model_name", "must be 1 to 64 characters");
   const auto blocks = read_array<LocatedBlock>(in, "read", errors, read_block);
   const auto values = read_array<LocatedValue>(in, "value", errors, read_value);
   const LocatedIdentity identity = read_identity(in, errors);
@@ -163,7 +167,7 @@ Expected<DeviceProfile, FileErrors> parse_device_profile(
   check_profile(blocks, values, setting_names, errors);
   check_identity(identity, values, errors);
   if (!errors.empty()) return Unexpected{errors.take()};
-  DeviceProfile profile{std::string(source_name), {}, {}, identity.identity};
+  DeviceProfile profile{std::string(source_name), {}, {}, identity.identity, model_name.value_or("")};
   for (const LocatedBlock& b : blocks) profile.reads.push_back(b.block);
   for (const LocatedValue& v : values) profile.values.push_back(v.value);
   return profile;

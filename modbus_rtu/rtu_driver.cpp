@@ -29,6 +29,7 @@ RtuDriver::RtuDriver(RtuDriverOptions options)
       framing_(options_.adu) {
   state_.bus_address = options_.slave;
   const DeviceProfile& profile = options_.profile;
+  state_.model = profile.model_name;
   for (const ReadBlock& block : profile.reads) {
     bool identity = false, other = false, any = false;
     for (const ProfileValue& value : profile.values) {
@@ -165,7 +166,8 @@ void RtuDriver::take_identity(const PolledBlocks& blocks) {
   };
   state_.serial = text_of(profile.identity.serial);
   state_.firmware = text_of(profile.identity.firmware);
-  state_.model = text_of(profile.identity.model);
+  // A model number means little on a card: the profile's name for the device, when it gives one.
+  state_.model = profile.model_name.empty() ? text_of(profile.identity.model) : profile.model_name;
 }
 
 asio::awaitable<std::optional<std::vector<std::uint16_t>>> RtuDriver::read_block(

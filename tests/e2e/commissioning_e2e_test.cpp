@@ -271,7 +271,8 @@ TEST_CASE("info shows the serial, firmware and model a Modbus RTU profile's [ide
   CHECK(info.exit_code == 0);
   CHECK(has_line(info.out, "serial:     20240917"));
   CHECK(has_line(info.out, "firmware:   1.02"));
-  CHECK(has_line(info.out, "model:      360 (modbus-rtu)"));
+  // The profile's model_name (the device reports 360).
+  CHECK(has_line(info.out, "model:      RTU inclinometer (modbus-rtu)"));
 }
 
 TEST_CASE("info on a Modbus RTU device without --device shows what it says of itself") {

@@ -78,7 +78,8 @@ TEST_CASE("a Modbus RTU profile's identity reaches the API, FC 43 and the common
   REQUIRE_MESSAGE(plant.gateway.wait_listening(plant.port), plant.gateway.log());
   const std::string api = wait_api(plant.http_port, "\"serial\":\"20240917\"");
   INFO(api);
-  CHECK(api.find("\"model\":\"360\",\"serial\":\"20240917\",\"firmware\":\"1.02\"") !=
+  // The model is the profile's model_name (the device's own model number is 360).
+  CHECK(api.find("\"model\":\"RTU inclinometer\",\"serial\":\"20240917\",\"firmware\":\"1.02\"") !=
         std::string::npos);
 
   ModbusClient client(plant.port, kUnit);
@@ -91,7 +92,7 @@ TEST_CASE("a Modbus RTU profile's identity reaches the API, FC 43 and the common
     id = identification(ask_device_id(client, kUnit, 0x03, 0x00));
   }
   CHECK(id.objects.at(0x02) == "1.02");      // major/minor revision
-  CHECK(id.objects.at(0x05) == "360");       // model name
+  CHECK(id.objects.at(0x05) == "RTU inclinometer");  // model name
   CHECK(id.objects.at(0x80) == "20240917");  // serial number
   CHECK(id.objects.at(0x01) == "Modbus RTU device");  // product code: the family's
 

@@ -41,6 +41,7 @@ def scenario(t):
     env = dict(os.environ, TMPDIR=t.dir)
     demo = processes.start(
         [tiltgate, "demo", "--port", str(processes.free_port()), "--http-port", str(http_port),
+         "--no-accounts",
          "--sparkplug-host", "127.0.0.1", "--sparkplug-port", str(broker.port)],
         stdout=open(log_path, "w"), stderr=subprocess.STDOUT, env=env, cwd=t.dir)
 
@@ -73,7 +74,8 @@ def scenario(t):
                     m.topic.split("/")[3] == nbirth.topic.split("/")[3]
                     for m in observer.messages()), nbirth.topic)
     rtu = "rtu-inclinometer"  # the demo's Modbus RTU device, read through the example profile
-    expected = ("20240917", "1.02", "360")
+    # the model is the profile's model_name; serial and firmware its [identity] values
+    expected = ("20240917", "1.02", "RTU inclinometer")
 
     def rtu_identity():
         births = observer.messages("DBIRTH", rtu)
@@ -87,7 +89,7 @@ def scenario(t):
         got = tuple(latest("Properties/" + k) for k in ("serial", "firmware", "model"))
         return got if got == expected else None
     t.check("the Modbus RTU device's Properties/serial, firmware and model are its profile's "
-            "[identity] values", wait_until(rtu_identity, WAIT),
+            "[identity] values and model_name", wait_until(rtu_identity, WAIT),
             (rtu in names, [m.metrics() for m in observer.messages("DBIRTH", rtu)][:1]))
     broken, _ = seq_violations(observer.messages())
     t.check("tck-id-payloads-sequence-num-incrementing: the demo's seq rule holds", not broken,

@@ -73,12 +73,23 @@ TEST_CASE("the RTU driver reads the profile's angle_x and angle_y from the slave
   CHECK(state.counters.transactions == 3);
   CHECK(state.serial == "20240917");
   CHECK(state.firmware == "1.02");
-  CHECK(state.model == "360");
+  // The profile's model_name, not the model number the device reports (360).
+  CHECK(state.model == "RTU inclinometer");
   set_inclinometer_angles(bench.device(), -0.5, 0.75);
   bench.poll(driver);
   CHECK(driver.state().reading->angle_x == doctest::Approx(-0.5));
   CHECK(driver.state().sample_seq == 2);
   CHECK(driver.state().counters.transactions == 5);  // the identity is not read again
+}
+
+TEST_CASE("without a model_name, the model is the [identity] model value the device reports") {
+  Bench bench(1.0, 2.0);
+  DeviceProfile profile = example_profile();
+  profile.model_name.clear();
+  RtuDriver driver = driver_for(std::move(profile));
+  CHECK(driver.state().model.empty());  // nothing to show before the identity is read
+  bench.poll(driver);
+  CHECK(driver.state().model == "360");
 }
 
 TEST_CASE("a profile without angles publishes readings with NaN angles") {

@@ -103,6 +103,19 @@ colour = "red"
                      "firmware, model");
 }
 
+TEST_CASE("an RTU profile's model_name is the device's model as people know it, a name not a paragraph") {
+  const auto named = parse_device_profile("model_name = \"TLT-2 inclinometer\"\n" + kValues, "p.toml");
+  REQUIRE(named.has_value());
+  CHECK(named->model_name == "TLT-2 inclinometer");
+  const auto unnamed = parse_device_profile(kValues, "p.toml");
+  REQUIRE(unnamed.has_value());
+  CHECK(unnamed->model_name.empty());
+  const auto errors = errors_of("model_name = \"" + std::string(65, 'x') + "\"\n" + kValues);
+  REQUIRE(errors.size() == 1);
+  CHECK(errors[0] == "p.toml:1:1: model_name: must be 1 to 64 characters");
+  CHECK(errors_of("model_name = \"\"\n" + kValues).size() == 1);
+}
+
 TEST_CASE("identity values are shown as decimal numbers, a scaled integer with its scale's decimals") {
   CHECK(identity_text(value_of_type(PointType::uint32), 20240917) == "20240917");
   CHECK(identity_text(value_of_type(PointType::int16), -42) == "-42");
@@ -129,6 +142,8 @@ TEST_CASE("the example RTU profile names the preset's serial, firmware and model
   CHECK(device.holding()[3] == 102);
   CHECK(model->address == 4);
   CHECK(device.holding()[4] == 360);
+  // The card shows the profile's name for it, not "360".
+  CHECK(profile->model_name == "RTU inclinometer");
 }
 
 TEST_CASE("the simulated inclinometer reports its server id (FC 17) as libmodbus lays it out") {
