@@ -9,6 +9,7 @@
 #include "console/console_audit.h"
 #include "console/console_reply.h"
 #include "console/request_guard.h"
+#include "driver/closest_name.h"
 #include "gateway/gateway.h"
 #include "settings/sensor_settings.h"
 #include "settings/setting_writer.h"
@@ -59,14 +60,28 @@ boost::asio::awaitable<HttpReply> SettingsEndpoint::change(std::string name, Set
   const auto setting = std::find_if(list.begin(), list.end(), [&](const SensorSetting& s) {
     return s.name == asked.setting;
   });
-  if (setting == list.end()) {
-    // A refused attempt is one record too, with the reason the reply gives.
-    const std::string why =
-        fmt::format("{} is not a setting of {}'s map", asked.setting, sensor->config.name);
+  // A refused attempt is one record too, with the reason the reply gives.
+  const auto refuse = [&](const std::string& why) {
     record_console_change(audit_, user, full_name, asked.setting, "", number_text(asked.value),
                           "refused: " + why);
-    co_return error_reply(400, why);
+    return error_reply(400, why);
+  };
+  if (setting == list.end()) {
+    std::vector<std::string> names;
+    for (const SensorSetting& s : list) names.push_back(s.name);
+    const std::string guess = closest_name(asked.setting, names);
+    co_return refuse(fmt::format("{} is not a setting of {}'s map; {}", asked.setting,
+                                 sensor->config.name,
+                                 !guess.empty()   ? fmt::format("did you mean {}?", guess)
+                                 : names.empty() ? std::string("its map names none")
+                                                 : fmt::format("its settings are {}",
+                                                               fmt::join(names, ", "))));
   }
+  if (!(asked.value >= setting->min && asked.value <= setting->max))
+    co_return refuse(fmt::format("{} = {} is outside its range, {} to {}{}", asked.setting,
+                                 number_text(asked.value), number_text(setting->min),
+                                 number_text(setting->max),
+                                 setting->units.empty() ? "" : " " + setting->units));
   const Role needed = role_to_write(*setting, asked.value) == SettingRole::operator_
                           ? Role::operator_
                           : Role::admin;

@@ -160,7 +160,12 @@ std::optional<std::string> TableReader::choice(std::string_view key,
   if (node == nullptr) return std::nullopt;
   const std::string& value = node->as_string()->get();
   if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
-    error(key, fmt::format("\"{}\" is not valid, expected {}", value, expected));
+    const std::vector<std::string> options(allowed.begin(), allowed.end());
+    const std::string guess = closest_name(value, options);
+    error(key, guess.empty()
+                   ? fmt::format("\"{}\" is not valid, expected {}", value, expected)
+                   : fmt::format("\"{}\" is not valid; did you mean \"{}\"? (expected {})", value,
+                                 guess, expected));
     return std::nullopt;
   }
   located_.mark_valid(key);

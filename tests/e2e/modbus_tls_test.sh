@@ -227,7 +227,7 @@ bad_config() {
 }
 check "an access other than read-only or read-write is an error at its line" bad_config \
   'tls_role_access = { operator = "readonly" }' \
-  'plant.toml:7.*tls_role_access.operator.*"readonly" is not valid, expected "read-only" or "read-write"'
+  'plant.toml:7.*tls_role_access.operator.*"readonly" is not valid; did you mean "read-only"'
 check "tls_no_role_access other than read-only or read-write is an error at its line" bad_config \
   'tls_no_role_access = "none"' 'plant.toml:7.*tls_no_role_access.*"none" is not valid'
 

@@ -188,7 +188,16 @@ TEST_CASE("config: every error in a file is reported, in line order") {
   CHECK(errors[2].line == 7);
   CHECK(errors[3].line == 11);
   CHECK(errors[4].line == 13);
-  CHECK(errors[3].message == "\"h7\" is not valid, expected \"h6\", \"h4360\", \"dyna\", \"modbus-rtu\" or \"modbus-tcp\"");
+  CHECK(errors[3].message == "\"h7\" is not valid; did you mean \"h6\"? (expected \"h6\", \"h4360\", \"dyna\", \"modbus-rtu\" or \"modbus-tcp\")");
+}
+
+TEST_CASE("config: a misspelt value gets a suggestion, as a misspelt key does") {
+  const ConfigErrors errors = errors_of(
+      "[[bus]]\nname = \"line1\"\nport = \"/dev/ttyUSB0\"\nprotocol = \"reiker\"\n");
+  INFO(joined(errors));
+  REQUIRE_FALSE(errors.empty());
+  CHECK(errors[0].line == 4);
+  CHECK(errors[0].message.starts_with("\"reiker\" is not valid; did you mean \"rieker\"? (expected "));
 }
 
 TEST_CASE("config: a file that cannot be opened says why") {

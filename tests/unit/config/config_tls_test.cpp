@@ -126,7 +126,7 @@ TEST_CASE("config: tls_role_access mistakes are reported at their line and key")
       error_in("tls_role_access = { engineer = \"read-write\", operator = \"readonly\" }\n");
   CHECK(bad_access.line == 3);
   CHECK(bad_access.key == "server.tls_role_access.operator");
-  CHECK(bad_access.message == "\"readonly\" is not valid, expected \"read-only\" or \"read-write\"");
+  CHECK(bad_access.message == "\"readonly\" is not valid; did you mean \"read-only\"? (expected \"read-only\" or \"read-write\")");
   const ConfigError not_string = error_in("tls_role_access = { engineer = true }\n");
   CHECK(not_string.key == "server.tls_role_access.engineer");
   const ConfigError empty_role = error_in("tls_role_access = { \"\" = \"read-only\" }\n");
