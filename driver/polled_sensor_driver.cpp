@@ -11,6 +11,9 @@ namespace tiltgate {
 
 namespace {
 
+// "answers late" is a warning once in this long per sensor; the rest are at debug.
+constexpr auto kLateWarningInterval = std::chrono::minutes(10);
+
 // One line when a sensor stops or starts answering, not one per poll.
 void log_online_change(std::string_view sensor, std::string_view what, unsigned address,
                        std::string_view line, bool was_online, bool is_online) {
@@ -169,18 +172,24 @@ void PolledSensorDriver::note_timing(const LineTiming& timing, const std::string
   state_.reply_timeout = reply_timeout_.current();
   state_.answers_late = reply_timeout_.answers_late();
   if (!was_late && state_.answers_late) {
-    spdlog::warn("{}: {} {} on {} answers late ({} ms after the request, time-out {} ms); its "
-                 "late replies are discarded and its time-out adapted, up to {} ms",
-                 log_name(), kind(), state_.bus_address, line_name,
-                 timing.late_delay ? timing.late_delay->count() : 0, before.count(),
-                 reply_timeout_.limits().max.count());
+    const auto now = SteadyClock::now();
+    late_logged_ = !late_warned_ || now - *late_warned_ >= kLateWarningInterval;
+    if (late_logged_) late_warned_ = now;
+    spdlog::log(late_logged_ ? spdlog::level::warn : spdlog::level::debug,
+                "{}: {} {} on {} answers late ({} ms after the request, time-out {} ms); its "
+                "late replies are discarded and its time-out adapted, up to {} ms",
+                log_name(), kind(), state_.bus_address, line_name,
+                timing.late_delay ? timing.late_delay->count() : 0, before.count(),
+                reply_timeout_.limits().max.count());
   } else if (was_late && !state_.answers_late) {
-    spdlog::info("{}: {} {} on {} answers in time again", log_name(), kind(), state_.bus_address,
-                 line_name);
+    spdlog::log(late_logged_ ? spdlog::level::info : spdlog::level::debug,
+                "{}: {} {} on {} answers in time again", log_name(), kind(), state_.bus_address,
+                line_name);
   }
+  // Every few seconds under load: the status API and the registers show the time-out in use.
   if (state_.reply_timeout != before) {
-    spdlog::info("{}: reply time-out {} ms (was {} ms)", log_name(),
-                 state_.reply_timeout.count(), before.count());
+    spdlog::debug("{}: reply time-out {} ms (was {} ms)", log_name(),
+                  state_.reply_timeout.count(), before.count());
   }
 }
 

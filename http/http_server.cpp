@@ -240,6 +240,13 @@ void HttpServer::count_unserved(Connection& connection, boost::system::error_cod
   if (connection.closed || ec == http::error::end_of_stream) return;
   if (ec == beast::error::timeout) {
     if (connection.served && !got_some) return;  // kept alive, then left idle: a normal end
+    if (!got_some) {
+      // Not a byte: a browser's preconnect (a socket opened in case a request follows), no
+      // fault of anyone's. Neither counted nor held against its address.
+      spdlog::debug("HTTP: {} closed: nothing sent within {} ms", connection.peer,
+                    options_.request_timeout.count());
+      return;
+    }
     count([](HttpServerStats& s) { ++s.closed.timed_out; });
     problem_log_.log_closing(connection.peer, connection.address, spdlog::level::warn,
                              fmt::format("no whole request within {} ms",

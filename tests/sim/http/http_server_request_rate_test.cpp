@@ -88,3 +88,34 @@ TEST_CASE("HTTP: max_requests_per_s holds the clients together, and without rate
   CHECK(answered == 20);
   CHECK(stats.requests_delayed == 0);
 }
+
+TEST_CASE("HTTP: a connection that sends nothing (a browser's preconnect) is closed, not counted") {
+  boost::asio::io_context io;
+  HttpServerOptions options;
+  options.port = 0;
+  options.request_timeout = std::chrono::milliseconds(200);
+  const HttpHandler status_only = [](HttpRequest request) -> boost::asio::awaitable<HttpReply> {
+    co_return route_http(request.method, request.target, [] { return GatewayStatus{}; });
+  };
+  HttpServer server(io.get_executor(), status_only, options);
+  REQUIRE(server.start().has_value());
+  std::thread thread([&] { io.run(); });
+  {
+    RawSocket preconnect(server.local_port());
+    CHECK(preconnect.closed_by_server());
+  }
+  {
+    const std::string half = "GET /hea";
+    RawSocket slow(server.local_port());
+    slow.send(Bytes(half.begin(), half.end()));
+    CHECK(slow.closed_by_server());
+  }
+  std::promise<HttpServerStats> stats;
+  boost::asio::post(io, [&] {
+    stats.set_value(server.stats());
+    server.stop();
+  });
+  const HttpServerStats seen = stats.get_future().get();
+  thread.join();
+  CHECK(seen.closed.timed_out == 1);  // the half request only
+}

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include "serial/serial_line.h"
+#include "sim/support/captured_log.h"
 #include "sim/support/driver_bench.h"
 #include "spectron/dyna_driver.h"
 #include "spectron/simulator.h"
@@ -88,4 +89,34 @@ TEST_CASE("a Dyna that answers late on every command gets a longer time-out") {
   CHECK(driver.state().answers_late);
   CHECK(driver.state().reply_timeout > 150ms);
   CHECK(driver.state().counters.polls_ok >= 3);
+}
+
+TEST_CASE("a sensor late again within 10 minutes is not warned of twice; time-outs are debug") {
+  test::CapturedLog log(spdlog::level::debug);
+  Bench bench([](SerialLineOptions& o) {
+    o.timeout = 50ms;
+    o.late_guard = 200ms;
+    o.retries = 1;
+  });
+  DynaDriver driver(driver_options({50ms, 400ms}));
+  bench.module().faults().reply_delay = 150ms;
+  for (int i = 0; i < 3; ++i) bench.poll(driver);
+  REQUIRE(driver.state().answers_late);
+  bench.module().faults().reply_delay = 0ms;
+  for (int i = 0; i < 2 * 50 && driver.state().answers_late; ++i) bench.poll(driver);
+  REQUIRE_FALSE(driver.state().answers_late);
+  bench.module().faults().reply_delay = 150ms;
+  for (int i = 0; i < 3; ++i) bench.poll(driver);
+  REQUIRE(driver.state().answers_late);
+  const auto level_of = [&](const std::string& text) {
+    std::vector<std::string> levels;
+    for (const std::string& line : log.lines())
+      if (line.find(text) != std::string::npos) levels.push_back(line.substr(0, line.find(' ')));
+    return levels;
+  };
+  CHECK(level_of("answers late") == std::vector<std::string>{"warning", "debug"});
+  CHECK(level_of("answers in time again") == std::vector<std::string>{"info"});
+  const std::vector<std::string> timeouts = level_of("reply time-out");
+  CHECK_FALSE(timeouts.empty());
+  for (const std::string& level : timeouts) CHECK(level == "debug");
 }
