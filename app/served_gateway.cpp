@@ -18,8 +18,13 @@ namespace {
 // taken up exactly as an edited one is, and the window an applied file awaits confirmation in.
 void reload_by_hangup() { ::kill(::getpid(), SIGHUP); }
 
-ConsoleContext console_context(AuditTrail& audit, FamilyList families, ConfirmWindow& window) {
+ConsoleContext console_context(AuditTrail& audit, FamilyList families, ConfirmWindow& window,
+                               Gateway& gateway) {
   ConsoleContext context;
+  context.reset_counters = [&gateway](CounterScope scope, std::string_view name) {
+    return scope == CounterScope::bus ? gateway.reset_bus_counters(name)
+                                      : gateway.reset_sensor_counters(name);
+  };
   context.audit = &audit;
   context.families = families;
   context.commands = registered_family_commands();
@@ -46,7 +51,7 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
     : confirm_window_(config.path, &audit_, reload_by_hangup),
       gateway_(io, config, families),
       http_(gateway_, [this] { return status(SteadyClock::now()); },
-            console_context(audit_, families, confirm_window_)),
+            console_context(audit_, families, confirm_window_, gateway_)),
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
       control_(gateway_, requested_command_runner(families, registered_family_commands())) {

@@ -25,7 +25,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr std::string_view kSensorPrefix = "/api/sensors/";
 constexpr std::string_view kSettingsSuffix = "/settings";
 
 std::string_view path_of(std::string_view target) { return target.substr(0, target.find('?')); }
@@ -291,6 +290,9 @@ asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
   }
   if (path == "/api/config" || path.starts_with("/api/config/") || path == "/api/config.toml")
     co_return co_await config_route(request, path, session);
+  if (path.ends_with(kCountersResetSuffix) &&
+      (path.starts_with(kSensorPrefix) || path.starts_with(kBusPrefix)))
+    co_return co_await counters_reset(request, path, session);
   if (path.starts_with(kSensorPrefix) && path.ends_with(kSettingsSuffix))
     co_return co_await settings(request, path, session);
   if (path.starts_with(kBusPrefix) && (path.ends_with("/scan") || path.ends_with("/raw")))

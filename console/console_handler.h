@@ -35,6 +35,9 @@ namespace tiltgate {
 
 class Gateway;
 
+// Whose counters a reset sets back to zero.
+enum class CounterScope { sensor, bus };
+
 // What the console reaches of the running gateway.
 struct ConsoleContext {
   boost::asio::any_io_executor gateway_executor;  // the buses': status, history and writes
@@ -45,6 +48,10 @@ struct ConsoleContext {
   AuditTrail* audit = nullptr;
   std::string config_path;  // the served file; empty: none (the demo)
   FamilyCommandsList commands;  // the families' raw requests, for a raw frame
+  // Sets a sensor's counters, or a bus's and its sensors', back to zero
+  // (Gateway::reset_sensor_counters(), reset_bus_counters()); on the buses' executor. False: no
+  // such sensor or bus is served. None: resets are refused.
+  std::function<bool(CounterScope, std::string_view)> reset_counters;
   // Asks the gateway to reload its configuration file (as SIGHUP does), on any thread.
   std::function<void()> reload;
   // Where an applied configuration awaits its confirmation; none: applies are refused.
@@ -91,10 +98,17 @@ class ConsoleHandler {
   boost::asio::awaitable<HttpReply> api(const HttpRequest& request, const ConsoleSession& session);
   boost::asio::awaitable<HttpReply> settings(const HttpRequest& request, std::string_view path,
                                              const ConsoleSession& session);
+  static constexpr std::string_view kSensorPrefix = "/api/sensors/";
   // /api/buses/NAME/scan and /api/buses/NAME/raw (console/console_bus_routes.cpp).
   static constexpr std::string_view kBusPrefix = "/api/buses/";
   boost::asio::awaitable<HttpReply> bus_action(const HttpRequest& request, std::string_view path,
                                                const ConsoleSession& session);
+  // POST /api/sensors/NAME/counters/reset and /api/buses/NAME/counters/reset
+  // (console/console_counter_routes.cpp).
+  static constexpr std::string_view kCountersResetSuffix = "/counters/reset";
+  boost::asio::awaitable<HttpReply> counters_reset(const HttpRequest& request,
+                                                   std::string_view path,
+                                                   const ConsoleSession& session);
   boost::asio::awaitable<HttpReply> config_route(const HttpRequest& request, std::string_view path,
                                                  const ConsoleSession& session);
   HttpReply config_change(const HttpRequest& request, std::string_view path,

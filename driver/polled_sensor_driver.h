@@ -21,6 +21,7 @@
 #include <boost/asio/awaitable.hpp>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "driver/adaptive_reply_timeout.h"
@@ -38,6 +39,7 @@ class PolledSensorDriver : public SensorDriver {
  public:
   boost::asio::awaitable<void> poll(Line& line) final;
   const SensorState& state() const final { return state_; }
+  void reset_counters() final { state_.counters = {}; }
   // Reads the settings back at the next poll (read_settings()). A family that cannot read a
   // setting back overrides this to record `value` as acknowledged.
   void note_acknowledged(WriteTarget target, double value) override;
@@ -98,6 +100,10 @@ class PolledSensorDriver : public SensorDriver {
   // else changed a setting.
   bool settings_owed_ = false;
   AdaptiveReplyTimeout reply_timeout_;
+  // When "answers late" was last logged at warning: a sensor that goes late and back under load
+  // is warned of once in kLateWarningInterval, the rest at debug (docs/operations.md, "How the gateway behaves").
+  std::optional<SteadyClock::time_point> late_warned_;
+  bool late_logged_ = false;  // the last "answers late" was logged at warning
   bool probing_ = false;  // in a poll of a sensor that was offline: no retries
   std::string expected_serial_;  // [[sensor]] serial; empty: any device is served
   std::string last_serial_;      // the serial read last (empty before the first)

@@ -114,6 +114,8 @@ class SensorDriver {
                                                     double value) = 0;
 
   virtual const SensorState& state() const = 0;
+  // Sets state().counters back to zero, as at a start (an admin's reset, Modbus FC 08's clear).
+  virtual void reset_counters() = 0;
 
   // A refusal code of the protocol (SensorCounters::last_refusal) as its manual names it, for
   // the user: "NAK 2 (function not valid for this sensor or mode)".

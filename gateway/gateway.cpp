@@ -212,6 +212,9 @@ void Gateway::reload(const Config& loaded) {
     // The rates are kept per position; positions moved.
     sensor_rates_ = CounterRates{};
     bus_rates_ = CounterRates{};
+    std::vector<std::string> names;
+    for (const SensorConfig& sensor : config_.sensors) names.push_back(sensor.name);
+    recent_failures_.keep_only(names);
   }
   std::vector<std::string_view> restarted;
   for (GatewayService* service : services_)
@@ -298,6 +301,7 @@ void Gateway::record_counters(SteadyClock::time_point now) {
     const SensorCounters& counters = sensor->driver->state().counters;
     sensors.push_back(double(counters.polls_ok) + double(counters.polls_failed));
     sensors.push_back(std::chrono::duration<double>(sensor->line_time).count());
+    recent_failures_.record(sensor->config.name, now, failure_counts(counters));
   }
   sensor_rates_.record(now, std::move(sensors));
   std::vector<double> buses;
@@ -315,6 +319,7 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   status.audit_health = audit_->health();
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
     status.sensors.push_back(sensor_status(*sensors_[i], now));
+    status.sensors.back().recent_failures = recent_failures_.of(sensors_[i]->config.name);
     status.sensors.back().polls_per_s = rounded(sensor_rates_.rate(2 * i), 100);
     // As for a bus's utilisation, a turn across the sample instant counts wholly later.
     if (const auto share = rounded(sensor_rates_.rate(2 * i + 1), 1000))
@@ -325,6 +330,7 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
                                       bus_rates_.rate(2 * i), bus_rates_.rate(2 * i + 1)));
     status.buses.back().machine_held = buses_[i]->line->stats().machine_held;
     status.buses.back().overloaded = buses_[i]->line->stats().overloaded;
+    add_sensor_failures(status.buses.back(), status.sensors);
   }
   // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
   for (const ModbusTcpServer* listener : listeners_.servers()) add_listener_counts(status, *listener);
@@ -336,6 +342,34 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
     status.process_max_fds = descriptors->max;
   }
   return status;
+}
+
+bool Gateway::reset_sensor_counters(std::string_view name) {
+  for (const auto& sensor : sensors_)
+    if (sensor->config.name == name) {
+      sensor->driver->reset_counters();
+      sensor->line_time = {};
+      sensor->publish();  // the registers that serve the counters read zero at once
+      recent_failures_.forget(name);
+      // The rates start over from the counters as they are now.
+      sensor_rates_.clear();
+      record_counters(SteadyClock::now());
+      return true;
+    }
+  return false;
+}
+
+bool Gateway::reset_bus_counters(std::string_view name) {
+  for (std::size_t i = 0; i < buses_.size(); ++i) {
+    if (config_.buses[i].name != name) continue;
+    for (const auto& sensor : sensors_)
+      if (sensor->config.bus == name) reset_sensor_counters(sensor->config.name);
+    buses_[i]->scheduler->reset_counters();
+    bus_rates_.clear();
+    record_counters(SteadyClock::now());
+    return true;
+  }
+  return false;
 }
 
 std::vector<std::shared_ptr<BusScheduler>> Gateway::schedulers() const {

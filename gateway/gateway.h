@@ -16,6 +16,7 @@
 #include "driver/expected.h"
 #include "line_scheduling/bus_scheduler.h"
 #include "gateway/counter_rates.h"
+#include "gateway/recent_failures.h"
 #include "line_scheduling/gateway_sensor.h"
 #include "gateway/gateway_service.h"
 #include "gateway/gateway_status.h"
@@ -75,6 +76,12 @@ class Gateway {
   // their own (HTTP, MQTT).
   GatewayStatus status(SteadyClock::time_point now) const;
   const std::vector<std::shared_ptr<GatewaySensor>>& sensors() const { return sensors_; }
+  // Sets the counters of the sensor, or of the bus and each of its sensors, back to zero, as
+  // at a start: what /api/sensors, /api/buses, /metrics and the registers count (the bus's
+  // line keeps its busy seconds, machine-held waits and overloaded attempts). False for a name
+  // not served. On the gateway's executor.
+  bool reset_sensor_counters(std::string_view sensor);
+  bool reset_bus_counters(std::string_view bus);
   // Each bus's scheduler, in config().buses' order: what the control socket relays to.
   std::vector<std::shared_ptr<BusScheduler>> schedulers() const;
 
@@ -142,6 +149,7 @@ class Gateway {
   bool stopping_ = false;
   CounterRates sensor_rates_;       // each sensor's polls (ok and failed), then its line seconds
   CounterRates bus_rates_;          // each bus's polls then its busy seconds
+  RecentFailures recent_failures_;  // each sensor's over the last 10 minutes
 };
 
 // After Gateway::stop() and io.stop(): runs the completions stop() queued (cancelled waits and

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -16,6 +17,28 @@
 #include "modbus_tcp/modbus_request_counts.h"
 
 namespace tiltgate {
+
+// How long the status counts recent failures over: what "in the last 10 minutes" means on the
+// console (docs/web-console.md, "Counters").
+inline constexpr std::chrono::minutes kRecentFailuresWindow{10};
+
+// Failed polls, and failed exchanges by cause (SensorCounters), over some time.
+struct FailureCounts {
+  std::uint64_t polls_failed = 0;
+  std::uint64_t timeouts = 0;
+  std::uint64_t checksum_errors = 0;
+  std::uint64_t io_errors = 0;
+  std::uint64_t late_replies = 0;
+
+  FailureCounts& operator+=(const FailureCounts& other) {
+    polls_failed += other.polls_failed;
+    timeouts += other.timeouts;
+    checksum_errors += other.checksum_errors;
+    io_errors += other.io_errors;
+    late_replies += other.late_replies;
+    return *this;
+  }
+};
 
 struct SensorStatus {
   std::string name;
@@ -64,6 +87,9 @@ struct SensorStatus {
   // The sensor's settings record (SensorState::settings): each setting of its model by name,
   // with the value the sensor has as far as the gateway knows; none while unknown.
   std::vector<std::pair<std::string, std::optional<double>>> settings;
+  // The failures above over the last kRecentFailuresWindow (since start or the counters' reset
+  // until then); none until counted.
+  std::optional<FailureCounts> recent_failures;
 };
 
 struct BusStatus {
@@ -87,6 +113,10 @@ struct BusStatus {
   // was busy (0..1; 1 = the bus runs flat out and cannot poll faster). None until counted.
   std::optional<double> polls_per_s;
   std::optional<double> utilisation;
+  // Its sensors' failures since start (or their counters' reset), and over the last
+  // kRecentFailuresWindow (none until counted).
+  FailureCounts failures;
+  std::optional<FailureCounts> recent_failures;
 };
 
 // An on-disk store-and-forward's counters (store/record_store.h), for the metrics

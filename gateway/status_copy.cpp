@@ -40,6 +40,11 @@ std::optional<double> rounded(std::optional<double> value, double scale) {
   return std::round(*value * scale) / scale;
 }
 
+FailureCounts failure_counts(const SensorCounters& counters) {
+  return FailureCounts{counters.polls_failed, counters.timeouts, counters.checksum_errors,
+                       counters.io_errors, counters.late_replies};
+}
+
 SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point now) {
   const SensorState& state = sensor.driver->state();
   SensorStatus s;
@@ -108,6 +113,21 @@ BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats,
   // share can come out a little over 1 for a moment.
   if (const auto busy = rounded(busy_share, 1000)) bus.utilisation = std::min(*busy, 1.0);
   return bus;
+}
+
+void add_sensor_failures(BusStatus& bus, const std::vector<SensorStatus>& sensors) {
+  FailureCounts recent;
+  bool counted = true;
+  for (const SensorStatus& s : sensors) {
+    if (s.bus != bus.name) continue;
+    bus.failures += FailureCounts{s.polls_failed, s.timeouts, s.checksum_errors, s.io_errors,
+                                  s.late_replies};
+    if (s.recent_failures)
+      recent += *s.recent_failures;
+    else
+      counted = false;
+  }
+  if (counted) bus.recent_failures = recent;
 }
 
 void add_listener_counts(GatewayStatus& status, const ModbusTcpServer& listener) {

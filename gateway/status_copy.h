@@ -15,10 +15,17 @@ namespace tiltgate {
 // The sensor as it is now: identity, reading after mounting, its staleness and counters.
 SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point now);
 
+// Its failed polls and failed exchanges by cause.
+FailureCounts failure_counts(const SensorCounters& counters);
+
 // The bus's configuration and counters; `polls_per_s` and `busy_share` are the rates measured
 // over the last seconds (none until counted).
 BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats,
                      std::optional<double> polls_per_s, std::optional<double> busy_share);
+
+// The failures of the sensors on `bus`, since start and recent (none when one of them has none
+// yet), into its status.
+void add_sensor_failures(BusStatus& bus, const std::vector<SensorStatus>& sensors);
 
 // Adds one Modbus listener's connections and request counts to `status`' totals.
 void add_listener_counts(GatewayStatus& status, const ModbusTcpServer& listener);

@@ -154,6 +154,9 @@ class BusScheduler {
 
   const std::string& name() const { return name_; }
   BusSchedulerStats stats() const;
+  // Its own counts back to zero (Gateway::reset_bus_counters()); the line's busy time and
+  // restarts count on.
+  void reset_counters() { stats_ = {}; }
   Line& line() { return line_.line(); }
   boost::asio::any_io_executor executor() const { return line_.executor(); }
 

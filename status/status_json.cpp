@@ -31,6 +31,19 @@ Json settings_json(const std::vector<std::pair<std::string, std::optional<double
   return out;
 }
 
+// {"polls_failed":1,"timeout":2,...}: failures by cause, keyed as a sensor's "failures".
+Json failures_json(const FailureCounts& c) {
+  return Json{{"polls_failed", c.polls_failed},
+              {"timeout", c.timeouts},
+              {"checksum", c.checksum_errors},
+              {"io_error", c.io_errors},
+              {"late_reply", c.late_replies}};
+}
+
+Json failures_json(const std::optional<FailureCounts>& c) {
+  return c ? failures_json(*c) : Json(nullptr);
+}
+
 // The identity's keys, then the reading, the counters and the settings.
 Json sensor_object(const SensorStatus& s) {
   Json out = sensor_identity_json(s);
@@ -50,6 +63,7 @@ Json sensor_object(const SensorStatus& s) {
                     {"checksum", s.checksum_errors},
                     {"io_error", s.io_errors},
                     {"late_reply", s.late_replies}}},
+                  {"failures_10min", failures_json(s.recent_failures)},
                   {"slowest_reply_ms", s.slowest_reply_ms},
                   {"naks", naks_json(s.refusals)},
                   {"line_seconds", json_number(s.line_seconds)},
@@ -70,7 +84,10 @@ Json bus_object(const BusStatus& b) {
               {"overloaded", b.overloaded},
               {"busy_seconds", json_number(b.busy_seconds)},
               {"polls_per_s", json_number(b.polls_per_s)},
-              {"utilisation", json_number(b.utilisation)}};
+              {"utilisation", json_number(b.utilisation)},
+              {"restarts", b.restarts},
+              {"failures", failures_json(b.failures)},
+              {"failures_10min", failures_json(b.recent_failures)}};
 }
 
 }  // namespace

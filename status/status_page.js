@@ -106,16 +106,58 @@ function newCard(s) {
   return {root, parts, last: null};
 }
 
+// Failures by cause, keyed as the API's "failures" and "failures_10min".
+const CAUSES = [["polls_failed", "failed polls"], ["timeout", "time-outs"], ["checksum", "checksum errors"],
+                ["io_error", "port errors"], ["late_reply", "late replies"]];
+function exchangeErrors(f) {
+  return f ? CAUSES.slice(1).reduce((sum, [key]) => sum + (f[key] || 0), 0) : 0;
+}
+
+// A card's line of errors: red only for errors in the last 10 minutes, so one old late reply
+// does not leave a healthy sensor red; those since start beside them, grey.
 function errorsText(s) {
   if (s.failures && typeof s.failures === "object") {
-    const named = Object.entries(s.failures).filter(([, n]) => n > 0);
-    const total = named.reduce((sum, [, n]) => sum + n, 0);
+    const total = exchangeErrors(s.failures);
     if (total === 0) return ["no errors", false];
-    return [total + " error" + (total === 1 ? "" : "s") + ": " +
-            named.map(([why, n]) => why + " " + n).join(", "), true];
+    const since = total + " since start";
+    if (!s.failures_10min) return [total + " error" + (total === 1 ? "" : "s") + " since start", true];
+    const recent = exchangeErrors(s.failures_10min);
+    if (recent === 0) return ["no errors in 10 min \u00B7 " + since, false];
+    const named = CAUSES.slice(1).filter(([key]) => s.failures_10min[key] > 0)
+      .map(([key, word]) => s.failures_10min[key] + " " + word);
+    return [named.join(", ") + " in 10 min \u00B7 " + since, true];
   }
   const failed = s.polls_failed || 0;
   return failed === 0 ? ["no errors", false] : [failed + " failed poll" + (failed === 1 ? "" : "s"), true];
+}
+
+// A table of counters: each cause in the last 10 minutes and since start (or the last reset).
+function countersHtml(failures, recent, extra) {
+  const cell = (f, key) => f ? String(f[key] || 0) : "\u2013";
+  let rows = CAUSES.map(([key, word]) =>
+    "<tr><td>" + esc(word) + '</td><td class="num' + (recent && recent[key] > 0 ? " bad" : "") + '">' +
+    cell(recent, key) + '</td><td class="num">' + cell(failures, key) + "</td></tr>").join("");
+  for (const [word, value] of extra || [])
+    rows += "<tr><td>" + esc(word) + '</td><td class="num">\u2013</td><td class="num">' + esc(value) + "</td></tr>";
+  return '<table class="list counters"><thead><tr><th>Counter</th><th>Last 10 min</th><th>Since start</th>' +
+         "</tr></thead><tbody>" + rows + "</tbody></table>";
+}
+
+// An admin's reset of a sensor's counters, or a bus's and its sensors' (audited).
+async function resetCounters(kind, name, messageHost) {
+  const what = kind === "bus" ? "bus " + name + " and each of its sensors" : name;
+  if (!await askConfirm("Reset the counters of " + what + " to zero?",
+                        "The counts since start begin again from now, here, in /metrics and in the registers that serve them."))
+    return;
+  const path = (kind === "bus" ? "/api/buses/" : "/api/sensors/") + encodeURIComponent(name) + "/counters/reset";
+  try {
+    await api("POST", path, {});
+    messageHost.textContent = "Counters of " + what + " reset.";
+    messageHost.className = "message ok";
+  } catch (e) {
+    messageHost.textContent = "Could not reset the counters: " + e.message;
+    messageHost.className = "message bad";
+  }
 }
 
 function updateCard(card, s) {
@@ -126,7 +168,7 @@ function updateCard(card, s) {
   p.pill.textContent = label;
   p.meta.textContent = s.model + " \u00B7 " + (s.serial ? "S/N " + s.serial : "S/N not read yet") +
     (s.wrong_device ? ", configured S/N " + s.configured_serial : "");
-  p.where.textContent = "bus " + s.bus + " \u00B7 address " + s.address;
+  p.where.textContent = "unit " + s.unit_id + " \u00B7 bus " + s.bus + " \u00B7 address " + s.address;
   const x = degrees(s.x), y = degrees(s.y);
   const single = (s.y === null || s.y === undefined) && s.x !== null && s.x !== undefined;
   p.yAxis.style.visibility = p.y.style.visibility = single ? "hidden" : "";
@@ -251,6 +293,8 @@ async function poll() {
     renderBuses(buses);
     renderSummary(sensors);
     lastBuses = buses;
+    if (currentTab === "buses") renderBusCounters();
+    if (settingsFor !== null && !$("detail").hidden) renderSensorCounters(sensors.find((x) => x.name === settingsFor));
     setReachable(true);
     document.body.dataset.updates = String(Number(document.body.dataset.updates) + 1);
     $("updated").textContent = "updated " + clock(new Date());
@@ -526,6 +570,7 @@ async function loadSensorConsole(name, keepMessage) {
     const [sensor, settings] = await Promise.all([api("GET", path), api("GET", path + "/settings")]);
     if (settingsFor !== name) return;
     renderIdentity(sensor);
+    renderSensorCounters(sensor);
     renderSettings(name, sensor, settings.settings || []);
   } catch (e) {
     if (settingsFor === name) say("detail-message", "Could not read the settings: " + e.message, "bad");
@@ -539,6 +584,15 @@ function renderIdentity(s) {
   if (s.wrong_device) rows.push(["Configured serial", s.configured_serial]);
   $("detail-identity").innerHTML = rows.filter(([, v]) => v !== undefined && v !== null && v !== "")
     .map(([k, v]) => "<dt>" + esc(k) + "</dt><dd>" + esc(v) + "</dd>").join("");
+}
+
+// The open sensor's counters, from the list the page polls.
+function renderSensorCounters(s) {
+  const host = $("detail-counters");
+  if (!s || !host) return;
+  const extra = [["polls that gave a reading", s.polls_ok], ["slowest reply (ms)", s.slowest_reply_ms]];
+  const html = countersHtml(Object.assign({polls_failed: s.polls_failed}, s.failures), s.failures_10min, extra);
+  if (host.innerHTML !== html) host.innerHTML = html;
 }
 
 function valueText(v) { return v === null || v === undefined ? "unknown" : String(v); }
@@ -658,6 +712,9 @@ function renderScans() {
     root.dataset.bus = b.name;
     root.innerHTML =
       '<h3></h3><div class="sub port"></div>' +
+      '<div class="scroll bus-counters"></div>' +
+      '<div class="row"><button class="button reset" type="button" data-needs="admin">Reset counters</button>' +
+      '<div class="message counters-message" role="status"></div></div>' +
       '<div class="row gap-above">' +
       '<label class="field">From address <input class="from" type="number" min="0" max="255" value="1" inputmode="numeric"></label>' +
       '<label class="field">To address <input class="to" type="number" min="0" max="255" value="32" inputmode="numeric"></label>' +
@@ -667,10 +724,27 @@ function renderScans() {
     root.querySelector("h3").textContent = b.name;
     root.querySelector(".port").textContent = b.port + " @ " + b.baud + " baud \u00B7 " + b.protocol;
     root.addEventListener("submit", (e) => { e.preventDefault(); startScan(b.name); });
+    root.querySelector(".reset").addEventListener("click", () =>
+      resetCounters("bus", b.name, root.querySelector(".counters-message")));
     host.appendChild(root);
     scanPanels.set(b.name, {root, timer: null});
     applyRole(root);
     pollScan(b.name, false);   // shows a scan already running, or the last one's results
+  }
+  renderBusCounters();
+}
+
+// Each bus's counters on the Buses tab, from the list the page polls.
+function renderBusCounters() {
+  for (const b of lastBuses) {
+    const panel = scanPanels.get(b.name);
+    if (!panel) continue;
+    const extra = [["polls", b.polls], ["writes", b.writes], ["forwarded requests", b.forwarded],
+                   ["loop restarts", b.restarts || 0], ["replies held by this machine", b.machine_held],
+                   ["attempts given up, overloaded", b.overloaded]];
+    const html = countersHtml(b.failures, b.failures_10min, extra);
+    const host = panel.root.querySelector(".bus-counters");
+    if (host.innerHTML !== html) host.innerHTML = html;
   }
 }
 
@@ -1053,6 +1127,7 @@ $("logout").addEventListener("click", logOut);
 for (const button of document.querySelectorAll(".tab"))
   button.addEventListener("click", () => showTab(button.dataset.tab));
 $("confirm-ok").addEventListener("click", () => answerConfirm(true));
+$("detail-reset").addEventListener("click", () => resetCounters("sensor", settingsFor, $("counters-message")));
 $("confirm-cancel").addEventListener("click", () => answerConfirm(false));
 $("raw-form").addEventListener("submit", sendRaw);
 $("config-reload").addEventListener("click", loadConfig);

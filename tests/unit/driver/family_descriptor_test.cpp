@@ -32,6 +32,7 @@ class FakeDriver final : public SensorDriver {
     co_return Done{};
   }
   const SensorState& state() const override { return state_; }
+  void reset_counters() override { state_.counters = {}; }
 
  private:
   SensorState state_;

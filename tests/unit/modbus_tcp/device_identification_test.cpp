@@ -228,6 +228,7 @@ class IdentifiedDriver : public SensorDriver {
     co_return Done{};
   }
   const SensorState& state() const override { return state_; }
+  void reset_counters() override { state_.counters = {}; }
   SensorState state_;
 
  private:

@@ -110,6 +110,7 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"("online":true,"stale":false,"x":1.5,"y":-2.25,)"
         R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
+        R"("failures_10min":null,)"
         R"("slowest_reply_ms":7,"naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031,)"
         R"("settings":{"filter":2,"zero_x":null}})");
 }
@@ -174,8 +175,24 @@ TEST_CASE("status JSON: the sensor and bus lists are arrays") {
   CHECK(buses_json(plant().buses) ==
         R"([{"name":"line1","port":"/dev/ttyUSB0","baud":125000,"protocol":"p1","polls":12,)"
         R"("writes":1,"forwarded":0,"machine_held":3,"overloaded":1,"busy_seconds":1.25,)"
-        R"("polls_per_s":9.5,"utilisation":0.5}])");
-  CHECK(buses_json({bus("line2", "/dev/ttyUSB1", 9600)}).find(R"("polls_per_s":null,"utilisation":null})") != std::string::npos);
+        R"("polls_per_s":9.5,"utilisation":0.5,"restarts":0,)"
+        R"("failures":{"polls_failed":0,"timeout":0,"checksum":0,"io_error":0,"late_reply":0},)"
+        R"("failures_10min":null}])");
+  CHECK(buses_json({bus("line2", "/dev/ttyUSB1", 9600)}).find(R"("polls_per_s":null,"utilisation":null,)") != std::string::npos);
+}
+
+TEST_CASE("status JSON: failures in the last 10 minutes beside those since start") {
+  SensorStatus s = boom();
+  s.recent_failures = FailureCounts{1, 0, 0, 0, 1};
+  CHECK(sensor_json(s).find(
+            R"("failures_10min":{"polls_failed":1,"timeout":0,"checksum":0,"io_error":0,"late_reply":1},)") !=
+        std::string::npos);
+  BusStatus b = bus("line2", "/dev/ttyUSB1", 9600);
+  b.failures = FailureCounts{2, 3, 1, 0, 4};
+  b.recent_failures = FailureCounts{};
+  CHECK(buses_json({b}).find(
+            R"("failures":{"polls_failed":2,"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
+            R"("failures_10min":{"polls_failed":0,)") != std::string::npos);
 }
 
 TEST_CASE("metrics: label values escape backslash, quote and line feed") {

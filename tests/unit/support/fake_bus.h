@@ -147,6 +147,7 @@ class FakeDriver : public SensorDriver {
     if (on_state) on_state();
     return state_;
   }
+  void reset_counters() override { state_.counters = {}; }
   // Runs at each state() call: a test's way to make the core's reading of a sensor fail.
   std::function<void()> on_state;
 
