@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "app/demo_accounts.h"
 #include "app/demo_commands.h"
 #include "app/simulator_console.h"
 #include "app/demo_sensor_keys.h"
@@ -33,6 +34,8 @@ struct DemoOptions {
   // temporary folder, so that it neither takes nor is refused a running service's socket.
   std::string control_socket;
   bool map = false;  // print every unit's register map before the "Try:" lines
+  // The web console without accounts: the read-only status page, its API open to all.
+  bool no_accounts = false;
 };
 
 // Runs `io` until SIGINT/SIGTERM, then calls `stop` and returns.
@@ -68,6 +71,9 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   config.http.enabled = options.http_port != 0;
   config.http.listen = options.listen;
   config.http.port = options.http_port;
+  // Accounts made for this run (app/demo_accounts.h); the file is written before the start.
+  if (config.http.enabled && !options.no_accounts)
+    config.http.users_file = (folder / "users").string();
   if (!options.mqtt_host.empty()) {
     config.mqtt.enabled = true;
     config.mqtt.host = options.mqtt_host;
@@ -114,8 +120,30 @@ Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList
   return config;
 }
 
+// The console's address and the accounts to log in with, beside the Modbus lines.
+void print_console_help(const Config& config, const std::vector<DemoAccount>& accounts) {
+  if (!config.http.enabled) return;
+  const std::string host =
+      config.http.listen == "0.0.0.0" ? std::string("127.0.0.1") : config.http.listen;
+  if (accounts.empty()) {
+    std::cout << fmt::format("The status page: http://{}:{}/ (no accounts: read-only)\n", host,
+                             config.http.port);
+    return;
+  }
+  std::cout << fmt::format(
+      "The web console: http://{}:{}/ from this machine. Log in as (passwords for this run "
+      "only):\n",
+      host, config.http.port);
+  for (const DemoAccount& account : accounts) {
+    const std::string_view may = account.role == Role::admin ? "every change, scans, raw frames"
+                                 : account.role == Role::operator_ ? "zero, filter"
+                                                                   : "reads only";
+    std::cout << fmt::format("  {:<9} {}   ({})\n", account.name, account.password, may);
+  }
+}
+
 void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommandsList demos,
-                     bool map) {
+                     bool map, const std::vector<DemoAccount>& accounts) {
   if (map) std::cout << export_markdown(gateway.unit_maps());
   const auto port = gateway.port();
   const auto host = config.server.listen == "0.0.0.0" ? std::string("127.0.0.1") : config.server.listen;
@@ -142,6 +170,7 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommand
       config.server.control_socket);
   for (const BusConfig& b : config.buses)
     std::cout << fmt::format("  bus {}: --port {} --protocol {}\n", b.name, b.port, b.protocol);
+  print_console_help(config, accounts);
   if (!map) std::cout << "The register maps: tiltgate demo --map (or docs/default-maps.md).\n";
   std::cout << "Ctrl-C stops.\n";
   std::cout.flush();
@@ -190,6 +219,15 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
     return 1;
   }
   const Config& config = *demo;
+  std::vector<DemoAccount> accounts;
+  if (!config.http.users_file.empty()) {
+    auto made = make_demo_accounts(config.http.users_file);
+    if (!made) {
+      spdlog::critical("demo: the console's accounts: {}", made.error());
+      return 1;
+    }
+    accounts = std::move(*made);
+  }
   ServedGateway served(io, config, families);
   Gateway& gateway = served.gateway();
   if (auto started = gateway.start(); !started) {
@@ -197,7 +235,7 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
     return 1;
   }
   served.start_as_user();  // the demo stays the user it was started as
-  print_demo_help(config, gateway, demos, options.map);
+  print_demo_help(config, gateway, demos, options.map, accounts);
   run_until_signal(io, [&] {
     gateway.stop();
     for (auto& simulator : simulators) simulator->stop();
@@ -253,6 +291,9 @@ Subcommand add_demo(CLI::App& app, FamilyCommandsList commands) {
                    "where commissioning commands reach the demo's buses (--via-gateway) "
                    "(default: control.sock in the demo's temporary folder)");
   demo->add_flag("--map", options->map, "print every unit's register map before the Try lines");
+  demo->add_flag("--no-accounts", options->no_accounts,
+                 "serve the read-only status page, its API open to all, instead of the web "
+                 "console with three accounts made for this run");
   return {demo, [options, commands] { return demo_command(*options, commands); }};
 }
 

@@ -16,7 +16,7 @@ fi
 
 port=$(free_port)
 http_port=$(free_port)
-"$tiltgate" demo --port "$port" --http-port "$http_port" >"$dir/demo.out" 2>"$dir/demo.err" &
+"$tiltgate" demo --port "$port" --http-port "$http_port" --no-accounts >"$dir/demo.out" 2>"$dir/demo.err" &
 demo=$!
 pids+=($demo)
 for _ in $(seq 150); do

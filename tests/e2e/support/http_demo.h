@@ -18,7 +18,8 @@ struct HttpDemo {
   std::uint16_t port = free_tcp_port();
   std::uint16_t http_port = free_tcp_port();
   GatewayProcess process{
-      {"demo", "--port", std::to_string(port), "--http-port", std::to_string(http_port)},
+      {"demo", "--port", std::to_string(port), "--http-port", std::to_string(http_port),
+       "--no-accounts"},
       dir.path()};
 };
 
