@@ -11,6 +11,7 @@ itself and a plain Modbus TCP client (issue 54, item 8):
 - the README's "What a PLC reads": input registers, discrete inputs and holding registers are
   served over exactly the ranges it names (each range answers in one read, the next register
   is exception 02) on every unit of the demo;
+- the README's table of commands has a row for each command `tiltgate --help` lists;
 - the README's table of supported devices lists every `[[bus]] protocol` the gateway takes
   (as `tiltgate scan --help` lists them), Modbus TCP devices included.
 
@@ -95,6 +96,14 @@ def scenario(t):
     t.check("the README's table of supported devices lists every [[bus]] protocol the gateway "
             "takes (%s)" % ", ".join(sorted(taken)),
             len(taken) >= 4 and listed == taken, (sorted(listed), sorted(taken)))
+
+    # The README's table of commands against the gateway's own list of them.
+    top_help = subprocess.run([tiltgate, "--help"], capture_output=True, text=True).stdout
+    commands = set(re.findall(r"^  ([a-z]+) {2,}\S", top_help.split("Subcommands:")[-1], re.M))
+    described = set(re.findall(r"^\| `tiltgate ([a-z]+)", readme, re.M))
+    t.check("the README's table of commands has a row for every command of `tiltgate --help` "
+            "(%s)" % ", ".join(sorted(commands)),
+            len(commands) >= 10 and commands <= described, sorted(commands - described))
 
     port = processes.free_port()
     out_path = os.path.join(t.dir, "demo.out")
