@@ -91,7 +91,7 @@ TEST_CASE("a Dyna that answers late on every command gets a longer time-out") {
   CHECK(driver.state().counters.polls_ok >= 3);
 }
 
-TEST_CASE("a sensor late again within 10 minutes is not warned of twice; time-outs are debug") {
+TEST_CASE("a sensor late again within 10 minutes is not warned of twice, time-out changes are debug") {
   test::CapturedLog log(spdlog::level::debug);
   Bench bench([](SerialLineOptions& o) {
     o.timeout = 50ms;

@@ -27,7 +27,7 @@ TEST_CASE("recent failures: one old late reply is gone from the window after 10 
   CHECK(recent.of("boom")->late_replies == 0);
 }
 
-TEST_CASE("recent failures: counters set back to zero count anew; forget and keep_only drop sensors") {
+TEST_CASE("recent failures: counters set back to zero count anew, forget and keep_only drop sensors") {
   RecentFailures recent;
   recent.record("boom", t0, FailureCounts{5, 5, 0, 0, 0});
   recent.record("boom", t0 + 1s, FailureCounts{0, 0, 0, 0, 0});  // reset
