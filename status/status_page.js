@@ -153,10 +153,12 @@ async function resetCounters(kind, name, messageHost) {
   try {
     await api("POST", path, {});
     messageHost.textContent = "Counters of " + what + " reset.";
-    messageHost.className = "message ok";
+    messageHost.classList.remove("bad");
+    messageHost.classList.add("ok");
   } catch (e) {
     messageHost.textContent = "Could not reset the counters: " + e.message;
-    messageHost.className = "message bad";
+    messageHost.classList.remove("ok");
+    messageHost.classList.add("bad");
   }
 }
 
@@ -714,7 +716,7 @@ function renderScans() {
       '<h3></h3><div class="sub port"></div>' +
       '<div class="scroll bus-counters"></div>' +
       '<div class="row"><button class="button reset" type="button" data-needs="admin">Reset counters</button>' +
-      '<div class="message counters-message" role="status"></div></div>' +
+      '<div class="counters-message" role="status"></div></div>' +
       '<div class="row gap-above">' +
       '<label class="field">From address <input class="from" type="number" min="0" max="255" value="1" inputmode="numeric"></label>' +
       '<label class="field">To address <input class="to" type="number" min="0" max="255" value="32" inputmode="numeric"></label>' +

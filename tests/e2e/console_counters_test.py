@@ -9,11 +9,12 @@ trail show; an operator's reset is refused (403) and recorded.
 Usage: /usr/bin/python3 console_counters_test.py path/to/tiltgate
 """
 import os
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sparkplug"))
-from console_api_test import Client, add_users, start_gateway, write_config  # noqa: E402
+from console_api_test import PASSWORDS, Client, add_users, start_gateway, write_config  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.plant import Simulator  # noqa: E402
 from spb_e2e import processes  # noqa: E402
@@ -111,11 +112,19 @@ def scenario(t):
             line1["polls"] < polls_before and boom_reset["polls_ok"] < boom_after["polls_ok"],
             (polls_before, line1, boom_after, boom_reset))
 
+    page = subprocess.run(
+        [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support",
+                                      "chromium_page.py"),
+         "counters", "http://127.0.0.1:%d/" % http_port, "bob:" + PASSWORDS["bob"], "ghost"],
+        capture_output=True, text=True, timeout=120)
+    t.check("in Chromium: the failing card red for the last 10 min, each bus's counters, a "
+            "confirmed reset", page.returncode == 0, page.stdout + page.stderr)
+
     status, body = bob.request("GET", "/api/audit?door=console&setting=counters")
     records = body.get("records", []) if status == 200 else []
     resets = [(r["who"], r["sensor"], r["result"]) for r in records]
     t.check("each reset and the refused one is an audit record, door console, with who",
-            ("bob", "ghost", "ok") in resets and ("bob", "line1", "ok") in resets and
+            ("bob", "ghost", "ok") in resets and resets.count(("bob", "line1", "ok")) == 2 and
             ("alice", "ghost", "refused: resetting counters is for the admin role") in resets,
             resets)
 

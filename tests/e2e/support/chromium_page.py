@@ -10,6 +10,9 @@ driver package is needed.
         the console test (tests/e2e/console_page_test.sh): OPERATOR and VIEWER are NAME:PASSWORD
     chromium_page.py confirm URL ADMIN   the apply's confirmation window in the Configuration tab
         (tests/e2e/console_confirm_page_test.sh): a countdown, then Confirm
+    chromium_page.py counters URL ADMIN FAILING   the counters in the page
+        (tests/e2e/console_counters_test.py): FAILING, a sensor nobody answers for, is red with
+        errors in the last 10 min; each bus's table on the Buses tab; its reset, confirmed
     chromium_page.py tabs URL ADMIN OUT_PREFIX SENSOR   a screenshot of each console tab,
         OUT_PREFIX-TAB.png (1280x800), OUT_PREFIX-phone[-sensor].png (390x844)
 """
@@ -455,6 +458,46 @@ def confirm_check(url, admin):
     return 0
 
 
+def counters_check(url, admin, failing):
+    failures = []
+    browser = Chromium()
+    try:
+        browser.open(url, 1280, 800)
+        if log_in(browser, admin) != "admin":
+            raise SystemExit("FAIL: the admin could not log in")
+        errors = '.card[data-name="%s"] .errors' % failing
+        seen = browser.wait_for(
+            "(() => { const e = document.querySelector(%s);"
+            " return e && e.textContent.includes('in 10 min') && e.className; })()" %
+            json.dumps(errors), 20)
+        if not seen or "bad" not in seen:
+            failures.append("the failing sensor's card does not show its errors of the last "
+                            "10 min in red: %r" % browser.evaluate(
+                                "document.querySelector(%s)?.outerHTML" % json.dumps(errors)))
+        browser.click('.tab[data-tab="buses"]')
+        rows = browser.wait_for(
+            "(() => { const t = document.querySelector('#scans .bus-counters table.counters');"
+            " return t ? [...t.querySelectorAll('tbody tr td:first-child')].map(c => c.textContent)"
+            " : null; })()", 10)
+        if not rows or "time-outs" not in rows or "polls" not in rows:
+            failures.append("the Buses tab has no counters table: %r" % rows)
+        browser.click("#scans .reset")
+        if not browser.wait_for("!document.getElementById('confirm').hidden", 5):
+            failures.append("Reset counters asks for no confirmation")
+        asked = browser.evaluate("document.getElementById('confirm-text').textContent")
+        browser.click("#confirm-ok")
+        said = browser.wait_for(
+            "document.querySelector('#scans .counters-message').textContent", 10)
+        if not said or "reset" not in said:
+            failures.append("the reset says nothing: asked %r, said %r" % (asked, said))
+        print("counters page: asked %r, said %r" % (asked, said))
+    finally:
+        browser.close()
+    for failure in failures:
+        print("FAIL: " + failure)
+    return 1 if failures else 0
+
+
 def tab_screenshots(url, admin, prefix, sensor):
     """The login form, then each tab in use, as the docs show them."""
     browser = Chromium(1280, 800)
@@ -530,6 +573,8 @@ def main(argv):
         return console_check(argv[2], argv[3], argv[4], argv[5], argv[6])
     if len(argv) >= 4 and argv[1] == "confirm":
         return confirm_check(argv[2], argv[3])
+    if len(argv) >= 5 and argv[1] == "counters":
+        return counters_check(argv[2], argv[3], argv[4])
     if len(argv) >= 6 and argv[1] == "tabs":
         return tab_screenshots(argv[2], argv[3], argv[4], argv[5])
     print(__doc__, file=sys.stderr)
