@@ -50,12 +50,21 @@ Expected<std::string, std::string> new_password(const UserOptions& options) {
   return password;
 }
 
-// `add` starts a file when there is none; every other action needs it.
+// `add` starts a file when there is none; every other action needs it. A file with a malformed
+// line is refused, for `list` too: it names the lines to fix (docs/web-console.md, "The users
+// file").
 Expected<UsersFile, std::string> file_for(const UserOptions& options) {
   std::error_code ec;
   if (options.action == "add" && !std::filesystem::exists(options.users_file, ec) && !ec)
     return UsersFile{};
-  return UsersFile::load(options.users_file);
+  auto file = UsersFile::load(options.users_file);
+  // Saving rewrites the file from its accounts: a malformed line would be lost without a word,
+  // and it may be an account someone mistyped. Fixing it is a hand edit.
+  if (file && !file->skipped().empty())
+    return Unexpected(fmt::format("{}\n{}: fix or delete the line(s) above by hand first: "
+                                  "`tiltgate user` rewrites the whole file and would drop them",
+                                  fmt::join(file->skipped(), "\n"), options.users_file));
+  return file;
 }
 
 int add(UsersFile& file, const UserOptions& options) {

@@ -2,6 +2,8 @@
 // as NAME:ROLE:HASH, with `#` comments and blank lines, which an edit keeps where they are.
 // No password is ever in it, nor in any error or log line made from it: only argon2id hashes
 // (accounts/password_hash.h), and a line that is not one is reported by its number alone.
+// A malformed line is skipped, not the whole file (docs/web-console.md, "The users file"): the
+// other accounts keep working, and the account it names, if it names one, has no login.
 #pragma once
 
 #include <optional>
@@ -28,10 +30,17 @@ class UsersFile {
  public:
   UsersFile() = default;  // no account, as `tiltgate user add` starts a file
 
-  // Errors say file:line and what is wrong, one a line. A missing file is an error.
+  // The error is a file that cannot be read (a missing one too); its malformed lines are
+  // skipped(), not an error.
   static Expected<UsersFile, std::string> load(const std::string& path);
   // The accounts of `text`, read as load() reads the file `path` (which only names it in errors).
-  static Expected<UsersFile, std::string> parse(std::string_view text, const std::string& path);
+  static UsersFile parse(std::string_view text, const std::string& path);
+
+  // The lines that give no account, each "FILE:LINE: what is wrong", in the file's order. The
+  // name such a line gives, when it gives a readable one, is no account either, even where
+  // another line gives it too: a login must not depend on which of two lines was meant.
+  // `tiltgate user` refuses to rewrite a file that has any (text() would drop them).
+  const std::vector<std::string>& skipped() const { return skipped_; }
 
   const std::vector<UserAccount>& accounts() const { return accounts_; }
   const UserAccount* find(std::string_view name) const;
@@ -64,6 +73,7 @@ class UsersFile {
 
   std::vector<UserAccount> accounts_;
   std::vector<Line> lines_;
+  std::vector<std::string> skipped_;
 };
 
 }  // namespace tiltgate

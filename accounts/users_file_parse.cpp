@@ -1,10 +1,11 @@
-// Reading the users file: each line an account, a comment or blank; every wrong line reported
-// at its number, without its text (it may hold a password typed in by hand).
+// Reading the users file: each line an account, a comment or blank; every wrong line skipped and
+// reported at its number, without its text (it may hold a password typed in by hand).
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fmt/format.h>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "accounts/users_file.h"
@@ -67,9 +68,10 @@ bool valid_user_name(std::string_view name) {
          std::all_of(name.begin(), name.end(), name_character);
 }
 
-Expected<UsersFile, std::string> UsersFile::parse(std::string_view text, const std::string& path) {
+UsersFile UsersFile::parse(std::string_view text, const std::string& path) {
   UsersFile file;
-  std::vector<std::string> errors;
+  // The names a skipped line gives: none of them is an account, whatever the other lines say.
+  std::set<std::string, std::less<>> refused;
   std::size_t number = 0;
   while (!text.empty()) {
     const std::size_t end = text.find('\n');
@@ -82,17 +84,28 @@ Expected<UsersFile, std::string> UsersFile::parse(std::string_view text, const s
       continue;
     }
     auto account = parse_account(line);
-    if (!account) {
-      errors.push_back(fmt::format("{}:{}: {}", path, number, account.error()));
-    } else if (file.find(account->name) != nullptr) {
-      errors.push_back(fmt::format("{}:{}: {}: a second account of that name", path, number,
-                                   account->name));
-    } else {
+    std::string problem;
+    if (!account)
+      problem = account.error();
+    else if (file.find(account->name) != nullptr || refused.contains(account->name))
+      problem = fmt::format("{}: a second account of that name", account->name);
+    if (problem.empty()) {
       file.lines_.push_back({true, account->name});
       file.accounts_.push_back(std::move(*account));
+      continue;
     }
+    const std::string_view name = line.substr(0, line.find(':'));
+    const bool named = line.find(':') != std::string_view::npos && valid_user_name(name);
+    if (named) refused.emplace(name);
+    file.skipped_.push_back(fmt::format("{}:{}: {}{}", path, number, problem,
+                                        named ? fmt::format(" (no login for {} until the line is "
+                                                            "fixed or removed)",
+                                                            name)
+                                              : std::string()));
   }
-  if (!errors.empty()) return Unexpected(fmt::format("{}", fmt::join(errors, "\n")));
+  std::erase_if(file.accounts_, [&](const UserAccount& a) { return refused.contains(a.name); });
+  std::erase_if(file.lines_,
+                [&](const Line& l) { return l.is_account && refused.contains(l.text); });
   return file;
 }
 

@@ -41,6 +41,18 @@ Expected<int, std::string> open_and_lock(const std::string& port) {
 
 }  // namespace
 
+std::string device_server_failure_text(const std::string& port, const PortFailure& failure) {
+  const auto url = parse_port(port);
+  const std::string server = url ? url->endpoint() : port;
+  if (failure.kind == PortFailure::Kind::other)
+    return fmt::format("cannot connect to the device server at {} ({})", server, failure.why);
+  return fmt::format(
+      "the device server at {} {} the connection ({}): the port is probably held by a running "
+      "gateway or another client; stop it, or run the command through the gateway's control "
+      "socket (--via-gateway)",
+      server, failure.kind == PortFailure::Kind::refused ? "refused" : "closed", failure.why);
+}
+
 CommissionBus::CommissionBus(BusConfig config, FamilyList families, int lock_fd)
     : config_(std::move(config)), families_(families), lock_fd_(lock_fd) {}
 
@@ -168,6 +180,12 @@ std::string CommissionBus::no_reply_message(const CommissionedSensor& sensor) co
                        "(the gateway's log says why: a missing or unplugged adapter, a device "
                        "server out of reach)",
                        sensor.config.address, served_->bus().config.name, config_.port);
+  // Over a device server the command's own connection may be what failed, not the sensor:
+  // a server turns a second client of a port away (docs/operations.md, "Serial device
+  // servers"), and what it said is the answer, not a wiring hint.
+  if (serial_ && !serial_->is_open())
+    if (const std::optional<PortFailure> failure = serial_->connection_failure())
+      return device_server_failure_text(config_.port, *failure);
   return fmt::format(
       "no reply from address {} on {} at {} baud ({})\n"
       "hint: check the baud rate (--baud), the address (--address), the protocol (--protocol) "

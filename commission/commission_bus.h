@@ -33,6 +33,10 @@ struct CommissionedSensor {
   ModelSource model_source = ModelSource::configuration;
 };
 
+// What a command says when its own connection to a device server (`port`, a URL) failed: the
+// server turned it away (the port held by another client: the cure) or could not be reached.
+std::string device_server_failure_text(const std::string& port, const PortFailure& failure);
+
 class CommissionBus {
  public:
   // Why the bus cannot be used, for the user; 2 when the options were wrong (no driver for a

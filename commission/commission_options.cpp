@@ -193,6 +193,7 @@ Expected<CommissionTarget, UsageErrors> from_config_file(const BusOptions& o,
                                               o.config, bus_name, fmt::join(names, ", "))}};
   }
   target.bus = *bus;
+  target.configured = configured_units(config, bus_name);
   if (!o.sensor.empty()) return target;
 
   UsageErrors errors;

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "commission/configured_units.h"
 #include "config/config.h"
 #include "driver/expected.h"
 #include "driver/family.h"
@@ -69,6 +70,9 @@ struct CommissionTarget {
   // The sensors get no driver: their family's needs a file the command line left out
   // (BusOptions::driver_optional). Each is then its address alone.
   bool without_drivers = false;
+  // What the configuration file holds besides the bus (from --config; empty without one): what
+  // a scan proposes to add must not be there already.
+  ConfiguredUnits configured;
 };
 
 // Each message names the option (or the configuration file's place) it is about.

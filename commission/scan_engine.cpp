@@ -225,8 +225,9 @@ boost::asio::awaitable<int> scan_bus(CommissionBus& bus, const PreparedScan& sca
   for (const FoundSensor& sensor : found) report(DeviceFoundEvent{sensor});
   finished.took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started);
   finished.probes = probes;
-  finished.configuration = scan_config_text(bus.config(), found, scan.sensor_keys);
-  finished.tables = sensor_tables(bus.config(), found, scan.sensor_keys);
+  finished.configuration =
+      scan_config_text(bus.config(), found, scan.sensor_keys, scan.bus.configured);
+  finished.tables = sensor_tables(bus.config(), found, scan.sensor_keys, scan.bus.configured);
   finished.found = std::move(found);
   const bool any = std::any_of(finished.found.begin(), finished.found.end(),
                                [](const FoundSensor& s) { return !s.collision; });

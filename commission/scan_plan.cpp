@@ -193,19 +193,45 @@ std::string written_bus_name(const BusConfig& bus) {
 }  // namespace
 
 std::vector<SensorTable> sensor_tables(const BusConfig& bus, const std::vector<FoundSensor>& found,
-                                       const std::vector<SensorKeyValue>& sensor_keys) {
+                                       const std::vector<SensorKeyValue>& sensor_keys,
+                                       const ConfiguredUnits& configured) {
   const std::uint32_t baud = configured_baud(bus, found);
   const std::string bus_name = written_bus_name(bus);
+  const auto listed = [&](const FoundSensor& s) { return !s.collision && s.baud == baud; };
+  const auto configured_as = [&](const FoundSensor& s) {
+    const auto at = configured.on_bus.find(s.address);
+    return at == configured.on_bus.end() ? std::string() : at->second;
+  };
+  const std::size_t new_sensors = std::count_if(found.begin(), found.end(), [&](const auto& s) {
+    return listed(s) && configured_as(s).empty();
+  });
+  const std::vector<std::uint8_t> unit_ids = free_unit_ids(configured.unit_ids, new_sensors);
+  std::size_t next_unit_id = 0;
   std::vector<SensorTable> tables;
-  int unit_id = 1;
   for (const FoundSensor& s : found) {
-    if (s.collision || s.baud != baud) continue;
+    if (!listed(s)) continue;
+    SensorTable table;
+    table.address = s.address;
+    table.model = s.model;
+    table.serial = s.serial;
+    table.firmware = s.firmware;
+    table.configured_as = configured_as(s);
+    if (!table.configured_as.empty()) {
+      tables.push_back(std::move(table));
+      continue;
+    }
     std::string text = fmt::format("[[sensor]]\nname = {}    # edit: what it measures\n",
                                    toml_string(fmt::format("sensor_{}", s.address)));
     text += fmt::format("bus = {}\n", toml_string(bus_name));
     if (!s.model.empty()) text += fmt::format("model = {}\n", toml_string(s.model));
-    text += fmt::format("address = {}\nunit_id = {}    # edit: the PLC's unit id for it\n",
-                        s.address, unit_id++);
+    text += fmt::format("address = {}\n", s.address);
+    if (next_unit_id < unit_ids.size()) {
+      table.proposed_unit_id = unit_ids[next_unit_id++];
+      text += fmt::format("unit_id = {}    # edit: the PLC's unit id for it\n",
+                          table.proposed_unit_id);
+    } else {
+      text += "# unit_id: none of 1..247 is free in the configuration; free one, then give it\n";
+    }
     for (const SensorKeyValue& key : sensor_keys)
       text += fmt::format("{} = {}\n", key.key, toml_string(key.value));
     // The gateway serves this sensor only while this serial answers at its address.
@@ -214,13 +240,15 @@ std::vector<SensorTable> sensor_tables(const BusConfig& bus, const std::vector<F
                           or_dash(s.firmware));
     else if (!s.firmware.empty())
       text += fmt::format("# serial -, firmware {}\n", s.firmware);
-    tables.push_back({s.address, s.model, s.serial, s.firmware, std::move(text)});
+    table.text = std::move(text);
+    tables.push_back(std::move(table));
   }
   return tables;
 }
 
 std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor>& found,
-                             const std::vector<SensorKeyValue>& sensor_keys) {
+                             const std::vector<SensorKeyValue>& sensor_keys,
+                             const ConfiguredUnits& configured) {
   const std::uint32_t baud = configured_baud(bus, found);
   std::string text =
       "# Written by `tiltgate scan`: the sensors that answered on this bus.\n"
@@ -235,8 +263,13 @@ std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor
     text += fmt::format("parity = {}\nstop_bits = {}\n", toml_string(parity_name(*bus.framing)),
                         stop_bits_of(*bus.framing));
   if (bus.master_address != 0) text += fmt::format("master_address = {}\n", bus.master_address);
-  for (const SensorTable& table : sensor_tables(bus, found, sensor_keys))
-    text += "\n" + table.text;
+  for (const SensorTable& table : sensor_tables(bus, found, sensor_keys, configured)) {
+    if (table.configured_as.empty())
+      text += "\n" + table.text;
+    else
+      text += fmt::format("\n# Address {}: already configured as {}: not added again.\n",
+                          table.address, toml_string(table.configured_as));
+  }
   for (const FoundSensor& s : found) {
     if (s.collision)
       text += fmt::format(

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "commission/configured_units.h"
 #include "config/config.h"
 #include "driver/expected.h"
 #include "driver/family.h"
@@ -96,25 +97,33 @@ std::string progress_line(std::size_t done, std::size_t total, std::uint32_t bau
                           const std::vector<FoundSensor>& found, std::size_t width = 79);
 
 // The configuration `--config-out` writes: one [[bus]] as scanned (at the rate where the first
-// sensor was found), one [[sensor]] per sensor found at that rate with unit ids 1..n, named
-// sensor_ADDRESS, with comments on what to edit. `sensor_keys` are the family's keys every
-// sensor must give (a device profile), with the values the scan was given. Sensors found at
-// another rate, and collisions, are listed in comments.
+// sensor was found), one [[sensor]] per sensor found at that rate that `configured` has not
+// (sensor_tables), named sensor_ADDRESS, with comments on what to edit. `sensor_keys` are the
+// family's keys every sensor must give (a device profile), with the values the scan was given.
+// Sensors found at another rate, collisions and sensors configured already are listed in
+// comments.
 struct SensorKeyValue {
   std::string key;
   std::string value;
 };
 std::string scan_config_text(const BusConfig& bus, const std::vector<FoundSensor>& found,
-                             const std::vector<SensorKeyValue>& sensor_keys);
+                             const std::vector<SensorKeyValue>& sensor_keys,
+                             const ConfiguredUnits& configured = {});
 
-// The [[sensor]] tables of that configuration, one per sensor it adds, each with what it was
-// made from: what the web console offers to add to the served configuration.
+// The sensors found at that rate, each with what it was made from: what the web console offers
+// to add to the served configuration. A sensor whose address `configured` has on the bus is
+// `configured_as` that sensor's name, with no table (it is there already). Each other gets a
+// [[sensor]] table with the lowest unit id that no configured unit has and no earlier table of
+// this scan got (free_unit_ids): it can be added as it is, and `tiltgate check` takes it.
 struct SensorTable {
   std::uint32_t address = 0;
   std::string model, serial, firmware;
-  std::string text;  // the table's TOML, "[[sensor]]" to its last key
+  std::string text;  // the table's TOML, "[[sensor]]" to its last key; empty when configured
+  std::string configured_as;          // the configured sensor at this address; empty: none
+  std::uint8_t proposed_unit_id = 0;  // the table's unit id; 0: none (configured, or none free)
 };
 std::vector<SensorTable> sensor_tables(const BusConfig& bus, const std::vector<FoundSensor>& found,
-                                       const std::vector<SensorKeyValue>& sensor_keys);
+                                       const std::vector<SensorKeyValue>& sensor_keys,
+                                       const ConfiguredUnits& configured = {});
 
 }  // namespace tiltgate

@@ -46,13 +46,22 @@ RepeatedSensor read_repeated_sensor(const JsonObjectReader& r) {
 }
 
 json sensor_table_json(const SensorTable& t) {
-  return json{{"address", t.address},   {"model", t.model}, {"serial", t.serial},
-              {"firmware", t.firmware}, {"text", t.text}};
+  return json{{"address", t.address},         {"model", t.model},
+              {"serial", t.serial},           {"firmware", t.firmware},
+              {"text", t.text},               {"configured_as", t.configured_as},
+              {"proposed_unit_id", t.proposed_unit_id}};
 }
 
 SensorTable read_sensor_table(const JsonObjectReader& r) {
-  return {r.integer<std::uint32_t>("address"), r.string("model"), r.string("serial"),
-          r.string("firmware"), r.string("text")};
+  SensorTable t;
+  t.address = r.integer<std::uint32_t>("address");
+  t.model = r.string("model");
+  t.serial = r.string("serial");
+  t.firmware = r.string("firmware");
+  t.text = r.string("text");
+  t.configured_as = r.string("configured_as");
+  t.proposed_unit_id = r.integer<std::uint8_t>("proposed_unit_id");
+  return t;
 }
 
 }  // namespace

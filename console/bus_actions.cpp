@@ -136,11 +136,16 @@ json BusActions::scan_state(const std::string& bus) const {
   const std::lock_guard lock(scan.mutex);
   json sensors = json::array();
   for (const SensorTable& sensor : scan.found)
-    sensors.push_back({{"address", sensor.address},
-                       {"model", sensor.model},
-                       {"serial", sensor.serial},
-                       {"firmware", sensor.firmware},
-                       {"config", sensor.text}});
+    sensors.push_back(
+        {{"address", sensor.address},
+         {"model", sensor.model},
+         {"serial", sensor.serial},
+         {"firmware", sensor.firmware},
+         {"config", sensor.text},
+         {"configured_as",
+          sensor.configured_as.empty() ? json(nullptr) : json(sensor.configured_as)},
+         {"proposed_unit_id",
+          sensor.proposed_unit_id == 0 ? json(nullptr) : json(sensor.proposed_unit_id)}});
   return json{{"running", scan.running},
               {"progress", scan.progress},
               {"output", scan.output},

@@ -90,8 +90,14 @@ std::shared_ptr<const UsersFile> ConsoleHandler::users() {
   } else {
     users_error_.clear();
     users_ = std::make_shared<const UsersFile>(std::move(*loaded));
-    spdlog::info("web console: {} account(s) from {}", users_->accounts().size(),
-                 visible_text(config_.users_file));
+    // Said once per change of the file (this runs only then), never per request.
+    for (const std::string& skipped : users_->skipped())
+      spdlog::error("web console: line skipped: {}", visible_text(skipped));
+    spdlog::info("web console: {} account(s) from {}{}", users_->accounts().size(),
+                 visible_text(config_.users_file),
+                 users_->skipped().empty()
+                     ? std::string()
+                     : fmt::format(", {} malformed line(s) skipped", users_->skipped().size()));
   }
   std::size_t ended = 0;
   {
@@ -100,7 +106,7 @@ std::shared_ptr<const UsersFile> ConsoleHandler::users() {
   }
   if (ended > 0)
     spdlog::info("web console: {} session(s) ended: their account was removed, or its role or "
-                 "password changed",
+                 "password changed, or its line is malformed",
                  ended);
   return users_;
 }

@@ -34,6 +34,8 @@ constexpr int kKeepaliveIntervalSeconds = 5;
 constexpr int kKeepaliveProbes = 3;
 constexpr unsigned kUserTimeoutMs = 20000;
 
+constexpr std::string_view kServerClosed = "the server closed the connection";
+
 std::string errno_text(int error) {
   return std::error_code(error, std::generic_category()).message();
 }
@@ -92,8 +94,21 @@ void NetworkPort::close_socket() {
   telnet_.reset();
 }
 
+void NetworkPort::note_failure(const std::string& why) {
+  // The texts this port and the line make of those errors (errno_text, read_negotiation,
+  // discard_input; a read's end of file).
+  PortFailure::Kind kind = PortFailure::Kind::other;
+  if (why == errno_text(ECONNREFUSED))
+    kind = PortFailure::Kind::refused;
+  else if (why == errno_text(ECONNRESET) || why == errno_text(EPIPE) || why == kServerClosed ||
+           why == error_code(asio::error::eof).message())
+    kind = PortFailure::Kind::closed;
+  failure_ = PortFailure{why, kind};
+}
+
 void NetworkPort::lose(const std::string& why) {
   close_socket();
+  note_failure(why);
   // Stopped, or connecting already: the connect under way goes on.
   if (!states_.on(NetworkPortEvent::lost)) return;
   spdlog::warn("{}: connection to {} lost ({}), reconnecting", options_.name,
@@ -118,6 +133,7 @@ asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::mil
     }
     if (connected) break;
     close_socket();
+    note_failure(connected.error());
     // The outage is warned of once: at the first connect's failure, or when the line lost it.
     const bool first_failure = states_.opening();
     states_.on(NetworkPortEvent::attempt_failed);
@@ -132,6 +148,7 @@ asio::awaitable<void> NetworkPort::keep_connecting(Alive alive, std::chrono::mil
     reopen_delay_ = std::min(reopen_delay_ * 2, options_.reopen_max);
   }
   states_.on(NetworkPortEvent::connected);
+  failure_.reset();
   reopen_delay_ = options_.reopen_min;
   ++generation_;
   if (is_telnet()) {
@@ -246,7 +263,7 @@ asio::awaitable<Expected<Done, std::string>> NetworkPort::read_negotiation(Alive
   const std::size_t received = co_await stream_.async_read_some(
       asio::buffer(buffer), asio::redirect_error(asio::use_awaitable, ec));
   if (alive.expired()) co_return Unexpected(std::string("stopped"));
-  if (ec == asio::error::eof) co_return Unexpected(std::string("the server closed the connection"));
+  if (ec == asio::error::eof) co_return Unexpected(std::string(kServerClosed));
   if (ec) co_return Unexpected(ec.message());
   // Data bytes before the port is set (a sensor's chatter at the old rate) mean nothing.
   (void)incoming(std::span(buffer.data(), received));
@@ -308,7 +325,7 @@ Expected<Done, std::string> NetworkPort::discard_input() {
       (void)incoming(std::span(buffer.data(), std::size_t(received)));
       continue;
     }
-    if (received == 0) return Unexpected(std::string("the server closed the connection"));
+    if (received == 0) return Unexpected(std::string(kServerClosed));
     if (errno == EAGAIN || errno == EWOULDBLOCK) return Done{};
     if (errno != EINTR) return Unexpected(errno_text(errno));
   }

@@ -69,6 +69,9 @@ class NetworkPort final : public LinePort {
 
   bool is_open() const override { return states_.is_open(); }
   bool opening() const override { return states_.opening(); }
+  std::optional<PortFailure> failure() const override {
+    return states_.is_open() ? std::nullopt : failure_;
+  }
   bool stopped() const override { return states_.stopped(); }
   std::uint64_t generation() const override { return generation_; }
   boost::asio::posix::stream_descriptor& stream() override { return stream_; }
@@ -117,6 +120,10 @@ class NetworkPort final : public LinePort {
   NetworkPortStates states_;  // closed, opening, reconnecting, open, stopped
   std::uint64_t generation_ = 0;
   int fd_ = -1;  // the socket's, for TCP_INFO; -1 while closed
+  std::optional<PortFailure> failure_;  // the latest failed connect or lost connection
+  // Records `why` as the latest failure, and whether it says the server refused, closed or
+  // reset the connection.
+  void note_failure(const std::string& why);
   // The RFC 2217 conversation of the connection being made or open (rfc2217:// only).
   std::optional<Rfc2217Session> telnet_;
   // Lets handlers and the connect coroutine that outlive the port see that it is gone.

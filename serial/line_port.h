@@ -22,6 +22,15 @@ namespace tiltgate {
 
 class DeliveryProbe;
 
+// Why a port that is not open is not (a device server's connection that failed or was lost).
+struct PortFailure {
+  // How the server turned the connection away, if it did: it refused it, or closed or reset it
+  // on its own (a serial device server does so to a second client of a port another one holds).
+  enum class Kind { other, refused, closed };
+  std::string why;  // as the system or the server said it
+  Kind kind = Kind::other;
+};
+
 class LinePort {
  public:
   virtual ~LinePort() = default;
@@ -39,6 +48,9 @@ class LinePort {
   // The first open is under way and may still succeed soon (a connection being made): an
   // exchange waits for it rather than finding the line closed. False on a tty.
   virtual bool opening() const { return false; }
+  // Why the latest connect failed, or the connection was lost, while the port is not open;
+  // none while it is open, before any failure, and on a tty (which logs its own reasons).
+  virtual std::optional<PortFailure> failure() const { return std::nullopt; }
   virtual bool stopped() const = 0;
   // Successful opens so far.
   virtual std::uint64_t generation() const = 0;

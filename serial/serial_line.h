@@ -146,6 +146,8 @@ class SerialLine final : public Line {
   bool is_open() const override { return port_->is_open(); }
   // The port's first open is under way (LinePort::opening): transact() waits for it.
   bool opening() const { return port_->opening(); }
+  // Why the port is not open, where it knows (LinePort::failure: a device server's).
+  std::optional<PortFailure> connection_failure() const { return port_->failure(); }
   int retries() const override { return options_.retries; }
   const std::string& name() const override { return options_.name; }
   const LineStats& stats() const override { return stats_; }

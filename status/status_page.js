@@ -819,6 +819,14 @@ function renderScan(bus, state) {
     const row = document.createElement("tr");
     row.innerHTML = '<td class="num"></td><td></td><td></td><td></td><td></td>';
     [f.address, f.model, f.serial, f.firmware].forEach((v, i) => { row.children[i].textContent = valueText(v); });
+    // The gateway marks a device the served configuration has (docs/web-console.md, "The API"):
+    // nothing to add.
+    if (f.configured_as) {
+      row.children[4].textContent = "already configured as " + f.configured_as;
+      row.children[4].className = "configured";
+      tbody.appendChild(row);
+      continue;
+    }
     const add = document.createElement("button");
     add.type = "button";
     add.className = "button";

@@ -5,7 +5,7 @@ docs/web-console.md, "When a session ends"): build/tiltgate run with accounts ma
 `tiltgate user` (remove, passwd, role) and by editing the users file in place as an editor
 does. The changed account's session gets 401 at its very next request (no wait: the file is
 looked at before every /api/ request is served); everyone else's goes on; the old password
-opens nothing.
+opens nothing. A malformed line is skipped (issue 54, defect 7): the others go on.
 
 Usage: /usr/bin/python3 console_sessions_test.py path/to/tiltgate
 """
@@ -107,17 +107,43 @@ def scenario(t):
     status, _ = cut.request("GET", "/api/sensors")
     t.check("after cut's line is deleted from the file in place: 401", status == 401, status)
 
+    # A malformed line (issue 54, defect 7) is skipped, said in the log at its file:line once
+    # per change of the file; every other account goes on.
     edit_in_place(users_file, lambda text: text + "not an account line\n")
+    lines = open(users_file).read().count("\n")
     status, _ = keeper.request("GET", "/api/sensors")
-    t.check("a users file that no longer reads ends every session: 401", status == 401, status)
+    t.check("a malformed line appended to the users file: keeper's session still serves",
+            status == 200, status)
+    status, _ = Client(http_port).login("newpass", "newpass-pass-33")
+    t.check("  and another account logs in", status == 200, status)
+    for _ in range(3):
+        keeper.request("GET", "/api/sensors")
+    log = open(os.path.join(t.dir, "gateway.log")).read()
+    said = "%s:%d: expected NAME:ROLE:HASH" % (users_file, lines)
+    t.check("  the log names the line, once for that change of the file",
+            log.count(said) == 1 and "line skipped" in log, log[-1500:])
+    byhand_login = Client(http_port)
+    byhand_login.login("byhand", ACCOUNTS["byhand"][1])
+    t.check("  byhand logs in again", byhand_login.request("GET", "/api/sensors")[0] == 200)
+    edit_in_place(users_file, lambda text: text.replace("byhand:operator:", "byhand:boss:"))
+    status, _ = byhand_login.request("GET", "/api/sensors")
+    t.check("an account whose line turns malformed (role boss): its session ends, 401",
+            status == 401, status)
+    status, _ = Client(http_port).login("byhand", ACCOUNTS["byhand"][1])
+    t.check("  and it cannot log in: 401", status == 401, status)
+    status, _ = keeper.request("GET", "/api/sensors")
+    t.check("  while keeper's session goes on", status == 200, status)
+
+    os.rename(users_file, users_file + ".away")
+    status, _ = keeper.request("GET", "/api/sensors")
+    t.check("a users file that cannot be read ends every session: 401", status == 401, status)
     status, body = Client(http_port).login("keeper", ACCOUNTS["keeper"][1])
     t.check("  and a login says no accounts can be read: 503", status == 503, (status, body))
-    edit_in_place(users_file, lambda text: text.replace("not an account line\n", ""))
+    os.rename(users_file + ".away", users_file)
     status, _ = keeper.login("keeper", ACCOUNTS["keeper"][1])
-    t.check("  once mended, logins work again", status == 200, status)
+    t.check("  once back, logins work again", status == 200, status)
     status, _ = keeper.request("GET", "/api/sensors")
     t.check("  and the session serves", status == 200, status)
-
 
 if __name__ == "__main__":
     sys.exit(Checks("console-sessions").run(scenario))

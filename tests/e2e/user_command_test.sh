@@ -118,6 +118,12 @@ check "  still mode 0640" test "$(stat -c %a "$users")" = 640
 echo "bob:admin:bob-Secret-2" >>"$users"
 check "a line with a password in clear is an error at its line (1)" exits 1 user list
 check "  without repeating it" bash -c "'$tiltgate' user list --users-file '$users' 2>&1 | grep -v Secret | grep -q 'users:[0-9]*: bob: the third field is not an argon2id hash'"
+# `tiltgate user` rewrites the whole file: on a file with a malformed line it refuses, naming the
+# line, rather than drop it (issue 54, defect 7).
+before=$(cat "$users")
+check "an edit of a file with a malformed line is refused (1)" exits 1 user remove dave
+check "  naming the line and saying to fix it by hand" bash -c "'$tiltgate' user remove dave --users-file '$users' 2>&1 | grep -v Secret | grep -q 'users:[0-9]*: bob: the third field.*' && '$tiltgate' user role dave --role admin --users-file '$users' 2>&1 | grep -q 'fix or delete the line(s) above by hand'"
+check "  and the file is as it was" test "$(cat "$users")" = "$before"
 
 echo "$passes passed, $failures failed"
 [ "$failures" = 0 ]

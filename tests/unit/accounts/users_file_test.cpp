@@ -1,9 +1,11 @@
 // The users file (accounts/users_file.h): reading it with errors at their line, the edits of
 // `tiltgate user`, checking a login's password, and writing it back.
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 #include <sys/stat.h>
 
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -20,10 +22,11 @@ namespace {
 constexpr const char* kAliceHash =
     "$argon2id$v=19$m=19456,t=3,p=1$BDKsJoVMct6NfHxHnSrb6A$F+4ckCt+viMFhnJTTU6+C2n6H+Xw6wU7Mfjgq333NU0";
 
+// The skipped lines' errors, one a line.
 std::string error_of(std::string_view text) {
-  auto file = UsersFile::parse(text, "users");
-  REQUIRE_FALSE(file.has_value());
-  return file.error();
+  const UsersFile file = UsersFile::parse(text, "users");
+  REQUIRE_FALSE(file.skipped().empty());
+  return fmt::format("{}", fmt::join(file.skipped(), "\n"));
 }
 
 std::string read_file(const std::string& path) {
@@ -38,8 +41,8 @@ std::string read_file(const std::string& path) {
 TEST_CASE("a users file holds accounts, comments and blank lines") {
   const std::string text = std::string("# the console's accounts\n\nalice:admin:") + kAliceHash +
                            "\n  bob:viewer:" + kAliceHash + "  \r\n# end\n";
-  auto file = UsersFile::parse(text, "users");
-  REQUIRE(file.has_value());
+  auto file = std::optional(UsersFile::parse(text, "users"));
+  CHECK(file->skipped().empty());
   REQUIRE(file->accounts().size() == 2);
   CHECK(file->accounts()[0].name == "alice");
   CHECK(file->accounts()[0].role == Role::admin);
@@ -48,21 +51,47 @@ TEST_CASE("a users file holds accounts, comments and blank lines") {
   CHECK(file->find("carol") == nullptr);
 }
 
-TEST_CASE("each wrong line of a users file is an error at its line number") {
+TEST_CASE("each wrong line of a users file is skipped with an error at its line number") {
   const std::string hash = kAliceHash;
   CHECK(error_of("# ok\nalice:admin\n") == "users:2: expected NAME:ROLE:HASH (an account made by "
-                                           "`tiltgate user add`)");
+                                           "`tiltgate user add`) (no login for alice until the "
+                                           "line is fixed or removed)");
   CHECK(error_of("alice:boss:" + hash + "\n") ==
-        "users:1: alice: role \"boss\" is not viewer, operator or admin");
+        "users:1: alice: role \"boss\" is not viewer, operator or admin (no login for alice "
+        "until the line is fixed or removed)");
   CHECK(error_of("\n\nal ice:admin:" + hash + "\n").starts_with("users:3: user name \"al ice\""));
   CHECK(error_of(":admin:" + hash).starts_with("users:1: user name \"\""));
   CHECK(error_of(std::string(65, 'a') + ":admin:" + hash).starts_with("users:1: user name"));
   CHECK(error_of("alice:admin:" + hash + "\nalice:viewer:" + hash + "\n") ==
-        "users:2: alice: a second account of that name");
+        "users:2: alice: a second account of that name (no login for alice until the line is "
+        "fixed or removed)");
   // Two wrong lines: both said, one a line.
   CHECK(error_of("x\ny\n") == "users:1: expected NAME:ROLE:HASH (an account made by `tiltgate "
                               "user add`)\nusers:2: expected NAME:ROLE:HASH (an account made by "
                               "`tiltgate user add`)");
+}
+
+TEST_CASE("a malformed line leaves the other accounts, and its own name has no account") {
+  const std::string hash = kAliceHash;
+  const UsersFile file = UsersFile::parse("alice:admin:" + hash + "\nbob:viewer:" + hash +
+                                              "\nbob:boss:" + hash + "\ngarbage\ncarol:operator:" +
+                                              hash + "\ndave:admin:not-a-hash\n",
+                                          "users");
+  REQUIRE(file.accounts().size() == 2);
+  CHECK(file.find("alice")->role == Role::admin);
+  CHECK(file.find("carol")->role == Role::operator_);
+  // bob's second line is malformed: which of the two was meant cannot be told, so neither.
+  CHECK(file.find("bob") == nullptr);
+  CHECK(file.find("dave") == nullptr);
+  REQUIRE(file.skipped().size() == 3);
+  CHECK(file.skipped()[0].starts_with("users:3: bob: role \"boss\""));
+  CHECK(file.skipped()[1].starts_with("users:4: expected NAME:ROLE:HASH"));
+  CHECK(file.skipped()[2].starts_with("users:6: dave: the third field is not an argon2id hash"));
+  // A name refused once stays refused, also on a later well-formed line.
+  const UsersFile later =
+      UsersFile::parse("erin:boss:" + hash + "\nerin:admin:" + hash + "\n", "users");
+  CHECK(later.accounts().empty());
+  CHECK(later.skipped().size() == 2);
 }
 
 TEST_CASE("a password written in clear in the users file is refused without being repeated") {
@@ -139,8 +168,7 @@ TEST_CASE("an edit that cannot be made says why and changes nothing") {
 TEST_CASE("an edit keeps the file's comments and blank lines where they were") {
   const std::string text = std::string("# plant accounts\nalice:admin:") + kAliceHash +
                            "\n\n# night shift\nbob:viewer:" + kAliceHash + "\n";
-  auto file = UsersFile::parse(text, "users");
-  REQUIRE(file.has_value());
+  auto file = std::optional(UsersFile::parse(text, "users"));
   REQUIRE(file->set_role("alice", Role::operator_).has_value());
   REQUIRE(file->remove("bob").has_value());
   CHECK(file->text() ==
@@ -151,7 +179,7 @@ TEST_CASE("the users file is written with mode 0640, whatever the umask") {
   test::ScratchDir dir("tiltgate-users");
   const std::string path = dir.path("users");
   const mode_t old_umask = ::umask(0);
-  auto saved = UsersFile::parse(std::string("alice:admin:") + kAliceHash, "users")->save(path);
+  auto saved = UsersFile::parse(std::string("alice:admin:") + kAliceHash, "users").save(path);
   ::umask(old_umask);
   REQUIRE(saved.has_value());
   struct stat written {};
