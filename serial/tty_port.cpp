@@ -62,7 +62,7 @@ void TtyPort::stop() {
 
 std::optional<TtySettings> TtyPort::settings_in_force() {
   if (!stream_.is_open()) return std::nullopt;
-  auto settings = read_settings(stream_.native_handle());
+  auto settings = read_settings(stream_.native_handle(), options_.termios_ioctl);
   if (!settings) return std::nullopt;
   return *settings;
 }
@@ -83,7 +83,7 @@ Expected<Done, std::string> TtyPort::discard_input() {
 }
 
 Expected<Done, std::string> TtyPort::switch_parity(Parity parity) {
-  auto applied = apply_parity(stream_.native_handle(), parity);
+  auto applied = apply_parity(stream_.native_handle(), parity, options_.termios_ioctl);
   if (!applied) return Unexpected(applied.error().message());
   return Done{};
 }
@@ -104,10 +104,20 @@ Expected<Done, std::string> TtyPort::open_now() {
     if (error == EWOULDBLOCK) return Unexpected(std::string("in use: a tiltgate command holds it"));
     return Unexpected("cannot lock: " + errno_text(error));
   }
-  auto configured = apply_raw_settings(fd, options_.baud, options_.parity, options_.stop_bits);
+  auto configured = apply_raw_settings(fd, options_.baud, options_.parity, options_.stop_bits,
+                                       options_.termios_ioctl);
   if (!configured) {
     ::close(fd);
-    return Unexpected("cannot configure: " + configured.error().message());
+    return Unexpected("cannot configure: " +
+                      settings_error_text(configured.error(), options_.baud));
+  }
+  if (*configured == TermiosInterface::standard_rates_only && !warned_no_termios2_) {
+    // Once per line, not per reopen: the port stays what it is (docs/operations.md,
+    // "A port without termios2").
+    warned_no_termios2_ = true;
+    spdlog::warn("{}: {} does not take termios2 (an old kernel, an emulator or its driver): set "
+                 "to {} baud through TCSETS, which has the standard rates only",
+                 options_.name, visible_text(options_.path), options_.baud);
   }
   if (options_.low_latency) apply_low_latency(fd);
   if (options_.rs485_kernel) {

@@ -11,8 +11,12 @@
 // reopen_min to reopen_max; every successful open counts one generation. Nothing here throws
 // or ends the process.
 //
-// Kernel RS485 (rs485_kernel): a port whose driver refuses TIOCSRS485 (USB adapters, ptys)
-// logs one warning and is used as it is.
+// Kernel RS485 (rs485_kernel): a port whose driver refuses TIOCSRS485 (USB adapters, ptys, ENOTTY;
+// qemu-user, ENOSYS) logs one warning and is used as it is.
+//
+// A port that refuses termios2 is set through TCSETS at a standard rate (serial/termios_settings.h)
+// and logs one warning, at its first open; at a rate with no standard code it does not open, and
+// the reason names the rate.
 //
 // Low latency (low_latency, serial/low_latency.h): at every open the driver's ASYNC_LOW_LATENCY
 // flag is set, so a USB adapter hands received bytes over at once instead of after its latency
@@ -52,6 +56,8 @@ struct TtyPortOptions {
   std::string sysfs_root = "/sys";  // where a USB adapter's latency_timer is read for the log
   std::chrono::milliseconds reopen_min{500};
   std::chrono::milliseconds reopen_max{10000};
+  // The settings' ioctl(2); a test's stand-in (ioctl_without_termios2) refuses termios2.
+  IoctlCall termios_ioctl = system_ioctl;
 };
 
 class TtyPort final : public LinePort {
@@ -94,6 +100,7 @@ class TtyPort final : public LinePort {
   std::chrono::milliseconds reopen_delay_;
   bool stopped_ = false;
   bool warned_rs485_ = false;
+  bool warned_no_termios2_ = false;
   std::optional<LowLatencyResult> low_latency_;
   std::optional<LowLatencyResult> logged_low_latency_;  // the outcome last logged above debug
   std::uint64_t generation_ = 0;

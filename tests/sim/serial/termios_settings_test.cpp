@@ -12,11 +12,13 @@
 #include <utility>
 
 #include "serial/pseudo_terminal.h"
+#include "sim/support/termios2_skip.h"
 
 using namespace std::chrono_literals;
 using tiltgate::Parity;
 using tiltgate::PseudoTerminal;
 using tiltgate::TtySettings;
+using tiltgate::test::skip_unless_settable;
 
 namespace {
 
@@ -62,6 +64,7 @@ TEST_CASE("every Rieker and Spectron baud rate is set and read back, standard or
   for (std::uint32_t baud : {9600u, 19200u, 28800u, 38400u, 62500u, 115200u, 125000u, 128000u,
                              250000u}) {
     CAPTURE(baud);
+    skip_unless_settable(baud);
     REQUIRE(tiltgate::apply_raw_settings(fd.get(), baud, Parity::none).has_value());
     const TtySettings s = settings_of(fd.get());
     CHECK(s.output_baud == baud);
@@ -72,7 +75,7 @@ TEST_CASE("every Rieker and Spectron baud rate is set and read back, standard or
 TEST_CASE("raw settings give 8 data bits, 1 stop bit, no flow control and unchecked parity") {
   PseudoTerminal pty = open_pty();
   SlaveFd fd(pty.slave_path());
-  REQUIRE(tiltgate::apply_raw_settings(fd.get(), 125000, Parity::none).has_value());
+  REQUIRE(tiltgate::apply_raw_settings(fd.get(), 115200, Parity::none).has_value());
   const TtySettings s = settings_of(fd.get());
   CHECK(s.data_bits == 8);
   CHECK(s.stop_bits == 1);
@@ -97,6 +100,7 @@ TEST_CASE("two stop bits are set and read back, and one again after") {
 TEST_CASE("each parity sets its stick and odd bits and keeps the rest") {
   PseudoTerminal pty = open_pty();
   SlaveFd fd(pty.slave_path());
+  skip_unless_settable(38400, Parity::space);  // both stick parities
   REQUIRE(tiltgate::apply_raw_settings(fd.get(), 38400, Parity::mark).has_value());
   struct Bits {
     Parity parity;
@@ -144,7 +148,9 @@ TEST_CASE("kernel RS485 mode fails cleanly on a pseudo-terminal") {
   SlaveFd fd(pty.slave_path());
   auto rs485 = tiltgate::enable_kernel_rs485(fd.get());
   REQUIRE_FALSE(rs485.has_value());
-  CHECK(rs485.error() == std::errc::inappropriate_io_control_operation);
+  // ENOTTY from the kernel's pty driver; qemu-user 7.2 refuses the ioctl itself, ENOSYS.
+  CHECK((rs485.error() == std::errc::inappropriate_io_control_operation ||
+         rs485.error() == std::errc::function_not_supported));
   CHECK(settings_of(fd.get()).receiver_on);  // the port is still usable
 }
 
@@ -161,7 +167,7 @@ TEST_CASE("settings on something that is not a tty are errors, not crashes") {
 TEST_CASE("discarding input drops what was received and not read") {
   PseudoTerminal pty = open_pty();
   SlaveFd fd(pty.slave_path());
-  REQUIRE(tiltgate::apply_raw_settings(fd.get(), 125000, Parity::none).has_value());
+  REQUIRE(tiltgate::apply_raw_settings(fd.get(), 115200, Parity::none).has_value());
   const char junk[] = "stale";
   REQUIRE(::write(pty.master_fd(), junk, sizeof junk) == sizeof junk);
   REQUIRE(readable(fd.get(), 2000));

@@ -11,6 +11,7 @@
 #include "serial/serial_line.h"
 #include "sim/support/raw_tty_client.h"
 #include "sim/support/run_coroutine.h"
+#include "sim/support/termios2_skip.h"
 #include "spectron/ascii_frame_parser.h"
 #include "spectron/nine_bit_codec.h"
 #include "spectron/reply_framers.h"
@@ -281,6 +282,7 @@ bool transact_on_serial_line(Bus& bus, Framing framing, LineRequest request) {
   options.baud = 28800;
   options.timeout = 1000ms;  // generous: the machine may be busy
   options.framing = framing;
+  tiltgate::test::skip_unless_settable(options);
   SerialLine line(bus.io.get_executor(), options);
   REQUIRE(line.start());
   const bool replied =

@@ -15,6 +15,7 @@
 #include "serial/serial_line.h"
 #include "sim/support/raw_tty_client.h"
 #include "sim/support/run_coroutine.h"
+#include "sim/support/termios2_skip.h"
 #include "unit/support/scratch_dir.h"
 
 namespace tiltgate::test {
@@ -46,6 +47,7 @@ struct DriverBench {
     line_options.reopen_min = std::chrono::milliseconds(20);
     line_options.reopen_max = std::chrono::milliseconds(100);
     if (adjust) adjust(line_options);
+    skip_unless_settable(line_options);
     line = std::make_unique<SerialLine>(io.get_executor(), line_options);
     REQUIRE(line->start());
   }

@@ -14,6 +14,7 @@
 #include "commission/commission_options.h"
 #include "rieker/simulator.h"
 #include "sim/support/run_coroutine.h"
+#include "sim/support/termios2_skip.h"
 #include "unit/support/scratch_dir.h"
 
 namespace tiltgate::test {
@@ -55,6 +56,7 @@ struct EngineBench {
     bus_options.control_socket = dir.path("no-gateway.sock");
     const auto target = resolve_bus_options(bus_options, registered_families());
     REQUIRE_MESSAGE(target.has_value(), (target ? "" : target.error().front()));
+    skip_unless_settable(target->bus.baud);  // a Rieker bus: 125000 baud needs termios2
     auto opened = CommissionBus::open(io.get_executor(), *target);
     REQUIRE_MESSAGE(opened.has_value(), (opened ? "" : opened.error().message));
     bus = std::move(*opened);
