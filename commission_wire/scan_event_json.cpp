@@ -59,8 +59,10 @@ SensorTable read_sensor_table(const JsonObjectReader& r) {
   t.serial = r.string("serial");
   t.firmware = r.string("firmware");
   t.text = r.string("text");
-  t.configured_as = r.string("configured_as");
-  t.proposed_unit_id = r.integer<std::uint8_t>("proposed_unit_id");
+  // Both came after protocol 3 first went out: a gateway from before (running on until its
+  // restart after an upgrade) sends neither, and its tables are taken as they are, unmarked.
+  if (r.has("configured_as")) t.configured_as = r.string("configured_as");
+  if (r.has("proposed_unit_id")) t.proposed_unit_id = r.integer<std::uint8_t>("proposed_unit_id");
   return t;
 }
 
