@@ -60,7 +60,8 @@ def scenario(t):
     t.check("the console answers", processes.wait_until(serving, 20), processes.tail(out_path))
     status, _ = Client(http_port).request("GET", "/api/sensors")
     t.check("the API needs a login", status == 401, status)
-    for name, password in accounts.items():
+    for name in ("operator", "viewer", "admin"):  # the walkthrough's order
+        password = accounts.get(name, "")
         client = Client(http_port)
         status, body = client.login(name, password)
         t.check("%s logs in with the printed password, as %s" % (name, name),
@@ -69,10 +70,23 @@ def scenario(t):
             status, body = client.request("POST", "/api/sensors/boom-left/settings",
                                           {"setting": "filter", "value": 3})
             t.check("the viewer may change nothing", status == 403, (status, body))
-        if name == "admin":
+        if name == "operator":  # the walkthrough's step 2
+            status, body = client.request("POST", "/api/sensors/boom-left/settings",
+                                          {"setting": "command", "value": 1})
+            t.check("the operator zeroes boom-left to its current angle: the sensor's ACK",
+                    status == 200 and body.get("result") == "ack", (status, body))
+        if name == "admin":  # steps 3 and 4
             status, body = client.request("GET", "/api/sensors")
             t.check("the admin reads the demo's sensors",
                     status == 200 and any(s["name"] == "boom-left" for s in body), (status, body))
+            status, body = client.request("POST", "/api/buses/%s/counters/reset" % body[0]["bus"],
+                                          {})
+            t.check("the admin resets a bus's counters", status == 200, (status, body))
+            status, body = client.request("GET", "/api/audit?door=console")
+            seen = [(r["who"], r["setting"], r["result"]) for r in body.get("records", [])]
+            t.check("the audit lists the operator's zero and the admin's reset",
+                    ("operator", "command", "ack") in seen and
+                    ("admin", "counters", "ok") in seen, seen)
     status, _ = Client(http_port).login("admin", "not-the-password")
     t.check("a wrong password is refused", status == 401, status)
     demo.terminate()
