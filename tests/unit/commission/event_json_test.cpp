@@ -296,9 +296,6 @@ TEST_CASE("a JSON value that is not an object is an error, never an exception") 
   CHECK(nested.error() == "not an event: field \"sensor\": expected an object, got an array");
 }
 
-}  // namespace
-}  // namespace tiltgate
-
 TEST_CASE("a scan's tables from a gateway before their marks read unmarked, nothing proposed") {
   for (const EventCase& c : event_cases())
     for (const test::JsonLeaf& leaf : test::json_leaves(c.wire)) {
@@ -317,3 +314,6 @@ TEST_CASE("a scan's tables from a gateway before their marks read unmarked, noth
       }
     }
 }
+
+}  // namespace
+}  // namespace tiltgate
