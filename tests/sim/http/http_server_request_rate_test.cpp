@@ -5,6 +5,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/post.hpp>
+#include <functional>
 #include <future>
 #include <string>
 #include <thread>
@@ -38,7 +39,10 @@ int answers_ok(RawSocket& socket, int count) {
   return found;
 }
 
-HttpServerStats run_against(HttpServerOptions options, int requests, int& answered) {
+// A status-only server with `options` on its own thread, `clients` run against its port, then
+// the server's counts.
+HttpServerStats serve_while(HttpServerOptions options,
+                            const std::function<void(std::uint16_t port)>& clients) {
   boost::asio::io_context io;
   options.port = 0;
   const HttpHandler status_only = [](HttpRequest request) -> boost::asio::awaitable<HttpReply> {
@@ -47,11 +51,7 @@ HttpServerStats run_against(HttpServerOptions options, int requests, int& answer
   HttpServer server(io.get_executor(), status_only, options);
   REQUIRE(server.start().has_value());
   std::thread thread([&] { io.run(); });
-  {
-    RawSocket client(server.local_port());
-    client.send(pipelined_gets(requests));
-    answered = answers_ok(client, requests);
-  }
+  clients(server.local_port());
   std::promise<HttpServerStats> stats;
   boost::asio::post(io, [&] {
     stats.set_value(server.stats());
@@ -60,6 +60,14 @@ HttpServerStats run_against(HttpServerOptions options, int requests, int& answer
   const HttpServerStats seen = stats.get_future().get();
   thread.join();
   return seen;
+}
+
+HttpServerStats run_against(HttpServerOptions options, int requests, int& answered) {
+  return serve_while(std::move(options), [&](std::uint16_t port) {
+    RawSocket client(port);
+    client.send(pipelined_gets(requests));
+    answered = answers_ok(client, requests);
+  });
 }
 
 }  // namespace
@@ -90,32 +98,15 @@ TEST_CASE("HTTP: max_requests_per_s holds the clients together, and without rate
 }
 
 TEST_CASE("HTTP: a connection that sends nothing (a browser's preconnect) is closed, not counted") {
-  boost::asio::io_context io;
   HttpServerOptions options;
-  options.port = 0;
   options.request_timeout = std::chrono::milliseconds(200);
-  const HttpHandler status_only = [](HttpRequest request) -> boost::asio::awaitable<HttpReply> {
-    co_return route_http(request.method, request.target, [] { return GatewayStatus{}; });
-  };
-  HttpServer server(io.get_executor(), status_only, options);
-  REQUIRE(server.start().has_value());
-  std::thread thread([&] { io.run(); });
-  {
-    RawSocket preconnect(server.local_port());
+  const HttpServerStats seen = serve_while(options, [](std::uint16_t port) {
+    RawSocket preconnect(port);
     CHECK(preconnect.closed_by_server());
-  }
-  {
     const std::string half = "GET /hea";
-    RawSocket slow(server.local_port());
+    RawSocket slow(port);
     slow.send(Bytes(half.begin(), half.end()));
     CHECK(slow.closed_by_server());
-  }
-  std::promise<HttpServerStats> stats;
-  boost::asio::post(io, [&] {
-    stats.set_value(server.stats());
-    server.stop();
   });
-  const HttpServerStats seen = stats.get_future().get();
-  thread.join();
   CHECK(seen.closed.timed_out == 1);  // the half request only
 }

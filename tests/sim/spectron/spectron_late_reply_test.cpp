@@ -76,12 +76,19 @@ TEST_CASE("a Dyna's late reply is not taken as the answer to the next poll") {
   CHECK(driver.state().reading->raw_counts == 2000);
 }
 
+namespace {
+
+// A 50 ms reply wait that a late reply (150 ms) makes the driver adapt, up to 400 ms.
+void adaptive_line(SerialLineOptions& o) {
+  o.timeout = 50ms;
+  o.late_guard = 200ms;
+  o.retries = 1;
+}
+
+}  // namespace
+
 TEST_CASE("a Dyna that answers late on every command gets a longer time-out") {
-  Bench bench([](SerialLineOptions& o) {
-    o.timeout = 50ms;
-    o.late_guard = 200ms;
-    o.retries = 1;
-  });
+  Bench bench(adaptive_line);
   DynaDriver driver(driver_options({50ms, 400ms}));
   bench.module().faults().reply_delay = 150ms;
   for (int i = 0; i < 4; ++i) bench.poll(driver);
@@ -93,11 +100,7 @@ TEST_CASE("a Dyna that answers late on every command gets a longer time-out") {
 
 TEST_CASE("a sensor late again within 10 minutes is not warned of twice, time-out changes are debug") {
   test::CapturedLog log(spdlog::level::debug);
-  Bench bench([](SerialLineOptions& o) {
-    o.timeout = 50ms;
-    o.late_guard = 200ms;
-    o.retries = 1;
-  });
+  Bench bench(adaptive_line);
   DynaDriver driver(driver_options({50ms, 400ms}));
   bench.module().faults().reply_delay = 150ms;
   for (int i = 0; i < 3; ++i) bench.poll(driver);
