@@ -12,6 +12,7 @@
 #include "driver/closest_name.h"
 #include "gateway/gateway.h"
 #include "settings/sensor_settings.h"
+#include "settings/setting_actions.h"
 #include "settings/setting_writer.h"
 
 namespace tiltgate {
@@ -21,6 +22,21 @@ using json = nlohmann::json;
 namespace {
 
 std::string number_text(double value) { return fmt::format("{}", value); }
+
+const char* role_text(SettingRole role) {
+  return role == SettingRole::operator_ ? "operator" : "admin";
+}
+
+// A command's values as buttons: what each does, the question before it, who may press it.
+json actions_json(const std::vector<SettingAction>& actions) {
+  json list = json::array();
+  for (const SettingAction& action : actions)
+    list.push_back({{"value", action.value},
+                    {"name", action.name},
+                    {"confirm", action.confirm},
+                    {"role", role_text(action.role)}});
+  return list;
+}
 
 }  // namespace
 
@@ -36,16 +52,23 @@ HttpReply SettingsEndpoint::list(const std::string& name) const {
   const auto snapshot = sensor->snapshot();
   const std::vector<SensorSetting> list =
       sensor_settings(sensor->map, families_, snapshot ? &snapshot->state : nullptr);
+  const std::vector<DeviceValue>& device_values = sensor->config.family_options.device_values();
   json settings = json::array();
-  for (const SensorSetting& setting : list)
+  for (const SensorSetting& setting : list) {
+    const SettingWords words =
+        setting_words(setting, sensor->model, device_values, sensor->config.name);
     settings.push_back({{"name", setting.name},
-                        {"role", setting.role == SettingRole::operator_ ? "operator" : "admin"},
+                        {"label", words.label},
+                        {"role", role_text(setting.role)},
                         {"operator_values", setting.operator_values},
+                        {"actions", actions_json(words.actions)},
                         {"min", setting.min},
                         {"max", setting.max},
                         {"units", setting.units},
                         {"description", setting.description},
-                        {"value", setting.value ? json(*setting.value) : json(nullptr)}});
+                        {"value", setting.value ? json(*setting.value) : json(nullptr)},
+                        {"read_back", words.read_back}});
+  }
   return json_reply(200, json{{"sensor", sensor->config.name}, {"settings", settings}});
 }
 

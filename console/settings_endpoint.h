@@ -1,6 +1,6 @@
 // A sensor's settings through the console (docs/web-console.md, "The API"): GET lists the
-// settings its register map writes, with the role each needs and the value the gateway last
-// read; POST changes one by name through the settings room's writer (settings/setting_writer.h),
+// settings its register map writes, with the label, the role and a command's actions its
+// family gives each, and the value the gateway knows (read back, or last written: read_back); POST changes one by name through the settings room's writer (settings/setting_writer.h),
 // answered once the sensor has: 200 ACK, 409 NAK, 504 time-out, 400 refused, 403 for a role
 // that may not (recorded in the audit trail; the writer records the others).
 //

@@ -22,6 +22,8 @@ struct DeviceValue {
   // Who may write it (the profile's `role`); a map point that writes it without a `role` of
   // its own takes this one.
   SettingRole role = SettingRole::admin;
+  // What a person calls it (the profile's `label`, else its name): the console's setting label.
+  std::string label{};
 
   bool operator==(const DeviceValue&) const = default;
 };

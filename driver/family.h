@@ -108,6 +108,14 @@ struct ProductIdentity {
 // What a setting's value is: a whole number (a code, an address, a count) or a real number.
 enum class SettingType : std::uint8_t { integer, real };
 
+// One value of a command setting as a console offers it: a button named after what it does, and
+// the question asked before it is sent, `{sensor}` standing for the sensor's name.
+struct CommandAction {
+  double value = 0;
+  std::string_view name;     // "Zero permanently"
+  std::string_view confirm;  // "Zero {sensor} to its current angle? ..."
+};
+
 // A setting a model accepts writes of: the name a map file's `write = "NAME"` gives it, its id
 // (driver/write_target.h: the common block's, or one the family owns), and what a write must
 // be. The model's built-in map takes its holding registers' ranges and descriptions from here,
@@ -124,12 +132,26 @@ struct SettingDescriptor {
   // Values an operator may write although the setting needs an admin: one register that does
   // harmless and dangerous things by value (a command whose 1 and 2 zero, whose 3 restarts).
   std::span<const double> operator_values{};
+  // What a person calls it ("Bus address"), where `name` is what a map file writes.
+  std::string_view label{};
+  // A command's values, each as an action (one per value it accepts); empty for a setting.
+  std::span<const CommandAction> actions{};
+  // Whether the driver reads the setting back from the sensor (PolledSensorDriver::
+  // read_settings); false: the value the gateway knows is the one last written through it.
+  bool read_back = false;
 
   // This setting as one model has it: its type, range, unit, meaning and role there.
   constexpr SettingDescriptor accepting(SettingType t, double low, double high,
                                         std::string_view u, std::string_view what,
                                         SettingRole r = SettingRole::admin) const {
-    return SettingDescriptor{name, id, t, low, high, u, what, r};
+    SettingDescriptor setting = *this;
+    setting.type = t;
+    setting.min = low;
+    setting.max = high;
+    setting.unit = u;
+    setting.description = what;
+    setting.role = r;
+    return setting;
   }
   // The same, with `values` an operator may write (operator_values).
   constexpr SettingDescriptor letting_operator_write(std::span<const double> values) const {
@@ -137,17 +159,41 @@ struct SettingDescriptor {
     setting.operator_values = values;
     return setting;
   }
+  // The same, called `text` where a person reads it.
+  constexpr SettingDescriptor labelled(std::string_view text) const {
+    SettingDescriptor setting = *this;
+    setting.label = text;
+    return setting;
+  }
+  // The same, a command whose values do `what` (one action per value).
+  constexpr SettingDescriptor doing(std::span<const CommandAction> what) const {
+    SettingDescriptor setting = *this;
+    setting.actions = what;
+    return setting;
+  }
+  // The same, read back from the sensor by its driver.
+  constexpr SettingDescriptor read_from_sensor() const {
+    SettingDescriptor setting = *this;
+    setting.read_back = true;
+    return setting;
+  }
 };
 
 // The common block's settings under their map-file names; a family lists those its models
 // accept among their settings, each with its range there (SettingDescriptor::accepting).
 namespace common_setting {
-inline constexpr SettingDescriptor filter{"filter", WriteTarget::filter};
-inline constexpr SettingDescriptor zero_x{"zero_x", WriteTarget::zero_x};
-inline constexpr SettingDescriptor zero_y{"zero_y", WriteTarget::zero_y};
-inline constexpr SettingDescriptor command{"command", WriteTarget::command};
-inline constexpr SettingDescriptor baud_code{"baud_code", WriteTarget::baud_code};
-inline constexpr SettingDescriptor bus_address{"bus_address", WriteTarget::bus_address};
+inline constexpr SettingDescriptor filter =
+    SettingDescriptor{"filter", WriteTarget::filter}.labelled("Filter");
+inline constexpr SettingDescriptor zero_x =
+    SettingDescriptor{"zero_x", WriteTarget::zero_x}.labelled("Zero, X axis");
+inline constexpr SettingDescriptor zero_y =
+    SettingDescriptor{"zero_y", WriteTarget::zero_y}.labelled("Zero, Y axis");
+inline constexpr SettingDescriptor command =
+    SettingDescriptor{"command", WriteTarget::command}.labelled("Command");
+inline constexpr SettingDescriptor baud_code =
+    SettingDescriptor{"baud_code", WriteTarget::baud_code}.labelled("Baud rate");
+inline constexpr SettingDescriptor bus_address =
+    SettingDescriptor{"bus_address", WriteTarget::bus_address}.labelled("Bus address");
 }  // namespace common_setting
 inline constexpr SettingDescriptor kCommonSettings[] = {
     common_setting::filter,  common_setting::zero_x,    common_setting::zero_y,

@@ -54,7 +54,7 @@ constexpr InputRow kStatusIdentityAndCounters[] = {
      "last NAK code from the sensor, 65535 if none (or no NAKs)"},
     {"lock_level", 13, T::uint16, S::lock_level, "",
      "sensor lock level, 65535 if unknown (or no locks)"},
-    {"rs485_address", 14, T::uint16, S::bus_address, "", "the sensor's address on its bus"},
+    {"bus_address", 14, T::uint16, S::bus_address, "", "the sensor's address on its bus"},
     {"sample_seq", 15, T::uint16, S::sample_seq, "", "increments with every new reading"},
     {"serial", 16, T::string, S::serial, "",
      "serial number, 2 characters per register, first in the high byte", 10},
@@ -136,10 +136,14 @@ void add_settings(std::vector<Point>& points, const CommonBlockModel& m) {
   points.push_back(std::move(command));
   points.push_back(setting_point("baud_code", 6, T::uint16, W::baud_code, m.baud_code, ""));
   points.push_back(
-      setting_point("rs485_address", 7, T::uint16, W::bus_address, m.rs485_address, ""));
+      setting_point("bus_address", 7, T::uint16, W::bus_address, m.bus_address, ""));
 }
 
 }  // namespace
+
+bool names_point(std::string_view given, std::string_view name) {
+  return given == name || (given == kFormerAddressPointName && name == kAddressPointName);
+}
 
 std::vector<Point> common_block(const CommonBlockModel& model) {
   std::vector<Point> points;

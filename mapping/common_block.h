@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "driver/family.h"
@@ -23,8 +24,20 @@ struct CommonBlockModel {
   std::string angle_x_description;  // how the model's angle comes about
   // Holding registers 0..7, as the model's family describes its settings (range, unit,
   // meaning: driver/family.h); none: not available on this model.
-  std::optional<SettingDescriptor> filter, zero_x, zero_y, command, baud_code, rs485_address;
+  std::optional<SettingDescriptor> filter, zero_x, zero_y, command, baud_code, bus_address;
 };
+
+// The name the common block's address points (input 14, holding 7) had before they took the
+// name of the setting they show and write, bus_address: one name everywhere. Where a map file
+// or an aggregate names a built-in point, the old name still finds the new (names_point(),
+// RegisterMap::find), so maps and configurations written for it keep working
+// (docs/register-maps.md, "Default register map").
+inline constexpr std::string_view kFormerAddressPointName = "rs485_address";
+inline constexpr std::string_view kAddressPointName = "bus_address";
+
+// Whether `given`, a point's name as a map file or an aggregate writes it, names the point
+// called `name`: the same name, or the address point's former one.
+bool names_point(std::string_view given, std::string_view name);
 
 // The common block's points for one model, in table and address order.
 std::vector<Point> common_block(const CommonBlockModel& model);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "mapping/common_block.h"
 #include "mapping/default_maps.h"
 #include "mapping/device_values.h"
 #include "mapping/model_capabilities.h"
@@ -22,10 +23,12 @@ std::vector<ResolvedPoint> resolve_points(FamilyList families, const MapDefiniti
     const RegisterMap builtin = default_map(families, base);
     for (const Point& p : builtin.points()) {
       const auto& removed = definition.remove;
-      if (std::find(removed.begin(), removed.end(), p.name) != removed.end()) continue;
-      const bool replaced =
-          std::any_of(definition.points.begin(), definition.points.end(),
-                      [&](const Point& own) { return own.name == p.name && own.table == p.table; });
+      if (std::any_of(removed.begin(), removed.end(),
+                      [&](const std::string& name) { return names_point(name, p.name); }))
+        continue;
+      const bool replaced = std::any_of(
+          definition.points.begin(), definition.points.end(),
+          [&](const Point& own) { return names_point(own.name, p.name) && own.table == p.table; });
       if (!replaced) resolved.push_back({p, kBuiltIn});
     }
   }

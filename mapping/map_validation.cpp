@@ -212,7 +212,7 @@ class PointChecker {
 };
 
 // Overlaps within a table (checked on the points in address order) and names used twice in
-// one table (the same name in two tables is fine: rs485_address reads and sets the address).
+// one table (the same name in two tables is fine: bus_address reads and sets the address).
 void check_layout(std::span<const Point> points, std::vector<MapProblem>& problems) {
   std::vector<std::size_t> order(points.size());
   std::iota(order.begin(), order.end(), 0);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <tuple>
 
+#include "mapping/common_block.h"
 #include "mapping/map_validation.h"
 
 namespace tiltgate {
@@ -36,6 +37,8 @@ const Point* RegisterMap::find(std::string_view name) const {
   for (const Point& p : points_) {
     if (p.name == name) return &p;
   }
+  // A map or an aggregate written for the address point's former name (mapping/common_block.h).
+  if (name == kFormerAddressPointName) return find(kAddressPointName);
   return nullptr;
 }
 

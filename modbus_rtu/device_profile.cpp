@@ -90,6 +90,7 @@ DeviceValue device_value_of(const ProfileValue& v) {
   value.name = v.name;
   value.writable = v.writable;
   value.role = v.role;
+  value.label = v.label.empty() ? v.name : v.label;
   std::int64_t low = 0, high = 0;
   if (integer_limits(v.type, low, high)) {
     value.min = double(low) * v.scale + v.offset;

@@ -42,6 +42,8 @@ struct ProfileValue {
   // Who may write it (`role`; writable values only): a map point that writes it takes this
   // role unless it gives its own.
   SettingRole role = SettingRole::admin;
+  // What a person calls it (`label`; writable values only); empty: its name.
+  std::string label{};
 
   std::uint16_t words() const;  // registers the value takes: 1, 2 or 4
 };

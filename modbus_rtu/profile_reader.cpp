@@ -79,6 +79,12 @@ void read_writable(TableReader& in, ProfileValue& value) {
     if (!value.writable) in.error("role", "applies to writable values (writable = true) only");
     else value.role = *role == "operator" ? SettingRole::operator_ : SettingRole::admin;
   }
+  // What the web console calls the setting; its name when not given.
+  if (const auto label = in.string("label")) {
+    if (!value.writable) in.error("label", "applies to writable values (writable = true) only");
+    else if (label->empty()) in.error("label", "empty, expected what the setting is called");
+    else value.label = *label;
+  }
 }
 
 LocatedValue read_value(const toml::table& table, std::string path, ErrorList& errors) {

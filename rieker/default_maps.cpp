@@ -18,7 +18,7 @@ RegisterMap rieker_map(bool dual_axis) {
   if (dual_axis) m.zero_y = settings::zero_y;
   m.command = settings::command;
   m.baud_code = settings::baud_code;
-  m.rs485_address = settings::bus_address;
+  m.bus_address = settings::bus_address;
   return RegisterMap(common_block(m));
 }
 

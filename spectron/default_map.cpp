@@ -22,7 +22,7 @@ CommonBlockModel dyna_common_block() {
       "the angle: (raw_counts - zero_counts) / counts_per_degree, after the mounting";
   m.command = settings::command;
   m.baud_code = settings::baud_code;
-  m.rs485_address = settings::bus_address;
+  m.bus_address = settings::bus_address;
   return m;
 }
 

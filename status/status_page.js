@@ -565,7 +565,7 @@ async function loadSensorConsole(name, keepMessage) {
   settingsFor = name;
   $("detail-identity").innerHTML = "";
   document.querySelector("#detail-settings tbody").innerHTML =
-    '<tr><td colspan="4" class="empty">Reading the settings from the sensor&hellip;</td></tr>';
+    '<tr><td colspan="4" class="empty">Reading the settingsReading the settings from the sensor&hellip;hellip;</td></tr>';
   if (!keepMessage) say("detail-message", "");
   const path = "/api/sensors/" + encodeURIComponent(name);
   try {
@@ -599,6 +599,14 @@ function renderSensorCounters(s) {
 
 function valueText(v) { return v === null || v === undefined ? "unknown" : String(v); }
 
+// Where the value shown comes from: the family reads it back, or it is what was last written.
+function valueSource(setting) {
+  return setting.read_back ? "read from the sensor" : "last written through this gateway";
+}
+
+// A setting's row: its label (the key a map file writes small beneath it), its value and where
+// that comes from, its range, and its change: a command's actions as buttons named by what they
+// do, a one-value setting as its button, any other as a field and Set.
 function renderSettings(name, sensor, settings) {
   const body = document.querySelector("#detail-settings tbody");
   body.innerHTML = "";
@@ -608,77 +616,84 @@ function renderSettings(name, sensor, settings) {
     const row = document.createElement("tr");
     row.dataset.setting = setting.name;
     const units = setting.units ? " " + setting.units : "";
-    const action = setting.min === setting.max;  // e.g. restart: one value, a button
-    row.innerHTML = '<td><b></b><div class="sub"></div></td><td class="num value-cell"></td>' +
+    const actions = setting.actions || [];
+    const oneValue = actions.length === 0 && setting.min === setting.max;
+    row.innerHTML = '<td><b></b><div class="sub"><code class="key"></code></div><div class="sub what"></div></td>' +
+                    '<td class="num value-cell"><span class="value"></span><div class="sub source"></div></td>' +
                     '<td class="num range"></td><td class="change"></td>';
-    row.querySelector("b").textContent = setting.name;
-    row.querySelector(".sub").textContent = setting.description || "";
-    row.querySelector(".value-cell").textContent = valueText(setting.value) + (setting.value === null ? "" : units);
-    row.querySelector(".range").textContent = action ? "" : setting.min + " \u2026 " + setting.max + units;
+    row.querySelector("b").textContent = setting.label || setting.name;
+    row.querySelector(".key").textContent = setting.name;
+    row.querySelector(".what").textContent = setting.description || "";
+    row.querySelector(".value").textContent = valueText(setting.value) + (setting.value === null ? "" : units);
+    if (actions.length === 0) row.querySelector(".source").textContent = valueSource(setting);
+    row.querySelector(".value-cell").title = valueSource(setting);
+    row.querySelector(".range").textContent = actions.length || oneValue ? "" : setting.min + " \u2026 " + setting.max + units;
     const cell = row.querySelector(".change");
-    const button = document.createElement("button");
-    button.type = "button";
-    button.className = "button" + (action ? " danger" : "");
-    button.dataset.needs = setting.role || "admin";
-    button.dataset.action = "set";
-    let input = null;
-    if (action) {
-      button.textContent = setting.name;
+    const addButton = (text, needs, danger, click) => {
+      const button = document.createElement("button");
+      button.type = "button";
+      button.className = "button" + (danger ? " danger" : "");
+      button.dataset.needs = needs;
+      button.dataset.action = "set";
+      button.textContent = text;
+      button.addEventListener("click", click);
+      cell.appendChild(button);
+      return button;
+    };
+    if (actions.length) {
+      for (const action of actions)
+        addButton(action.name, action.role || "admin", action.role !== "operator",
+                  () => changeSetting(name, sensor.bus, setting, action.value, null, action))
+          .dataset.value = action.value;
+    } else if (oneValue) {
+      addButton(setting.label || setting.name, setting.role || "admin", true,
+                () => changeSetting(name, sensor.bus, setting, setting.min, null));
     } else {
-      input = document.createElement("input");
+      const input = document.createElement("input");
       input.type = "number";
       input.min = setting.min;
       input.max = setting.max;
       input.step = "any";
       input.inputMode = "decimal";
-      input.dataset.needs = button.dataset.needs;
+      input.dataset.needs = setting.role || "admin";
       if (setting.value !== null && setting.value !== undefined) input.value = setting.value;
-      input.setAttribute("aria-label", "new " + setting.name);
+      input.setAttribute("aria-label", "new " + (setting.label || setting.name));
       cell.appendChild(input);
-      button.textContent = "Set";
-    }
-    cell.appendChild(button);
-    button.addEventListener("click", () =>
-      changeSetting(name, sensor.bus, setting, action ? setting.min : Number(input.value), input));
-    // Values of an admin setting an operator may write too (a Rieker's command 1 and 2: zero).
-    for (const v of setting.role === "admin" ? setting.operator_values || [] : []) {
-      const quick = document.createElement("button");
-      quick.type = "button";
-      quick.className = "button";
-      quick.dataset.needs = "operator";
-      quick.dataset.action = "set";
-      quick.textContent = "Write " + v;
-      quick.setAttribute("aria-label", "write " + v + " to " + setting.name);
-      quick.addEventListener("click", () => changeSetting(name, sensor.bus, setting, v, null));
-      cell.appendChild(quick);
+      addButton("Set", input.dataset.needs, false,
+                () => changeSetting(name, sensor.bus, setting, Number(input.value), input));
     }
     body.appendChild(row);
   }
   applyRole($("detail-settings"));
 }
 
-async function changeSetting(name, bus, setting, value, input) {
+// Writes `value` to the setting once the user agrees: to an action's question, or to one that
+// names the setting, the sensor and the change.
+async function changeSetting(name, bus, setting, value, input, action) {
+  const label = setting.label || setting.name;
   if (input && (input.value === "" || !Number.isFinite(value))) {
-    say("detail-message", "Enter a number for " + setting.name + ".", "bad");
+    say("detail-message", "Enter a number for " + label + ".", "bad");
     return;
   }
   const where = (bus ? bus + "/" : "") + name;
-  const question = setting.min === setting.max
-    ? "Set " + setting.name + " of " + where + " (writes " + value + ")?"
-    : "Set " + setting.name + " of " + where + " from " + valueText(setting.value) + " to " + value + "?";
+  const what = action ? action.name : label;
+  const question = action ? action.confirm
+    : setting.min === setting.max
+    ? "Set " + label + " (" + setting.name + ") of " + where + " (writes " + value + ")?"
+    : "Set " + label + " (" + setting.name + ") of " + where + " from " + valueText(setting.value) + " to " + value + "?";
   if (!await askConfirm(question)) return;
-  say("detail-message", setting.name + ": waiting for the sensor\u2026");
+  say("detail-message", what + ": waiting for the sensor\u2026");
   try {
     const r = await api("POST", "/api/sensors/" + encodeURIComponent(name) + "/settings",
                         {setting: setting.name, value});
-    say("detail-message", setting.name + " of " + where + ": " + valueText(r.old) + " \u2192 " +
-        valueText(r.value) + " (" + r.result + ")", "ok");
+    say("detail-message", action ? what + " on " + where + ": done (" + r.result + ")"
+        : label + " of " + where + ": " + valueText(r.old) + " \u2192 " + valueText(r.value) + " (" + r.result + ")", "ok");
     document.body.dataset.lastResult = r.result;
   } catch (e) {
     const result = e.body.result ? " (" + e.body.result + ")" : "";
     const why = e.status === 409 ? "the sensor refused" : e.status === 504 ? "no answer from the sensor"
               : e.status === 403 ? "your role may not" : "refused";
-    say("detail-message", setting.name + " of " + where + ": " + why + ": " + e.message + result, "bad");
+    say("detail-message", what + " on " + where + ": " + why + ": " + e.message + result, "bad");
     document.body.dataset.lastResult = e.body.result || "error " + e.status;
     if (e.status === 401) return;
   }

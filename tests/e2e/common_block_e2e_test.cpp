@@ -23,7 +23,7 @@ struct CommonBlock {
   std::int16_t angle_y_cdeg = 0;
   std::uint16_t status = 0;
   std::uint32_t polls_ok = 0;
-  std::uint16_t rs485_address = 0;
+  std::uint16_t bus_address = 0;
   std::string serial;
   std::string firmware;
   float tilt = NAN;
@@ -44,7 +44,7 @@ CommonBlock read_common_block(ModbusClient& client) {
   b.angle_y_cdeg = std::int16_t(w[5]);
   b.status = w[6];
   b.polls_ok = uint32_at(w, 8);
-  b.rs485_address = w[14];
+  b.bus_address = w[14];
   b.serial = string_at(w, 16, 10);
   b.firmware = string_at(w, 21, 8);
   b.tilt = float_at(w, 25);
@@ -76,9 +76,9 @@ TEST_CASE("one client reads input 0..37 from an H6, an H4360 and a Dyna with the
     CHECK(single->angle_y_cdeg == -32768);
     CHECK(single->tilt == std::fabs(single->angle_x));
   }
-  CHECK(h6.rs485_address == 223);
-  CHECK(h4360.rs485_address == 224);
-  CHECK(dyna.rs485_address == 1);
+  CHECK(h6.bus_address == 223);
+  CHECK(h4360.bus_address == 224);
+  CHECK(dyna.bus_address == 1);
   CHECK(h6.serial == "962285    ");
   CHECK(dyna.serial == "4242      ");
   CHECK(dyna.firmware == "01.07   ");

@@ -240,6 +240,27 @@ def scenario(t):
     t.check("the command lists the values an operator may write (1, 2: zero)",
             names.get("command", {}).get("role") == "admin" and
             names.get("command", {}).get("operator_values") == [1, 2], names.get("command"))
+    command = names.get("command", {})
+    t.check("each setting carries its family's label (filter, bus_address, command)",
+            names.get("filter", {}).get("label") == "Filter" and
+            names.get("bus_address", {}).get("label") == "Bus address" and
+            command.get("label") == "Command", body)
+    t.check("the command's values are actions named by what they do, each with its question "
+            "naming boom and the role that may press it",
+            command.get("actions") == [
+                {"value": 1, "name": "Zero to the current angle (until restart)",
+                 "confirm": "Zero boom to its current angle? Until the sensor restarts.",
+                 "role": "operator"},
+                {"value": 2, "name": "Zero permanently",
+                 "confirm": "Zero boom to its current angle permanently? The sensor keeps this "
+                            "zero after a restart.",
+                 "role": "operator"},
+                {"value": 3, "name": "Restart the sensor",
+                 "confirm": "Restart boom? It does not answer until it has started again.",
+                 "role": "admin"}] and
+            names.get("filter", {}).get("actions") == [], command)
+    t.check("a Rieker reads no setting back: each is what was last written (read_back false)",
+            names and all(s.get("read_back") is False for s in names.values()), body)
     status, body = alice.request("POST", "/api/sensors/boom/settings",
                                  {"setting": "command", "value": 1})
     t.check("the operator zeroes boom to its current angle (command 1): answered after the ACK",

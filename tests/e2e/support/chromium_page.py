@@ -333,25 +333,50 @@ def console_check(url, operator, viewer, sensor, setting):
             failures.append("%s of %s: %r (%s)" % (chosen, sensor, result, message))
         else:
             print("console: " + message)
-        # A Rieker's zero to the current angle is its command's 1: an operator's value of an
-        # admin setting, a button of its own, enabled while the admin's field is not.
-        quick = '#detail-settings tr[data-setting="command"] button[aria-label="write 1 to command"]'
+        # Each setting shows its label with its key beneath, and where its value comes from: a
+        # Rieker reads no setting back, so each is what was last written through the gateway.
+        # (The rows are read again after the change: wait for them.)
+        shown = browser.wait_for(
+            "(() => { const r = document.querySelector(%s); return r ? [r.querySelector('b').textContent,"
+            " r.querySelector('.key').textContent, r.querySelector('.value-cell').textContent] : null; })()"
+            % json.dumps(row), 10)
+        if not shown or shown[0] == chosen or shown[1] != chosen or \
+                "last written through this gateway" not in shown[2]:
+            failures.append("%s's row should show its label, the key %s beneath and "
+                            "'last written through this gateway': %r" % (chosen, chosen, shown))
+        heading = browser.evaluate("document.querySelector('#detail-console h4').textContent")
+        if "read from the sensor" in heading:
+            failures.append("the settings' heading claims every value is read from the sensor: %r"
+                            % heading)
+        # A Rieker's command is its actions, named by what they do: the operator may zero (1, 2)
+        # but not restart (3), and the question says what the action does to which sensor.
+        command = '#detail-settings tr[data-setting="command"]'
         if "command" in names:
-            state = browser.evaluate(
-                "(() => { const q = document.querySelector(%s);"
-                " const f = document.querySelector('#detail-settings tr[data-setting=\"command\"] input');"
-                " return q ? [q.disabled, f ? f.disabled : null] : null; })()" % json.dumps(quick))
-            if state != [False, True]:
-                failures.append("the operator's command row: [Write 1 disabled, field disabled] "
-                                "should be [False, True], is %r" % (state,))
+            buttons = browser.wait_for(
+                "(() => { const b = [...document.querySelectorAll(%s)]"
+                ".map(b => [b.textContent, b.disabled]); return b.length ? b : null; })()"
+                % json.dumps(command + " button"), 10)
+            expected = [["Zero to the current angle (until restart)", False],
+                        ["Zero permanently", False], ["Restart the sensor", True]]
+            if buttons != expected:
+                failures.append("the operator's command row: %r, expected %r" % (buttons, expected))
             else:
                 browser.run("delete document.body.dataset.lastResult")
-                browser.click(quick)
-                browser.wait_for("!document.getElementById('confirm').hidden", 5)
+                browser.run("[...document.querySelectorAll(%s)].find(b => b.textContent === "
+                            "'Zero to the current angle (until restart)').click()"
+                            % json.dumps(command + " button"))
+                question = browser.wait_for(
+                    "!document.getElementById('confirm').hidden && "
+                    "document.getElementById('confirm-text').textContent", 5)
+                wanted = "Zero %s to its current angle? Until the sensor restarts." % sensor
+                if question != wanted:
+                    failures.append("the zero's question: %r, expected %r" % (question, wanted))
+                else:
+                    print("console: asked: " + question)
                 browser.click("#confirm-ok")
                 zeroed = browser.wait_for("document.body.dataset.lastResult", 20)
                 if zeroed != "ack":
-                    failures.append("Write 1 to command (zero to the current angle): %r (%s)" % (
+                    failures.append("Zero to the current angle (until restart): %r (%s)" % (
                         zeroed, browser.evaluate(
                             "document.getElementById('detail-message').textContent")))
                 else:

@@ -20,7 +20,7 @@ namespace asio = boost::asio;
 namespace {
 
 constexpr std::uint16_t kFilterRegister = 0;   // built-in H6 map
-constexpr std::uint16_t kAddressRegister = 7;  // rs485_address
+constexpr std::uint16_t kAddressRegister = 7;  // bus_address
 
 ModbusRequest write_register(std::uint8_t unit, std::uint16_t address, std::uint16_t value) {
   ModbusRequest request;

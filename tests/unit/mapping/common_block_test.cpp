@@ -124,7 +124,7 @@ TEST_CASE("holding registers read the unknown value before any write") {
     // command: "no command" where the model takes commands, else not available
     CHECK(w[5] == (model_accepts(registered_families(), model, WriteTarget::command) ? 0 : 0xFFFF));
     CHECK(w[6] == 0xFFFF);                                    // baud_code
-    CHECK(w[7] == 0xFFFF);                                    // rs485_address: not published
+    CHECK(w[7] == 0xFFFF);                                    // bus_address: not published
   }
   const Words dyna = read(default_map(registered_families(), "dyna"), view_of(state, now, "dyna"),
                           RegisterTable::holding, 100, 5);

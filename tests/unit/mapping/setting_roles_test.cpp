@@ -93,12 +93,12 @@ TEST_CASE("built-in maps: zero and filter are an operator's, what can lose the s
                                                             {"zero_y", op},
                                                             {"command", admin},
                                                             {"baud_code", admin},
-                                                            {"rs485_address", admin}});
+                                                            {"bus_address", admin}});
   CHECK(builtin("h4360") == std::map<std::string, SettingRole>{{"filter", op},
                                                                {"zero_x", op},
                                                                {"command", admin},
                                                                {"baud_code", admin},
-                                                               {"rs485_address", admin}});
+                                                               {"bus_address", admin}});
   // Dyna: every setting is an EEPROM write or the reset.
   for (const auto& entry : builtin("dyna")) {
     INFO(entry.first);
@@ -115,7 +115,7 @@ TEST_CASE("the CSV export shows each writable point's role, nothing for a read-o
   CHECK(csv.find("\n1,filter,holding,0,1,uint16,rw,") != std::string::npos);
   CHECK(csv.find(",40001,operator\n") != std::string::npos);   // filter
   CHECK(csv.find(",40006,admin (operator: 1 2)\n") != std::string::npos);  // command: 1, 2 zero
-  CHECK(csv.find(",40008,admin\n") != std::string::npos);      // rs485_address
+  CHECK(csv.find(",40008,admin\n") != std::string::npos);      // bus_address
   CHECK(csv.find(",30001,\n") != std::string::npos);           // angle_x: read-only
 }
 

@@ -165,7 +165,7 @@ class FakeDriver : public SensorDriver {
 };
 
 // A configured sensor around a FakeDriver, with the built-in H6 map (holding 0 filter,
-// 7 rs485_address).
+// 7 bus_address).
 inline std::unique_ptr<GatewaySensor> fake_sensor(std::string name, std::uint8_t unit_id,
                                                   std::uint32_t address, BusEvents& events,
                                                   std::chrono::milliseconds poll =
