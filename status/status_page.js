@@ -624,7 +624,9 @@ function renderSettings(name, sensor, settings) {
     row.querySelector("b").textContent = setting.label || setting.name;
     row.querySelector(".key").textContent = setting.name;
     row.querySelector(".what").textContent = setting.description || "";
-    row.querySelector(".value").textContent = valueText(setting.value) + (setting.value === null ? "" : units);
+    // A command is done, not kept: no value to show.
+    row.querySelector(".value").textContent = actions.length ? "" :
+      valueText(setting.value) + (setting.value === null ? "" : units);
     if (actions.length === 0) row.querySelector(".source").textContent = valueSource(setting);
     row.querySelector(".value-cell").title = valueSource(setting);
     row.querySelector(".range").textContent = actions.length || oneValue ? "" : setting.min + " \u2026 " + setting.max + units;

@@ -13,6 +13,8 @@ driver package is needed.
     chromium_page.py counters URL ADMIN FAILING   the counters in the page
         (tests/e2e/console_counters_test.py): FAILING, a sensor nobody answers for, is red with
         errors in the last 10 min; each bus's table on the Buses tab; its reset, confirmed
+    chromium_page.py walkthrough URL OPERATOR ADMIN SENSOR OUT_PREFIX   docs/web-console.md's
+        "Try it" on `tiltgate demo`: OUT_PREFIX-{login,zero,counters,audit}.png (1280x800)
     chromium_page.py tabs URL ADMIN OUT_PREFIX SENSOR   a screenshot of each console tab,
         OUT_PREFIX-TAB.png (1280x800), OUT_PREFIX-phone[-sensor].png (390x844)
 """
@@ -523,6 +525,49 @@ def counters_check(url, admin, failing):
     return 1 if failures else 0
 
 
+# The zero's button: by its action name, else (before actions had names) by its value.
+ZERO_BUTTON = """(() => { const b = [...document.querySelectorAll('#detail-settings button')]
+  .find(b => b.textContent.startsWith('Zero to the current angle')
+             || b.getAttribute('aria-label') === 'write 1 to command');
+  if (b) b.click(); return !!b; })()"""
+
+
+def walkthrough(url, operator, admin, sensor, prefix):
+    """docs/web-console.md, "Try it", step by step, a screenshot of each."""
+    browser = Chromium(1280, 800)
+    try:
+        browser.open(url, 1280, 800)
+        if not browser.wait_for(visible("#login-user"), 15):
+            raise SystemExit("no login form at " + url)
+        browser.fill("#login-user", operator.split(":")[0])
+        browser.shoot(prefix + "-login.png")
+        if log_in(browser, operator) != "operator":
+            raise SystemExit("the operator could not log in")
+        browser.wait_for("Number(document.body.dataset.updates) >= 4", 20)
+        if not open_sensor(browser, sensor):
+            raise SystemExit("no settings for " + sensor)
+        if not browser.evaluate(ZERO_BUTTON):
+            raise SystemExit("no zero button for " + sensor)
+        browser.wait_for("!document.getElementById('confirm').hidden", 5)
+        browser.click("#confirm-ok")
+        browser.wait_for("document.body.dataset.lastResult", 20)
+        time.sleep(1)
+        browser.shoot(prefix + "-zero.png")
+        browser.click("#detail-close")
+        browser.click("#logout")
+        if log_in(browser, admin) != "admin":
+            raise SystemExit("the admin could not log in")
+        browser.click('.tab[data-tab="buses"]')
+        browser.wait_for("document.querySelector('#scans table.counters') !== null", 10)
+        browser.shoot(prefix + "-counters.png")
+        browser.click('.tab[data-tab="audit"]')
+        browser.wait_for("document.querySelector('#audit-table tbody tr') !== null", 10)
+        browser.shoot(prefix + "-audit.png")
+    finally:
+        browser.close()
+    return 0
+
+
 def tab_screenshots(url, admin, prefix, sensor):
     """The login form, then each tab in use, as the docs show them."""
     browser = Chromium(1280, 800)
@@ -600,6 +645,8 @@ def main(argv):
         return confirm_check(argv[2], argv[3])
     if len(argv) >= 5 and argv[1] == "counters":
         return counters_check(argv[2], argv[3], argv[4])
+    if len(argv) >= 7 and argv[1] == "walkthrough":
+        return walkthrough(argv[2], argv[3], argv[4], argv[5], argv[6])
     if len(argv) >= 6 and argv[1] == "tabs":
         return tab_screenshots(argv[2], argv[3], argv[4], argv[5])
     print(__doc__, file=sys.stderr)
