@@ -83,7 +83,8 @@ Subcommand add_audit(CLI::App& app) {
       ->capture_default_str();
   audit->add_option("--sensor", options->filter.sensor, "only this sensor, as \"bus/sensor\"");
   audit->add_option("--door", options->filter.door,
-                    "only this door: modbus, sparkplug, \"control socket\", console");
+                    "only this door: modbus, sparkplug, \"control socket\", console, gateway "
+                    "(its own notices: records lost)");
   audit->add_option("--who", options->filter.who, "only records whose who contains this");
   audit->add_option("--setting", options->filter.setting, "only this setting");
   audit->add_option("--limit", options->filter.limit, "the newest this many; 0: all")

@@ -22,8 +22,9 @@ void add_angles(std::vector<Point>& points, const CommonBlockModel& m) {
   const bool two = m.dual_axis;
   points.push_back(input_point("angle_x", 0, T::float32, S::angle_x, "deg", m.angle_x_description));
   points.push_back(input_point("angle_y", 2, T::float32, S::angle_y, "deg",
-                               two ? "Y angle after the zero offset and the mounting"
-                                   : "NaN (single axis)"));
+                               !two                             ? "NaN (single axis)"
+                               : !m.angle_y_description.empty() ? m.angle_y_description
+                                                                : "Y angle after the zero offset and the mounting"));
   points.push_back(cdeg_point("angle_x_cdeg", 4, S::angle_x_cdeg,
                               "X angle in hundredths of a degree, saturating"));
   points.push_back(cdeg_point("angle_y_cdeg", 5, S::angle_y_cdeg,

@@ -22,6 +22,8 @@ inline constexpr std::uint16_t kModelSpecificStart = 100;
 struct CommonBlockModel {
   bool dual_axis = false;
   std::string angle_x_description;  // how the model's angle comes about
+  // The same of its Y angle (dual-axis); empty: the family's usual words.
+  std::string angle_y_description;
   // Holding registers 0..7, as the model's family describes its settings (range, unit,
   // meaning: driver/family.h); none: not available on this model.
   std::optional<SettingDescriptor> filter, zero_x, zero_y, command, baud_code, bus_address;

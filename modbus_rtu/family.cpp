@@ -118,6 +118,7 @@ RegisterMap rtu_default_map() {
   CommonBlockModel m;
   m.dual_axis = true;
   m.angle_x_description = "the device profile's angle_x after the mounting";
+  m.angle_y_description = "the device profile's angle_y after the mounting";
   return RegisterMap(common_block(m));
 }
 

@@ -153,3 +153,24 @@ TEST_CASE("each model's built-in map serves its settings with the descriptor's r
     }
   }
 }
+
+// A dual-axis model's built-in map says how its Y angle comes about as it says the X's: the
+// Modbus RTU device's both come from its profile, not from a zero offset it does not have.
+TEST_CASE("each dual-axis model's built-in map describes its Y angle as its X angle") {
+  for (const FamilyDescriptor* family : registered_families()) {
+    for (const ModelDescriptor& model : family->models) {
+      INFO(model.name);
+      const RegisterMap map = model.default_map();
+      const Point* x = map.find("angle_x");
+      const Point* y = map.find("angle_y");
+      REQUIRE(x != nullptr);
+      REQUIRE(y != nullptr);
+      if (y->description.starts_with("NaN")) continue;  // single axis
+      std::string as_x = x->description;
+      for (std::size_t at = as_x.find("_x"); at != std::string::npos; at = as_x.find("_x", at))
+        as_x.replace(at, 2, "_y");
+      if (as_x.starts_with("X ")) as_x.replace(0, 1, "Y");
+      CHECK(y->description == as_x);
+    }
+  }
+}
