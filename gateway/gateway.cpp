@@ -344,13 +344,17 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   return status;
 }
 
+void Gateway::zero_counters(GatewaySensor& sensor) {
+  sensor.driver->reset_counters();
+  sensor.line_time = {};
+  sensor.publish();  // the registers that serve the counters read zero at once
+  recent_failures_.forget(sensor.config.name);
+}
+
 bool Gateway::reset_sensor_counters(std::string_view name) {
   for (const auto& sensor : sensors_)
     if (sensor->config.name == name) {
-      sensor->driver->reset_counters();
-      sensor->line_time = {};
-      sensor->publish();  // the registers that serve the counters read zero at once
-      recent_failures_.forget(name);
+      zero_counters(*sensor);
       // The rates start over from the counters as they are now.
       sensor_rates_.clear();
       record_counters(SteadyClock::now());
@@ -363,8 +367,10 @@ bool Gateway::reset_bus_counters(std::string_view name) {
   for (std::size_t i = 0; i < buses_.size(); ++i) {
     if (config_.buses[i].name != name) continue;
     for (const auto& sensor : sensors_)
-      if (sensor->config.bus == name) reset_sensor_counters(sensor->config.name);
+      if (sensor->config.bus == name) zero_counters(*sensor);
     buses_[i]->scheduler->reset_counters();
+    // Once for the bus and all its sensors, not once a sensor.
+    sensor_rates_.clear();
     bus_rates_.clear();
     record_counters(SteadyClock::now());
     return true;

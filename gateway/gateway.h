@@ -120,6 +120,9 @@ class Gateway {
   std::vector<std::size_t> reload_buses(const Config& loaded, const ConfigDiff& diff);
   // reload(): the sensors of `loaded`, keeping those `diff` keeps.
   void reload_sensors(const Config& loaded, const ConfigDiff& diff);
+  // The sensor's counters, line time and recent failures back to zero, its snapshot published;
+  // the callers restart the rates once.
+  void zero_counters(GatewaySensor& sensor);
   // Samples the poll and busy counters once a second, for the rates status() shows.
   boost::asio::awaitable<void> sample_counters();
   void record_counters(SteadyClock::time_point now);
