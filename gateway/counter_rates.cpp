@@ -37,6 +37,13 @@ std::optional<double> CounterRates::growth(std::size_t index) const {
   return grown;
 }
 
+std::optional<double> CounterRates::growth_to(std::size_t index, double total) const {
+  if (samples_.empty() || index >= samples_.front().totals.size()) return std::nullopt;
+  const double grown = total - samples_.front().totals[index];
+  if (grown < 0) return std::nullopt;
+  return grown;
+}
+
 std::optional<double> CounterRates::rate(std::size_t index) const {
   const std::optional<double> grown = growth(index);
   if (!grown) return std::nullopt;

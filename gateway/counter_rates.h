@@ -38,6 +38,9 @@ class CounterRates {
   // Counter `index`'s growth from the oldest sample kept to the newest: over the window once
   // the samples span it, since the first sample before; none as for rate().
   std::optional<double> growth(std::size_t index) const;
+  // Counter `index`'s growth from the oldest sample kept to `total`, its value now; none
+  // without a sample, or when `total` is below that sample's (the counter restarted since).
+  std::optional<double> growth_to(std::size_t index, double total) const;
 
  private:
   struct Sample {

@@ -319,7 +319,8 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   status.audit_health = audit_->health();
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
     status.sensors.push_back(sensor_status(*sensors_[i], now));
-    status.sensors.back().recent_failures = recent_failures_.of(sensors_[i]->config.name);
+    status.sensors.back().recent_failures = recent_failures_.of(
+        sensors_[i]->config.name, failure_counts(sensors_[i]->driver->state().counters));
     status.sensors.back().polls_per_s = rounded(sensor_rates_.rate(2 * i), 100);
     // As for a bus's utilisation, a turn across the sample instant counts wholly later.
     if (const auto share = rounded(sensor_rates_.rate(2 * i + 1), 1000))

@@ -24,14 +24,17 @@ void RecentFailures::record(const std::string& sensor, CounterRates::Clock::time
   it->second.record_restarting(at, as_totals(totals));
 }
 
-std::optional<FailureCounts> RecentFailures::of(std::string_view sensor) const {
+std::optional<FailureCounts> RecentFailures::of(std::string_view sensor,
+                                                const FailureCounts& now) const {
   const auto it = sensors_.find(sensor);
-  if (it == sensors_.end()) return std::nullopt;
-  const CounterRates& rates = it->second;
+  if (it == sensors_.end() || it->second.samples() == 0) return std::nullopt;
+  const std::vector<double> totals = as_totals(now);
   std::optional<double> grown[5];
   for (std::size_t i = 0; i < 5; ++i) {
-    grown[i] = rates.growth(i);
-    if (!grown[i]) return std::nullopt;
+    grown[i] = it->second.growth_to(i, totals[i]);
+    // Below the oldest sample: the counters were set back to zero since the newest, less than
+    // a sample ago, so all they count is recent.
+    if (!grown[i]) return now;
   }
   return FailureCounts{std::uint64_t(*grown[0]), std::uint64_t(*grown[1]), std::uint64_t(*grown[2]),
                        std::uint64_t(*grown[3]), std::uint64_t(*grown[4])};

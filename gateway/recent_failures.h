@@ -22,8 +22,10 @@ class RecentFailures {
   // The totals of `sensor` (SensorCounters) at `at`.
   void record(const std::string& sensor, CounterRates::Clock::time_point at,
               const FailureCounts& totals);
-  // The sensor's growth over the window; none until it has two samples.
-  std::optional<FailureCounts> of(std::string_view sensor) const;
+  // The sensor's failures from its oldest sample kept (10 minutes ago, or its first) to `now`,
+  // its totals as they are: live, so never fewer than its counts since start show when those
+  // began less than a sample ago (a reset, a start). None before its first sample.
+  std::optional<FailureCounts> of(std::string_view sensor, const FailureCounts& now) const;
   // Forgets the sensor's samples: its counters were set back to zero.
   void forget(std::string_view sensor);
   // Forgets every sensor not in `names` (a reload removed or renamed them).

@@ -495,7 +495,8 @@ def counters_check(url, admin, failing):
         errors = '.card[data-name="%s"] .errors' % failing
         seen = browser.wait_for(
             "(() => { const e = document.querySelector(%s);"
-            " return e && e.textContent.includes('in 10 min') && e.className; })()" %
+            " return e && e.textContent.includes('in 10 min') && e.classList.contains('bad')"
+            " && e.className; })()" %
             json.dumps(errors), 20)
         if not seen or "bad" not in seen:
             failures.append("the failing sensor's card does not show its errors of the last "

@@ -54,6 +54,15 @@ TEST_CASE("counter rates: growth over a long window sampled every second keeps f
   CHECK(*errors.growth(0) == 1.0);
 }
 
+TEST_CASE("counter rates: growth to a live total from the oldest sample, none below it") {
+  CounterRates errors(600s, 10s);
+  CHECK_FALSE(errors.growth_to(0, 4));  // no sample yet
+  errors.record(t0, {2});
+  CHECK(*errors.growth_to(0, 4) == 2.0);  // one sample is enough: the total is now's
+  CHECK_FALSE(errors.growth_to(0, 1));    // restarted since
+  CHECK_FALSE(errors.growth_to(1, 4));    // no such counter
+}
+
 TEST_CASE("counter rates: growth since the first sample until the window is full, then over it") {
   CounterRates errors(600s, 10s);
   errors.record(t0, {0});
