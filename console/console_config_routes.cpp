@@ -1,6 +1,7 @@
 // The web console's configuration routes: GET, check, PUT (an apply under a confirmation window,
-// docs/web-console.md, "Applying with a confirmation window"), confirm and the file's download.
-// The endpoint (console/config_endpoint.h) does the work; this part of the handler reads what
+// docs/web-console.md, "Applying with a confirmation window"), confirm, the file's download and
+// the guided forms' keys, tables and edits. The endpoints (console/config_endpoint.h,
+// console/config_forms.h) do the work; this part of the handler reads what
 // the gateway serves on the buses' thread and records the apply, and every refused attempt at
 // a change.
 #include <boost/asio/co_spawn.hpp>
@@ -74,6 +75,19 @@ HttpReply ConsoleHandler::config_change(const HttpRequest& request, std::string_
     auto text = parse_config_text(request.body);
     if (!text) return error_reply(400, text.error());
     return config_endpoint_.check(*text);
+  }
+  if (path == "/api/config/form") {
+    if (method == "GET") return config_forms_.keys();
+    if (method != "POST") return error_reply(405, "GET the form's keys, or POST a filled form");
+    auto form = parse_form_edit_request(request.body);
+    if (!form) return error_reply(400, form.error());
+    return config_forms_.edit(*form);
+  }
+  if (path == "/api/config/tables") {
+    if (method != "POST") return error_reply(405, "POST the text whose tables to read");
+    auto text = parse_config_text(request.body);
+    if (!text) return error_reply(400, text.error());
+    return config_forms_.tables(*text);
   }
   if (path == "/api/config/confirm") {
     if (method != "POST") return error_reply(405, "POST to confirm the applied configuration");

@@ -40,6 +40,7 @@ ConsoleHandler::ConsoleHandler(ConsoleContext context, const HttpConfig& config,
     : context_(std::move(context)),
       config_(config),
       config_endpoint_(context_.config_path, context_.families, context_.confirm_window),
+      config_forms_(context_.config_path, context_.families),
       settings_endpoint_(context_.gateway, context_.families, context_.audit),
       state_(std::move(state)) {
   {

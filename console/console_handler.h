@@ -24,6 +24,7 @@
 #include "config/config.h"
 #include "console/bus_actions.h"
 #include "console/config_endpoint.h"
+#include "console/config_forms.h"
 #include "console/login_throttle.h"
 #include "console/session_table.h"
 #include "console/settings_endpoint.h"
@@ -148,6 +149,7 @@ class ConsoleHandler {
   ConsoleContext context_;
   HttpConfig config_;
   ConfigEndpoint config_endpoint_;
+  ConfigForms config_forms_;
   SettingsEndpoint settings_endpoint_;  // used on the buses' executor only
   std::unique_ptr<BusActions> bus_actions_;  // made on the server's thread, at its first use
   std::shared_ptr<ConsoleState> state_;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <tuple>
 #include <nlohmann/json.hpp>
 
 namespace tiltgate {
@@ -113,6 +114,41 @@ Expected<RawRequest, std::string> parse_raw_request(std::string_view body) {
   if (*address < 0 || *address > 65535 || *function < 0 || *function > 65535)
     return Unexpected{std::string("\"address\" and \"function\" are 0 to 65535")};
   return RawRequest{*address, *function, std::move(*data)};
+}
+
+Expected<FormEditRequest, std::string> parse_form_edit_request(std::string_view body) {
+  auto object = object_of(body);
+  if (!object) return Unexpected{object.error()};
+  FormEditRequest request;
+  for (const auto& [name, field, max, required] :
+       {std::tuple{"text", &request.text, std::size_t(1) << 20, true},
+        std::tuple{"action", &request.action, std::size_t(16), true},
+        std::tuple{"table", &request.table, std::size_t(16), true},
+        std::tuple{"name", &request.name, std::size_t(256), false}}) {
+    auto value = string_field(*object, name, max, required);
+    if (!value) return Unexpected{value.error()};
+    *field = std::move(*value);
+  }
+  if (request.action != "add" && request.action != "edit" && request.action != "remove")
+    return Unexpected{std::string("\"action\" is not \"add\", \"edit\" or \"remove\"")};
+  if (request.table != "bus" && request.table != "sensor")
+    return Unexpected{std::string("\"table\" is not \"bus\" or \"sensor\"")};
+  if (request.action != "add" && request.name.empty())
+    return Unexpected{fmt::format("\"name\" is missing: which {} to {}", request.table,
+                                  request.action)};
+  const auto values = object->find("values");
+  if (values != object->end()) {
+    if (!values->is_object()) return Unexpected{std::string("\"values\" is not an object")};
+    if (values->size() > 64) return Unexpected{std::string("\"values\" has more than 64 keys")};
+    for (const auto& [key, value] : values->items()) {
+      if (!value.is_string())
+        return Unexpected{fmt::format("\"values\".\"{}\" is not a string", key.substr(0, 64))};
+      if (key.size() > 64 || value.get_ref<const std::string&>().size() > 4096)
+        return Unexpected{fmt::format("\"values\".\"{}\" is too long", key.substr(0, 64))};
+      request.values[key] = value.get<std::string>();
+    }
+  }
+  return request;
 }
 
 }  // namespace tiltgate

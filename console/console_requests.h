@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <string_view>
 
@@ -36,6 +37,14 @@ struct RawRequest {
   std::int64_t function = 0;
   std::string data;  // hex bytes, e.g. "01 0A"; empty: none
 };
+// POST /api/config/form (docs/web-console.md, "Guided configuration").
+struct FormEditRequest {
+  std::string text;    // the configuration to change (the editor's text)
+  std::string action;  // "add", "edit", "remove"
+  std::string table;   // "bus", "sensor"
+  std::string name;    // the table to edit or remove
+  std::map<std::string, std::string> values;  // key -> as typed; "" leaves the key out
+};
 
 // The longest user name and password a login may carry: anything longer is refused before
 // any hashing.
@@ -47,5 +56,6 @@ Expected<SettingRequest, std::string> parse_setting_request(std::string_view bod
 Expected<ConfigText, std::string> parse_config_text(std::string_view body);
 Expected<ScanRequest, std::string> parse_scan_request(std::string_view body);
 Expected<RawRequest, std::string> parse_raw_request(std::string_view body);
+Expected<FormEditRequest, std::string> parse_form_edit_request(std::string_view body);
 
 }  // namespace tiltgate

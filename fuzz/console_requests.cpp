@@ -14,5 +14,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)tiltgate::parse_config_text(body);
   (void)tiltgate::parse_scan_request(body);
   (void)tiltgate::parse_raw_request(body);
+  (void)tiltgate::parse_form_edit_request(body);
   return 0;
 }
