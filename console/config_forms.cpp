@@ -1,6 +1,8 @@
 #include "console/config_forms.h"
 
 #include <fmt/format.h>
+#include <set>
+#include <utility>
 
 #include "commission/configured_units.h"
 #include "config/config_edit.h"
@@ -48,10 +50,10 @@ HttpReply refused(const std::map<std::string, std::string>& by_field, std::strin
   json errors = json::array();
   for (const auto& [field, message] : by_field)
     errors.push_back({{"field", field}, {"line", 0}, {"key", field}, {"message", message},
-                      {"text", fmt::format("{}: {}", field, message)}});
+                      {"text", fmt::format("{}: {}", field, message)}, {"before", false}});
   if (!general.empty())
     errors.push_back({{"field", nullptr}, {"line", 0}, {"key", ""}, {"message", general},
-                      {"text", general}});
+                      {"text", general}, {"before", false}});
   return json_reply(200, json{{"ok", false}, {"text", nullptr}, {"line", 0}, {"errors", errors}});
 }
 
@@ -106,24 +108,36 @@ HttpReply ConfigForms::edit(const FormEditRequest& request) const {
                   : add_table(request.text, request.table, values_of(*changes));
   }
   if (!edit) return refused({}, edit.error());
-  // Checked as the served file, and as `tiltgate check` checks it.
+  // Checked as the served file, and as `tiltgate check` checks it. What was wrong before the
+  // form (a tty unplugged on this machine, a typo elsewhere) is said, but only what the form
+  // brought in stops it.
   const std::string name = path_.empty() ? std::string("(console)") : path_;
-  const auto loaded = checked_on_this_machine(load_config_string(edit->text, name, families_));
+  const auto check = [&](std::string_view text) {
+    return checked_on_this_machine(load_config_string(text, name, families_));
+  };
+  const auto loaded = check(edit->text);
   json errors = json::array();
+  bool ok = true;
   if (!loaded) {
+    std::set<std::pair<std::string, std::string>> before;
+    if (const auto earlier = check(request.text); !earlier)
+      for (const FileError& error : earlier.error()) before.emplace(error.key, error.message);
     const auto index = edit->line > 0 ? index_at(edit->text, request.table, edit->line)
                                       : std::nullopt;
     const std::string own = index ? fmt::format("{}[{}].", request.table, *index) : std::string();
     for (const FileError& error : loaded.error()) {
       const bool mine = !own.empty() && error.key.starts_with(own);
+      const bool earlier = before.count({error.key, error.message}) > 0;
+      ok = ok && earlier;
       errors.push_back({{"field", mine ? json(error.key.substr(own.size())) : json(nullptr)},
                         {"line", error.line},
                         {"key", error.key},
                         {"message", error.message},
-                        {"text", error.to_string()}});
+                        {"text", error.to_string()},
+                        {"before", earlier}});
     }
   }
-  return json_reply(200, json{{"ok", errors.empty()},
+  return json_reply(200, json{{"ok", ok},
                               {"text", edit->text},
                               {"line", edit->line},
                               {"errors", errors}});

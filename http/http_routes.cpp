@@ -7,6 +7,7 @@
 #include "status/status_metrics.h"
 #include "status/status_page_css.h"
 #include "status/status_page_html.h"
+#include "status/config_forms_js.h"
 #include "status/status_page_js.h"
 
 namespace tiltgate {
@@ -104,6 +105,8 @@ HttpReply route_http(std::string_view method, std::string_view target,
     return HttpReply{200, "text/css; charset=utf-8", std::string(kStatusPageCss)};
   if (path == "/status_page.js")
     return HttpReply{200, "text/javascript; charset=utf-8", std::string(kStatusPageJs)};
+  if (path == "/config_forms.js")  // the console's guided configuration
+    return HttpReply{200, "text/javascript; charset=utf-8", std::string(kConfigFormsJs)};
   if (path == "/healthz") return text(200, "ok\n");
   if (path == "/metrics")
     return HttpReply{200, std::string(kMetricsContentType), metrics_text(status())};
@@ -124,7 +127,8 @@ HttpReply route_http(std::string_view method, std::string_view target,
     }
     return text(404, "no such sensor\n");
   }
-  return text(404, "not found: the endpoints are / (with /status_page.css and /status_page.js), "
+  return text(404, "not found: the endpoints are / (with /status_page.css, /status_page.js and "
+                   "/config_forms.js), "
                    "/healthz, /api/sensors, /api/sensors/NAME, /api/sensors/NAME/history[.csv], "
                    "/api/buses, /api/modbus and /metrics\n");
 }

@@ -849,24 +849,11 @@ function renderScan(bus, state) {
     add.className = "button";
     add.textContent = "Add to the configuration";
     add.dataset.needs = "admin";
-    add.addEventListener("click", () => addToConfiguration(f.config || ""));
+    add.addEventListener("click", () => addScannedSensor(f.config || ""));
     row.children[4].appendChild(add);
     tbody.appendChild(row);
   }
   applyRole(host);
-}
-
-async function addToConfiguration(text) {
-  if (servedConfig === null) await loadConfig();
-  const editor = $("editor");
-  const current = editor.value;
-  editor.value = current + (current === "" || current.endsWith("\n\n") ? "" : current.endsWith("\n") ? "\n" : "\n\n") +
-                 text + (text.endsWith("\n") ? "" : "\n");
-  showTab("config");
-  say("config-message", "Added to the editor: check, look at the changes, then apply.", "ok");
-  editor.focus();
-  editor.setSelectionRange(editor.value.length, editor.value.length);
-  editor.scrollTop = editor.scrollHeight;
 }
 
 // ---- raw frames ----
@@ -915,6 +902,7 @@ async function loadConfig() {
     $("config-diff-out").hidden = true;
     say("config-message", "");
     showPending(c.pending, null);
+    refreshTables();  // config_forms.js
   } catch (e) {
     say("config-message", "Could not read the configuration: " + e.message, "bad");
   }

@@ -4,7 +4,8 @@ build/tiltgate run on two simulated Rieker sensors, read with Python's http.clie
 keys are the configuration reference's; a text's tables read as typed, with a free unit id
 proposed; a filled form becomes the text with its table added, changed or removed, every other
 line kept, checked as `tiltgate check` checks it with each error at its field; the text applies
-with the usual confirmation; an operator may not use the forms.
+with the usual confirmation; an operator may not use the forms. Then the same in Chromium: the
+Configuration tab's Add a sensor and Edit forms, and the editor's Apply.
 
 Usage: /usr/bin/python3 config_forms_test.py path/to/tiltgate
 """
@@ -14,7 +15,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sparkplug"))
-from console_api_test import Client, add_users, start_gateway, write_config  # noqa: E402
+from console_api_test import PASSWORDS, Client, add_users, start_gateway, write_config  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.plant import Simulator  # noqa: E402
 from spb_e2e import processes  # noqa: E402
@@ -152,6 +153,18 @@ def scenario(t):
                            text=True, timeout=60)
     t.check("tiltgate check takes the file the forms made", check.returncode == 0,
             check.stdout + check.stderr)
+
+    page = subprocess.run(
+        [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support",
+                                      "chromium_page.py"),
+         "forms", "http://127.0.0.1:%d/" % http_port, "bob:" + PASSWORDS["bob"], "tip", "4"],
+        capture_output=True, text=True, timeout=180)
+    t.check("in Chromium: Add a sensor proposes unit 4, shows a taken unit id at its field, puts "
+            "its text in the editor, whose Apply shows the diff and is confirmed; Edit changes "
+            "boom", page.returncode == 0, page.stdout + page.stderr)
+    served = processes.wait_until(
+        lambda: "tip" in [s["name"] for s in bob.request("GET", "/api/sensors")[1]], 20)
+    t.check("the sensor added in the page is served", served)
 
 
 if __name__ == "__main__":

@@ -13,6 +13,9 @@ driver package is needed.
     chromium_page.py counters URL ADMIN FAILING   the counters in the page
         (tests/e2e/console_counters_test.py): FAILING, a sensor nobody answers for, is red with
         errors in the last 10 min; each bus's table on the Buses tab; its reset, confirmed
+    chromium_page.py forms URL ADMIN SENSOR FREE_UNIT   the guided configuration
+        (tests/e2e/config_forms_test.py): SENSOR added with the Add a sensor form, applied and
+        confirmed; an Edit form's change
     chromium_page.py walkthrough URL OPERATOR ADMIN SENSOR OUT_PREFIX   docs/web-console.md's
         "Try it" on `tiltgate demo`: OUT_PREFIX-{login,zero,counters,audit}.png (1280x800)
     chromium_page.py tabs URL ADMIN OUT_PREFIX SENSOR   a screenshot of each console tab,
@@ -526,6 +529,83 @@ def counters_check(url, admin, failing):
     return 1 if failures else 0
 
 
+def forms_check(url, admin, sensor, free_unit):
+    """Guided configuration (tests/e2e/config_forms_test.py): the admin adds SENSOR with the
+    Add a sensor form, first with a unit id another sensor has (its error at the field), then
+    FREE_UNIT; the form's text goes into the editor, the editor's Apply shows the diff, applies
+    and confirms; then changes boom's poll_ms with its Edit form."""
+    failures = []
+    browser = Chromium()
+    try:
+        browser.open(url, 1280, 900)
+        if log_in(browser, admin) != "admin":
+            raise SystemExit("FAIL: the admin could not log in")
+        browser.click('.tab[data-tab="config"]')
+        if not browser.wait_for("document.querySelectorAll('#forms-tables tbody tr').length >= 3", 15):
+            failures.append("the Configuration tab lists no buses and sensors: %r" % browser.evaluate(
+                "document.getElementById('forms').innerText"))
+        browser.click("#form-add-sensor")
+        if not browser.wait_for("!document.getElementById('table-form').hidden", 10):
+            failures.append("Add a sensor opens no form")
+        proposed = browser.evaluate("document.getElementById('field-unit_id').value")
+        if proposed != str(free_unit):
+            failures.append("the form proposes unit id %r, not the free %d" % (proposed, free_unit))
+        buses = browser.evaluate("[...document.querySelectorAll('#field-bus option')].map(o => o.value)")
+        if not buses or "line1" not in buses:
+            failures.append("the bus field does not offer the text's buses: %r" % buses)
+        browser.fill("#field-name", sensor)
+        browser.fill("#field-bus", "line1")
+        browser.fill("#field-model", "h6")
+        browser.fill("#field-address", "58")
+        browser.fill("#field-unit_id", "1")
+        browser.click("#table-form-submit")
+        error = browser.wait_for("document.querySelector('.field[data-field=\"unit_id\"] .field-error')"
+                                 ".textContent", 10)
+        if not error or "boom" not in error:
+            failures.append("a taken unit id shows no error at its field: %r" % error)
+        browser.fill("#field-unit_id", str(free_unit))
+        browser.click("#table-form-submit")
+        if not browser.wait_for("document.getElementById('table-form').hidden && "
+                                "document.getElementById('editor').value.includes('name = \"%s\"')"
+                                % sensor, 10):
+            failures.append("the valid form's text is not in the editor: %r" % browser.evaluate(
+                "document.getElementById('table-form').innerText"))
+        said = browser.evaluate("document.getElementById('forms-message').textContent")
+        if not said or "Apply" not in said:
+            failures.append("the form says nothing of what to do next: %r" % said)
+        browser.click("#config-apply")
+        if not browser.wait_for("!document.getElementById('confirm').hidden", 5):
+            failures.append("Apply asks for no confirmation")
+        diff = browser.evaluate("document.getElementById('confirm-detail').textContent") or ""
+        if "+ [[sensor]]" not in diff or ("+ name = \"%s\"" % sensor) not in diff:
+            failures.append("the apply's confirmation shows no diff of the form's table: %r" % diff)
+        browser.click("#confirm-ok")
+        if not browser.wait_for("!document.getElementById('config-pending').hidden", 15):
+            failures.append("the apply awaits no confirmation: %r" % browser.evaluate(
+                "document.getElementById('config-message').textContent"))
+        browser.click("#config-confirm")
+        confirmed = browser.wait_for(
+            "document.getElementById('config-message').textContent.startsWith('Confirmed')", 15)
+        if not confirmed:
+            failures.append("the applied text is not confirmed: %r" % browser.evaluate(
+                "document.getElementById('config-message').textContent"))
+        browser.wait_for("document.querySelector('#forms-tables tr[data-name=\"%s\"]')" % sensor, 10)
+        browser.click('#forms-tables tr[data-name="boom"] button.edit')
+        if not browser.wait_for("!document.getElementById('table-form').hidden && "
+                                "document.getElementById('field-address').value !== ''", 10):
+            failures.append("Edit opens no form filled with boom's values")
+        browser.fill("#field-poll_ms", "250")
+        browser.click("#table-form-submit")
+        if not browser.wait_for("document.getElementById('editor').value.includes('poll_ms = 250')", 10):
+            failures.append("the Edit form's change is not in the editor")
+        print("forms page: %s" % said)
+    finally:
+        browser.close()
+    for failure in failures:
+        print("FAIL: " + failure)
+    return 1 if failures else 0
+
+
 # The zero's button: by its action name, else (before actions had names) by its value.
 ZERO_BUTTON = """(() => { const b = [...document.querySelectorAll('#detail-settings button')]
   .find(b => b.textContent.startsWith('Zero to the current angle')
@@ -603,10 +683,14 @@ def tab_screenshots(url, admin, prefix, sensor):
         browser.wait_for("document.querySelector('#scans form').dataset.running === 'false' && "
                          "document.querySelector('#scans .found, #scans .output')", 60)
         browser.shoot(prefix + "-buses.png")
-        # A found sensor goes into the editor (the Configuration tab's diff then shows it).
+        # A found sensor fills the Add a sensor form, whose text goes into the editor (the
+        # Configuration tab's diff then shows it).
         added = browser.evaluate("(() => { const b = [...document.querySelectorAll('#scans button')]"
                                  ".find(b => b.textContent === 'Add to the configuration');"
                                  " if (b) b.click(); return !!b; })()")
+        if added and browser.wait_for("!document.getElementById('table-form').hidden", 10):
+            browser.click("#table-form-submit")
+            browser.wait_for("document.getElementById('table-form').hidden", 10)
         browser.click('.tab[data-tab="raw"]')
         browser.click("#raw-send")
         browser.wait_for("!document.getElementById('raw-result').hidden", 10)
@@ -646,6 +730,8 @@ def main(argv):
         return confirm_check(argv[2], argv[3])
     if len(argv) >= 5 and argv[1] == "counters":
         return counters_check(argv[2], argv[3], argv[4])
+    if len(argv) >= 6 and argv[1] == "forms":
+        return forms_check(argv[2], argv[3], argv[4], int(argv[5]))
     if len(argv) >= 7 and argv[1] == "walkthrough":
         return walkthrough(argv[2], argv[3], argv[4], argv[5], argv[6])
     if len(argv) >= 6 and argv[1] == "tabs":
