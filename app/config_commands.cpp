@@ -14,6 +14,7 @@
 #include "config/config_loader.h"
 #include "config/machine_checks.h"
 #include "app/config_commands.h"
+#include "app/config_reload.h"
 #include "app/served_gateway.h"
 #include "app/run_as_user.h"
 #include "app/service_notify.h"
@@ -106,36 +107,6 @@ int map_command(const std::string& config_path, const std::string& format, Famil
   }
   std::cout << (format == "markdown" ? export_markdown(units) : export_csv(units));
   return 0;
-}
-
-// SIGHUP: the file again, through the loader `check` uses. A valid file is applied to the
-// running gateway; an invalid one is refused with every error logged, as `check` prints them.
-void reload_or_refuse(Gateway& gateway, const std::string& config_path, FamilyList families) {
-  spdlog::info("SIGHUP: reloading {}", visible_text(config_path));
-  auto loaded = checked_on_this_machine(load_config_file(config_path, families));
-  if (!loaded) {
-    for (const ConfigError& error : loaded.error())
-      spdlog::error("{}", visible_text(error.to_string()));
-    spdlog::error("reload refused: {} error(s); still serving the configuration loaded at {}",
-                  loaded.error().size(), gateway.loaded_at());
-    return;
-  }
-  gateway.reload(*loaded);
-}
-
-// systemd shows the service as reloading from RELOADING=1 until READY=1, which comes whether
-// the file was applied or refused: either way the gateway serves again.
-void reload_on_sighup(boost::asio::signal_set& hangups, Gateway& gateway,
-                      const std::string& config_path, FamilyList families,
-                      ServiceNotifier& notifier) {
-  hangups.async_wait([&hangups, &gateway, &config_path, families, &notifier](
-                         const boost::system::error_code& ec, int) {
-    if (ec) return;
-    notifier.reloading();
-    reload_or_refuse(gateway, config_path, families);
-    notifier.ready();
-    reload_on_sighup(hangups, gateway, config_path, families, notifier);
-  });
 }
 
 // The folders the serving user will write in but may not be able to make (in /run, /var/lib),
