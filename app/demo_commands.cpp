@@ -11,11 +11,16 @@
 #include <memory>
 #include <vector>
 
+#include "app/config_reload.h"
 #include "app/demo_accounts.h"
 #include "app/demo_commands.h"
 #include "app/simulator_console.h"
 #include "app/demo_sensor_keys.h"
 #include "app/served_gateway.h"
+#include "app/service_notify.h"
+#include "config/config_loader.h"
+#include "config/machine_checks.h"
+#include "toml/toml_string.h"
 
 namespace tiltgate {
 
@@ -52,72 +57,59 @@ void run_until_signal(boost::asio::io_context& io, Stop stop) {
   finish_stopped(io);
 }
 
-// Every family's demo bus, its sensors numbered from unit id 1 in family order. The files
-// the sensors' own keys name are written into `folder`.
-Expected<Config, std::string> demo_config(const DemoOptions& options, FamilyList families,
-                                          FamilyCommandsList demos,
-                                          const std::vector<std::string>& ttys,
-                                          const std::filesystem::path& folder) {
-  Config config;
-  config.path = "(demo)";
-  config.server.listen = options.listen;
-  config.server.port = options.port;
-  config.server.writes = true;
-  config.server.control_socket = options.control_socket.empty()
-                                     ? (folder / "control.sock").string()
-                                     : options.control_socket;
-  // The audit trail in memory: a demo on a gateway must not write into the service's trail.
-  config.server.state_dir.clear();
-  config.http.enabled = options.http_port != 0;
-  config.http.listen = options.listen;
-  config.http.port = options.http_port;
+// The demo's configuration file: every family's demo bus, its sensors numbered from unit id 1
+// in family order, in the demo's folder with the files the sensors' own keys name. A file, not
+// a configuration made in memory, so the console's Configuration tab, scans, raw frames and
+// applies work on the demo as on a plant (docs/web-console.md, "Try it").
+Expected<std::string, std::string> demo_config_text(const DemoOptions& options,
+                                                    FamilyCommandsList demos,
+                                                    const std::vector<std::string>& ttys,
+                                                    const std::filesystem::path& folder) {
+  using toml_input::toml_string;
+  const auto path = [&](std::string_view name) { return toml_string((folder / name).string()); };
+  std::string text = fmt::format(
+      "# tiltgate demo: written for this run into its temporary folder, gone when it stops.\n"
+      "[server]\nlisten = {}\nport = {}\nwrites = true\ncontrol_socket = {}\n"
+      // The demo's own folder: a demo on a gateway must not write into the service's audit
+      // trail or stores, nor take (or be refused) them.
+      "state_dir = {}\n",
+      toml_string(options.listen), options.port,
+      options.control_socket.empty() ? path("control.sock") : toml_string(options.control_socket),
+      path("state"));
+  text += fmt::format("\n[http]\n");
+  if (options.http_port == 0)
+    text += "enabled = false\n";
+  else
+    text += fmt::format("listen = {}\nport = {}\n", toml_string(options.listen), options.http_port);
   // Accounts made for this run (app/demo_accounts.h); the file is written before the start.
-  if (config.http.enabled && !options.no_accounts)
-    config.http.users_file = (folder / "users").string();
-  if (!options.mqtt_host.empty()) {
-    config.mqtt.enabled = true;
-    config.mqtt.host = options.mqtt_host;
-    config.mqtt.port = options.mqtt_port;
-    config.mqtt.client_id = fmt::format("tiltgate-demo-{}", ::getpid());
-    config.mqtt.topic_prefix = "tiltgate/demo";
-    // In memory: a demo on a gateway must not take (or be refused) the service's store.
-    config.mqtt.state_dir.clear();
-  }
-  if (!options.sparkplug_host.empty()) {
-    config.sparkplug.enabled = true;
-    config.sparkplug.host = options.sparkplug_host;
-    config.sparkplug.port = options.sparkplug_port;
-    config.sparkplug.group_id = "tiltgate-demo";
-    config.sparkplug.edge_node_id = "demo";
-    config.sparkplug.client_id = fmt::format("tiltgate-demo-sparkplug-{}", ::getpid());
-    // The demo's own temporary folder, gone when it stops: a demo needs no /var/lib, and
-    // its bdSeq starts at 0 every run.
-    config.sparkplug.state_dir = (folder / "state").string();
-    config.sparkplug.commands = true;  // as Modbus writes are on in the demo
-  }
-  std::uint8_t unit = 1;
+  if (options.http_port != 0 && !options.no_accounts)
+    text += fmt::format("users_file = {}\n", path("users"));
+  if (!options.mqtt_host.empty())
+    text += fmt::format("\n[mqtt]\nhost = {}\nport = {}\nclient_id = \"tiltgate-demo-{}\"\n"
+                        "topic_prefix = \"tiltgate/demo\"\n",
+                        toml_string(options.mqtt_host), options.mqtt_port, ::getpid());
+  if (!options.sparkplug_host.empty())
+    // Its bdSeq starts at 0 every run, in the demo's folder; DCMD writes on, as Modbus writes.
+    text += fmt::format("\n[sparkplug]\nhost = {}\nport = {}\ngroup_id = \"tiltgate-demo\"\n"
+                        "edge_node_id = \"demo\"\nclient_id = \"tiltgate-demo-sparkplug-{}\"\n"
+                        "commands = true\n",
+                        toml_string(options.sparkplug_host), options.sparkplug_port, ::getpid());
+  int unit = 1;
   for (std::size_t i = 0; i < demos.size(); ++i) {
     const DemoBus& demo = demos[i]->demo;
-    BusConfig bus;
-    bus.name = demo.bus_name;
-    bus.port = ttys[i];
-    bus.protocol = demo.protocol;
-    bus.baud = demo.baud;
-    config.buses.push_back(bus);
-    for (const DemoSensor& s : demo.sensors) {
-      SensorConfig sensor;
-      sensor.name = s.name;
-      sensor.bus = demo.bus_name;
-      sensor.model = s.model;
-      sensor.address = s.address;
-      sensor.unit_id = unit++;
-      auto family_options = demo_sensor_options(families, *demos[i]->family, s, folder);
-      if (!family_options) return Unexpected{family_options.error()};
-      sensor.family_options = std::move(*family_options);
-      config.sensors.push_back(sensor);
+    text += fmt::format("\n[[bus]]\nname = {}\nport = {}\nprotocol = {}\nbaud = {}\n",
+                        toml_string(demo.bus_name), toml_string(ttys[i]),
+                        toml_string(demo.protocol), demo.baud);
+    for (const DemoSensor& sensor : demo.sensors) {
+      auto keys = demo_sensor_keys(sensor, folder);
+      if (!keys) return Unexpected{keys.error()};
+      text += fmt::format("\n[[sensor]]\nname = {}\nbus = {}\nmodel = {}\naddress = {}\n"
+                          "unit_id = {}\n{}",
+                          toml_string(sensor.name), toml_string(demo.bus_name),
+                          toml_string(sensor.model), sensor.address, unit++, *keys);
     }
   }
-  return config;
+  return text;
 }
 
 // The console's address and the accounts to log in with, beside the Modbus lines.
@@ -171,6 +163,14 @@ void print_demo_help(const Config& config, const Gateway& gateway, FamilyCommand
   for (const BusConfig& b : config.buses)
     std::cout << fmt::format("  bus {}: --port {} --protocol {}\n", b.name, b.port, b.protocol);
   print_console_help(config, accounts);
+  std::cout << fmt::format("The configuration is {} (the console's Configuration tab edits it).\n",
+                           config.path);
+  for (const FamilyCommands* family : demos)
+    for (const DemoSensor& spare : family->demo.spare)
+      std::cout << fmt::format(
+          "A sensor is fitted on {} at address {} but not configured: scan the bus in the "
+          "console's Buses tab and add it.\n",
+          family->demo.bus_name, spare.address);
   if (!map) std::cout << "The register maps: tiltgate demo --map (or docs/default-maps.md).\n";
   std::cout << "Ctrl-C stops.\n";
   std::cout.flush();
@@ -213,12 +213,22 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
     ttys.push_back((*simulator)->slave_path());
     simulators.push_back(std::move(*simulator));
   }
-  const auto demo = demo_config(options, families, demos, ttys, folder->path());
-  if (!demo) {
-    spdlog::critical("demo: {}", demo.error());
+  const auto text = demo_config_text(options, demos, ttys, folder->path());
+  if (!text) {
+    spdlog::critical("demo: {}", text.error());
     return 1;
   }
-  const Config& config = *demo;
+  const std::string config_path = (folder->path() / "demo.toml").string();
+  if (auto written = write_demo_file(config_path, *text); !written) {
+    spdlog::critical("demo: {}", written.error());
+    return 1;
+  }
+  auto loaded = checked_on_this_machine(load_config_file(config_path, families));
+  if (!loaded) {
+    for (const ConfigError& error : loaded.error()) spdlog::critical("demo: {}", error.to_string());
+    return 1;
+  }
+  const Config& config = *loaded;
   std::vector<DemoAccount> accounts;
   if (!config.http.users_file.empty()) {
     auto made = make_demo_accounts(config.http.users_file);
@@ -228,6 +238,7 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
     }
     accounts = std::move(*made);
   }
+  boost::asio::signal_set hangups(io, SIGHUP);  // before start(): a SIGHUP reloads the file
   ServedGateway served(io, config, families);
   Gateway& gateway = served.gateway();
   if (auto started = gateway.start(); !started) {
@@ -236,7 +247,11 @@ int demo_command(const DemoOptions& options, FamilyCommandsList all_commands) {
   }
   served.start_as_user();  // the demo stays the user it was started as
   print_demo_help(config, gateway, demos, options.map, accounts);
+  // A console apply reloads the demo's file as `systemctl reload` reloads a service's.
+  ServiceNotifier notifier(io);
+  reload_on_sighup(hangups, gateway, config_path, families, notifier);
   run_until_signal(io, [&] {
+    hangups.cancel();
     gateway.stop();
     for (auto& simulator : simulators) simulator->stop();
   });

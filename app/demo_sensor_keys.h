@@ -1,13 +1,13 @@
-// A demo sensor's own family keys (driver/bus_simulator.h, DemoSensor): the files they name are
-// written into a private folder, and the family reads its keys as from a configuration, so
-// the demo's sensors get what a configured sensor gets, defaults included.
+// A demo sensor's own family keys (driver/family_commands.h, DemoSensor): the files they name
+// are written into the demo's private folder, and the keys naming them go into the demo's
+// configuration file, which the loader reads as any other, so the demo's sensors get what a
+// configured sensor gets, defaults included.
 #pragma once
 
 #include <filesystem>
 #include <string>
 
 #include "driver/expected.h"
-#include "driver/family.h"
 #include "driver/family_commands.h"  // DemoSensor
 
 namespace tiltgate {
@@ -28,11 +28,13 @@ class DemoFolder {
   std::filesystem::path path_;
 };
 
-// Writes the sensor's files into `folder` (a sub-folder per sensor) and has `family`, one of
-// `families`, read its keys; the error names the sensor and the problem.
-Expected<FamilyOptions, std::string> demo_sensor_options(FamilyList families,
-                                                         const FamilyDescriptor& family,
-                                                         const DemoSensor& sensor,
-                                                         const std::filesystem::path& folder);
+// Writes `contents` as the file `path` (the demo's configuration, a sensor's file).
+Expected<Done, std::string> write_demo_file(const std::filesystem::path& path,
+                                            std::string_view contents);
+
+// Writes the sensor's files into `folder` (a sub-folder per sensor) and returns the keys that
+// name them, as `key = "path"` lines of its [[sensor]] table; the error names the sensor.
+Expected<std::string, std::string> demo_sensor_keys(const DemoSensor& sensor,
+                                                    const std::filesystem::path& folder);
 
 }  // namespace tiltgate

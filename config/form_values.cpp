@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include "toml/toml_parse.h"
+#include "toml/toml_string.h"
 
 namespace tiltgate {
 
@@ -42,20 +43,6 @@ std::optional<std::string> typed_text(const toml::node& node) {
     return list;
   }
   return std::nullopt;
-}
-
-// A TOML basic string: quoted, with its quotes, backslashes and control characters escaped.
-std::string quoted(std::string_view text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\')
-      out += {'\\', c};
-    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      out += fmt::format("\\u{:04X}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-    else
-      out += c;
-  }
-  return out + "\"";
 }
 
 // `typed` read as a TOML value of one line, or none.
@@ -131,7 +118,7 @@ Expected<std::string, std::string> toml_value(const KeyReference& key, std::stri
   const std::string text = trimmed(typed);
   if (text.find_first_of("\r\n") != std::string::npos)
     return Unexpected{std::string("takes one line")};
-  if (key.type.starts_with("string")) return quoted(text);
+  if (key.type.starts_with("string")) return toml_input::toml_string(text);
   const auto refused = [&](std::string_view what) {
     return Unexpected{fmt::format("\"{}\" is not {}", text, what)};
   };

@@ -71,10 +71,11 @@ std::string_view protocol_of_choice(const FamilyDescriptor& family, std::string_
 
 SimulatorSetup demo_simulator_setup(const FamilyCommands& commands) {
   SimulatorSetup setup;
-  for (const DemoSensor& sensor : commands.demo.sensors) {
-    if (!setup.sensors.empty()) setup.sensors += ",";
-    setup.sensors += std::string(sensor.model) + ":" + std::to_string(sensor.address);
-  }
+  for (const auto& sensors : {commands.demo.sensors, commands.demo.spare})
+    for (const DemoSensor& sensor : sensors) {
+      if (!setup.sensors.empty()) setup.sensors += ",";
+      setup.sensors += std::string(sensor.model) + ":" + std::to_string(sensor.address);
+    }
   setup.protocol = commands.demo.protocol;
   return setup;
 }

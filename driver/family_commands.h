@@ -62,6 +62,9 @@ struct DemoBus {
   // mbpoll examples for the demo's help, with {host}, {port} and {unit} (the bus's first
   // sensor's unit id) to fill in.
   std::span<const std::string_view> examples;
+  // Sensors the simulated line has but the demo's configuration leaves out: fitted, not yet
+  // configured, for a scan in the console to find and add (docs/web-console.md, "Try it").
+  std::span<const DemoSensor> spare = {};
 };
 
 // A setting `tiltgate set` writes as several of a model's settings in order, one value each:

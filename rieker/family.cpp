@@ -121,6 +121,8 @@ std::optional<double> set_command_value(SensorCommand command) { return double(c
 // The demo plant's Rieker bus: two H6 on a boom and one H4360 on the mast, at the factory baud.
 const DemoSensor kDemoSensors[] = {
     {"boom-left", "h6", 223}, {"boom-right", "h6", 224}, {"mast", "h4360", 101}};
+// And one fitted at the boom's tip but not yet configured, for a scan to find.
+const DemoSensor kDemoSpare[] = {{"boom-tip", "h6", 225}};
 constexpr std::string_view kDemoExamples[] = {
     "  mbpoll -m tcp -p {port} -a {unit} -t 3:float -B -r 1 -c 2 -1 {host}   # unit {unit} "
     "angle_x, angle_y",
@@ -159,6 +161,7 @@ const FamilyCommands kCommands{
             .baud = 125000,
             .sensors = kDemoSensors,
             .examples = kDemoExamples,
+            .spare = kDemoSpare,
         },
     .set = {.baud_code = set_baud_code, .command_value = set_command_value, .compound_settings = {}},
     .raw = {.function_help = kRawFunctionHelp, .make = make_raw_exchange},

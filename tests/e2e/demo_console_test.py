@@ -2,7 +2,9 @@
 """Try the console in one command (issue 54, item 3; docs/web-console.md, "Try it"):
 `tiltgate demo` serves the web console with three accounts made for this run, admin, operator
 and viewer, and prints their passwords beside its mbpoll lines. Each logs in with the printed
-password and has its role; the API needs a login; a second run prints other passwords;
+password and has its role; the admin scans the demo's Rieker bus, adds the sensor fitted there
+but not configured with the sensor form, and applies it (the demo serves a file of its own);
+the API needs a login; a second run prints other passwords;
 `--no-accounts` serves the open status API as before. Read with Python's http.client.
 
 Usage: /usr/bin/python3 demo_console_test.py path/to/tiltgate
@@ -36,6 +38,41 @@ def start_demo(t, tiltgate, name, *extra):
 def printed_accounts(out_path):
     with open(out_path) as f:
         return {m.group(1): m.group(2) for m in map(ACCOUNT.match, f.read().splitlines()) if m}
+
+
+def scan_and_add(t, admin):
+    """The walkthrough's scan and add: the demo's file holds five sensors; boom-tip, fitted at
+    225 on demo-bus, is not among them until the admin adds it."""
+    status, body = admin.request("POST", "/api/buses/demo-bus/scan", {"from": 220, "to": 230})
+    t.check("the admin scans demo-bus from 220 to 230: the demo serves a file, so it may",
+            status == 202, (status, body))
+    done = processes.wait_until(
+        lambda: (lambda s: s if not s["running"] and s["progress"] == 1 else None)(
+            admin.request("GET", "/api/buses/demo-bus/scan")[1]), 60)
+    found = {f["address"]: f for f in (done or {}).get("found", [])}
+    t.check("the scan finds boom-left and boom-right configured, and boom-tip at 225 to add "
+            "with the free unit id 6",
+            found.get(223, {}).get("configured_as") == "boom-left" and
+            found.get(224, {}).get("configured_as") == "boom-right" and
+            found.get(225, {}).get("proposed_unit_id") == 6, done)
+    status, served = admin.request("GET", "/api/config")
+    status_tables, proposal = admin.request("POST", "/api/config/tables",
+                                            {"text": found.get(225, {}).get("config", "")})
+    values = dict(proposal["sensors"][0]["values"]) if status_tables == 200 and \
+        proposal.get("sensors") else {}
+    values["name"] = "boom-tip"
+    status, made = admin.request("POST", "/api/config/form", {
+        "text": served.get("text", ""), "action": "add", "table": "sensor", "values": values})
+    t.check("the Add a sensor form, filled from the scan, makes a valid text",
+            status == 200 and made.get("ok"), (status, made, values))
+    status, applied = admin.request("PUT", "/api/config", {"text": made.get("text") or ""})
+    confirmed = processes.wait_until(
+        lambda: admin.request("POST", "/api/config/confirm")[0] == 200, 20)
+    serving = processes.wait_until(
+        lambda: any(s["name"] == "boom-tip" and s.get("online")
+                    for s in admin.request("GET", "/api/sensors")[1]), 20)
+    t.check("applied and confirmed, the demo reloads its file and serves boom-tip",
+            status == 200 and confirmed and serving, (status, applied))
 
 
 def scenario(t):
@@ -82,11 +119,13 @@ def scenario(t):
             status, body = client.request("POST", "/api/buses/%s/counters/reset" % body[0]["bus"],
                                           {})
             t.check("the admin resets a bus's counters", status == 200, (status, body))
+            scan_and_add(t, client)
             status, body = client.request("GET", "/api/audit?door=console")
             seen = [(r["who"], r["setting"], r["result"]) for r in body.get("records", [])]
-            t.check("the audit lists the operator's zero and the admin's reset",
+            t.check("the audit lists the operator's zero, the admin's reset and apply",
                     ("operator", "command", "ack") in seen and
-                    ("admin", "counters", "ok") in seen, seen)
+                    ("admin", "counters", "ok") in seen and
+                    any(w == "admin" and s == "config" for w, s, _ in seen), seen)
     status, _ = Client(http_port).login("admin", "not-the-password")
     t.check("a wrong password is refused", status == 401, status)
     demo.terminate()

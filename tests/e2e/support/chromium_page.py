@@ -17,7 +17,8 @@ driver package is needed.
         (tests/e2e/config_forms_test.py): SENSOR added with the Add a sensor form, applied and
         confirmed; an Edit form's change
     chromium_page.py walkthrough URL OPERATOR ADMIN SENSOR OUT_PREFIX   docs/web-console.md's
-        "Try it" on `tiltgate demo`: OUT_PREFIX-{login,zero,counters,audit}.png (1280x800)
+        "Try it" on `tiltgate demo`: OUT_PREFIX-{login,zero,counters,scan,add,apply,audit}.png
+        (1280x800)
     chromium_page.py tabs URL ADMIN OUT_PREFIX SENSOR   a screenshot of each console tab,
         OUT_PREFIX-TAB.png (1280x800), OUT_PREFIX-phone[-sensor].png (390x844)
 """
@@ -641,6 +642,33 @@ def walkthrough(url, operator, admin, sensor, prefix):
         browser.click('.tab[data-tab="buses"]')
         browser.wait_for("document.querySelector('#scans table.counters') !== null", 10)
         browser.shoot(prefix + "-counters.png")
+        # Scan demo-bus around its sensors: boom-tip, fitted at 225, is not configured.
+        form = "#scans form[data-bus=\"demo-bus\"]"
+        browser.run("const f = document.querySelector(%s);"
+                    "f.querySelector('.from').value = 220; f.querySelector('.to').value = 230;"
+                    "f.querySelector('.scan').click();" % json.dumps(form))
+        browser.wait_for("document.querySelector(%s).dataset.running === 'false' && "
+                         "[...document.querySelectorAll(%s)].some(b => b.textContent === "
+                         "'Add to the configuration')" % (json.dumps(form), json.dumps(form + " button")), 60)
+        browser.run("document.querySelector(%s).scrollIntoView()" % json.dumps(form))
+        browser.shoot(prefix + "-scan.png")
+        browser.evaluate("[...document.querySelectorAll(%s)].find(b => b.textContent === "
+                         "'Add to the configuration').click()" % json.dumps(form + " button"))
+        if not browser.wait_for("!document.getElementById('table-form').hidden", 10):
+            raise SystemExit("Add to the configuration opens no form")
+        browser.fill("#field-name", "boom-tip")
+        browser.shoot(prefix + "-add.png")
+        browser.click("#table-form-submit")
+        if not browser.wait_for("document.getElementById('table-form').hidden", 10):
+            raise SystemExit("the scan's sensor does not go into the editor")
+        browser.click("#config-apply")
+        browser.wait_for("!document.getElementById('confirm').hidden", 5)
+        browser.shoot(prefix + "-apply.png")
+        browser.click("#confirm-ok")
+        browser.wait_for("!document.getElementById('config-pending').hidden", 15)
+        browser.click("#config-confirm")
+        browser.wait_for("document.getElementById('config-message').textContent"
+                         ".startsWith('Confirmed')", 15)
         browser.click('.tab[data-tab="audit"]')
         browser.wait_for("document.querySelector('#audit-table tbody tr') !== null", 10)
         browser.shoot(prefix + "-audit.png")
