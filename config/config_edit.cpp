@@ -266,7 +266,11 @@ Expected<TableEdit, std::string> change_table(std::string_view text, std::string
   }
   std::vector<Splice> splices;
   std::string added;
-  for (const auto& [key, value] : changes) {
+  for (const auto& change : changes) {
+    // Named, not structured bindings: the lambda below captures the key, which clang refuses
+    // of a binding.
+    const std::string& key = change.first;
+    const std::optional<std::string>& value = change.second;
     const toml::node* node = table.get(key);
     const auto cannot = [&](std::string_view why) {
       return Unexpected{fmt::format("[[{}]] \"{}\" {} {}; change it in the text", array, name, key, why)};
