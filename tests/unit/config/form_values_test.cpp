@@ -53,7 +53,7 @@ TEST_CASE("form values: typed text becomes a value of the key's type, or says wh
   CHECK(toml_value(key("table"), "x").error() == "cannot be set in a form; change it in the text");
 }
 
-TEST_CASE("form values: only what changed is changed; a group is written whole") {
+TEST_CASE("form values: only what changed is changed, and a group is written whole") {
   FormTable boom;
   boom.values = {{"name", "boom"}, {"address", "5"}, {"poll_ms", "100"},
                  {"mounting.invert_x", "true"}};
