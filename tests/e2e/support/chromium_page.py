@@ -574,6 +574,9 @@ def forms_check(url, admin, sensor, free_unit):
         said = browser.evaluate("document.getElementById('forms-message').textContent")
         if not said or "Apply" not in said:
             failures.append("the form says nothing of what to do next: %r" % said)
+        if browser.evaluate("document.getElementById('config-pending').offsetParent !== null || "
+                            "document.getElementById('config-confirm-link').offsetParent !== null"):
+            failures.append("Confirm shows while nothing awaits confirmation")
         browser.click("#config-apply")
         if not browser.wait_for("!document.getElementById('confirm').hidden", 5):
             failures.append("Apply asks for no confirmation")
