@@ -25,7 +25,13 @@ HttpService::HttpService(const Gateway& gateway, StatusSource status,
   make_http(nullptr);
 }
 
-HttpService::~HttpService() = default;
+HttpService::~HttpService() {
+  // The server's own references to the console go with the server, before its loop (HttpThread):
+  // this one would keep the console, and its password-hashing pool, alive past that loop, and a
+  // login hashed on the pool as the gateway stopped resumed on a freed loop (TSan, a demo stopped
+  // right after a refused login).
+  handler_.reset();
+}
 
 HttpRequestRates HttpService::request_rates() const {
   if (!http_) return {};
@@ -60,7 +66,7 @@ void HttpService::make_http(const HistoryRecorder* previous) {
     return history_->history(sensor);
   };
   console.gateway = &gateway_;
-  // The demo's configuration is made in memory: it has no file to show or replace.
+  // A configuration made in memory (a test's gateway) has no file to show or replace.
   if (console.config_path.empty() && std::filesystem::is_regular_file(gateway_.config().path))
     console.config_path = gateway_.config().path;
   if (!console_state_)
