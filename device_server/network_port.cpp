@@ -316,17 +316,18 @@ Expected<std::size_t, std::string> NetworkPort::write_now(std::span<const std::u
   }
 }
 
-Expected<Done, std::string> NetworkPort::discard_input() {
+Expected<std::size_t, std::string> NetworkPort::discard_input() {
   std::array<std::uint8_t, 512> buffer{};
+  std::size_t dropped = 0;  // the line's bytes, a Telnet port's commands taken out
   for (;;) {
     const ssize_t received =
         ::recv(stream_.native_handle(), buffer.data(), buffer.size(), MSG_DONTWAIT);
     if (received > 0) {
-      (void)incoming(std::span(buffer.data(), std::size_t(received)));
+      dropped += incoming(std::span(buffer.data(), std::size_t(received)));
       continue;
     }
     if (received == 0) return Unexpected(std::string(kServerClosed));
-    if (errno == EAGAIN || errno == EWOULDBLOCK) return Done{};
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return dropped;
     if (errno != EINTR) return Unexpected(errno_text(errno));
   }
 }

@@ -78,7 +78,7 @@ class NetworkPort final : public LinePort {
 
   Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes) override;
   // Reads and drops what the socket holds (a late answer), taking Telnet commands out.
-  Expected<Done, std::string> discard_input() override;
+  Expected<std::size_t, std::string> discard_input() override;
   std::span<const std::uint8_t> outgoing(std::span<const std::uint8_t> bytes) override;
   std::size_t incoming(std::span<std::uint8_t> chunk) override;
   // A parity per byte cannot be carried over a network (config refuses 9-bit buses there).

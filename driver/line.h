@@ -105,6 +105,11 @@ struct LineStats {
   // their deadline (serial/delivery_probe.h), and attempts given up as overloaded.
   std::uint64_t machine_held = 0;
   std::uint64_t overloaded = 0;
+  // Bytes written to the line and read from it, and of those read, the bytes found waiting
+  // before a request (line noise, a device babbling between frames), dropped unread.
+  std::uint64_t bytes_out = 0;
+  std::uint64_t bytes_in = 0;
+  std::uint64_t stray_bytes = 0;
 };
 
 // What the Line saw of the timing of the last transact(), for drivers that adapt their reply
@@ -133,6 +138,11 @@ struct LineTiming {
   // How long this machine held what the line received past reply deadlines (the reply waits
   // were made that much longer): the machine's lateness, none of the device's.
   std::chrono::milliseconds machine_held{0};
+  // Bytes written and read in the transaction, late replies included, and the characters the
+  // port's UART lost to overruns meanwhile (0 where it cannot count them).
+  std::uint32_t bytes_out = 0;
+  std::uint32_t bytes_in = 0;
+  std::uint32_t overruns = 0;
 };
 
 class Line {

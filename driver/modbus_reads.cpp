@@ -19,6 +19,13 @@ bool reads_only(std::span<const std::uint8_t> pdu) {
     case 0x14:  // read file record
     case 0x18:  // read FIFO queue
       return true;
+    case 0x08: {  // diagnostics: the sub-functions that only return data
+      if (pdu.size() < 3) return false;
+      const unsigned sub_function = (unsigned(pdu[1]) << 8) | pdu[2];
+      // 0000 return query data, 0002 return diagnostic register, 000B..0012 the counts.
+      return sub_function == 0x0000 || sub_function == 0x0002 ||
+             (sub_function >= 0x000B && sub_function <= 0x0012);
+    }
     case 0x2B:  // encapsulated interface
       return pdu.size() >= 2 && pdu[1] == kMeiReadDeviceIdentification;
     default:

@@ -121,6 +121,7 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     LineRequest sending = attempt < retries ? request : std::move(request);
     sent = co_await line.transact(std::move(sending));
     note_timing(line.last_timing(), line.name());
+    count_attempt(sent, line.last_timing());
     if (sent || sent.error() != LineError::timeout) break;
   }
   if (sent) {
@@ -142,6 +143,24 @@ boost::asio::awaitable<Expected<Done, LineError>> PolledSensorDriver::transact_c
     state_.unanswered = sent.error() == LineError::timeout;
   }
   co_return sent;
+}
+
+void PolledSensorDriver::count_attempt(const Expected<Done, LineError>& sent,
+                                       const LineTiming& timing) {
+  SensorCounters& counters = state_.counters;
+  counters.bytes_out += timing.bytes_out;
+  counters.bytes_in += timing.bytes_in;
+  counters.overruns += timing.overruns;
+  // An attempt that never reached the wire (a stop, a closed or failed port, no time left) is
+  // no request; one given up as overloaded was sent.
+  if (!sent && sent.error() != LineError::timeout && sent.error() != LineError::overloaded)
+    return;
+  ++counters.requests;
+  if (sent) {
+    ++counters.replies;
+  } else if (sent.error() == LineError::timeout) {
+    ++(timing.garbled ? counters.garbled : counters.no_reply);
+  }
 }
 
 void PolledSensorDriver::note_acknowledged(WriteTarget target, double value) {

@@ -94,6 +94,8 @@ class PolledSensorDriver : public SensorDriver {
 
   // Adapts the reply time-out to the Line's timing of one exchange; logs when that changes.
   void note_timing(const LineTiming& timing, const std::string& line_name);
+  // One attempt of an exchange into the counters (requests, replies, bytes).
+  void count_attempt(const Expected<Done, LineError>& sent, const LineTiming& timing);
 
   std::uint64_t identity_generation_ = 0;
   // read_settings() is due at the next poll: the sensor came back from offline, or someone

@@ -36,6 +36,19 @@ inline constexpr std::array<int, 11> kReplyBucketsMs = {1, 2, 5, 10, 20, 50, 100
 // Counters a field engineer reads when a bus misbehaves.
 struct SensorCounters {
   std::uint32_t transactions = 0;   // request/reply exchanges started, retries not counted
+  // Each attempt of those exchanges, retries included (docs/diagnostics.md): requests written;
+  // valid replies taken (refusals included); replies heard that made no valid frame (a broken
+  // checksum, a wrong length, a collision); attempts that heard nothing at all in time.
+  std::uint32_t requests = 0;
+  std::uint32_t replies = 0;
+  std::uint32_t garbled = 0;
+  std::uint32_t no_reply = 0;
+  // Bytes of its exchanges written and read (late replies and garbled ones included).
+  std::uint64_t bytes_out = 0;
+  std::uint64_t bytes_in = 0;
+  // Characters the gateway's port lost to a UART overrun while the sensor's replies came (a
+  // tty's TIOCGICOUNT; ports that cannot count them leave it 0).
+  std::uint32_t overruns = 0;
   std::uint32_t polls_ok = 0;       // measurement polls that produced a reading
   std::uint32_t polls_failed = 0;   // measurement polls that did not
   std::uint32_t timeouts = 0;       // exchanges that got no valid reply in time
@@ -48,6 +61,10 @@ struct SensorCounters {
   // acknowledgement's code; codes past the end are not counted), and the last such code.
   std::array<std::uint32_t, 8> refusals{};
   std::optional<std::uint8_t> last_refusal;
+  // Every refusal, whatever its code, and those of them that said the device was busy (a
+  // Rieker NAK 5, a Modbus exception 06): the rest are NAKs (FC 08's counts, docs/diagnostics.md).
+  std::uint32_t refused = 0;
+  std::uint32_t busy = 0;
   // Times another device than the configured serial was found answering in its place.
   std::uint32_t wrong_device_found = 0;
   // The longest a reply took since start, from the end of its request to its last byte, as

@@ -15,6 +15,7 @@
 #include "driver/family.h"
 #include "driver/visible_text.h"
 #include "gateway/config_diff.h"
+#include "gateway/line_hint.h"
 #include "gateway/driver_registry.h"
 #include "line_scheduling/line_budget.h"
 #include "gateway/process_descriptors.h"
@@ -56,7 +57,8 @@ Gateway::Gateway(boost::asio::io_context& io, const Config& config, FamilyList f
       families_(families),
       config_(config),
       tcp_workers_(std::make_unique<TcpWorkerPool>(tcp_threads(config.server))),
-      listeners_(io.get_executor(), config.server, *tcp_workers_),
+      listeners_(io.get_executor(), config.server, *tcp_workers_,
+                 [this](std::string_view name) { return reset_sensor_counters(name); }),
       sample_timer_(io.get_executor()) {
   for (const BusConfig& bus : config_.buses) buses_.push_back(make_bus(bus));
   for (const SensorConfig& sc : config_.sensors) {
@@ -331,7 +333,12 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
                                       bus_rates_.rate(2 * i), bus_rates_.rate(2 * i + 1)));
     status.buses.back().machine_held = buses_[i]->line->stats().machine_held;
     status.buses.back().overloaded = buses_[i]->line->stats().overloaded;
+    status.buses.back().bytes_out = buses_[i]->line->stats().bytes_out;
+    status.buses.back().bytes_in = buses_[i]->line->stats().bytes_in;
+    status.buses.back().stray_bytes = buses_[i]->line->stats().stray_bytes;
+    status.buses.back().reopens = buses_[i]->line->stats().reopens;
     add_sensor_failures(status.buses.back(), status.sensors);
+    status.buses.back().hint = line_hint(status.buses.back(), status.sensors);
   }
   // Totals over every listener: the main one and the buses' own ([[bus]] tcp_port).
   for (const ModbusTcpServer* listener : listeners_.servers()) add_listener_counts(status, *listener);

@@ -40,6 +40,35 @@ struct FailureCounts {
   }
 };
 
+// A device's exchanges on its line, attempt by attempt (driver/sensor_state.h SensorCounters;
+// FC 08 counts from the same, gateway/unit_diagnostics.h): requests written, valid replies,
+// replies that made no valid frame, attempts that heard nothing, refusals and the busy ones of
+// them, bytes both ways, characters the port lost to overruns. A bus's: its sensors' summed.
+struct ExchangeCounts {
+  std::uint64_t requests = 0;
+  std::uint64_t replies = 0;
+  std::uint64_t garbled = 0;
+  std::uint64_t no_reply = 0;
+  std::uint64_t refused = 0;
+  std::uint64_t busy = 0;
+  std::uint64_t bytes_out = 0;
+  std::uint64_t bytes_in = 0;
+  std::uint64_t overruns = 0;
+
+  ExchangeCounts& operator+=(const ExchangeCounts& other) {
+    requests += other.requests;
+    replies += other.replies;
+    garbled += other.garbled;
+    no_reply += other.no_reply;
+    refused += other.refused;
+    busy += other.busy;
+    bytes_out += other.bytes_out;
+    bytes_in += other.bytes_in;
+    overruns += other.overruns;
+    return *this;
+  }
+};
+
 struct SensorStatus {
   std::string name;
   std::string bus;
@@ -73,6 +102,7 @@ struct SensorStatus {
   std::uint64_t checksum_errors = 0;  // a reply dropped for its CRC or LRC
   std::uint64_t io_errors = 0;        // the port failed or was closed
   std::uint64_t late_replies = 0;     // answers after the time-out, discarded
+  ExchangeCounts exchanges;
   std::int64_t slowest_reply_ms = 0;  // SensorCounters::slowest_reply
   // SensorCounters::reply_buckets and reply_ms_sum: the reply-time histogram.
   std::array<std::uint32_t, kReplyBucketsMs.size() + 1> reply_buckets{};
@@ -106,6 +136,17 @@ struct BusStatus {
   // their deadline, and attempts given up as overloaded (LineStats; serial/serial_line.h).
   std::uint64_t machine_held = 0;
   std::uint64_t overloaded = 0;
+  // Everything the line carried (LineStats): bytes written and read, commands' and forwarded
+  // requests' included, and the bytes found waiting before a request, dropped unread (noise,
+  // a babbling device).
+  std::uint64_t bytes_out = 0;
+  std::uint64_t bytes_in = 0;
+  std::uint64_t stray_bytes = 0;
+  std::uint64_t reopens = 0;  // its port opened again after a loss (LineStats)
+  // Its sensors' exchanges summed (add_sensor_failures).
+  ExchangeCounts exchanges;
+  // Where to look first when its failures make a clear pattern (gateway/line_hint.h).
+  std::optional<std::string> hint;
   // Seconds the bus spent in transactions (polls, writes, forwarded requests, commands),
   // waiting for replies and time-outs included: the wire's time this bus has used.
   double busy_seconds = 0;

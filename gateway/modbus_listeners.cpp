@@ -45,10 +45,13 @@ ModbusServerOptions bus_listener_options(const ServerConfig& server, std::uint16
 }
 
 ModbusListeners::ModbusListeners(boost::asio::any_io_executor bus_executor,
-                                 const ServerConfig& server, TcpWorkerPool& workers)
-    : executor_(std::move(bus_executor)), server_(server), workers_(workers), retired_(executor_) {
+                                 const ServerConfig& server, TcpWorkerPool& workers,
+                                 std::function<bool(std::string_view)> counter_reset)
+    : executor_(std::move(bus_executor)), server_(server), workers_(workers),
+      counter_reset_(std::move(counter_reset)), retired_(executor_) {
   main_.port = kMainListener;
   main_.router = std::make_unique<RequestRouter>(executor_, router_options());
+  main_.router->set_counter_reset(counter_reset_);
   main_.server = std::make_unique<ModbusTcpServer>(
       executor_, *main_.router, modbus_server_options(server_), &workers_);
 }
@@ -66,6 +69,7 @@ RequestRouter& ModbusListeners::router_for(std::uint16_t listener) {
   Listener made;
   made.port = listener;
   made.router = std::make_unique<RequestRouter>(executor_, router_options());
+  made.router->set_counter_reset(counter_reset_);
   made.server = std::make_unique<ModbusTcpServer>(
       executor_, *made.router, bus_listener_options(server_, listener), &workers_);
   bus_listeners_.push_back(std::move(made));

@@ -11,7 +11,9 @@
 
 #include <boost/asio/any_io_executor.hpp>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "config/config.h"
@@ -32,9 +34,11 @@ ModbusServerOptions bus_listener_options(const ServerConfig& server, std::uint16
 class ModbusListeners {
  public:
   // `bus_executor`: where the buses run (the routers hand writes there) and where the servers
-  // accept; connections are served on `workers`' threads.
+  // accept; connections are served on `workers`' threads. `counter_reset`: what every
+  // router does for 08 0x000A (RequestRouter::set_counter_reset).
   ModbusListeners(boost::asio::any_io_executor bus_executor, const ServerConfig& server,
-                  TcpWorkerPool& workers);
+                  TcpWorkerPool& workers,
+                  std::function<bool(std::string_view)> counter_reset = nullptr);
   ~ModbusListeners();
   ModbusListeners(const ModbusListeners&) = delete;
   ModbusListeners& operator=(const ModbusListeners&) = delete;
@@ -78,6 +82,7 @@ class ModbusListeners {
   boost::asio::any_io_executor executor_;
   ServerConfig server_;
   TcpWorkerPool& workers_;
+  std::function<bool(std::string_view)> counter_reset_;
   Listener main_;
   std::vector<Listener> bus_listeners_;
   Retired<Listener> retired_;

@@ -15,7 +15,9 @@
 #include "gateway/router_reader.h"
 #include "gateway/sensor_read.h"
 #include "line_scheduling/sensor_write.h"
+#include "gateway/unit_diagnostics.h"
 #include "modbus_tcp/device_identification.h"
+#include "modbus_tcp/diagnostics.h"
 #include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate {
@@ -26,6 +28,38 @@ ModbusResponse failure(ModbusException code) {
   ModbusResponse response;
   response.exception = code;
   return response;
+}
+
+bool is_diagnostics(const ModbusRequest& request) {
+  return request.function == modbus_function::diagnostics ||
+         request.function == modbus_function::get_comm_event_counter;
+}
+
+// 08's reads and 11 from `counters` (gateway/unit_diagnostics.h); 08 0x0000 echoes the request.
+void answer_diagnostics(const ModbusRequest& request, const SensorCounters& counters,
+                        ModbusResponse& response) {
+  if (request.function == modbus_function::get_comm_event_counter) {
+    const CommEventCounter counter = comm_event_counter(counters);
+    response.registers.assign({counter.status, counter.events});
+  } else if (const auto count = diagnostic_count(counters, request.diagnostic)) {
+    response.registers.assign({*count});
+  } else if (request.diagnostic != diagnostic::return_query_data) {
+    response.exception = ModbusException::illegal_function;
+  }
+}
+
+// An aggregate unit's 08 and 11: its sensors' counts summed. Its counters are its sensors' to
+// clear, each at its own unit: 0x000A is 01 here.
+void answer_aggregate_diagnostics(const GatewayAggregate& aggregate, const ModbusRequest& request,
+                                  ModbusResponse& response) {
+  if (request.is_write) {
+    response.exception = ModbusException::illegal_function;
+    return;
+  }
+  SensorCounters total;
+  for (const auto& member : aggregate.members)
+    if (const auto snapshot = member->snapshot()) add_counts(total, snapshot->state.counters);
+  answer_diagnostics(request, total, response);
 }
 
 }  // namespace
@@ -154,6 +188,10 @@ bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
   const WordOrder order = routes.options.word_order;
   // An aggregate's reply is built in one call that does not suspend: one instant for all.
   if (const auto& aggregate = routes.aggregates[request.unit_id]) {
+    if (is_diagnostics(request)) {
+      answer_aggregate_diagnostics(*aggregate, request, response);
+      return true;
+    }
     read_aggregate_unit(*aggregate, request, order, now, response, scratch.aggregate);
     return true;
   }
@@ -169,6 +207,10 @@ bool answer_from_cache(const UnitRoutes& routes, const ModbusRequest& request,
   if (request.function == modbus_function::encapsulated_interface) {
     // The encoder picks the objects the request asks for and pages them.
     response.device_objects = device_objects(*sensor, snapshot->state);
+    return true;
+  }
+  if (is_diagnostics(request)) {
+    answer_diagnostics(request, snapshot->state.counters, response);
     return true;
   }
   read_sensor(*sensor, *snapshot, request, order, now, response, scratch.image);
@@ -198,6 +240,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::handle(const ModbusRequest
 boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<GatewaySensor> sensor,
                                                             ModbusRequest request,
                                                             RouterOptions options) {
+  if (request.function == modbus_function::diagnostics) co_return clear_counters(*sensor, request);
   if (request.table != ModbusTable::holding) {
     const auto table = table_of(request.table);
     co_return failure(sensor->map.has_table(table) ? ModbusException::illegal_address
@@ -215,6 +258,30 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<Gate
   auto done = co_await bus->write(std::move(write), deadline);
   if (!done) co_return failure(exception_for(done.error()));
   co_return ModbusResponse{};
+}
+
+// 08 0x000A: the sensor's counters zeroed as the console's reset does (the one action,
+// Gateway::reset_sensor_counters), and recorded in its bus's audit trail.
+ModbusResponse RequestRouter::clear_counters(const GatewaySensor& sensor,
+                                             const ModbusRequest& request) {
+  AuditTrail* trail = sensor.bus ? sensor.bus->audit() : nullptr;
+  const std::string name = sensor.config.bus + "/" + sensor.config.name;
+  const auto record = [&](std::string result) {
+    if (trail) trail->record({0, request.origin, name, "counters", "", "reset", std::move(result)});
+  };
+  // [audit] when_full = "refuse": no change the trail cannot keep on disk.
+  if (trail && !trail->accepts_changes()) {
+    std::string refused = "refused: ";
+    refused += kAuditRefusesChanges;
+    record(std::move(refused));
+    return failure(ModbusException::device_failure);
+  }
+  if (!reset_counters_ || !reset_counters_(sensor.config.name)) {
+    record("error: the sensor's counters are not this gateway's to reset");
+    return failure(ModbusException::device_failure);
+  }
+  record("ok");
+  return ModbusResponse{};
 }
 
 ModbusException exception_for(ForwardFailure failure) {

@@ -15,10 +15,12 @@
 #include <atomic>
 #include <boost/asio/any_io_executor.hpp>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
+#include <string_view>
 
 #include "config/config.h"
 #include "gateway/gateway_aggregate.h"
@@ -53,6 +55,11 @@ class RequestRouter : public ModbusRequestHandler {
   // see; commit_update() hands them over at once, so no request finds a unit missing halfway.
   void begin_update();
   void commit_update();
+  // What 08 0x000A (clear counters) does to a sensor, by name, on the buses' executor: the
+  // gateway's reset of its counters (false: no such sensor).
+  void set_counter_reset(std::function<bool(std::string_view)> reset) {
+    reset_counters_ = std::move(reset);
+  }
   // The gateway is stopping: writes and forwarded requests not yet handed to a bus are answered
   // 0x0B at once, so none waits for a bus that no longer runs.
   void stop() { stopping_ = true; }
@@ -90,6 +97,7 @@ class RequestRouter : public ModbusRequestHandler {
   // Runs on the buses' executor; the write holds the sensor to the end.
   boost::asio::awaitable<ModbusResponse> write(std::shared_ptr<GatewaySensor> sensor,
                                                ModbusRequest request, RouterOptions options);
+  ModbusResponse clear_counters(const GatewaySensor& sensor, const ModbusRequest& request);
   boost::asio::awaitable<std::optional<ForwardedReply>> forward_on_bus(
       std::shared_ptr<BusScheduler> bus, std::uint8_t unit_id, std::vector<std::uint8_t> pdu,
       SteadyClock::time_point deadline, std::uint64_t client, std::optional<WriteOrigin> audit);
@@ -100,6 +108,7 @@ class RequestRouter : public ModbusRequestHandler {
   std::atomic<std::uint64_t> generation_ = 0;  // tables swapped in so far
   std::shared_ptr<Routes> draft_;  // between begin_update() and commit_update()
   std::atomic<bool> stopping_ = false;
+  std::function<bool(std::string_view)> reset_counters_;  // set before serving, then only read
 };
 
 ModbusException exception_for(ForwardFailure failure);

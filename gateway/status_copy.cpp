@@ -45,6 +45,11 @@ FailureCounts failure_counts(const SensorCounters& counters) {
                        counters.io_errors, counters.late_replies};
 }
 
+ExchangeCounts exchange_counts(const SensorCounters& c) {
+  return ExchangeCounts{c.requests, c.replies, c.garbled,   c.no_reply, c.refused,
+                        c.busy,     c.bytes_out, c.bytes_in, c.overruns};
+}
+
 SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point now) {
   const SensorState& state = sensor.driver->state();
   SensorStatus s;
@@ -66,6 +71,7 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   s.checksum_errors = state.counters.checksum_errors;
   s.io_errors = state.counters.io_errors;
   s.late_replies = state.counters.late_replies;
+  s.exchanges = exchange_counts(state.counters);
   s.slowest_reply_ms = state.counters.slowest_reply.count();
   s.reply_buckets = state.counters.reply_buckets;
   s.reply_ms_sum = state.counters.reply_ms_sum;
@@ -122,6 +128,7 @@ void add_sensor_failures(BusStatus& bus, const std::vector<SensorStatus>& sensor
     if (s.bus != bus.name) continue;
     bus.failures += FailureCounts{s.polls_failed, s.timeouts, s.checksum_errors, s.io_errors,
                                   s.late_replies};
+    bus.exchanges += s.exchanges;
     if (s.recent_failures)
       recent += *s.recent_failures;
     else

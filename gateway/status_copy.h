@@ -17,6 +17,7 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
 
 // Its failed polls and failed exchanges by cause.
 FailureCounts failure_counts(const SensorCounters& counters);
+ExchangeCounts exchange_counts(const SensorCounters& counters);
 
 // The bus's configuration and counters; `polls_per_s` and `busy_share` are the rates measured
 // over the last seconds (none until counted).

@@ -15,7 +15,11 @@ namespace {
 // every late burst, the latest of them.
 void add_attempt(LineTiming& total, const LineTiming& attempt) {
   total.reply_delay = attempt.reply_delay;
+  total.garbled = attempt.garbled;
   total.late_replies += attempt.late_replies;
+  total.bytes_out += attempt.bytes_out;
+  total.bytes_in += attempt.bytes_in;
+  total.overruns += attempt.overruns;
   total.machine_held += attempt.machine_held;
   if (attempt.late_delay)
     total.late_delay = std::max(total.late_delay.value_or(attempt.late_delay.value()),

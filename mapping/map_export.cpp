@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <string_view>
+
 namespace tiltgate {
 namespace {
 
@@ -90,6 +92,21 @@ std::string export_csv(const std::vector<UnitMap>& units) {
   return out;
 }
 
+// What each kind of unit answers beyond its map: the same for every configuration.
+constexpr std::string_view kFunctionsByUnit =
+    "### Functions by unit\n\n"
+    "| unit | 01 02 03 04 (reads) | 05 06 0F 10 (writes) | 08 Diagnostics | "
+    "11 Get Comm Event Counter | 43 / 14 Device Identification |\n"
+    "| --- | --- | --- | --- | --- | --- |\n"
+    "| a sensor's | its map above | its writable points, under `[server] writes` | "
+    "0x0000 echoes; 0x000A clears its counts (a write, audited); 0x000B..0x0012 its counts "
+    "([Diagnostics](diagnostics.md)) | status 0x0000, its valid replies | its identity |\n"
+    "| an aggregate's (`[[aggregate]]`) | 03 and 04: its block | 01 | its sensors' counts "
+    "summed; 0x000A: 01 | its sensors' summed | 01 |\n"
+    "| a passed-through device's (`[[bus]] pass_through`) | the device's | the device's, under "
+    "`[server] writes` | the device's own; 0x0000, 0x0002 and 0x000B..0x0012 pass as reads, the "
+    "rest as writes | the device's | the device's |\n";
+
 std::string export_markdown(const std::vector<UnitMap>& units) {
   std::string out;
   for (const UnitMap& unit : units) {
@@ -109,6 +126,7 @@ std::string export_markdown(const std::vector<UnitMap>& units) {
     }
     out += "\n";
   }
+  out += kFunctionsByUnit;
   return out;
 }
 

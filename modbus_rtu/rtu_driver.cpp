@@ -75,6 +75,9 @@ WriteResult RtuDriver::check_write(WriteTarget target, double value) const {
 void RtuDriver::count_refusal(std::uint8_t code) {
   if (code < state_.counters.refusals.size()) ++state_.counters.refusals[code];
   state_.counters.last_refusal = code;
+  ++state_.counters.refused;
+  // Server Device Busy (Modbus Application Protocol, section 7).
+  if (code == 0x06) ++state_.counters.busy;
 }
 
 template <class Build>

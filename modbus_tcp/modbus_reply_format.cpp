@@ -1,6 +1,7 @@
 #include "modbus_tcp/modbus_reply_format.h"
 
 #include "modbus_tcp/device_identification.h"
+#include "modbus_tcp/diagnostics.h"
 #include "modbus_tcp/modbus_request.h"
 
 namespace tiltgate {
@@ -84,6 +85,16 @@ void format_device_identification(const ModbusRequest& request, const ModbusResp
   finish(out);
 }
 
+// 08 and 11 (sections 6.8, 6.9): modbus_tcp/diagnostics.h.
+void format_diagnostics(const ModbusRequest& request, const ModbusResponse& response,
+                        std::vector<std::uint8_t>& out) {
+  const std::vector<std::uint8_t> data = diagnostics_reply_data(request, response.registers);
+  if (data.empty()) return format_exception(request, ModbusException::device_failure, out);
+  start(request, request.function, out);
+  out.insert(out.end(), data.begin(), data.end());
+  finish(out);
+}
+
 }  // namespace
 
 bool response_fits(const ModbusRequest& request, const ModbusResponse& response) {
@@ -98,6 +109,10 @@ void format_reply(const ModbusRequest& request, const ModbusResponse& response,
   if (response.exception) return format_exception(request, *response.exception, out);
   if (request.function == modbus_function::encapsulated_interface) {
     return format_device_identification(request, response, out);
+  }
+  if (request.function == modbus_function::diagnostics ||
+      request.function == modbus_function::get_comm_event_counter) {
+    return format_diagnostics(request, response, out);
   }
   if (!response_fits(request, response)) {
     return format_exception(request, ModbusException::device_failure, out);

@@ -26,6 +26,7 @@ bool response_fits(const ModbusRequest& request, const ModbusResponse& response)
 //   registers, high byte first;
 // - 05/06: the request echoed; 0F/10: address and quantity;
 // - 43/14: the identification objects the request asks for (modbus_tcp/device_identification.h);
+// - 08 and 11: the echo or the counts (modbus_tcp/diagnostics.h);
 // - a response that does not fit the request (response_fits), or a function the parser does
 //   not accept: 04 server device failure.
 // Transaction id and unit id come from the request, the protocol id is 0 and the length counts

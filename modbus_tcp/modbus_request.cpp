@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "modbus_tcp/device_identification.h"
+#include "modbus_tcp/diagnostics.h"
 
 namespace tiltgate {
 
@@ -137,6 +138,20 @@ std::optional<ModbusException> check_read_device_identification(
   return std::nullopt;
 }
 
+// 08 and 11 (sections 6.8, 6.9): modbus_tcp/diagnostics.h. 08's check says which
+// sub-function is a write (0x000A).
+std::optional<ModbusException> check_diagnostics_rule(const FunctionRule&,
+                                                      std::span<const std::uint8_t> pdu,
+                                                      ModbusRequest& request) {
+  return check_diagnostics(pdu, request);
+}
+
+std::optional<ModbusException> check_comm_event_counter_rule(const FunctionRule&,
+                                                             std::span<const std::uint8_t> pdu,
+                                                             ModbusRequest&) {
+  return check_comm_event_counter(pdu);
+}
+
 constexpr FunctionRule function_rules[] = {
     {modbus_function::read_coils, ModbusTable::coil, false, 2000, check_read},
     {modbus_function::read_discrete_inputs, ModbusTable::discrete, false, 2000, check_read},
@@ -152,6 +167,10 @@ constexpr FunctionRule function_rules[] = {
     // Table and count unused: the reply is built from the unit's identification objects.
     {modbus_function::encapsulated_interface, ModbusTable::holding, false, 0,
      check_read_device_identification},
+    // Table and count unused: the reply is the unit's counts (gateway/unit_diagnostics.h).
+    {modbus_function::diagnostics, ModbusTable::holding, false, 0, check_diagnostics_rule},
+    {modbus_function::get_comm_event_counter, ModbusTable::holding, false, 0,
+     check_comm_event_counter_rule},
 };
 
 const FunctionRule* rule_for(std::uint8_t function) {
@@ -203,8 +222,9 @@ std::optional<AduProblem> parse_adu_into(std::span<const std::uint8_t> adu,
   request.bits.clear();
   request.read_device_id_code = 0;
   request.object_id = 0;
+  request.diagnostic = 0;
   const FunctionRule* rule = rule_for(request.function);
-  // Unknown functions (07, 08, 11, 17, 23, ...) never reach the handler or the reply formatter.
+  // Unknown functions (07, 17, 23, ...) never reach the handler or the reply formatter.
   if (rule == nullptr) return reject(adu, ModbusException::illegal_function);
   request.table = rule->table;
   request.is_write = rule->is_write;

@@ -32,6 +32,9 @@ inline constexpr std::uint8_t read_holding_registers = 0x03;
 inline constexpr std::uint8_t read_input_registers = 0x04;
 inline constexpr std::uint8_t write_single_coil = 0x05;
 inline constexpr std::uint8_t write_single_register = 0x06;
+// Diagnostics and Get Comm Event Counter (modbus_tcp/diagnostics.h).
+inline constexpr std::uint8_t diagnostics = 0x08;
+inline constexpr std::uint8_t get_comm_event_counter = 0x0B;
 inline constexpr std::uint8_t write_multiple_coils = 0x0F;
 inline constexpr std::uint8_t write_multiple_registers = 0x10;
 // Encapsulated Interface Transport; the gateway serves MEI type 14, Read Device

@@ -51,6 +51,8 @@ struct ModbusRequest {
   // code (1 basic, 2 regular, 3 extended stream, 4 one object) and the object id.
   std::uint8_t read_device_id_code = 0;
   std::uint8_t object_id = 0;
+  // 08 Diagnostics: the sub-function (modbus_tcp/diagnostics.h).
+  std::uint16_t diagnostic = 0;
   std::vector<std::uint8_t> adu;         // the whole checked frame, MBAP header included
   WriteOrigin origin;  // writes only: who sent it (the connection fills it in)
 };
@@ -61,6 +63,8 @@ struct ModbusResponse {
   // 03/04, bits for 01/02); a write leaves both empty on success.
   std::vector<std::uint16_t> registers;
   std::vector<bool> bits;
+  // 08: the count asked for in registers[0] (0x0000 and 0x000A echo the request); 11: the
+  // status word and the event count in registers[0] and [1].
   // 43 / 14: every identification object of the unit, in id order. The reply encoder picks
   // what the request asks for (category, start, paging) and answers 02 for a missing object.
   std::vector<DeviceObject> device_objects;

@@ -122,6 +122,8 @@ asio::awaitable<Expected<Frame, ExchangeError>> RiekerDriver::exchange(Line& lin
     const std::uint8_t code = reply.data.size() == 1 ? reply.data[0] : 0xFF;
     if (code < state_.counters.refusals.size()) ++state_.counters.refusals[code];
     state_.counters.last_refusal = code;
+    ++state_.counters.refused;
+    if (code == std::uint8_t(NakCode::busy)) ++state_.counters.busy;
     if (code == std::uint8_t(NakCode::busy) && busy_tries < options_.busy_retries) {
       asio::steady_timer pause(co_await asio::this_coro::executor, options_.busy_wait);
       co_await pause.async_wait(asio::use_awaitable);

@@ -102,7 +102,12 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
   for (int attempts_left = retries + 1;; --attempts_left) {
     if (port_->stopped()) co_return Unexpected(LineError::cancelled);
     if (!port_->is_open()) co_return Unexpected(LineError::closed);
+    const std::optional<std::uint64_t> overruns_before = port_->overruns();
     Attempt outcome = co_await attempt(request, timeout);
+    const std::optional<std::uint64_t> overruns_after =
+        overruns_before ? port_->overruns() : std::nullopt;
+    if (overruns_after && *overruns_after > *overruns_before)
+      timing_.overruns += std::uint32_t(*overruns_after - *overruns_before);
     if (outcome == Attempt::overloaded) {
       // Its reply may still come: kept off the next request like a late one.
       const auto guarded =
@@ -233,6 +238,8 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
   // the start of this reply.
   auto flushed = port_->discard_input();
   if (!flushed) co_return port_failure(flushed.error());
+  stats_.stray_bytes += *flushed;
+  stats_.bytes_in += *flushed;
   ++stats_.attempts;
   const std::optional<Attempt> send_failure = co_await send(request);
   if (send_failure) co_return *send_failure;
@@ -311,6 +318,8 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::write_segment(
   }
   // The driver has the bytes; they are on the wire for `wire` more (its buffer was empty).
   packet_end_ = Clock::now() + wire;
+  stats_.bytes_out += bytes.size();
+  timing_.bytes_out += std::uint32_t(bytes.size());
   if (write_observer_) {
     auto in_force = port_->settings_in_force();
     if (in_force) write_observer_(bytes, parity, *in_force);
@@ -420,6 +429,8 @@ asio::awaitable<Expected<std::size_t, SerialLine::Attempt>> SerialLine::read_bef
   // A Telnet port takes its commands out: a read of nothing but those is no byte of the line's.
   const std::size_t bytes = port_->incoming(buffer.first(received));
   if (bytes > 0) last_byte_at_ = Clock::now();
+  stats_.bytes_in += bytes;
+  timing_.bytes_in += std::uint32_t(bytes);
   co_return bytes;
 }
 

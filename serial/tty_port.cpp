@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/ioctl.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -76,10 +77,23 @@ Expected<std::size_t, std::string> TtyPort::write_now(std::span<const std::uint8
   }
 }
 
-Expected<Done, std::string> TtyPort::discard_input() {
+std::optional<std::uint64_t> TtyPort::overruns() {
+  if (!counts_overruns_) return std::nullopt;
+  auto counted = uart_overruns(stream_.native_handle());
+  if (!counted) {
+    counts_overruns_ = false;  // the driver cannot say: not asked on every attempt again
+    return std::nullopt;
+  }
+  return *counted;
+}
+
+Expected<std::size_t, std::string> TtyPort::discard_input() {
+  // What waits is counted first (a port that cannot say counts none), then dropped.
+  int waiting = 0;
+  if (::ioctl(stream_.native_handle(), FIONREAD, &waiting) != 0) waiting = 0;
   auto flushed = tiltgate::discard_input(stream_.native_handle());
   if (!flushed) return Unexpected(flushed.error().message());
-  return Done{};
+  return std::size_t(std::max(waiting, 0));
 }
 
 Expected<Done, std::string> TtyPort::switch_parity(Parity parity) {

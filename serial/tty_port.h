@@ -78,7 +78,8 @@ class TtyPort final : public LinePort {
   boost::asio::posix::stream_descriptor& stream() override { return stream_; }
   Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes) override;
   // TCIFLUSH.
-  Expected<Done, std::string> discard_input() override;
+  Expected<std::size_t, std::string> discard_input() override;
+  std::optional<std::uint64_t> overruns() override;
   // Stick parity through termios, and tcdrain (serial/termios_settings.h).
   Expected<Done, std::string> switch_parity(Parity parity) override;
   Expected<Done, std::string> wait_until_sent() override;
@@ -99,6 +100,7 @@ class TtyPort final : public LinePort {
   DeliveryProbe probe_;
   std::chrono::milliseconds reopen_delay_;
   bool stopped_ = false;
+  bool counts_overruns_ = true;  // until TIOCGICOUNT is refused once
   bool warned_rs485_ = false;
   bool warned_no_termios2_ = false;
   std::optional<LowLatencyResult> low_latency_;

@@ -1,5 +1,6 @@
 #include "status/status_json.h"
 
+#include <algorithm>
 #include <string>
 
 namespace tiltgate {
@@ -44,6 +45,20 @@ Json failures_json(const std::optional<FailureCounts>& c) {
   return c ? failures_json(*c) : Json(nullptr);
 }
 
+// {"requests":..,"replies":..,...}: the exchanges attempt by attempt (docs/diagnostics.md).
+Json exchanges_json(const ExchangeCounts& c) {
+  return Json{{"requests", c.requests},
+              {"replies", c.replies},
+              {"garbled", c.garbled},
+              {"no_reply", c.no_reply},
+              {"exceptions", c.refused},
+              {"naks", c.refused - std::min(c.busy, c.refused)},
+              {"busy", c.busy},
+              {"bytes_out", c.bytes_out},
+              {"bytes_in", c.bytes_in},
+              {"overruns", c.overruns}};
+}
+
 // The identity's keys, then the reading, the counters and the settings.
 Json sensor_object(const SensorStatus& s) {
   Json out = sensor_identity_json(s);
@@ -64,6 +79,7 @@ Json sensor_object(const SensorStatus& s) {
                     {"io_error", s.io_errors},
                     {"late_reply", s.late_replies}}},
                   {"failures_10min", failures_json(s.recent_failures)},
+                  {"exchanges", exchanges_json(s.exchanges)},
                   {"slowest_reply_ms", s.slowest_reply_ms},
                   {"naks", naks_json(s.refusals)},
                   {"line_seconds", json_number(s.line_seconds)},
@@ -87,7 +103,13 @@ Json bus_object(const BusStatus& b) {
               {"utilisation", json_number(b.utilisation)},
               {"restarts", b.restarts},
               {"failures", failures_json(b.failures)},
-              {"failures_10min", failures_json(b.recent_failures)}};
+              {"failures_10min", failures_json(b.recent_failures)},
+              {"exchanges", exchanges_json(b.exchanges)},
+              {"bytes_out", b.bytes_out},
+              {"bytes_in", b.bytes_in},
+              {"stray_bytes", b.stray_bytes},
+              {"reopens", b.reopens},
+              {"hint", b.hint ? Json(*b.hint) : Json(nullptr)}};
 }
 
 }  // namespace

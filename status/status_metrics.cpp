@@ -77,6 +77,27 @@ struct SensorFamily {
 };
 
 const SensorFamily kSensorFamilies[] = {
+    // The exchanges attempt by attempt (docs/diagnostics.md), as FC 08 counts them.
+    {"tiltgate_sensor_requests_total", "counter",
+     "Requests written to the sensor, retries included",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.requests); }},
+    {"tiltgate_sensor_replies_total", "counter",
+     "Valid replies taken from the sensor, refusals included",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.replies); }},
+    {"tiltgate_sensor_garbled_replies_total", "counter",
+     "Attempts answered with bytes that made no valid reply: a broken checksum, a wrong "
+     "length, a collision",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.garbled); }},
+    {"tiltgate_sensor_no_reply_total", "counter",
+     "Attempts that heard nothing at all from the sensor in time",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.no_reply); }},
+    {"tiltgate_sensor_busy_total", "counter",
+     "Refusals that said the sensor was busy (a Rieker NAK 5, a Modbus exception 06)",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.busy); }},
+    {"tiltgate_sensor_overruns_total", "counter",
+     "Characters the gateway's port lost to a UART overrun during the sensor's replies (0 "
+     "where the port cannot count them)",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.overruns); }},
     {"tiltgate_tilt_degrees", "gauge", "Latest tilt from vertical in degrees",
      [](const SensorStatus& s) { return s.tilt; }},
     {"tiltgate_sensor_online", "gauge",
@@ -116,6 +137,10 @@ struct BusFamily {
 };
 
 const BusFamily kBusFamilies[] = {
+    {"tiltgate_bus_stray_bytes_total", "counter",
+     "Bytes found waiting on the line before a request and dropped unread: noise, a babbling "
+     "device, a reply later than its late-reply window",
+     [](const BusStatus& b) -> std::optional<double> { return double(b.stray_bytes); }},
     {"tiltgate_bus_polls_total", "counter", "Sensor polls run on the bus",
      [](const BusStatus& b) -> std::optional<double> { return double(b.polls); }},
     {"tiltgate_bus_writes_total", "counter", "Setting writes carried out on the bus",
@@ -362,6 +387,13 @@ void add_sensor_families(Exposition& out, const std::vector<SensorStatus>& senso
     out.sample("_sum", sensor_labels(s), double(s.reply_ms_sum) / 1000.0);
     out.sample("_count", sensor_labels(s), double(below));
   }
+  out.family("tiltgate_sensor_bytes_total", "counter",
+             "Bytes of the sensor's exchanges, by direction: out written to it, in read from the "
+             "line while it was asked (late and garbled replies included)");
+  for (const SensorStatus& s : sensors) {
+    out.sample(sensor_labels(s) + ",direction=\"out\"", double(s.exchanges.bytes_out));
+    out.sample(sensor_labels(s) + ",direction=\"in\"", double(s.exchanges.bytes_in));
+  }
   out.family("tiltgate_sensor_naks_total", "counter",
              "Requests the sensor refused, by the refusal code of its protocol");
   for (const SensorStatus& s : sensors)
@@ -378,6 +410,13 @@ std::string metrics_text(const GatewayStatus& status) {
     out.family(f.name, f.type, f.help);
     for (const BusStatus& b : status.buses)
       if (const auto value = f.value(b)) out.sample(bus_labels(b), *value);
+  }
+  out.family("tiltgate_bus_bytes_total", "counter",
+             "Bytes the bus's line carried, by direction: out written, in read (polls, writes, "
+             "commands and forwarded requests alike, stray bytes included)");
+  for (const BusStatus& b : status.buses) {
+    out.sample(bus_labels(b) + ",direction=\"out\"", double(b.bytes_out));
+    out.sample(bus_labels(b) + ",direction=\"in\"", double(b.bytes_in));
   }
   for (const GatewaySingle& single : kModbusSingles)
     out.single(single.name, single.type, single.help, single.value(status));

@@ -287,6 +287,7 @@ function setReachable(ok) {
 }
 
 let lastBuses = [];
+let lastSensors = [];
 async function poll() {
   if (document.body.dataset.state === "login") { setTimeout(poll, POLL_MS); return; }
   try {
@@ -295,6 +296,7 @@ async function poll() {
     renderBuses(buses);
     renderSummary(sensors);
     lastBuses = buses;
+    lastSensors = sensors;
     if (currentTab === "buses") renderBusCounters();
     if (settingsFor !== null && !$("detail").hidden) renderSensorCounters(sensors.find((x) => x.name === settingsFor));
     setReachable(true);
@@ -731,7 +733,9 @@ function renderScans() {
     root.dataset.bus = b.name;
     root.innerHTML =
       '<h3></h3><div class="sub port"></div>' +
+      '<p class="hint" role="status" hidden></p>' +
       '<div class="scroll bus-counters"></div>' +
+      '<div class="scroll line-health"></div>' +
       '<div class="row"><button class="button reset" type="button" data-needs="admin">Reset counters</button>' +
       '<div class="counters-message" role="status"></div></div>' +
       '<div class="row gap-above">' +
@@ -764,7 +768,32 @@ function renderBusCounters() {
     const html = countersHtml(b.failures, b.failures_10min, extra);
     const host = panel.root.querySelector(".bus-counters");
     if (host.innerHTML !== html) host.innerHTML = html;
+    const hint = panel.root.querySelector(".hint");
+    hint.hidden = !b.hint;
+    if (hint.textContent !== (b.hint || "")) hint.textContent = b.hint || "";
+    const health = lineHealthHtml(b, lastSensors.filter((s) => s.bus === b.name));
+    const table = panel.root.querySelector(".line-health");
+    if (table.innerHTML !== health) table.innerHTML = health;
   }
+}
+
+// Each sensor's exchanges on the bus, attempt by attempt (docs/diagnostics.md), one row each,
+// the bus's total last: what a technician reads at a glance. A cell is red where a device
+// failed to answer or answered garbled.
+function lineHealthHtml(bus, sensors) {
+  const columns = [["requests", "Requests"], ["replies", "Replies"], ["no_reply", "No reply"],
+                   ["garbled", "Garbled"], ["naks", "NAK"], ["busy", "Busy"],
+                   ["bytes_out", "Bytes out"], ["bytes_in", "Bytes in"]];
+  const bad = new Set(["no_reply", "garbled", "naks", "busy"]);
+  const row = (name, address, e, late) => "<tr><td>" + esc(name) + '</td><td class="num">' + esc(address) +
+    "</td>" + columns.map(([key]) => '<td class="num' + (bad.has(key) && e[key] > 0 ? " bad" : "") + '">' +
+    esc(e[key] || 0) + "</td>").join("") + '<td class="num' + (late > 0 ? " bad" : "") + '">' + esc(late) + "</td></tr>";
+  const rows = sensors.map((s) => row(s.name, s.address, s.exchanges || {}, s.failures ? s.failures.late_reply : 0));
+  if (bus.exchanges) rows.push(row("all", "\u2013", bus.exchanges, bus.failures ? bus.failures.late_reply : 0));
+  return '<table class="list counters line"><thead><tr><th>Sensor</th><th>Address</th>' +
+         columns.map(([, word]) => "<th>" + esc(word) + "</th>").join("") + "<th>Late</th></tr></thead><tbody>" +
+         rows.join("") + "</tbody></table>" +
+         '<div class="sub">Stray bytes between frames: ' + esc(bus.stray_bytes || 0) + "</div>";
 }
 
 async function startScan(bus) {

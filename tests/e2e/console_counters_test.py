@@ -76,6 +76,26 @@ def scenario(t):
             line1["failures_10min"] is not None and line1["failures_10min"]["timeout"] >= 1,
             line1)
 
+    # Line health by cause (docs/diagnostics.md): attempt by attempt, and the bus's hint.
+    ghost = by_name(sensors(), "ghost")
+    t.check("the ghost's exchanges: requests with no reply at all, nothing taken",
+            ghost["exchanges"]["requests"] >= 3 and ghost["exchanges"]["replies"] == 0 and
+            ghost["exchanges"]["no_reply"] == ghost["exchanges"]["requests"] and
+            ghost["exchanges"]["bytes_out"] > 0, ghost["exchanges"])
+    boom = by_name(sensors(), "boom")
+    t.check("a healthy sensor's: every request answered, bytes both ways",
+            boom["exchanges"]["requests"] > 0 and boom["exchanges"]["no_reply"] == 0 and
+            boom["exchanges"]["replies"] >= boom["exchanges"]["requests"] - 1 and
+            boom["exchanges"]["bytes_in"] > 0, boom["exchanges"])
+    line1 = by_name(buses(), "line1")
+    t.check("the bus: its sensors' exchanges summed, the bytes its line carried, and a hint "
+            "naming the one device that does not answer",
+            line1["exchanges"]["no_reply"] >= ghost["exchanges"]["no_reply"] and
+            line1["bytes_out"] >= line1["exchanges"]["bytes_out"] > 0 and
+            line1["stray_bytes"] == 0 and
+            (line1["hint"] or "").startswith("ghost does not answer while its neighbours do") and
+            "address (50)" in line1["hint"], line1)
+
     status, reply = alice.request("POST", "/api/sensors/ghost/counters/reset", {})
     t.check("an operator's reset: 403 saying why", status == 403 and
             reply.get("error") == "resetting counters is for the admin role", (status, reply))

@@ -152,5 +152,39 @@ PY
 }
 check "pymodbus reads VendorName with the README's function 43 recipe" device_identification_ok
 
+# Function 08 and 11 (docs/diagnostics.md), as docs/diagnostics.md has pymodbus ask them.
+diagnostics_ok() {
+  py "$port" <<'PY'
+import sys
+from pymodbus.client import ModbusTcpClient
+from pymodbus.diag_message import (ClearCountersRequest, ReturnQueryDataRequest,
+                                   ReturnSlaveMessageCountRequest,
+                                   ReturnSlaveNoResponseCountRequest)
+from pymodbus.other_message import GetCommEventCounterRequest
+
+client = ModbusTcpClient("127.0.0.1", port=int(sys.argv[1]), timeout=3)
+assert client.connect()
+echo = client.execute(ReturnQueryDataRequest(0x1234, unit=1))
+assert not echo.isError(), echo
+print("echo", echo.message)
+assert list(echo.message) == [0x1234], echo.message
+sent = client.execute(ReturnSlaveMessageCountRequest(unit=1))
+assert not sent.isError(), sent
+print("server messages", sent.message)
+assert sent.message[0] > 0, sent.message
+silent = client.execute(ReturnSlaveNoResponseCountRequest(unit=1))
+assert not silent.isError() and silent.message[0] == 0, silent.message
+events = client.execute(GetCommEventCounterRequest(unit=1))
+assert not events.isError(), events
+assert events.status and events.count > 0, (events.status, events.count)
+cleared = client.execute(ClearCountersRequest(unit=1))
+assert not cleared.isError(), cleared
+after = client.execute(ReturnSlaveMessageCountRequest(unit=1))
+assert after.message[0] < sent.message[0], (after.message, sent.message)
+client.close()
+PY
+}
+check "pymodbus asks 08 (echo, counts, clear) and 11" diagnostics_ok
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

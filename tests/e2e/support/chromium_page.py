@@ -513,6 +513,18 @@ def counters_check(url, admin, failing):
             " : null; })()", 10)
         if not rows or "time-outs" not in rows or "polls" not in rows:
             failures.append("the Buses tab has no counters table: %r" % rows)
+        hint = browser.wait_for(
+            "(() => { const h = document.querySelector('#scans .hint');"
+            " return h && !h.hidden && h.textContent; })()", 10)
+        if not hint or not hint.startswith(failing + " does not answer"):
+            failures.append("the Buses tab shows no hint naming %s: %r" % (failing, hint))
+        health = browser.wait_for(
+            "(() => { const r = [...document.querySelectorAll('#scans .line-health tbody tr')]"
+            "  .find(r => r.cells[0].textContent === %s);"
+            " return r && [...r.cells].map(c => c.className + ':' + c.textContent); })()" %
+            json.dumps(failing), 10)
+        if not health or not any(c.endswith("bad") or " bad:" in c for c in health):
+            failures.append("the line health table has no red row for %s: %r" % (failing, health))
         browser.click("#scans .reset")
         if not browser.wait_for("!document.getElementById('confirm').hidden", 5):
             failures.append("Reset counters asks for no confirmation")

@@ -131,8 +131,8 @@ TEST_CASE("16 write multiple registers carries the values in order") {
 
 TEST_CASE("unsupported functions are answered 01 by the parser, however short or long") {
   CHECK(rejected(frame({0x07})) == ModbusException::illegal_function);  // short 07
-  CHECK(rejected(frame({0x0B})) == ModbusException::illegal_function);  // short 11
-  CHECK(rejected(frame({0x08, 0x00, 0x00, 0xA5, 0x37})) == ModbusException::illegal_function);
+  CHECK(rejected(frame({0x0C})) == ModbusException::illegal_function);  // short 12
+  CHECK(rejected(frame({0x14, 0x00, 0x00, 0xA5, 0x37})) == ModbusException::illegal_function);
   CHECK(rejected(frame({0x11})) == ModbusException::illegal_function);
   CHECK(rejected(frame({0x2B, 0x0D, 0x00, 0x00})) == ModbusException::illegal_function);  // 43/13
   CHECK(rejected(frame({0x00})) == ModbusException::illegal_function);

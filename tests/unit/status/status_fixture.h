@@ -31,6 +31,7 @@ inline SensorStatus boom() {
   s.timeouts = 3;
   s.checksum_errors = 1;
   s.late_replies = 4;
+  s.exchanges = ExchangeCounts{14, 10, 1, 3, 3, 1, 140, 200, 0};
   s.slowest_reply_ms = 7;
   s.reply_buckets[1] = 8;  // within 2 ms
   s.reply_buckets[3] = 2;  // within 10 ms
@@ -72,6 +73,9 @@ inline GatewayStatus plant() {
   status.buses[0].utilisation = 0.5;
   status.buses[0].machine_held = 3;
   status.buses[0].overloaded = 1;
+  status.buses[0].bytes_out = 500;
+  status.buses[0].bytes_in = 706;
+  status.buses[0].stray_bytes = 6;
   status.modbus_clients = 2;
   status.modbus_connections = 6;
   status.modbus_connections_refused = 1;

@@ -25,6 +25,8 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
         R"("failures_10min":null,)"
+        R"("exchanges":{"requests":14,"replies":10,"garbled":1,"no_reply":3,"exceptions":3,)"
+        R"("naks":2,"busy":1,"bytes_out":140,"bytes_in":200,"overruns":0},)"
         R"("slowest_reply_ms":7,"naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031,)"
         R"("settings":{"filter":2,"zero_x":null}})");
 }
@@ -91,7 +93,10 @@ TEST_CASE("status JSON: the sensor and bus lists are arrays") {
         R"("writes":1,"forwarded":0,"machine_held":3,"overloaded":1,"busy_seconds":1.25,)"
         R"("polls_per_s":9.5,"utilisation":0.5,"restarts":0,)"
         R"("failures":{"polls_failed":0,"timeout":0,"checksum":0,"io_error":0,"late_reply":0},)"
-        R"("failures_10min":null}])");
+        R"("failures_10min":null,)"
+        R"("exchanges":{"requests":0,"replies":0,"garbled":0,"no_reply":0,"exceptions":0,)"
+        R"("naks":0,"busy":0,"bytes_out":0,"bytes_in":0,"overruns":0},)"
+        R"("bytes_out":500,"bytes_in":706,"stray_bytes":6,"reopens":0,"hint":null}])");
   CHECK(buses_json({bus("line2", "/dev/ttyUSB1", 9600)}).find(R"("polls_per_s":null,"utilisation":null,)") != std::string::npos);
 }
 

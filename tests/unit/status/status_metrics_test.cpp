@@ -193,3 +193,21 @@ TEST_CASE("metrics: HTTP clients closed for cause are counted by reason") {
   CHECK(text.find("tiltgate_http_clients_closed_total{reason=\"bad_request\"} 10\n") !=
         std::string::npos);
 }
+
+TEST_CASE("metrics: a sensor's exchanges attempt by attempt, and what each bus's line carried") {
+  const std::string text = metrics_text(plant());
+  const std::string labels = R"(sensor="boom",bus="line1",unit="3")";
+  const auto has = [&](const std::string& line) { return text.find(line + "\n") != std::string::npos; };
+  CHECK(has("tiltgate_sensor_requests_total{" + labels + "} 14"));
+  CHECK(has("tiltgate_sensor_replies_total{" + labels + "} 10"));
+  CHECK(has("tiltgate_sensor_garbled_replies_total{" + labels + "} 1"));
+  CHECK(has("tiltgate_sensor_no_reply_total{" + labels + "} 3"));
+  CHECK(has("tiltgate_sensor_busy_total{" + labels + "} 1"));
+  CHECK(has("tiltgate_sensor_overruns_total{" + labels + "} 0"));
+  CHECK(has("tiltgate_sensor_bytes_total{" + labels + ",direction=\"out\"} 140"));
+  CHECK(has("tiltgate_sensor_bytes_total{" + labels + ",direction=\"in\"} 200"));
+  CHECK(has("# TYPE tiltgate_sensor_requests_total counter"));
+  CHECK(has("tiltgate_bus_bytes_total{bus=\"line1\",direction=\"out\"} 500"));
+  CHECK(has("tiltgate_bus_bytes_total{bus=\"line1\",direction=\"in\"} 706"));
+  CHECK(has("tiltgate_bus_stray_bytes_total{bus=\"line1\"} 6"));
+}
