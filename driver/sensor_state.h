@@ -61,8 +61,9 @@ struct SensorCounters {
   // acknowledgement's code; codes past the end are not counted), and the last such code.
   std::array<std::uint32_t, 8> refusals{};
   std::optional<std::uint8_t> last_refusal;
-  // Every refusal, whatever its code, and those of them that said the device was busy (a
-  // Rieker NAK 5, a Modbus exception 06): the rest are NAKs (FC 08's counts, docs/diagnostics.md).
+  // Every refusal, whatever its code, and those of them that said the device was busy (the
+  // family's driver knows its protocol's busy code): the rest are NAKs (FC 08's counts,
+  // docs/diagnostics.md).
   std::uint32_t refused = 0;
   std::uint32_t busy = 0;
   // Times another device than the configured serial was found answering in its place.

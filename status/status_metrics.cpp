@@ -92,7 +92,7 @@ const SensorFamily kSensorFamilies[] = {
      "Attempts that heard nothing at all from the sensor in time",
      [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.no_reply); }},
     {"tiltgate_sensor_busy_total", "counter",
-     "Refusals that said the sensor was busy (a Rieker NAK 5, a Modbus exception 06)",
+     "Refusals that said the sensor was busy (its protocol's busy code)",
      [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.busy); }},
     {"tiltgate_sensor_overruns_total", "counter",
      "Characters the gateway's port lost to a UART overrun during the sensor's replies (0 "

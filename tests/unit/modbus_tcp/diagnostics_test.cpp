@@ -94,7 +94,7 @@ TEST_CASE("08's malformed requests are 03, the sub-functions not served 01") {
   CHECK(refusal_of({0x08, 0xFF, 0xFF, 0x00, 0x00}) == ModbusException::illegal_function);
 }
 
-TEST_CASE("11 is the function code alone; its reply is the status word and the event count") {
+TEST_CASE("11 is the function code alone, and its reply is the status word and the event count") {
   const ModbusRequest request = request_of({0x0B});
   CHECK_FALSE(request.is_write);
   CHECK(format_reply(request, with_values({0x0000, 0x0108})) ==
