@@ -138,11 +138,13 @@ struct LineTiming {
   // How long this machine held what the line received past reply deadlines (the reply waits
   // were made that much longer): the machine's lateness, none of the device's.
   std::chrono::milliseconds machine_held{0};
-  // Bytes written and read in the transaction, late replies included, and the characters the
-  // port's UART lost to overruns meanwhile (0 where it cannot count them).
+  // Bytes written and read in the transaction, late replies included, and what the port's UART
+  // counted wrong meanwhile (0 where it cannot count): characters lost to overruns, characters
+  // with a framing or parity error.
   std::uint32_t bytes_out = 0;
   std::uint32_t bytes_in = 0;
   std::uint32_t overruns = 0;
+  std::uint32_t uart_errors = 0;
 };
 
 class Line {

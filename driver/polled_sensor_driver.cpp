@@ -151,6 +151,7 @@ void PolledSensorDriver::count_attempt(const Expected<Done, LineError>& sent,
   counters.bytes_out += timing.bytes_out;
   counters.bytes_in += timing.bytes_in;
   counters.overruns += timing.overruns;
+  counters.uart_errors += timing.uart_errors;
   // An attempt that never reached the wire (a stop, a closed or failed port, no time left) is
   // no request; one given up as overloaded was sent.
   if (!sent && sent.error() != LineError::timeout && sent.error() != LineError::overloaded)

@@ -46,9 +46,11 @@ struct SensorCounters {
   // Bytes of its exchanges written and read (late replies and garbled ones included).
   std::uint64_t bytes_out = 0;
   std::uint64_t bytes_in = 0;
-  // Characters the gateway's port lost to a UART overrun while the sensor's replies came (a
-  // tty's TIOCGICOUNT; ports that cannot count them leave it 0).
+  // What the gateway's UART counted wrong while the sensor's replies came (a tty's TIOCGICOUNT;
+  // ports that cannot count leave both 0): characters lost to overruns, characters with a
+  // framing or parity error (a wrong rate or parity, noise).
   std::uint32_t overruns = 0;
+  std::uint32_t uart_errors = 0;
   std::uint32_t polls_ok = 0;       // measurement polls that produced a reading
   std::uint32_t polls_failed = 0;   // measurement polls that did not
   std::uint32_t timeouts = 0;       // exchanges that got no valid reply in time

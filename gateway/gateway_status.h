@@ -43,7 +43,8 @@ struct FailureCounts {
 // A device's exchanges on its line, attempt by attempt (driver/sensor_state.h SensorCounters;
 // FC 08 counts from the same, gateway/unit_diagnostics.h): requests written, valid replies,
 // replies that made no valid frame, attempts that heard nothing, refusals and the busy ones of
-// them, bytes both ways, characters the port lost to overruns. A bus's: its sensors' summed.
+// them, bytes both ways, characters the port's UART lost to overruns or got with a framing or
+// parity error. A bus's: its sensors' summed.
 struct ExchangeCounts {
   std::uint64_t requests = 0;
   std::uint64_t replies = 0;
@@ -54,6 +55,7 @@ struct ExchangeCounts {
   std::uint64_t bytes_out = 0;
   std::uint64_t bytes_in = 0;
   std::uint64_t overruns = 0;
+  std::uint64_t uart_errors = 0;
 
   ExchangeCounts& operator+=(const ExchangeCounts& other) {
     requests += other.requests;
@@ -65,6 +67,7 @@ struct ExchangeCounts {
     bytes_out += other.bytes_out;
     bytes_in += other.bytes_in;
     overruns += other.overruns;
+    uart_errors += other.uart_errors;
     return *this;
   }
 };

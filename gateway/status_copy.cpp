@@ -46,8 +46,9 @@ FailureCounts failure_counts(const SensorCounters& counters) {
 }
 
 ExchangeCounts exchange_counts(const SensorCounters& c) {
-  return ExchangeCounts{c.requests, c.replies, c.garbled,   c.no_reply, c.refused,
-                        c.busy,     c.bytes_out, c.bytes_in, c.overruns};
+  return ExchangeCounts{c.requests, c.replies,  c.garbled,  c.no_reply,
+                        c.refused,  c.busy,     c.bytes_out, c.bytes_in,
+                        c.overruns, c.uart_errors};
 }
 
 SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point now) {

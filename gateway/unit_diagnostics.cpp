@@ -44,6 +44,7 @@ void add_counts(SensorCounters& total, const SensorCounters& c) {
   total.refused += c.refused;
   total.busy += c.busy;
   total.overruns += c.overruns;
+  total.uart_errors += c.uart_errors;
   total.bytes_out += c.bytes_out;
   total.bytes_in += c.bytes_in;
 }

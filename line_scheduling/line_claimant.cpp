@@ -20,6 +20,7 @@ void add_attempt(LineTiming& total, const LineTiming& attempt) {
   total.bytes_out += attempt.bytes_out;
   total.bytes_in += attempt.bytes_in;
   total.overruns += attempt.overruns;
+  total.uart_errors += attempt.uart_errors;
   total.machine_held += attempt.machine_held;
   if (attempt.late_delay)
     total.late_delay = std::max(total.late_delay.value_or(attempt.late_delay.value()),

@@ -60,9 +60,10 @@ class LinePort {
   // Writes what the port takes now, without waiting: how many of `bytes` (0 when its buffer is
   // full), or why it failed.
   virtual Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes) = 0;
-  // Characters the port's UART lost to overruns since it opened; none where the port cannot
-  // count them (a pseudo-terminal, a network port, many USB adapters).
-  virtual std::optional<std::uint64_t> overruns() { return std::nullopt; }
+  // What the port's UART counted wrong since it opened (overruns, framing and parity errors);
+  // none where the port cannot count them (a pseudo-terminal, a network port, many USB
+  // adapters).
+  virtual std::optional<UartCounts> uart_counts() { return std::nullopt; }
   // Drops what was received and not read yet (line noise, a late answer) before a request:
   // how many bytes it dropped, where the port can tell (0 where it cannot).
   virtual Expected<std::size_t, std::string> discard_input() = 0;

@@ -102,12 +102,9 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
   for (int attempts_left = retries + 1;; --attempts_left) {
     if (port_->stopped()) co_return Unexpected(LineError::cancelled);
     if (!port_->is_open()) co_return Unexpected(LineError::closed);
-    const std::optional<std::uint64_t> overruns_before = port_->overruns();
+    const std::optional<UartCounts> uart_before = port_->uart_counts();
     Attempt outcome = co_await attempt(request, timeout);
-    const std::optional<std::uint64_t> overruns_after =
-        overruns_before ? port_->overruns() : std::nullopt;
-    if (overruns_after && *overruns_after > *overruns_before)
-      timing_.overruns += std::uint32_t(*overruns_after - *overruns_before);
+    if (uart_before) note_uart_counts(*uart_before);
     if (outcome == Attempt::overloaded) {
       // Its reply may still come: kept off the next request like a late one.
       const auto guarded =
@@ -150,6 +147,16 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
         break;
     }
   }
+}
+
+void SerialLine::note_uart_counts(const UartCounts& before) {
+  const std::optional<UartCounts> after = port_->uart_counts();
+  if (!after) return;
+  const auto grown = [](std::uint64_t now, std::uint64_t then) {
+    return std::uint32_t(now > then ? now - then : 0);  // a reopened port counts from 0
+  };
+  timing_.overruns += grown(after->overruns, before.overruns);
+  timing_.uart_errors += grown(after->framing_errors, before.framing_errors);
 }
 
 SerialLine::Clock::time_point SerialLine::late_window_end(const LineRequest& request,

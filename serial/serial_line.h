@@ -187,6 +187,9 @@ class SerialLine final : public Line {
                                     std::chrono::milliseconds timeout) const;
   // How long the line must be quiet for a late burst to have ended (serial/late_window.h).
   std::chrono::milliseconds burst_quiet() const;
+  // What the port's UART counted wrong since `before` (taken before an attempt) into the
+  // transaction's timing; nothing where the port cannot count.
+  void note_uart_counts(const UartCounts& before);
   // Discards what arrives until `window_end` and any late burst then running has ended, each
   // burst counted as a late reply to the request that ended at `request_end`; with
   // `look_end`, stops there if nothing has arrived by then (the window is then reported in

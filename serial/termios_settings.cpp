@@ -308,10 +308,12 @@ Expected<Done, std::error_code> wait_until_sent(int fd) {
   return Done{};
 }
 
-Expected<std::uint64_t, std::error_code> uart_overruns(int fd) {
+Expected<UartCounts, std::error_code> uart_counts(int fd) {
   serial_icounter_struct counts{};
   if (::ioctl(fd, TIOCGICOUNT, &counts) != 0) return Unexpected(last_error());
-  return std::uint64_t(std::uint32_t(counts.overrun)) + std::uint32_t(counts.buf_overrun);
+  const auto count = [](int value) { return std::uint64_t(std::uint32_t(value)); };
+  return UartCounts{count(counts.overrun) + count(counts.buf_overrun),
+                    count(counts.frame) + count(counts.parity)};
 }
 
 Expected<Done, std::error_code> discard_input(int fd) {

@@ -117,10 +117,14 @@ Expected<Done, std::error_code> wait_until_sent(int fd);
 
 // tcflush(TCIFLUSH): drops whatever has been received and not read yet.
 Expected<Done, std::error_code> discard_input(int fd);
-// Characters the UART lost to overruns since the port was opened, its own and its driver's
-// buffer's (TIOCGICOUNT). Pseudo-terminals and many USB adapters' drivers cannot say (ENOTTY,
-// EINVAL).
-Expected<std::uint64_t, std::error_code> uart_overruns(int fd);
+// What the UART counted wrong since the port was opened (TIOCGICOUNT): characters lost to
+// overruns (its own and its driver's buffer's), and characters received with a framing or a
+// parity error. Pseudo-terminals and many USB adapters' drivers cannot say (ENOTTY, EINVAL).
+struct UartCounts {
+  std::uint64_t overruns = 0;
+  std::uint64_t framing_errors = 0;  // framing and parity errors together
+};
+Expected<UartCounts, std::error_code> uart_counts(int fd);
 
 // Bits on the wire per byte: start + 8 data + (parity) + stop bits.
 int bits_per_byte(Parity parity, int stop_bits = 1);

@@ -77,11 +77,11 @@ Expected<std::size_t, std::string> TtyPort::write_now(std::span<const std::uint8
   }
 }
 
-std::optional<std::uint64_t> TtyPort::overruns() {
-  if (!counts_overruns_) return std::nullopt;
-  auto counted = uart_overruns(stream_.native_handle());
+std::optional<UartCounts> TtyPort::uart_counts() {
+  if (!counts_uart_) return std::nullopt;
+  auto counted = tiltgate::uart_counts(stream_.native_handle());
   if (!counted) {
-    counts_overruns_ = false;  // the driver cannot say: not asked on every attempt again
+    counts_uart_ = false;  // the driver cannot say: not asked on every attempt again
     return std::nullopt;
   }
   return *counted;

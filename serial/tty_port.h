@@ -79,7 +79,7 @@ class TtyPort final : public LinePort {
   Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes) override;
   // TCIFLUSH.
   Expected<std::size_t, std::string> discard_input() override;
-  std::optional<std::uint64_t> overruns() override;
+  std::optional<UartCounts> uart_counts() override;
   // Stick parity through termios, and tcdrain (serial/termios_settings.h).
   Expected<Done, std::string> switch_parity(Parity parity) override;
   Expected<Done, std::string> wait_until_sent() override;
@@ -100,7 +100,7 @@ class TtyPort final : public LinePort {
   DeliveryProbe probe_;
   std::chrono::milliseconds reopen_delay_;
   bool stopped_ = false;
-  bool counts_overruns_ = true;  // until TIOCGICOUNT is refused once
+  bool counts_uart_ = true;  // until TIOCGICOUNT is refused once
   bool warned_rs485_ = false;
   bool warned_no_termios2_ = false;
   std::optional<LowLatencyResult> low_latency_;

@@ -56,7 +56,8 @@ Json exchanges_json(const ExchangeCounts& c) {
               {"busy", c.busy},
               {"bytes_out", c.bytes_out},
               {"bytes_in", c.bytes_in},
-              {"overruns", c.overruns}};
+              {"overruns", c.overruns},
+              {"uart_errors", c.uart_errors}};
 }
 
 // The identity's keys, then the reading, the counters and the settings.

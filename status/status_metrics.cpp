@@ -98,6 +98,10 @@ const SensorFamily kSensorFamilies[] = {
      "Characters the gateway's port lost to a UART overrun during the sensor's replies (0 "
      "where the port cannot count them)",
      [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.overruns); }},
+    {"tiltgate_sensor_uart_errors_total", "counter",
+     "Characters of the sensor's replies the gateway's UART got with a framing or parity error: "
+     "a wrong rate or parity, noise (0 where the port cannot count them)",
+     [](const SensorStatus& s) -> std::optional<double> { return double(s.exchanges.uart_errors); }},
     {"tiltgate_tilt_degrees", "gauge", "Latest tilt from vertical in degrees",
      [](const SensorStatus& s) { return s.tilt; }},
     {"tiltgate_sensor_online", "gauge",

@@ -196,10 +196,10 @@ TEST_CASE("wire time counts 10 bits a byte without parity and 11 with, rounded u
   CHECK(wire_time(5, 0, Parity::none) == 0us);
 }
 
-TEST_CASE("a pseudo-terminal cannot count UART overruns, and says so instead of a count") {
+TEST_CASE("a pseudo-terminal cannot count UART errors, and says so instead of a count") {
   PseudoTerminal pty = open_pty();
   SlaveFd fd(pty.slave_path());
-  const auto overruns = tiltgate::uart_overruns(fd.get());
-  REQUIRE_FALSE(overruns.has_value());
-  CHECK(tiltgate::uart_overruns(-1).error() == std::errc::bad_file_descriptor);
+  const auto counts = tiltgate::uart_counts(fd.get());
+  REQUIRE_FALSE(counts.has_value());
+  CHECK(tiltgate::uart_counts(-1).error() == std::errc::bad_file_descriptor);
 }

@@ -31,7 +31,7 @@ inline SensorStatus boom() {
   s.timeouts = 3;
   s.checksum_errors = 1;
   s.late_replies = 4;
-  s.exchanges = ExchangeCounts{14, 10, 1, 3, 3, 1, 140, 200, 0};
+  s.exchanges = ExchangeCounts{14, 10, 1, 3, 3, 1, 140, 200, 0, 2};
   s.slowest_reply_ms = 7;
   s.reply_buckets[1] = 8;  // within 2 ms
   s.reply_buckets[3] = 2;  // within 10 ms

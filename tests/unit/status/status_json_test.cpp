@@ -26,7 +26,7 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
         R"("failures_10min":null,)"
         R"("exchanges":{"requests":14,"replies":10,"garbled":1,"no_reply":3,"exceptions":3,)"
-        R"("naks":2,"busy":1,"bytes_out":140,"bytes_in":200,"overruns":0},)"
+        R"("naks":2,"busy":1,"bytes_out":140,"bytes_in":200,"overruns":0,"uart_errors":2},)"
         R"("slowest_reply_ms":7,"naks":{"3":2,"5":1},"line_seconds":12.5,"line_share":0.031,)"
         R"("settings":{"filter":2,"zero_x":null}})");
 }
@@ -95,7 +95,7 @@ TEST_CASE("status JSON: the sensor and bus lists are arrays") {
         R"("failures":{"polls_failed":0,"timeout":0,"checksum":0,"io_error":0,"late_reply":0},)"
         R"("failures_10min":null,)"
         R"("exchanges":{"requests":0,"replies":0,"garbled":0,"no_reply":0,"exceptions":0,)"
-        R"("naks":0,"busy":0,"bytes_out":0,"bytes_in":0,"overruns":0},)"
+        R"("naks":0,"busy":0,"bytes_out":0,"bytes_in":0,"overruns":0,"uart_errors":0},)"
         R"("bytes_out":500,"bytes_in":706,"stray_bytes":6,"reopens":0,"hint":null}])");
   CHECK(buses_json({bus("line2", "/dev/ttyUSB1", 9600)}).find(R"("polls_per_s":null,"utilisation":null,)") != std::string::npos);
 }

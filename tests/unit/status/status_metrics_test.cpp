@@ -204,6 +204,7 @@ TEST_CASE("metrics: a sensor's exchanges attempt by attempt, and what each bus's
   CHECK(has("tiltgate_sensor_no_reply_total{" + labels + "} 3"));
   CHECK(has("tiltgate_sensor_busy_total{" + labels + "} 1"));
   CHECK(has("tiltgate_sensor_overruns_total{" + labels + "} 0"));
+  CHECK(has("tiltgate_sensor_uart_errors_total{" + labels + "} 2"));
   CHECK(has("tiltgate_sensor_bytes_total{" + labels + ",direction=\"out\"} 140"));
   CHECK(has("tiltgate_sensor_bytes_total{" + labels + ",direction=\"in\"} 200"));
   CHECK(has("# TYPE tiltgate_sensor_requests_total counter"));
