@@ -330,13 +330,8 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   }
   for (std::size_t i = 0; i < buses_.size(); ++i) {
     status.buses.push_back(bus_status(config_.buses[i], buses_[i]->scheduler->stats(),
-                                      bus_rates_.rate(2 * i), bus_rates_.rate(2 * i + 1)));
-    status.buses.back().machine_held = buses_[i]->line->stats().machine_held;
-    status.buses.back().overloaded = buses_[i]->line->stats().overloaded;
-    status.buses.back().bytes_out = buses_[i]->line->stats().bytes_out;
-    status.buses.back().bytes_in = buses_[i]->line->stats().bytes_in;
-    status.buses.back().stray_bytes = buses_[i]->line->stats().stray_bytes;
-    status.buses.back().reopens = buses_[i]->line->stats().reopens;
+                                      buses_[i]->line->stats(), bus_rates_.rate(2 * i),
+                                      bus_rates_.rate(2 * i + 1)));
     add_sensor_failures(status.buses.back(), status.sensors);
     status.buses.back().hint = line_hint(status.buses.back(), status.sensors);
   }

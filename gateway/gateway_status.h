@@ -125,6 +125,11 @@ struct SensorStatus {
   std::optional<FailureCounts> recent_failures;
 };
 
+// A sensor's failures since start (or its counters' reset) as one FailureCounts.
+inline FailureCounts failure_counts(const SensorStatus& s) {
+  return FailureCounts{s.polls_failed, s.timeouts, s.checksum_errors, s.io_errors, s.late_replies};
+}
+
 struct BusStatus {
   std::string name;
   std::string port;

@@ -8,8 +8,7 @@ namespace {
 
 // The sensor's failures over the recent window, or since start until that is counted.
 FailureCounts recent_of(const SensorStatus& s) {
-  if (s.recent_failures) return *s.recent_failures;
-  return FailureCounts{s.polls_failed, s.timeouts, s.checksum_errors, s.io_errors, s.late_replies};
+  return s.recent_failures ? *s.recent_failures : failure_counts(s);
 }
 
 bool behind_device_server(const BusStatus& bus) {

@@ -103,7 +103,7 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
   return s;
 }
 
-BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats,
+BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats, const LineStats& line,
                      std::optional<double> polls_per_s, std::optional<double> busy_share) {
   BusStatus bus;
   bus.name = config.name;
@@ -114,6 +114,12 @@ BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats,
   bus.writes = stats.writes;
   bus.forwarded = stats.forwarded;
   bus.restarts = stats.restarts;
+  bus.machine_held = line.machine_held;
+  bus.overloaded = line.overloaded;
+  bus.bytes_out = line.bytes_out;
+  bus.bytes_in = line.bytes_in;
+  bus.stray_bytes = line.stray_bytes;
+  bus.reopens = line.reopens;
   bus.busy_seconds = std::chrono::duration<double>(stats.busy).count();
   bus.polls_per_s = rounded(polls_per_s, 100);
   // A turn that ran across the sample instant counts wholly in the later sample, so a busy
@@ -127,8 +133,7 @@ void add_sensor_failures(BusStatus& bus, const std::vector<SensorStatus>& sensor
   bool counted = true;
   for (const SensorStatus& s : sensors) {
     if (s.bus != bus.name) continue;
-    bus.failures += FailureCounts{s.polls_failed, s.timeouts, s.checksum_errors, s.io_errors,
-                                  s.late_replies};
+    bus.failures += failure_counts(s);
     bus.exchanges += s.exchanges;
     if (s.recent_failures)
       recent += *s.recent_failures;

@@ -5,6 +5,7 @@
 
 #include <optional>
 
+#include "driver/line.h"
 #include "line_scheduling/bus_scheduler.h"
 #include "line_scheduling/gateway_sensor.h"
 #include "gateway/gateway_status.h"
@@ -19,9 +20,9 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
 FailureCounts failure_counts(const SensorCounters& counters);
 ExchangeCounts exchange_counts(const SensorCounters& counters);
 
-// The bus's configuration and counters; `polls_per_s` and `busy_share` are the rates measured
-// over the last seconds (none until counted).
-BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats,
+// The bus's configuration and counters, its scheduler's and its line's; `polls_per_s` and
+// `busy_share` are the rates measured over the last seconds (none until counted).
+BusStatus bus_status(const BusConfig& config, const BusSchedulerStats& stats, const LineStats& line,
                      std::optional<double> polls_per_s, std::optional<double> busy_share);
 
 // The failures of the sensors on `bus`, since start and recent (none when one of them has none
