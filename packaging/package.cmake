@@ -45,6 +45,10 @@ install(FILES ${generated}/tiltgate.1.gz DESTINATION share/man/man1)
 install(PROGRAMS ${packaging}/make-console-certificate DESTINATION libexec/tiltgate)
 install(FILES ${packaging}/tiltgate.bash-completion DESTINATION share/bash-completion/completions
         RENAME tiltgate)
+# The Wireshark dissectors of the buses' protocols, for the captures the gateway writes
+# (`wireshark -X lua_script:/usr/share/tiltgate/tiltgate.lua`); not in Wireshark's plugin
+# folder, so a gateway without Wireshark loads nothing.
+install(FILES ${packaging}/wireshark/tiltgate.lua DESTINATION share/tiltgate)
 install(FILES ${packaging}/copyright ${generated}/changelog.gz ${PROJECT_SOURCE_DIR}/README.md
         DESTINATION ${doc})
 # The manual: every page of docs/ and the images the pages show, in a docs/ folder beside the

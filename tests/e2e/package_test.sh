@@ -40,7 +40,7 @@ for file in ./usr/bin/tiltgate ./etc/tiltgate/tiltgate.toml ./lib/systemd/system
             ./usr/share/doc/tiltgate/examples/tiltgate.toml \
             ./usr/share/doc/tiltgate/examples/maps/cdab-floats.toml \
             ./usr/share/doc/tiltgate/examples/devices/rtu-inclinometer.toml \
-            ./usr/libexec/tiltgate/make-console-certificate; do
+            ./usr/libexec/tiltgate/make-console-certificate ./usr/share/tiltgate/tiltgate.lua; do
   check "the package holds $file" grep -qx -- "$file" <<<"$contents"
 done
 # The manual: every page of docs/ and every image, under docs/ beside the README.
