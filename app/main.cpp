@@ -11,6 +11,7 @@
 #include "app/config_commands.h"
 #include "app/demo_commands.h"
 #include "app/journal_log.h"
+#include "capture_cli/capture_command.h"
 #include "commission_cli/commands.h"
 
 namespace {
@@ -65,6 +66,8 @@ int main(int argc, char** argv) {
       tiltgate::add_set(app, families, commands),
       tiltgate::add_raw(app, families, commands),
       tiltgate::add_sim(app, commands),
+      // Diagnostics: what a line carries, for Wireshark.
+      tiltgate::add_capture(app, families),
       tiltgate::add_audit(app),
       tiltgate::add_user(app),
   };

@@ -6,6 +6,7 @@
 #include "app/audit_journal.h"
 #include "app/journal_log.h"
 #include "commission_wire/requested_command.h"
+#include "control/capture_runner.h"
 #include "driver/family_commands.h"
 
 namespace tiltgate {
@@ -54,7 +55,8 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
             console_context(audit_, families, confirm_window_, gateway_)),
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
-      control_(gateway_, requested_command_runner(families, registered_family_commands())) {
+      control_(gateway_,
+               with_capture(requested_command_runner(families, registered_family_commands()))) {
   gateway_.set_audit(audit_);
   gateway_.attach(control_);
   gateway_.attach(http_);

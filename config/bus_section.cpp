@@ -240,6 +240,7 @@ ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors
   if (port) check_port_fits(in, bus, *port, protocol);
   // Checked against [server] and the other buses in listeners.cpp.
   if (auto port = in.integer("tcp_port", 1, 65535)) bus.tcp_port = std::uint16_t(*port);
+  if (auto seconds = in.integer("black_box_s", 1, 3600)) bus.black_box = std::chrono::seconds(*seconds);
   in.reject_unknown_keys();
   return ParsedBus{std::move(bus), in.located()};
 }

@@ -224,6 +224,8 @@ struct BusConfig {
   // aggregates and its pass-through unit ids, so unit ids need only be unique per port. Plain
   // TCP only. None: the bus's units are served on [server] port.
   std::optional<std::uint16_t> tcp_port;
+  // How much of the line's traffic its black box keeps in memory (capture/black_box.h).
+  std::chrono::seconds black_box{60};
   int line = 0;                               // where it was declared, for messages
 
   // Every field, `line` included: reload compares settings with same_settings()

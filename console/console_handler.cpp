@@ -304,6 +304,9 @@ asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
     co_return co_await settings(request, path, session);
   if (path.starts_with(kBusPrefix) && (path.ends_with("/scan") || path.ends_with("/raw")))
     co_return co_await bus_action(request, path, session);
+  if (path.starts_with(kBusPrefix) &&
+      (path.ends_with(kFramesSuffix) || path.ends_with(kCaptureSuffix)))
+    co_return co_await traffic_route(request, path, session);
   if (method == "GET" || method == "HEAD") co_return co_await public_route(request);
   co_return error_reply(405, "not something that can be changed");
 }

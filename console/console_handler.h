@@ -110,6 +110,13 @@ class ConsoleHandler {
   boost::asio::awaitable<HttpReply> counters_reset(const HttpRequest& request,
                                                    std::string_view path,
                                                    const ConsoleSession& session);
+  // GET /api/buses/NAME/frames and /api/buses/NAME/capture.pcapng
+  // (console/console_traffic_routes.cpp).
+  static constexpr std::string_view kFramesSuffix = "/frames";
+  static constexpr std::string_view kCaptureSuffix = "/capture.pcapng";
+  boost::asio::awaitable<HttpReply> traffic_route(const HttpRequest& request,
+                                                  std::string_view path,
+                                                  const ConsoleSession& session);
   boost::asio::awaitable<HttpReply> config_route(const HttpRequest& request, std::string_view path,
                                                  const ConsoleSession& session);
   HttpReply config_change(const HttpRequest& request, std::string_view path,

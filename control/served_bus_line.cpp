@@ -16,7 +16,8 @@ std::vector<ServedBus> served_buses(const Gateway& gateway) {
   const std::vector<std::shared_ptr<BusScheduler>> schedulers = gateway.schedulers();
   for (std::size_t i = 0; i < schedulers.size(); ++i)
     served.push_back({config.buses[i], schedulers[i],
-                      find_protocol(gateway.families(), config.buses[i].protocol).protocol});
+                      find_protocol(gateway.families(), config.buses[i].protocol).protocol,
+                      gateway.black_box(config.buses[i].name)});
   return served;
 }
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "audit/audit_record.h"
+#include "capture/black_box.h"
 #include "config/config.h"
 #include "control/carried_change.h"
 #include "control/attempt_turns.h"
@@ -35,6 +36,8 @@ struct ServedBus {
   std::shared_ptr<BusScheduler> scheduler;  // held while a command may use it
   // Reads what a command's transaction asks of a device, for the audit trail.
   const ProtocolDescriptor* protocol = nullptr;
+  // What its line carried lately (capture/black_box.h): what `tiltgate capture` reads.
+  std::shared_ptr<BlackBox> black_box{};
 };
 
 class Gateway;

@@ -22,6 +22,7 @@
 #include "driver/file_error.h"
 #include "driver/family_options.h"
 #include "driver/framing.h"
+#include "driver/passive_framing.h"
 #include "driver/scan.h"
 #include "driver/forwarded_exchange.h"
 #include "driver/sensor_driver.h"
@@ -96,6 +97,13 @@ struct ProtocolDescriptor {
   // there is no serial line behind it, so no baud, parity, stop bits or gap apply. False: a
   // serial protocol, on a tty or behind a serial device server (device_server/port_url.h).
   bool devices_speak_tcp = false;
+  // The Wireshark dissector that reads its frames in a capture (capture/pcapng.h): Wireshark's
+  // own ("mbrtu", "mbtcp"), or one of those packaging/wireshark/tiltgate.lua adds.
+  std::string_view wireshark_dissector{};
+  // How a listener that only hears the line (a listen-only capture, a standby gateway) cuts its
+  // bytes into requests and replies (driver/passive_framing.h). Null: it cannot be listened to
+  // (its devices speak TCP: there is no shared line to hear).
+  PassiveFramer passive_framer = nullptr;
 };
 
 // What Read Device Identification (FC 43) reports for a model.

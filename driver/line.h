@@ -166,6 +166,9 @@ class Line {
   // The longest one attempt of a request of `request_bytes` bytes with reply time-out
   // `timeout` can hold the line: its wire time, the reply wait, and the late-reply guard kept
   // after a time-out. This default knows no wire time and no guard.
+  // How many seconds of its frames the line's black box keeps (capture/black_box.h); zero
+  // when none does (a command's line).
+  virtual std::chrono::seconds frames_kept() const { return std::chrono::seconds{0}; }
   virtual std::chrono::milliseconds longest_attempt(std::chrono::milliseconds timeout,
                                                     std::size_t request_bytes) const {
     (void)request_bytes;

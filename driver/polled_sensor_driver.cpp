@@ -14,13 +14,21 @@ namespace {
 // "answers late" is a warning once in this long per sensor; the rest are at debug.
 constexpr auto kLateWarningInterval = std::chrono::minutes(10);
 
-// One line when a sensor stops or starts answering, not one per poll.
+// One line when a sensor stops or starts answering, not one per poll. A line whose frames a
+// black box keeps says so: what the wire carried before is there to be looked at.
 void log_online_change(std::string_view sensor, std::string_view what, unsigned address,
-                       std::string_view line, bool was_online, bool is_online) {
+                       const Line& line, bool was_online, bool is_online) {
   if (was_online && !is_online) {
-    spdlog::warn("{}: {} {} on {} stopped answering", sensor, what, address, line);
+    const auto kept = line.frames_kept();
+    if (kept.count() > 0) {
+      spdlog::warn("{}: {} {} on {} stopped answering; the line's black box holds its last {} s "
+                   "(tiltgate capture --bus {} --last)",
+                   sensor, what, address, line.name(), kept.count(), line.name());
+    } else {
+      spdlog::warn("{}: {} {} on {} stopped answering", sensor, what, address, line.name());
+    }
   } else if (!was_online && is_online) {
-    spdlog::info("{}: {} {} on {} answering", sensor, what, address, line);
+    spdlog::info("{}: {} {} on {} answering", sensor, what, address, line.name());
   }
 }
 
@@ -73,7 +81,7 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
     ++state_.counters.polls_failed;  // no measurement: none answered, or not of this sensor
   }
   probing_ = false;
-  log_online_change(log_name(), kind(), state_.bus_address, line.name(), was_online,
+  log_online_change(log_name(), kind(), state_.bus_address, line, was_online,
                     state_.online);
 }
 

@@ -92,7 +92,9 @@ std::shared_ptr<Gateway::Bus> Gateway::make_bus(const BusConfig& config) {
   auto bus = std::make_shared<Bus>();
   SerialLineOptions options = serial_options_from(families_, config);
   options.exclusive = true;
+  bus->black_box = std::make_shared<BlackBox>(config.black_box);
   bus->line = make_serial_line(io_.get_executor(), options);
+  bus->line->record_frames_to(bus->black_box.get());
   bus->scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus->line, config.name);
   bus->scheduler->set_audit(*audit_);
   pass_through(config, bus, true);
@@ -332,6 +334,11 @@ GatewayStatus Gateway::status(SteadyClock::time_point now) const {
     status.buses.push_back(bus_status(config_.buses[i], buses_[i]->scheduler->stats(),
                                       buses_[i]->line->stats(), bus_rates_.rate(2 * i),
                                       bus_rates_.rate(2 * i + 1)));
+    const BlackBox& box = *buses_[i]->black_box;
+    status.buses.back().black_box_s = box.keep().count();
+    status.buses.back().black_box_frames = box.frames_held();
+    status.buses.back().black_box_bytes = box.bytes_held();
+    status.buses.back().black_box_dropped = box.dropped();
     add_sensor_failures(status.buses.back(), status.sensors);
     status.buses.back().hint = line_hint(status.buses.back(), status.sensors);
   }
@@ -379,6 +386,12 @@ bool Gateway::reset_bus_counters(std::string_view name) {
     return true;
   }
   return false;
+}
+
+std::shared_ptr<BlackBox> Gateway::black_box(std::string_view name) const {
+  for (std::size_t i = 0; i < buses_.size(); ++i)
+    if (config_.buses[i].name == name) return buses_[i]->black_box;
+  return nullptr;
 }
 
 std::vector<std::shared_ptr<BusScheduler>> Gateway::schedulers() const {

@@ -14,6 +14,7 @@
 #include "audit/audit_trail.h"
 #include "config/config.h"
 #include "driver/expected.h"
+#include "capture/black_box.h"
 #include "line_scheduling/bus_scheduler.h"
 #include "gateway/counter_rates.h"
 #include "gateway/recent_failures.h"
@@ -84,12 +85,16 @@ class Gateway {
   bool reset_bus_counters(std::string_view bus);
   // Each bus's scheduler, in config().buses' order: what the control socket relays to.
   std::vector<std::shared_ptr<BusScheduler>> schedulers() const;
+  // The black box of the bus of that name (capture/black_box.h), or null.
+  std::shared_ptr<BlackBox> black_box(std::string_view bus) const;
 
  private:
   // A bus: its line and the scheduler that owns it (declared after it: goes first). Shared:
   // its sensors, the routes of its pass-through units and the control socket's sessions hold
   // its scheduler through scheduler_of(), which keeps the whole bus.
   struct Bus {
+    // What its line carried lately; before the line, which records into it.
+    std::shared_ptr<BlackBox> black_box;
     std::unique_ptr<SerialLine> line;
     std::unique_ptr<BusScheduler> scheduler;
   };

@@ -151,6 +151,12 @@ struct BusStatus {
   std::uint64_t bytes_in = 0;
   std::uint64_t stray_bytes = 0;
   std::uint64_t reopens = 0;  // its port opened again after a loss (LineStats)
+  // Its black box (capture/black_box.h): how long it keeps, what it holds, and the frames its
+  // memory bound pushed out before their time.
+  std::int64_t black_box_s = 0;
+  std::uint64_t black_box_frames = 0;
+  std::uint64_t black_box_bytes = 0;
+  std::uint64_t black_box_dropped = 0;
   // Its sensors' exchanges summed (add_sensor_failures).
   ExchangeCounts exchanges;
   // Where to look first when its failures make a clear pattern (gateway/line_hint.h).

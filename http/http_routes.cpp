@@ -8,6 +8,7 @@
 #include "status/status_page_css.h"
 #include "status/status_page_html.h"
 #include "status/config_forms_js.h"
+#include "status/traffic_view_js.h"
 #include "status/status_page_js.h"
 
 namespace tiltgate {
@@ -107,6 +108,8 @@ HttpReply route_http(std::string_view method, std::string_view target,
     return HttpReply{200, "text/javascript; charset=utf-8", std::string(kStatusPageJs)};
   if (path == "/config_forms.js")  // the console's guided configuration
     return HttpReply{200, "text/javascript; charset=utf-8", std::string(kConfigFormsJs)};
+  if (path == "/traffic_view.js")  // the console's traffic view
+    return HttpReply{200, "text/javascript; charset=utf-8", std::string(kTrafficViewJs)};
   if (path == "/healthz") return text(200, "ok\n");
   if (path == "/metrics")
     return HttpReply{200, std::string(kMetricsContentType), metrics_text(status())};
@@ -127,8 +130,8 @@ HttpReply route_http(std::string_view method, std::string_view target,
     }
     return text(404, "no such sensor\n");
   }
-  return text(404, "not found: the endpoints are / (with /status_page.css, /status_page.js and "
-                   "/config_forms.js), "
+  return text(404, "not found: the endpoints are / (with /status_page.css, /status_page.js, "
+                   "/config_forms.js and /traffic_view.js), "
                    "/healthz, /api/sensors, /api/sensors/NAME, /api/sensors/NAME/history[.csv], "
                    "/api/buses, /api/modbus and /metrics\n");
 }

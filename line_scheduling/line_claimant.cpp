@@ -141,6 +141,8 @@ int LineClaimant::retries() const { return line_.retries(); }
 const std::string& LineClaimant::name() const { return line_.name(); }
 const LineStats& LineClaimant::stats() const { return line_.stats(); }
 
+std::chrono::seconds LineClaimant::frames_kept() const { return line_.frames_kept(); }
+
 std::chrono::milliseconds LineClaimant::longest_attempt(std::chrono::milliseconds timeout,
                                                         std::size_t request_bytes) const {
   return line_.longest_attempt(timeout, request_bytes);

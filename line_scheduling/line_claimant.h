@@ -71,6 +71,7 @@ class LineClaimant final : public Line {
   const LineTiming& last_timing() const override { return timing_; }
   std::chrono::milliseconds longest_attempt(std::chrono::milliseconds timeout,
                                             std::size_t request_bytes) const override;
+  std::chrono::seconds frames_kept() const override;
 
  private:
   friend class SharedLine;

@@ -14,6 +14,7 @@
 #include "modbus_rtu/example_profile.h"
 #include "modbus_rtu/forwarding.h"
 #include "modbus_rtu/identification_probe.h"
+#include "modbus_rtu/passive_framer.h"
 #include "modbus_rtu/simulator/inclinometer_preset.h"
 #include "modbus_rtu/profile_reader.h"
 #include "modbus_rtu/raw.h"
@@ -79,6 +80,8 @@ const ProtocolDescriptor kProtocols[] = {{
              .ask_address = nullptr},  // broadcasts get no reply (Serial Line 2.2)
     .read_request = read_rtu_request,
     .read_refusal = read_rtu_refusal,
+    .wireshark_dissector = "mbrtu",  // Wireshark's own Modbus RTU
+    .passive_framer = passive_frame,  // modbus_rtu/passive_framer.h
 }, {
     // Devices that speak Modbus TCP themselves, each reached by its unit id over one
     // connection to tcp://HOST:PORT: the same device profiles, their PDUs in MBAP frames
@@ -109,6 +112,7 @@ const ProtocolDescriptor kProtocols[] = {{
     .read_request = read_mbap_request,
     .read_refusal = read_mbap_refusal,
     .devices_speak_tcp = true,
+    .wireshark_dissector = "mbtcp",  // Wireshark's own Modbus/TCP
 }};
 
 // The common block, whose settings (filter, zero, commands, baud, address) a generic device

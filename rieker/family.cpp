@@ -4,6 +4,7 @@
 
 #include "mapping/register_map.h"
 #include "rieker/codec.h"
+#include "rieker/passive_framer.h"
 #include "rieker/raw.h"
 #include "rieker/request_reader.h"
 #include "mapping/value_source.h"
@@ -49,6 +50,8 @@ const ProtocolDescriptor kProtocols[] = {{
              .ask_address = broadcast_get_address_probe},
     .read_request = read_request,
     .read_refusal = read_refusal,
+    .wireshark_dissector = "tiltgate_rieker",  // packaging/wireshark/tiltgate.lua
+    .passive_framer = passive_frame,  // rieker/passive_framer.h
 }};
 
 // Set Filter Response (41), Set Zero To Value (16, per axis), the zero/restart commands, Set

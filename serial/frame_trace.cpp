@@ -15,9 +15,8 @@ std::string traced_request(std::span<const std::uint8_t> bytes, std::size_t addr
   return line;
 }
 
-std::vector<std::string> traced_reply(std::span<const std::uint8_t> received,
-                                      const FramerReport& report,
-                                      std::chrono::milliseconds delay) {
+std::vector<ReceivedPart> reply_parts(std::span<const std::uint8_t> received,
+                                      const FramerReport& report) {
   const std::string verdict =
       report.reply_verdict.empty() ? std::string("reply") : report.reply_verdict;
   const std::span<const std::uint8_t> reply(report.reply);
@@ -25,24 +24,32 @@ std::vector<std::string> traced_reply(std::span<const std::uint8_t> received,
       reply.empty() ? received.end()
                     : std::search(received.begin(), received.end(), reply.begin(), reply.end());
   if (found == received.end()) {
-    // A framer without a report, or a reply that is not found whole among the bytes read (a
-    // noise byte inside it was dropped): show what was read.
-    std::string line =
-        fmt::format("<- {} ({} ms, {}", hex_bytes(received), delay.count(), verdict);
-    if (!report.rejected_verdict.empty()) line += "; also " + report.rejected_verdict;
-    return {line + ")"};
+    std::string whole = verdict;
+    if (!report.rejected_verdict.empty()) whole += "; also " + report.rejected_verdict;
+    return {{received, whole, true}};
   }
-  std::vector<std::string> lines;
+  std::vector<ReceivedPart> parts;
   const auto before = received.first(static_cast<std::size_t>(found - received.begin()));
   if (!before.empty()) {
     const std::string& rejected = report.rejected_verdict;
-    lines.push_back(fmt::format("<- {} ({})", hex_bytes(before),
-                                rejected.empty() ? std::string("skipped") : rejected));
+    parts.push_back({before, rejected.empty() ? std::string("skipped") : rejected, false});
   }
-  lines.push_back(fmt::format("<- {} ({} ms, {})", hex_bytes(reply), delay.count(), verdict));
+  parts.push_back({received.subspan(before.size(), reply.size()), verdict, true});
   const auto after = received.subspan(before.size() + reply.size());
-  if (!after.empty()) {
-    lines.push_back(fmt::format("<- {} (ignored: after the reply)", hex_bytes(after)));
+  if (!after.empty()) parts.push_back({after, "ignored: after the reply", false});
+  return parts;
+}
+
+std::vector<std::string> traced_reply(std::span<const std::uint8_t> received,
+                                      const FramerReport& report,
+                                      std::chrono::milliseconds delay) {
+  std::vector<std::string> lines;
+  for (const ReceivedPart& part : reply_parts(received, report)) {
+    if (part.is_reply)
+      lines.push_back(fmt::format("<- {} ({} ms, {})", hex_bytes(part.bytes), delay.count(),
+                                  part.verdict));
+    else
+      lines.push_back(fmt::format("<- {} ({})", hex_bytes(part.bytes), part.verdict));
   }
   return lines;
 }

@@ -27,6 +27,19 @@ namespace tiltgate {
 // "-> 01 03 ..."; the first `address_bytes` bytes in brackets (9-bit buses only).
 std::string traced_request(std::span<const std::uint8_t> bytes, std::size_t address_bytes);
 
+// An accepted attempt's bytes in their parts: those before the reply (skipped, or the framer's
+// rejected verdict), the reply with its verdict, and those after it; each part a frame of the
+// capture (driver/captured_frame.h) and a line of the trace. All of `received` as the reply when
+// the framer gave no report or the reply is not found whole among the bytes read (a noise byte
+// inside it was dropped).
+struct ReceivedPart {
+  std::span<const std::uint8_t> bytes;
+  std::string verdict;
+  bool is_reply = false;
+};
+std::vector<ReceivedPart> reply_parts(std::span<const std::uint8_t> received,
+                                      const FramerReport& report);
+
 // The lines for an attempt the framer accepted: the bytes before the reply (skipped, or the
 // framer's rejected verdict), the reply with its delay and verdict, and bytes after it.
 // `received` is everything read in the attempt (an echo of the request excluded).

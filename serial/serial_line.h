@@ -65,6 +65,7 @@
 #include <string>
 #include <vector>
 
+#include "driver/captured_frame.h"
 #include "driver/framing.h"
 #include "driver/line.h"
 #include "serial/line_port.h"
@@ -164,6 +165,13 @@ class SerialLine final : public Line {
   // low_latency is off).
   const std::optional<LowLatencyResult>& low_latency() const { return port_->low_latency(); }
   void observe_writes(WriteObserver observer) { write_observer_ = std::move(observer); }
+  // Every frame the line carries from now on goes to `recorder` (capture/black_box.h), which
+  // must outlive the line; null stops it. Stray bytes flushed before a request are counted
+  // (LineStats::stray_bytes), not recorded: they are dropped unread.
+  void record_frames_to(FrameRecorder* recorder) { recorder_ = recorder; }
+  std::chrono::seconds frames_kept() const override {
+    return recorder_ != nullptr ? recorder_->keep() : std::chrono::seconds{0};
+  }
   void check_delivery_with(DeliveryCheck check) { delivery_check_ = std::move(check); }
 
  private:
@@ -235,10 +243,20 @@ class SerialLine final : public Line {
   WriteObserver write_observer_;
   DeliveryCheck delivery_check_;
   std::optional<Clock::time_point> overload_logged_at_;
+  // Where frames go (record_frames_to), and what is recorded of the current attempt.
+  FrameRecorder* recorder_ = nullptr;
+  std::chrono::system_clock::time_point first_byte_time_{};
+  // Records what the current attempt received: a reply's parts, or bytes that made none,
+  // `lost_as` ("no reply") and the framer's account of them.
+  void record_received(const ReplyFramer* framer, bool replied, std::string_view lost_as);
+  // Records a frame the devices sent, its first byte at `first_byte`.
+  void record_from_devices(std::chrono::system_clock::time_point first_byte,
+                           std::span<const std::uint8_t> bytes, std::string verdict);
   // --log-level trace (serial/frame_trace.h): set per transaction; the bytes read in the
-  // current attempt, kept only while tracing.
+  // current attempt, kept only while tracing or recording frames.
   bool tracing_ = false;
-  std::vector<std::uint8_t> traced_received_;
+  bool keeps_received() const { return tracing_ || recorder_ != nullptr; }
+  std::vector<std::uint8_t> received_;
 };
 
 }  // namespace tiltgate

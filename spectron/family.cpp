@@ -9,6 +9,7 @@
 #include "spectron/dyna_driver.h"
 #include "spectron/scan_probe.h"
 #include "spectron/eeprom_map.h"
+#include "spectron/passive_framers.h"
 #include "spectron/raw.h"
 #include "spectron/request_reader.h"
 #include "spectron/sensor_spec.h"
@@ -53,6 +54,9 @@ const ProtocolDescriptor kProtocols[] = {
                  .ask_address = nullptr},
         .read_request = read_nine_bit_request,
         .read_refusal = read_refusal,
+        .wireshark_dissector = "tiltgate_dyna9",  // packaging/wireshark/tiltgate.lua
+        // Framed by form, as the ninth bit cannot be heard (spectron/passive_framers.h).
+        .passive_framer = nine_bit_passive_frame,
     },
     {
         .name = "spectron-modbus",
@@ -75,6 +79,8 @@ const ProtocolDescriptor kProtocols[] = {
                  .ask_address = nullptr},
         .read_request = read_ascii_request,
         .read_refusal = read_refusal,
+        .wireshark_dissector = "tiltgate_dyna_ascii",  // packaging/wireshark/tiltgate.lua
+        .passive_framer = ascii_passive_frame,  // spectron/passive_framers.h
     },
 };
 

@@ -110,6 +110,10 @@ Json bus_object(const BusStatus& b) {
               {"bytes_in", b.bytes_in},
               {"stray_bytes", b.stray_bytes},
               {"reopens", b.reopens},
+              {"black_box", Json{{"keep_s", b.black_box_s},
+                                 {"frames", b.black_box_frames},
+                                 {"bytes", b.black_box_bytes},
+                                 {"dropped", b.black_box_dropped}}},
               {"hint", b.hint ? Json(*b.hint) : Json(nullptr)}};
 }
 

@@ -145,6 +145,13 @@ const BusFamily kBusFamilies[] = {
      "Bytes found waiting on the line before a request and dropped unread: noise, a babbling "
      "device, a reply later than its late-reply window",
      [](const BusStatus& b) -> std::optional<double> { return double(b.stray_bytes); }},
+    {"tiltgate_bus_black_box_bytes", "gauge",
+     "Memory the bus's black box holds: its frames of the last black_box_s seconds and their "
+     "bookkeeping",
+     [](const BusStatus& b) -> std::optional<double> { return double(b.black_box_bytes); }},
+    {"tiltgate_bus_black_box_dropped_total", "counter",
+     "Frames the bus's black box let go before their time, to stay within its memory bound",
+     [](const BusStatus& b) -> std::optional<double> { return double(b.black_box_dropped); }},
     {"tiltgate_bus_polls_total", "counter", "Sensor polls run on the bus",
      [](const BusStatus& b) -> std::optional<double> { return double(b.polls); }},
     {"tiltgate_bus_writes_total", "counter", "Setting writes carried out on the bus",

@@ -297,7 +297,9 @@ async function poll() {
     renderSummary(sensors);
     lastBuses = buses;
     lastSensors = sensors;
-    if (currentTab === "buses") renderBusCounters();
+    // renderScans: a panel for a bus the tab did not have yet (the tab opened before the first
+    // poll, or a reload added it), then every bus's counters.
+    if (currentTab === "buses") renderScans();
     if (settingsFor !== null && !$("detail").hidden) renderSensorCounters(sensors.find((x) => x.name === settingsFor));
     setReachable(true);
     document.body.dataset.updates = String(Number(document.body.dataset.updates) + 1);
@@ -417,11 +419,11 @@ function may(role) {
 }
 
 // Disables every control marked data-needs="ROLE" the user's role may not use, saying why, and
-// hides the tabs the role cannot open.
+// hides the tabs the role cannot open and what is marked data-hide (the traffic view).
 function applyRole(root = document) {
   for (const el of root.querySelectorAll("[data-needs]")) {
     const allowed = may(el.dataset.needs);
-    if (el.classList.contains("tab")) { el.hidden = !allowed; continue; }
+    if (el.classList.contains("tab") || "hide" in el.dataset) { el.hidden = !allowed; continue; }
     el.disabled = !allowed;
     if (allowed) el.removeAttribute("title");
     else el.title = "needs the " + el.dataset.needs + " role (you are " + (session.role || "not logged in") + ")";
@@ -508,6 +510,7 @@ function showLogin(message) {
   // Nothing a previous user loaded stays on the page.
   $("editor").value = "";
   servedConfig = null;
+  clearTraffic();   // traffic_view.js
   document.querySelector("#audit-table tbody").innerHTML = "";
   $("login").hidden = false;
   say("login-message", message || "", "bad");
@@ -749,6 +752,7 @@ function renderScans() {
     root.addEventListener("submit", (e) => { e.preventDefault(); startScan(b.name); });
     root.querySelector(".reset").addEventListener("click", () =>
       resetCounters("bus", b.name, root.querySelector(".counters-message")));
+    addTrafficView(root, b.name);   // traffic_view.js
     host.appendChild(root);
     scanPanels.set(b.name, {root, timer: null});
     applyRole(root);

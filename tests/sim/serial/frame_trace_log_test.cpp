@@ -19,6 +19,7 @@
 #include "modbus_rtu/simulator/simulator.h"
 #include "serial/serial_line.h"
 #include "sim/support/captured_log.h"
+#include "sim/support/rtu_line.h"
 #include "sim/support/run_coroutine.h"
 #include "sim/support/serial_line_bench.h"
 #include "spectron/reply_framers.h"
@@ -32,44 +33,7 @@ using tiltgate::test::run_coroutine;
 
 namespace {
 
-// A Modbus RTU bus with one simulated inclinometer at slave 1, and a line to it.
-struct RtuBus {
-  asio::io_context io;
-  std::optional<modbus_rtu::RtuSimulator> sim;
-  std::optional<SerialLine> line;
-
-  RtuBus() {
-    modbus_rtu::RtuSimulatorOptions options;
-    options.devices.push_back(modbus_rtu::rtu_inclinometer(1));
-    sim.emplace(io, std::move(options));
-    REQUIRE(sim->start().has_value());
-    SerialLineOptions line_options;
-    line_options.name = "rtu1";
-    line_options.port = sim->slave_path();
-    line_options.baud = 19200;
-    line_options.framing = Framing::eight_even_one;
-    line_options.timeout = 500ms;  // generous: only the corrupted reply waits it out
-    line_options.retries = 0;
-    line_options.late_guard = 50ms;
-    line.emplace(io.get_executor(), line_options);
-    REQUIRE(line->start());
-  }
-  ~RtuBus() {
-    line->stop();
-    sim->stop();
-  }
-
-  // Reads holding register 0 of slave 1 (the filter level, 4 by default).
-  Expected<Done, LineError> read_filter() {
-    const auto request = modbus_rtu::read_request(1, modbus_rtu::RegisterBank::holding, 0, 1);
-    REQUIRE(request.has_value());
-    modbus_rtu::RtuReplyFramer framer(*request);
-    LineRequest line_request;
-    line_request.bytes = request->frame;
-    line_request.framer = &framer;
-    return run_coroutine(io, line->transact(std::move(line_request)));
-  }
-};
+using RtuBus = tiltgate::test::RtuLine;
 
 asio::awaitable<void> pause(std::chrono::steady_clock::duration how_long) {
   asio::steady_timer timer(co_await asio::this_coro::executor, how_long);

@@ -55,7 +55,10 @@ TEST_CASE("status page: / is an HTML page that loads nothing from another host")
   const HttpReply forms = route_http("GET", "/config_forms.js", no_sensors);
   CHECK(forms.status == 200);
   CHECK(forms.content_type == "text/javascript; charset=utf-8");
-  for (const std::string& body : {page.body, script.body, style.body, forms.body}) {
+  const HttpReply traffic = route_http("GET", "/traffic_view.js", no_sensors);
+  CHECK(traffic.status == 200);
+  CHECK(traffic.content_type == "text/javascript; charset=utf-8");
+  for (const std::string& body : {page.body, script.body, style.body, forms.body, traffic.body}) {
     // Self-contained: no absolute URL at all (a script, style sheet, font or image from a CDN
     // would need one), and no protocol-relative one in src/href either.
     CHECK(body.find("http://") == std::string::npos);
@@ -77,11 +80,13 @@ TEST_CASE("status page: no inline script, style, style attribute or event handle
   const std::string page = route_http("GET", "/", no_sensors).body;
   const std::string script = route_http("GET", "/status_page.js", no_sensors).body;
   const std::string forms = route_http("GET", "/config_forms.js", no_sensors).body;
+  const std::string traffic = route_http("GET", "/traffic_view.js", no_sensors).body;
   CHECK(page.find("<script src=\"/status_page.js\"></script>") != std::string::npos);
   CHECK(page.find("<script src=\"/config_forms.js\"></script>") != std::string::npos);
+  CHECK(page.find("<script src=\"/traffic_view.js\"></script>") != std::string::npos);
   CHECK(page.find("<link rel=\"stylesheet\" href=\"/status_page.css\">") != std::string::npos);
   CHECK_FALSE(std::regex_search(page, std::regex(R"(<script(?![^>]*\bsrc=)[^>]*>)")));
-  for (const std::string& markup : {page, script, forms}) {  // the scripts make markup too
+  for (const std::string& markup : {page, script, forms, traffic}) {  // the scripts make markup too
     CHECK(markup.find("<style") == std::string::npos);
     CHECK_FALSE(std::regex_search(markup, std::regex(R"(\sstyle\s*=\s*["'])")));
     CHECK_FALSE(std::regex_search(markup, std::regex(R"(<[^>]*\son[a-z]+\s*=)")));

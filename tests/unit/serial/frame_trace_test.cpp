@@ -58,3 +58,22 @@ TEST_CASE("a traced late burst says it was discarded and how late it came") {
   CHECK(traced_late(Bytes{0x11, 0x03}, 480ms) ==
         "<- 11 03 (discarded: late, 480 ms after the request)");
 }
+
+TEST_CASE("an accepted attempt's bytes split into what came before, the reply and after") {
+  const FramerReport report{{0x11, 0x03, 0x49, 0xAD}, "CRC ok", "bad CRC"};
+  const Bytes received{0x7F, 0x00, 0x11, 0x03, 0x49, 0xAD, 0xEE};
+  const std::vector<ReceivedPart> parts = reply_parts(received, report);
+  REQUIRE(parts.size() == 3);
+  CHECK(Bytes(parts[0].bytes.begin(), parts[0].bytes.end()) == Bytes{0x7F, 0x00});
+  CHECK(parts[0].verdict == "bad CRC");
+  CHECK_FALSE(parts[0].is_reply);
+  CHECK(Bytes(parts[1].bytes.begin(), parts[1].bytes.end()) == Bytes{0x11, 0x03, 0x49, 0xAD});
+  CHECK(parts[1].verdict == "CRC ok");
+  CHECK(parts[1].is_reply);
+  CHECK(parts[2].verdict == "ignored: after the reply");
+  // A framer without a report: all of it is the reply.
+  const std::vector<ReceivedPart> whole = reply_parts(received, FramerReport{});
+  REQUIRE(whole.size() == 1);
+  CHECK(whole[0].bytes.size() == received.size());
+  CHECK(whole[0].verdict == "reply");
+}

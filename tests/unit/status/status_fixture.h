@@ -76,6 +76,10 @@ inline GatewayStatus plant() {
   status.buses[0].bytes_out = 500;
   status.buses[0].bytes_in = 706;
   status.buses[0].stray_bytes = 6;
+  status.buses[0].black_box_s = 60;
+  status.buses[0].black_box_frames = 40;
+  status.buses[0].black_box_bytes = 9000;
+  status.buses[0].black_box_dropped = 2;
   status.modbus_clients = 2;
   status.modbus_connections = 6;
   status.modbus_connections_refused = 1;

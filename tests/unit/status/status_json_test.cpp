@@ -96,7 +96,8 @@ TEST_CASE("status JSON: the sensor and bus lists are arrays") {
         R"("failures_10min":null,)"
         R"("exchanges":{"requests":0,"replies":0,"garbled":0,"no_reply":0,"exceptions":0,)"
         R"("naks":0,"busy":0,"bytes_out":0,"bytes_in":0,"overruns":0,"uart_errors":0},)"
-        R"("bytes_out":500,"bytes_in":706,"stray_bytes":6,"reopens":0,"hint":null}])");
+        R"("bytes_out":500,"bytes_in":706,"stray_bytes":6,"reopens":0,)"
+        R"("black_box":{"keep_s":60,"frames":40,"bytes":9000,"dropped":2},"hint":null}])");
   CHECK(buses_json({bus("line2", "/dev/ttyUSB1", 9600)}).find(R"("polls_per_s":null,"utilisation":null,)") != std::string::npos);
 }
 

@@ -211,4 +211,7 @@ TEST_CASE("metrics: a sensor's exchanges attempt by attempt, and what each bus's
   CHECK(has("tiltgate_bus_bytes_total{bus=\"line1\",direction=\"out\"} 500"));
   CHECK(has("tiltgate_bus_bytes_total{bus=\"line1\",direction=\"in\"} 706"));
   CHECK(has("tiltgate_bus_stray_bytes_total{bus=\"line1\"} 6"));
+  CHECK(has("tiltgate_bus_black_box_bytes{bus=\"line1\"} 9000"));
+  CHECK(has("# TYPE tiltgate_bus_black_box_bytes gauge"));
+  CHECK(has("tiltgate_bus_black_box_dropped_total{bus=\"line1\"} 2"));
 }
