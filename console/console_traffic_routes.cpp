@@ -101,7 +101,8 @@ asio::awaitable<HttpReply> ConsoleHandler::traffic_route(const HttpRequest& requ
   }
   if (!after) record(session, *bus, setting, "", "watch", "ok");
   json body = traffic_json(taken.view, protocol ? FrameReaders{protocol->read_request,
-                                                               protocol->read_refusal}
+                                                               protocol->read_refusal,
+                                                               protocol->read_reply}
                                                 : FrameReaders{});
   body["bus"] = *bus;
   body["protocol"] = taken.protocol;

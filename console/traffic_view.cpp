@@ -45,8 +45,11 @@ json traffic_json(const TrafficSlice& taken, FrameReaders readers) {
   // The request a reply answers: the last one the line sent before it, as far as the view
   // holds it. A request the protocol cannot read leaves its replies without one.
   std::optional<CarriedRequest> request;
-  if (taken.before && taken.before->direction == FrameDirection::to_devices)
+  const CapturedFrame* request_frame = nullptr;
+  if (taken.before && taken.before->direction == FrameDirection::to_devices) {
     request = read_request(*taken.before);
+    request_frame = &*taken.before;
+  }
   const auto& frames = taken.slice.frames;
   // Numbers are consecutive and the last one is `next` (BlackBox::since).
   std::uint64_t number = taken.slice.next + 1 - frames.size();
@@ -55,14 +58,19 @@ json traffic_json(const TrafficSlice& taken, FrameReaders readers) {
     json item = frame_json(frame);
     item["n"] = number++;
     std::optional<std::string> refusal;
+    std::optional<std::string> values;
     if (frame.direction == FrameDirection::to_devices) {
       request = read_request(frame);
-    } else if (readers.read_refusal != nullptr) {
-      refusal = readers.read_refusal(frame.bytes);
+      request_frame = &frame;
+    } else {
+      if (readers.read_refusal != nullptr) refusal = readers.read_refusal(frame.bytes);
+      if (readers.read_reply != nullptr && request_frame != nullptr)
+        values = readers.read_reply(request_frame->bytes, frame.bytes);
     }
     item["address"] = request ? json(request->address) : json(nullptr);
     item["function"] = request ? json(request->function) : json(nullptr);
     item["refusal"] = text_or_null(refusal);
+    item["values"] = text_or_null(values);
     list.push_back(std::move(item));
   }
   return json{{"frames", std::move(list)},

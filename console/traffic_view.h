@@ -40,17 +40,19 @@ struct TrafficSlice {
 TrafficSlice take_traffic(const BlackBox& box, std::optional<std::uint64_t> after,
                           std::size_t limit = kTrafficLimit);
 
-// How the bus's protocol reads a frame (ProtocolDescriptor::read_request, read_refusal); null
-// members read nothing.
+// How the bus's protocol reads a frame (ProtocolDescriptor::read_request, read_refusal,
+// read_reply); null members read nothing.
 struct FrameReaders {
   ReadRequest read_request = nullptr;
   ReadRefusal read_refusal = nullptr;
+  ReadReply read_reply = nullptr;
 };
 
-// {"frames": [{frame_json's fields, "n", "address", "function", "refusal"}], "next",
-//  "missed", "keep_s"}: a request's address and function as the protocol reads them; a reply's
-// those of the request before it (null when none is held, or it cannot be read) and its
-// refusal ("nak 0x03"), null for any other reply.
+// {"frames": [{frame_json's fields, "n", "address", "function", "refusal", "values"}],
+//  "next", "missed", "keep_s"}: a request's address and function as the protocol reads them; a
+// reply's those of the request before it (null when none is held, or it cannot be read), its
+// refusal ("nak 0x03"), null for any other reply, and what it says as the answer to that
+// request ("x 1.25 deg, y -0.5 deg"), null when the protocol reads nothing of it.
 nlohmann::json traffic_json(const TrafficSlice& taken, FrameReaders readers);
 
 // "tiltgate-BUS-20261202-051022.pcapng", `now` in local time; a character of the bus's name

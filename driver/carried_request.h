@@ -29,5 +29,10 @@ struct CarriedRequest {
 using ReadRequest = std::optional<CarriedRequest> (*)(std::span<const std::uint8_t> request);
 // "nak 0x03" when `reply` is the device's refusal of the request; none for any other reply.
 using ReadRefusal = std::optional<std::string> (*)(std::span<const std::uint8_t> reply);
+// What `reply` says as the answer to `request`, decoded, in a few words, for the console's
+// traffic view: "x 1.25 deg, y -0.5 deg", "values 4, 1", "ack". None when the bytes are no
+// good answer to that request, or a refusal (ReadRefusal says that).
+using ReadReply = std::optional<std::string> (*)(std::span<const std::uint8_t> request,
+                                                 std::span<const std::uint8_t> reply);
 
 }  // namespace tiltgate

@@ -93,6 +93,8 @@ struct ProtocolDescriptor {
   // control socket records every one that may change a device (driver/carried_request.h).
   ReadRequest read_request = nullptr;
   ReadRefusal read_refusal = nullptr;
+  // What a reply says, decoded, for the console's traffic view.
+  ReadReply read_reply = nullptr;
   // The devices speak TCP themselves (Modbus TCP): a bus's port must be tcp://HOST:PORT, and
   // there is no serial line behind it, so no baud, parity, stop bits or gap apply. False: a
   // serial protocol, on a tty or behind a serial device server (device_server/port_url.h).

@@ -80,6 +80,7 @@ const ProtocolDescriptor kProtocols[] = {{
              .ask_address = nullptr},  // broadcasts get no reply (Serial Line 2.2)
     .read_request = read_rtu_request,
     .read_refusal = read_rtu_refusal,
+    .read_reply = read_rtu_reply,
     .wireshark_dissector = "mbrtu",  // Wireshark's own Modbus RTU
     .passive_framer = passive_frame,  // modbus_rtu/passive_framer.h
 }, {
@@ -111,6 +112,7 @@ const ProtocolDescriptor kProtocols[] = {{
              .ask_address = nullptr},
     .read_request = read_mbap_request,
     .read_refusal = read_mbap_refusal,
+    .read_reply = read_mbap_reply,
     .devices_speak_tcp = true,
     .wireshark_dissector = "mbtcp",  // Wireshark's own Modbus/TCP
 }};

@@ -20,5 +20,12 @@ std::optional<std::string> read_rtu_refusal(std::span<const std::uint8_t> reply)
 // The same for a device that speaks Modbus TCP: one MBAP frame.
 std::optional<CarriedRequest> read_mbap_request(std::span<const std::uint8_t> request);
 std::optional<std::string> read_mbap_refusal(std::span<const std::uint8_t> reply);
+// A reply's values as the request asked for them: the registers read ("values 4, 1"), the
+// coils or inputs ("bits 1 0 1"), "written" for a write echoed, "echo" for a diagnostic; none
+// for an exception or a frame that does not answer the request.
+std::optional<std::string> read_rtu_reply(std::span<const std::uint8_t> request,
+                                          std::span<const std::uint8_t> reply);
+std::optional<std::string> read_mbap_reply(std::span<const std::uint8_t> request,
+                                           std::span<const std::uint8_t> reply);
 
 }  // namespace tiltgate::modbus_rtu

@@ -50,6 +50,7 @@ const ProtocolDescriptor kProtocols[] = {{
              .ask_address = broadcast_get_address_probe},
     .read_request = read_request,
     .read_refusal = read_refusal,
+    .read_reply = read_reply,
     .wireshark_dissector = "tiltgate_rieker",  // packaging/wireshark/tiltgate.lua
     .passive_framer = passive_frame,  // rieker/passive_framer.h
 }};

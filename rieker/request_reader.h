@@ -18,5 +18,9 @@ namespace tiltgate::rieker {
 std::optional<CarriedRequest> read_request(std::span<const std::uint8_t> request);
 // "nak 0x04" for a NAK frame; none for anything else.
 std::optional<std::string> read_refusal(std::span<const std::uint8_t> reply);
+// A reply's values as the request asked for them: angles, an address, the firmware, the lock
+// level, the serial, or "ack"; none for a NAK or a frame that does not answer the request.
+std::optional<std::string> read_reply(std::span<const std::uint8_t> request,
+                                      std::span<const std::uint8_t> reply);
 
 }  // namespace tiltgate::rieker

@@ -54,6 +54,7 @@ const ProtocolDescriptor kProtocols[] = {
                  .ask_address = nullptr},
         .read_request = read_nine_bit_request,
         .read_refusal = read_refusal,
+        .read_reply = read_nine_bit_reply,
         .wireshark_dissector = "tiltgate_dyna9",  // packaging/wireshark/tiltgate.lua
         // Framed by form, as the ninth bit cannot be heard (spectron/passive_framers.h).
         .passive_framer = nine_bit_passive_frame,
@@ -79,6 +80,7 @@ const ProtocolDescriptor kProtocols[] = {
                  .ask_address = nullptr},
         .read_request = read_ascii_request,
         .read_refusal = read_refusal,
+        .read_reply = read_ascii_reply,
         .wireshark_dissector = "tiltgate_dyna_ascii",  // packaging/wireshark/tiltgate.lua
         .passive_framer = ascii_passive_frame,  // spectron/passive_framers.h
     },

@@ -21,5 +21,11 @@ std::optional<CarriedRequest> read_ascii_request(std::span<const std::uint8_t> r
 // The Dyna has no refusal reply on either protocol (the application note lists none; docs/
 // protocols.md, "Dyna: what the gateway does"): always none, a reply is taken as "ack".
 std::optional<std::string> read_refusal(std::span<const std::uint8_t> reply);
+// A reply's value as the request asked for it: the counts, the temperature's, an EEPROM word,
+// the revision, or "ack"; none for a reply that does not answer the request.
+std::optional<std::string> read_nine_bit_reply(std::span<const std::uint8_t> request,
+                                               std::span<const std::uint8_t> reply);
+std::optional<std::string> read_ascii_reply(std::span<const std::uint8_t> request,
+                                            std::span<const std::uint8_t> reply);
 
 }  // namespace tiltgate::spectron

@@ -122,6 +122,12 @@ function addTrafficRows(view, r) {
     cells[1].title = f.direction === "out" ? "to the devices" : "from the devices";
     cells[2].textContent = f.address === null ? "\u2013" : f.address;
     cells[3].textContent = f.function === null ? "\u2013" : f.function;
+    if (f.values) {  // what a reply says, decoded by the bus's protocol
+      const values = document.createElement("span");
+      values.className = "values";
+      values.textContent = f.values;
+      cells[3].append(document.createElement("br"), values);
+    }
     cells[4].textContent = f.verdict + (f.refusal ? " \u00B7 " + f.refusal : "");
     if (trafficBad(f)) cells[4].classList.add("bad");
     cells[5].textContent = f.bytes;

@@ -82,6 +82,10 @@ def api_checks(t, admin, operator, work_dir):
             "refusal",
             replies and all(f["address"] == 1 and f["function"] and f["verdict"] == "CRC ok" and
                             f["refusal"] is None for f in replies[1:]), replies[:3])
+    t.check("each reply's values, decoded by the bus's protocol as the answer to its request",
+            replies and all(re.match(r"^values -?\d+(, -?\d+)*(, \.\.\.)?$", f["values"] or "")
+                            for f in replies[1:]) and
+            all(f["values"] is None for f in requests), replies[1:3])
     t.check("each frame: its time in microseconds, its bytes in hex, no 9-bit address bytes",
             all(isinstance(f["time_us"], int) and f["time_us"] > 1.7e15 and
                 re.match(r"^([0-9A-F]{2} )*[0-9A-F]{2}$", f["bytes"]) and

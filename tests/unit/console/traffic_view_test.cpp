@@ -30,7 +30,15 @@ std::optional<std::string> read_made_up_refusal(std::span<const std::uint8_t> by
   return "nak " + std::to_string(bytes[2]);
 }
 
-constexpr FrameReaders kReaders{read_made_up_request, read_made_up_refusal};
+// A reply's byte 2 as its value, when the reply is from the request's address.
+std::optional<std::string> read_made_up_reply(std::span<const std::uint8_t> request,
+                                              std::span<const std::uint8_t> reply) {
+  if (request.empty() || reply.size() < 3 || reply[0] != request[0] || (reply[1] & 0x80) != 0)
+    return std::nullopt;
+  return "value " + std::to_string(reply[2]);
+}
+
+constexpr FrameReaders kReaders{read_made_up_request, read_made_up_refusal, read_made_up_reply};
 
 CapturedFrame frame(FrameDirection direction, std::vector<std::uint8_t> bytes,
                     std::string verdict) {
@@ -73,6 +81,9 @@ TEST_CASE("traffic: a request shows its address and function, its reply the same
   CHECK(frames[1]["address"] == 5);
   CHECK(frames[1]["function"] == "function 3");
   CHECK(frames[1]["refusal"].is_null());
+  CHECK(frames[1]["values"] == "value 0");  // what the reply says, read with its request
+  CHECK(frames[0]["values"].is_null());     // a request says nothing of the kind
+  CHECK(frames[3]["values"].is_null());     // a refusal is no value
   CHECK(frames[3]["n"] == 4);
   CHECK(frames[3]["address"] == 7);
   CHECK(frames[3]["function"] == "function 6");
@@ -96,6 +107,7 @@ TEST_CASE("traffic: a reply first in a view takes its request from the frame bef
   CHECK(view["frames"][0]["n"] == 2);
   CHECK(view["frames"][0]["address"] == 9);
   CHECK(view["frames"][0]["function"] == "function 4");
+  CHECK(view["frames"][0]["values"] == "value 0");
 }
 
 TEST_CASE("traffic: a reply with no request held, or one the protocol cannot read, has none") {

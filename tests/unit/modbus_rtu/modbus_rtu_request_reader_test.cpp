@@ -48,3 +48,15 @@ TEST_CASE("an MBAP request and its exception reply are read the same way") {
   CHECK(read_mbap_refusal(hex("0007 0000 0003 FF 86 02")) == "nak 0x02");
   CHECK_FALSE(read_mbap_refusal(hex("0007 0000 0006 FF 06 0001 0003")));
 }
+
+TEST_CASE("a Modbus reply is read as the answer to its request: values, bits, a write") {
+  CHECK(read_rtu_reply(framed("01 03 0000 0002"), framed("01 03 04 0004 0001")) == "values 4, 1");
+  CHECK(read_rtu_reply(framed("01 02 0000 0003"), framed("01 02 01 05")) == "bits 1 0 1");
+  CHECK(read_rtu_reply(framed("01 06 0001 0003"), framed("01 06 0001 0003")) == "written");
+  CHECK_FALSE(read_rtu_reply(framed("01 03 0000 0002"), framed("01 83 02")));  // a refusal
+  CHECK_FALSE(read_rtu_reply(framed("01 03 0000 0002"), framed("02 03 04 0004 0001")));  // not its
+  CHECK(read_mbap_reply(hex("0007 0000 0006 FF 03 0000 0002"), hex("0007 0000 0007 FF 03 04 0004 0001")) ==
+        "values 4, 1");
+  CHECK_FALSE(read_mbap_reply(hex("0007 0000 0006 FF 03 0000 0002"),
+                              hex("0008 0000 0007 FF 03 04 0004 0001")));  // another transaction
+}

@@ -55,3 +55,18 @@ TEST_CASE("a NAK is a refusal with its code, and an ACK or a reply is none") {
   CHECK_FALSE(read_refusal(hex("0000 0065 001E 01 01 5EEC")));
   CHECK_FALSE(read_refusal(hex("0000 0065 0000 00 CC1F")));
 }
+
+TEST_CASE("a Rieker reply is read as the answer to its request: angles, identity, an ack") {
+  const auto angles = read_reply(hex("0065 0000 0005 01 04 5425"),
+                                 hex("0000 0065 0005 08 BF4B1C00 41938D00 71C8"));
+  CHECK(angles == "x -0.793396 deg, y 18.443848 deg");
+  const auto serial_request = get_serial_request({.sensor = 101});
+  REQUIRE(serial_request);
+  CHECK(read_reply(encode(*serial_request), encode(make_serial_reply(0, 101, "9600101"))) ==
+        "serial \"9600101\"");
+  CHECK(read_reply(hex("0065 0000 0029 01 02 9F64"), encode(make_ack(0, 101))) == "ack");
+  // A NAK is a refusal, not a value; a reply from another sensor answers nothing here.
+  CHECK_FALSE(read_reply(hex("0065 0000 0029 01 02 9F64"), encode(make_nak(0, 101, NakCode(5)))));
+  CHECK_FALSE(read_reply(hex("0065 0000 0005 01 04 5425"), encode(make_ack(0, 102))));
+  CHECK_FALSE(read_reply(hex("0065 0000 0005 01 04 5426"), encode(make_ack(0, 101))));  // bad CRC
+}
