@@ -40,19 +40,24 @@ BlackBox::BlackBox(std::chrono::seconds keep)
                                        kBytesPerSecond,
                                    2 * kBlockBytes)) {}
 
-void BlackBox::record(CapturedFrame frame) { record(frame, Clock::now()); }
+void BlackBox::record(const FrameView& frame) { record(frame, Clock::now()); }
 
-std::uint8_t BlackBox::verdict_index(const std::string& verdict) {
+void BlackBox::record(const CapturedFrame& frame, Clock::time_point now) {
+  record(FrameView{frame.time, frame.direction, frame.bytes, frame.address_bytes, frame.verdict},
+         now);
+}
+
+std::uint8_t BlackBox::verdict_index(std::string_view verdict) {
   for (std::size_t i = 0; i < verdicts_.size(); ++i)
     if (verdicts_[i] == verdict) return std::uint8_t(i);
   if (verdicts_.size() < kMaxVerdicts) {
-    verdicts_.push_back(verdict);
+    verdicts_.emplace_back(verdict);
     return std::uint8_t(verdicts_.size() - 1);
   }
   return std::uint8_t(kMaxVerdicts);  // kOtherVerdict
 }
 
-void BlackBox::pack(const CapturedFrame& frame, Clock::time_point at) {
+void BlackBox::pack(const FrameView& frame, Clock::time_point at) {
   // A frame longer than the length field holds is cut (none is: a line's frames are short).
   const std::size_t length = std::min<std::size_t>(frame.bytes.size(), 0xFFFF);
   const std::size_t size = kFrameOverhead - 1 + length;
@@ -76,7 +81,7 @@ void BlackBox::pack(const CapturedFrame& frame, Clock::time_point at) {
   block.newest = at;
 }
 
-void BlackBox::record(const CapturedFrame& frame, Clock::time_point now) {
+void BlackBox::record(const FrameView& frame, Clock::time_point now) {
   pack(frame, now);
   ++next_number_;
   const Clock::time_point oldest = now - keep_;

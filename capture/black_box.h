@@ -39,8 +39,9 @@ class BlackBox final : public FrameRecorder {
 
   explicit BlackBox(std::chrono::seconds keep);
 
-  void record(CapturedFrame frame) override;
+  void record(const FrameView& frame) override;
   // As record(), at `now` (tests).
+  void record(const FrameView& frame, Clock::time_point now);
   void record(const CapturedFrame& frame, Clock::time_point now);
 
   // Frames numbered after `after`, oldest first, at most `limit`; `next` is the number to ask
@@ -72,12 +73,12 @@ class BlackBox final : public FrameRecorder {
     Clock::time_point newest{};       // when its last frame was recorded
   };
   // Appends `frame` recorded at `at` to the last block.
-  void pack(const CapturedFrame& frame, Clock::time_point at);
+  void pack(const FrameView& frame, Clock::time_point at);
   // The frame at `offset` of `block`, and where the next one starts; none when it is older
   // than `oldest`.
   CapturedFrame unpack(const Block& block, std::size_t& offset, Clock::time_point oldest,
                        bool& old_enough) const;
-  std::uint8_t verdict_index(const std::string& verdict);
+  std::uint8_t verdict_index(std::string_view verdict);
 
   std::chrono::seconds keep_;
   std::size_t limit_;

@@ -21,8 +21,8 @@ constexpr std::uint16_t kPacketFlags = 2;
 constexpr std::uint32_t kInbound = 1;   // epb_flags bits 0-1: the direction
 constexpr std::uint32_t kOutbound = 2;
 
-// Exported PDU tags (epan/exported_pdu.h): the dissector's name, and for Modbus/TCP the TCP
-// ports, which the mbtcp dissector tells a query from a response by (502 is the server's).
+// Exported PDU tags (epan/exported_pdu.h): the dissector's name, and for a protocol over TCP
+// the TCP ports (PcapngFormat::over_tcp).
 constexpr std::uint16_t kTagEnd = 0;
 constexpr std::uint16_t kTagProtocolName = 12;
 constexpr std::uint16_t kTagPortType = 24;
@@ -108,11 +108,15 @@ std::string pcapng_header(std::string_view application, std::string_view interfa
          block(kInterfaceDescription, std::move(interface_block));
 }
 
-std::string pcapng_packet(const CapturedFrame& frame, std::string_view dissector) {
+PcapngFormat pcapng_format_of(const ProtocolDescriptor& protocol) {
+  return {protocol.wireshark_dissector, protocol.devices_speak_tcp};
+}
+
+std::string pcapng_packet(const CapturedFrame& frame, const PcapngFormat& format) {
   const bool outbound = frame.direction == FrameDirection::to_devices;
   std::string pdu;
-  put_tag(pdu, kTagProtocolName, dissector);
-  if (dissector == "mbtcp") {
+  put_tag(pdu, kTagProtocolName, format.dissector);
+  if (format.over_tcp) {
     put_tag32(pdu, kTagPortType, kPortTypeTcp);
     put_tag32(pdu, kTagSourcePort, outbound ? kGatewayPort : kModbusTcpPort);
     put_tag32(pdu, kTagDestinationPort, outbound ? kModbusTcpPort : kGatewayPort);

@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "driver/captured_frame.h"
+#include "driver/family.h"
 
 namespace tiltgate {
 
@@ -21,8 +22,17 @@ namespace tiltgate {
 // writer (shb_userappl), `interface` the bus (if_name).
 std::string pcapng_header(std::string_view application, std::string_view interface);
 
-// One frame's packet. `dissector`: the Wireshark dissector that reads the bus's protocol
-// (ProtocolDescriptor::wireshark_dissector).
-std::string pcapng_packet(const CapturedFrame& frame, std::string_view dissector);
+// How a bus's frames are exported: the Wireshark dissector that reads its protocol, and whether
+// its devices speak TCP (Wireshark's Modbus/TCP dissector then tells a query from a response by
+// the TCP ports, which each packet is given: 502 is the device's).
+struct PcapngFormat {
+  std::string_view dissector;
+  bool over_tcp = false;
+};
+// From the bus's protocol (ProtocolDescriptor::wireshark_dissector, devices_speak_tcp).
+PcapngFormat pcapng_format_of(const ProtocolDescriptor& protocol);
+
+// One frame's packet.
+std::string pcapng_packet(const CapturedFrame& frame, const PcapngFormat& format);
 
 }  // namespace tiltgate

@@ -106,7 +106,9 @@ int capture_through_gateway(const CaptureOptions& o, FamilyList families) {
     request["seconds"] = o.seconds;
   std::uint64_t frames = 0;
   std::uint64_t missed = 0;
-  std::string dissector;
+  const control::BusGranted bus = (*gateway)->bus();
+  const ProtocolDescriptor* protocol = find_protocol(families, bus.protocol).protocol;
+  const PcapngFormat format = protocol ? pcapng_format_of(*protocol) : PcapngFormat{};
   bool header_written = false;
   bool failed = false;
   int exit_code = 1;
@@ -122,7 +124,6 @@ int capture_through_gateway(const CaptureOptions& o, FamilyList families) {
     const nlohmann::json event = nlohmann::json::parse(text, nullptr, false);
     const std::string kind = event.is_object() ? event.value("event", "") : "";
     if (kind == "capture") {
-      dissector = event.value("dissector", "");
       header_written = output.write(pcapng_header("tiltgate " TILTGATE_VERSION,
                                                   event.value("bus", o.bus)));
     } else if (kind == "frame" && header_written && !failed) {
@@ -133,7 +134,7 @@ int capture_through_gateway(const CaptureOptions& o, FamilyList families) {
         return;
       }
       ++frames;
-      if (!output.write(pcapng_packet(*frame, dissector))) {
+      if (!output.write(pcapng_packet(*frame, format))) {
         failed = true;
         (*gateway)->stop();
       }
@@ -143,7 +144,6 @@ int capture_through_gateway(const CaptureOptions& o, FamilyList families) {
       std::cerr << "tiltgate capture: " << event.value("message", text) << "\n";
     }
   };
-  const control::BusGranted bus = (*gateway)->bus();
   boost::asio::co_spawn(
       io,
       [&]() -> boost::asio::awaitable<void> {
@@ -186,12 +186,12 @@ int capture_listening(const CaptureOptions& o, FamilyList families) {
     return 1;
   }
   std::signal(SIGPIPE, SIG_IGN);
-  const std::string dissector(protocol.protocol->wireshark_dissector);
+  const PcapngFormat format = pcapng_format_of(*protocol.protocol);
   bool header_written = false;
   return run_listen_capture(listen, [&](const CapturedFrame& frame) {
     if (!header_written)
       header_written = output.write(pcapng_header("tiltgate " TILTGATE_VERSION, o.port));
-    return header_written && output.write(pcapng_packet(frame, dissector));
+    return header_written && output.write(pcapng_packet(frame, format));
   });
 }
 

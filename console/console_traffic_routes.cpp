@@ -89,9 +89,9 @@ asio::awaitable<HttpReply> ConsoleHandler::traffic_route(const HttpRequest& requ
   if (!taken.served) co_return error_reply(404, "no such bus");
   const ProtocolDescriptor* protocol = find_protocol(context_.families, taken.protocol).protocol;
   if (download) {
-    const std::string_view dissector = protocol ? protocol->wireshark_dissector : "";
+    const PcapngFormat format = protocol ? pcapng_format_of(*protocol) : PcapngFormat{};
     std::string file = pcapng_header("tiltgate", *bus);
-    for (const CapturedFrame& frame : taken.held) file += pcapng_packet(frame, dissector);
+    for (const CapturedFrame& frame : taken.held) file += pcapng_packet(frame, format);
     record(session, *bus, setting, "", fmt::format("last {} s", taken.keep.count()), "ok");
     HttpReply reply{200, "application/octet-stream", std::move(file)};
     reply.content_disposition = fmt::format(

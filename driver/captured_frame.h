@@ -5,7 +5,9 @@
 
 #include <chrono>
 #include <cstdint>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace tiltgate {
@@ -28,12 +30,22 @@ struct CapturedFrame {
   std::string verdict;
 };
 
+// A frame as a line hands it over: views of the line's own buffers, valid during the call only,
+// so recording a frame copies its bytes once, into the recorder's store.
+struct FrameView {
+  std::chrono::system_clock::time_point time{};
+  FrameDirection direction = FrameDirection::to_devices;
+  std::span<const std::uint8_t> bytes;
+  std::uint8_t address_bytes = 0;
+  std::string_view verdict;
+};
+
 // Where a line puts each frame it carries (capture/black_box.h). Called on the line's
 // executor, in the order the frames were on the wire; must not block.
 class FrameRecorder {
  public:
   virtual ~FrameRecorder() = default;
-  virtual void record(CapturedFrame frame) = 0;
+  virtual void record(const FrameView& frame) = 0;
   // How long it keeps what it was given, for the log line of a sensor that stops answering.
   virtual std::chrono::seconds keep() const = 0;
 };

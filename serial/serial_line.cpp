@@ -66,7 +66,8 @@ SerialLine::SerialLine(asio::any_io_executor executor, SerialLineOptions options
     : options_(std::move(options)),
       port_(make_port([this] { ++stats_.reopens; })),
       quiet_timer_(executor),
-      deadline_(executor, port_->stream()) {}
+      deadline_(executor, port_->stream()),
+      tap_(options_.baud, options_.framing) {}
 
 SerialLine::~SerialLine() { stop(); }
 
@@ -106,7 +107,7 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
     Attempt outcome = co_await attempt(request, timeout);
     if (uart_before) note_uart_counts(*uart_before);
     if (outcome == Attempt::overloaded) {
-      if (recorder_) record_received(request.framer, false, "no reply: held by this machine");
+      tap_.reply_lost(request.framer, "no reply: held by this machine");
       // Its reply may still come: kept off the next request like a late one.
       const auto guarded =
           co_await discard_late_replies(late_window_end(request, timeout), packet_end_);
@@ -118,9 +119,9 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
       spdlog::debug("{}: no reply within {} ms", options_.name, timeout.count());
       if (tracing_ && request.framer) {
         spdlog::trace("{} {}", options_.name,
-                      traced_timeout(received_, request.framer->report(), timeout));
+                      traced_timeout(tap_.heard_bytes(), request.framer->report(), timeout));
       }
-      if (recorder_) record_received(request.framer, false, "no reply");
+      tap_.reply_lost(request.framer, "no reply");
       timed_out_request_end = packet_end_;
       timing_.garbled = heard_;
       std::optional<Clock::time_point> look_end;
@@ -159,34 +160,6 @@ void SerialLine::note_uart_counts(const UartCounts& before) {
   };
   timing_.overruns += grown(after->overruns, before.overruns);
   timing_.uart_errors += grown(after->framing_errors, before.framing_errors);
-}
-
-void SerialLine::record_received(const ReplyFramer* framer, bool replied,
-                                 std::string_view lost_as) {
-  if (received_.empty()) return;
-  const FramerReport report = framer != nullptr ? framer->report() : FramerReport{};
-  if (!replied) {
-    std::string verdict(lost_as);
-    if (!report.rejected_verdict.empty()) verdict += ": " + report.rejected_verdict;
-    record_from_devices(first_byte_time_, received_, std::move(verdict));
-    return;
-  }
-  // A part after the first began that many characters later on the wire.
-  std::size_t offset = 0;
-  for (const ReceivedPart& part : reply_parts(received_, report)) {
-    const auto later = std::chrono::duration_cast<std::chrono::system_clock::duration>(
-        wire_time(offset, options_.baud, idle_parity(options_.framing),
-                  stop_bits_of(options_.framing)));
-    record_from_devices(first_byte_time_ + later, part.bytes, part.verdict);
-    offset += part.bytes.size();
-  }
-}
-
-void SerialLine::record_from_devices(std::chrono::system_clock::time_point first_byte,
-                                     std::span<const std::uint8_t> bytes, std::string verdict) {
-  recorder_->record(CapturedFrame{first_byte, FrameDirection::from_devices,
-                                  std::vector<std::uint8_t>(bytes.begin(), bytes.end()), 0,
-                                  std::move(verdict)});
 }
 
 SerialLine::Clock::time_point SerialLine::late_window_end(const LineRequest& request,
@@ -228,14 +201,6 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
       look_end ? *look_end : std::max(window_end, last_byte_at_ + burst_quiet);
   bool in_burst = false;
   std::vector<std::uint8_t> discarded;  // kept for the trace log only
-  // The burst being received, for the capture: each is one frame.
-  std::vector<std::uint8_t> burst;
-  std::chrono::system_clock::time_point burst_time{};
-  const auto record_burst = [&] {
-    if (recorder_ && !burst.empty())
-      record_from_devices(burst_time, burst, "late: after its request's time-out");
-    burst.clear();
-  };
   std::array<std::uint8_t, 256> buffer{};
   for (;;) {
     const Clock::time_point until = std::min(quiet_until, give_up);
@@ -247,18 +212,17 @@ asio::awaitable<std::optional<SerialLine::Attempt>> SerialLine::discard_late_rep
     if (*received == 0) continue;
     if (tracing_) discarded.insert(discarded.end(), buffer.begin(), buffer.begin() + *received);
     quiet_until = std::max(window_end, last_byte_at_ + burst_quiet);
-    if (!in_burst || last_byte_at_ - previous_byte > burst_quiet) {
+    const bool starts_burst = !in_burst || last_byte_at_ - previous_byte > burst_quiet;
+    if (starts_burst) {
       in_burst = true;
       ++timing_.late_replies;
       ++stats_.late_replies;
-      record_burst();
-      burst_time = std::chrono::system_clock::now();
     }
-    if (recorder_) burst.insert(burst.end(), buffer.begin(), buffer.begin() + *received);
+    tap_.late(std::span<const std::uint8_t>(buffer.data(), *received), starts_burst);
     timing_.late_delay = std::max(timing_.late_delay.value_or(std::chrono::milliseconds{0}),
                                   whole_ms(last_byte_at_ - request_end - port_->round_trip()));
   }
-  record_burst();
+  tap_.late_done();
   if (quiet_until > give_up) {
     spdlog::debug("{}: still receiving {} ms after the request, sending anyway", options_.name,
                   whole_ms(give_up - request_end).count());
@@ -298,12 +262,8 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
                                             : 0;
   if (tracing_)
     spdlog::trace("{} {}", options_.name, traced_request(request.bytes, address_bytes));
-  if (recorder_) {
-    recorder_->record(CapturedFrame{sent_at, FrameDirection::to_devices, request.bytes,
-                                    std::uint8_t(address_bytes),
-                                    request.framer ? "request" : "request, no reply expected"});
-  }
-  received_.clear();
+  tap_.request_sent(sent_at, request.bytes, std::uint8_t(address_bytes), request.framer != nullptr,
+                    tracing_);
   quiet_until_ = packet_end_ + request.settle + options_.gap;
   if (!request.framer) co_return Attempt::replied;  // nothing to wait for: written is done
   co_return co_await receive(request, packet_end_ + timeout + network_allowance());
@@ -408,18 +368,13 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
       if (!std::equal(chunk.begin(), chunk.begin() + n, echo.begin())) {
         ++echo_mismatches_;
         spdlog::debug("{}: echo differs from what was sent (collision)", options_.name);
-        if (recorder_)
-          record_from_devices(std::chrono::system_clock::now(), chunk,
-                              "collision: the echo differs from the request");
+        tap_.collision(chunk);
         co_return Attempt::timed_out;
       }
       echo = echo.subspan(n);
       chunk = chunk.subspan(n);
     }
-    if (keeps_received() && !chunk.empty()) {
-      if (received_.empty()) first_byte_time_ = std::chrono::system_clock::now();
-      received_.insert(received_.end(), chunk.begin(), chunk.end());
-    }
+    tap_.heard(chunk);
     if (!chunk.empty()) heard_ = true;
     // A framer that asks someone else is awaited (driver/line.h); the others are not.
     bool whole = false;
@@ -430,10 +385,10 @@ asio::awaitable<SerialLine::Attempt> SerialLine::receive(const LineRequest& requ
     if (whole) {
       timing_.reply_delay =
           whole_ms(last_byte_at_ - packet_end_ - port_->round_trip() - timing_.machine_held);
-      if (recorder_) record_received(request.framer, true, {});
+      tap_.reply_taken(*request.framer);
       if (tracing_) {
         for (const std::string& line :
-             traced_reply(received_, request.framer->report(), *timing_.reply_delay)) {
+             traced_reply(tap_.heard_bytes(), request.framer->report(), *timing_.reply_delay)) {
           spdlog::trace("{} {}", options_.name, line);
         }
       }

@@ -68,6 +68,7 @@
 #include "driver/captured_frame.h"
 #include "driver/framing.h"
 #include "driver/line.h"
+#include "serial/frame_tap.h"
 #include "serial/line_port.h"
 #include "serial/low_latency.h"
 #include "serial/port_deadline.h"
@@ -168,10 +169,8 @@ class SerialLine final : public Line {
   // Every frame the line carries from now on goes to `recorder` (capture/black_box.h), which
   // must outlive the line; null stops it. Stray bytes flushed before a request are counted
   // (LineStats::stray_bytes), not recorded: they are dropped unread.
-  void record_frames_to(FrameRecorder* recorder) { recorder_ = recorder; }
-  std::chrono::seconds frames_kept() const override {
-    return recorder_ != nullptr ? recorder_->keep() : std::chrono::seconds{0};
-  }
+  void record_frames_to(FrameRecorder* recorder) { tap_.record_to(recorder); }
+  std::chrono::seconds frames_kept() const override { return tap_.kept(); }
   void check_delivery_with(DeliveryCheck check) { delivery_check_ = std::move(check); }
 
  private:
@@ -243,20 +242,11 @@ class SerialLine final : public Line {
   WriteObserver write_observer_;
   DeliveryCheck delivery_check_;
   std::optional<Clock::time_point> overload_logged_at_;
-  // Where frames go (record_frames_to), and what is recorded of the current attempt.
-  FrameRecorder* recorder_ = nullptr;
-  std::chrono::system_clock::time_point first_byte_time_{};
-  // Records what the current attempt received: a reply's parts, or bytes that made none,
-  // `lost_as` ("no reply") and the framer's account of them.
-  void record_received(const ReplyFramer* framer, bool replied, std::string_view lost_as);
-  // Records a frame the devices sent, its first byte at `first_byte`.
-  void record_from_devices(std::chrono::system_clock::time_point first_byte,
-                           std::span<const std::uint8_t> bytes, std::string verdict);
-  // --log-level trace (serial/frame_trace.h): set per transaction; the bytes read in the
-  // current attempt, kept only while tracing or recording frames.
+  // The frames it carries, for its recorder (record_frames_to), and the current attempt's
+  // bytes, which the trace log shows too.
+  FrameTap tap_;
+  // --log-level trace (serial/frame_trace.h): set per transaction.
   bool tracing_ = false;
-  bool keeps_received() const { return tracing_ || recorder_ != nullptr; }
-  std::vector<std::uint8_t> received_;
 };
 
 }  // namespace tiltgate

@@ -23,25 +23,12 @@ from network_plant import RTU_PROFILE, Gateway, Simulator, bus  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e import processes  # noqa: E402
 from spb_e2e.processes import free_port, wait_until  # noqa: E402
+from tshark_fields import LUA, tshark_fields  # noqa: E402
 
-SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-LUA = os.path.join(SOURCE_DIR, "packaging", "wireshark", "tiltgate.lua")
-
-
-def tshark_fields(t, path, fields, extra=(), display_filter=None):
-    """Each packet of `path` as a list of `fields`, read by tshark with the project's Lua."""
-    argv = ["tshark", "-r", path, "-X", "lua_script:" + LUA, "-o", "mbrtu.crc_verification:TRUE",
-            "-T", "fields", "-E", "separator=|", "-E", "occurrence=f"]
-    argv += list(extra)
-    if display_filter:
-        argv += ["-Y", display_filter]
-    for f in fields:
-        argv += ["-e", f]
-    env = dict(os.environ, HOME=t.dir)
-    done = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=120)
-    if done.returncode != 0:
-        raise RuntimeError("tshark failed:\n" + done.stderr)
-    return [line.split("|") for line in done.stdout.splitlines() if line]
+def read_capture(t, path, fields, display_filter=None):
+    """Each packet's fields, Modbus RTU CRCs checked (Wireshark's mbrtu leaves them unchecked)."""
+    return tshark_fields(path, fields, t.dir, extra=("-o", "mbrtu.crc_verification:TRUE"),
+                         display_filter=display_filter)
 
 
 def capture(t, tiltgate, config, *args, timeout=60):
@@ -92,7 +79,7 @@ def scenario(t):
             done.stderr.decode())
     t.check("it says how many frames it wrote", b"frame(s) of bus rtu1 (modbus-rtu)" in done.stderr,
             done.stderr.decode())
-    rows = tshark_fields(t, rtu_file, ["frame.protocols", "mbrtu.crc16.status",
+    rows = read_capture(t, rtu_file, ["frame.protocols", "mbrtu.crc16.status",
                                        "frame.comment", "frame.p2p_dir"])
     t.check("the capture holds both directions of 2 s of polls at 100 ms", len(rows) >= 20, rows)
     t.check("every packet is read by Wireshark's Modbus RTU dissector",
@@ -101,7 +88,7 @@ def scenario(t):
     t.check("requests are outbound, replies inbound, each with the gateway's verdict",
             rows and all((r[3] == "0" and r[2] == "request") or (r[3] == "1" and r[2] == "CRC ok")
                          for r in rows), rows[:6])
-    times = tshark_fields(t, rtu_file, ["frame.time_epoch"])
+    times = read_capture(t, rtu_file, ["frame.time_epoch"])
     epoch = [float(r[0]) for r in times]
     t.check("frames carry the time of their first byte, in order, from this run",
             epoch == sorted(epoch) and abs(epoch[-1] - time.time()) < 30, epoch[:3])
@@ -110,8 +97,8 @@ def scenario(t):
     # responses by the ports the capture gives them.
     tcp_file = os.path.join(t.dir, "plc.pcapng")
     done = capture(t, tiltgate, config, "--bus", "plc", "--seconds", "2", "--output", tcp_file)
-    rows = tshark_fields(t, tcp_file, ["frame.protocols", "_ws.col.Info"])
-    malformed = tshark_fields(t, tcp_file, ["frame.number"], display_filter="_ws.malformed")
+    rows = read_capture(t, tcp_file, ["frame.protocols", "_ws.col.Info"])
+    malformed = read_capture(t, tcp_file, ["frame.number"], display_filter="_ws.malformed")
     t.check("a modbus-tcp bus's capture is read by Wireshark's Modbus/TCP dissector",
             done.returncode == 0 and len(rows) >= 20 and all("mbtcp" in r[0] for r in rows),
             rows[:4])
@@ -139,7 +126,7 @@ def scenario(t):
     done = capture(t, tiltgate, config, "--bus", "line1", "--last", "--output", box)
     t.check("--last writes the black box at once, exit 0", done.returncode == 0,
             done.stderr.decode())
-    rows = tshark_fields(t, box, ["tiltgate_rieker.crc.status", "frame.comment",
+    rows = read_capture(t, box, ["tiltgate_rieker.crc.status", "frame.comment",
                                   "tiltgate_rieker.src", "_ws.col.Info"])
     bad = [r for r in rows if r[0] == "0"]
     good = [r for r in rows if r[0] == "1"]

@@ -22,9 +22,7 @@ import spb_path  # noqa: F401,E402
 from network_plant import Gateway, Simulator, bus  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
-
-SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-LUA = os.path.join(SOURCE_DIR, "packaging", "wireshark", "tiltgate.lua")
+from tshark_fields import tshark_fields  # noqa: E402
 
 
 class Hub:
@@ -96,12 +94,8 @@ def scenario(t):
     t.check("the listener's pty gave back not one byte: nothing was transmitted",
             hub.from_listener == 0, hub.from_listener)
 
-    argv = ["tshark", "-r", out, "-X", "lua_script:" + LUA, "-T", "fields", "-E", "separator=|",
-            "-e", "frame.p2p_dir", "-e", "tiltgate_rieker.crc.status", "-e", "frame.comment",
-            "-e", "_ws.col.Info"]
-    read = subprocess.run(argv, capture_output=True, text=True, timeout=60,
-                          env=dict(os.environ, HOME=t.dir))
-    rows = [line.split("|") for line in read.stdout.splitlines() if line]
+    rows = tshark_fields(out, ["frame.p2p_dir", "tiltgate_rieker.crc.status", "frame.comment",
+                               "_ws.col.Info"], t.dir)
     requests = [r for r in rows if r[0] == "0"]
     replies = [r for r in rows if r[0] == "1"]
     t.check("the capture holds 3 s of both sensors' polls", len(requests) >= 40, len(rows))

@@ -35,11 +35,6 @@ namespace {
 
 using RtuBus = tiltgate::test::RtuLine;
 
-asio::awaitable<void> pause(std::chrono::steady_clock::duration how_long) {
-  asio::steady_timer timer(co_await asio::this_coro::executor, how_long);
-  co_await timer.async_wait(asio::use_awaitable);
-}
-
 }  // namespace
 
 TEST_CASE("at trace, a request and its reply are logged once each in hex with \"CRC ok\"") {

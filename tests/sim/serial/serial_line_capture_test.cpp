@@ -32,11 +32,6 @@ struct CaptureRtuBus : tiltgate::test::RtuLine {
   CaptureRtuBus() : RtuLine(std::chrono::milliseconds(300)) { line->record_frames_to(&box); }
 };
 
-asio::awaitable<void> capture_pause(std::chrono::steady_clock::duration how_long) {
-  asio::steady_timer timer(co_await asio::this_coro::executor, how_long);
-  co_await timer.async_wait(asio::use_awaitable);
-}
-
 }  // namespace
 
 TEST_CASE("a line records its request and the reply, in order, with their verdicts") {
@@ -113,7 +108,7 @@ TEST_CASE("a reply after the time-out is recorded as late, apart from the silent
   CountFramer framer(4);
   auto device = [&]() -> asio::awaitable<void> {
     co_await bench.far.receive(2);
-    co_await capture_pause(80ms);  // 50 ms past the time-out
+    co_await pause(80ms);  // 50 ms past the time-out
     co_await bench.far.send(octets(0xEE, 0xEE, 0xEE, 0xEE));
   };
   CHECK(bench.exchange(request_of(octets(1, 1), &framer), device()).error() == LineError::timeout);

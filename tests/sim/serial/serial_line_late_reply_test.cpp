@@ -18,15 +18,6 @@ using namespace tiltgate::test::line_bench;
 using tiltgate::LineError;
 using tiltgate::SerialLineOptions;
 
-namespace {
-
-asio::awaitable<void> pause(Clock::duration how_long) {
-  asio::steady_timer timer(co_await asio::this_coro::executor, how_long);
-  co_await timer.async_wait(asio::use_awaitable);
-}
-
-}  // namespace
-
 TEST_CASE("a reply after the time-out is counted late and not fed to the next transaction") {
   tiltgate::test::skip_if_emulated("the reply must come 50 ms after a 30 ms time-out, within the guard");
   Bench bench([](SerialLineOptions& o) {

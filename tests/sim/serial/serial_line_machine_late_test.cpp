@@ -27,11 +27,6 @@ using tiltgate::SerialLineOptions;
 
 namespace {
 
-asio::awaitable<void> pause(Clock::duration how_long) {
-  asio::steady_timer timer(co_await asio::this_coro::executor, how_long);
-  co_await timer.async_wait(asio::use_awaitable);
-}
-
 // The probe's answers, one per deadline, in order; "caught up at once" after the last.
 struct ScriptedMachine {
   std::deque<std::optional<std::chrono::microseconds>> answers;

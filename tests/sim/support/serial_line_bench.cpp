@@ -122,4 +122,9 @@ Result Bench::exchange(LineRequest request, asio::awaitable<void> device) {
   return transact(std::move(request));
 }
 
+asio::awaitable<void> pause(Clock::duration how_long) {
+  asio::steady_timer timer(co_await asio::this_coro::executor, how_long);
+  co_await timer.async_wait(asio::use_awaitable);
+}
+
 }  // namespace tiltgate::test::line_bench

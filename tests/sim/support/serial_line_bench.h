@@ -103,6 +103,9 @@ Result transact(boost::asio::io_context& io, tiltgate::SerialLine& line,
 
 tiltgate::LineRequest request_of(Bytes bytes, tiltgate::ReplyFramer* framer);
 
+// Waits `how_long` on the coroutine's executor: a scripted device taking its time.
+boost::asio::awaitable<void> pause(Clock::duration how_long);
+
 // A pty whose far end the test scripts, and a started line on its slave side.
 struct Bench {
   explicit Bench(const std::function<void(tiltgate::SerialLineOptions&)>& adjust = {});

@@ -56,7 +56,7 @@ TEST_CASE("a frame's packet holds its time, the dissector, the bytes, its direct
   frame.direction = FrameDirection::to_devices;
   frame.bytes = {0x01, 0x03, 0x00, 0x00, 0x00, 0x02, 0xC4, 0x0B};
   frame.verdict = "request";
-  const std::string packet = pcapng_packet(frame, "mbrtu");
+  const std::string packet = pcapng_packet(frame, {"mbrtu"});
   check_blocks(packet);
   CHECK(le32_at(packet, 0) == 6);                // enhanced packet block
   CHECK(le32_at(packet, 8) == 0);                // interface 0
@@ -84,14 +84,14 @@ TEST_CASE("a frame's packet holds its time, the dissector, the bytes, its direct
   CHECK(packet.substr(option + 4, 7) == "request");
 
   frame.direction = FrameDirection::from_devices;
-  const std::string reply = pcapng_packet(frame, "mbrtu");
+  const std::string reply = pcapng_packet(frame, {"mbrtu"});
   CHECK(le32_at(reply, pdu + ((captured + 3) / 4) * 4 + 4) == 1);  // inbound
 }
 
 TEST_CASE("a Modbus/TCP frame carries the TCP ports its dissector tells a query by") {
   CapturedFrame frame;
   frame.bytes = {0x00, 0x01, 0x00, 0x00, 0x00, 0x06, 0x01, 0x03, 0x00, 0x00, 0x00, 0x01};
-  const std::string packet = pcapng_packet(frame, "mbtcp");
+  const std::string packet = pcapng_packet(frame, {"mbtcp", true});
   const std::size_t pdu = 28;
   CHECK(be16_at(packet, pdu) == 12);
   std::size_t tag = pdu + 4 + be16_at(packet, pdu + 2);
@@ -106,6 +106,6 @@ TEST_CASE("a 9-bit frame's comment says which bytes had the 9th bit set") {
   frame.bytes = {0x05, 'A', '\r', '\n'};
   frame.address_bytes = 1;
   frame.verdict = "request";
-  const std::string packet = pcapng_packet(frame, "tiltgate_dyna9");
+  const std::string packet = pcapng_packet(frame, {"tiltgate_dyna9"});
   CHECK(packet.find("request; 9th bit set on the first 1 byte(s)") != std::string::npos);
 }
