@@ -14,6 +14,7 @@ item 8). Usage: docs_pages_test.py CHECK SOURCE_DIR [PAGE...], CHECK one of
 Exit 0 pass, 1 fail (what is wrong printed), 2 a usage error, 77 skipped (ser2net missing)."""
 import glob
 import os
+import random
 import re
 import socket
 import subprocess
@@ -102,9 +103,16 @@ def check_examples(root, _pages):
 
 
 def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+    """A random port nothing listens on, below the kernel's ephemeral range (32768 up) so no
+    connect() on the machine takes it before the demo binds it."""
+    while True:
+        port = random.randint(20000, 32767)
+        try:
+            with socket.socket() as s:
+                s.bind(("127.0.0.1", port))
+            return port
+        except OSError:
+            pass
 
 
 def ser2net_blocks(root):

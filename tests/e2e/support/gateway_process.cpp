@@ -2,13 +2,16 @@
 
 #include <arpa/inet.h>
 #include <csignal>
+#include <deque>
 #include <fcntl.h>
 #include <fstream>
 #include <mutex>
+#include <random>
 #include <netinet/in.h>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <sys/file.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <thread>
@@ -54,24 +57,52 @@ int decode_status(int status) {
 }  // namespace
 
 std::uint16_t free_tcp_port() {
-  // Never the same port twice in one test program: the kernel hands a port just freed out
-  // again, and a gateway's Modbus and HTTP listeners could then not both bind.
+  // A port below the kernel's ephemeral range (32768 up on Debian), so no connect() anywhere on
+  // the machine takes it between its choice here and the gateway's bind (a test's own clients
+  // did, in CI); claimed by an flock on /tmp/tiltgate-test-ports/PORT, held while the port is
+  // one of this program's last 64, so test programs running side by side never choose the same
+  // one; never handed out twice in one program.
   static std::mutex handed_out_mutex;
   static std::set<std::uint16_t> handed_out;
+  static std::deque<int> claims_held;
+  static std::mt19937 random{std::random_device{}()};
   std::lock_guard lock(handed_out_mutex);
-  for (int attempt = 0;; ++attempt) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  const std::filesystem::path claims = "/tmp/tiltgate-test-ports";
+  std::error_code ignored;
+  std::filesystem::create_directories(claims, ignored);
+  std::filesystem::permissions(
+      claims, std::filesystem::perms::all | std::filesystem::perms::sticky_bit, ignored);
+  std::uniform_int_distribution<int> pick(20000, 32767);
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    const auto port = static_cast<std::uint16_t>(pick(random));
+    if (handed_out.contains(port)) continue;
+    const auto claim_path = claims / std::to_string(port);
+    const int claim = ::open(claim_path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0644);
+    if (claim < 0) continue;
+    if (::flock(claim, LOCK_EX | LOCK_NB) != 0) {
+      ::close(claim);
+      continue;
+    }
+    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    addr.sin_port = 0;
-    ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
-    socklen_t len = sizeof addr;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+    addr.sin_port = htons(port);
+    const bool bound = ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
     ::close(fd);
-    const std::uint16_t port = ntohs(addr.sin_port);
-    if (handed_out.insert(port).second || attempt >= 50) return port;
+    if (!bound) {
+      ::close(claim);
+      continue;
+    }
+    handed_out.insert(port);
+    claims_held.push_back(claim);
+    if (claims_held.size() > 64) {
+      ::close(claims_held.front());
+      claims_held.pop_front();
+    }
+    return port;
   }
+  throw std::runtime_error("no free TCP port in 20000-32767");
 }
 
 TempDir::TempDir() {

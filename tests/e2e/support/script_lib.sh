@@ -54,14 +54,24 @@ require_load_binary() {
   exit 1
 }
 
-# free_port: a TCP port nothing listens on now (the kernel's choice), or a random high one;
+# free_port: a random TCP port nothing listens on now, below the kernel's ephemeral range;
 # never one it handed out before in this script (kept in $dir/.ports): the kernel gives a port
 # just freed out again, and two listeners of one gateway on one port cannot both bind.
 free_port() {
   local port
   for _ in $(seq 50); do
-    port=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' \
-      2>/dev/null || echo $((20000 + RANDOM % 20000)))
+    # Below the kernel's ephemeral range (32768 up), so no connect() on the machine takes it
+    # before the test's server binds it.
+    port=$(/usr/bin/python3 -c 'import random, socket
+for _ in range(1000):
+    port = random.randint(20000, 32767)
+    try:
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", port))
+        print(port)
+        break
+    except OSError:
+        pass' 2>/dev/null || echo $((20000 + RANDOM % 12000)))
     grep -qx "$port" "${dir:?}/.ports" 2>/dev/null || break
   done
   echo "$port" >>"$dir/.ports"

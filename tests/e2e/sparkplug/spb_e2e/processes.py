@@ -1,6 +1,8 @@
 """The processes a test starts, ended (by their own ids) when it finishes, free loopback ports and
 waiting with a deadline."""
+import fcntl
 import os
+import random
 import signal
 import socket
 import subprocess
@@ -8,6 +10,7 @@ import time
 
 _started = []
 _ports = set()
+_claims = []
 
 
 def start(argv, **kwargs):
@@ -29,15 +32,37 @@ def end_all():
 
 
 def free_port():
-    """A TCP port nothing listens on now, never one handed out before in this test (the kernel
-    gives a port just freed out again)."""
-    while True:
-        with socket.socket() as s:
-            s.bind(("127.0.0.1", 0))
-            port = s.getsockname()[1]
-        if port not in _ports:
-            _ports.add(port)
-            return port
+    """A TCP port nothing listens on now, below the kernel's ephemeral range (32768 up) so no
+    connect() on the machine takes it before the test's server binds it, claimed by an flock on
+    /tmp/tiltgate-test-ports/PORT while it is one of this test's last 64 (tests running side by
+    side never choose the same one), never handed out twice in one test."""
+    claims = "/tmp/tiltgate-test-ports"
+    os.makedirs(claims, exist_ok=True)
+    try:
+        os.chmod(claims, 0o1777)
+    except OSError:
+        pass
+    for _ in range(1000):
+        port = random.randint(20000, 32767)
+        if port in _ports:
+            continue
+        try:
+            claim = os.open(os.path.join(claims, str(port)), os.O_RDONLY | os.O_CREAT, 0o644)
+        except OSError:
+            continue
+        try:
+            fcntl.flock(claim, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            with socket.socket() as s:
+                s.bind(("127.0.0.1", port))
+        except OSError:
+            os.close(claim)
+            continue
+        _ports.add(port)
+        _claims.append(claim)
+        if len(_claims) > 64:
+            os.close(_claims.pop(0))
+        return port
+    raise RuntimeError("no free TCP port in 20000-32767")
 
 
 def wait_until(predicate, timeout_s, interval_s=0.05):
