@@ -275,6 +275,7 @@ int sim_command(const FamilyCommands& family, const SimulatorSetup& setup) {
   std::cout << (setup.link.empty() ? running.slave_path() : setup.link) << std::endl;
   spdlog::info("simulating {} {} on {}", running.sensor_count(), running.what(),
                running.slave_path());
+  if (!setup.second_master.empty()) spdlog::info("second master on {}", setup.second_master);
   SimulatorConsole console(io, running, STDIN_FILENO,
                            [](const std::string& answer) { std::cout << answer << std::endl; });
   if (console.start()) spdlog::info("reading commands from standard input");
@@ -351,6 +352,13 @@ Subcommand add_sim(CLI::App& app, FamilyCommandsList commands) {
     command->add_flag("--shared-addresses", setup.shared_addresses,
                       "let sensors share an address, as on a bus commissioned by mistake: "
                       "their replies collide and arrive garbled");
+    command->add_option("--second-master", setup.second_master,
+                        "also serve a second master's pty on the same line, with this symlink "
+                        "to it (a warm-standby pair): each master hears the other and every "
+                        "reply, and bytes on the line at once collide");
+    command->add_option("--stats", setup.stats,
+                        "rewrite this file every 100 ms with the line's counters as JSON: "
+                        "bytes each master sent and received, collisions, device replies");
     entry.cli = command;
   }
   return {sim, [sims] {

@@ -42,6 +42,12 @@ struct SimulatorSetup {
   std::uint32_t listen_baud = 0;
   // Sensors may share an address, as on a bus commissioned by mistake: their replies collide.
   bool shared_addresses = false;
+  // A second master port on the same line, with this stable symlink (a warm-standby pair's
+  // other gateway); empty: one master.
+  std::string second_master{};
+  // A file the line's counters are rewritten to while it runs (serial/simulated_line_stats.h);
+  // empty: none.
+  std::string stats{};
   // The demo: angles move slowly, so a status page shows every sensor alive. Families whose
   // simulators always sway ignore it; tests leave it off to read exact values.
   bool sway = false;

@@ -2,7 +2,9 @@
 // serves (PtyBusServer), pacing and the reply latency, plugging, the counters, and what happens
 // when several simulated devices answer one request. A family's simulator builds on it with its
 // own framing and devices: it reads the bytes the master sent (receive), starts its framing
-// afresh on every (re)open (reset_framing), and sends what its devices answered.
+// afresh on every (re)open and after noise on the line (reset_framing), and sends what its
+// devices answered. A second master (a warm-standby pair's other gateway) may share the line,
+// and the line's counters may be rewritten to a file as it runs (serial/simulated_line_stats.h).
 //
 // Threading: the bus runs on the caller's io_context, which must outlive it. Call its methods
 // from the thread running that io_context (or through post()), or while it is not running.
@@ -19,6 +21,7 @@
 #include "driver/bus_simulator.h"
 #include "driver/expected.h"
 #include "serial/pty_bus_server.h"
+#include "serial/simulated_line_stats.h"
 
 namespace tiltgate {
 
@@ -33,10 +36,15 @@ struct SimulatedBusOptions {
   // A stable path re-pointed (atomically) at the current slave on every (re)open and removed
   // on unplug, since a new pseudo-terminal gets a new /dev/pts number. Empty: no link.
   std::string link_path;
+  // A second master on the line: its link path, empty for none (PtyBusServerOptions).
+  std::optional<std::string> second_master_link = std::nullopt;
+  // The line's counters rewritten to this file while it runs (serial/simulated_line_stats.h).
+  // Empty: none.
+  std::string stats_path{};
 };
 
 // The options every family's simulator takes from `tiltgate sim` and the demo: the link, the
-// pacing and the listening rate (0 in the setup: off).
+// pacing, the listening rate (0 in the setup: off), a second master and the stats file.
 void use_setup(const SimulatorSetup& setup, SimulatedBusOptions& options);
 
 struct SimulatedBusCounters {
@@ -52,20 +60,25 @@ class SimulatedBus : public BusSimulator {
   SimulatedBus(const SimulatedBus&) = delete;
   SimulatedBus& operator=(const SimulatedBus&) = delete;
 
-  // Opens a pseudo-terminal (and the link) and starts serving it.
+  // Opens every master's pseudo-terminal (and link) and starts serving them, and starts the
+  // stats file.
   Expected<Done, std::string> start() final;
-  // Closes the pseudo-terminal and removes the link: the gateway's next read or write on the
-  // slave fails as on an unplugged adapter. The devices keep their state (the bus stays powered).
-  void unplug() { server_.unplug(); }
-  // A new pseudo-terminal (a new slave path; the link follows it).
-  Expected<Done, std::string> replug() { return start(); }
-  // Stops serving for good; the destructor does it too.
-  void stop() final { unplug(); }
+  // Closes a master's pseudo-terminal (the first's by default) and removes its link: that
+  // gateway's next read or write on the slave fails as on an unplugged adapter. The devices
+  // keep their state (the bus stays powered).
+  void unplug(std::size_t master = 0) { server_.unplug(master); }
+  // A new pseudo-terminal for a master (a new slave path; the link follows it).
+  Expected<Done, std::string> replug(std::size_t master = 0);
+  // Stops serving for good, with a last write of the stats file; the destructor does it too.
+  void stop() final;
 
-  bool plugged() const { return server_.plugged(); }
+  bool plugged(std::size_t master = 0) const { return server_.plugged(master); }
   // The current slave path; empty while unplugged.
   const std::string& slave_path() const final { return server_.slave_path(); }
-  const std::string& link_path() const { return server_.link_path(); }
+  const std::string& slave_path(std::size_t master) const { return server_.slave_path(master); }
+  const std::string& link_path(std::size_t master = 0) const { return server_.link_path(master); }
+  // What the stats file says.
+  SimulatedLineStats line_stats() const;
 
  protected:
   // `bits_per_byte`: on the wire, for pacing (10 for 8N1; 11 for 8E1 and 9-bit framing).
@@ -74,7 +87,8 @@ class SimulatedBus : public BusSimulator {
 
   // Bytes as read from the master side: any split of what it wrote.
   virtual void receive(std::span<const std::uint8_t> bytes) = 0;
-  // A new pseudo-terminal: the framing starts afresh, as a new adapter would see.
+  // A new pseudo-terminal, or noise from masters that collided: the framing starts afresh, as
+  // a new adapter would see (and a device that heard noise drops the frame it was reading).
   virtual void reset_framing() = 0;
   // A reply as the master receives it when two devices drive the bus at once: this default
   // breaks its checksum (the last byte flipped).
@@ -117,6 +131,7 @@ class SimulatedBus : public BusSimulator {
   std::chrono::microseconds reply_latency_;
   std::chrono::steady_clock::time_point made_;
   SimulatedBusCounters counters_;
+  std::optional<SimulatedLineStatsFile> stats_file_;
   PtyBusServer server_;
 };
 

@@ -21,7 +21,6 @@
 
 using namespace tiltgate;
 using namespace std::chrono_literals;
-using tiltgate::test::kReplyDeadline;
 using tiltgate::test::RawTtyClient;
 using tiltgate::test::run_until;
 using tiltgate::test::ScratchDir;
@@ -52,24 +51,13 @@ struct EchoBus {
   }
 };
 
-// The first `count` bytes the client receives, or what came before the deadline.
-Bytes receive(RawTtyClient& client, std::size_t count,
-              std::chrono::milliseconds limit = kReplyDeadline) {
-  const auto enough = [&]() -> std::optional<Bytes> {
-    if (client.raw().size() < count) return std::nullopt;
-    return Bytes(client.raw().begin(), client.raw().begin() + count);
-  };
-  return client.wait_for(enough, [](std::span<const std::uint8_t>) {}, limit)
-      .value_or(client.raw());
-}
-
 }  // namespace
 
 TEST_CASE("bytes written on the slave reach the receiver and sends reach the slave") {
   EchoBus bus;
   RawTtyClient client(bus.io, bus.server->slave_path());
   client.send(Bytes{1, 2, 3, 0xFF});
-  CHECK(receive(client, 4) == Bytes{1, 2, 3, 0xFF});
+  CHECK(client.first_bytes(4) == Bytes{1, 2, 3, 0xFF});
   CHECK(bus.received == Bytes{1, 2, 3, 0xFF});
   CHECK(bus.server->counters().bytes_received == 4);
   CHECK(run_until(bus.io, [&] { return bus.server->counters().bytes_sent == 4; }));
@@ -83,7 +71,7 @@ TEST_CASE("sends go out at their own times: a late one holds up no one else's") 
   RawTtyClient client(io, server.slave_path());
   server.send_after(50ms, Bytes{'a'});
   server.send(Bytes{'b', 'c'});  // due at once, before 'a'
-  CHECK(receive(client, 3) == Bytes{'b', 'c', 'a'});
+  CHECK(client.first_bytes(3) == Bytes{'b', 'c', 'a'});
   CHECK(run_until(io, [&] { return completed == 2; }));
   CHECK(server.counters().sends_completed == 2);
   CHECK(server.counters().collisions == 0);
@@ -100,7 +88,7 @@ TEST_CASE("two paced sends that would be on the line at once collide and arrive 
   server.send_after(5ms, Bytes(10, 0x11));  // on the line from 5 to 15 ms
   server.send_after(10ms, Bytes(4, 0x22));  // from 10 to 14 ms: inside the first
   server.send_after(40ms, Bytes(2, 0x33));  // well after both
-  CHECK(receive(client, 16) == [] {
+  CHECK(client.first_bytes(16) == [] {
     Bytes expected(4, 0xDD);                // the second, broken, ends first
     expected.insert(expected.end(), 10, 0xEE);  // then the first, broken
     expected.insert(expected.end(), 2, 0x33);   // the third as sent
@@ -126,7 +114,7 @@ TEST_CASE("the link follows the slave over replug, replaces a stale link and goe
   CHECK(std::filesystem::read_symlink(link) == bus.server->slave_path());
   RawTtyClient client(bus.io, link);
   client.send(Bytes{42});
-  CHECK(receive(client, 1) == Bytes{42});
+  CHECK(client.first_bytes(1) == Bytes{42});
 }
 
 TEST_CASE("a file at the link path that is not a link is refused and kept") {
@@ -152,7 +140,7 @@ TEST_CASE("paced sends take at least their transmission time at the baud and bit
   const Bytes request(24, 0x55);
   const auto sent = std::chrono::steady_clock::now();
   client.send(request);
-  CHECK(receive(client, request.size()) == request);
+  CHECK(client.first_bytes(request.size()) == request);
   CHECK(std::chrono::steady_clock::now() - sent >= 110ms);
 }
 
@@ -160,7 +148,7 @@ TEST_CASE("unplug makes the slave side read as a lost adapter and drops later se
   EchoBus bus;
   RawTtyClient client(bus.io, bus.server->link_path());
   client.send(Bytes{7});
-  CHECK(receive(client, 1) == Bytes{7});
+  CHECK(client.first_bytes(1) == Bytes{7});
   // The client can read the echo before the loop has run the write's completion: wait for it,
   // or a busy machine unplugs first and the echo is never counted.
   REQUIRE(run_until(bus.io, [&] { return bus.server->counters().sends_completed == 1; }));
@@ -184,7 +172,7 @@ TEST_CASE("destroying the server with a send still waiting is safe") {
   // The aborted handlers run now, after the server is gone.
   bus.io.restart();
   bus.io.run_for(150ms);
-  CHECK(receive(client, 1, 50ms).empty());
+  CHECK(client.first_bytes(1, 50ms).empty());
 }
 
 TEST_CASE("a receiver may unplug the bus from inside its callback") {
@@ -221,7 +209,7 @@ TEST_CASE("a server that listens at one baud rate hears nothing sent at another"
 
   REQUIRE(apply_raw_settings(settings_fd, 19200, Parity::none, 1).has_value());
   client.send(Bytes{4, 5});
-  CHECK(receive(client, 2) == Bytes{4, 5});
+  CHECK(client.first_bytes(2) == Bytes{4, 5});
   CHECK(bus.received == Bytes{4, 5});
   ::close(settings_fd);
 }

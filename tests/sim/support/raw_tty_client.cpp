@@ -34,6 +34,21 @@ ssize_t RawTtyClient::read_once(int& error) {
   return n;
 }
 
+std::vector<std::uint8_t> RawTtyClient::first_bytes(std::size_t count,
+                                                    std::chrono::milliseconds limit) {
+  const auto enough = [&]() -> std::optional<std::vector<std::uint8_t>> {
+    if (raw_.size() < count) return std::nullopt;
+    return std::vector<std::uint8_t>(raw_.begin(), raw_.begin() + count);
+  };
+  return wait_for(enough, [](std::span<const std::uint8_t>) {}, limit).value_or(raw_);
+}
+
+std::vector<std::uint8_t> RawTtyClient::all_bytes_within(std::chrono::milliseconds limit) {
+  wait_for([]() -> std::optional<bool> { return std::nullopt; },
+           [](std::span<const std::uint8_t>) {}, limit);
+  return raw_;
+}
+
 void RawTtyClient::pump() {
   io_.restart();
   io_.run_for(std::chrono::milliseconds(2));

@@ -45,6 +45,12 @@ class RawTtyClient {
     }
   }
 
+  // The first `count` bytes received, or, when fewer came before `limit`, those.
+  std::vector<std::uint8_t> first_bytes(std::size_t count,
+                                        std::chrono::milliseconds limit = kReplyDeadline);
+  // Every byte received once `limit` has passed: what came, and that nothing more did.
+  std::vector<std::uint8_t> all_bytes_within(std::chrono::milliseconds limit = kSilence);
+
   // Every byte received so far, frames and garbage alike.
   const std::vector<std::uint8_t>& raw() const { return raw_; }
 
