@@ -13,6 +13,7 @@
 
 #include "config/config_loader.h"
 #include "config/machine_checks.h"
+#include "config/redundancy_warnings.h"
 #include "app/config_commands.h"
 #include "app/config_reload.h"
 #include "app/served_gateway.h"
@@ -80,8 +81,12 @@ std::optional<UnitMap> aggregate_unit(const Config& config, const AggregateConfi
 int check_command(const std::string& config_path, FamilyList families) {
   auto config = load_or_report(config_path, families, Checked::on_this_machine);
   if (!config) return 1;
-  // Not errors: the file is valid and runs; the line's settings may not keep its promise.
-  for (const std::string& warning : line_budget_warnings(*config, families))
+  // Not errors: the file is valid and runs; the line's settings may not keep its promise, nor
+  // a standby hear every line.
+  std::vector<std::string> warnings = line_budget_warnings(*config, families);
+  for (std::string& warning : redundancy_warnings(*config, families))
+    warnings.push_back(std::move(warning));
+  for (const std::string& warning : warnings)
     std::cerr << fmt::format("{}: warning: {}\n", visible_text(config_path), visible_text(warning));
   std::cout << fmt::format("{}: OK ({} bus(es), {} sensor(s){})\n", config_path,
                            config->buses.size(), config->sensors.size(),

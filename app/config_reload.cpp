@@ -4,6 +4,7 @@
 
 #include "config/config_loader.h"
 #include "config/machine_checks.h"
+#include "config/reload_checks.h"
 #include "driver/visible_text.h"
 
 namespace tiltgate {
@@ -14,7 +15,9 @@ namespace {
 // running gateway; an invalid one is refused with every error logged, as `check` prints them.
 void reload_or_refuse(Gateway& gateway, const std::string& config_path, FamilyList families) {
   spdlog::info("SIGHUP: reloading {}", visible_text(config_path));
-  auto loaded = checked_on_this_machine(load_config_file(config_path, families));
+  // A start-only table ([redundancy]) that the file changes refuses the reload.
+  auto loaded = checked_for_reload(
+      gateway.config(), checked_on_this_machine(load_config_file(config_path, families)));
   if (!loaded) {
     for (const ConfigError& error : loaded.error())
       spdlog::error("{}", visible_text(error.to_string()));

@@ -15,7 +15,8 @@ namespace {
 // for only there. Values are left out: a reader asks for every key it knows whether or not it
 // is given.
 std::string every_table(FamilyList families) {
-  std::string text = "[server]\n[http]\n[mqtt]\n[sparkplug]\n[audit]\n[[aggregate]]\n";
+  std::string text =
+      "[server]\n[http]\n[mqtt]\n[sparkplug]\n[audit]\n[redundancy]\n[[aggregate]]\n";
   for (const FamilyDescriptor* family : families)
     for (const ProtocolDescriptor& protocol : family->protocols)
       text += fmt::format("[[bus]]\nprotocol = \"{}\"\n", protocol.name);
@@ -47,6 +48,7 @@ AcceptedKeys accepted_keys(FamilyList families) {
   read_mqtt(*root["mqtt"].as_table(), ignored);
   read_sparkplug(*root["sparkplug"].as_table(), ignored);
   read_audit(*root["audit"].as_table(), ignored);
+  read_redundancy(*root["redundancy"].as_table(), ignored);
   read_each(root, "bus", [&](const toml::table& table, std::size_t i) {
     read_bus(table, "bus[" + std::to_string(i) + "]", ignored, families);
   });

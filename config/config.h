@@ -305,6 +305,23 @@ struct AuditConfig {
   bool operator==(const AuditConfig&) const = default;
 };
 
+// [redundancy] (docs/configuration.md, "[redundancy]"): a warm standby on the same line
+// (docs/operations.md, "Warm standby"). Read at start: a reload that changes it is refused.
+struct RedundancyConfig {
+  enum class Role { none, primary, standby };  // none: no [redundancy] section
+  Role role = Role::none;
+  std::string peer_host;   // the other gateway's Modbus TCP address ("HOST:PORT")
+  std::uint16_t peer_port = 0;
+  // Silence of the other master on every line before this gateway takes the lines.
+  std::chrono::milliseconds takeover{2000};
+  // A primary that finds the standby active takes its lines back once it has heard them for
+  // takeover; off: it stays standby until the active one stops.
+  bool failback = false;
+
+  bool enabled() const { return role != Role::none; }
+  bool operator==(const RedundancyConfig&) const = default;
+};
+
 struct Config {
   std::string path;                 // the file it came from
   ServerConfig server;
@@ -312,6 +329,7 @@ struct Config {
   MqttConfig mqtt;
   SparkplugConfig sparkplug;
   AuditConfig audit;
+  RedundancyConfig redundancy;
   std::vector<BusConfig> buses;
   std::vector<SensorConfig> sensors;
   std::vector<AggregateConfig> aggregates;

@@ -9,6 +9,7 @@
 #include "config/listeners.h"
 #include "config/map_files.h"
 #include "config/pass_through_checks.h"
+#include "config/redundancy_checks.h"
 #include "config/sections.h"
 #include "toml/text_file.h"
 #include "toml/toml_parse.h"
@@ -29,11 +30,12 @@ namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
 constexpr std::string_view kTopLevel =
-    "[server], [http], [mqtt], [sparkplug], [audit], [[bus]], [[sensor]] and [[aggregate]]";
+    "[server], [http], [mqtt], [sparkplug], [audit], [redundancy], [[bus]], [[sensor]] and "
+    "[[aggregate]]";
 
 std::string table_header(std::string_view name) {
   return name == "server" || name == "http" || name == "mqtt" || name == "sparkplug" ||
-                 name == "audit"
+                 name == "audit" || name == "redundancy"
              ? fmt::format("[{}]", name)
              : fmt::format("[[{}]]", name);
 }
@@ -62,8 +64,8 @@ void read_table_array(std::string_view name, const toml::key& key, const toml::n
 
 void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
   const bool is_table = node.is_table() || node.is_array_of_tables();
-  const std::vector<std::string> known{"server", "http",   "mqtt",      "sparkplug",
-                                       "audit",  "bus",    "sensor", "aggregate"};
+  const std::vector<std::string> known{"server", "http", "mqtt",   "sparkplug", "audit",
+                                       "redundancy", "bus", "sensor", "aggregate"};
   const std::string guess = closest_key(key.str(), known);
   std::string message = is_table ? "unknown table" : "unknown key at the top level";
   if (!guess.empty())
@@ -110,6 +112,7 @@ struct Sections {
   MqttConfig mqtt;
   SparkplugConfig sparkplug;
   AuditConfig audit;
+  std::optional<ParsedRedundancy> redundancy;  // none without the table
   std::optional<Place> sparkplug_at;  // where [sparkplug] was written, for check_feeds
   std::vector<ParsedBus> buses;
   std::vector<ParsedSensor> sensors;
@@ -130,6 +133,8 @@ Sections read_sections(const toml::table& root, ErrorList& errors, FamilyList fa
       read_section("sparkplug", key, node, errors, read.sparkplug, read_sparkplug);
     } else if (key == "audit") {
       read_section("audit", key, node, errors, read.audit, read_audit);
+    } else if (key == "redundancy") {
+      read_section("redundancy", key, node, errors, read.redundancy, read_redundancy);
     } else if (key == "bus") {
       read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
         read.buses.push_back(read_bus(table, std::move(path), errors, families));
@@ -164,6 +169,7 @@ ConfigErrors check_sections(const toml::table& root, Sections& read,
   check_tcp_ports(read.buses, read.server, errors);
   check_sensors(read.sensors, read.buses, errors, families);
   check_pass_through(read.buses, read.sensors, errors);
+  if (read.redundancy) check_takeover(*read.redundancy, read.buses, read.sensors, errors);
   // [server] state_dir is the feeds' default; their own key wins.
   if (!root.at_path("mqtt.state_dir")) read.mqtt.state_dir = read.server.state_dir;
   if (!root.at_path("sparkplug.state_dir")) read.sparkplug.state_dir = read.server.state_dir;
@@ -186,6 +192,7 @@ Config assemble(std::string path, Sections read) {
   config.mqtt = std::move(read.mqtt);
   config.sparkplug = std::move(read.sparkplug);
   config.audit = read.audit;
+  if (read.redundancy) config.redundancy = read.redundancy->config;
   for (ParsedBus& bus : read.buses) config.buses.push_back(std::move(bus.config));
   for (ParsedSensor& sensor : read.sensors) {
     sensor.config.address = std::uint32_t(sensor.address);  // range checked against its bus

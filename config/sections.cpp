@@ -1,15 +1,14 @@
 #include "config/sections.h"
 
-#include <arpa/inet.h>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <filesystem>
 #include <limits>
 #include <span>
 
+#include "config/host_names.h"
 #include "config/sensor_options.h"
 #include "driver/text_list.h"
 #include "driver/visible_text.h"
@@ -40,30 +39,6 @@ std::optional<AddressAllowList> read_allow_list(TableReader& in, std::string_vie
     return std::nullopt;
   }
   return std::move(*list);
-}
-
-bool is_ip_address(const std::string& text) {
-  unsigned char buffer[sizeof(in6_addr)];
-  return inet_pton(AF_INET, text.c_str(), buffer) == 1 ||
-         inet_pton(AF_INET6, text.c_str(), buffer) == 1;
-}
-
-// A DNS host name: dot-separated labels of 1 to 63 letters, digits and '-', not starting or
-// ending with '-', 253 characters at most (RFC 1123, 2.1).
-bool is_host_name(std::string_view text) {
-  if (text.empty() || text.size() > 253) return false;
-  std::size_t label = 0;
-  for (std::size_t i = 0; i <= text.size(); ++i) {
-    if (i == text.size() || text[i] == '.') {
-      if (label == 0 || label > 63 || text[i - 1] == '-' || text[i - label] == '-') return false;
-      label = 0;
-    } else if (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '-') {
-      ++label;
-    } else {
-      return false;
-    }
-  }
-  return true;
 }
 
 // [http] server_names: each a host name (letters, digits, '-' in dot-separated labels of at

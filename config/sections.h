@@ -1,7 +1,8 @@
 // Reading the kinds of table: [server], [http] and [[sensor]] (sections.cpp), [mqtt]
-// (mqtt_section.cpp), [sparkplug] (sparkplug_section.cpp), [[bus]] (bus_section.cpp). Each is checked on its own (types, ranges,
-// keys that depend on another key of the same table); checks across tables are in
-// config/cross_checks.h.
+// (mqtt_section.cpp), [sparkplug] (sparkplug_section.cpp), [audit] (audit_section.cpp),
+// [redundancy] (redundancy_section.cpp), [[bus]] (bus_section.cpp). Each is checked on its own
+// (types, ranges, keys that depend on another key of the same table); checks across tables are
+// in config/cross_checks.h.
 #pragma once
 
 #include <toml++/toml.h>
@@ -45,6 +46,13 @@ struct ParsedAggregate {
   Located where;
 };
 
+// [redundancy], with where its keys were written: its takeover_ms is checked against the
+// buses' polls once they are read (config/redundancy_checks.h).
+struct ParsedRedundancy {
+  RedundancyConfig config;
+  Located where;
+};
+
 // A state_dir key ([server], [mqtt], [sparkplug]): a directory, relative from the file's.
 void read_state_dir(TableReader& in, const std::string& file, std::string& state_dir);
 ServerConfig read_server(const toml::table& table, ErrorList& errors);
@@ -62,6 +70,8 @@ MqttConfig read_mqtt(const toml::table& table, ErrorList& errors);
 SparkplugConfig read_sparkplug(const toml::table& table, ErrorList& errors);
 // [audit] (audit_section.cpp).
 AuditConfig read_audit(const toml::table& table, ErrorList& errors);
+// [redundancy] (redundancy_section.cpp).
+ParsedRedundancy read_redundancy(const toml::table& table, ErrorList& errors);
 // Protocols, bauds, addresses and models come from the families' descriptors.
 ParsedBus read_bus(const toml::table& table, std::string path, ErrorList& errors,
                    FamilyList families);

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "config/config_loader.h"
+#include "config/reload_checks.h"
 #include "config/machine_checks.h"
 #include "console/console_reply.h"
 #include "gateway/config_diff.h"
@@ -80,6 +81,9 @@ HttpReply ConfigEndpoint::apply(const ConfigText& text, const std::string& user,
   if (window_ == nullptr)
     return failed(503, "this gateway has no confirmation window to apply under");
   auto loaded = checked_on_this_machine(load_config_string(text.text, path_, families_));
+  // A start-only table ([redundancy]) that the file changes is refused before it is written.
+  if (loaded && served.config != nullptr)
+    loaded = checked_for_reload(*served.config, std::move(loaded));
   if (!loaded) {
     outcome.result = "refused: the configuration has errors";
     return json_reply(422, json{{"ok", false},

@@ -37,6 +37,7 @@ const std::map<std::string, std::string> kSections{
     {"mqtt", "## `[mqtt]`"},
     {"sparkplug", "## `[sparkplug]`"},
     {"audit", "## `[audit]`"},
+    {"redundancy", "## `[redundancy]`"},
     {"bus", "## `[[bus]]`"},
     {"sensor", "## `[[sensor]]`"},
     {"sensor.mounting", "### `mounting`"},

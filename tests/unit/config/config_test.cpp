@@ -98,8 +98,8 @@ TEST_CASE("config: an unknown table is rejected, with a suggestion when one is c
   expect_error(valid_plus("[sensors]\nx = 1\n"), 10, "sensors",
                "unknown table; did you mean [[sensor]]?");
   expect_error(valid_plus("[logging]\nlevel = 1\n"), 10, "logging",
-               "unknown table; expected the tables [server], [http], [mqtt], [sparkplug], [audit], [[bus]], "
-               "[[sensor]] and [[aggregate]]");
+               "unknown table; expected the tables [server], [http], [mqtt], [sparkplug], [audit], "
+               "[redundancy], [[bus]], [[sensor]] and [[aggregate]]");
 }
 
 TEST_CASE("config: [bus] written as a single table asks for [[bus]]") {
