@@ -102,6 +102,10 @@ struct SensorState {
   // one ([[sensor]] serial): it is not that sensor, so nothing of it is served as the sensor's
   // (no readings taken, no writes sent) until the configured serial answers again (status bit 6).
   bool wrong_device = false;
+  // The gateway is the standby of a redundant pair (docs/operations.md, "Warm standby"): what
+  // it serves of the sensor was heard on the line, the active gateway's polls and the sensor's
+  // replies; nothing is sent to the sensor from here (status bit 7). Set as it is published.
+  bool standby = false;
   std::string firmware;
   // The model as the device itself reports it, where its driver reads one (a device
   // profile's [identity] model); empty: the driver's model() is all there is.

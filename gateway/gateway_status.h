@@ -236,6 +236,22 @@ struct ConsoleCounts {
   std::uint64_t sessions = 0;          // open now
 };
 
+// The redundant pair's state on this gateway (docs/operations.md, "Warm standby").
+struct RedundancyStatus {
+  std::string configured_role;  // "primary" or "standby": [redundancy] role
+  bool active = false;          // it transmits on its lines now; else it listens only
+  std::uint64_t takeovers = 0;  // times it took the lines since start
+  std::uint64_t step_downs = 0; // times it gave them up (a master heard, a stall, a reopen)
+  double since_seconds = 0;     // Unix time the current state began
+  std::string reason;           // why it is in it, in words
+  std::string peer;             // [redundancy] peer, HOST:PORT
+  std::int64_t takeover_ms = 0;
+  bool failback = false;
+  // Standby: how long since a request of the active master was last heard on any line; none
+  // before the first.
+  std::optional<std::int64_t> last_request_heard_ms;
+};
+
 struct GatewayStatus {
   std::vector<SensorStatus> sensors;
   std::vector<BusStatus> buses;
@@ -261,10 +277,14 @@ struct GatewayStatus {
   std::vector<ModbusExceptionCount> modbus_exceptions;
   std::optional<MqttStats> mqtt;      // none without [mqtt]
   std::optional<SparkplugStats> sparkplug;  // none without [sparkplug]
+  std::optional<RedundancyStatus> redundancy;  // none without [redundancy]
   std::vector<StoreStats> stores;     // the feeds' stores on disk
   AuditCounts audit;                  // the audit trail's records since start
   AuditHealth audit_health;           // its disk: records held, lost, refusing now
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
+  // When the configuration served now was loaded, start-up or the last reload, in local time
+  // as Gateway::loaded_at() has it ("2026-12-02 05:10:22").
+  std::string loaded_at{};
   // Descriptors open now and the limit of them (gateway/process_descriptors.h); none without
   // /proc.
   std::optional<double> process_open_fds;

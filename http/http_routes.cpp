@@ -1,6 +1,7 @@
 #include "http/http_routes.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "status/history_format.h"
 #include "status/status_json.h"
@@ -25,6 +26,12 @@ HttpReply text(unsigned status, std::string body) {
 }
 
 HttpReply json(std::string body) { return HttpReply{200, std::string(kJson), std::move(body)}; }
+
+// The wall clock as Unix seconds: /api/status's uptime counts from the Unix start time.
+double unix_seconds_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
 
 // GET /api/sensors/NAME/history and .../history.csv; `encoded_name` is still %-escaped.
 HttpReply history_reply(std::string_view encoded_name, bool csv, const HistorySource& history) {
@@ -116,6 +123,7 @@ HttpReply route_http(std::string_view method, std::string_view target,
   if (path == "/api/sensors") return json(sensors_json(status().sensors));
   if (path == "/api/buses") return json(buses_json(status().buses));
   if (path == "/api/modbus") return json(modbus_json(status()));
+  if (path == "/api/status") return json(gateway_state_json(status(), unix_seconds_now()));
   if (path.starts_with(kSensorPrefix)) {
     const std::string_view rest = path.substr(kSensorPrefix.size());
     if (rest.ends_with(kHistoryCsvSuffix))
@@ -133,7 +141,7 @@ HttpReply route_http(std::string_view method, std::string_view target,
   return text(404, "not found: the endpoints are / (with /status_page.css, /status_page.js, "
                    "/config_forms.js and /traffic_view.js), "
                    "/healthz, /api/sensors, /api/sensors/NAME, /api/sensors/NAME/history[.csv], "
-                   "/api/buses, /api/modbus and /metrics\n");
+                   "/api/buses, /api/modbus, /api/status and /metrics\n");
 }
 
 }  // namespace tiltgate

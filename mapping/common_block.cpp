@@ -46,7 +46,7 @@ struct InputRow {
 constexpr InputRow kStatusIdentityAndCounters[] = {
     {"status", 6, T::uint16, S::status, "",
      "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity unknown, bit 4 an "
-     "alarm is active, bit 5 answers late, bit 6 wrong device"},
+     "alarm is active, bit 5 answers late, bit 6 wrong device, bit 7 standby"},
     {"age_ms", 7, T::uint16, S::age_ms, "ms",
      "time since the last good reading, saturating at 65535"},
     {"polls_ok", 8, T::uint32, S::polls_ok, "", "measurement polls answered"},
@@ -87,7 +87,8 @@ void add_status_identity_and_counters(std::vector<Point>& points) {
 
 // Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit
 // order), 0 unless the sensor's [sensor] alarms configure them; 7 is "wrong device" (status
-// bit 6), after them so that the addresses of the older ones stay.
+// bit 6) and 8 "standby" (status bit 7), each after the others so that the addresses of the
+// older ones stay.
 struct DiscreteRow {
   const char* name;
   ValueSource source;
@@ -104,6 +105,9 @@ constexpr DiscreteRow kDiscreteInputs[] = {
     {"alarm_rate", S::alarm_rate, "an angle changes faster than alarms.rate_limit_deg_s"},
     {"wrong_device", S::wrong_device,
      "another device than the configured serial answers at the sensor's address"},
+    {"standby", S::standby,
+     "this gateway is the standby of a redundant pair: the values are heard from the active "
+     "gateway's polls"},
 };
 
 void add_discrete_inputs(std::vector<Point>& points) {

@@ -1,6 +1,6 @@
 // The register block every built-in map starts with, at the same addresses on every model, so
 // one PLC function block reads any inclinometer: input registers 0..37, holding registers
-// 0..7 and discrete inputs 0..7. A quantity a model does not have reads its "not available"
+// 0..7 and discrete inputs 0..8. A quantity a model does not have reads its "not available"
 // value (NaN, or the integer point's nan_value); a setting it does not have reads 0xFFFF (NaN
 // as a float) and refuses writes. Model-specific points start at address 100.
 #pragma once

@@ -28,6 +28,7 @@ std::uint16_t SensorView::status() const {
   if (alarms() != 0) bits |= status_bit::alarm_active;
   if (state.answers_late) bits |= status_bit::answers_late;
   if (state.wrong_device) bits |= status_bit::wrong_device;
+  if (state.standby) bits |= status_bit::standby;
   return bits;
 }
 

@@ -32,6 +32,8 @@ struct SensorView {
   bool stale() const;
   // The device answering is not the configured sensor (driver/sensor_state.h).
   bool wrong_device() const { return state.wrong_device; }
+  // The gateway is the standby of a redundant pair: what it serves was heard on the line.
+  bool standby() const { return state.standby; }
   std::uint16_t age_ms() const;  // 65535 when there never was a reading
   std::uint16_t status() const;
   std::uint16_t alarms() const;  // alarm_bit flags, 0 without derived state
@@ -47,6 +49,9 @@ constexpr std::uint16_t answers_late = 1 << 5;
 // Another device than the configured sensor answers at its address ([[sensor]] serial):
 // measurements read as `offline` says and writes are refused.
 constexpr std::uint16_t wrong_device = 1 << 6;
+// This gateway is the standby of a redundant pair (driver/sensor_state.h standby): the values
+// were heard on the line, the active gateway's polls and the sensor's replies, not asked for.
+constexpr std::uint16_t standby = 1 << 7;
 }  // namespace status_bit
 
 }  // namespace tiltgate

@@ -72,6 +72,7 @@ std::optional<double> status_value(ValueSource source, const SensorView& v) {
     case S::alarm_active: return bit_of(v.status(), status_bit::alarm_active);
     case S::answers_late: return bit_of(v.status(), status_bit::answers_late);
     case S::wrong_device: return bit_of(v.status(), status_bit::wrong_device);
+    case S::standby: return bit_of(v.status(), status_bit::standby);
     default: return std::nullopt;
   }
 }

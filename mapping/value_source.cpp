@@ -51,7 +51,7 @@ constexpr SourceRow kRows[] = {
     // The driver reports int32.
     {"raw_counts", S::raw_counts, kMeasurement | kCounter, kInt32Min, kInt32Max},
     {"raw_temperature", S::raw_temperature, kMeasurement | kCounter, kInt32Min, kInt32Max},
-    {"status", S::status, kCounter, 0, 127},  // seven status bits
+    {"status", S::status, kCounter, 0, 255},  // eight status bits
     {"online", S::online, kFlag, 0, 1},
     {"stale", S::stale, kFlag, 0, 1},
     {"last_write_failed", S::last_write_failed, kFlag, 0, 1},
@@ -59,6 +59,7 @@ constexpr SourceRow kRows[] = {
     {"alarm_active", S::alarm_active, kFlag, 0, 1},
     {"answers_late", S::answers_late, kFlag, 0, 1},
     {"wrong_device", S::wrong_device, kFlag, 0, 1},
+    {"standby", S::standby, kFlag, 0, 1},
     {"alarms", S::alarms, kCounter, 0, 63},  // six alarm bits
     {"alarm_x_high", S::alarm_x_high, kFlag, 0, 1},
     {"alarm_x_low", S::alarm_x_low, kFlag, 0, 1},

@@ -26,6 +26,7 @@ enum class ValueSource : std::uint8_t {
   alarm_active,
   answers_late,
   wrong_device,
+  standby,
   alarms,  // ... and the alarm_bit flags, as one integer or one bit each
   alarm_x_high,
   alarm_x_low,

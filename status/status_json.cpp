@@ -1,6 +1,7 @@
 #include "status/status_json.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace tiltgate {
@@ -117,6 +118,22 @@ Json bus_object(const BusStatus& b) {
               {"hint", b.hint ? Json(*b.hint) : Json(nullptr)}};
 }
 
+// The warm standby pair of [redundancy] as this gateway sees it (gateway/gateway_status.h
+// RedundancyStatus); null without the section.
+Json redundancy_object(const std::optional<RedundancyStatus>& r) {
+  if (!r) return nullptr;
+  return Json{{"configured_role", r->configured_role},
+              {"active", r->active},
+              {"takeovers", r->takeovers},
+              {"step_downs", r->step_downs},
+              {"since", json_number(r->since_seconds)},
+              {"reason", r->reason},
+              {"peer", r->peer},
+              {"takeover_ms", r->takeover_ms},
+              {"failback", r->failback},
+              {"last_request_heard_ms", json_integer(r->last_request_heard_ms)}};
+}
+
 }  // namespace
 
 std::string sensor_json(const SensorStatus& sensor) { return json_text(sensor_object(sensor)); }
@@ -138,6 +155,17 @@ std::string modbus_json(const GatewayStatus& s) {
                         {"requests_delayed", s.modbus_requests_delayed},
                         {"request_delay_seconds", s.modbus_request_delay_seconds},
                         {"http_denied", s.http_connections_denied}});
+}
+
+std::string gateway_state_json(const GatewayStatus& s, double now_seconds) {
+  // A gateway without [redundancy] is alone on its lines: active.
+  const bool standby = s.redundancy && !s.redundancy->active;
+  const double uptime = std::floor(std::max(0.0, now_seconds - s.process_start_seconds));
+  return json_text(Json{{"role", standby ? "standby" : "active"},
+                        {"redundancy", redundancy_object(s.redundancy)},
+                        {"uptime_s", json_number(uptime)},
+                        {"loaded_at", s.loaded_at.empty() ? Json(nullptr) : Json(s.loaded_at)},
+                        {"version", TILTGATE_VERSION}});
 }
 
 std::string buses_json(const std::vector<BusStatus>& buses) {

@@ -1,5 +1,5 @@
 // The JSON of the HTTP status API (docs/northbound.md, "HTTP status API and metrics"): /api/sensors,
-// /api/sensors/{name} and /api/buses. Pure: text from a GatewayStatus, written through
+// /api/sensors/{name}, /api/buses, /api/modbus and /api/status. Pure: text from a GatewayStatus, written through
 // status/json_values.h (strings escaped as RFC 8259 section 7 says, missing numbers null).
 #pragma once
 
@@ -31,5 +31,9 @@ std::string sensors_json(const std::vector<SensorStatus>& sensors);  // an array
 std::string buses_json(const std::vector<BusStatus>& buses);         // an array
 // The Modbus TCP server's connections and who was kept out: /api/modbus.
 std::string modbus_json(const GatewayStatus& status);
+// The gateway itself, /api/status: whether it is the active one or the standby of a redundant
+// pair, the pair's state, its uptime at `now_seconds` (Unix time), when its configuration was
+// loaded and its version.
+std::string gateway_state_json(const GatewayStatus& status, double now_seconds);
 
 }  // namespace tiltgate

@@ -300,6 +300,19 @@ const SparkplugSingle kSparkplugSingles[] = {
      [](const SparkplugStats& s) { return double(s.commands_delayed); }},
 };
 
+// A warm standby pair's ([redundancy]): which of the two holds the lines, and how often this one
+// took them, so an alert can fire on a takeover or on neither gateway being active.
+void add_redundancy_families(Exposition& out, const RedundancyStatus& pair) {
+  out.single("tiltgate_redundancy_active", "gauge",
+             "1 while this gateway is the active one of its redundant pair and polls its lines, "
+             "0 while it is the standby and only listens",
+             pair.active ? 1.0 : 0.0);
+  out.single("tiltgate_redundancy_takeovers_total", "counter",
+             "Times this gateway took its lines over from the other of its redundant pair since "
+             "start",
+             double(pair.takeovers));
+}
+
 void add_sparkplug_families(Exposition& out, const SparkplugStats& stats) {
   for (const SparkplugSingle& single : kSparkplugSingles)
     out.single(single.name, single.type, single.help, single.value(stats));
@@ -455,6 +468,7 @@ std::string metrics_text(const GatewayStatus& status) {
     for (const MqttSingle& single : kMqttSingles)
       out.single(single.name, single.type, single.help, single.value(*status.mqtt));
   if (status.sparkplug) add_sparkplug_families(out, *status.sparkplug);
+  if (status.redundancy) add_redundancy_families(out, *status.redundancy);
   add_store_families(out, status.stores);
   out.family("tiltgate_audit_records_total", "counter",
              "Changes recorded in the audit trail since start, by door (modbus, sparkplug, "

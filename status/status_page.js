@@ -5,6 +5,7 @@
 const POLL_MS = 400;        // about 2.5 updates a second
 const TIMEOUT_MS = 2500;    // a request not answered by then counts as the gateway unreachable
 const HISTORY_MS = 2000;    // an open graph is redrawn this often
+const STATUS_EVERY = 5;     // /api/status with every 5th poll: the role changes seldom
 // mapping/derived_state.h alarm_bit
 const ALARMS = [[1, "X high"], [2, "X low"], [4, "Y high"], [8, "Y low"], [16, "tilt high"],
                 [32, "rate of change"]];
@@ -286,15 +287,46 @@ function setReachable(ok) {
                             " \u2014 the values shown are from before then; retrying.";
 }
 
+// When something began, from Unix seconds: the time of day, and the date unless it is today.
+function sinceText(seconds) {
+  const date = new Date(seconds * 1000);
+  const today = date.toDateString() === new Date().toDateString();
+  return (today ? "" : date.toLocaleDateString() + " ") + clock(date);
+}
+
+// The gateway's role in a warm standby pair (/api/status "redundancy"); nothing without one.
+function renderPair(state) {
+  const el = $("pair");
+  const pair = state.redundancy;
+  if (!pair) { el.hidden = true; return; }
+  const standby = state.role === "standby";
+  const heard = pair.last_request_heard_ms;
+  const what = standby
+    ? "<b>Standby</b>: listening to the active gateway since " + esc(sinceText(pair.since)) + ", " +
+      (heard === null ? "no request heard yet" : "last request heard " + heard + " ms ago") +
+      " \u2014 the values shown are what it hears"
+    : "<b>Active</b> since " + esc(sinceText(pair.since));
+  const more = ["peer " + esc(pair.peer), "configured " + esc(pair.configured_role),
+                pair.takeovers + " takeover" + (pair.takeovers === 1 ? "" : "s")];
+  el.innerHTML = what + " <span class=\"muted\">(" + more.join(", ") + ")</span>";
+  el.title = pair.reason;
+  el.className = "pair " + (standby ? "standby" : "active");
+  el.hidden = false;
+}
+
 let lastBuses = [];
 let lastSensors = [];
+let polls = 0;
 async function poll() {
   if (document.body.dataset.state === "login") { setTimeout(poll, POLL_MS); return; }
   try {
-    const [sensors, buses] = await Promise.all([getJson("/api/sensors"), getJson("/api/buses")]);
+    const withStatus = polls++ % STATUS_EVERY === 0;
+    const [sensors, buses, state] = await Promise.all([
+      getJson("/api/sensors"), getJson("/api/buses"), withStatus ? getJson("/api/status") : null]);
     renderSensors(sensors);
     renderBuses(buses);
     renderSummary(sensors);
+    if (state) renderPair(state);
     lastBuses = buses;
     lastSensors = sensors;
     // renderScans: a panel for a bus the tab did not have yet (the tab opened before the first

@@ -182,7 +182,7 @@ def scenario(t):
     status, body = anonymous.request("GET", "/api/session")
     t.check("/api/session without a session: 401, and says the console has accounts",
             status == 401 and body.get("accounts") is True, (status, body))
-    for path in ("/api/sensors", "/api/buses", "/api/audit", "/api/config",
+    for path in ("/api/sensors", "/api/buses", "/api/status", "/api/audit", "/api/config",
                  "/api/sensors/boom/settings", "/api/buses/line1/scan"):
         status, _ = anonymous.request("GET", path)
         t.check("GET %s without a session: 401" % path, status == 401, status)
@@ -294,6 +294,10 @@ def scenario(t):
     carol.login("carol")
     status, _ = carol.request("GET", "/api/sensors")
     t.check("the viewer sees the sensors", status == 200, status)
+    status, body = carol.request("GET", "/api/status")
+    t.check("the viewer sees the gateway's own state: active, no redundant pair",
+            status == 200 and body.get("role") == "active" and body.get("redundancy") is None
+            and isinstance(body.get("uptime_s"), int), (status, body))
     status, _ = carol.request("POST", "/api/sensors/boom/settings",
                               {"setting": "filter", "value": 2})
     t.check("the viewer may change nothing: 403", status == 403, status)

@@ -38,6 +38,11 @@ TEST_CASE("HTTP routes: read-only, known endpoints only, unknown sensors 404") {
   CHECK(route_http("GET", "/api/sensors/m%61st", status).body == sensor_json(silent("mast")));
   CHECK(route_http("GET", "/api/sensors/m%6", status).status == 404);
   CHECK(route_http("GET", "/api/buses", status).body == buses_json(plant().buses));
+  const HttpReply state = route_http("GET", "/api/status", status);
+  CHECK(state.status == 200);
+  CHECK(state.content_type == "application/json");
+  CHECK(state.body.starts_with(R"({"role":"active","redundancy":null,"uptime_s":)"));
+  CHECK(route_http("POST", "/api/status", status).status == 405);
   const HttpReply metrics = route_http("GET", "/metrics", status);
   CHECK(metrics.content_type == kMetricsContentType);
   CHECK(metrics.body == metrics_text(plant()));

@@ -79,6 +79,10 @@ TEST_CASE("every model's map has the identical common block") {
     const SensorState state = online_state(now, 1, 2);
     CHECK(read_registers(map, view_of(state, now, model), RegisterTable::input, 0, 38));
     CHECK(read_registers(map, view_of(state, now, model), RegisterTable::holding, 0, 8));
+    // Discrete inputs 0..8: online, the six alarm flags, wrong_device and standby.
+    const auto bits = read_bits(map, view_of(state, now, model), RegisterTable::discrete, 0, 9);
+    CHECK(bits.has_value());
+    CHECK_FALSE(read_bits(map, view_of(state, now, model), RegisterTable::discrete, 9, 1));
     CHECK(map.validate(registered_families(), model).empty());
   }
   const RegisterMap dyna = default_map(registered_families(), "dyna");

@@ -187,6 +187,24 @@ TEST_CASE("map files: problems of built-in points are reported at extends") {
               "built-in point \"zero_y\": write: model \"h4360\" does not accept writes of zero_y");
 }
 
+TEST_CASE("map files: standby is a source a map file names, as a bit or packed with others") {
+  const std::string map_text =
+      "[sensor.map]\nextends = \"default\"\n" + point("heard", "discrete", 20, "bool", "standby") +
+      "[[sensor.map.point]]\nname = \"flags\"\ntable = \"input\"\naddress = 100\n"
+      "type = \"uint16\"\nbits = [\"online\", \"wrong_device\", \"standby\"]\n";
+  std::string text = config_with(map_text);
+  // point() writes a [[point]] header; inline, it is [[sensor.map.point]].
+  text.replace(text.find("[[point]]"), 9, "[[sensor.map.point]]");
+  auto loaded = load_config_string(text, "test.toml", registered_families());
+  INFO((loaded ? std::string() : joined(loaded.error())));
+  REQUIRE(loaded.has_value());
+  const RegisterMap map = build_map(registered_families(), loaded->sensors[0].map, "h6");
+  CHECK(map.find("heard")->source == ValueSource::standby);
+  CHECK(map.find("flags")->bits.back() == ValueSource::standby);
+  CHECK(map.find("standby")->address == 8);  // the built-in discrete input, kept
+  CHECK(map.validate(registered_families(), "h6").empty());
+}
+
 TEST_CASE("map files: remove must name a built-in point, and a map needs points") {
   expect_only(errors_of_text(config_with("map = { extends = \"default\", remove = [\"nope\"] }\n")),
               "test.toml", 10, "sensor[0].map.remove",

@@ -200,6 +200,49 @@ TEST_CASE("a wrong device answering reads as offline says, with status bit 6 and
   CHECK((*bits)[0] == false);
 }
 
+TEST_CASE("the standby of a redundant pair serves what it heard, with status bit 7 and discrete input 8") {
+  const RegisterMap map = default_map(registered_families(), "h6");
+  const auto now = SteadyClock::now();
+  auto state = sensor_at(now, 1.5, -2.25);  // heard on the line: the active gateway's poll
+  state.standby = true;
+  const SensorView view{state, now, 1000ms, {}};
+  // Served as a reading of its own would be: the values are the sensor's, only heard.
+  const Words w = read(map, view, 0, 7);
+  CHECK(get_float32(std::span(w).first<2>(), WordOrder::big) == 1.5f);
+  CHECK(w[6] == (status_bit::online | status_bit::standby));
+  CHECK(status_bit::standby == 0x80);
+  auto bits = read_bits(map, view, RegisterTable::discrete, 0, 9);
+  REQUIRE(bits.has_value());
+  CHECK(*bits == std::vector<bool>{true, false, false, false, false, false, false, false, true});
+  CHECK(map.find("standby")->table == RegisterTable::discrete);
+  CHECK(map.find("standby")->address == 8);
+
+  state.standby = false;  // taken over: active, polling itself
+  CHECK(read(map, view, 6, 1)[0] == status_bit::online);
+  bits = read_bits(map, view, RegisterTable::discrete, 8, 1);
+  REQUIRE(bits.has_value());
+  CHECK((*bits)[0] == false);
+}
+
+TEST_CASE("a map's status point holds all eight status bits") {
+  // A uint16 packing every one-bit status source, and the status word itself, agree.
+  Point packed = input("flags", 0, PointType::uint16, ValueSource::bits);
+  packed.bits = {ValueSource::online,       ValueSource::stale,        ValueSource::last_write_failed,
+                 ValueSource::identity_unknown, ValueSource::alarm_active, ValueSource::answers_late,
+                 ValueSource::wrong_device, ValueSource::standby};
+  const RegisterMap map({packed, input("status", 1, PointType::uint16, ValueSource::status)});
+  const auto now = SteadyClock::now();
+  auto state = sensor_at(now, 1, 1);
+  state.wrong_device = true;
+  state.standby = true;
+  const Words w = read(map, SensorView{state, now, 1000ms, {}}, 0, 2);
+  CHECK(w[0] == w[1]);
+  CHECK(w[1] == (status_bit::online | status_bit::wrong_device | status_bit::standby));
+  CHECK(source_range(ValueSource::status, AngleUnit::degrees).max == 255);
+  CHECK(is_bit_source(ValueSource::standby));
+  CHECK_FALSE(is_measurement(ValueSource::standby));
+}
+
 TEST_CASE("a write through a scaled, word-swapped point is decoded before the range check") {
   Point zero;
   zero.name = "zero_x_cdeg";

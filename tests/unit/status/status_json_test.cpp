@@ -122,3 +122,61 @@ TEST_CASE("JSON: /api/modbus counts the connections and who was kept out") {
         "\"max_client_requests_per_s\":5000,\"requests_delayed\":11,"
         "\"request_delay_seconds\":0.25,\"http_denied\":2}");
 }
+
+namespace {
+
+// A standby that has heard the active gateway's request 180 ms ago, as Gateway::status() fills
+// it in.
+RedundancyStatus listening_standby() {
+  RedundancyStatus pair;
+  pair.configured_role = "standby";
+  pair.active = false;
+  pair.takeovers = 2;
+  pair.step_downs = 1;
+  pair.since_seconds = 1700000100;
+  pair.reason = "the primary polls the lines";
+  pair.peer = "10.0.0.5:502";
+  pair.takeover_ms = 2000;
+  pair.failback = true;
+  pair.last_request_heard_ms = 180;
+  return pair;
+}
+
+}  // namespace
+
+TEST_CASE("JSON: /api/status of a gateway without [redundancy] is active, with its uptime") {
+  GatewayStatus status = plant();  // started at 1700000000.5
+  status.loaded_at = "2026-12-02 05:10:22";
+  const Json state = Json::parse(gateway_state_json(status, 1700000100.25));
+  CHECK(state["role"] == "active");
+  CHECK(state["redundancy"].is_null());
+  CHECK(state["uptime_s"] == 99);  // whole seconds
+  CHECK(state["loaded_at"] == "2026-12-02 05:10:22");
+  CHECK(state["version"].is_string());
+  CHECK_FALSE(state["version"].get<std::string>().empty());
+  std::vector<std::string> keys;
+  for (const auto& item : state.items()) keys.push_back(item.key());
+  CHECK(keys == std::vector<std::string>{"role", "redundancy", "uptime_s", "loaded_at", "version"});
+  // Before anyone says when the configuration was loaded: null, not "".
+  CHECK(Json::parse(gateway_state_json(plant(), 0))["loaded_at"].is_null());
+  CHECK(Json::parse(gateway_state_json(plant(), 0))["uptime_s"] == 0);  // a clock set back
+}
+
+TEST_CASE("JSON: /api/status of a standby shows its pair, and which of the two polls now") {
+  GatewayStatus status = plant();
+  status.redundancy = listening_standby();
+  const std::string text = gateway_state_json(status, 1700000200);
+  CHECK(text.starts_with(
+      R"({"role":"standby","redundancy":{"configured_role":"standby","active":false,)"
+      R"("takeovers":2,"step_downs":1,"since":1700000100,"reason":"the primary polls the lines",)"
+      R"("peer":"10.0.0.5:502","takeover_ms":2000,"failback":true,"last_request_heard_ms":180},)"
+      R"("uptime_s":199,)"));
+
+  status.redundancy->last_request_heard_ms.reset();  // nothing heard yet
+  CHECK(Json::parse(gateway_state_json(status, 0))["redundancy"]["last_request_heard_ms"].is_null());
+
+  status.redundancy->active = true;  // taken over: the standby by configuration is active now
+  const Json taken = Json::parse(gateway_state_json(status, 0));
+  CHECK(taken["role"] == "active");
+  CHECK(taken["redundancy"]["configured_role"] == "standby");
+}

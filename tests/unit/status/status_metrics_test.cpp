@@ -157,6 +157,7 @@ TEST_CASE("metrics: every sample follows a HELP and TYPE of its own name, in the
   status.mqtt = MqttStats{12, 3, 5, true, 1, {}};
   status.sparkplug = SparkplugStats{true, 42, 1, 2, 3, 4, 5};
   status.stores.push_back(StoreStats{"sparkplug", 4096, 7, 8, 9});
+  status.redundancy = RedundancyStatus{};
   std::istringstream lines(metrics_text(status));
   std::string line, helped, typed, kind;
   std::set<std::string> families;
@@ -214,4 +215,23 @@ TEST_CASE("metrics: a sensor's exchanges attempt by attempt, and what each bus's
   CHECK(has("tiltgate_bus_black_box_bytes{bus=\"line1\"} 9000"));
   CHECK(has("# TYPE tiltgate_bus_black_box_bytes gauge"));
   CHECK(has("tiltgate_bus_black_box_dropped_total{bus=\"line1\"} 2"));
+}
+
+TEST_CASE("metrics: the redundant pair's series only when [redundancy] is configured") {
+  GatewayStatus status = plant();
+  CHECK(metrics_text(status).find("tiltgate_redundancy_") == std::string::npos);
+  status.redundancy = RedundancyStatus{};
+  status.redundancy->configured_role = "primary";
+  status.redundancy->active = true;
+  status.redundancy->takeovers = 3;
+  std::string text = metrics_text(status);
+  CHECK(text.find("# HELP tiltgate_redundancy_active ") != std::string::npos);
+  CHECK(text.find("# TYPE tiltgate_redundancy_active gauge\ntiltgate_redundancy_active 1\n") !=
+        std::string::npos);
+  CHECK(text.find("# HELP tiltgate_redundancy_takeovers_total ") != std::string::npos);
+  CHECK(text.find("# TYPE tiltgate_redundancy_takeovers_total counter\n"
+                  "tiltgate_redundancy_takeovers_total 3\n") != std::string::npos);
+  status.redundancy->active = false;  // stepped down: the standby, listening
+  text = metrics_text(status);
+  CHECK(text.find("tiltgate_redundancy_active 0\n") != std::string::npos);
 }
