@@ -5,6 +5,7 @@
 
 #include "app/audit_journal.h"
 #include "app/journal_log.h"
+#include "app/redundant_pair.h"
 #include "commission_wire/requested_command.h"
 #include "control/capture_runner.h"
 #include "driver/family_commands.h"
@@ -57,11 +58,30 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
       control_(gateway_,
                with_capture(requested_command_runner(families, registered_family_commands()))) {
+  redundancy_ = make_redundant_pair(io.get_executor(), config, families, gateway_);
+  if (redundancy_) feed_while_active();
   gateway_.set_audit(audit_);
   gateway_.attach(control_);
   gateway_.attach(http_);
   gateway_.attach(mqtt_);
   gateway_.attach(sparkplug_);
+}
+
+void ServedGateway::feed_while_active() {
+  // A host must see one source of live data, never two Sparkplug edge nodes of one id: every
+  // gateway of a pair starts as the standby, so neither feed starts with the gateway. The
+  // controller's first word comes on the event loop, which runs only after start_as_user().
+  mqtt_.pause();
+  sparkplug_.pause();
+  redundancy_->on_role_change([this](bool active) {
+    if (active) {
+      mqtt_.resume();
+      sparkplug_.resume();
+    } else {
+      mqtt_.pause();
+      sparkplug_.pause();
+    }
+  });
 }
 
 void ServedGateway::start_as_user() {
@@ -79,6 +99,7 @@ GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   if (status.mqtt) status.stores.push_back(status.mqtt->store);
   status.sparkplug = sparkplug_.stats();
   if (auto store = sparkplug_.store_stats()) status.stores.push_back(*store);
+  if (redundancy_) status.redundancy = redundancy_->status();
   return status;
 }
 

@@ -10,6 +10,7 @@
 #include "config/config.h"
 #include "control/control_service.h"
 #include "gateway/gateway.h"
+#include "redundancy/redundancy_controller.h"
 #include "mqtt/mqtt_service.h"
 #include "sparkplug/sparkplug_service.h"
 #include "console/confirm_window.h"
@@ -35,12 +36,19 @@ class ServedGateway {
   GatewayStatus status(SteadyClock::time_point now) const;
 
  private:
+  // With [redundancy]: the MQTT feed and the Sparkplug edge node run only while this gateway
+  // is the active one of its pair.
+  void feed_while_active();
+
   // Before the gateway: the buses' writes and the services record into it until they stop.
   // So it goes last, and its destructor writes every record still queued for its writer
   // thread before the process exits (AuditTrail::close).
   AuditTrail audit_{""};
   // Before the console, which applies through it; after the trail, which it records in.
   ConfirmWindow confirm_window_;
+  // With [redundancy]: who keeps the lines (app/redundant_pair.h), made once the gateway is;
+  // goes after it, whose stop() stops it.
+  std::unique_ptr<RedundancyController> redundancy_;
   Gateway gateway_;  // first: the services refer to it, and go before it
   HttpService http_;
   MqttService mqtt_;

@@ -122,7 +122,9 @@ void LineListener::stop() {
   stopped_ = true;
   deadline_.cancel();
   boost::system::error_code ignored;
-  stream_.cancel(ignored);
+  // Closed, not only cancelled: the tty and its lock are free at once for whoever opens it
+  // next (a standby taking its line opens it to transmit).
+  stream_.close(ignored);
 }
 
 bool LineListener::bytes_waiting() {

@@ -145,7 +145,17 @@ struct LineTiming {
   std::uint32_t bytes_in = 0;
   std::uint32_t overruns = 0;
   std::uint32_t uart_errors = 0;
+  // When the reply's last byte came, where the line knows it better than the moment
+  // transact() returns (a standby's line: the reply was heard earlier, redundancy/heard_line.h).
+  // A reading is dated with it.
+  std::optional<std::chrono::steady_clock::time_point> reply_at;
 };
+
+// When a reply taken on `timing`'s transaction arrived: its own time where the line knows it,
+// else now.
+inline std::chrono::steady_clock::time_point reply_time(const LineTiming& timing) {
+  return timing.reply_at.value_or(std::chrono::steady_clock::now());
+}
 
 class Line {
  public:
@@ -169,6 +179,10 @@ class Line {
   // How many seconds of its frames the line's black box keeps (capture/black_box.h); zero
   // when none does (a command's line).
   virtual std::chrono::seconds frames_kept() const { return std::chrono::seconds{0}; }
+  // A standby's line (redundancy/heard_line.h): it sends nothing and answers each request with
+  // what the active master's same request got, when that is heard. A driver then takes no
+  // answer to its identity request as "not heard yet", not as a silent sensor.
+  virtual bool listens_only() const { return false; }
   virtual std::chrono::milliseconds longest_attempt(std::chrono::milliseconds timeout,
                                                     std::size_t request_bytes) const {
     (void)request_bytes;

@@ -75,6 +75,9 @@ boost::asio::awaitable<void> PolledSensorDriver::poll(Line& line) {
     holding_online_ = false;
     settings_owed_ = !reachable;
   }
+  // A standby's line answers only what it heard the active master ask: an identity or setting
+  // not asked since it listens says nothing of the sensor, whose measurement is still heard.
+  if (line.listens_only()) reachable = true;
   if (reachable && !state_.wrong_device) {
     co_await read_measurement(line);
   } else {

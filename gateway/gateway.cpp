@@ -93,6 +93,7 @@ std::shared_ptr<Gateway::Bus> Gateway::make_bus(const BusConfig& config) {
   SerialLineOptions options = serial_options_from(families_, config);
   options.exclusive = true;
   bus->black_box = std::make_shared<BlackBox>(config.black_box);
+  bus->config = config;
   bus->line = make_serial_line(io_.get_executor(), options);
   bus->line->record_frames_to(bus->black_box.get());
   bus->scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus->line, config.name);
@@ -166,7 +167,10 @@ void Gateway::start_as_user() {
 }
 
 void Gateway::start_bus(const std::shared_ptr<Bus>& bus) {
-  bus->line->start();
+  if (line_keeper_.start)
+    line_keeper_.start(bus->config, *bus->line, *bus->scheduler);
+  else
+    bus->line->start();
   boost::asio::co_spawn(io_, run_bus(bus), boost::asio::detached);
 }
 
@@ -187,6 +191,7 @@ void Gateway::stop() {
   sample_timer_.cancel();
   listeners_.stop();
   for (GatewayService* service : services_) service->stop();
+  if (line_keeper_.stop) line_keeper_.stop();
   for (const auto* buses : {&buses_, &retired_buses_})
     for (const auto& bus : *buses) {
       bus->scheduler->stop();
@@ -253,6 +258,7 @@ std::vector<std::size_t> Gateway::reload_buses(const Config& loaded, const Confi
   // Removed and changed buses: no more polls; their queued writes finish, then the tty closes.
   for (auto& bus : old_buses) {
     if (!bus) continue;
+    if (line_keeper_.retire) line_keeper_.retire(*bus->scheduler);
     bus->scheduler->retire();
     retired_buses_.push_back(std::move(bus));
   }
@@ -319,6 +325,7 @@ void Gateway::record_counters(SteadyClock::time_point now) {
 
 GatewayStatus Gateway::status(SteadyClock::time_point now) const {
   GatewayStatus status;
+  status.loaded_at = loaded_at_;
   status.audit = audit_->counts();
   status.audit_health = audit_->health();
   for (std::size_t i = 0; i < sensors_.size(); ++i) {

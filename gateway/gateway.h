@@ -8,6 +8,7 @@
 #include <boost/asio/awaitable.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -37,6 +38,16 @@ class Gateway {
   // Started, reloaded and stopped with the gateway from now on, after the core (stopped
   // before it). The service must outlive the gateway's event loop.
   void attach(GatewayService& service);
+
+  // Who opens the buses' lines. By default each opens as its bus starts; a redundant pair's
+  // controller (redundancy/redundancy_controller.h) takes them instead, and opens them only
+  // while this gateway is the active one. Set before start().
+  struct LineKeeper {
+    std::function<void(const BusConfig&, SerialLine&, BusScheduler&)> start;  // a bus starts
+    std::function<void(const BusScheduler&)> retire;  // a reload retired it
+    std::function<void()> stop;                       // the gateway stops
+  };
+  void keep_lines_with(LineKeeper keeper) { line_keeper_ = std::move(keeper); }
 
   // Opens the buses (a missing tty is not fatal: it is retried with back-off) and binds the
   // Modbus listeners (fatal: the error says why), then starts the attached services.
@@ -95,6 +106,7 @@ class Gateway {
   struct Bus {
     // What its line carried lately; before the line, which records into it.
     std::shared_ptr<BlackBox> black_box;
+    BusConfig config;
     std::unique_ptr<SerialLine> line;
     std::unique_ptr<BusScheduler> scheduler;
   };
@@ -152,6 +164,7 @@ class Gateway {
   std::unique_ptr<TcpWorkerPool> tcp_workers_;
   ModbusListeners listeners_;
   std::vector<GatewayService*> services_;
+  LineKeeper line_keeper_;
   double start_seconds_ = 0;  // Unix time of construction
   boost::asio::steady_timer sample_timer_;
   bool stopping_ = false;

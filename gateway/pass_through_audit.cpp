@@ -29,6 +29,7 @@ std::string result_text(const ForwardResult& result) {
     case ForwardFailure::busy: return "error: the bus's queue of passed-through requests was full";
     case ForwardFailure::expired: return "error: not sent before [server] write_timeout_ms";
     case ForwardFailure::unframed: return "error: the bus's protocol cannot carry it";
+    case ForwardFailure::standby: return "error: this gateway is the standby, which sends nothing";
   }
   return "error";
 }

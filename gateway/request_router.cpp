@@ -290,6 +290,7 @@ ModbusException exception_for(ForwardFailure failure) {
     case ForwardFailure::expired:
     case ForwardFailure::no_response: return ModbusException::gateway_target_failed;
     case ForwardFailure::unframed: return ModbusException::device_failure;
+    case ForwardFailure::standby: return ModbusException::gateway_path_unavailable;
   }
   return ModbusException::device_failure;
 }

@@ -8,6 +8,7 @@ const char* to_string(ForwardFailure failure) {
     case ForwardFailure::expired: return "bus too busy: not sent in time";
     case ForwardFailure::no_response: return "no reply";
     case ForwardFailure::unframed: return "cannot be forwarded on this bus";
+    case ForwardFailure::standby: return "not sent: this gateway is the standby";
   }
   return "unknown";
 }

@@ -17,6 +17,7 @@ enum class ForwardFailure {
   expired,      // still queued at its deadline (0x0B)
   no_response,  // sent, but no reply: time-out, port closed or failed; or stopping (0x0B)
   unframed,     // the bus's protocol cannot frame it, or cannot forward at all (0x04)
+  standby,      // the gateway is the standby of a redundant pair: it sends nothing (0x0A)
 };
 const char* to_string(ForwardFailure failure);
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/post.hpp>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/use_awaitable.hpp>
 #include <exception>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -118,7 +121,15 @@ asio::awaitable<void> BusScheduler::keep_polling(std::shared_ptr<Polled> polled)
   LineClaimant line(line_, TurnKind::poll, polled->sensor.get(), std::nullopt);
   polled->poller = &line;
   while (!polled->removed) {
+    if (heard_ != nullptr) {
+      co_await listen(*polled);
+      continue;
+    }
     if (co_await line.wait_turn(due_of(*polled)) != TurnGrant::granted) break;
+    if (heard_ != nullptr) {  // the bus began listening while it waited: nothing is sent
+      line.finish();
+      continue;
+    }
     std::exception_ptr failure;
     try {
       co_await poll(*polled, line);
@@ -166,6 +177,48 @@ asio::awaitable<void> BusScheduler::poll(Polled& polled, LineClaimant& line) {
   const bool answered = sensor->driver->state().online || !line_.line().is_open();
   polled.schedule = after_poll(polled.schedule, answered, sensor->config.poll, max_backoff,
                                SteadyClock::now());
+}
+
+void BusScheduler::listen_to(HeardSource* heard) {
+  heard_ = heard;
+  for (const auto& polled : sensors_) {
+    polled->sensor->standby = heard != nullptr;
+    polled->sensor->publish();
+  }
+}
+
+asio::awaitable<void> BusScheduler::listen(Polled& polled) {
+  HeardSource* heard = heard_;
+  if (polled.heard_from != heard || !polled.heard_line) {
+    polled.heard_line = heard->line_for_poller();
+    polled.heard_from = heard;
+  }
+  const std::shared_ptr<GatewaySensor> sensor = polled.sensor;
+  sensor->standby = true;
+  std::exception_ptr failure;
+  try {
+    co_await sensor->driver->poll(*polled.heard_line);
+    ++stats_.polls;
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  process_new_reading(*sensor);
+  sensor->publish();
+  if (failure) {
+    ++stats_.poll_failures;
+    spdlog::error("{}: reading sensor \"{}\" from what was heard failed: {}", name_,
+                  sensor->config.name, exception_text(failure));
+    asio::steady_timer pause(executor(), kPollFailurePause);
+    boost::system::error_code ignored;
+    co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ignored));
+    co_return;
+  }
+  if (heard_ == heard) co_await heard->pace(*polled.heard_line);
+  if (heard_ != heard) {
+    polled.heard_line.reset();  // the line taken, or another source: start afresh
+    polled.heard_from = nullptr;
+    sensor->standby = heard_ != nullptr;
+  }
 }
 
 void BusScheduler::process_new_reading(GatewaySensor& sensor) {
@@ -218,6 +271,13 @@ WriteResult BusScheduler::check_address_free(const GatewaySensor& sensor, WriteT
 asio::awaitable<WriteResult> BusScheduler::write(SensorWrite write,
                                                  SteadyClock::time_point deadline) {
   if (WriteResult admitted = write.admit(*this); !admitted) co_return admitted;
+  if (heard_ != nullptr) {
+    WriteError standby{WriteErrorKind::device_exception,
+                       "this gateway is the standby of a redundant pair: write through the "
+                       "active one"};
+    standby.device_exception = 0x0A;  // gateway path unavailable: this path sends nothing
+    co_return write.fail(*this, std::move(standby));
+  }
   const WriteError unanswered{WriteErrorKind::no_response, "sensor not answering: not sent"};
   if (line_.stopped())
     co_return write.fail(*this, {WriteErrorKind::no_response, "gateway stopping"});
@@ -265,6 +325,7 @@ asio::awaitable<ForwardResult> BusScheduler::forward(std::uint8_t slave,
                                                      SteadyClock::time_point deadline,
                                                      std::uint64_t client) {
   if (line_.stopped() || retiring_) co_return Unexpected{ForwardFailure::no_response};
+  if (heard_ != nullptr) co_return Unexpected{ForwardFailure::standby};
   if (!forward_admitted(client)) {
     ++stats_.forwards_busy;
     co_return Unexpected{ForwardFailure::busy};
@@ -320,6 +381,10 @@ asio::awaitable<CommandExchangeResult> BusScheduler::exchange_for_command(
   CommandExchangeResult result;
   result.done = Unexpected{LineError::cancelled};
   if (line_.stopped() || retiring_) co_return result;
+  if (heard_ != nullptr) {  // a standby sends nothing, a command's transaction included
+    result.done = Unexpected{LineError::closed};
+    co_return result;
+  }
   LineClaimant line(line_, TurnKind::command, nullptr, deadline);
   const TurnGrant grant = co_await line.wait_turn();
   if (grant == TurnGrant::refused) co_return result;

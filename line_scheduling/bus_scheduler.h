@@ -26,6 +26,7 @@
 #include "driver/sensor_driver.h"
 #include "line_scheduling/bus_answers.h"
 #include "line_scheduling/gateway_sensor.h"
+#include "line_scheduling/heard_source.h"
 #include "line_scheduling/line_claimant.h"
 #include "line_scheduling/poll_schedule.h"
 #include "line_scheduling/sensor_write.h"
@@ -84,6 +85,16 @@ class BusScheduler {
   // Everyone still waiting is answered as refused; the work holding the line finishes (the
   // line's own stop() cancels it). Its sensors are let go.
   void stop();
+
+  // The gateway is the standby of a redundant pair (docs/operations.md, "Warm standby"): its
+  // sensors' pollers read `heard` instead of the line, nothing is sent, and the sensors are
+  // published as standby (SensorState::standby). Writes, forwarded requests and commands are
+  // refused meanwhile (0x0A: the active gateway's path). Null: the pollers take turns on the
+  // line again (the gateway took the lines); the caller ends the waits on the source it gave.
+  // A poller waiting for its turn when the bus starts listening sends nothing: it finds the
+  // bus listening once its turn comes.
+  void listen_to(HeardSource* heard);
+  bool listening() const { return heard_ != nullptr; }
 
   // Where the writes it carries out are recorded (line_scheduling/sensor_write.h); none until given
   // (a scheduler tested on its own).
@@ -183,10 +194,16 @@ class BusScheduler {
     std::chrono::nanoseconds line_time_logged{0};
     std::uint64_t failures = 0;  // polls that threw (poll_failed())
     std::optional<SteadyClock::time_point> failure_logged;
+    // Its line while the bus listens, and the source it reads (listen_to()).
+    std::unique_ptr<Line> heard_line;
+    HeardSource* heard_from = nullptr;
   };
 
-  // The poller of one sensor: waits for its due turn, polls, publishes, schedules the next.
+  // The poller of one sensor: waits for its due turn, polls, publishes, schedules the next;
+  // while the bus listens, reads what was heard instead.
   boost::asio::awaitable<void> keep_polling(std::shared_ptr<Polled> polled);
+  // One poll of the sensor from what was heard, published, and the wait for the next.
+  boost::asio::awaitable<void> listen(Polled& polled);
   // Polls the sensor and publishes what it read.
   boost::asio::awaitable<void> poll(Polled& polled, LineClaimant& line);
   void poll_failed(Polled& polled, LineClaimant& line, std::exception_ptr failure);
@@ -222,6 +239,7 @@ class BusScheduler {
   ForwardFactory make_forward_ = nullptr;
   std::size_t max_queued_forwards_ = kMaxQueuedForwards;
   bool retiring_ = false;  // retire(): the queued writes, then stop
+  HeardSource* heard_ = nullptr;  // listen_to()
   BusSchedulerStats stats_;  // but busy, which the line keeps
 };
 

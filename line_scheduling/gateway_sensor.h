@@ -50,12 +50,17 @@ struct GatewaySensor {
   // A late reply of the sensor may still come until then (the line was given to others before
   // its late-reply window closed, line_scheduling/line_claimant.h): nothing is sent to it before.
   SteadyClock::time_point quiet_until{};
+  // Its bus listens to the active gateway of a redundant pair (BusScheduler::listen_to()):
+  // published as SensorState::standby.
+  bool standby = false;
 
   // Bus thread: copies state, derived values and written registers into a new snapshot, after
   // anything changed them (a poll, a write, a moved address).
   void publish() {
-    published.publish(std::make_shared<const SensorSnapshot>(
-        SensorSnapshot{driver->state(), processing.derived(), written}));
+    auto snapshot = std::make_shared<SensorSnapshot>(
+        SensorSnapshot{driver->state(), processing.derived(), written});
+    snapshot->state.standby = standby;
+    published.publish(std::move(snapshot));
   }
   // Any thread: the latest published snapshot (the first is published by BusScheduler::add()).
   std::shared_ptr<const SensorSnapshot> snapshot() const { return published.get(); }

@@ -208,7 +208,7 @@ asio::awaitable<void> RtuDriver::read_measurement(Line& line) {
   reading.angle_x = value_named(values, "angle_x");
   reading.angle_y = value_named(values, "angle_y");
   for (const NamedValue& value : values) reading.device_values.push_back(value.value);
-  reading.taken = SteadyClock::now();
+  reading.taken = reply_time(line.last_timing());
   state_.reading = reading;
   ++state_.sample_seq;
   ++state_.counters.polls_ok;

@@ -16,8 +16,14 @@ MqttService::MqttService(boost::asio::any_io_executor executor, StatusSource sta
 MqttService::~MqttService() = default;
 
 void MqttService::make_feed() {
-  if (!config_.enabled) return;
+  if (!config_.enabled || paused_) return;
   feed_ = std::make_unique<MqttFeed>(executor_, status_, config_);
+}
+
+void MqttService::retire_feed() {
+  if (!feed_) return;
+  feed_->stop();
+  retired_.add(std::move(feed_));
 }
 
 void MqttService::start_as_user() {
@@ -31,14 +37,23 @@ void MqttService::start_as_user() {
 
 bool MqttService::reload(const Config& loaded, const ConfigDiff& diff) {
   if (!diff.mqtt_changed) return false;
-  if (feed_) {
-    feed_->stop();
-    retired_.add(std::move(feed_));
-  }
+  retire_feed();
   config_ = loaded.mqtt;
   make_feed();
   start_as_user();
-  return true;
+  return !paused_;  // paused: nothing restarted, the new table waits for resume()
+}
+
+void MqttService::pause() {
+  paused_ = true;
+  retire_feed();
+}
+
+void MqttService::resume() {
+  if (!paused_) return;
+  paused_ = false;
+  make_feed();
+  start_as_user();
 }
 
 void MqttService::stop() {

@@ -186,7 +186,7 @@ asio::awaitable<void> RiekerDriver::read_measurement(Line& line) {
   Reading reading;
   reading.angle_x = *angles->x;
   reading.angle_y = angles->y ? double(*angles->y) : NAN;
-  reading.taken = SteadyClock::now();
+  reading.taken = reply_time(line.last_timing());
   state_.reading = reading;
   ++state_.sample_seq;
   ++state_.counters.polls_ok;

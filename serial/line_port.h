@@ -52,6 +52,9 @@ class LinePort {
   // none while it is open, before any failure, and on a tty (which logs its own reasons).
   virtual std::optional<PortFailure> failure() const { return std::nullopt; }
   virtual bool stopped() const = 0;
+  // Undoes stop(): the port may be opened again (a redundant pair's gateway that gave up its
+  // lines takes them back). False where a stopped port cannot come back (a network port).
+  virtual bool resume() { return false; }
   // Successful opens so far.
   virtual std::uint64_t generation() const = 0;
   // For the reads and writes; closed (and every operation on it failing) while the port is.
@@ -67,6 +70,13 @@ class LinePort {
   // Drops what was received and not read yet (line noise, a late answer) before a request:
   // how many bytes it dropped, where the port can tell (0 where it cannot).
   virtual Expected<std::size_t, std::string> discard_input() = 0;
+  // The same, but what was received is appended to `into` where the port can read it without
+  // waiting (a tty); elsewhere it is dropped as discard_input() does. For a redundant pair's
+  // guard, which must see another master's requests (redundancy/master_guard.h).
+  virtual Expected<std::size_t, std::string> take_input(std::vector<std::uint8_t>& into) {
+    (void)into;
+    return discard_input();
+  }
   // The bytes to write for `bytes` (the same span on a tty; a Telnet port's escaped copy,
   // valid until the next call).
   virtual std::span<const std::uint8_t> outgoing(std::span<const std::uint8_t> bytes) {

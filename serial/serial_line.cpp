@@ -144,6 +144,7 @@ asio::awaitable<Expected<Done, LineError>> SerialLine::transact(LineRequest requ
       case Attempt::replied: co_return Done{};
       case Attempt::failed: co_return Unexpected(LineError::io);
       case Attempt::cancelled: co_return Unexpected(LineError::cancelled);
+      case Attempt::withheld: co_return Unexpected(LineError::closed);
       case Attempt::overloaded: co_return Unexpected(LineError::overloaded);
       case Attempt::timed_out:
         if (attempts_left <= 1) co_return Unexpected(LineError::timeout);
@@ -249,10 +250,12 @@ asio::awaitable<SerialLine::Attempt> SerialLine::attempt(const LineRequest& requ
   heard_ = false;
   // Bytes that arrived since the last reply (a late answer, line noise) would be taken for
   // the start of this reply.
-  auto flushed = port_->discard_input();
+  received_before_.clear();
+  auto flushed = send_check_ ? port_->take_input(received_before_) : port_->discard_input();
   if (!flushed) co_return port_failure(flushed.error());
   stats_.stray_bytes += *flushed;
   stats_.bytes_in += *flushed;
+  if (send_check_ && !send_check_(received_before_)) co_return Attempt::withheld;
   ++stats_.attempts;
   const auto sent_at = std::chrono::system_clock::now();
   const std::optional<Attempt> send_failure = co_await send(request);

@@ -138,6 +138,9 @@ class SerialLine final : public Line {
   // Opens the port. A port that cannot be opened yet is not an error: it is logged and retried
   // in the background with back-off. Returns whether the port is open now.
   bool start();
+  // Opens the line again after stop() (a redundant pair's gateway takes its lines back); false
+  // where its port cannot come back (a device server's).
+  bool restart() { return port_->resume() && (start(), true); }
   // Closes the port and cancels everything: a suspended transact() returns cancelled, and so
   // does every later one. A stopped line does not start again.
   void stop();
@@ -166,6 +169,12 @@ class SerialLine final : public Line {
   // low_latency is off).
   const std::optional<LowLatencyResult>& low_latency() const { return port_->low_latency(); }
   void observe_writes(WriteObserver observer) { write_observer_ = std::move(observer); }
+  // Asked before each request goes out, with what the line received since the last exchange
+  // (read where the port can, not dropped unread): false keeps the request back, nothing sent
+  // (LineError::closed). A redundant pair's active gateway stops at once when it hears another
+  // master (redundancy/master_guard.h).
+  using SendCheck = std::function<bool(std::span<const std::uint8_t> received)>;
+  void check_before_sending(SendCheck check) { send_check_ = std::move(check); }
   // Every frame the line carries from now on goes to `recorder` (capture/black_box.h), which
   // must outlive the line; null stops it. Stray bytes flushed before a request are counted
   // (LineStats::stray_bytes), not recorded: they are dropped unread.
@@ -174,7 +183,8 @@ class SerialLine final : public Line {
   void check_delivery_with(DeliveryCheck check) { delivery_check_ = std::move(check); }
 
  private:
-  enum class Attempt { replied, timed_out, overloaded, failed, cancelled };
+  // withheld: the send check (check_before_sending()) kept it back.
+  enum class Attempt { replied, timed_out, overloaded, failed, cancelled, withheld };
 
   // A probe through the kernel taking this long means the machine was behind.
   static constexpr std::chrono::milliseconds kMachineBehind{2};
@@ -240,6 +250,8 @@ class SerialLine final : public Line {
   LineStats stats_;
   LineTiming timing_;
   WriteObserver write_observer_;
+  SendCheck send_check_;
+  std::vector<std::uint8_t> received_before_;  // what the send check is shown
   DeliveryCheck delivery_check_;
   std::optional<Clock::time_point> overload_logged_at_;
   // The frames it carries, for its recorder (record_frames_to), and the current attempt's

@@ -96,6 +96,21 @@ Expected<std::size_t, std::string> TtyPort::discard_input() {
   return std::size_t(std::max(waiting, 0));
 }
 
+Expected<std::size_t, std::string> TtyPort::take_input(std::vector<std::uint8_t>& into) {
+  std::size_t taken = 0;
+  std::uint8_t chunk[256];
+  for (;;) {  // the descriptor is non-blocking (open_now)
+    const ssize_t got = ::read(stream_.native_handle(), chunk, sizeof chunk);
+    if (got > 0) {
+      into.insert(into.end(), chunk, chunk + got);
+      taken += std::size_t(got);
+      continue;
+    }
+    if (got == 0 || errno == EAGAIN || errno == EWOULDBLOCK) return taken;
+    if (errno != EINTR) return Unexpected(errno_text(errno));
+  }
+}
+
 Expected<Done, std::string> TtyPort::switch_parity(Parity parity) {
   auto applied = apply_parity(stream_.native_handle(), parity, options_.termios_ioctl);
   if (!applied) return Unexpected(applied.error().message());

@@ -79,6 +79,12 @@ class TtyPort final : public LinePort {
   Expected<std::size_t, std::string> write_now(std::span<const std::uint8_t> bytes) override;
   // TCIFLUSH.
   Expected<std::size_t, std::string> discard_input() override;
+  bool resume() override {
+    stopped_ = false;
+    return true;
+  }
+  // Non-blocking reads until the kernel holds nothing more.
+  Expected<std::size_t, std::string> take_input(std::vector<std::uint8_t>& into) override;
   std::optional<UartCounts> uart_counts() override;
   // Stick parity through termios, and tcdrain (serial/termios_settings.h).
   Expected<Done, std::string> switch_parity(Parity parity) override;

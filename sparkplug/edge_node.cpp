@@ -86,7 +86,7 @@ void EdgeNode::post(Handler handler) {
   });
 }
 
-Expected<Done, std::string> EdgeNode::start() {
+Expected<Done, std::string> EdgeNode::start(std::optional<std::uint8_t> last_bd_seq) {
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec)
@@ -104,8 +104,13 @@ Expected<Done, std::string> EdgeNode::start() {
     else if (*cleared)
       spdlog::warn("Sparkplug: {}: {}", dir_.string(), **cleared);
   }
-  auto last = read_bd_seq(dir_ / "bdSeq");
-  if (!last) spdlog::warn("Sparkplug: {}; bdSeq starts again at 0", last.error());
+  // The edge node before this one in the process may have used a bdSeq the disk refused.
+  if (!last_bd_seq) {
+    if (auto stored = read_bd_seq(dir_ / "bdSeq"); stored)
+      last_bd_seq = *stored;
+    else
+      spdlog::warn("Sparkplug: {}; bdSeq starts again at 0", stored.error());
+  }
   auto backlog =
       DdataBacklog::open(dir_ / "store", std::uint64_t(config_.buffer_mb * 1024 * 1024));
   if (!backlog) return Unexpected(fmt::format("state_dir: the store: {}", backlog.error()));
@@ -117,8 +122,9 @@ Expected<Done, std::string> EdgeNode::start() {
   std::vector<std::string> devices;
   for (const SensorConfig& sensor : gateway_.config().sensors) devices.push_back(sensor.name);
   auto session = EdgeNodeSession::create(session_options(config_, gateway_), std::move(devices),
-                                         last ? *last : std::nullopt);
+                                         last_bd_seq);
   if (!session) return Unexpected(session.error());
+  last_bd_seq_ = last_bd_seq;
   session_.emplace(std::move(*session));
   backlog_.emplace(std::move(*backlog));
 
@@ -171,6 +177,7 @@ std::optional<MqttWill> EdgeNode::prepare_connect() {
 
 std::optional<MqttWill> EdgeNode::begin_connect() {
   const Will will = session_->begin_connect(now());
+  last_bd_seq_ = will.bd_seq;
   // Stored before the CONNECT that uses it: after a restart the next one is one more
   // (tck-id-topics-nbirth-bdseq-increment). One the disk refuses does not keep the node
   // offline: the session's next bdSeq, held in memory, still goes up by one at each CONNECT,

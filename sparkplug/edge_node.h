@@ -46,11 +46,16 @@ class EdgeNode {
   EdgeNode& operator=(const EdgeNode&) = delete;
 
   // Opens state_dir (created if missing: an error when it cannot be created or written), reads
-  // the last bdSeq and starts the client, which connects on its own.
-  Expected<Done, std::string> start();
+  // the last bdSeq and starts the client, which connects on its own. `last_bd_seq`: that of the
+  // edge node this process ran before this one (its last_bd_seq()), taken over the stored one,
+  // which is older when the disk refused to store it.
+  Expected<Done, std::string> start(std::optional<std::uint8_t> last_bd_seq);
   // NDEATH and a clean DISCONNECT when connected; call before the event loop is stopped.
   void stop();
 
+  // The bdSeq of its last will (whose CONNECT may not have gone out), else the one it started
+  // from: the next edge node of the process goes on from it.
+  std::optional<std::uint8_t> last_bd_seq() const { return last_bd_seq_; }
   SparkplugStats stats() const;
   std::optional<StoreStats> store_stats() const;
   // Stopped, and no DCMD write of its is still waiting for its sensor's bus: nothing refers to
@@ -101,6 +106,7 @@ class EdgeNode {
   std::chrono::steady_clock::time_point store_error_logged_at_{};
   std::chrono::steady_clock::time_point bd_seq_error_logged_at_{};
   std::optional<std::uint8_t> stored_bd_seq_;  // what state_dir's bdSeq file holds
+  std::optional<std::uint8_t> last_bd_seq_;    // of the last will, else what start() began from
   std::uint64_t drops_logged_ = 0;
   std::chrono::steady_clock::time_point drops_logged_at_{};
 };

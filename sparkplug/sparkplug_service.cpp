@@ -31,15 +31,24 @@ SparkplugService::~SparkplugService() = default;
 
 void SparkplugService::make_node() {
   devices_ = sensor_names(gateway_.config());
-  if (!config_.enabled) return;
+  if (!config_.enabled || paused_) return;
   node_ = std::make_unique<sparkplug::EdgeNode>(executor_, gateway_, families_, config_);
+}
+
+void SparkplugService::retire_node() {
+  retry_.cancel();
+  started_ = false;
+  if (!node_) return;
+  node_->stop();
+  if (const auto bd_seq = node_->last_bd_seq()) last_bd_seq_ = bd_seq;
+  retired_.add(std::move(node_));
 }
 
 void SparkplugService::start_as_user() {
   retry_.cancel();
   started_ = false;
   if (!node_) return;
-  if (auto started = node_->start(); !started) {
+  if (auto started = node_->start(last_bd_seq_); !started) {
     spdlog::error("Sparkplug edge node off: {}; tried again every {} s", started.error(),
                   StartRetry::kInterval.count());
     retry_.schedule([this] { return start_again(); });
@@ -50,10 +59,10 @@ void SparkplugService::start_as_user() {
 
 bool SparkplugService::start_again() {
   // A node whose start failed is not used again: a new one, as at a reload.
-  retired_.add(std::move(node_));
+  retire_node();
   make_node();
   if (!node_) return true;
-  if (auto started = node_->start(); !started) {
+  if (auto started = node_->start(last_bd_seq_); !started) {
     spdlog::debug("Sparkplug edge node still off: {}", started.error());
     return false;
   }
@@ -73,21 +82,31 @@ bool SparkplugService::reload(const Config& loaded, const ConfigDiff& diff) {
   // A node that could not start (its state_dir not writable) is tried again: fixing the folder
   // needs no restart.
   const bool off = node_ && !started_;
-  // Off before and after: the sensors may change, but there is no edge node to restart.
-  if (!node_ && !loaded.sparkplug.enabled) {
+  // Off before and after, or paused (resume() makes the node anew): the sensors may change,
+  // but there is no edge node to restart.
+  if (paused_ || (!node_ && !loaded.sparkplug.enabled)) {
     config_ = loaded.sparkplug;
     devices_ = sensor_names(loaded);
     return false;
   }
   if (!off && !diff.sparkplug_changed && sensor_names(loaded) == devices_) return false;
-  if (node_) {
-    node_->stop();
-    retired_.add(std::move(node_));
-  }
+  retire_node();
   config_ = loaded.sparkplug;
   make_node();
   start_as_user();
   return true;
+}
+
+void SparkplugService::pause() {
+  paused_ = true;
+  retire_node();
+}
+
+void SparkplugService::resume() {
+  if (!paused_) return;
+  paused_ = false;
+  make_node();
+  start_as_user();
 }
 
 void SparkplugService::stop() {

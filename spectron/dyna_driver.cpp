@@ -134,7 +134,7 @@ asio::awaitable<void> DynaDriver::read_measurement(Line& line) {
   reading.raw_temperature = temperature->number;
   reading.angle_x = (counts->number - options_.zero_counts) / options_.counts_per_degree;
   reading.angle_y = NAN;  // single axis
-  reading.taken = SteadyClock::now();
+  reading.taken = reply_time(line.last_timing());
   state_.reading = reading;
   ++state_.sample_seq;
   ++state_.counters.polls_ok;

@@ -19,7 +19,7 @@ if ! grep -rqiE "$pattern" "${sources[@]}" rieker spectron modbus_rtu; then
 fi
 
 rooms=(config mapping gateway line_scheduling serial driver doors modbus_tcp status http mqtt control commission app sparkplug settings console accounts audit
-       store device_server capture capture_cli)
+       store device_server capture capture_cli redundancy)
 hits=$(grep -rniE "$pattern" "${sources[@]}" "${rooms[@]}")
 if [ -n "$hits" ]; then
   echo "core sources name a sensor family (move it into the family's descriptor):"

@@ -1,0 +1,240 @@
+#!/usr/bin/env python3
+"""A warm standby on the same line (issue 56, docs/operations.md "Warm standby"): one simulated
+RS485 line with two master ports (`tiltgate sim rieker --second-master`), a primary gateway on
+one and a standby on the other, the same configuration but [redundancy] role. Read with pymodbus
+as a PLC would:
+
+- the standby serves every unit warm from what it hears (the angles right, online, the reading's
+  age within the primary's poll period plus 50 ms), status bit 7 and discrete input 8 say
+  standby, /api/status says so, and it transmits nothing (the simulator's byte count of its
+  port stays 0) while the primary runs;
+- a write on the standby is refused (0x0A) and nothing is sent;
+- SIGSTOP of the primary for longer than takeover_ms: the standby takes the line (its first
+  request measured against the primary's last), the PLC reading through it sees fresh readings;
+  SIGCONT: the old primary stands down (it was held up) instead of fighting, and listens;
+- SIGKILL of whichever is active: the other takes over;
+- a reload of the active gateway keeps it active; one that changes [redundancy] is refused;
+- no collision on the line in the whole test.
+
+Usage: /usr/bin/python3 warm_standby_test.py path/to/tiltgate
+"""
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+import urllib.request
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+import spb_path  # noqa: F401,E402
+from network_plant import Gateway, ModbusReader, bus, close_to  # noqa: E402
+from spb_e2e import processes  # noqa: E402
+from spb_e2e.checks import Checks, arguments  # noqa: E402
+from spb_e2e.processes import wait_until  # noqa: E402
+
+POLL_MS = 100
+TAKEOVER_MS = 1000
+ANGLES = {223: (12.5, -3.25), 224: (-4.0, 7.5)}
+
+
+class TwoMasterSim:
+    """`tiltgate sim rieker` with two master ports on one line and its counters in a file."""
+
+    def __init__(self, tiltgate, scratch_dir):
+        self.link = os.path.join(scratch_dir, "primary-tty")
+        self.second = os.path.join(scratch_dir, "standby-tty")
+        self.stats_path = os.path.join(scratch_dir, "line-stats.json")
+        self.err_path = os.path.join(scratch_dir, "sim.err")
+        argv = [tiltgate, "sim", "rieker", "--sensors", "h6:223,h6:224", "--link", self.link,
+                "--second-master", self.second, "--stats", self.stats_path]
+        self.process = processes.start(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                       stderr=open(self.err_path, "w"), text=True, bufsize=1)
+        self.process.stdout.readline()
+        if not wait_until(lambda: os.path.exists(self.second) and os.path.exists(self.stats_path), 5):
+            raise RuntimeError("the simulator did not start:\n" + processes.tail(self.err_path))
+
+    def command(self, line):
+        self.process.stdin.write(line + "\n")
+        self.process.stdin.flush()
+        return self.process.stdout.readline().strip()
+
+    def stats(self):
+        for _ in range(20):
+            try:
+                with open(self.stats_path) as f:
+                    return json.load(f)
+            except (OSError, ValueError):
+                time.sleep(0.05)
+        return {}
+
+    def sent(self, index):
+        masters = self.stats().get("masters", [])
+        return masters[index].get("bytes_sent") if len(masters) > index else None
+
+
+def status(gateway):
+    try:
+        return json.loads(urllib.request.urlopen(
+            "http://127.0.0.1:%d/api/status" % gateway.http_port, timeout=3).read())
+    except OSError:
+        return {}
+
+
+def role(gateway):
+    return status(gateway).get("role")
+
+
+def age_of(plc, unit):
+    """Input register 7, age_ms: how old the reading served is; None when the read fails."""
+    r = plc.client.read_input_registers(7, 1, slave=unit)
+    return None if r.isError() else r.registers[0]
+
+
+def add_redundancy(gateway, my_role, peer):
+    with open(gateway.config_path) as f:
+        text = f.read()
+    with open(gateway.config_path, "w") as f:
+        f.write(text.replace("[server]\n", "[server]\nwrites = true\n", 1))
+    with open(gateway.config_path, "a") as f:
+        f.write('\n[redundancy]\nrole = "%s"\npeer = "127.0.0.1:%d"\ntakeover_ms = %d\n'
+                % (my_role, peer.modbus_port, TAKEOVER_MS))
+
+
+def scenario(t):
+    tiltgate, _ = arguments()
+    sim = TwoMasterSim(tiltgate, t.dir)
+    t.logs.append(("simulator", sim.err_path))
+    for address, (x, y) in ANGLES.items():
+        t.check("the simulator takes the angles of %d" % address,
+                sim.command("angle %d %s %s" % (address, x, y)) == "ok")
+    sensors = [("s%d" % a, "h6", a, i + 1, {"poll_ms": POLL_MS}) for i, a in enumerate(ANGLES)]
+    # Each its own folder: its own state_dir, as two boxes have.
+    for name in ("primary", "standby"):
+        os.makedirs(os.path.join(t.dir, name))
+    primary = Gateway(tiltgate, os.path.join(t.dir, "primary"),
+                      [bus("line1", sim.link, "rieker", sensors)], name="primary")
+    standby = Gateway(tiltgate, os.path.join(t.dir, "standby"),
+                      [bus("line1", sim.second, "rieker", sensors)], name="standby")
+    add_redundancy(primary, "primary", standby)
+    add_redundancy(standby, "standby", primary)
+    t.logs.append(("primary", primary.log_path))
+    t.logs.append(("standby", standby.log_path))
+    checked = subprocess.run([tiltgate, "check", "--config", standby.config_path],
+                             capture_output=True, text=True)
+    t.check("tiltgate check accepts the standby's configuration", checked.returncode == 0,
+            checked.stdout + checked.stderr)
+
+    primary.start()
+    t.check("the primary, alone on the line, takes it after takeover_ms",
+            wait_until(lambda: role(primary) == "active", 10), (status(primary), primary.log()))
+    standby.start()
+    plc_primary = ModbusReader(primary.modbus_port)
+    plc = ModbusReader(standby.modbus_port)
+
+    def warm(unit, address):
+        got = plc.read(unit)
+        x, y = ANGLES[address]
+        return got is not None and got.online and close_to(got.x, x) and close_to(got.y, y)
+
+    for unit, address in enumerate(ANGLES, 1):
+        t.check("the standby serves unit %d warm: online, its angles as the sensor's" % unit,
+                wait_until(lambda: warm(unit, address), 10), (plc.read(unit), standby.log()))
+    t.check("/api/status on the standby: role standby",
+            role(standby) == "standby", status(standby))
+    r = plc.client.read_input_registers(6, 2, slave=1)
+    t.check("the standby's status word has bit 7 (standby) set",
+            not r.isError() and r.registers[0] & 0x80 != 0, r)
+    ages = []
+    for _ in range(30):  # a little over a second, out of step with the polls
+        ages.append(age_of(plc, 1))
+        time.sleep(0.037)
+    t.check("the standby's readings are no older than the poll period plus 50 ms "
+            "(30 reads, the oldest %s ms)" % max(ages, key=lambda a: a or 0),
+            None not in ages and max(ages) <= POLL_MS + 50, ages)
+    d = plc.client.read_discrete_inputs(8, 1, slave=1)
+    t.check("the standby's discrete input 8 (standby) is on", not d.isError() and d.bits[0], d)
+    d = plc_primary.client.read_discrete_inputs(8, 1, slave=1)
+    t.check("the primary's discrete input 8 is off", not d.isError() and not d.bits[0], d)
+    w = plc.client.write_register(0, 3, slave=1)  # filter 3
+    t.check("a write on the standby is refused with 0x0A",
+            w.isError() and getattr(w, "exception_code", None) == 0x0A, w)
+    t.check("the standby sent nothing on the line while the primary ran",
+            sim.sent(1) == 0, sim.stats())
+
+    # SIGSTOP the primary for longer than takeover_ms: the standby takes the line. The PLC
+    # reads through the standby all along.
+    before = sim.sent(1)
+    os.kill(primary.process.pid, signal.SIGSTOP)
+    stopped_at = time.monotonic()
+    ages, primary_sent, took_s = [], None, None
+    while time.monotonic() < stopped_at + 2.0:
+        ages.append(age_of(plc, 1))
+        since = time.monotonic() - stopped_at
+        if primary_sent is None and since > 0.3:  # the counts file is rewritten every 100 ms
+            primary_sent = sim.sent(0)
+        if took_s is None and role(standby) == "active":
+            took_s = since
+        time.sleep(0.04)
+    t.check("with the primary stopped, the standby takes the line (%s s after SIGSTOP)"
+            % (None if took_s is None else round(took_s, 2)),
+            took_s is not None, (status(standby), standby.log()))
+    t.check("the standby's first requests go out", wait_until(lambda: sim.sent(1) > before, 5),
+            sim.stats())
+    t.check("the standby's first request within takeover_ms + a poll period of the primary's "
+            "last, give or take this test's own polling",
+            took_s is not None and took_s <= (TAKEOVER_MS + POLL_MS) / 1000 + 0.3, took_s)
+    t.check("the primary sent nothing while stopped", sim.sent(0) == primary_sent, sim.stats())
+    t.check("the PLC reading through the standby never saw a reading older than takeover_ms + "
+            "2 poll periods (the oldest %s ms)" % max(ages, key=lambda a: a or 0),
+            None not in ages and max(ages) <= TAKEOVER_MS + 2 * POLL_MS, ages)
+    t.check("the standby's status bit 7 is clear once it is active",
+            wait_until(lambda: (lambda r: not r.isError() and r.registers[0] & 0x80 == 0)(
+                plc.client.read_input_registers(6, 1, slave=1)), 3))
+
+    # SIGCONT: the old primary was held up: it stands down, and never fights.
+    os.kill(primary.process.pid, signal.SIGCONT)
+    t.check("the old primary stands down after SIGCONT",
+            wait_until(lambda: role(primary) == "standby", 10), (status(primary), primary.log()))
+    sent_after = sim.sent(0)
+    time.sleep(1.0)
+    t.check("the old primary then sends nothing", sim.sent(0) == sent_after, sim.stats())
+    t.check("it serves warm from what it hears",
+            wait_until(lambda: (lambda g: g is not None and g.online)(plc_primary.read(1)), 5))
+
+    # SIGKILL the active one (the former standby): the former primary takes the line again.
+    plc.close()
+    os.kill(standby.process.pid, signal.SIGKILL)
+    killed_at = time.monotonic()
+    t.check("with the active gateway killed, the other takes the line",
+            wait_until(lambda: role(primary) == "active", 10), (status(primary), primary.log()))
+    t.check("takeover after SIGKILL within takeover_ms (%.2f s)"
+            % (time.monotonic() - killed_at),
+            time.monotonic() - killed_at <= TAKEOVER_MS / 1000 + 0.3)
+    t.check("readings fresh through it again",
+            wait_until(lambda: (lambda g: g is not None and g.online)(plc_primary.read(2)), 5))
+    # A reload of the active gateway keeps it active; one that changes [redundancy] is refused.
+    takeovers = status(primary)["redundancy"]["takeovers"]
+    primary.process.send_signal(signal.SIGHUP)
+    time.sleep(1.0)
+    t.check("after a reload the gateway is still the active one, with no new takeover",
+            role(primary) == "active" and status(primary)["redundancy"]["takeovers"] == takeovers,
+            status(primary))
+    t.check("readings stay fresh across the reload",
+            wait_until(lambda: (lambda g: g is not None and g.online)(plc_primary.read(1)), 3))
+    with open(primary.config_path) as f:
+        text = f.read()
+    with open(primary.config_path, "w") as f:
+        f.write(text.replace("takeover_ms = %d" % TAKEOVER_MS, "takeover_ms = 3000"))
+    primary.process.send_signal(signal.SIGHUP)
+    t.check("a reload that changes [redundancy] is refused, the gateway serving on",
+            wait_until(lambda: "read only at start" in primary.log(20000), 5)
+            and role(primary) == "active", primary.log())
+    t.check("no collision on the line in the whole test", sim.stats().get("collisions") == 0,
+            sim.stats())
+    plc_primary.close()
+    t.check("the gateway stops cleanly", primary.stop() == 0)
+
+
+if __name__ == "__main__":
+    sys.exit(Checks("warm-standby").run(scenario))
