@@ -69,13 +69,15 @@ Expected<Done, std::string> set_fault(SimulatedSensor& sensor, const SimulatorCo
 Expected<Done, std::string> RiekerSimulator::command(std::string_view line) {
   auto parsed = parse_simulator_command(line);
   if (!parsed) return Unexpected{parsed.error()};
+  if (auto plugged = plug_command(*parsed)) return *plugged;
   const std::string& verb = parsed->verb;
   const bool known = verb == "angle" || verb == "silent" || verb == "answer" ||
                      verb == "garbage" || verb == "late" || verb == "busy" || verb == "serial";
   if (!known) {
     return Unexpected{"unknown command \"" + verb +
                       "\" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late "
-                      "ADDRESS MS, busy ADDRESS, answer ADDRESS, serial ADDRESS NUMBER)"};
+                      "ADDRESS MS, busy ADDRESS, answer ADDRESS, serial ADDRESS NUMBER, unplug MASTER, "
+                      "replug MASTER)"};
   }
   SimulatedSensor* sensor =
       parsed->address > 0xFFFF ? nullptr : sensor_by_address(std::uint16_t(parsed->address));

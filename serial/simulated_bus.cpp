@@ -1,5 +1,7 @@
 #include "serial/simulated_bus.h"
 
+#include <fmt/format.h>
+
 namespace tiltgate {
 
 void use_setup(const SimulatorSetup& setup, SimulatedBusOptions& options) {
@@ -45,6 +47,18 @@ Expected<Done, std::string> SimulatedBus::replug(std::size_t master) {
   server_.unplug(master);
   reset_framing();
   return server_.replug(master);
+}
+
+std::optional<Expected<Done, std::string>> SimulatedBus::plug_command(
+    const SimulatorCommand& command) {
+  if (command.verb != "unplug" && command.verb != "replug") return std::nullopt;
+  if (command.address < 1 || command.address > server_.masters() || !command.values.empty())
+    return Unexpected{fmt::format("{} takes a master: 1{}", command.verb,
+                                  server_.masters() > 1 ? " or 2" : "")};
+  const std::size_t master = command.address - 1;
+  if (command.verb == "replug") return replug(master);
+  unplug(master);
+  return Done{};
 }
 
 void SimulatedBus::stop() {

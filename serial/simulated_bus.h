@@ -20,6 +20,7 @@
 
 #include "driver/bus_simulator.h"
 #include "driver/expected.h"
+#include "driver/simulator_command.h"
 #include "serial/pty_bus_server.h"
 #include "serial/simulated_line_stats.h"
 
@@ -69,6 +70,9 @@ class SimulatedBus : public BusSimulator {
   void unplug(std::size_t master = 0) { server_.unplug(master); }
   // A new pseudo-terminal for a master (a new slave path; the link follows it).
   Expected<Done, std::string> replug(std::size_t master = 0);
+  // The console's `unplug N` and `replug N` (N: 1 the --link master, 2 the --second-master
+  // one): that master's adapter pulled out, or put back. None: the line is no such command.
+  std::optional<Expected<Done, std::string>> plug_command(const SimulatorCommand& command);
   // Stops serving for good, with a last write of the stats file; the destructor does it too.
   void stop() final;
 

@@ -103,9 +103,10 @@ std::string DynaSimulator::what() const {
 Expected<Done, std::string> DynaSimulator::command(std::string_view line) {
   auto parsed = parse_simulator_command(line);
   if (!parsed) return Unexpected{parsed.error()};
+  if (auto plugged = plug_command(*parsed)) return *plugged;
   if (parsed->verb != "counts" && parsed->verb != "serial") {
     return Unexpected{"unknown command \"" + parsed->verb +
-                      "\" (try: counts ADDRESS N, serial ADDRESS N)"};
+                      "\" (try: counts ADDRESS N, serial ADDRESS N, unplug MASTER, replug MASTER)"};
   }
   SimulatedDyna* module =
       parsed->address > 0xFF ? nullptr : sensor_by_address(std::uint8_t(parsed->address));

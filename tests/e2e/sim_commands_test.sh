@@ -47,7 +47,7 @@ check "two angles for a single-axis sensor is an error" \
   test "$(send "angle 101 1 2")" = "error: the sensor at address 101 takes 1 angle(s)"
 check "a word that is not a number is an error" test "$(send "angle 223 x")" = 'error: "x" is not a number'
 check "an unknown command is an error naming the right ones" \
-  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late ADDRESS MS, busy ADDRESS, answer ADDRESS, serial ADDRESS NUMBER)'
+  test "$(send "tilt 223 1")" = 'error: unknown command "tilt" (try: angle ADDRESS X [Y], silent ADDRESS, garbage ADDRESS, late ADDRESS MS, busy ADDRESS, answer ADDRESS, serial ADDRESS NUMBER, unplug MASTER, replug MASTER)'
 check "the simulator still answers after bad commands" test "$(send "angle 223 1 2")" = "ok"
 check "serial on an H6 answers ok" test "$(send "serial 223 9600007")" = "ok"
 check "the H6 reports the new serial, as a sensor swapped in would" \

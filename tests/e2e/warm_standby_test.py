@@ -161,6 +161,12 @@ def scenario(t):
             w.isError() and getattr(w, "exception_code", None) == 0x0A, w)
     t.check("the standby sent nothing on the line while the primary ran",
             sim.sent(1) == 0, sim.stats())
+    standby.process.send_signal(signal.SIGHUP)
+    time.sleep(1.0)
+    t.check("a reload of the standby keeps it listening, warm, sending nothing",
+            role(standby) == "standby" and sim.sent(1) == 0
+            and (lambda g: g is not None and g.online)(plc.read(2)),
+            (status(standby), sim.stats()))
 
     # SIGSTOP the primary for longer than takeover_ms: the standby takes the line. The PLC
     # reads through the standby all along.
