@@ -18,7 +18,8 @@ import spb_path  # noqa: F401,E402
 from network_plant import Gateway, ModbusReader, bus  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
-from warm_standby_test import POLL_MS, TwoMasterSim, add_redundancy, role, status  # noqa: E402
+from warm_standby_test import (POLL_MS, TAKEOVER_MS, TwoMasterSim, add_redundancy,  # noqa: E402
+                               role, status)
 
 
 def with_failback(gateway):
@@ -55,12 +56,13 @@ def scenario(t):
     os.kill(primary.process.pid, signal.SIGKILL)
     primary.process.wait()
     t.check("with the primary killed, the standby takes the line",
-            wait_until(lambda: role(standby) == "active", 5), standby.log())
+            wait_until(lambda: role(standby) == "active", TAKEOVER_MS / 1000 + 4), standby.log())
     primary.start()
     t.check("the primary, started again, listens first",
             role(primary) == "standby", status(primary))
     t.check("the standby gives the line back, and the primary takes it",
-            wait_until(lambda: role(primary) == "active" and role(standby) == "standby", 10),
+            wait_until(lambda: role(primary) == "active" and role(standby) == "standby",
+                       2 * TAKEOVER_MS / 1000 + 6),
             (status(primary), status(standby)))
     plc = ModbusReader(primary.modbus_port)
     t.check("the PLC reads fresh readings through the primary",

@@ -70,7 +70,7 @@ def scenario(t):
     t.check("and sent nothing on the line", sim.sent(1) == 0, sim.stats())
     os.kill(primary.process.pid, signal.SIGKILL)
     t.check("with the primary killed, it takes the line though its peer never answers",
-            wait_until(lambda: role(standby) == "active", 5), standby.log())
+            wait_until(lambda: role(standby) == "active", TAKEOVER_MS / 1000 + 4), standby.log())
     t.check("its requests go out", wait_until(lambda: (sim.sent(1) or 0) > 0, 3), sim.stats())
     t.check("no collision on the line", sim.stats().get("collisions") == 0, sim.stats())
     plc.close()

@@ -33,8 +33,13 @@ from spb_e2e import processes  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
 
+# Under a sanitizer (scripts/sanitize sets ASAN_OPTIONS or TSAN_OPTIONS) the gateways run many
+# times slower: the same behaviour is checked with more time to take over and more slack on
+# what the test's own timing measures. The figures of docs/operations.md are the plain build's.
+SANITIZED = "ASAN_OPTIONS" in os.environ or "TSAN_OPTIONS" in os.environ
 POLL_MS = 100
-TAKEOVER_MS = 1000
+TAKEOVER_MS = 4000 if SANITIZED else 1000
+SLACK_S = 1.5 if SANITIZED else 0.3  # the test's own polling of /api/status, and load
 ANGLES = {223: (12.5, -3.25), 224: (-4.0, 7.5)}
 
 
@@ -145,13 +150,20 @@ def scenario(t):
     r = plc.client.read_input_registers(6, 2, slave=1)
     t.check("the standby's status word has bit 7 (standby) set",
             not r.isError() and r.registers[0] & 0x80 != 0, r)
-    ages = []
+    # The same unit read on both, one right after the other: a standby as warm as the primary
+    # is at most 50 ms behind it, however busy the machine running the test is.
+    pairs = []
     for _ in range(30):  # a little over a second, out of step with the polls
-        ages.append(age_of(plc, 1))
+        pairs.append((age_of(plc_primary, 1), age_of(plc, 1)))
         time.sleep(0.037)
-    t.check("the standby's readings are no older than the poll period plus 50 ms "
-            "(30 reads, the oldest %s ms)" % max(ages, key=lambda a: a or 0),
-            None not in ages and max(ages) <= POLL_MS + 50, ages)
+    behind = [s - p for p, s in pairs if p is not None and s is not None]
+    ages = sorted(s for _, s in pairs if s is not None)
+    t.check("the standby's readings are no more than 50 ms older than the primary's, read at "
+            "the same moment (30 pairs, at most %s ms)" % max(behind, default=None),
+            len(behind) == 30 and max(behind) <= (250 if SANITIZED else 50), pairs)
+    t.check("and within the poll period plus 50 ms (the median of 30 reads, %s ms)"
+            % (ages[len(ages) // 2] if ages else None),
+            len(ages) == 30 and ages[len(ages) // 2] <= POLL_MS + 50, ages)
     d = plc.client.read_discrete_inputs(8, 1, slave=1)
     t.check("the standby's discrete input 8 (standby) is on", not d.isError() and d.bits[0], d)
     d = plc_primary.client.read_discrete_inputs(8, 1, slave=1)
@@ -174,7 +186,7 @@ def scenario(t):
     os.kill(primary.process.pid, signal.SIGSTOP)
     stopped_at = time.monotonic()
     ages, primary_sent, took_s = [], None, None
-    while time.monotonic() < stopped_at + 2.0:
+    while time.monotonic() < stopped_at + (TAKEOVER_MS + POLL_MS) / 1000 + SLACK_S + 0.5:
         ages.append(age_of(plc, 1))
         since = time.monotonic() - stopped_at
         if primary_sent is None and since > 0.3:  # the counts file is rewritten every 100 ms
@@ -189,11 +201,12 @@ def scenario(t):
             sim.stats())
     t.check("the standby's first request within takeover_ms + a poll period of the primary's "
             "last, give or take this test's own polling",
-            took_s is not None and took_s <= (TAKEOVER_MS + POLL_MS) / 1000 + 0.3, took_s)
+            took_s is not None and took_s <= (TAKEOVER_MS + POLL_MS) / 1000 + SLACK_S, took_s)
     t.check("the primary sent nothing while stopped", sim.sent(0) == primary_sent, sim.stats())
     t.check("the PLC reading through the standby never saw a reading older than takeover_ms + "
             "2 poll periods (the oldest %s ms)" % max(ages, key=lambda a: a or 0),
-            None not in ages and max(ages) <= TAKEOVER_MS + 2 * POLL_MS, ages)
+            None not in ages and max(ages) <= TAKEOVER_MS + 2 * POLL_MS + 1000 * (SLACK_S - 0.3),
+            ages)
     t.check("the standby's status bit 7 is clear once it is active",
             wait_until(lambda: (lambda r: not r.isError() and r.registers[0] & 0x80 == 0)(
                 plc.client.read_input_registers(6, 1, slave=1)), 3))
@@ -216,7 +229,7 @@ def scenario(t):
             wait_until(lambda: role(primary) == "active", 10), (status(primary), primary.log()))
     t.check("takeover after SIGKILL within takeover_ms (%.2f s)"
             % (time.monotonic() - killed_at),
-            time.monotonic() - killed_at <= TAKEOVER_MS / 1000 + 0.3)
+            time.monotonic() - killed_at <= TAKEOVER_MS / 1000 + SLACK_S)
     t.check("readings fresh through it again",
             wait_until(lambda: (lambda g: g is not None and g.online)(plc_primary.read(2)), 5))
     # A reload of the active gateway keeps it active; one that changes [redundancy] is refused.
@@ -231,7 +244,7 @@ def scenario(t):
     with open(primary.config_path) as f:
         text = f.read()
     with open(primary.config_path, "w") as f:
-        f.write(text.replace("takeover_ms = %d" % TAKEOVER_MS, "takeover_ms = 3000"))
+        f.write(text.replace("takeover_ms = %d" % TAKEOVER_MS, "takeover_ms = %d" % (TAKEOVER_MS + 1000)))
     primary.process.send_signal(signal.SIGHUP)
     t.check("a reload that changes [redundancy] is refused, the gateway serving on",
             wait_until(lambda: "read only at start" in primary.log(20000), 5)
