@@ -25,7 +25,6 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
 import spb_path  # noqa: F401,E402
 from mqtt_store_test import JsonObserver, mqtt_table  # noqa: E402
-from network_plant import Gateway, bus  # noqa: E402
 from spb_e2e import codec as spb_codec  # noqa: E402
 from spb_e2e.broker import Broker  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
@@ -33,7 +32,7 @@ from spb_e2e.observer import Observer  # noqa: E402
 from spb_e2e.plant import toml_value  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
 from spb_e2e.sparkplug import birth_value, topic  # noqa: E402
-from warm_standby_test import TAKEOVER_MS, TwoMasterSim, add_redundancy, role, status  # noqa: E402
+from standby_pair import TAKEOVER_MS, TwoMasterSim, make_pair, role, status  # noqa: E402
 
 GROUP, NODE = "pair", "gw"
 JSON_CLIENT, SPB_CLIENT = "tg-pair-json", "tg-pair-spb"
@@ -83,17 +82,8 @@ def scenario(t):
     feed.start()
     sim = TwoMasterSim(tiltgate, t.dir)
     t.logs.append(("simulator", sim.err_path))
-    sensors = [("s%d" % a, "h6", a, i + 1, {"poll_ms": 100}) for i, a in enumerate((223, 224))]
-    gateways = {}
-    for name, link in (("primary", sim.link), ("standby", sim.second)):
-        os.makedirs(os.path.join(t.dir, name))
-        gateways[name] = Gateway(tiltgate, os.path.join(t.dir, name),
-                                 [bus("line1", link, "rieker", sensors)], name=name)
-        t.logs.append((name, gateways[name].log_path))
-    primary, standby = gateways["primary"], gateways["standby"]
-    add_redundancy(primary, "primary", standby)
-    add_redundancy(standby, "standby", primary)
-    for name, gateway in gateways.items():
+    primary, standby = make_pair(t, tiltgate, sim)
+    for name, gateway in (("primary", primary), ("standby", standby)):
         add_feeds(gateway, broker, os.path.join(t.dir, name, "state"))
     os.makedirs(os.path.join(t.dir, "standby", "state", "sparkplug"))
     with open(os.path.join(t.dir, "standby", "state", "sparkplug", "bdSeq"), "w") as f:

@@ -13,13 +13,11 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import spb_path  # noqa: F401,E402
-from network_plant import Gateway, ModbusReader, bus  # noqa: E402
+from network_plant import ModbusReader  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
-from warm_standby_test import (POLL_MS, TAKEOVER_MS, TwoMasterSim, add_redundancy,  # noqa: E402
-                               role, status)
+from standby_pair import TAKEOVER_MS, TwoMasterSim, make_pair, role, status  # noqa: E402
 
 
 def with_failback(gateway):
@@ -31,19 +29,9 @@ def scenario(t):
     tiltgate, _ = arguments()
     sim = TwoMasterSim(tiltgate, t.dir)
     t.logs.append(("simulator", sim.err_path))
-    sensors = [("s%d" % a, "h6", a, i + 1, {"poll_ms": POLL_MS}) for i, a in enumerate((223, 224))]
-    for name in ("primary", "standby"):
-        os.makedirs(os.path.join(t.dir, name))
-    primary = Gateway(tiltgate, os.path.join(t.dir, "primary"),
-                      [bus("line1", sim.link, "rieker", sensors)], name="primary")
-    standby = Gateway(tiltgate, os.path.join(t.dir, "standby"),
-                      [bus("line1", sim.second, "rieker", sensors)], name="standby")
-    add_redundancy(primary, "primary", standby)
-    add_redundancy(standby, "standby", primary)
+    primary, standby = make_pair(t, tiltgate, sim)
     with_failback(primary)
     with_failback(standby)
-    t.logs.append(("primary", primary.log_path))
-    t.logs.append(("standby", standby.log_path))
     primary.start()
     t.check("the primary takes the line", wait_until(lambda: role(primary) == "active", 10),
             primary.log())

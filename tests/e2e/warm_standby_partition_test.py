@@ -15,13 +15,12 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import spb_path  # noqa: F401,E402
-from network_plant import Gateway, ModbusReader, bus  # noqa: E402
+from network_plant import ModbusReader  # noqa: E402
 from spb_e2e import processes  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
-from warm_standby_test import POLL_MS, TAKEOVER_MS, TwoMasterSim, role  # noqa: E402
+from standby_pair import TAKEOVER_MS, TwoMasterSim, make_pair, role  # noqa: E402
 
 
 class BlackHole:
@@ -34,28 +33,12 @@ class BlackHole:
         self.socket.listen(64)
 
 
-def add_cut_redundancy(gateway, my_role, hole):
-    with open(gateway.config_path, "a") as f:
-        f.write('\n[redundancy]\nrole = "%s"\npeer = "127.0.0.1:%d"\ntakeover_ms = %d\n'
-                % (my_role, hole.port, TAKEOVER_MS))
-
-
 def scenario(t):
     tiltgate, _ = arguments()
     sim = TwoMasterSim(tiltgate, t.dir)
     t.logs.append(("simulator", sim.err_path))
-    sensors = [("s%d" % a, "h6", a, i + 1, {"poll_ms": POLL_MS}) for i, a in enumerate((223, 224))]
-    for name in ("primary", "standby"):
-        os.makedirs(os.path.join(t.dir, name))
-    primary = Gateway(tiltgate, os.path.join(t.dir, "primary"),
-                      [bus("line1", sim.link, "rieker", sensors)], name="primary")
-    standby = Gateway(tiltgate, os.path.join(t.dir, "standby"),
-                      [bus("line1", sim.second, "rieker", sensors)], name="standby")
     holes = BlackHole(), BlackHole()
-    add_cut_redundancy(primary, "primary", holes[0])
-    add_cut_redundancy(standby, "standby", holes[1])
-    t.logs.append(("primary", primary.log_path))
-    t.logs.append(("standby", standby.log_path))
+    primary, standby = make_pair(t, tiltgate, sim, peer_ports=(holes[0].port, holes[1].port))
     primary.start()
     t.check("the primary takes the line", wait_until(lambda: role(primary) == "active", 10),
             primary.log())

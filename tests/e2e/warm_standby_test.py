@@ -18,92 +18,21 @@ as a PLC would:
 
 Usage: /usr/bin/python3 warm_standby_test.py path/to/tiltgate
 """
-import json
 import os
 import signal
 import subprocess
 import sys
 import time
-import urllib.request
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
 import spb_path  # noqa: F401,E402
-from network_plant import Gateway, ModbusReader, bus, close_to  # noqa: E402
-from spb_e2e import processes  # noqa: E402
+from network_plant import ModbusReader, close_to  # noqa: E402
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.processes import wait_until  # noqa: E402
+from standby_pair import (POLL_MS, SANITIZED, SLACK_S, TAKEOVER_MS, TwoMasterSim,  # noqa: E402
+                          age_of, make_pair, role, status)
 
-# Under a sanitizer (scripts/sanitize sets ASAN_OPTIONS or TSAN_OPTIONS) the gateways run many
-# times slower: the same behaviour is checked with more time to take over and more slack on
-# what the test's own timing measures. The figures of docs/operations.md are the plain build's.
-SANITIZED = "ASAN_OPTIONS" in os.environ or "TSAN_OPTIONS" in os.environ
-POLL_MS = 100
-TAKEOVER_MS = 4000 if SANITIZED else 1000
-SLACK_S = 1.5 if SANITIZED else 0.3  # the test's own polling of /api/status, and load
 ANGLES = {223: (12.5, -3.25), 224: (-4.0, 7.5)}
-
-
-class TwoMasterSim:
-    """`tiltgate sim rieker` with two master ports on one line and its counters in a file."""
-
-    def __init__(self, tiltgate, scratch_dir):
-        self.link = os.path.join(scratch_dir, "primary-tty")
-        self.second = os.path.join(scratch_dir, "standby-tty")
-        self.stats_path = os.path.join(scratch_dir, "line-stats.json")
-        self.err_path = os.path.join(scratch_dir, "sim.err")
-        argv = [tiltgate, "sim", "rieker", "--sensors", "h6:223,h6:224", "--link", self.link,
-                "--second-master", self.second, "--stats", self.stats_path]
-        self.process = processes.start(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                       stderr=open(self.err_path, "w"), text=True, bufsize=1)
-        self.process.stdout.readline()
-        if not wait_until(lambda: os.path.exists(self.second) and os.path.exists(self.stats_path), 5):
-            raise RuntimeError("the simulator did not start:\n" + processes.tail(self.err_path))
-
-    def command(self, line):
-        self.process.stdin.write(line + "\n")
-        self.process.stdin.flush()
-        return self.process.stdout.readline().strip()
-
-    def stats(self):
-        for _ in range(20):
-            try:
-                with open(self.stats_path) as f:
-                    return json.load(f)
-            except (OSError, ValueError):
-                time.sleep(0.05)
-        return {}
-
-    def sent(self, index):
-        masters = self.stats().get("masters", [])
-        return masters[index].get("bytes_sent") if len(masters) > index else None
-
-
-def status(gateway):
-    try:
-        return json.loads(urllib.request.urlopen(
-            "http://127.0.0.1:%d/api/status" % gateway.http_port, timeout=3).read())
-    except OSError:
-        return {}
-
-
-def role(gateway):
-    return status(gateway).get("role")
-
-
-def age_of(plc, unit):
-    """Input register 7, age_ms: how old the reading served is; None when the read fails."""
-    r = plc.client.read_input_registers(7, 1, slave=unit)
-    return None if r.isError() else r.registers[0]
-
-
-def add_redundancy(gateway, my_role, peer):
-    with open(gateway.config_path) as f:
-        text = f.read()
-    with open(gateway.config_path, "w") as f:
-        f.write(text.replace("[server]\n", "[server]\nwrites = true\n", 1))
-    with open(gateway.config_path, "a") as f:
-        f.write('\n[redundancy]\nrole = "%s"\npeer = "127.0.0.1:%d"\ntakeover_ms = %d\n'
-                % (my_role, peer.modbus_port, TAKEOVER_MS))
 
 
 def scenario(t):
@@ -113,18 +42,7 @@ def scenario(t):
     for address, (x, y) in ANGLES.items():
         t.check("the simulator takes the angles of %d" % address,
                 sim.command("angle %d %s %s" % (address, x, y)) == "ok")
-    sensors = [("s%d" % a, "h6", a, i + 1, {"poll_ms": POLL_MS}) for i, a in enumerate(ANGLES)]
-    # Each its own folder: its own state_dir, as two boxes have.
-    for name in ("primary", "standby"):
-        os.makedirs(os.path.join(t.dir, name))
-    primary = Gateway(tiltgate, os.path.join(t.dir, "primary"),
-                      [bus("line1", sim.link, "rieker", sensors)], name="primary")
-    standby = Gateway(tiltgate, os.path.join(t.dir, "standby"),
-                      [bus("line1", sim.second, "rieker", sensors)], name="standby")
-    add_redundancy(primary, "primary", standby)
-    add_redundancy(standby, "standby", primary)
-    t.logs.append(("primary", primary.log_path))
-    t.logs.append(("standby", standby.log_path))
+    primary, standby = make_pair(t, tiltgate, sim)
     checked = subprocess.run([tiltgate, "check", "--config", standby.config_path],
                              capture_output=True, text=True)
     t.check("tiltgate check accepts the standby's configuration", checked.returncode == 0,
