@@ -14,6 +14,7 @@
 #include "config/config_loader.h"
 #include "config/machine_checks.h"
 #include "config/redundancy_warnings.h"
+#include "monitoring/record_budget.h"
 #include "app/config_commands.h"
 #include "app/config_reload.h"
 #include "app/served_gateway.h"
@@ -93,6 +94,11 @@ int check_command(const std::string& config_path, FamilyList families) {
                            config->aggregates.empty()
                                ? std::string()
                                : fmt::format(", {} aggregate(s)", config->aggregates.size()));
+  // The disk the long record will take ([record], docs/monitoring.md "The long record").
+  std::cout << fmt::format("{}: {}\n", config_path,
+                           monitoring::record_budget_text(
+                               config->sensors.size(), config->record.keep_days,
+                               std::uint32_t(config->record.interval.count())));
   return 0;
 }
 

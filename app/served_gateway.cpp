@@ -6,6 +6,8 @@
 #include "app/audit_journal.h"
 #include "app/journal_log.h"
 #include "app/redundant_pair.h"
+#include "monitoring/baseline_runner.h"
+#include "monitoring/record_download.h"
 #include "commission_wire/requested_command.h"
 #include "control/capture_runner.h"
 #include "driver/family_commands.h"
@@ -21,8 +23,9 @@ namespace {
 void reload_by_hangup() { ::kill(::getpid(), SIGHUP); }
 
 ConsoleContext console_context(AuditTrail& audit, FamilyList families, ConfirmWindow& window,
-                               Gateway& gateway) {
+                               Gateway& gateway, MonitoringSource monitoring) {
   ConsoleContext context;
+  context.monitoring = std::move(monitoring);
   context.reset_counters = [&gateway](CounterScope scope, std::string_view name) {
     return scope == CounterScope::bus ? gateway.reset_bus_counters(name)
                                       : gateway.reset_sensor_counters(name);
@@ -53,18 +56,58 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
     : confirm_window_(config.path, &audit_, reload_by_hangup),
       gateway_(io, config, families),
       http_(gateway_, [this] { return status(SteadyClock::now()); },
-            console_context(audit_, families, confirm_window_, gateway_)),
-      mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt),
-      sparkplug_(io.get_executor(), gateway_, families, config.sparkplug),
+            console_context(audit_, families, confirm_window_, gateway_, monitoring_source())),
+      mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt,
+            mqtt_events()),
+      sparkplug_(io.get_executor(), gateway_, families, config.sparkplug,
+                 [this] { return clock_.current(); }),
       control_(gateway_,
-               with_capture(requested_command_runner(families, registered_family_commands()))) {
+               monitoring::with_baselines(
+                   with_capture(requested_command_runner(families, registered_family_commands())),
+                   monitoring_)),
+      monitoring_(gateway_, audit_) {
   redundancy_ = make_redundant_pair(io.get_executor(), config, families, gateway_);
   if (redundancy_) feed_while_active();
   gateway_.set_audit(audit_);
   gateway_.attach(control_);
   gateway_.attach(http_);
+  // Before the feeds: their start asks the monitoring for the newest event.
+  gateway_.attach(monitoring_);
   gateway_.attach(mqtt_);
   gateway_.attach(sparkplug_);
+  // Each reading is flagged when the clock was not synchronised as it was taken.
+  gateway_.check_clock_with([this] { return clock_.current().synchronised; });
+}
+
+MqttEventSource ServedGateway::mqtt_events() {
+  // Called later, on the event loop: the service is made by then.
+  MqttEventSource source;
+  source.last = [this] { return monitoring_.last_event_seq(); };
+  source.after = [this](std::uint64_t after) {
+    std::vector<MqttEvent> events;
+    for (const monitoring::EventRecord& e : monitoring_.events_after(after, 1000))
+      events.push_back({e.seq, monitoring::event_json(e), e.unix_ms});
+    return events;
+  };
+  return source;
+}
+
+MonitoringSource ServedGateway::monitoring_source() {
+  // Called later, from the HTTP threads: the service is made by then.
+  MonitoringSource source;
+  source.events = [this](const monitoring::EventQuery& query) {
+    return monitoring_.events(query);
+  };
+  source.long_record_csv = [this](const std::string& sensor, std::int64_t from, std::int64_t to)
+      -> std::optional<Expected<std::string, std::string>> {
+    if (!monitoring_.serves(sensor)) return std::nullopt;
+    return monitoring::record_csv(monitoring_.record_of(sensor), from, to);
+  };
+  source.bursts = [this](const std::string& sensor) -> std::optional<std::filesystem::path> {
+    if (!monitoring_.serves(sensor)) return std::nullopt;
+    return monitoring_.bursts_of(sensor);
+  };
+  return source;
 }
 
 void ServedGateway::feed_while_active() {
@@ -91,6 +134,7 @@ void ServedGateway::start_as_user() {
 
 GatewayStatus ServedGateway::status(SteadyClock::time_point now) const {
   GatewayStatus status = gateway_.status(now);
+  status.clock = clock_.current();
   status.http_connections_denied = http_.connections_denied();
   status.http_clients_closed = http_.clients_closed();
   status.http_rates = http_.request_rates();

@@ -16,13 +16,14 @@ namespace {
 // is given.
 std::string every_table(FamilyList families) {
   std::string text =
-      "[server]\n[http]\n[mqtt]\n[sparkplug]\n[audit]\n[redundancy]\n[[aggregate]]\n";
+      "[server]\n[http]\n[mqtt]\n[sparkplug]\n[audit]\n[redundancy]\n[record]\n[[aggregate]]\n";
   for (const FamilyDescriptor* family : families)
     for (const ProtocolDescriptor& protocol : family->protocols)
       text += fmt::format("[[bus]]\nprotocol = \"{}\"\n", protocol.name);
   for (const FamilyDescriptor* family : families)
     for (const ModelDescriptor& model : family->models)
-      text += fmt::format("[[sensor]]\nmodel = \"{}\"\nmounting = {{}}\nalarms = {{}}\n"
+      text += fmt::format("[[sensor]]\nmodel = \"{}\"\nmounting = {{}}\n"
+                          "alarms = {{ danger = {{}} }}\nbaseline = {{}}\n"
                           "map = {{ point = [{{}}] }}\n",
                           model.name);
   return text;
@@ -49,6 +50,7 @@ AcceptedKeys accepted_keys(FamilyList families) {
   read_sparkplug(*root["sparkplug"].as_table(), ignored);
   read_audit(*root["audit"].as_table(), ignored);
   read_redundancy(*root["redundancy"].as_table(), ignored);
+  read_record(*root["record"].as_table(), ignored);
   read_each(root, "bus", [&](const toml::table& table, std::size_t i) {
     read_bus(table, "bus[" + std::to_string(i) + "]", ignored, families);
   });

@@ -244,15 +244,39 @@ struct MountingConfig {
   bool operator==(const MountingConfig&) const = default;
 };
 
-// Alarm thresholds in degrees (after mounting). Each alarm sets when its value passes the
-// threshold and clears only once it is back by `hysteresis_deg`.
-struct AlarmConfig {
+// One level's alarm thresholds (docs/configuration.md, "alarms"): degrees after mounting, a
+// rate in degrees per second, a displacement in millimetres (SensorConfig::lever_m).
+struct AlarmThresholds {
   std::optional<double> x_high, x_low, y_high, y_low;
-  std::optional<double> tilt_high;          // on sqrt(x^2 + y^2)
+  std::optional<double> tilt_high;             // on the tilt from vertical (mapping/tilt.h)
+  std::optional<double> rate_limit_deg_s;      // |d angle / dt| on either axis above this
+  std::optional<double> displacement_high_mm;  // the displacement from the baseline above this
+
+  bool operator==(const AlarmThresholds&) const = default;
+};
+
+// A sensor's alarms at two levels: the warning level's thresholds are the keys at the table's
+// top (the only level before there were two), the danger level's are `danger = {...}`. Each
+// alarm sets when its value passes the threshold and has stayed past it for `hold` (for_ms),
+// and clears once it is back by the hysteresis and has stayed back as long
+// (line_scheduling/alarm_tracker.h).
+struct AlarmConfig : AlarmThresholds {
+  AlarmThresholds danger;
   double hysteresis_deg = 0.5;
-  std::optional<double> rate_limit_deg_s;   // |d angle / dt| on either axis above this
+  double hysteresis_mm = 0.5;
+  std::chrono::milliseconds hold{0};
 
   bool operator==(const AlarmConfig&) const = default;
+};
+
+// The installation's reference reading (degrees after mounting): readings relative to it,
+// and the displacement, are measured from here. [[sensor]] baseline sets it; a baseline set
+// later (the console, `tiltgate baseline`) is kept in the state directory and wins.
+struct Baseline {
+  double x = 0.0;
+  double y = 0.0;
+
+  bool operator==(const Baseline&) const = default;
 };
 
 struct SensorConfig {
@@ -270,6 +294,16 @@ struct SensorConfig {
   FamilyOptions family_options;
   MountingConfig mounting;
   AlarmConfig alarms;
+  std::optional<Baseline> baseline;  // [[sensor]] baseline; none: 0, 0 unless one was set since
+  // The height of the measured point above the sensor's pivot, metres: a tilt becomes a
+  // displacement there (mapping/displacement.h). None: no displacement.
+  std::optional<double> lever_m;
+  // Triggered bursts (docs/monitoring.md, "Bursts"): an alarm that sets, or a change faster
+  // than burst_rate_deg_s, polls the sensor as fast as its line allows for `burst`, and the
+  // record keeps `pre_trigger` of the samples before. Zero: no bursts.
+  std::chrono::seconds burst{0};
+  std::chrono::seconds pre_trigger{10};
+  std::optional<double> burst_rate_deg_s;
   OfflineRead offline = OfflineRead::exception;
   double substitute = 0.0;  // offline == substitute: the value every measurement point shows
   // The register map: none for the model's built-in map; else from `map_file` (resolved
@@ -322,6 +356,15 @@ struct RedundancyConfig {
   bool operator==(const RedundancyConfig&) const = default;
 };
 
+// [record] (docs/configuration.md, "[record]"): each sensor's long record on the box
+// (docs/monitoring.md, "The long record"): min, mean and max per interval, kept keep_days.
+struct RecordConfig {
+  std::chrono::seconds interval{60};
+  std::uint32_t keep_days = 90;
+
+  bool operator==(const RecordConfig&) const = default;
+};
+
 struct Config {
   std::string path;                 // the file it came from
   ServerConfig server;
@@ -330,6 +373,7 @@ struct Config {
   SparkplugConfig sparkplug;
   AuditConfig audit;
   RedundancyConfig redundancy;
+  RecordConfig record;
   std::vector<BusConfig> buses;
   std::vector<SensorConfig> sensors;
   std::vector<AggregateConfig> aggregates;

@@ -30,12 +30,12 @@ namespace {
 
 // The top-level tables a file may hold, written as they appear in a file.
 constexpr std::string_view kTopLevel =
-    "[server], [http], [mqtt], [sparkplug], [audit], [redundancy], [[bus]], [[sensor]] and "
-    "[[aggregate]]";
+    "[server], [http], [mqtt], [sparkplug], [audit], [redundancy], [record], [[bus]], "
+    "[[sensor]] and [[aggregate]]";
 
 std::string table_header(std::string_view name) {
   return name == "server" || name == "http" || name == "mqtt" || name == "sparkplug" ||
-                 name == "audit" || name == "redundancy"
+                 name == "audit" || name == "redundancy" || name == "record"
              ? fmt::format("[{}]", name)
              : fmt::format("[[{}]]", name);
 }
@@ -65,7 +65,7 @@ void read_table_array(std::string_view name, const toml::key& key, const toml::n
 void report_unknown_top_level(const toml::key& key, const toml::node& node, ErrorList& errors) {
   const bool is_table = node.is_table() || node.is_array_of_tables();
   const std::vector<std::string> known{"server", "http", "mqtt",   "sparkplug", "audit",
-                                       "redundancy", "bus", "sensor", "aggregate"};
+                                       "redundancy", "record", "bus", "sensor", "aggregate"};
   const std::string guess = closest_key(key.str(), known);
   std::string message = is_table ? "unknown table" : "unknown key at the top level";
   if (!guess.empty())
@@ -112,6 +112,7 @@ struct Sections {
   MqttConfig mqtt;
   SparkplugConfig sparkplug;
   AuditConfig audit;
+  RecordConfig record;
   std::optional<ParsedRedundancy> redundancy;  // none without the table
   std::optional<Place> sparkplug_at;  // where [sparkplug] was written, for check_feeds
   std::vector<ParsedBus> buses;
@@ -135,6 +136,8 @@ Sections read_sections(const toml::table& root, ErrorList& errors, FamilyList fa
       read_section("audit", key, node, errors, read.audit, read_audit);
     } else if (key == "redundancy") {
       read_section("redundancy", key, node, errors, read.redundancy, read_redundancy);
+    } else if (key == "record") {
+      read_section("record", key, node, errors, read.record, read_record);
     } else if (key == "bus") {
       read_table_array("bus", key, node, errors, [&](const toml::table& table, std::string path) {
         read.buses.push_back(read_bus(table, std::move(path), errors, families));
@@ -192,6 +195,7 @@ Config assemble(std::string path, Sections read) {
   config.mqtt = std::move(read.mqtt);
   config.sparkplug = std::move(read.sparkplug);
   config.audit = read.audit;
+  config.record = read.record;
   if (read.redundancy) config.redundancy = read.redundancy->config;
   for (ParsedBus& bus : read.buses) config.buses.push_back(std::move(bus.config));
   for (ParsedSensor& sensor : read.sensors) {

@@ -107,9 +107,12 @@ const std::vector<KeyReference>& bus_keys() {
 
 const std::vector<KeyReference>& sensor_keys() {
   static const std::vector<KeyReference> keys =
-      joined(joined(reference_table(kConfigurationMd, "## `[[sensor]]`"),
-                    reference_table(kConfigurationMd, "### `mounting`", "mounting.")),
-             reference_table(kConfigurationMd, "### `alarms`", "alarms."));
+      joined(joined(joined(joined(reference_table(kConfigurationMd, "## `[[sensor]]`"),
+                                  reference_table(kConfigurationMd, "### `mounting`",
+                                                  "mounting.")),
+                           reference_table(kConfigurationMd, "### `baseline`", "baseline.")),
+                    reference_table(kConfigurationMd, "### `alarms`", "alarms.")),
+             reference_table(kConfigurationMd, "### `alarms.danger`", "alarms.danger."));
   return keys;
 }
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <span>
 
+#include "config/alarm_options.h"
 #include "config/host_names.h"
 #include "config/sensor_options.h"
 #include "driver/text_list.h"
@@ -306,7 +307,9 @@ ParsedSensor read_sensor(const toml::table& table, std::string path, ErrorList& 
   }
   read_family_keys(in, sensor, families, errors);
   read_mounting(in, sensor, errors, families);
+  read_baseline(in, sensor, errors, families);
   read_alarms(in, sensor, errors, families);
+  read_burst(in, sensor);
   read_offline(in, sensor);
   ParsedSensor parsed{std::move(sensor), address.value_or(0), in.located(), {}, {}};
   read_map_key(in, parsed, errors, families);

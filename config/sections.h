@@ -70,6 +70,8 @@ MqttConfig read_mqtt(const toml::table& table, ErrorList& errors);
 SparkplugConfig read_sparkplug(const toml::table& table, ErrorList& errors);
 // [audit] (audit_section.cpp).
 AuditConfig read_audit(const toml::table& table, ErrorList& errors);
+// [record]: the long record's interval and how long it is kept.
+RecordConfig read_record(const toml::table& table, ErrorList& errors);
 // [redundancy] (redundancy_section.cpp).
 ParsedRedundancy read_redundancy(const toml::table& table, ErrorList& errors);
 // Protocols, bauds, addresses and models come from the families' descriptors.

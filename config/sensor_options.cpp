@@ -23,13 +23,6 @@ void reject_on_single_axis(TableReader& sub, std::string_view key, const SensorC
 // Every angle a sensor reports is within +-180 degrees; a threshold beyond can never trip.
 constexpr double kMaxAngle = 180.0;
 
-void check_order(TableReader& sub, const std::optional<double>& low,
-                 const std::optional<double>& high, std::string_view low_key,
-                 std::string_view high_key) {
-  if (low && high && !(*low < *high))
-    sub.error(low_key, fmt::format("{} {} is not below {} {}", low_key, *low, high_key, *high));
-}
-
 }  // namespace
 
 void read_mounting(TableReader& in, SensorConfig& sensor, ErrorList& errors,
@@ -55,30 +48,44 @@ void read_mounting(TableReader& in, SensorConfig& sensor, ErrorList& errors,
   sub.reject_unknown_keys();
 }
 
-void read_alarms(TableReader& in, SensorConfig& sensor, ErrorList& errors,
-                 FamilyList families) {
-  const toml::table* table = in.table("alarms");
-  if (table == nullptr) return;
-  TableReader sub(*table, in.located().key_path("alarms"), errors);
-  AlarmConfig& a = sensor.alarms;
-  const bool one_axis = single_axis(in, sensor, families);
-  a.x_high = sub.number_in("x_high", -kMaxAngle, kMaxAngle);
-  a.x_low = sub.number_in("x_low", -kMaxAngle, kMaxAngle);
-  a.y_high = sub.number_in("y_high", -kMaxAngle, kMaxAngle);
-  a.y_low = sub.number_in("y_low", -kMaxAngle, kMaxAngle);
-  for (std::string_view key : {"y_high", "y_low"})
-    if (one_axis && sub.has(key)) reject_on_single_axis(sub, key, sensor);
-  a.tilt_high = sub.number_in("tilt_high", 0.0, kMaxAngle);
-  if (auto v = sub.number_in("hysteresis_deg", 0.0, kMaxAngle)) a.hysteresis_deg = *v;
-  if (auto v = sub.number("rate_limit_deg_s")) {
-    if (*v <= 0.0)
-      sub.error("rate_limit_deg_s", fmt::format("{} is not above 0 degrees per second", *v));
+void read_baseline(TableReader& in, SensorConfig& sensor, ErrorList& errors,
+                   FamilyList families) {
+  if (auto lever = in.number("lever_m")) {
+    if (*lever <= 0.0 || *lever > 10'000.0)
+      in.error("lever_m", fmt::format("{} is out of range, expected above 0 and at most 10000 "
+                                      "(metres)", *lever));
     else
-      a.rate_limit_deg_s = *v;
+      sensor.lever_m = *lever;
   }
-  check_order(sub, a.x_low, a.x_high, "x_low", "x_high");
-  check_order(sub, a.y_low, a.y_high, "y_low", "y_high");
+  const toml::table* table = in.table("baseline");
+  if (table == nullptr) return;
+  TableReader sub(*table, in.located().key_path("baseline"), errors);
+  Baseline baseline;
+  if (auto x = sub.number_in("x", -kMaxAngle, kMaxAngle)) baseline.x = *x;
+  if (auto y = sub.number_in("y", -kMaxAngle, kMaxAngle)) {
+    if (single_axis(in, sensor, families) && *y != 0.0) reject_on_single_axis(sub, "y", sensor);
+    baseline.y = *y;
+  }
   sub.reject_unknown_keys();
+  sensor.baseline = baseline;
+}
+
+void read_burst(TableReader& in, SensorConfig& sensor) {
+  // An hour of polling as fast as the line allows is already a long event's record.
+  if (auto s = in.integer("burst_s", 0, 3600)) sensor.burst = std::chrono::seconds(*s);
+  if (auto s = in.integer("pre_trigger_s", 0, 600)) {
+    if (sensor.burst.count() == 0 && in.located().usable("burst_s"))
+      in.error("pre_trigger_s", "applies with burst_s only");
+    sensor.pre_trigger = std::chrono::seconds(*s);
+  }
+  if (auto rate = in.number("burst_rate_deg_s")) {
+    if (*rate <= 0.0)
+      in.error("burst_rate_deg_s", fmt::format("{} is not above 0 degrees per second", *rate));
+    else if (sensor.burst.count() == 0 && in.located().usable("burst_s"))
+      in.error("burst_rate_deg_s", "applies with burst_s only");
+    else
+      sensor.burst_rate_deg_s = *rate;
+  }
 }
 
 void read_offline(TableReader& in, SensorConfig& sensor) {

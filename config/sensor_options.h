@@ -1,5 +1,6 @@
-// The [[sensor]] keys beyond bus and address: mounting, alarms and what a read of an offline
-// sensor returns. Each checked on its own and against the sensor's model (its axes).
+// The [[sensor]] keys beyond bus and address: mounting, the baseline and lever, and what a read
+// of an offline sensor returns (the alarms: config/alarm_options.h). Each checked on its own
+// and against the sensor's model (its axes).
 #pragma once
 
 #include "config/config.h"
@@ -14,9 +15,11 @@ using toml_input::TableReader;
 // mounting = { swap_axes, invert_x, invert_y, rotate_deg }
 void read_mounting(TableReader& in, SensorConfig& sensor, ErrorList& errors,
                    FamilyList families);
-// alarms = { x_high, x_low, y_high, y_low, tilt_high, hysteresis_deg, rate_limit_deg_s }
-void read_alarms(TableReader& in, SensorConfig& sensor, ErrorList& errors,
-                 FamilyList families);
+// lever_m = <metres>, baseline = { x, y } (degrees after mounting)
+void read_baseline(TableReader& in, SensorConfig& sensor, ErrorList& errors,
+                   FamilyList families);
+// burst_s, pre_trigger_s, burst_rate_deg_s: triggered bursts (docs/monitoring.md, "Bursts")
+void read_burst(TableReader& in, SensorConfig& sensor);
 // offline = "exception" | "last" | "substitute", substitute = <number>
 void read_offline(TableReader& in, SensorConfig& sensor);
 

@@ -16,6 +16,7 @@
 #include "console/request_guard.h"
 #include "driver/visible_text.h"
 #include "gateway/gateway.h"
+#include "http/monitoring_routes.h"
 
 namespace tiltgate {
 
@@ -128,6 +129,13 @@ void ConsoleHandler::record(const ConsoleSession& session, std::string sensor,
 }
 
 asio::awaitable<HttpReply> ConsoleHandler::public_route(const HttpRequest& request) {
+  // The monitoring's (http/monitoring_routes.h) here, on the HTTP thread: a long record's
+  // download reads files, which the buses' executor must never wait for.
+  const std::int64_t now_unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+      std::chrono::system_clock::now().time_since_epoch()).count();
+  if (auto reply = route_monitoring(request.method, request.target, context_.monitoring,
+                                    now_unix_ms))
+    co_return *reply;
   // Taken on the buses' executor, where the status and the history live: as quick as it ever
   // was there, and the HTTP thread only waits for it.
   // Named, not a temporary in the co_await: g++ 12 destroys such a temporary twice.

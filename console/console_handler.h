@@ -31,6 +31,7 @@
 #include "driver/family.h"
 #include "driver/family_commands.h"
 #include "http/http_routes.h"
+#include "http/monitoring_routes.h"
 
 namespace tiltgate {
 
@@ -44,6 +45,9 @@ struct ConsoleContext {
   boost::asio::any_io_executor gateway_executor;  // the buses': status, history and writes
   StatusSource status;
   HistorySource history;
+  // Events and the long record (http/monitoring_routes.h), read on the HTTP thread; empty
+  // functions: none kept.
+  MonitoringSource monitoring;
   const Gateway* gateway = nullptr;
   FamilyList families;
   AuditTrail* audit = nullptr;

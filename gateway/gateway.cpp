@@ -83,6 +83,11 @@ Gateway::~Gateway() {
 
 void Gateway::attach(GatewayService& service) { services_.push_back(&service); }
 
+void Gateway::check_clock_with(std::function<bool()> synchronised) {
+  clock_synchronised_ = std::move(synchronised);
+  for (const auto& bus : buses_) bus->scheduler->set_clock_check(clock_synchronised_);
+}
+
 void Gateway::set_audit(AuditTrail& trail) {
   audit_ = &trail;
   for (const auto& bus : buses_) bus->scheduler->set_audit(trail);
@@ -98,6 +103,7 @@ std::shared_ptr<Gateway::Bus> Gateway::make_bus(const BusConfig& config) {
   bus->line->record_frames_to(bus->black_box.get());
   bus->scheduler = std::make_unique<BusScheduler>(io_.get_executor(), *bus->line, config.name);
   bus->scheduler->set_audit(*audit_);
+  if (clock_synchronised_) bus->scheduler->set_clock_check(clock_synchronised_);
   pass_through(config, bus, true);
   return bus;
 }
@@ -116,6 +122,7 @@ std::shared_ptr<GatewaySensor> Gateway::make_sensor(const SensorConfig& config,
   sensor->map = map_for(families_, config);
   sensor->written.assign(sensor->map.holding_end(), 0);
   sensor->stale_after = config.stale_after.value_or(default_stale_after(config.poll));
+  sensor->baseline = baselines_ ? baselines_(config) : config.baseline.value_or(Baseline{});
   sensor->bus = scheduler_of(bus);
   bus->scheduler->add(sensor);
   listeners_.router_for(listener_of(bus_config)).add(sensor);

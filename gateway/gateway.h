@@ -64,6 +64,16 @@ class Gateway {
   // done. Then every attached service reloads. Logs one summary line.
   void reload(const Config& loaded);
 
+  // Where a sensor made from now on (a reload's) finds the baseline it starts with
+  // (GatewaySensor::baseline): the monitoring's book of those set since the configuration
+  // (monitoring/baseline_book.h). Unset: [[sensor]] baseline. On the gateway's executor.
+  void baselines_from(std::function<Baseline(const SensorConfig&)> lookup) {
+    baselines_ = std::move(lookup);
+  }
+  // Whether the system clock is synchronised (clock/clock_watch.h), for every bus's readings
+  // (BusScheduler::set_clock_check()), those of now and those a reload makes. Before start().
+  void check_clock_with(std::function<bool()> synchronised);
+
   // The audit trail the buses' writes and the services record into (audit/audit_trail.h): the
   // composition root's, given before start(); until then the gateway's own, in memory.
   void set_audit(AuditTrail& trail);
@@ -165,6 +175,8 @@ class Gateway {
   ModbusListeners listeners_;
   std::vector<GatewayService*> services_;
   LineKeeper line_keeper_;
+  std::function<Baseline(const SensorConfig&)> baselines_;  // baselines_from()
+  std::function<bool()> clock_synchronised_;                 // check_clock_with()
   double start_seconds_ = 0;  // Unix time of construction
   boost::asio::steady_timer sample_timer_;
   bool stopping_ = false;

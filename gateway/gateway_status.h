@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "audit/audit_counts.h"
+#include "clock/clock_state.h"
 #include "driver/sensor_state.h"
 #include "modbus_tcp/modbus_request_counts.h"
 
@@ -93,7 +94,19 @@ struct SensorStatus {
   std::optional<double> y;
   std::optional<double> tilt;
   std::optional<std::int64_t> age_ms;  // since the last reading arrived; none without one
-  std::uint16_t alarms = 0;            // mapping/derived_state.h alarm_bit flags
+  std::uint16_t alarms = 0;            // mapping/derived_state.h alarm_bit flags, either level
+  std::uint16_t alarms_danger = 0;     // those set at the danger level
+  std::uint16_t alarms_latched = 0;    // latched until acknowledged and clear
+  // From the baseline (docs/monitoring.md): degrees, and millimetres at lever_m (none without
+  // it); none before the first reading.
+  std::optional<double> relative_x;
+  std::optional<double> relative_y;
+  std::optional<double> displacement_x_mm;
+  std::optional<double> displacement_y_mm;
+  std::optional<double> displacement_mm;
+  // When the last reading's reply arrived, UTC; whether the clock was synchronised then.
+  std::optional<std::int64_t> reading_unix_ms;
+  bool clock_synchronised = true;
   std::uint64_t polls_ok = 0;
   std::uint64_t polls_failed = 0;
   // Measurement polls (ok and failed) per second over the last few seconds; none until the
@@ -282,6 +295,9 @@ struct GatewayStatus {
   AuditCounts audit;                  // the audit trail's records since start
   AuditHealth audit_health;           // its disk: records held, lost, refusing now
   double process_start_seconds = 0;    // Unix time the gateway started, in seconds
+  // The system clock, which readings are stamped with: synchronised, its error bound
+  // (clock/clock_watch.h; filled in by the composition root, app/served_gateway.cpp).
+  ClockState clock{};
   // When the configuration served now was loaded, start-up or the last reload, in local time
   // as Gateway::loaded_at() has it ("2026-12-02 05:10:22").
   std::string loaded_at{};

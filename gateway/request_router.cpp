@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "audit/audit_trail.h"
+#include "gateway/alarm_acknowledgement.h"
 #include "line_scheduling/bus_scheduler.h"
 #include "gateway/pass_through_audit.h"
 #include "gateway/router_reader.h"
@@ -241,6 +242,7 @@ boost::asio::awaitable<ModbusResponse> RequestRouter::write(std::shared_ptr<Gate
                                                             ModbusRequest request,
                                                             RouterOptions options) {
   if (request.function == modbus_function::diagnostics) co_return clear_counters(*sensor, request);
+  if (request.table == ModbusTable::coil) co_return acknowledge_alarms(*sensor, request);
   if (request.table != ModbusTable::holding) {
     const auto table = table_of(request.table);
     co_return failure(sensor->map.has_table(table) ? ModbusException::illegal_address

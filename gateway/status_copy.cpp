@@ -95,6 +95,15 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
       s.y = present(derived.angle_y);
       s.tilt = present(derived.tilt);
       s.alarms = derived.alarms;
+      s.alarms_danger = derived.alarms_danger;
+      s.alarms_latched = derived.alarms_latched;
+      s.relative_x = present(derived.relative_x);
+      s.relative_y = present(derived.relative_y);
+      s.displacement_x_mm = present(derived.displacement_x_mm);
+      s.displacement_y_mm = present(derived.displacement_y_mm);
+      s.displacement_mm = present(derived.displacement_mm);
+      if (derived.taken_unix_ms != 0) s.reading_unix_ms = derived.taken_unix_ms;
+      s.clock_synchronised = derived.clock_synchronised;
     } else {
       s.x = present(state.reading->angle_x);
       s.y = present(state.reading->angle_y);

@@ -36,7 +36,8 @@ void BusScheduler::add(std::shared_ptr<GatewaySensor> sensor) {
   // The gateway gives it an owning pointer first; a bus made on its own (tests) lends itself.
   if (!sensor->bus) sensor->bus = std::shared_ptr<BusScheduler>(std::shared_ptr<BusScheduler>(), this);
   // The sensor arrives configured: its mounting and alarms are known from here on.
-  sensor->processing = SensorProcessing(sensor->config.mounting, sensor->config.alarms);
+  sensor->processing = SensorProcessing(sensor->config.mounting, sensor->config.alarms,
+                                        sensor->config.lever_m, sensor->baseline);
   sensor->processed_seq = sensor->driver->state().sample_seq;
   sensor->publish();
   auto polled = std::make_shared<Polled>();
@@ -168,15 +169,34 @@ asio::awaitable<void> BusScheduler::poll(Polled& polled, LineClaimant& line) {
   // Processed and published once the next turn's request is out: posted after that turn's
   // claimant was woken, this runs after it has written its request (where it first waits),
   // so the next transaction does not wait for the reading's tilt, alarms and snapshot.
-  asio::post(executor(), [sensor] {
+  // `this` lives as long as the sensor, which holds its bus (GatewaySensor::bus).
+  asio::post(executor(), [this, sensor] {
     process_new_reading(*sensor);
     sensor->publish();
   });
   // A poll that found the tty gone says nothing of the sensor: it is polled at its period,
   // so it reads fresh at the first poll after the tty is back.
   const bool answered = sensor->driver->state().online || !line_.line().is_open();
-  polled.schedule = after_poll(polled.schedule, answered, sensor->config.poll, max_backoff,
-                               SteadyClock::now());
+  const auto now = SteadyClock::now();
+  if (polled.burst_until && now >= *polled.burst_until) polled.burst_until.reset();
+  // In a burst the period is 0: due again as this poll ends, after the neighbours already due
+  // (earliest due first). A sensor that stops answering backs off from its poll_ms as ever:
+  // a burst never hammers a silent line.
+  const auto period = polled.burst_until && answered ? std::chrono::milliseconds(0)
+                                                     : sensor->config.poll;
+  polled.schedule = after_poll(polled.schedule, answered, period, max_backoff, now);
+}
+
+bool BusScheduler::burst(const GatewaySensor& sensor, SteadyClock::time_point until) {
+  for (const auto& polled : sensors_) {
+    if (polled->sensor.get() != &sensor) continue;
+    if (!polled->burst_until || *polled->burst_until < until) polled->burst_until = until;
+    // Due now: its poller, waiting for its next period, takes the line's next turn.
+    polled->schedule.due = std::min(polled->schedule.due, SteadyClock::now());
+    reschedule(*polled);
+    return true;
+  }
+  return false;
 }
 
 void BusScheduler::listen_to(HeardSource* heard) {
@@ -221,11 +241,22 @@ asio::awaitable<void> BusScheduler::listen(Polled& polled) {
   }
 }
 
-void BusScheduler::process_new_reading(GatewaySensor& sensor) {
+void BusScheduler::process_new_reading(GatewaySensor& sensor) const {
   const SensorState& state = sensor.driver->state();
   if (state.sample_seq == sensor.processed_seq || !state.reading) return;
-  sensor.processing.update(*state.reading);
+  const Reading& reading = *state.reading;
+  // The reply's time on the wall clock: now, less how long ago it arrived by the steady clock.
+  const auto ago = SteadyClock::now() - reading.taken;
+  const std::int64_t unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+      (std::chrono::system_clock::now() - ago).time_since_epoch()).count();
+  const bool synchronised = clock_synchronised_ ? clock_synchronised_() : true;
+  sensor.processing.update(reading, unix_ms, synchronised);
   sensor.processed_seq = state.sample_seq;
+  const DerivedState& d = sensor.processing.derived();
+  sensor.feed->put(FedSample{unix_ms, reading.taken, synchronised, d.angle_x, d.angle_y, d.tilt,
+                             d.relative_x, d.relative_y, d.displacement_mm, NAN, d.alarms,
+                             d.alarms_danger},
+                   sensor.processing.changed());
 }
 
 void BusScheduler::reschedule(Polled& polled) {

@@ -14,6 +14,7 @@
 #include <boost/asio/awaitable.hpp>
 #include <chrono>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -96,6 +97,13 @@ class BusScheduler {
   void listen_to(HeardSource* heard);
   bool listening() const { return heard_ != nullptr; }
 
+  // Whether the system clock is synchronised now (clock/clock_watch.h), asked once per new
+  // reading so that each is flagged (DerivedState::clock_synchronised); unset: always. Set
+  // before the bus starts; the function must be cheap and safe on the bus's thread.
+  void set_clock_check(std::function<bool()> synchronised) {
+    clock_synchronised_ = std::move(synchronised);
+  }
+
   // Where the writes it carries out are recorded (line_scheduling/sensor_write.h); none until given
   // (a scheduler tested on its own).
   void set_audit(AuditTrail& trail) { audit_ = &trail; }
@@ -148,6 +156,11 @@ class BusScheduler {
   // waits for its turn. Returns its name, or none when no sensor of this bus is there.
   std::optional<std::string> hold(std::uint32_t address, SteadyClock::time_point until);
   void release(std::uint32_t address);
+  // A triggered burst (docs/monitoring.md, "Bursts"): the sensor is polled as fast as the line
+  // allows until `until` (each poll due as the last one ends; the line's turns, earliest due
+  // first, keep its neighbours on their schedules), then at its poll_ms again. A burst asked
+  // for while one runs extends it. False when the sensor is not this bus's.
+  bool burst(const GatewaySensor& sensor, SteadyClock::time_point until);
   // A commissioning command changed a setting of the sensor at `address`, with `result` as
   // the audit trail words it ("ack", "nak 0x03", "timeout"), recorded there with `by`. An
   // acknowledged one: the sensor's settings record follows (SensorDriver::note_acknowledged),
@@ -187,6 +200,7 @@ class BusScheduler {
     std::shared_ptr<GatewaySensor> sensor;
     PollSchedule schedule;
     std::optional<SteadyClock::time_point> held_until{};  // hold(): not polled before then
+    std::optional<SteadyClock::time_point> burst_until{};  // burst(): polled back to back
     bool removed = false;
     LineClaimant* poller = nullptr;  // its poller's, while the poller runs
     // When its wait for the round was last logged (log_held()), and its line time then.
@@ -208,7 +222,7 @@ class BusScheduler {
   boost::asio::awaitable<void> poll(Polled& polled, LineClaimant& line);
   void poll_failed(Polled& polled, LineClaimant& line, std::exception_ptr failure);
   // Derives mounting, tilt and alarms once per new reading (a new sample_seq).
-  static void process_new_reading(GatewaySensor& sensor);
+  void process_new_reading(GatewaySensor& sensor) const;
   // When the sensor's next poll is due: its schedule, or after a command's hold on it.
   static SteadyClock::time_point due_of(const Polled& polled);
   // Its poller waits for the poll at its (new) due time.
@@ -240,6 +254,7 @@ class BusScheduler {
   std::size_t max_queued_forwards_ = kMaxQueuedForwards;
   bool retiring_ = false;  // retire(): the queued writes, then stop
   HeardSource* heard_ = nullptr;  // listen_to()
+  std::function<bool()> clock_synchronised_;  // set_clock_check()
   BusSchedulerStats stats_;  // but busy, which the line keeps
 };
 

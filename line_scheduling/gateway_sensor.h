@@ -15,6 +15,7 @@
 #include "config/config.h"
 #include "driver/family.h"
 #include "driver/sensor_driver.h"
+#include "line_scheduling/sensor_feed.h"
 #include "line_scheduling/sensor_processing.h"
 #include "line_scheduling/sensor_snapshot.h"
 #include "mapping/map_access.h"
@@ -35,6 +36,11 @@ struct GatewaySensor {
   // reading (processed_seq is the driver's sample_seq it last saw).
   SensorProcessing processing{MountingConfig{}, AlarmConfig{}};
   std::uint16_t processed_seq = 0;
+  // The baseline it starts with: [[sensor]] baseline, or the one set since (the gateway's
+  // baseline book, monitoring/baseline_book.h). Later changes go to processing directly.
+  Baseline baseline;
+  // Every processed reading and alarm change, for the monitoring (line_scheduling/sensor_feed.h).
+  std::shared_ptr<SensorFeed> feed = std::make_shared<SensorFeed>();
   RegisterMap map;
   // Holding shadow, sized to map.holding_end(): what was written through the gateway, kept by
   // SensorWrite (line_scheduling/sensor_write.h).

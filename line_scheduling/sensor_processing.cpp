@@ -1,5 +1,6 @@
 #include "line_scheduling/sensor_processing.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -29,47 +30,40 @@ CosSin cos_sin_degrees(double degrees) {
   return {std::cos(radians), std::sin(radians)};
 }
 
-// Sets `bit` when `set` holds, clears it when `clear` holds, else leaves it.
-void latch(std::uint16_t& alarms, std::uint16_t bit, bool set, bool clear) {
-  if (set) alarms |= bit;
-  else if (clear) alarms &= std::uint16_t(~bit);
-}
-
-// A high alarm: above the threshold sets, below threshold - hysteresis clears. NaN compares
-// false both ways, so it neither sets nor clears.
-void high_alarm(std::uint16_t& alarms, std::uint16_t bit, const std::optional<double>& threshold,
-                double hysteresis, double value) {
-  if (!threshold) {
-    alarms &= std::uint16_t(~bit);
-    return;
-  }
-  latch(alarms, bit, value > *threshold, value < *threshold - hysteresis);
-}
-
-void low_alarm(std::uint16_t& alarms, std::uint16_t bit, const std::optional<double>& threshold,
-               double hysteresis, double value) {
-  if (!threshold) {
-    alarms &= std::uint16_t(~bit);
-    return;
-  }
-  latch(alarms, bit, value < *threshold, value > *threshold + hysteresis);
-}
-
 // |d angle| / dt in degrees per second; NaN when either value is NaN.
 double rate_of(double previous, double current, double seconds) {
   return std::fabs(current - previous) / seconds;
 }
 
+// The faster of two rates, NaN only when neither is known.
+double faster(double a, double b) {
+  if (std::isnan(a)) return b;
+  if (std::isnan(b)) return a;
+  return std::max(a, b);
+}
+
+// Millimetres a point `lever_m` above the pivot moves horizontally when the member turns from
+// `from` to `to` degrees (docs/monitoring.md, "Baseline and displacement").
+double displacement_mm(double lever_m, double from, double to) {
+  constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
+  return 1000.0 * lever_m * (std::sin(to * kRadiansPerDegree) - std::sin(from * kRadiansPerDegree));
+}
+
 }  // namespace
 
-SensorProcessing::SensorProcessing(MountingConfig mounting, AlarmConfig alarms)
-    : mounting_(mounting), alarms_(alarms) {
+SensorProcessing::SensorProcessing(MountingConfig mounting, const AlarmConfig& alarms,
+                                   std::optional<double> lever_m, Baseline baseline)
+    : mounting_(mounting), alarms_(alarms), lever_m_(lever_m), baseline_(baseline) {
   const CosSin turn = cos_sin_degrees(mounting_.rotate_deg);
   cos_ = turn.cos;
   sin_ = turn.sin;
 }
 
-void SensorProcessing::update(const Reading& reading) {
+void SensorProcessing::update(const Reading& reading, std::int64_t taken_unix_ms,
+                              bool clock_synchronised) {
+  changed_.clear();
+  derived_.taken_unix_ms = taken_unix_ms;
+  derived_.clock_synchronised = clock_synchronised;
   double x = reading.angle_x;
   double y = reading.angle_y;
   const bool dual_axis = !std::isnan(y);
@@ -86,34 +80,49 @@ void SensorProcessing::update(const Reading& reading) {
     y = turned_y;
   }
 
-  std::uint16_t alarms = derived_.alarms;
-  const double h = alarms_.hysteresis_deg;
-  high_alarm(alarms, alarm_bit::x_high, alarms_.x_high, h, x);
-  low_alarm(alarms, alarm_bit::x_low, alarms_.x_low, h, x);
-  high_alarm(alarms, alarm_bit::y_high, alarms_.y_high, h, y);
-  low_alarm(alarms, alarm_bit::y_low, alarms_.y_low, h, y);
-  high_alarm(alarms, alarm_bit::tilt_high, alarms_.tilt_high, h, tilt);
-
-  if (!alarms_.rate_limit_deg_s) {
-    alarms &= std::uint16_t(~alarm_bit::rate);
-  } else if (derived_.valid && reading.taken > previous_taken_) {
+  AlarmValues values{x, y, tilt, NAN, NAN};
+  if (derived_.valid && reading.taken > previous_taken_) {
     const double seconds = std::chrono::duration<double>(reading.taken - previous_taken_).count();
-    const double rate_x = rate_of(derived_.angle_x, x, seconds);
-    const double rate_y = rate_of(derived_.angle_y, y, seconds);
-    const double limit = *alarms_.rate_limit_deg_s;
-    const bool over = rate_x > limit || rate_y > limit;
-    // Back below only when every axis that has a rate shows it, and at least one has.
-    const bool measured = !std::isnan(rate_x) || !std::isnan(rate_y);
-    const bool within = measured && !(rate_x > limit) && !(rate_y > limit);
-    latch(alarms, alarm_bit::rate, over, within);
+    values.rate = faster(rate_of(derived_.angle_x, x, seconds), rate_of(derived_.angle_y, y, seconds));
   }
-
   derived_.angle_x = x;
   derived_.angle_y = y;
   derived_.tilt = tilt;
-  derived_.alarms = alarms;
   derived_.valid = true;
   previous_taken_ = reading.taken;
+  relate_to_baseline();
+  values.displacement_mm = derived_.displacement_mm;
+  alarms_.update(values, reading.taken, changed_);
+  publish_alarms();
+}
+
+void SensorProcessing::set_baseline(Baseline baseline) {
+  baseline_ = baseline;
+  if (derived_.valid) relate_to_baseline();
+}
+
+void SensorProcessing::acknowledge_alarms() {
+  alarms_.acknowledge();
+  publish_alarms();
+}
+
+void SensorProcessing::relate_to_baseline() {
+  DerivedState& d = derived_;
+  d.relative_x = d.angle_x - baseline_.x;
+  d.relative_y = d.angle_y - baseline_.y;  // NaN on one axis
+  if (!lever_m_) return;
+  d.displacement_x_mm = displacement_mm(*lever_m_, baseline_.x, d.angle_x);
+  d.displacement_y_mm = displacement_mm(*lever_m_, baseline_.y, d.angle_y);
+  d.displacement_mm = std::isnan(d.displacement_y_mm)
+                          ? std::fabs(d.displacement_x_mm)
+                          : std::hypot(d.displacement_x_mm, d.displacement_y_mm);
+}
+
+void SensorProcessing::publish_alarms() {
+  derived_.alarms = alarms_.warning() | alarms_.danger();
+  derived_.alarms_danger = alarms_.danger();
+  derived_.alarms_latched = alarms_.latched();
+  derived_.alarms_unacknowledged = alarms_.unacknowledged();
 }
 
 }  // namespace tiltgate

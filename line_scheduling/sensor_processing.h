@@ -31,41 +31,60 @@
 // config loader rejects them for single-axis models); invert_x applies; angle_y stays NaN and
 // tilt = |x|.
 //
-// Alarms, in degrees after mounting (config/config.h AlarmConfig):
-//   - a high alarm (x_high, y_high, tilt_high) sets when its value is > the threshold and
-//     clears when it is < threshold - hysteresis_deg; a low alarm (x_low, y_low) sets when its
-//     value is < the threshold and clears when it is > threshold + hysteresis_deg; in between,
-//     each keeps its state;
-//   - the rate alarm sets when |d angle| / dt between two consecutive readings (dt from
-//     Reading::taken) is > rate_limit_deg_s on either axis, and clears at the first reading
-//     whose rate is <= the limit on every axis: hysteresis_deg is in degrees and has no
-//     meaning per second, and a rate that stayed within the limit over one whole sample is
-//     the plain reading of "back below". The flag so stays up for at least one sample period;
-//   - a NaN value (no angle on that axis) neither sets nor clears the alarms that depend on
-//     it: an alarm that is up stays up until a real value clears it. A rate needs two
-//     consecutive readings with real values on that axis and a positive dt.
+// Baseline and displacement (docs/monitoring.md, "Baseline and displacement"): the relative
+// angles are the angles after mounting minus the baseline's; the displacement at lever_m
+// metres is, per axis, 1000 * lever_m * (sin a - sin a0) millimetres for an angle a and its
+// baseline a0: the horizontal movement of a point lever_m above the pivot of a rigid member
+// that turns from a0 to a. displacement_mm is the length of the two (|x| on one axis).
+//
+// Alarms, in degrees after mounting (rate: per second; displacement: mm), at two levels with
+// their hold time and latches: line_scheduling/alarm_tracker.h. The rate is the faster axis's
+// |d angle| / dt between two consecutive readings (dt from Reading::taken): it needs two
+// readings with real values on an axis and a positive dt, else it is NaN (neither sets nor
+// clears).
 #pragma once
 
-#include "config/config.h"
+#include <optional>
+#include <vector>
+
 #include "driver/sensor_state.h"
+#include "line_scheduling/alarm_tracker.h"
 #include "mapping/derived_state.h"
 
 namespace tiltgate {
 
 class SensorProcessing {
  public:
-  explicit SensorProcessing(MountingConfig mounting, AlarmConfig alarms);
+  SensorProcessing(MountingConfig mounting, const AlarmConfig& alarms,
+                   std::optional<double> lever_m = {}, Baseline baseline = {});
 
-  // Call once per new reading (a new SensorState::sample_seq).
-  void update(const Reading& reading);
+  // Call once per new reading (a new SensorState::sample_seq), with its UTC time as the bus
+  // made it from Reading::taken. The alarms that set or cleared at it are in changed() until
+  // the next call.
+  void update(const Reading& reading, std::int64_t taken_unix_ms = 0,
+              bool clock_synchronised = true);
   const DerivedState& derived() const { return derived_; }
+  const std::vector<AlarmTransition>& changed() const { return changed_; }
+
+  // A new baseline, from the next reading on (the relative values of the last one are
+  // recomputed now, so what is served agrees with it at once).
+  void set_baseline(Baseline baseline);
+  const Baseline& baseline() const { return baseline_; }
+  // A PLC acknowledged the latched alarms (AlarmTracker::acknowledge()).
+  void acknowledge_alarms();
 
  private:
+  void relate_to_baseline();
+  void publish_alarms();
+
   MountingConfig mounting_;
-  AlarmConfig alarms_;
+  AlarmTracker alarms_;
+  std::optional<double> lever_m_;
+  Baseline baseline_;
   double cos_ = 1.0;  // of rotate_deg, exact at multiples of 90 degrees
   double sin_ = 0.0;
   DerivedState derived_;
+  std::vector<AlarmTransition> changed_;
   SteadyClock::time_point previous_taken_{};
 };
 

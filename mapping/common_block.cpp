@@ -32,7 +32,7 @@ void add_angles(std::vector<Point>& points, const CommonBlockModel& m) {
                                   : "-32768 (single axis)"));
 }
 
-// The input registers 6..37 of every model, after the angles: one row each.
+// The input registers 6..49 of every model, after the angles: one row each.
 struct InputRow {
   const char* name;
   std::uint16_t address;
@@ -46,7 +46,8 @@ struct InputRow {
 constexpr InputRow kStatusIdentityAndCounters[] = {
     {"status", 6, T::uint16, S::status, "",
      "bit 0 online, bit 1 stale, bit 2 last write failed, bit 3 identity unknown, bit 4 an "
-     "alarm is active, bit 5 answers late, bit 6 wrong device, bit 7 standby"},
+     "alarm is active, bit 5 answers late, bit 6 wrong device, bit 7 standby, bit 8 the "
+     "reading was taken while the clock was unsynchronised"},
     {"age_ms", 7, T::uint16, S::age_ms, "ms",
      "time since the last good reading, saturating at 65535"},
     {"polls_ok", 8, T::uint32, S::polls_ok, "", "measurement polls answered"},
@@ -66,7 +67,8 @@ constexpr InputRow kStatusIdentityAndCounters[] = {
     {"tilt", 25, T::float32, S::tilt, "deg",
      "tilt from vertical, tan^2 = tan^2 x + tan^2 y; |x| on one axis"},
     {"alarms", 27, T::uint16, S::alarms, "",
-     "bit 0 x high, 1 x low, 2 y high, 3 y low, 4 tilt high, 5 rate; 0 without [sensor] alarms"},
+     "alarms set at either level: bit 0 x high, 1 x low, 2 y high, 3 y low, 4 tilt high, 5 "
+     "rate, 6 displacement; 0 without [sensor] alarms"},
     {"timeouts", 28, T::uint32, S::timeouts, "", "exchanges that got no valid reply in time"},
     {"checksum_errors", 30, T::uint32, S::checksum_errors, "",
      "replies dropped for a bad CRC or LRC"},
@@ -77,6 +79,20 @@ constexpr InputRow kStatusIdentityAndCounters[] = {
      "the reply time-out in use for this sensor"},
     // Described by the map's builder, which knows every model (mapping/map_definition.h).
     {"model_code", 37, T::uint16, S::model_code, "", ""},
+    // The monitoring (docs/monitoring.md): readings from the baseline, the displacement and
+    // the alarm levels, after the older registers so that their addresses stay.
+    {"relative_x", 38, T::float32, S::relative_x, "deg", "X from the baseline"},
+    {"relative_y", 40, T::float32, S::relative_y, "deg", "Y from the baseline; NaN on one axis"},
+    {"displacement_x_mm", 42, T::float32, S::displacement_x_mm, "mm",
+     "X displacement at lever_m from the baseline; NaN without lever_m"},
+    {"displacement_y_mm", 44, T::float32, S::displacement_y_mm, "mm",
+     "Y displacement at lever_m from the baseline; NaN without lever_m or on one axis"},
+    {"displacement_mm", 46, T::float32, S::displacement_mm, "mm",
+     "the length of the displacement; NaN without lever_m"},
+    {"alarms_danger", 48, T::uint16, S::alarms_danger, "",
+     "alarms set at the danger level, bits as register 27"},
+    {"alarms_latched", 49, T::uint16, S::alarms_latched, "",
+     "alarms latched until acknowledged (coil 0) and clear, bits as register 27"},
 };
 
 void add_status_identity_and_counters(std::vector<Point>& points) {
@@ -87,8 +103,8 @@ void add_status_identity_and_counters(std::vector<Point>& points) {
 
 // Discrete input 0 is "online"; 1..6 are the alarm flags (mapping/derived_state.h alarm_bit
 // order), 0 unless the sensor's [sensor] alarms configure them; 7 is "wrong device" (status
-// bit 6) and 8 "standby" (status bit 7), each after the others so that the addresses of the
-// older ones stay.
+// bit 6), 8 "standby" (status bit 7), and 9..12 the monitoring's, each after the others so
+// that the addresses of the older ones stay.
 struct DiscreteRow {
   const char* name;
   ValueSource source;
@@ -108,12 +124,27 @@ constexpr DiscreteRow kDiscreteInputs[] = {
     {"standby", S::standby,
      "this gateway is the standby of a redundant pair: the values are heard from the active "
      "gateway's polls"},
+    {"alarm_displacement", S::alarm_displacement,
+     "the displacement above alarms.displacement_high_mm"},
+    {"alarm_danger", S::alarm_danger, "an alarm is set at the danger level"},
+    {"alarm_unacknowledged", S::alarm_unacknowledged,
+     "an alarm latched since the last acknowledgement (coil 0)"},
+    {"clock_unsynchronised", S::clock_unsynchronised,
+     "the last reading was taken while the system clock was not synchronised"},
 };
 
 void add_discrete_inputs(std::vector<Point>& points) {
   std::uint16_t address = 0;
   for (const DiscreteRow& row : kDiscreteInputs)
     points.push_back(discrete_point(row.name, address++, row.source, row.description));
+}
+
+// Coil 0: the PLC acknowledges the latched alarms (line_scheduling/alarm_tracker.h).
+void add_coils(std::vector<Point>& points) {
+  points.push_back(make_point("acknowledge_alarms", RegisterTable::coil, 0, T::boolean,
+                              S::acknowledge_alarms, "",
+                              "reads 1 while an alarm awaits acknowledgement; write 1 to "
+                              "acknowledge every latched alarm"));
 }
 
 // `units` for a model without the setting; a model's own come from its descriptor.
@@ -146,12 +177,23 @@ void add_settings(std::vector<Point>& points, const CommonBlockModel& m) {
 
 }  // namespace
 
+bool yields_to_map_points(const Point& p) {
+  switch (p.table) {
+    case RegisterTable::coil: return p.address == 0 && p.source == S::acknowledge_alarms;
+    case RegisterTable::discrete: return p.address >= 9 && p.address <= 12;
+    case RegisterTable::input: return p.address >= 38 && p.address <= 49;
+    case RegisterTable::holding: break;
+  }
+  return false;
+}
+
 bool names_point(std::string_view given, std::string_view name) {
   return given == name || (given == kFormerAddressPointName && name == kAddressPointName);
 }
 
 std::vector<Point> common_block(const CommonBlockModel& model) {
   std::vector<Point> points;
+  add_coils(points);
   add_discrete_inputs(points);
   add_angles(points, model);
   add_status_identity_and_counters(points);

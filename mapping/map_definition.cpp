@@ -29,7 +29,12 @@ std::vector<ResolvedPoint> resolve_points(FamilyList families, const MapDefiniti
       const bool replaced = std::any_of(
           definition.points.begin(), definition.points.end(),
           [&](const Point& own) { return names_point(own.name, p.name) && own.table == p.table; });
-      if (!replaced) resolved.push_back({p, kBuiltIn});
+      // A monitoring point a map of its own overlaps makes way (mapping/common_block.h).
+      const bool overlapped = yields_to_map_points(p) &&
+          std::any_of(definition.points.begin(), definition.points.end(), [&](const Point& own) {
+            return own.table == p.table && own.address < p.end() && p.address < own.end();
+          });
+      if (!replaced && !overlapped) resolved.push_back({p, kBuiltIn});
     }
   }
   for (std::size_t i = 0; i < definition.points.size(); ++i) {

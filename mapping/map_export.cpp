@@ -27,6 +27,8 @@ std::string md_cell(const std::string& text) {
 
 const char* access_of(const Point& p) {
   if (p.write) return "rw";
+  // The acknowledgement coil: written by a PLC, carried out by the gateway itself.
+  if (p.table == RegisterTable::coil && p.source == ValueSource::acknowledge_alarms) return "rw";
   return "r";
 }
 

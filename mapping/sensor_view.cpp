@@ -29,6 +29,8 @@ std::uint16_t SensorView::status() const {
   if (state.answers_late) bits |= status_bit::answers_late;
   if (state.wrong_device) bits |= status_bit::wrong_device;
   if (state.standby) bits |= status_bit::standby;
+  if (const DerivedState* d = valid_derived(); d != nullptr && !d->clock_synchronised)
+    bits |= status_bit::clock_unsynchronised;
   return bits;
 }
 

@@ -37,6 +37,10 @@ struct SensorView {
   std::uint16_t age_ms() const;  // 65535 when there never was a reading
   std::uint16_t status() const;
   std::uint16_t alarms() const;  // alarm_bit flags, 0 without derived state
+  // The derived state when there is one with a reading (else none).
+  const DerivedState* valid_derived() const {
+    return derived != nullptr && derived->valid ? derived : nullptr;
+  }
 };
 
 namespace status_bit {
@@ -52,6 +56,9 @@ constexpr std::uint16_t wrong_device = 1 << 6;
 // This gateway is the standby of a redundant pair (driver/sensor_state.h standby): the values
 // were heard on the line, the active gateway's polls and the sensor's replies, not asked for.
 constexpr std::uint16_t standby = 1 << 7;
+// The last reading was taken while the system clock was not synchronised (docs/operations.md,
+// "The clock"): its UTC time may be off by more than the record should trust.
+constexpr std::uint16_t clock_unsynchronised = 1 << 8;
 }  // namespace status_bit
 
 }  // namespace tiltgate

@@ -26,6 +26,18 @@ double tilt(const SensorView& v) {
   return tilt_degrees(angle(v, true), angle(v, false));
 }
 
+// A value derived from the last reading; NaN before one.
+double derived_or_nan(const SensorView& v, double DerivedState::*member) {
+  const DerivedState* d = v.valid_derived();
+  return d != nullptr ? d->*member : NAN;
+}
+
+// Flags of the derived state (alarm_bit); 0 before a reading.
+std::uint16_t derived_flags(const SensorView& v, std::uint16_t DerivedState::*member) {
+  const DerivedState* d = v.valid_derived();
+  return d != nullptr ? d->*member : 0;
+}
+
 double optional_int(const std::optional<std::int32_t>& value) {
   return value ? double(*value) : NAN;
 }
@@ -55,6 +67,11 @@ std::optional<double> measured_value(ValueSource source, const SensorView& v) {
     case S::angle_x_cdeg: return angle(v, true) * 100.0;
     case S::angle_y_cdeg: return angle(v, false) * 100.0;
     case S::tilt: return tilt(v);
+    case S::relative_x: return derived_or_nan(v, &DerivedState::relative_x);
+    case S::relative_y: return derived_or_nan(v, &DerivedState::relative_y);
+    case S::displacement_x_mm: return derived_or_nan(v, &DerivedState::displacement_x_mm);
+    case S::displacement_y_mm: return derived_or_nan(v, &DerivedState::displacement_y_mm);
+    case S::displacement_mm: return derived_or_nan(v, &DerivedState::displacement_mm);
     case S::raw_counts: return reading ? optional_int(reading->raw_counts) : NAN;
     case S::raw_temperature: return reading ? optional_int(reading->raw_temperature) : NAN;
     default: return std::nullopt;
@@ -73,6 +90,7 @@ std::optional<double> status_value(ValueSource source, const SensorView& v) {
     case S::answers_late: return bit_of(v.status(), status_bit::answers_late);
     case S::wrong_device: return bit_of(v.status(), status_bit::wrong_device);
     case S::standby: return bit_of(v.status(), status_bit::standby);
+    case S::clock_unsynchronised: return bit_of(v.status(), status_bit::clock_unsynchronised);
     default: return std::nullopt;
   }
 }
@@ -87,6 +105,13 @@ std::optional<double> alarm_value(ValueSource source, const SensorView& v) {
     case S::alarm_y_low: return bit_of(v.alarms(), alarm_bit::y_low);
     case S::alarm_tilt: return bit_of(v.alarms(), alarm_bit::tilt_high);
     case S::alarm_rate: return bit_of(v.alarms(), alarm_bit::rate);
+    case S::alarm_displacement: return bit_of(v.alarms(), alarm_bit::displacement);
+    case S::alarm_danger: return derived_flags(v, &DerivedState::alarms_danger) != 0 ? 1 : 0;
+    case S::alarm_unacknowledged:
+    case S::acknowledge_alarms:
+      return derived_flags(v, &DerivedState::alarms_unacknowledged) != 0 ? 1 : 0;
+    case S::alarms_danger: return derived_flags(v, &DerivedState::alarms_danger);
+    case S::alarms_latched: return derived_flags(v, &DerivedState::alarms_latched);
     default: return std::nullopt;
   }
 }

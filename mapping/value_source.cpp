@@ -48,10 +48,17 @@ constexpr SourceRow kRows[] = {
     {"angle_x_cdeg", S::angle_x_cdeg, kMeasurement | kRanged, -18000, 18000},
     {"angle_y_cdeg", S::angle_y_cdeg, kMeasurement | kRanged, -18000, 18000},
     {"tilt", S::tilt, kMeasurement | kAngle | kRanged, 0, kMaxTilt},
+    // An angle less its baseline, both within +-180.
+    {"relative_x", S::relative_x, kMeasurement | kAngle | kRanged, -360, 360},
+    {"relative_y", S::relative_y, kMeasurement | kAngle | kRanged, -360, 360},
+    // 1000 x lever_m (at most 10 km) x a difference of sines (at most 2); the length sqrt(2) more.
+    {"displacement_x_mm", S::displacement_x_mm, kMeasurement | kRanged, -2e7, 2e7},
+    {"displacement_y_mm", S::displacement_y_mm, kMeasurement | kRanged, -2e7, 2e7},
+    {"displacement_mm", S::displacement_mm, kMeasurement | kRanged, 0, 2.83e7},
     // The driver reports int32.
     {"raw_counts", S::raw_counts, kMeasurement | kCounter, kInt32Min, kInt32Max},
     {"raw_temperature", S::raw_temperature, kMeasurement | kCounter, kInt32Min, kInt32Max},
-    {"status", S::status, kCounter, 0, 255},  // eight status bits
+    {"status", S::status, kCounter, 0, 511},  // nine status bits
     {"online", S::online, kFlag, 0, 1},
     {"stale", S::stale, kFlag, 0, 1},
     {"last_write_failed", S::last_write_failed, kFlag, 0, 1},
@@ -60,13 +67,20 @@ constexpr SourceRow kRows[] = {
     {"answers_late", S::answers_late, kFlag, 0, 1},
     {"wrong_device", S::wrong_device, kFlag, 0, 1},
     {"standby", S::standby, kFlag, 0, 1},
-    {"alarms", S::alarms, kCounter, 0, 63},  // six alarm bits
+    {"clock_unsynchronised", S::clock_unsynchronised, kFlag, 0, 1},
+    {"alarms", S::alarms, kCounter, 0, 127},  // seven alarm bits
     {"alarm_x_high", S::alarm_x_high, kFlag, 0, 1},
     {"alarm_x_low", S::alarm_x_low, kFlag, 0, 1},
     {"alarm_y_high", S::alarm_y_high, kFlag, 0, 1},
     {"alarm_y_low", S::alarm_y_low, kFlag, 0, 1},
     {"alarm_tilt", S::alarm_tilt, kFlag, 0, 1},
     {"alarm_rate", S::alarm_rate, kFlag, 0, 1},
+    {"alarm_displacement", S::alarm_displacement, kFlag, 0, 1},
+    {"alarm_danger", S::alarm_danger, kFlag, 0, 1},
+    {"alarm_unacknowledged", S::alarm_unacknowledged, kFlag, 0, 1},
+    {"alarms_danger", S::alarms_danger, kCounter, 0, 127},
+    {"alarms_latched", S::alarms_latched, kCounter, 0, 127},
+    {"acknowledge_alarms", S::acknowledge_alarms, kFlag, 0, 1},
     // Saturating or 16-bit by nature; bus addresses fit 16 bits on every protocol
     // (driver/family.h).
     {"age_ms", S::age_ms, kCounter, 0, 65535},

@@ -16,6 +16,11 @@ enum class ValueSource : std::uint8_t {
   angle_x_cdeg,  // hundredths of a degree
   angle_y_cdeg,
   tilt,  // degrees, magnitude of (angle_x, angle_y); |angle_x| on one axis
+  relative_x,  // degrees from the baseline (mapping/derived_state.h)
+  relative_y,
+  displacement_x_mm,  // millimetres at lever_m from the baseline
+  displacement_y_mm,
+  displacement_mm,    // the length of (x, y)
   raw_counts,
   raw_temperature,
   status,  // status_bit flags (mapping/sensor_view.h)
@@ -27,6 +32,7 @@ enum class ValueSource : std::uint8_t {
   answers_late,
   wrong_device,
   standby,
+  clock_unsynchronised,
   alarms,  // ... and the alarm_bit flags, as one integer or one bit each
   alarm_x_high,
   alarm_x_low,
@@ -34,6 +40,14 @@ enum class ValueSource : std::uint8_t {
   alarm_y_low,
   alarm_tilt,
   alarm_rate,
+  alarm_displacement,
+  alarm_danger,          // any alarm at the danger level
+  alarm_unacknowledged,  // any latched alarm not acknowledged yet
+  alarms_danger,         // the alarm_bit flags set at the danger level
+  alarms_latched,        // the alarm_bit flags latched (set since, not acknowledged and clear)
+  // Coil: reads as alarm_unacknowledged; writing 1 acknowledges every latched alarm (the one
+  // coil a PLC writes, handled by the gateway, never sent to the sensor).
+  acknowledge_alarms,
   age_ms,
   polls_ok,
   polls_failed,

@@ -76,9 +76,10 @@ std::int64_t unix_ms_now() {
 }  // namespace
 
 MqttFeed::MqttFeed(boost::asio::any_io_executor executor, StatusSource status,
-                   const MqttConfig& config)
+                   const MqttConfig& config, MqttEventSource events)
     : timer_(executor),
       status_(std::move(status)),
+      events_(std::move(events)),
       config_(config),
       publisher_(publisher_options(config)),
       client_(client_options(config)),
@@ -91,6 +92,9 @@ Expected<Done, std::string> MqttFeed::start() {
   if (auto started = client_.start(); !started) return started;
   running_ = true;
   started_at_ = Clock::now();
+  // Events from now on: those before are in the event record (GET /api/events). Asked here,
+  // not at construction: the monitoring is made after the feed (app/served_gateway.h).
+  if (events_.last) events_sent_ = events_.last();
   schedule();
   return Done{};
 }
@@ -205,10 +209,20 @@ void MqttFeed::tick() {
   }
   for (MqttMessage& message : publisher_.take(status_(), now, unix_ms_now()))
     send_or_keep(std::move(message));
+  publish_events();
   if (connected) replay();
   sync_backlog(now);
   report_drops(now);
   report_notices();
+}
+
+void MqttFeed::publish_events() {
+  if (!events_.after) return;
+  for (MqttEvent& event : events_.after(events_sent_)) {
+    events_sent_ = event.seq;
+    send_or_keep(MqttMessage{mqtt_events_topic(config_.topic_prefix), std::move(event.payload),
+                             false, event.unix_ms});
+  }
 }
 
 void MqttFeed::take_acknowledgements() {

@@ -27,7 +27,10 @@ namespace tiltgate {
 
 class MqttFeed {
  public:
-  MqttFeed(boost::asio::any_io_executor executor, StatusSource status, const MqttConfig& config);
+  // `events`: the monitoring's, published from those after the newest at start() (empty
+  // functions: none).
+  MqttFeed(boost::asio::any_io_executor executor, StatusSource status, const MqttConfig& config,
+           MqttEventSource events = {});
   ~MqttFeed();
 
   Expected<Done, std::string> start();
@@ -52,6 +55,8 @@ class MqttFeed {
   void take_acknowledgements();
   void keep_unacknowledged();
   void send_or_keep(MqttMessage message);
+  // The events since the last tick, on <prefix>/events.
+  void publish_events();
   void keep(const MqttMessage& message);
   void replay();
   void sync_backlog(Clock::time_point now);
@@ -62,6 +67,8 @@ class MqttFeed {
   boost::asio::steady_timer timer_;
   bool tick_waiting_ = false;  // the timer's handler is still to run
   StatusSource status_;
+  MqttEventSource events_;
+  std::uint64_t events_sent_ = 0;  // the last event's number handed to the client or the backlog
   MqttConfig config_;
   MqttPublisher publisher_;
   MqttClient client_;

@@ -2,6 +2,9 @@
 // client sends it.
 #pragma once
 
+#include <functional>
+#include <vector>
+
 #include <cstdint>
 #include <string>
 
@@ -16,6 +19,19 @@ struct MqttMessage {
   std::int64_t time_unix_ms = 0;  // when it was made
 
   bool operator==(const MqttMessage&) const = default;
+};
+
+// The monitoring's events (docs/monitoring.md, "Events") as the feed takes them: each one's
+// number, its JSON and its time. The feed publishes those after the last it sent on
+// <prefix>/events, QoS 1, kept in the backlog while the broker is away.
+struct MqttEvent {
+  std::uint64_t seq = 0;
+  std::string payload;
+  std::int64_t unix_ms = 0;
+};
+struct MqttEventSource {
+  std::function<std::uint64_t()> last;  // the newest event's number now (0: none yet)
+  std::function<std::vector<MqttEvent>(std::uint64_t after)> after;  // oldest first
 };
 
 }  // namespace tiltgate

@@ -10,20 +10,25 @@
 
 namespace tiltgate {
 
-// <prefix>/<sensor>/state, <prefix>/<sensor>/info and <prefix>/status.
+// <prefix>/<sensor>/state, <prefix>/<sensor>/info, <prefix>/status and <prefix>/events.
 std::string mqtt_state_topic(std::string_view prefix, std::string_view sensor);
 std::string mqtt_info_topic(std::string_view prefix, std::string_view sensor);
 std::string mqtt_status_topic(std::string_view prefix);
+std::string mqtt_events_topic(std::string_view prefix);
 
 // The gateway's retained status: "online" while connected, "offline" as the last will and on
 // a clean shutdown.
 inline constexpr std::string_view kMqttOnline = "online";
 inline constexpr std::string_view kMqttOffline = "offline";
 
-// {"ts":..,"x":..,"y":..,"tilt":..,"online":..,"stale":..,"age_ms":..,"alarms":..}. `ts` is the
-// Unix time in milliseconds of the reading x and y come from (`now_unix_ms` less its age), or
-// `now_unix_ms` when there is none yet (x, y and tilt are then null).
-std::string mqtt_state_json(const SensorStatus& sensor, std::int64_t now_unix_ms);
+// {"ts":..,"x":..,"y":..,"tilt":..,"online":..,"stale":..,"age_ms":..,"alarms":..,
+// "wrong_device":..,"clock_synchronised":..,"clock_error_ms":..}. `ts` is the Unix time in
+// milliseconds of the reading x and y come from (`now_unix_ms` less its age), or `now_unix_ms`
+// when there is none yet (x, y and tilt are then null). The clock fields are the gateway's
+// clock when the message was made (clock/clock_state.h): whether `ts` can be trusted, and
+// within how many ms (null while unsynchronised).
+std::string mqtt_state_json(const SensorStatus& sensor, const ClockState& clock,
+                            std::int64_t now_unix_ms);
 
 // A state kept in the backlog, as it is replayed: `state_json` with "historical":true added, so a
 // subscriber that shows the latest state can tell a replayed, older one from a live one.

@@ -27,7 +27,8 @@ bool StatePacer::due(const StateSample& sample, Clock::time_point now) const {
   if (!last_) return true;
   const auto since = now - last_at_;
   if (since >= pacing_.interval || sample.online != last_->online ||
-      sample.wrong_device != last_->wrong_device)
+      sample.wrong_device != last_->wrong_device ||
+      sample.clock_synchronised != last_->clock_synchronised)
     return true;
   return since >= pacing_.min_spacing && moved(sample);
 }
@@ -51,11 +52,11 @@ std::vector<MqttMessage> MqttPublisher::take(const GatewayStatus& status, Clock:
       info_[sensor.name] = std::move(info);
     }
     const StateSample sample{sensor.x, sensor.y, sensor.online, sensor.polls_ok,
-                             sensor.wrong_device};
+                             sensor.wrong_device, status.clock.synchronised};
     StatePacer& pacer = pacers_.try_emplace(sensor.name, options_.pacing).first->second;
     if (!pacer.due(sample, now)) continue;
     due.push_back({mqtt_state_topic(options_.topic_prefix, sensor.name),
-                   mqtt_state_json(sensor, now_unix_ms), false, now_unix_ms});
+                   mqtt_state_json(sensor, status.clock, now_unix_ms), false, now_unix_ms});
     pacer.published(sample, now);
   }
   return due;

@@ -30,10 +30,12 @@ struct StateSample {
   bool online = false;
   std::uint64_t readings = 0;  // polls that brought a reading so far: a new one changes it
   bool wrong_device = false;   // another device answers in the sensor's place
+  bool clock_synchronised = false;  // the gateway's clock, which stamps the readings
 };
 
 // One sensor's pacing: due at the first sample, when `interval` has passed since the last
-// publish, when `online` or `wrong_device` flips, and (after min_spacing) when an angle moved by on_change_deg
+// publish, when `online`, `wrong_device` or `clock_synchronised` flips, and (after min_spacing)
+// when an angle moved by on_change_deg
 // since the last publish, or for 0 when a new reading arrived.
 class StatePacer {
  public:

@@ -7,8 +7,9 @@
 namespace tiltgate {
 
 MqttService::MqttService(boost::asio::any_io_executor executor, StatusSource status,
-                         const MqttConfig& config)
-    : executor_(std::move(executor)), status_(std::move(status)), config_(config),
+                         const MqttConfig& config, MqttEventSource events)
+    : executor_(std::move(executor)), status_(std::move(status)), events_(std::move(events)),
+      config_(config),
       retired_(executor_) {
   make_feed();
 }
@@ -17,7 +18,7 @@ MqttService::~MqttService() = default;
 
 void MqttService::make_feed() {
   if (!config_.enabled || paused_) return;
-  feed_ = std::make_unique<MqttFeed>(executor_, status_, config_);
+  feed_ = std::make_unique<MqttFeed>(executor_, status_, config_, events_);
 }
 
 void MqttService::retire_feed() {

@@ -17,7 +17,8 @@ namespace tiltgate {
 
 class MqttService final : public GatewayService {
  public:
-  MqttService(boost::asio::any_io_executor executor, StatusSource status, const MqttConfig& config);
+  MqttService(boost::asio::any_io_executor executor, StatusSource status, const MqttConfig& config,
+              MqttEventSource events = {});
   ~MqttService() override;
 
   // Nothing before the switch to [server] user: the backlog's files are that user's.
@@ -45,6 +46,7 @@ class MqttService final : public GatewayService {
 
   boost::asio::any_io_executor executor_;
   StatusSource status_;
+  MqttEventSource events_;
   MqttConfig config_;
   std::unique_ptr<MqttFeed> feed_;  // none without [mqtt], and while paused
   bool paused_ = false;

@@ -1,6 +1,7 @@
 #include "sparkplug/device_metrics.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace tiltgate::sparkplug {
 namespace {
@@ -100,8 +101,44 @@ Metric bd_seq_metric(std::uint8_t bd_seq, std::uint64_t now_unix_ms) {
                 {}};
 }
 
-std::vector<Metric> node_birth_metrics(const NodeInfo& info, std::uint8_t bd_seq,
-                                       std::uint64_t now_unix_ms) {
+namespace {
+
+// A metric of the node with an alias: named in the NBIRTH, by alias alone in NDATA.
+Metric node_metric(std::string_view name, std::uint64_t alias, DataType type, Value value,
+                   std::uint64_t now_unix_ms, bool birth) {
+  return Metric{birth ? std::string(name) : std::string(), alias, now_unix_ms, type, false,
+                std::move(value), {}};
+}
+
+Metric clock_synchronised_metric(const NodeSample& node, std::uint64_t now_unix_ms, bool birth) {
+  return node_metric(kClockSynchronisedMetric, kClockSynchronisedAlias, DataType::Boolean,
+                     Value{node.clock_synchronised}, now_unix_ms, birth);
+}
+
+Metric clock_error_metric(const NodeSample& node, std::uint64_t now_unix_ms, bool birth) {
+  return node_metric(kClockErrorMetric, kClockErrorAlias, DataType::Double,
+                     optional_value(node.clock_error_ms), now_unix_ms, birth);
+}
+
+}  // namespace
+
+std::vector<Metric> node_data_metrics(const NodeSample& reported, const NodeSample& now,
+                                      bool error_due, std::uint64_t now_unix_ms) {
+  const bool flipped = reported.clock_synchronised != now.clock_synchronised;
+  const bool error_changed = reported.clock_error_ms != now.clock_error_ms;
+  const bool known_changed =
+      reported.clock_error_ms.has_value() != now.clock_error_ms.has_value();
+  std::vector<Metric> metrics;
+  if (!flipped && !known_changed && !(error_due && error_changed)) return metrics;
+  // Once an NDATA goes out it has every node metric changed since the last report
+  // (tck-id-topics-ndata-payload).
+  if (flipped) metrics.push_back(clock_synchronised_metric(now, now_unix_ms, false));
+  if (error_changed) metrics.push_back(clock_error_metric(now, now_unix_ms, false));
+  return metrics;
+}
+
+std::vector<Metric> node_birth_metrics(const NodeInfo& info, const NodeSample& node,
+                                       std::uint8_t bd_seq, std::uint64_t now_unix_ms) {
   return {
       bd_seq_metric(bd_seq, now_unix_ms),
       Metric{std::string(kRebirthMetric),
@@ -111,20 +148,12 @@ std::vector<Metric> node_birth_metrics(const NodeInfo& info, std::uint8_t bd_seq
              false,
              Value{false},
              {}},
-      Metric{std::string(kVersionMetric),
-             kVersionAlias,
-             now_unix_ms,
-             DataType::String,
-             false,
-             Value{info.version},
-             {}},
-      Metric{std::string(kBusesMetric),
-             kBusesAlias,
-             now_unix_ms,
-             DataType::UInt32,
-             false,
-             Value{info.buses},
-             {}},
+      node_metric(kVersionMetric, kVersionAlias, DataType::String, Value{info.version},
+                  now_unix_ms, true),
+      node_metric(kBusesMetric, kBusesAlias, DataType::UInt32, Value{info.buses}, now_unix_ms,
+                  true),
+      clock_synchronised_metric(node, now_unix_ms, true),
+      clock_error_metric(node, now_unix_ms, true),
   };
 }
 

@@ -49,6 +49,15 @@ struct NodeInfo {
   std::uint32_t buses = 0;  // RS485 buses served
 };
 
+// The node's own state, in its NBIRTH and, when it changes, in NDATA: the system clock that
+// every timestamp comes from (clock/clock_state.h).
+struct NodeSample {
+  bool clock_synchronised = false;
+  std::optional<double> clock_error_ms;  // its error bound while synchronised
+
+  bool operator==(const NodeSample&) const = default;
+};
+
 // The names of the node's metrics (Sparkplug 3.0.0, 6.4.18 "NBIRTH": bdSeq and
 // "Node Control/Rebirth" are required; tck-id-payloads-nbirth-bdseq,
 // tck-id-payloads-nbirth-rebirth-req).
@@ -56,6 +65,8 @@ inline constexpr std::string_view kBdSeqMetric = "bdSeq";
 inline constexpr std::string_view kRebirthMetric = "Node Control/Rebirth";
 inline constexpr std::string_view kVersionMetric = "Properties/version";
 inline constexpr std::string_view kBusesMetric = "Properties/buses";
+inline constexpr std::string_view kClockSynchronisedMetric = "Clock/synchronised";
+inline constexpr std::string_view kClockErrorMetric = "Clock/error_ms";
 inline constexpr std::string_view kSettingsFolder = "Settings/";
 
 // A device metric's number, fixed for each kind, from which its alias follows (device_alias).
@@ -84,6 +95,8 @@ inline constexpr std::size_t kMaxSettings = 256 - kFirstSettingNumber;
 std::uint64_t device_alias(std::size_t device, std::uint8_t number);
 inline constexpr std::uint64_t kVersionAlias = 1;
 inline constexpr std::uint64_t kBusesAlias = 2;
+inline constexpr std::uint64_t kClockSynchronisedAlias = 3;
+inline constexpr std::uint64_t kClockErrorAlias = 4;
 
 // One metric of a device as its DBIRTH describes it.
 struct MetricSlot {
@@ -111,9 +124,17 @@ std::vector<Value> device_values(const std::vector<MetricSlot>& layout, const De
 Metric device_metric(const MetricSlot& slot, std::size_t device, Value value,
                      std::uint64_t timestamp, bool birth);
 
-// The node's NBIRTH metrics: bdSeq (Int64), Node Control/Rebirth (false), version, buses.
-std::vector<Metric> node_birth_metrics(const NodeInfo& info, std::uint8_t bd_seq,
-                                       std::uint64_t now_unix_ms);
+// The node's NBIRTH metrics: bdSeq (Int64), Node Control/Rebirth (false), version, buses,
+// Clock/synchronised (Boolean) and Clock/error_ms (Double, null while unsynchronised).
+std::vector<Metric> node_birth_metrics(const NodeInfo& info, const NodeSample& node,
+                                       std::uint8_t bd_seq, std::uint64_t now_unix_ms);
+// The node's metrics an NDATA carries (by alias) when its state went from `reported` to `now`,
+// each that changed; none (no NDATA) unless Clock/synchronised flipped, Clock/error_ms became
+// known or unknown, or, with `error_due` (max_interval passed since the last report), its value
+// changed: the bound grows by 0.5 ms a second between a time service's updates, too often to
+// send each change.
+std::vector<Metric> node_data_metrics(const NodeSample& reported, const NodeSample& now,
+                                      bool error_due, std::uint64_t now_unix_ms);
 // The bdSeq metric alone: an NDEATH's only metric (tck-id-topics-ndeath-payload).
 Metric bd_seq_metric(std::uint8_t bd_seq, std::uint64_t now_unix_ms);
 

@@ -8,6 +8,7 @@
 #include <future>
 #include <thread>
 #include <system_error>
+#include <utility>
 
 #include "driver/visible_text.h"
 #include "sparkplug/bd_seq_file.h"
@@ -58,6 +59,11 @@ MqttClientOptions client_options(const SparkplugConfig& config) {
   return options;  // no status topic: NDEATH is the will, set before each CONNECT
 }
 
+// The clock's state as the node's metrics report it.
+NodeSample node_sample(const ClockState& clock) {
+  return NodeSample{clock.synchronised, clock.error_ms};
+}
+
 bool due(std::chrono::steady_clock::time_point& last, std::chrono::steady_clock::time_point now) {
   if (last != std::chrono::steady_clock::time_point{} && now - last < kLogInterval) return false;
   last = now;
@@ -67,11 +73,12 @@ bool due(std::chrono::steady_clock::time_point& last, std::chrono::steady_clock:
 }  // namespace
 
 EdgeNode::EdgeNode(boost::asio::any_io_executor executor, const Gateway& gateway,
-                   FamilyList families, const SparkplugConfig& config)
+                   FamilyList families, const SparkplugConfig& config, ClockReader clock)
     : executor_(executor),
       timer_(executor),
       gateway_(gateway),
       config_(config),
+      clock_(std::move(clock)),
       dir_(fs::path(config.state_dir) / "sparkplug"),
       sampler_(gateway, families),
       writer_(gateway, families),
@@ -126,6 +133,8 @@ Expected<Done, std::string> EdgeNode::start(std::optional<std::uint8_t> last_bd_
   if (!session) return Unexpected(session.error());
   last_bd_seq_ = last_bd_seq;
   session_.emplace(std::move(*session));
+  // Before the first CONNACK, which may come before the first tick: the NBIRTH has the clock.
+  (void)session_->update_node(node_sample(clock_()), now());
   backlog_.emplace(std::move(*backlog));
 
   MqttClientHooks hooks;
@@ -237,6 +246,7 @@ void EdgeNode::tick() {
                  config_.host, config_.port, kFirstConnectWarning.count(), dir_.string());
     warned_unreached_ = true;
   }
+  carry_out(session_->update_node(node_sample(clock_()), at));
   carry_out(session_->update(sampler_.sample(at.steady, at.unix_ms), at));
   // After the live data of this tick: the replay never holds it up.
   if (client_->connected()) {

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "clock/clock_state.h"
 #include "config/config.h"
 #include "driver/expected.h"
 #include "gateway/gateway.h"
@@ -39,8 +40,9 @@ inline constexpr std::size_t kReplayPerTick = 50;
 
 class EdgeNode {
  public:
+  // `clock`: the system clock's state, its NBIRTH's and NDATA's Clock/ metrics.
   EdgeNode(boost::asio::any_io_executor executor, const Gateway& gateway, FamilyList families,
-           const SparkplugConfig& config);
+           const SparkplugConfig& config, ClockReader clock);
   ~EdgeNode();
   EdgeNode(const EdgeNode&) = delete;
   EdgeNode& operator=(const EdgeNode&) = delete;
@@ -82,6 +84,7 @@ class EdgeNode {
   bool tick_waiting_ = false;  // the timer's handler is still to run
   const Gateway& gateway_;
   const SparkplugConfig config_;
+  ClockReader clock_;
   std::filesystem::path dir_;  // state_dir/sparkplug
   DeviceSampler sampler_;
   SettingWriter writer_;

@@ -137,10 +137,12 @@ void EdgeNodeSession::births(std::vector<Action>& out, Instant now) {
   // then a DBIRTH for every device online now, before any data (tck-id-payloads-dbirth-order).
   state_ = SessionState::live;
   seq_ = 0;
-  out.push_back(Publish{
-      node_topic_for(MessageType::NBIRTH),
-      Payload{unix_ms(now), next_seq(), node_birth_metrics(options_.node, bd_seq_, unix_ms(now))},
-      0, false});
+  out.push_back(Publish{node_topic_for(MessageType::NBIRTH),
+                        Payload{unix_ms(now), next_seq(),
+                                node_birth_metrics(options_.node, node_, bd_seq_, unix_ms(now))},
+                        0, false});
+  node_reported_ = node_;
+  node_reported_at_ = now.steady;
   for (Device& d : devices_) {
     d.born = false;
     if (d.sample && d.sample->online) device_birth(out, d, now);
@@ -171,6 +173,23 @@ std::vector<Action> EdgeNodeSession::update(std::span<const DeviceSample> sample
     device->sample = sample;
     device_update(out, *device, sample, now);
   }
+  return out;
+}
+
+std::vector<Action> EdgeNodeSession::update_node(const NodeSample& sample, Instant now) {
+  std::vector<Action> out;
+  node_ = sample;
+  // Not kept for the store while offline: the next NBIRTH carries the state as it is then.
+  if (state_ != SessionState::live) return out;
+  const bool error_due = now.steady - node_reported_at_ >= options_.max_interval;
+  std::vector<Metric> metrics = node_data_metrics(node_reported_, sample, error_due, unix_ms(now));
+  if (metrics.empty()) return out;
+  // The next seq, as every message but NDEATH; QoS 0, not retained (tck-id-topics-ndata-seq-num,
+  // tck-id-topics-ndata-mqtt).
+  out.push_back(Publish{node_topic_for(MessageType::NDATA),
+                        Payload{unix_ms(now), next_seq(), std::move(metrics)}, 0, false});
+  node_reported_ = sample;
+  node_reported_at_ = now.steady;
   return out;
 }
 

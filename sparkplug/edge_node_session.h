@@ -12,7 +12,8 @@
 //      leaves it for the next attempt;
 //   2. on CONNACK: on_connected(); on a lost connection: on_connection_lost();
 //   3. every message on a subscribed topic: on_message();
-//   4. periodically (every 100 ms, say) with every sensor's sample: update();
+//   4. periodically (every 100 ms, say) with every sensor's sample: update(); and with the
+//      node's own (the clock), update_node(), first before the first connection;
 //   5. a clean stop: stop().
 // Each returns Actions, to be carried out in order before the session is called again:
 // Subscribe and Publish go to the broker, in that order (a Publish's seq is given when it is
@@ -151,6 +152,10 @@ class EdgeNodeSession {
   std::vector<Action> on_message(std::string_view topic, std::span<const std::uint8_t> payload,
                                  Instant now);
   std::vector<Action> update(std::span<const DeviceSample> samples, Instant now);
+  // The node's own state (the system clock): kept for the next NBIRTH, and while live an NDATA
+  // of what changed (node_data_metrics: Clock/error_ms at most every max_interval while it
+  // only drifts).
+  std::vector<Action> update_node(const NodeSample& sample, Instant now);
   // A clean stop: NDEATH (QoS 1) and Disconnect when connected
   // (tck-id-operational-behavior-edge-node-intentional-disconnect-ndeath).
   std::vector<Action> stop(Instant now);
@@ -206,6 +211,9 @@ class EdgeNodeSession {
   std::uint8_t seq_ = 0;  // the next message's
   SessionState state_ = SessionState::disconnected;
   std::optional<std::uint64_t> host_timestamp_;  // of the last STATE accepted
+  NodeSample node_;                               // the latest
+  NodeSample node_reported_;                      // in the last NBIRTH or NDATA
+  std::chrono::steady_clock::time_point node_reported_at_{};
   CommandCounts commands_;
 };
 

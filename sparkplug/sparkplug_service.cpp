@@ -17,11 +17,13 @@ std::vector<std::string> sensor_names(const Config& config) {
 }  // namespace
 
 SparkplugService::SparkplugService(boost::asio::any_io_executor executor, const Gateway& gateway,
-                                   FamilyList families, const SparkplugConfig& config)
+                                   FamilyList families, const SparkplugConfig& config,
+                                   ClockReader clock)
     : executor_(std::move(executor)),
       gateway_(gateway),
       families_(families),
       config_(config),
+      clock_(std::move(clock)),
       retired_(executor_),
       retry_(executor_) {
   make_node();
@@ -32,7 +34,7 @@ SparkplugService::~SparkplugService() = default;
 void SparkplugService::make_node() {
   devices_ = sensor_names(gateway_.config());
   if (!config_.enabled || paused_) return;
-  node_ = std::make_unique<sparkplug::EdgeNode>(executor_, gateway_, families_, config_);
+  node_ = std::make_unique<sparkplug::EdgeNode>(executor_, gateway_, families_, config_, clock_);
 }
 
 void SparkplugService::retire_node() {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "clock/clock_state.h"
 #include "config/config.h"
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
@@ -22,8 +23,9 @@ namespace tiltgate {
 
 class SparkplugService final : public GatewayService {
  public:
+  // `clock`: the system clock's state, reported as the node's Clock/ metrics.
   SparkplugService(boost::asio::any_io_executor executor, const Gateway& gateway,
-                   FamilyList families, const SparkplugConfig& config);
+                   FamilyList families, const SparkplugConfig& config, ClockReader clock);
   ~SparkplugService() override;
 
   // Nothing before the switch to [server] user: the node's state_dir is that user's.
@@ -59,6 +61,7 @@ class SparkplugService final : public GatewayService {
   const Gateway& gateway_;
   FamilyList families_;
   SparkplugConfig config_;
+  ClockReader clock_;
   std::vector<std::string> devices_;  // the sensors' names the node was made for
   std::unique_ptr<sparkplug::EdgeNode> node_;  // none without [sparkplug], and while paused
   bool started_ = false;

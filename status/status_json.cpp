@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "status/history_format.h"
+
 namespace tiltgate {
 
 namespace {
@@ -72,6 +74,16 @@ Json sensor_object(const SensorStatus& s) {
                   {"tilt", json_number(s.tilt)},
                   {"age_ms", json_integer(s.age_ms)},
                   {"alarms", s.alarms},
+                  {"alarms_danger", s.alarms_danger},
+                  {"alarms_latched", s.alarms_latched},
+                  {"relative_x", json_number(s.relative_x)},
+                  {"relative_y", json_number(s.relative_y)},
+                  {"displacement_x_mm", json_number(s.displacement_x_mm)},
+                  {"displacement_y_mm", json_number(s.displacement_y_mm)},
+                  {"displacement_mm", json_number(s.displacement_mm)},
+                  {"reading_time", s.reading_unix_ms ? Json(iso8601_utc(*s.reading_unix_ms))
+                                                     : Json(nullptr)},
+                  {"clock_synchronised", s.clock_synchronised},
                   {"polls_ok", s.polls_ok},
                   {"polls_failed", s.polls_failed},
                   {"polls_per_s", json_number(s.polls_per_s)},
@@ -134,6 +146,12 @@ Json redundancy_object(const std::optional<RedundancyStatus>& r) {
               {"last_request_heard_ms", json_integer(r->last_request_heard_ms)}};
 }
 
+// The system clock the readings are stamped with (clock/clock_state.h): synchronised, and
+// its error bound in ms while it is (null while not).
+Json clock_object(const ClockState& c) {
+  return Json{{"synchronised", c.synchronised}, {"error_ms", json_number(c.error_ms)}};
+}
+
 }  // namespace
 
 std::string sensor_json(const SensorStatus& sensor) { return json_text(sensor_object(sensor)); }
@@ -165,7 +183,8 @@ std::string gateway_state_json(const GatewayStatus& s, double now_seconds) {
                         {"redundancy", redundancy_object(s.redundancy)},
                         {"uptime_s", json_number(uptime)},
                         {"loaded_at", s.loaded_at.empty() ? Json(nullptr) : Json(s.loaded_at)},
-                        {"version", TILTGATE_VERSION}});
+                        {"version", TILTGATE_VERSION},
+                        {"clock", clock_object(s.clock)}});
 }
 
 std::string buses_json(const std::vector<BusStatus>& buses) {

@@ -33,7 +33,7 @@ std::string buses_json(const std::vector<BusStatus>& buses);         // an array
 std::string modbus_json(const GatewayStatus& status);
 // The gateway itself, /api/status: whether it is the active one or the standby of a redundant
 // pair, the pair's state, its uptime at `now_seconds` (Unix time), when its configuration was
-// loaded and its version.
+// loaded, its version and its clock (synchronised, error_ms).
 std::string gateway_state_json(const GatewayStatus& status, double now_seconds);
 
 }  // namespace tiltgate

@@ -313,6 +313,21 @@ void add_redundancy_families(Exposition& out, const RedundancyStatus& pair) {
              double(pair.takeovers));
 }
 
+// The system clock the readings are stamped with (docs/operations.md, "The clock"): whether
+// it is synchronised, and its error bound in seconds, base units as every other metric here
+// (the status API's error_ms); no sample while there is no bound, as for other values the
+// gateway does not have.
+void add_clock_families(Exposition& out, const ClockState& clock) {
+  out.single("tiltgate_clock_synchronised", "gauge",
+             "1 while the system clock is synchronised by a time service (the kernel's maximum "
+             "error below 16 s), else 0; readings taken meanwhile are flagged",
+             clock.synchronised ? 1.0 : 0.0);
+  out.family("tiltgate_clock_error_seconds", "gauge",
+             "The bound on the system clock's error in seconds (the kernel's maxerror), while "
+             "it is synchronised");
+  if (clock.error_ms) out.sample("", *clock.error_ms / 1000.0);
+}
+
 void add_sparkplug_families(Exposition& out, const SparkplugStats& stats) {
   for (const SparkplugSingle& single : kSparkplugSingles)
     out.single(single.name, single.type, single.help, single.value(stats));
@@ -486,6 +501,7 @@ std::string metrics_text(const GatewayStatus& status) {
   out.single("tiltgate_audit_disk_refuses", "gauge",
              "1 while the disk refuses the audit trail's records",
              status.audit_health.disk_refuses ? 1.0 : 0.0);
+  add_clock_families(out, status.clock);
   out.single("tiltgate_process_start_time_seconds", "gauge",
              "Start time of the gateway since the Unix epoch in seconds",
              status.process_start_seconds);

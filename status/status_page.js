@@ -327,6 +327,7 @@ async function poll() {
     renderBuses(buses);
     renderSummary(sensors);
     if (state) renderPair(state);
+    if (withStatus) refreshRecentEvents();
     lastBuses = buses;
     lastSensors = sensors;
     // renderScans: a panel for a bus the tab did not have yet (the tab opened before the first
@@ -593,6 +594,7 @@ function showTab(tab) {
   if (tab === "raw") fillRawBuses();
   if (tab === "config" && servedConfig === null) loadConfig();
   if (tab === "audit") loadAudit();
+  if (tab === "events") loadEvents();
 }
 
 // ---- a sensor: identity, settings, changes ----
@@ -1158,6 +1160,59 @@ async function applyConfig() {
   }
 }
 
+// ---- events (docs/monitoring.md, "Events") ----
+// "x_high warning set", "offline", "baseline x 2 y 0 by console admin".
+function eventText(e) {
+  if (e.kind === "alarm") return e.alarm + " " + e.level + " " + e.state;
+  if (e.kind === "baseline") return "baseline by " + (e.by || "?");
+  if (e.kind === "wrong_device") return "wrong device " + e.state + ": " + (e.text || "");
+  return e.kind;
+}
+function eventValue(e) {
+  if (e.kind === "baseline" && e.value) return "x " + e.value.x + " y " + e.value.y;
+  return valueText(e.value);
+}
+function eventRows(tbody, events, keys) {
+  tbody.innerHTML = "";
+  for (const e of events) {
+    const row = document.createElement("tr");
+    row.className = e.kind === "alarm" ? "event " + e.level + (e.state === "clear" ? " clear" : "") : "event";
+    const cells = {time: e.time, local: new Date(e.unix_ms).toLocaleString(), sensor: e.sensor,
+                   event: eventText(e), value: eventValue(e), threshold: valueText(e.threshold)};
+    for (const key of keys) {
+      const cell = document.createElement("td");
+      cell.textContent = cells[key] === undefined ? "" : cells[key];
+      cell.dataset.key = key;
+      row.appendChild(cell);
+    }
+    tbody.appendChild(row);
+  }
+}
+async function loadEvents(event) {
+  if (event) event.preventDefault();
+  const query = new URLSearchParams();
+  for (const key of ["sensor", "kind", "from", "limit"]) {
+    const v = $("events-" + key).value.trim();
+    if (v !== "") query.set(key, v);
+  }
+  try {
+    const events = await getJson("/api/events?" + query.toString());
+    eventRows(document.querySelector("#events-table tbody"), events,
+              ["time", "sensor", "event", "value", "threshold"]);
+    say("events-message", events.length + " event(s), newest first.");
+  } catch (e) {
+    if (!(e instanceof LoggedOut)) say("events-message", "Could not read the events: " + e.message, "bad");
+  }
+}
+async function refreshRecentEvents() {
+  try {
+    eventRows(document.querySelector("#recent-events tbody"), await getJson("/api/events?limit=10"),
+              ["local", "sensor", "event", "value"]);
+  } catch (e) {
+    // the next poll tries again; the banner says when the gateway is unreachable
+  }
+}
+
 // ---- the audit trail ----
 async function loadAudit(event) {
   if (event) event.preventDefault();
@@ -1216,5 +1271,6 @@ $("config-diff").addEventListener("click", showDiff);
 $("config-apply").addEventListener("click", applyConfig);
 $("config-confirm").addEventListener("click", confirmConfig);
 $("audit-form").addEventListener("submit", loadAudit);
+$("events-form").addEventListener("submit", loadEvents);
 
 start();

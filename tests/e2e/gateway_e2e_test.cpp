@@ -121,7 +121,7 @@ TEST_CASE("holding register writes reach the sensor and read back") {
   CHECK(plant.sim->call([](RiekerSimulator& s) { return s.sensor(1).restarts(); }) == 1);
 }
 
-TEST_CASE("exceptions: unknown unit, unmapped, split, out of range, unsupported table") {
+TEST_CASE("exceptions: unknown unit, unmapped, split, out of range, a coil not there") {
   Plant plant;
   REQUIRE(plant.wait_online(1));
   ModbusClient client(plant.port, 9);
@@ -130,18 +130,18 @@ TEST_CASE("exceptions: unknown unit, unmapped, split, out of range, unsupported 
   client.unit(1);
   CHECK(client.input(1, 2).empty());  // splits angle_x and angle_y
   CHECK(client.exception() == 0x02);
-  CHECK(client.input(36, 5).empty());  // past the end of the common block
+  CHECK(client.input(48, 3).empty());  // past the end of the common block
   CHECK(client.exception() == 0x02);
-  CHECK(client.coils(0, 1).empty());
-  CHECK(client.exception() == 0x01);
+  CHECK(client.coils(1, 1).empty());  // coil 0 is the acknowledgement, nothing after it
+  CHECK(client.exception() == 0x02);
   CHECK_FALSE(client.write(0, 7));  // filter 1..6
   CHECK(client.exception() == 0x03);
   CHECK_FALSE(client.write(5, 9));  // no such command
   CHECK(client.exception() == 0x03);
   CHECK_FALSE(client.write(1, 0x4000));  // half of zero_x
   CHECK(client.exception() == 0x02);
-  CHECK_FALSE(client.write_coil(0, true));
-  CHECK(client.exception() == 0x01);
+  CHECK_FALSE(client.write_coil(1, true));
+  CHECK(client.exception() == 0x02);
   client.unit(3);
   std::vector<std::uint16_t> zero(2);
   CHECK_FALSE(client.write(3, zero));  // H4360 has no Y zero

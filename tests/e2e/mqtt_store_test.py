@@ -62,9 +62,10 @@ class JsonObserver(Observer):
 
 
 def kept(state_dir):
-    """The states in the store's files not yet replayed: (sensor, payload bytes)."""
+    """The states in the store's files not yet replayed: (sensor, payload bytes). The store
+    keeps the monitoring's events (<prefix>/events) too: they are not states."""
     return [(f.topic.split("/")[2], bytes(f.payload)) for f in
-            store_files.pending(os.path.join(state_dir, "mqtt"))]
+            store_files.pending(os.path.join(state_dir, "mqtt")) if f.topic.endswith("/state")]
 
 
 def mqtt_table(broker, state_dir, client_id, **more):

@@ -90,8 +90,8 @@ TEST_CASE("config: an unknown key with nothing close lists the known keys") {
   expect_error(
       valid_plus("colour = \"red\"\n"), 10, "sensor[0].colour",
       "unknown key; expected one of: name, bus, model, address, unit_id, poll_ms, stale_ms, "
-      "serial, counts_per_degree, zero_counts, eeprom_reserved_writes, device, mounting, alarms, "
-      "offline, substitute, map");
+      "serial, counts_per_degree, zero_counts, eeprom_reserved_writes, device, mounting, lever_m, "
+      "baseline, alarms, burst_s, pre_trigger_s, burst_rate_deg_s, offline, substitute, map");
 }
 
 TEST_CASE("config: an unknown table is rejected, with a suggestion when one is close") {
@@ -99,7 +99,7 @@ TEST_CASE("config: an unknown table is rejected, with a suggestion when one is c
                "unknown table; did you mean [[sensor]]?");
   expect_error(valid_plus("[logging]\nlevel = 1\n"), 10, "logging",
                "unknown table; expected the tables [server], [http], [mqtt], [sparkplug], [audit], "
-               "[redundancy], [[bus]], [[sensor]] and [[aggregate]]");
+               "[redundancy], [record], [[bus]], [[sensor]] and [[aggregate]]");
 }
 
 TEST_CASE("config: [bus] written as a single table asks for [[bus]]") {

@@ -48,7 +48,10 @@ TEST_CASE("key reference: the built-in reference has every bus and sensor key th
        {std::tuple{std::string("bus"), &bus_keys(), std::string()},
         std::tuple{std::string("sensor"), &sensor_keys(), std::string()},
         std::tuple{std::string("sensor.mounting"), &sensor_keys(), std::string("mounting.")},
-        std::tuple{std::string("sensor.alarms"), &sensor_keys(), std::string("alarms.")}}) {
+        std::tuple{std::string("sensor.baseline"), &sensor_keys(), std::string("baseline.")},
+        std::tuple{std::string("sensor.alarms"), &sensor_keys(), std::string("alarms.")},
+        std::tuple{std::string("sensor.alarms.danger"), &sensor_keys(),
+                   std::string("alarms.danger.")}}) {
     const std::string table = kind;  // not a structured binding: CHECK_MESSAGE captures it
     for (const std::string& key : accepted.at(table))
       CHECK_MESSAGE(find(*keys, prefix + key) != nullptr, table << "." << key);

@@ -238,3 +238,45 @@ TEST_CASE("no thresholds configured: no alarms, however far the sensor tilts") {
   const auto flags = alarms_over(AlarmConfig{}, {0.0, 80.0, -80.0, 89.0});
   CHECK(flags == std::vector<std::uint16_t>{0, 0, 0, 0});
 }
+
+TEST_CASE("readings relative to the baseline, and the displacement at lever_m") {
+  AlarmConfig alarms;
+  alarms.displacement_high_mm = 50.0;
+  SensorProcessing processing(MountingConfig{}, alarms, 10.0, Baseline{1.0, -0.5});
+  processing.update(reading(1.25, -0.5), 1796638502250, true);
+  const DerivedState& d = processing.derived();
+  CHECK(d.relative_x == doctest::Approx(0.25));
+  CHECK(d.relative_y == doctest::Approx(0.0));
+  // 1000 x 10 m x (sin 1.25 deg - sin 1 deg) = 43.62 mm (docs/monitoring.md's formula).
+  const double expected = 10000.0 * (std::sin(1.25 * M_PI / 180) - std::sin(1.0 * M_PI / 180));
+  CHECK(d.displacement_x_mm == doctest::Approx(expected));
+  CHECK(d.displacement_x_mm == doctest::Approx(43.62).epsilon(0.001));
+  CHECK(d.displacement_y_mm == doctest::Approx(0.0));
+  CHECK(d.displacement_mm == doctest::Approx(expected));
+  CHECK(d.alarms == 0);
+  CHECK(d.taken_unix_ms == 1796638502250);
+  CHECK(d.clock_synchronised);
+  // A new baseline applies at once to what is served.
+  processing.set_baseline(Baseline{0.0, 0.0});
+  CHECK(processing.derived().relative_x == doctest::Approx(1.25));
+  CHECK(processing.derived().displacement_mm > 50.0);
+  processing.update(reading(1.25, -0.5, 100ms), 1796638502350, false);
+  CHECK(processing.derived().alarms == alarm_bit::displacement);
+  CHECK_FALSE(processing.derived().clock_synchronised);
+  REQUIRE(processing.changed().size() == 1);
+  CHECK(processing.changed()[0].kind == AlarmKind::displacement_high);
+  processing.update(reading(1.25, -0.5, 200ms));
+  CHECK(processing.changed().empty());  // only the reading's own changes
+}
+
+TEST_CASE("without lever_m there is no displacement, and one axis has no Y") {
+  SensorProcessing processing(MountingConfig{}, AlarmConfig{}, std::nullopt, Baseline{2.0, 0.0});
+  processing.update(reading(-1.0));
+  CHECK(processing.derived().relative_x == doctest::Approx(-3.0));
+  CHECK(std::isnan(processing.derived().relative_y));
+  CHECK(std::isnan(processing.derived().displacement_mm));
+  SensorProcessing lever(MountingConfig{}, AlarmConfig{}, 2.0, Baseline{});
+  lever.update(reading(-1.0));
+  CHECK(lever.derived().displacement_mm == doctest::Approx(2000.0 * std::sin(M_PI / 180)));
+  CHECK(std::isnan(lever.derived().displacement_y_mm));
+}

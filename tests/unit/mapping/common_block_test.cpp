@@ -71,18 +71,23 @@ TEST_CASE("every model's map has the identical common block") {
   const auto h6 = common_layout("h6");
   CHECK(h6 == common_layout("h4360"));
   CHECK(h6 == common_layout("dyna"));
-  // Contiguous: one read of input 0..37 and of holding 0..7 covers it on any model.
+  // Contiguous: one read of input 0..49 and of holding 0..7 covers it on any model.
   for (std::string_view model : models_with_default_maps(registered_families())) {
     CAPTURE(model);
     const RegisterMap map = default_map(registered_families(), model);
     const auto now = SteadyClock::now();
     const SensorState state = online_state(now, 1, 2);
-    CHECK(read_registers(map, view_of(state, now, model), RegisterTable::input, 0, 38));
+    CHECK(read_registers(map, view_of(state, now, model), RegisterTable::input, 0, 50));
+    CHECK_FALSE(read_registers(map, view_of(state, now, model), RegisterTable::input, 50, 1));
     CHECK(read_registers(map, view_of(state, now, model), RegisterTable::holding, 0, 8));
-    // Discrete inputs 0..8: online, the six alarm flags, wrong_device and standby.
-    const auto bits = read_bits(map, view_of(state, now, model), RegisterTable::discrete, 0, 9);
+    // Discrete inputs 0..12: online, the six alarm flags, wrong_device, standby, then the
+    // displacement alarm, the danger level, an alarm unacknowledged and the clock.
+    const auto bits = read_bits(map, view_of(state, now, model), RegisterTable::discrete, 0, 13);
     CHECK(bits.has_value());
-    CHECK_FALSE(read_bits(map, view_of(state, now, model), RegisterTable::discrete, 9, 1));
+    CHECK_FALSE(read_bits(map, view_of(state, now, model), RegisterTable::discrete, 13, 1));
+    // Coil 0: the acknowledgement.
+    CHECK(read_bits(map, view_of(state, now, model), RegisterTable::coil, 0, 1).has_value());
+    CHECK_FALSE(read_bits(map, view_of(state, now, model), RegisterTable::coil, 1, 1));
     CHECK(map.validate(registered_families(), model).empty());
   }
   const RegisterMap dyna = default_map(registered_families(), "dyna");

@@ -224,12 +224,12 @@ TEST_CASE("the standby of a redundant pair serves what it heard, with status bit
   CHECK((*bits)[0] == false);
 }
 
-TEST_CASE("a map's status point holds all eight status bits") {
+TEST_CASE("a map's status point holds all nine status bits") {
   // A uint16 packing every one-bit status source, and the status word itself, agree.
   Point packed = input("flags", 0, PointType::uint16, ValueSource::bits);
   packed.bits = {ValueSource::online,       ValueSource::stale,        ValueSource::last_write_failed,
                  ValueSource::identity_unknown, ValueSource::alarm_active, ValueSource::answers_late,
-                 ValueSource::wrong_device, ValueSource::standby};
+                 ValueSource::wrong_device, ValueSource::standby, ValueSource::clock_unsynchronised};
   const RegisterMap map({packed, input("status", 1, PointType::uint16, ValueSource::status)});
   const auto now = SteadyClock::now();
   auto state = sensor_at(now, 1, 1);
@@ -238,7 +238,7 @@ TEST_CASE("a map's status point holds all eight status bits") {
   const Words w = read(map, SensorView{state, now, 1000ms, {}}, 0, 2);
   CHECK(w[0] == w[1]);
   CHECK(w[1] == (status_bit::online | status_bit::wrong_device | status_bit::standby));
-  CHECK(source_range(ValueSource::status, AngleUnit::degrees).max == 255);
+  CHECK(source_range(ValueSource::status, AngleUnit::degrees).max == 511);
   CHECK(is_bit_source(ValueSource::standby));
   CHECK_FALSE(is_measurement(ValueSource::standby));
 }

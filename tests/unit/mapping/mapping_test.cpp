@@ -96,7 +96,12 @@ TEST_CASE("a read that splits a 32-bit value or leaves the map is an illegal add
   CHECK(read_registers(map, view, RegisterTable::input, 1, 2).error() == MapFault::illegal_address);
   CHECK(read_registers(map, view, RegisterTable::input, 0, 1).error() == MapFault::illegal_address);
   CHECK(read_registers(map, view, RegisterTable::input, 24, 2).error() == MapFault::illegal_address);
-  CHECK(read_bits(map, view, RegisterTable::coil, 0, 1).error() == MapFault::no_such_table);
+  // Coil 0 is the acknowledgement (docs/monitoring.md): coil 1 is no point of it.
+  CHECK(read_bits(map, view, RegisterTable::coil, 1, 1).error() == MapFault::illegal_address);
+  const RegisterMap without_coils(
+      {make_point("x", RegisterTable::input, 0, PointType::float32, ValueSource::angle_x)});
+  CHECK(read_bits(without_coils, view, RegisterTable::coil, 0, 1).error() ==
+        MapFault::no_such_table);
 }
 
 TEST_CASE("measurements of a stale or offline sensor are unavailable but status stays readable") {

@@ -54,6 +54,19 @@ TEST_CASE("every source a map file may name reads a number from a sensor with a 
   const SensorState state = full_state(now);
   SensorView view{state, now, 1000ms, {}};
   view.model_code = 14;
+  // Processed with a baseline and a lever (line_scheduling/sensor_processing.h), as the gateway
+  // does every reading: the relative angles and the displacement are derived.
+  DerivedState derived;
+  derived.angle_x = 1.0;
+  derived.angle_y = -2.0;
+  derived.tilt = 2.2;
+  derived.relative_x = 0.5;
+  derived.relative_y = -0.25;
+  derived.displacement_x_mm = 8.7;
+  derived.displacement_y_mm = -4.4;
+  derived.displacement_mm = 9.75;
+  derived.valid = true;
+  view.derived = &derived;
   for (const auto& named : source_names()) {
     CAPTURE(std::string(named.name));
     if (has_no_number(named.value))

@@ -26,6 +26,9 @@ SensorStatus boom() {
   return s;
 }
 
+// The gateway's clock, synchronised by a time service with a 12.5 ms bound.
+ClockState synced() { return ClockState{true, 12.5, 1.0, ClockProblem::none}; }
+
 }  // namespace
 
 TEST_CASE("mqtt: topics are the prefix, the sensor's name and the kind") {
@@ -35,17 +38,37 @@ TEST_CASE("mqtt: topics are the prefix, the sensor's name and the kind") {
 }
 
 TEST_CASE("mqtt: a state carries the reading's Unix time in ms, angles, online and alarms") {
-  CHECK(mqtt_state_json(boom(), 1764640000040) ==
-        R"({"ts":1764640000000,"x":1.25,"y":-0.5,"tilt":1.346,"online":true,"stale":false,)"
-        R"("age_ms":40,"alarms":2,"wrong_device":false})");
+  CHECK(mqtt_state_json(boom(), synced(), 1764640000040) ==
+        R"({"ts":1764640000000,"x":1.25,"y":-0.5,"tilt":1.346,"relative_x":null,)"
+        R"("relative_y":null,"displacement_mm":null,"online":true,"stale":false,)"
+        R"("age_ms":40,"alarms":2,"alarms_danger":0,"alarms_latched":0,"wrong_device":false,)"
+        R"("reading_clock_synchronised":true,"clock_synchronised":true,"clock_error_ms":12.5})");
+}
+
+TEST_CASE("mqtt: a state's ts is the reading's own stamp, with its baseline and displacement") {
+  SensorStatus s = boom();
+  s.reading_unix_ms = 1764639999990;  // the reply's arrival, as the bus stamped it
+  s.relative_x = 0.25;
+  s.relative_y = -0.5;
+  s.displacement_mm = 43.62;
+  s.alarms_danger = 1;
+  s.alarms_latched = 3;
+  s.clock_synchronised = false;
+  CHECK(mqtt_state_json(s, synced(), 1764640000040) ==
+        R"({"ts":1764639999990,"x":1.25,"y":-0.5,"tilt":1.346,"relative_x":0.25,)"
+        R"("relative_y":-0.5,"displacement_mm":43.62,"online":true,"stale":false,)"
+        R"("age_ms":40,"alarms":2,"alarms_danger":1,"alarms_latched":3,"wrong_device":false,)"
+        R"("reading_clock_synchronised":false,"clock_synchronised":true,"clock_error_ms":12.5})");
 }
 
 TEST_CASE("mqtt: a state before the first reading has null angles and the publish time") {
   SensorStatus s;
   s.name = "mast";
-  CHECK(mqtt_state_json(s, 1764640000000) ==
-        R"({"ts":1764640000000,"x":null,"y":null,"tilt":null,"online":false,"stale":true,)"
-        R"("age_ms":null,"alarms":0,"wrong_device":false})");
+  CHECK(mqtt_state_json(s, synced(), 1764640000000) ==
+        R"({"ts":1764640000000,"x":null,"y":null,"tilt":null,"relative_x":null,)"
+        R"("relative_y":null,"displacement_mm":null,"online":false,"stale":true,)"
+        R"("age_ms":null,"alarms":0,"alarms_danger":0,"alarms_latched":0,"wrong_device":false,)"
+        R"("reading_clock_synchronised":true,"clock_synchronised":true,"clock_error_ms":12.5})");
 }
 
 TEST_CASE("mqtt: a wrong device shows in the state, and the configured serial in the info") {
@@ -53,7 +76,7 @@ TEST_CASE("mqtt: a wrong device shows in the state, and the configured serial in
   s.serial = "9600007";
   s.configured_serial = "9600223";
   s.wrong_device = true;
-  CHECK(mqtt_state_json(s, 1000).find(R"("wrong_device":true})") != std::string::npos);
+  CHECK(mqtt_state_json(s, synced(), 1000).find(R"("wrong_device":true,)") != std::string::npos);
   CHECK(mqtt_info_json(s).find(R"("serial":"9600007","firmware":"Rev A.8",)"
                                R"("configured_serial":"9600223"})") != std::string::npos);
 }
@@ -61,7 +84,7 @@ TEST_CASE("mqtt: a wrong device shows in the state, and the configured serial in
 TEST_CASE("mqtt: a single-axis sensor's state has y null") {
   SensorStatus s = boom();
   s.y.reset();
-  CHECK(mqtt_state_json(s, 1000).find(R"("y":null)") != std::string::npos);
+  CHECK(mqtt_state_json(s, synced(), 1000).find(R"("y":null)") != std::string::npos);
 }
 
 TEST_CASE("mqtt: info is the sensor's identity, strings escaped") {
@@ -71,6 +94,12 @@ TEST_CASE("mqtt: info is the sensor's identity, strings escaped") {
         R"("serial":"9600223","firmware":"Rev A.8","configured_serial":null})");
   s.firmware = "A\"8";
   CHECK(mqtt_info_json(s).find(R"("firmware":"A\"8")") != std::string::npos);
+}
+
+TEST_CASE("mqtt: a state says whether the gateway's clock was synchronised when it was made") {
+  const ClockState unsynchronised{false, std::nullopt, std::nullopt, ClockProblem::unbounded};
+  CHECK(mqtt_state_json(boom(), unsynchronised, 1000)
+            .ends_with(R"(,"clock_synchronised":false,"clock_error_ms":null})"));
 }
 
 TEST_CASE("mqtt payload: a state kept for a replay says it is historical, and nothing else changes") {

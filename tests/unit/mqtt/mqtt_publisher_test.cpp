@@ -97,6 +97,26 @@ TEST_CASE("mqtt pacing: a wrong device found, or gone, is due at once") {
   CHECK(pacer.due(StateSample{1.0, 0.0, true, 1, false}, t0 + 10ms));
 }
 
+TEST_CASE("mqtt pacing: the gateway's clock lost, or back, is due at once") {
+  StatePacer pacer(pacing(10.0));
+  pacer.published(at(1.0), t0);
+  CHECK_FALSE(pacer.due(StateSample{1.0, 0.0, true, 1, false, false}, t0 + 10ms));
+  CHECK(pacer.due(StateSample{1.0, 0.0, true, 1, false, true}, t0 + 10ms));
+}
+
+TEST_CASE("mqtt publisher: each state carries the gateway's clock, its change sent at once") {
+  MqttPublisher publisher({"gw", pacing(0.5)});
+  GatewayStatus status;
+  status.sensors = {sensor("boom", 1.0)};
+  const std::vector<MqttMessage> first = publisher.take(status, t0, 1000);
+  REQUIRE(first.size() == 2);
+  CHECK(first[1].payload.ends_with(R"("clock_synchronised":false,"clock_error_ms":null})"));
+  status.clock = ClockState{true, 3.5, 0.5, ClockProblem::none};
+  const std::vector<MqttMessage> synced = publisher.take(status, t0 + 10ms, 1010);
+  REQUIRE(topics(synced) == std::vector<std::string>{"gw/boom/state"});
+  CHECK(synced[0].payload.ends_with(R"("clock_synchronised":true,"clock_error_ms":3.5})"));
+}
+
 TEST_CASE("mqtt publisher: each sensor's info (retained) then state, then states as they come due") {
   MqttPublisher publisher({"gw", pacing(0.5)});
   GatewayStatus status;

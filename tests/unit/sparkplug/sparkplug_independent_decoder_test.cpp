@@ -79,7 +79,27 @@ metric name='bdSeq' alias=- timestamp=@T datatype=4 historical=- long_value=5
 metric name='Node Control/Rebirth' alias=- timestamp=@T datatype=11 historical=- boolean_value=False
 metric name='Properties/version' alias=1 timestamp=@T datatype=12 historical=- string_value='0.1.0'
 metric name='Properties/buses' alias=2 timestamp=@T datatype=7 historical=- long_value=2
+metric name='Clock/synchronised' alias=3 timestamp=@T datatype=11 historical=- boolean_value=False
+metric name='Clock/error_ms' alias=4 timestamp=@T datatype=10 historical=- null
 )"));
+}
+
+TEST_CASE("tck-id-topics-ndata-payload: the node's clock in an NBIRTH and an NDATA decodes with protoc's Python decoder") {
+  PythonDecoder python;
+  auto session = make_session(options(), 4);
+  (void)session.update_node(NodeSample{true, 12.5}, at(0));
+  (void)session.begin_connect(at(0));
+  const Publish nbirth = publishes(session.on_connected(at(0))).at(0);
+  CHECK(python.decode(nbirth.bytes()).ends_with(expect(R"(
+metric name='Clock/synchronised' alias=3 timestamp=@T datatype=11 historical=- boolean_value=True
+metric name='Clock/error_ms' alias=4 timestamp=@T datatype=10 historical=- double_value=12.5
+)")));
+  const Publish ndata = publishes(session.update_node(NodeSample{false, std::nullopt}, at(300))).at(0);
+  CHECK(python.decode(ndata.bytes()) == expect(R"(timestamp @P
+seq 1
+metric name=- alias=3 timestamp=@P datatype=11 historical=- boolean_value=False
+metric name=- alias=4 timestamp=@P datatype=10 historical=- null
+)", 0, 300));
 }
 
 TEST_CASE("tck-id-message-flow-device-birth-publish-dbirth-payload: DBIRTH decodes with protoc's Python decoder") {

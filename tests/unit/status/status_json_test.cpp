@@ -22,7 +22,11 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"({"name":"boom","bus":"line1","unit_id":3,"address":223,"model":"m1",)"
         R"("serial":"962285","firmware":"1.2","configured_serial":null,"wrong_device":false,)"
         R"("online":true,"stale":false,"x":1.5,"y":-2.25,)"
-        R"("tilt":2.7,"age_ms":40,"alarms":5,"polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
+        R"("tilt":2.7,"age_ms":40,"alarms":5,"alarms_danger":0,"alarms_latched":0,)"
+        R"("relative_x":null,"relative_y":null,"displacement_x_mm":null,)"
+        R"("displacement_y_mm":null,"displacement_mm":null,)"
+        R"("reading_time":null,"clock_synchronised":true,)"
+        R"("polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
         R"("failures_10min":null,)"
         R"("exchanges":{"requests":14,"replies":10,"garbled":1,"no_reply":3,"exceptions":3,)"
@@ -156,7 +160,8 @@ TEST_CASE("JSON: /api/status of a gateway without [redundancy] is active, with i
   CHECK_FALSE(state["version"].get<std::string>().empty());
   std::vector<std::string> keys;
   for (const auto& item : state.items()) keys.push_back(item.key());
-  CHECK(keys == std::vector<std::string>{"role", "redundancy", "uptime_s", "loaded_at", "version"});
+  CHECK(keys == std::vector<std::string>{"role", "redundancy", "uptime_s", "loaded_at", "version",
+                                          "clock"});
   // Before anyone says when the configuration was loaded: null, not "".
   CHECK(Json::parse(gateway_state_json(plant(), 0))["loaded_at"].is_null());
   CHECK(Json::parse(gateway_state_json(plant(), 0))["uptime_s"] == 0);  // a clock set back
@@ -179,4 +184,35 @@ TEST_CASE("JSON: /api/status of a standby shows its pair, and which of the two p
   const Json taken = Json::parse(gateway_state_json(status, 0));
   CHECK(taken["role"] == "active");
   CHECK(taken["redundancy"]["configured_role"] == "standby");
+}
+
+TEST_CASE("JSON: /api/status shows the clock: synchronised with its error bound in ms, or null") {
+  GatewayStatus status = plant();
+  status.clock = ClockState{true, 12.345, 1.5, ClockProblem::none};
+  CHECK(Json::parse(gateway_state_json(status, 0))["clock"] ==
+        Json::parse(R"({"synchronised":true,"error_ms":12.345})"));
+  CHECK(gateway_state_json(status, 0).ends_with(
+      R"("clock":{"synchronised":true,"error_ms":12.345}})"));
+  status.clock = ClockState{false, std::nullopt, std::nullopt, ClockProblem::unbounded};
+  CHECK(gateway_state_json(status, 0)
+            .ends_with(R"("clock":{"synchronised":false,"error_ms":null}})"));
+}
+
+TEST_CASE("status JSON: a sensor's baseline, displacement, alarm levels and reading time") {
+  SensorStatus s = boom();
+  s.alarms_danger = 1;
+  s.alarms_latched = 5;
+  s.relative_x = 0.25;
+  s.relative_y = -0.5;
+  s.displacement_x_mm = 43.62;
+  s.displacement_y_mm = 0.0;
+  s.displacement_mm = 43.62;
+  s.reading_unix_ms = 1796638502250;
+  s.clock_synchronised = false;
+  const std::string text = sensor_json(s);
+  CHECK(text.find(R"("alarms":5,"alarms_danger":1,"alarms_latched":5,)"
+                  R"("relative_x":0.25,"relative_y":-0.5,"displacement_x_mm":43.62,)"
+                  R"("displacement_y_mm":0,"displacement_mm":43.62,)"
+                  R"("reading_time":"2026-12-07T10:15:02.250Z",)"
+                  R"("clock_synchronised":false,)") != std::string::npos);
 }

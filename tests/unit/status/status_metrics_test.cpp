@@ -235,3 +235,21 @@ TEST_CASE("metrics: the redundant pair's series only when [redundancy] is config
   text = metrics_text(status);
   CHECK(text.find("tiltgate_redundancy_active 0\n") != std::string::npos);
 }
+
+TEST_CASE("metrics: the clock's state, and its error bound in seconds only while synchronised") {
+  GatewayStatus status = plant();
+  status.clock = ClockState{true, 12.5, 1.0, ClockProblem::none};
+  std::string text = metrics_text(status);
+  CHECK(text.find("# HELP tiltgate_clock_synchronised ") != std::string::npos);
+  CHECK(text.find("# TYPE tiltgate_clock_synchronised gauge\ntiltgate_clock_synchronised 1\n") !=
+        std::string::npos);
+  CHECK(text.find("# HELP tiltgate_clock_error_seconds ") != std::string::npos);
+  CHECK(text.find("# TYPE tiltgate_clock_error_seconds gauge\n"
+                  "tiltgate_clock_error_seconds 0.0125\n") != std::string::npos);
+  status.clock = ClockState{false, std::nullopt, std::nullopt, ClockProblem::unbounded};
+  text = metrics_text(status);
+  CHECK(text.find("tiltgate_clock_synchronised 0\n") != std::string::npos);
+  // No bound, no sample (not NaN); the family's HELP and TYPE stay.
+  CHECK(text.find("# TYPE tiltgate_clock_error_seconds gauge\n# HELP") != std::string::npos);
+  CHECK(text.find("\ntiltgate_clock_error_seconds ") == std::string::npos);
+}

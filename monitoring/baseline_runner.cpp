@@ -1,0 +1,87 @@
+#include "monitoring/baseline_runner.h"
+
+#include <nlohmann/json.hpp>
+
+namespace tiltgate::monitoring {
+
+namespace {
+
+using json = nlohmann::json;
+
+void emit_error(const std::function<void(std::string)>& emit, const std::string& message) {
+  emit(json{{"event", "error"}, {"message", message}}.dump());
+}
+
+void emit_baseline(const std::function<void(std::string)>& emit, const std::string& sensor,
+                   const MonitoringService::BaselineNow& now) {
+  json event{{"event", "baseline"},
+             {"sensor", sensor},
+             {"x", now.baseline.x},
+             {"y", now.baseline.y},
+             {"stored", now.stored.has_value()}};
+  if (now.stored) {
+    event["by"] = now.stored->by;
+    event["unix_ms"] = now.stored->unix_ms;
+  }
+  emit(event.dump());
+}
+
+// The change a request asks for; none for "show"; an error for what makes no sense.
+Expected<std::optional<BaselineChange>, std::string> change_of(const json& asked) {
+  const std::string set = asked.value("set", "");
+  if (set == "show") return std::optional<BaselineChange>{};
+  if (set == "current") return std::optional<BaselineChange>(BaselineChange{});
+  if (set == "clear")
+    return std::optional<BaselineChange>(BaselineChange{BaselineChange::Kind::clear, {}});
+  if (set != "value") return Unexpected(std::string("set must be current, value, clear or show"));
+  const auto x = asked.find("x");
+  const auto y = asked.find("y");
+  if (x == asked.end() || !x->is_number() || (y != asked.end() && !y->is_number()))
+    return Unexpected(std::string("a value needs x (and y on two axes), in degrees"));
+  BaselineChange change{BaselineChange::Kind::value, {x->get<double>(), 0.0}};
+  if (y != asked.end()) change.value.y = y->get<double>();
+  if (std::abs(change.value.x) > 180 || std::abs(change.value.y) > 180)
+    return Unexpected(std::string("x and y must be within -180..180 degrees"));
+  return std::optional<BaselineChange>(change);
+}
+
+}  // namespace
+
+bool is_baseline_request(const std::string& request) {
+  const json asked = json::parse(request, nullptr, false);
+  return asked.is_object() && asked.value("command", "") == "baseline";
+}
+
+CommandRunner with_baselines(CommandRunner next, MonitoringService& monitoring) {
+  return [next = std::move(next), &monitoring](
+             std::string request, ServedBus bus, WriteOrigin by,
+             std::function<void(std::string)> emit,
+             CommandStop& stop) -> boost::asio::awaitable<int> {
+    if (!is_baseline_request(request))
+      co_return co_await next(std::move(request), std::move(bus), std::move(by), std::move(emit),
+                              stop);
+    const json asked = json::parse(request, nullptr, false);
+    const std::string sensor = asked.value("sensor", "");
+    auto change = change_of(asked);
+    if (sensor.empty() || !change) {
+      emit_error(emit, sensor.empty() ? "name the sensor" : change.error());
+      co_return 2;
+    }
+    if (*change) {
+      auto set = monitoring.set_baseline(sensor, **change, by);
+      if (!set) {
+        emit_error(emit, set.error());
+        co_return 1;
+      }
+    }
+    const auto now = monitoring.baseline(sensor);
+    if (!now) {
+      emit_error(emit, "no sensor \"" + sensor + "\"");
+      co_return 1;
+    }
+    emit_baseline(emit, sensor, *now);
+    co_return 0;
+  };
+}
+
+}  // namespace tiltgate::monitoring
