@@ -7,41 +7,27 @@
 #include <string_view>
 
 #include "config/config_loader.h"
+#include "unit/support/config_text.h"
 
 using namespace tiltgate;
 using namespace std::chrono_literals;
 
 namespace {
 
-std::string all_errors(const ConfigErrors& errors) {
-  std::string out;
-  for (const ConfigError& e : errors) out += e.to_string() + "\n";
-  return out;
-}
+using test::expect_error;
+using test::valid_plus;
 
-// Lines 1..9: a bus and a sensor of `model`; `rest` starts at line 10.
+// The valid file's sensor with `rest` from line 10 on; `model` instead of the H6.
 std::string monitored_sensor(std::string_view rest, std::string_view model = "h6") {
-  return "[[bus]]\nname = \"line1\"\nport = \"/dev/ttyUSB0\"\n[[sensor]]\nname = \"s\"\n"
-         "bus = \"line1\"\nmodel = \"" +
-         std::string(model) + "\"\naddress = 223\nunit_id = 1\n" + std::string(rest);
+  std::string text = valid_plus(rest);
+  if (model != "h6") text.replace(text.find("\"h6\""), 4, "\"" + std::string(model) + "\"");
+  return text;
 }
 
-SensorConfig monitored(const std::string& text) {
-  auto loaded = load_config_string(text, "test.toml", registered_families());
-  INFO((loaded ? std::string() : all_errors(loaded.error())));
-  REQUIRE(loaded.has_value());
-  return loaded->sensors.at(0);
-}
+SensorConfig monitored(const std::string& text) { return test::loads(text).sensors.at(0); }
 
 void refused(const std::string& text, int line, std::string_view key, std::string_view message) {
-  auto loaded = load_config_string(text, "test.toml", registered_families());
-  REQUIRE_FALSE(loaded.has_value());
-  INFO(all_errors(loaded.error()));
-  REQUIRE(loaded.error().size() == 1);
-  const ConfigError& e = loaded.error()[0];
-  CHECK(e.line == line);
-  CHECK(e.key == key);
-  CHECK(e.message == message);
+  expect_error(text, line, key, message);
 }
 
 }  // namespace
