@@ -150,10 +150,12 @@ class Gateway:
     """Simulated buses (one `tiltgate sim rieker` each) and one `tiltgate run` polling them."""
 
     def __init__(self, binary, folder, baud, buses, sensors, poll_ms, own_ports=False,
-                 commands=False, server_keys="", http_keys="", control_socket=""):
+                 commands=False, server_keys="", http_keys="", control_socket="",
+                 first_sensor_keys=""):
         """commands: the simulators' standard input and output are pipes (sim_command());
         server_keys, http_keys: more [server] lines (writes = true), more [http] lines
-        (users_file); control_socket: its path, "" off; poll_ms None: the default."""
+        (users_file); control_socket: its path, "" off; poll_ms None: the default;
+        first_sensor_keys: more lines for the first sensor of each bus (bench/bursts.py)."""
         self.sims = []
         self.http_port = distinct_port()
         self.modbus_port = distinct_port()
@@ -178,7 +180,8 @@ port = {self.http_port}
             for a in range(1, sensors + 1):
                 config.append(f'[[sensor]]\nname = "s{b}_{a}"\nbus = "line{b}"\nmodel = "h6"\n'
                               f"address = {a}\nunit_id = {a}\n" +
-                              (f"poll_ms = {poll_ms}\n" if poll_ms else ""))
+                              (f"poll_ms = {poll_ms}\n" if poll_ms else "") +
+                              (first_sensor_keys + "\n" if a == 1 else ""))
         path = os.path.join(folder, "bench.toml")
         with open(path, "w") as f:
             f.write("\n".join(config))

@@ -179,12 +179,12 @@ asio::awaitable<void> BusScheduler::poll(Polled& polled, LineClaimant& line) {
   const bool answered = sensor->driver->state().online || !line_.line().is_open();
   const auto now = SteadyClock::now();
   if (polled.burst_until && now >= *polled.burst_until) polled.burst_until.reset();
-  // In a burst the period is 0: due again as this poll ends, after the neighbours already due
-  // (earliest due first). A sensor that stops answering backs off from its poll_ms as ever:
-  // a burst never hammers a silent line.
-  const auto period = polled.burst_until && answered ? std::chrono::milliseconds(0)
-                                                     : sensor->config.poll;
-  polled.schedule = after_poll(polled.schedule, answered, period, max_backoff, now);
+  polled.schedule = after_poll(polled.schedule, answered, sensor->config.poll, max_backoff, now);
+  // In a burst: due again as this poll ends, or at its period's time when that is earlier (a
+  // full line runs behind: there it keeps at least its share). The line's turns, earliest due
+  // first, put the neighbours already due before it. A sensor that stops answering backs off
+  // from its poll_ms as ever: a burst never hammers a silent line.
+  if (polled.burst_until && answered) polled.schedule.due = std::min(polled.schedule.due, now);
 }
 
 bool BusScheduler::burst(const GatewaySensor& sensor, SteadyClock::time_point until) {
