@@ -6,7 +6,8 @@ keeps min/mean/max per second ([record] interval_s = 1) and GET
 its count of samples what a second of 100 ms polls brings; the rows are there after a SIGKILL.
 A step past the alarm starts a burst: the sensor is polled back to back for burst_s, the other
 sensor on the line keeps its own period, and the burst's CSV holds pre_trigger_s of samples
-before the trigger; `tiltgate check` prints the record's disk budget.
+before the trigger; `tiltgate check` prints the record's disk budget, and `tiltgate history`
+reads the record from the state directory.
 
 Usage: /usr/bin/python3 monitoring_record_test.py path/to/tiltgate
 """
@@ -107,6 +108,16 @@ def scenario(t):
     kept = [r["time"] for r in before]
     t.check("after a SIGKILL every row written before it is still there",
             [r["time"] for r in after][:len(kept)] == kept, (kept, [r["time"] for r in after]))
+    cli = subprocess.run([tiltgate, "history", "--config", gateway.config_path, "--sensor", "mast",
+                          "--from", str(started_ms)], capture_output=True, text=True, timeout=30)
+    t.check("tiltgate history gives the same rows from the state directory",
+            cli.returncode == 0 and
+            [r["time"] for r in csv.DictReader(io.StringIO(cli.stdout))][:len(kept)] == kept,
+            (cli.returncode, cli.stderr, cli.stdout[:300]))
+    bad = subprocess.run([tiltgate, "history", "--config", gateway.config_path, "--sensor", "mast",
+                          "--from", "soon"], capture_output=True, text=True, timeout=30)
+    t.check("tiltgate history --from soon is a usage error (exit 2) that says why",
+            bad.returncode == 2 and "--from" in bad.stderr, (bad.returncode, bad.stderr))
     try:
         get(gateway, "/api/sensors/mast/history.csv?from=never")
         status = 200
