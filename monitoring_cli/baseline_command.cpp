@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "config/config_loader.h"
+#include "monitoring_cli/configured_sensor.h"
 #include "control/gateway_command.h"
 
 namespace tiltgate {
@@ -44,21 +44,10 @@ nlohmann::json request_of(const BaselineOptions& o) {
 }
 
 int run_baseline(const BaselineOptions& o, FamilyList families) {
-  auto loaded = load_config_file(o.config, families);
-  if (!loaded) {
-    std::cerr << fmt::format("tiltgate baseline: {} is not a configuration the gateway would run:",
-                             o.config);
-    for (const ConfigError& e : loaded.error()) std::cerr << "\n  " << e.to_string();
-    std::cerr << "\n";
-    return 1;
-  }
-  const SensorConfig* sensor = nullptr;
-  for (const SensorConfig& s : loaded->sensors)
-    if (s.name == o.sensor) sensor = &s;
-  if (sensor == nullptr) {
-    std::cerr << fmt::format("tiltgate baseline: {} has no sensor \"{}\"\n", o.config, o.sensor);
-    return 1;
-  }
+  const auto configured = load_configured_sensor("baseline", o.config, o.sensor, families);
+  if (!configured) return 1;
+  const SensorConfig* sensor = &configured->sensor;
+  const Config* loaded = &configured->config;
   const std::string socket =
       o.control_socket.empty() ? loaded->server.control_socket : o.control_socket;
   boost::asio::io_context io;

@@ -7,7 +7,7 @@
 #include <iostream>
 #include <memory>
 
-#include "config/config_loader.h"
+#include "monitoring_cli/configured_sensor.h"
 #include "monitoring/history_csv.h"
 #include "monitoring/long_record.h"
 #include "monitoring/long_record_reader.h"
@@ -42,20 +42,9 @@ int run_history(const HistoryOptions& o, FamilyList families) {
     *value = *parsed;
   }
   if (to <= from) return history_usage_error("--to must be after --from");
-  auto loaded = load_config_file(o.config, families);
-  if (!loaded) {
-    std::cerr << fmt::format("tiltgate history: {} is not a configuration the gateway would run:",
-                             o.config);
-    for (const ConfigError& e : loaded.error()) std::cerr << "\n  " << e.to_string();
-    std::cerr << "\n";
-    return 1;
-  }
-  bool known = false;
-  for (const SensorConfig& s : loaded->sensors) known = known || s.name == o.sensor;
-  if (!known) {
-    std::cerr << fmt::format("tiltgate history: {} has no sensor \"{}\"\n", o.config, o.sensor);
-    return 1;
-  }
+  const auto configured = load_configured_sensor("history", o.config, o.sensor, families);
+  if (!configured) return 1;
+  const Config* loaded = &configured->config;
   if (loaded->server.state_dir.empty()) {
     std::cerr << "tiltgate history: the configuration keeps no state directory\n";
     return 1;
