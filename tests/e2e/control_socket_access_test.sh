@@ -29,11 +29,15 @@ one_h6_config "$port" "$dir/tty" "control_socket = \"$socket\"" | grep -v '^cont
 (umask 000; [ -n "${ASAN_OPTIONS:-}" ] && export ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0"
  exec strace -f -o "$dir/strace.log" -e trace=chmod,fchmod,fchmodat \
   -e inject=chmod,fchmod,fchmodat:delay_enter=3000000 \
-  "$tiltgate" run --config "$dir/gateway.toml") 2>"$dir/gateway.err" &
+  "$tiltgate" run --config "$dir/gateway.toml") >"$dir/gateway.out" 2>"$dir/gateway.err" &
 tracer=$!
-# The gateway first, by its own pid: strace ended by a signal leaves its tracee running.
-for _ in $(seq 100); do gateway=$(pgrep -P "$tracer" | head -1); [ -n "$gateway" ] && break; sleep 0.05; done
-pids+=(${gateway:-} $tracer)
+pids+=($tracer)
+# Both outputs go to files: a gateway left running must never hold the test's stdout open (ctest
+# waits for it to close). end_gateway kills it by its command line (strace's too): strace ended
+# by a signal leaves its tracee running, and on a loaded machine the tracee may not exist yet
+# when the test looks for it by pid.
+end_gateway() { pkill -9 -f -- "--config $dir/gateway.toml" 2>/dev/null; }
+trap 'end_gateway; script_cleanup' EXIT
 
 # nobody_connects: whether `nobody` can connect to the socket now.
 nobody_connects() {
@@ -74,7 +78,7 @@ check "the log names the Unix user and pid that moved it" \
   "$dir/gateway.err"
 
 # Ended at once: nothing of its shutdown is this test's business, and none of it under strace.
-kill -9 ${gateway:-} "$tracer" 2>/dev/null
+end_gateway
 [ "$failures" -eq 0 ] || { echo "gateway log:"; cat "$dir/gateway.err"; }
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]
