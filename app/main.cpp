@@ -13,6 +13,7 @@
 #include "app/journal_log.h"
 #include "capture_cli/capture_command.h"
 #include "monitoring_cli/baseline_command.h"
+#include "monitoring_cli/bursts_command.h"
 #include "monitoring_cli/history_command.h"
 #include "commission_cli/commands.h"
 
@@ -70,9 +71,10 @@ int main(int argc, char** argv) {
       tiltgate::add_sim(app, commands),
       // Diagnostics: what a line carries, for Wireshark.
       tiltgate::add_capture(app, families),
-      // Monitoring: a sensor's baseline, its long record.
+      // Monitoring: a sensor's baseline, its long record, its bursts.
       tiltgate::add_baseline(app, families),
       tiltgate::add_history(app, families),
+      tiltgate::add_bursts(app, families),
       tiltgate::add_audit(app),
       tiltgate::add_user(app),
   };

@@ -23,9 +23,14 @@ namespace {
 void reload_by_hangup() { ::kill(::getpid(), SIGHUP); }
 
 ConsoleContext console_context(AuditTrail& audit, FamilyList families, ConfirmWindow& window,
-                               Gateway& gateway, MonitoringSource monitoring) {
+                               Gateway& gateway, MonitoringSource monitoring,
+                               monitoring::MonitoringService& monitoring_service) {
   ConsoleContext context;
   context.monitoring = std::move(monitoring);
+  // Used from requests only, after the service is made.
+  context.baseline = [&monitoring_service](const std::string& request, const WriteOrigin& by) {
+    return monitoring::answer_baseline(monitoring_service, request, by);
+  };
   context.reset_counters = [&gateway](CounterScope scope, std::string_view name) {
     return scope == CounterScope::bus ? gateway.reset_bus_counters(name)
                                       : gateway.reset_sensor_counters(name);
@@ -56,7 +61,8 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
     : confirm_window_(config.path, &audit_, reload_by_hangup),
       gateway_(io, config, families),
       http_(gateway_, [this] { return status(SteadyClock::now()); },
-            console_context(audit_, families, confirm_window_, gateway_, monitoring_source())),
+            console_context(audit_, families, confirm_window_, gateway_, monitoring_source(),
+                            monitoring_)),
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt,
             mqtt_events()),
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug,
@@ -98,10 +104,12 @@ MonitoringSource ServedGateway::monitoring_source() {
   source.events = [this](const monitoring::EventQuery& query) {
     return monitoring_.events(query);
   };
-  source.long_record_csv = [this](const std::string& sensor, std::int64_t from, std::int64_t to)
+  source.long_record_csv = [this](const std::string& sensor, std::int64_t from, std::int64_t to,
+                                   std::size_t points)
       -> std::optional<Expected<std::string, std::string>> {
     if (!monitoring_.serves(sensor)) return std::nullopt;
-    return monitoring::record_csv(monitoring_.record_of(sensor), from, to);
+    return monitoring::record_csv(monitoring_.record_of(sensor), from, to,
+                                  monitoring::kMaxDownloadRows, points);
   };
   source.bursts = [this](const std::string& sensor) -> std::optional<std::filesystem::path> {
     if (!monitoring_.serves(sensor)) return std::nullopt;

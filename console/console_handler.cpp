@@ -308,6 +308,8 @@ asio::awaitable<HttpReply> ConsoleHandler::api(const HttpRequest& request,
   if (path.ends_with(kCountersResetSuffix) &&
       (path.starts_with(kSensorPrefix) || path.starts_with(kBusPrefix)))
     co_return co_await counters_reset(request, path, session);
+  if (path.starts_with(kSensorPrefix) && path.ends_with(kBaselineSuffix))
+    co_return co_await baseline_route(request, path, session);
   if (path.starts_with(kSensorPrefix) && path.ends_with(kSettingsSuffix))
     co_return co_await settings(request, path, session);
   if (path.starts_with(kBusPrefix) && (path.ends_with("/scan") || path.ends_with("/raw")))

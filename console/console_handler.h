@@ -32,6 +32,7 @@
 #include "driver/family_commands.h"
 #include "http/http_routes.h"
 #include "http/monitoring_routes.h"
+#include "monitoring/baseline_answer.h"
 
 namespace tiltgate {
 
@@ -57,6 +58,10 @@ struct ConsoleContext {
   // (Gateway::reset_sensor_counters(), reset_bus_counters()); on the buses' executor. False: no
   // such sensor or bus is served. None: resets are refused.
   std::function<bool(CounterScope, std::string_view)> reset_counters;
+  // A sensor's baseline shown or changed (monitoring/baseline_runner.h answer_baseline()): the
+  // request as `tiltgate baseline` sends it, on the buses' executor. None: refused.
+  std::function<monitoring::BaselineAnswer(const std::string& request, const WriteOrigin& by)>
+      baseline;
   // Asks the gateway to reload its configuration file (as SIGHUP does), on any thread.
   std::function<void()> reload;
   // Where an applied configuration awaits its confirmation; none: applies are refused.
@@ -112,6 +117,11 @@ class ConsoleHandler {
   // (console/console_counter_routes.cpp).
   static constexpr std::string_view kCountersResetSuffix = "/counters/reset";
   boost::asio::awaitable<HttpReply> counters_reset(const HttpRequest& request,
+                                                   std::string_view path,
+                                                   const ConsoleSession& session);
+  // GET and POST /api/sensors/NAME/baseline (console/console_baseline_routes.cpp).
+  static constexpr std::string_view kBaselineSuffix = "/baseline";
+  boost::asio::awaitable<HttpReply> baseline_route(const HttpRequest& request,
                                                    std::string_view path,
                                                    const ConsoleSession& session);
   // GET /api/buses/NAME/frames and /api/buses/NAME/capture.pcapng

@@ -11,6 +11,7 @@
 #include "config/broker_keys.h"
 #include "driver/visible_text.h"
 #include "http/host_check.h"
+#include "mapping/model_capabilities.h"
 
 namespace tiltgate {
 
@@ -89,11 +90,16 @@ ConsoleCounts HttpService::console_counts() const {
 }
 
 void HttpService::make_history(const HistoryRecorder* previous) {
-  std::vector<std::string> names;
-  for (const auto& sensor : gateway_.sensors()) names.push_back(sensor->config.name);
+  std::vector<std::string> names, with_temperature;
+  for (const auto& sensor : gateway_.sensors()) {
+    names.push_back(sensor->config.name);
+    if (reports_temperature(sensor->model, sensor->config.family_options.device_values()))
+      with_temperature.push_back(sensor->config.name);
+  }
   history_ = std::make_unique<HistoryRecorder>(
       std::move(names),
-      std::size_t(std::chrono::milliseconds(config_.history_seconds) / config_.history_interval));
+      std::size_t(std::chrono::milliseconds(config_.history_seconds) / config_.history_interval),
+      with_temperature);
   if (previous != nullptr) history_->carry_over(*previous);
 }
 

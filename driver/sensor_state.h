@@ -22,6 +22,9 @@ struct Reading {
   double angle_y = NAN;                 // degrees, NaN on single-axis sensors
   std::optional<std::int32_t> raw_counts;       // sensors that report raw counts
   std::optional<std::int32_t> raw_temperature; // sensors that report a temperature
+  // Degrees Celsius where the sensor reports a temperature, as its driver converts it
+  // (docs/monitoring.md, "Temperature").
+  std::optional<double> temperature_c;
   SteadyClock::time_point taken{};     // when the reply arrived
   // The sensor's own values (driver/device_value.h), in its list's order; NaN for one that
   // could not be read in this poll.

@@ -104,6 +104,8 @@ struct SensorStatus {
   std::optional<double> displacement_x_mm;
   std::optional<double> displacement_y_mm;
   std::optional<double> displacement_mm;
+  // Degrees Celsius of the last reading, where the sensor reports a temperature.
+  std::optional<double> temperature;
   // When the last reading's reply arrived, UTC; whether the clock was synchronised then.
   std::optional<std::int64_t> reading_unix_ms;
   bool clock_synchronised = true;

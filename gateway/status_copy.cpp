@@ -108,6 +108,7 @@ SensorStatus sensor_status(const GatewaySensor& sensor, SteadyClock::time_point 
       s.x = present(state.reading->angle_x);
       s.y = present(state.reading->angle_y);
     }
+    s.temperature = present(state.reading->temperature_c.value_or(NAN));
   }
   return s;
 }

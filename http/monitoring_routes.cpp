@@ -4,6 +4,7 @@
 
 #include "monitoring/burst_files.h"
 #include "monitoring/history_csv.h"
+#include "monitoring/record_download.h"
 #include "status/history_format.h"
 #include "status/json_values.h"
 #include "store/file_io.h"
@@ -36,6 +37,19 @@ Json event_object(const monitoring::EventRecord& event) {
   return Json::parse(monitoring::event_json(event));
 }
 
+// `name`'s value as a whole number 1..max, 0 when not given; the error says what is wanted.
+Expected<std::size_t, std::string> count_parameter(std::string_view target, std::string_view name,
+                                                   std::size_t max) {
+  const std::string value = query_value(target, name);
+  if (value.empty()) return std::size_t{0};
+  std::size_t n = 0;
+  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), n);
+  if (error != std::errc{} || end != value.data() + value.size() || n < 1 || n > max)
+    return Unexpected(std::string(name) + ": expected a whole number 1.." + std::to_string(max) +
+                      ", got \"" + value.substr(0, 40) + "\"");
+  return n;
+}
+
 HttpReply events_reply(std::string_view target, const MonitoringSource& source) {
   monitoring::EventQuery query;
   query.sensor = query_value(target, "sensor");
@@ -46,14 +60,9 @@ HttpReply events_reply(std::string_view target, const MonitoringSource& source) 
   if (!to) return plain(400, to.error() + "\n");
   query.since = *from;
   query.until = *to;
-  if (const std::string limit = query_value(target, "limit"); !limit.empty()) {
-    std::size_t n = 0;
-    const auto [end, error] = std::from_chars(limit.data(), limit.data() + limit.size(), n);
-    if (error != std::errc{} || end != limit.data() + limit.size() || n < 1 || n > kMaxEventLimit)
-      return plain(400, "limit: expected a whole number 1.." + std::to_string(kMaxEventLimit) +
-                            ", got \"" + limit.substr(0, 40) + "\"\n");
-    query.limit = n;
-  }
+  auto limit = count_parameter(target, "limit", kMaxEventLimit);
+  if (!limit) return plain(400, limit.error() + "\n");
+  if (*limit > 0) query.limit = *limit;
   Json array = Json::array();
   if (source.events)
     for (const monitoring::EventRecord& event : source.events(query))
@@ -73,8 +82,10 @@ HttpReply long_record_reply(std::string_view encoded_name, std::string_view targ
   const std::int64_t start = from->value_or(0);
   const std::int64_t end = to->value_or(now_unix_ms + 1);
   if (end <= start) return plain(400, "to must be after from\n");
+  auto points = count_parameter(target, "points", monitoring::kMaxGraphPoints);
+  if (!points) return plain(400, points.error() + "\n");
   if (!source.long_record_csv) return plain(404, "no long record is kept\n");
-  auto csv = source.long_record_csv(*name, start, end);
+  auto csv = source.long_record_csv(*name, start, end, *points);
   if (!csv) return plain(404, "no such sensor\n");
   if (!*csv) return plain(413, csv->error() + "\n");
   HttpReply reply{200, "text/csv; charset=utf-8", std::move(**csv)};

@@ -26,10 +26,12 @@ namespace tiltgate {
 
 struct MonitoringSource {
   std::function<std::vector<monitoring::EventRecord>(const monitoring::EventQuery&)> events;
-  // The CSV of the sensor's long record for [from, to); none for a sensor not configured, an
-  // error for a range too long to answer at once.
+  // The CSV of the sensor's long record for [from, to), merged into at most `points` rows
+  // unless 0 (monitoring/record_download.h); none for a sensor not configured, an error for a
+  // range too long to answer at once.
   std::function<std::optional<Expected<std::string, std::string>>(
-      const std::string& sensor, std::int64_t from_unix_ms, std::int64_t to_unix_ms)>
+      const std::string& sensor, std::int64_t from_unix_ms, std::int64_t to_unix_ms,
+      std::size_t points)>
       long_record_csv;
   // The directory of the sensor's burst records (monitoring/burst_files.h); none for a sensor
   // not configured, an empty path when none are kept.

@@ -254,7 +254,8 @@ void BusScheduler::process_new_reading(GatewaySensor& sensor) const {
   sensor.processed_seq = state.sample_seq;
   const DerivedState& d = sensor.processing.derived();
   sensor.feed->put(FedSample{unix_ms, reading.taken, synchronised, d.angle_x, d.angle_y, d.tilt,
-                             d.relative_x, d.relative_y, d.displacement_mm, NAN, d.alarms,
+                             d.relative_x, d.relative_y, d.displacement_mm,
+                             reading.temperature_c.value_or(NAN), d.alarms,
                              d.alarms_danger},
                    sensor.processing.changed());
 }

@@ -32,7 +32,7 @@ void add_angles(std::vector<Point>& points, const CommonBlockModel& m) {
                                   : "-32768 (single axis)"));
 }
 
-// The input registers 6..49 of every model, after the angles: one row each.
+// The input registers 6..51 of every model, after the angles: one row each.
 struct InputRow {
   const char* name;
   std::uint16_t address;
@@ -93,6 +93,9 @@ constexpr InputRow kStatusIdentityAndCounters[] = {
      "alarms set at the danger level, bits as register 27"},
     {"alarms_latched", 49, T::uint16, S::alarms_latched, "",
      "alarms latched until acknowledged (coil 0) and clear, bits as register 27"},
+    {"temperature", 50, T::float32, S::temperature, "degC",
+     "the sensor's temperature where it reports one (docs/monitoring.md, Temperature); NaN "
+     "otherwise"},
 };
 
 void add_status_identity_and_counters(std::vector<Point>& points) {
@@ -181,7 +184,7 @@ bool yields_to_map_points(const Point& p) {
   switch (p.table) {
     case RegisterTable::coil: return p.address == 0 && p.source == S::acknowledge_alarms;
     case RegisterTable::discrete: return p.address >= 9 && p.address <= 12;
-    case RegisterTable::input: return p.address >= 38 && p.address <= 49;
+    case RegisterTable::input: return p.address >= 38 && p.address <= 51;
     case RegisterTable::holding: break;
   }
   return false;

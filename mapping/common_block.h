@@ -1,5 +1,5 @@
 // The register block every built-in map starts with, at the same addresses on every model, so
-// one PLC function block reads any inclinometer: input registers 0..49, holding registers
+// one PLC function block reads any inclinometer: input registers 0..51, holding registers
 // 0..7, discrete inputs 0..12 and coil 0. A quantity a model does not have reads its "not available"
 // value (NaN, or the integer point's nan_value); a setting it does not have reads 0xFFFF (NaN
 // as a float) and refuses writes. Model-specific points start at address 100.
@@ -42,7 +42,7 @@ inline constexpr std::string_view kAddressPointName = "bus_address";
 bool names_point(std::string_view given, std::string_view name);
 
 // The points the block gained with the monitoring (coil 0, discrete inputs 9..12, input
-// registers 38..49): a map file written before them may have points of its own there, so where
+// registers 38..51): a map file written before them may have points of its own there, so where
 // a map's own point overlaps one of these, the map's point stays and the built-in one goes
 // (mapping/map_definition.cpp). Every older built-in point overlapped is an error, as ever.
 bool yields_to_map_points(const Point& builtin);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mapping/device_values.h"
 
 namespace tiltgate {
 namespace {
@@ -38,6 +39,11 @@ bool model_accepts(FamilyList families, std::string_view model, WriteTarget targ
   if (m == nullptr) return false;
   return std::any_of(m->settings.begin(), m->settings.end(),
                      [&](const SettingDescriptor& s) { return s.id == target; });
+}
+
+bool reports_temperature(const ModelDescriptor* model, std::span<const DeviceValue> values) {
+  return (model != nullptr && contains(model->sources, ValueSource::temperature)) ||
+         find_device_value(values, "temperature").has_value();
 }
 
 int model_axes(FamilyList families, std::string_view model) {

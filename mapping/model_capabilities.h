@@ -4,9 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
+#include "driver/device_value.h"
 #include "driver/family.h"
 #include "driver/sensor_driver.h"
 #include "mapping/value_source.h"
@@ -24,5 +26,10 @@ bool model_accepts(FamilyList families, std::string_view model, WriteTarget targ
 std::string model_code_description(FamilyList families);
 // 1 or 2; 2 for a model no family has (nothing to check against).
 int model_axes(FamilyList families, std::string_view model);
+// Whether a sensor of `model` (none: unknown) with these values of its own reports a
+// temperature: its model lists the source, or its device profile has a value named
+// "temperature". A map may show the source on any model (NaN where there is none); this says
+// where there is one, for what describes the sensor (a Sparkplug metric, the console's graph).
+bool reports_temperature(const ModelDescriptor* model, std::span<const DeviceValue> values);
 
 }  // namespace tiltgate

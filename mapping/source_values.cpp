@@ -74,6 +74,7 @@ std::optional<double> measured_value(ValueSource source, const SensorView& v) {
     case S::displacement_mm: return derived_or_nan(v, &DerivedState::displacement_mm);
     case S::raw_counts: return reading ? optional_int(reading->raw_counts) : NAN;
     case S::raw_temperature: return reading ? optional_int(reading->raw_temperature) : NAN;
+    case S::temperature: return reading ? reading->temperature_c.value_or(NAN) : NAN;
     default: return std::nullopt;
   }
 }

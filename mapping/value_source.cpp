@@ -58,6 +58,10 @@ constexpr SourceRow kRows[] = {
     // The driver reports int32.
     {"raw_counts", S::raw_counts, kMeasurement | kCounter, kInt32Min, kInt32Max},
     {"raw_temperature", S::raw_temperature, kMeasurement | kCounter, kInt32Min, kInt32Max},
+    // Every model's, as angle_y is: NaN where the sensor reports none (the common block has it
+    // for all). The range: what any inclinometer's operating range is within, with margin
+    // (theirs: -40..85 degC).
+    {"temperature", S::temperature, kMeasurement | kRanged, -100, 200},
     {"status", S::status, kCounter, 0, 511},  // nine status bits
     {"online", S::online, kFlag, 0, 1},
     {"stale", S::stale, kFlag, 0, 1},

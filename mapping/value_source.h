@@ -23,6 +23,7 @@ enum class ValueSource : std::uint8_t {
   displacement_mm,    // the length of (x, y)
   raw_counts,
   raw_temperature,
+  temperature,  // degrees Celsius, where the sensor reports a temperature
   status,  // status_bit flags (mapping/sensor_view.h)
   online,  // one bit each: the status bits ...
   stale,

@@ -1,7 +1,8 @@
 // A Modbus RTU device profile: what to poll from one kind of device ([[read]] blocks, each one
 // FC 3/4 request) and what the registers mean ([[value]] entries). Values named angle_x and
-// angle_y are the inclination in degrees; any other value is a source a register-map point can
-// show, and a writable one a setting it can write. Loaded from TOML by profile_reader.h;
+// angle_y are the inclination in degrees, one named temperature the device's temperature in
+// degrees Celsius; any other value is a source a register-map point can show, and a writable
+// one a setting it can write. Loaded from TOML by profile_reader.h;
 // decoded here with mapping's value codec, the same one map points use.
 //
 // Scaling reads from the device's registers to the value: value = raw * scale + offset (the

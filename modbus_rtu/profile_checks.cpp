@@ -67,12 +67,12 @@ bool is_setting_name(std::string_view name, std::span<const std::string_view> se
 }
 
 // A map file names a value by its name, as it names a built-in source or setting, so a value
-// may not take a built-in's name: the map could not reach it. angle_x and angle_y are the two
-// that mean the built-in angles.
+// may not take a built-in's name: the map could not reach it. angle_x, angle_y and temperature
+// are the three that mean the built-in angles and temperature.
 void check_name(const LocatedValue& v, std::span<const std::string_view> setting_names,
                 toml_input::ErrorList& errors) {
   const std::string& name = v.value.name;
-  if (name == "angle_x" || name == "angle_y") return;
+  if (name == "angle_x" || name == "angle_y" || name == "temperature") return;
   if (from_name(source_names(), name))
     v.where.report(errors, "name", fmt::format("\"{}\" is a built-in source of every sensor; "
                                                "give the value another name", name));

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "driver/visible_text.h"
 
@@ -15,10 +16,14 @@ namespace asio = boost::asio;
 
 namespace {
 
-double value_named(const std::vector<NamedValue>& values, std::string_view name) {
+std::optional<double> find_named(const std::vector<NamedValue>& values, std::string_view name) {
   for (const NamedValue& value : values)
     if (value.name == name) return value.value;
-  return NAN;
+  return std::nullopt;
+}
+
+double value_named(const std::vector<NamedValue>& values, std::string_view name) {
+  return find_named(values, name).value_or(NAN);
 }
 
 }  // namespace
@@ -207,6 +212,7 @@ asio::awaitable<void> RtuDriver::read_measurement(Line& line) {
   Reading reading;
   reading.angle_x = value_named(values, "angle_x");
   reading.angle_y = value_named(values, "angle_y");
+  reading.temperature_c = find_named(values, "temperature");  // degC, as the profile scales it
   for (const NamedValue& value : values) reading.device_values.push_back(value.value);
   reading.taken = reply_time(line.last_timing());
   state_.reading = reading;

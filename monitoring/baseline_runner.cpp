@@ -8,12 +8,11 @@ namespace {
 
 using json = nlohmann::json;
 
-void emit_error(const std::function<void(std::string)>& emit, const std::string& message) {
-  emit(json{{"event", "error"}, {"message", message}}.dump());
+BaselineAnswer error_answer(BaselineAnswer::Outcome outcome, const std::string& message) {
+  return {outcome, json{{"event", "error"}, {"message", message}}.dump()};
 }
 
-void emit_baseline(const std::function<void(std::string)>& emit, const std::string& sensor,
-                   const MonitoringService::BaselineNow& now) {
+std::string baseline_event(const std::string& sensor, const MonitoringService::BaselineNow& now) {
   json event{{"event", "baseline"},
              {"sensor", sensor},
              {"x", now.baseline.x},
@@ -23,7 +22,7 @@ void emit_baseline(const std::function<void(std::string)>& emit, const std::stri
     event["by"] = now.stored->by;
     event["unix_ms"] = now.stored->unix_ms;
   }
-  emit(event.dump());
+  return event.dump();
 }
 
 // The change a request asks for; none for "show"; an error for what makes no sense.
@@ -52,6 +51,29 @@ bool is_baseline_request(const std::string& request) {
   return asked.is_object() && asked.value("command", "") == "baseline";
 }
 
+BaselineAnswer answer_baseline(MonitoringService& monitoring, const std::string& request,
+                               const WriteOrigin& by) {
+  using Outcome = BaselineAnswer::Outcome;
+  const json asked = json::parse(request, nullptr, false);
+  if (!asked.is_object()) return error_answer(Outcome::bad_request, "the request is no JSON object");
+  const auto named = asked.find("sensor");
+  const std::string sensor = named != asked.end() && named->is_string() ? named->get<std::string>() : "";
+  if (sensor.empty()) return error_answer(Outcome::bad_request, "name the sensor");
+  if (!asked.contains("set") || !asked["set"].is_string())
+    return error_answer(Outcome::bad_request, "set must be current, value, clear or show");
+  auto change = change_of(asked);
+  if (!change) return error_answer(Outcome::bad_request, change.error());
+  if (!monitoring.baseline(sensor))
+    return error_answer(Outcome::no_sensor, "no sensor \"" + sensor + "\"");
+  if (*change) {
+    auto set = monitoring.set_baseline(sensor, **change, by);
+    if (!set) return error_answer(Outcome::failed, set.error());
+  }
+  const auto now = monitoring.baseline(sensor);
+  if (!now) return error_answer(Outcome::no_sensor, "no sensor \"" + sensor + "\"");
+  return {Outcome::done, baseline_event(sensor, *now)};
+}
+
 CommandRunner with_baselines(CommandRunner next, MonitoringService& monitoring) {
   return [next = std::move(next), &monitoring](
              std::string request, ServedBus bus, WriteOrigin by,
@@ -60,27 +82,15 @@ CommandRunner with_baselines(CommandRunner next, MonitoringService& monitoring) 
     if (!is_baseline_request(request))
       co_return co_await next(std::move(request), std::move(bus), std::move(by), std::move(emit),
                               stop);
-    const json asked = json::parse(request, nullptr, false);
-    const std::string sensor = asked.value("sensor", "");
-    auto change = change_of(asked);
-    if (sensor.empty() || !change) {
-      emit_error(emit, sensor.empty() ? "name the sensor" : change.error());
-      co_return 2;
+    const BaselineAnswer answer = answer_baseline(monitoring, request, by);
+    emit(answer.event);
+    switch (answer.outcome) {
+      case BaselineAnswer::Outcome::done: co_return 0;
+      case BaselineAnswer::Outcome::bad_request: co_return 2;
+      case BaselineAnswer::Outcome::no_sensor:
+      case BaselineAnswer::Outcome::failed: co_return 1;
     }
-    if (*change) {
-      auto set = monitoring.set_baseline(sensor, **change, by);
-      if (!set) {
-        emit_error(emit, set.error());
-        co_return 1;
-      }
-    }
-    const auto now = monitoring.baseline(sensor);
-    if (!now) {
-      emit_error(emit, "no sensor \"" + sensor + "\"");
-      co_return 1;
-    }
-    emit_baseline(emit, sensor, *now);
-    co_return 0;
+    co_return 1;
   };
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <system_error>
 
+#include "monitoring/long_record.h"
 #include "monitoring/utc_time.h"
 #include "store/file_io.h"
 
@@ -57,6 +58,11 @@ std::string burst_id(std::int64_t unix_ms) {
   return id;
 }
 
+std::filesystem::path burst_directory(const std::filesystem::path& state_dir,
+                                      std::string_view sensor) {
+  return state_dir / "bursts" / sensor_folder_name(sensor);
+}
+
 std::optional<std::filesystem::path> burst_path(const std::filesystem::path& dir,
                                                 std::string_view id) {
   if (!id_time(id)) return std::nullopt;
@@ -64,17 +70,17 @@ std::optional<std::filesystem::path> burst_path(const std::filesystem::path& dir
 }
 
 std::string burst_csv_header() {
-  return "time,unix_ms,phase,x,y,tilt,relative_x,relative_y,displacement_mm,alarms,"
+  return "time,unix_ms,phase,x,y,tilt,relative_x,relative_y,displacement_mm,temperature,alarms,"
          "clock_synchronised\r\n";
 }
 
 std::string burst_csv_rows(const std::vector<FedSample>& samples, BurstPhase phase) {
   std::string out;
   for (const FedSample& s : samples)
-    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\r\n", utc_timestamp(s.unix_ms),
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\r\n", utc_timestamp(s.unix_ms),
                        s.unix_ms, phase_name(phase), cell(s.x), cell(s.y), cell(s.tilt),
-                       cell(s.relative_x), cell(s.relative_y), cell(s.displacement_mm), s.alarms,
-                       s.clock_synchronised ? 1 : 0);
+                       cell(s.relative_x), cell(s.relative_y), cell(s.displacement_mm),
+                       cell(s.temperature_c), s.alarms, s.clock_synchronised ? 1 : 0);
   return out;
 }
 

@@ -4,7 +4,8 @@
 // trigger first, then each batch of the burst's. At most kBurstsKept per sensor: the oldest
 // goes when a new one starts.
 //
-//   time,unix_ms,phase,x,y,tilt,relative_x,relative_y,displacement_mm,alarms,clock_synchronised
+//   time,unix_ms,phase,x,y,tilt,relative_x,relative_y,displacement_mm,temperature,alarms,
+//   clock_synchronised
 //   2026-12-07T10:15:01.250Z,1796638501250,pre,1.9985,0.0012,1.9985,...
 //
 // `phase` is `pre` for the samples before the trigger, `trigger` for the one that started it,
@@ -30,6 +31,11 @@ struct BurstFile {
   std::int64_t unix_ms = 0;   // the trigger's time
   std::uint64_t bytes = 0;
 };
+
+// Where a sensor's bursts live: `<state_dir>/bursts/<sensor>/` (the folder named as the long
+// record's, monitoring/long_record.h sensor_folder_name()).
+std::filesystem::path burst_directory(const std::filesystem::path& state_dir,
+                                      std::string_view sensor);
 
 std::string burst_id(std::int64_t unix_ms);
 // The id's file in `dir`, none for text that is no burst id (a path, "..").

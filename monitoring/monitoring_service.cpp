@@ -66,11 +66,7 @@ MonitoringService::MonitoringService(Gateway& gateway, AuditTrail& audit)
     : gateway_(gateway), audit_(audit), timer_(gateway.executor()) {
   // Set once, here: the HTTP threads read them from the start ([server] state_dir is read at
   // start only).
-  const std::string& state_dir = gateway_.config().server.state_dir;
-  if (!state_dir.empty()) {
-    bursts_dir_ = std::filesystem::path(state_dir) / "bursts";
-    records_dir_ = std::filesystem::path(state_dir) / "record";
-  }
+  state_dir_ = gateway_.config().server.state_dir;
 }
 
 MonitoringService::~MonitoringService() { disk_.join(); }
@@ -117,11 +113,11 @@ void MonitoringService::start_as_user() {
 }
 
 std::filesystem::path MonitoringService::record_of(const std::string& sensor) const {
-  return records_dir_.empty() ? std::filesystem::path() : records_dir_ / sensor_folder_name(sensor);
+  return state_dir_.empty() ? std::filesystem::path() : record_directory(state_dir_, sensor);
 }
 
 void MonitoringService::open_records() {
-  if (records_dir_.empty() || !keeps_files_) return;
+  if (state_dir_.empty() || !keeps_files_) return;
   LongRecordOptions options;
   options.keep_days = record_config_.keep_days;
   std::lock_guard lock(records_mutex_);
@@ -143,7 +139,7 @@ void MonitoringService::open_records() {
 
 void MonitoringService::summarise(const GatewaySensor& sensor, const FedBatch& batch,
                                   std::int64_t now_unix_ms) {
-  if (records_dir_.empty() || !keeps_files_) return;
+  if (state_dir_.empty() || !keeps_files_) return;
   Watched& w = watched_[sensor.config.name];
   if (!w.summary) return;
   std::vector<IntervalRecord> closed;
@@ -298,7 +294,7 @@ void MonitoringService::watch(const GatewaySensor& sensor, std::vector<EventReco
 }
 
 std::filesystem::path MonitoringService::bursts_of(const std::string& sensor) const {
-  return bursts_dir_.empty() ? std::filesystem::path() : bursts_dir_ / sensor_folder_name(sensor);
+  return state_dir_.empty() ? std::filesystem::path() : burst_directory(state_dir_, sensor);
 }
 
 void MonitoringService::record_bursts(GatewaySensor& sensor, const FedBatch& batch,
@@ -318,7 +314,7 @@ void MonitoringService::record_bursts(GatewaySensor& sensor, const FedBatch& bat
   if (work.started) {
     if (sensor.bus) sensor.bus->burst(sensor, work.started->until);
     const std::string id = burst_id(work.started->unix_ms);
-    if (!bursts_dir_.empty() && keeps_files_) w.burst_file = bursts_of(name) / (id + ".csv");
+    if (!state_dir_.empty() && keeps_files_) w.burst_file = bursts_of(name) / (id + ".csv");
     EventRecord e = sensor_event(name, "burst", "start", work.started->trigger);
     e.unix_ms = work.started->unix_ms;
     e.text = fmt::format("{}: polled as fast as the line allows for {} s; record {}",

@@ -110,8 +110,8 @@ class MonitoringService final : public GatewayService {
   std::shared_ptr<EventLog> log_;  // made at start_as_user(); the disk thread writes it
   std::shared_ptr<EventLog> event_log() const;  // log_, from any thread
   std::shared_ptr<BaselineBook> book_;
-  std::filesystem::path bursts_dir_;  // <state_dir>/bursts; empty: none kept
-  std::filesystem::path records_dir_;  // <state_dir>/record; empty: none kept
+  // [server] state_dir, where the records and bursts are kept; empty: none kept.
+  std::filesystem::path state_dir_;
   // This gateway holds <state_dir>/events/lock: the files above are its own to write.
   bool keeps_files_ = false;
   store::UniqueFd lock_;

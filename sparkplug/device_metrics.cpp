@@ -7,7 +7,12 @@ namespace tiltgate::sparkplug {
 namespace {
 
 MetricSlot slot(DeviceMetric metric, std::string name, DataType type, bool angle = false) {
-  return MetricSlot{static_cast<std::uint8_t>(metric), std::move(name), type, angle, false};
+  return MetricSlot{static_cast<std::uint8_t>(metric), std::move(name), type, angle, {}, false};
+}
+
+MetricSlot measurement_slot(DeviceMetric metric, std::string name, std::string unit) {
+  return MetricSlot{static_cast<std::uint8_t>(metric), std::move(name), DataType::Double, false,
+                    std::move(unit), false};
 }
 
 Value optional_value(const std::optional<double>& v) { return v ? Value{*v} : Value{}; }
@@ -19,6 +24,12 @@ Value measured_value(DeviceMetric metric, const DeviceSample& s) {
     case DeviceMetric::angle_x: return optional_value(s.angle_x);
     case DeviceMetric::angle_y: return optional_value(s.angle_y);
     case DeviceMetric::tilt: return optional_value(s.tilt);
+    case DeviceMetric::relative_x: return optional_value(s.relative_x);
+    case DeviceMetric::relative_y: return optional_value(s.relative_y);
+    case DeviceMetric::displacement_mm: return optional_value(s.displacement_mm);
+    case DeviceMetric::temperature: return optional_value(s.temperature);
+    case DeviceMetric::alarms_danger: return Value{std::uint32_t{s.alarms_danger}};
+    case DeviceMetric::alarms_latched: return Value{std::uint32_t{s.alarms_latched}};
     case DeviceMetric::status: return Value{std::uint32_t{s.status}};
     case DeviceMetric::online: return Value{s.online};
     case DeviceMetric::stale: return Value{s.stale};
@@ -45,11 +56,20 @@ std::vector<MetricSlot> device_layout(const DeviceSample& sample) {
     layout.push_back(slot(DeviceMetric::angle_y, "angle_y", DataType::Double, true));
   }
   layout.push_back(slot(DeviceMetric::tilt, "tilt", DataType::Double, true));
+  layout.push_back(slot(DeviceMetric::relative_x, "relative_x", DataType::Double, true));
+  if (!sample.single_axis)
+    layout.push_back(slot(DeviceMetric::relative_y, "relative_y", DataType::Double, true));
+  if (sample.has_lever)
+    layout.push_back(measurement_slot(DeviceMetric::displacement_mm, "displacement_mm", "mm"));
+  if (sample.reports_temperature)
+    layout.push_back(measurement_slot(DeviceMetric::temperature, "temperature", "degC"));
   layout.push_back(slot(DeviceMetric::status, "status", DataType::UInt16));
   layout.push_back(slot(DeviceMetric::online, "online", DataType::Boolean));
   layout.push_back(slot(DeviceMetric::stale, "stale", DataType::Boolean));
   layout.push_back(slot(DeviceMetric::wrong_device, "wrong_device", DataType::Boolean));
   layout.push_back(slot(DeviceMetric::alarms, "alarms", DataType::UInt16));
+  layout.push_back(slot(DeviceMetric::alarms_danger, "alarms_danger", DataType::UInt16));
+  layout.push_back(slot(DeviceMetric::alarms_latched, "alarms_latched", DataType::UInt16));
   layout.push_back(slot(DeviceMetric::age_ms, "age_ms", DataType::Int64));
   layout.push_back(slot(DeviceMetric::model, "Properties/model", DataType::String));
   layout.push_back(slot(DeviceMetric::serial, "Properties/serial", DataType::String));
@@ -58,7 +78,7 @@ std::vector<MetricSlot> device_layout(const DeviceSample& sample) {
   for (std::size_t i = 0; i < settings; ++i) {
     layout.push_back(MetricSlot{static_cast<std::uint8_t>(kFirstSettingNumber + i),
                                 std::string(kSettingsFolder) + sample.settings[i].name,
-                                DataType::Double, false, true});
+                                DataType::Double, false, {}, true});
   }
   return layout;
 }
@@ -85,8 +105,9 @@ Metric device_metric(const MetricSlot& slot, std::size_t device, Value value,
   m.timestamp = timestamp;
   m.datatype = slot.datatype;
   m.value = std::move(value);
-  if (birth && slot.angle)
-    m.properties.push_back({"engUnit", DataType::String, std::string("deg")});
+  if (birth && (slot.angle || !slot.unit.empty()))
+    m.properties.push_back(
+        {"engUnit", DataType::String, slot.angle ? std::string("deg") : slot.unit});
   return m;
 }
 

@@ -36,8 +36,19 @@ struct DeviceSample {
   std::optional<double> angle_x;  // degrees after mounting; none before the first reading
   std::optional<double> angle_y;
   std::optional<double> tilt;
+  // From the baseline (docs/monitoring.md): degrees, and the displacement in millimetres at
+  // lever_m (no metric without lever_m).
+  std::optional<double> relative_x;
+  std::optional<double> relative_y;
+  bool has_lever = false;
+  std::optional<double> displacement_mm;
+  // Degrees Celsius, on a sensor that reports a temperature (no metric on one that does not).
+  bool reports_temperature = false;
+  std::optional<double> temperature;
   std::uint16_t status = 0;  // the status word
   std::uint16_t alarms = 0;  // the alarm flags (input register 27)
+  std::uint16_t alarms_danger = 0;   // those set at the danger level (input register 48)
+  std::uint16_t alarms_latched = 0;  // latched until acknowledged and clear (input register 49)
   std::optional<std::int64_t> age_ms;
   std::optional<std::int64_t> reading_unix_ms;  // when the reading was taken (ms, UTC)
   std::vector<SettingSample> settings;          // the writable settings, in a fixed order
@@ -83,9 +94,16 @@ enum class DeviceMetric : std::uint8_t {
   serial = 10,
   firmware = 11,
   wrong_device = 12,  // another device than the configured serial answers (status bit 6)
+  relative_x = 13,    // the monitoring's (docs/monitoring.md)
+  relative_y = 14,
+  displacement_mm = 15,
+  temperature = 16,
+  alarms_danger = 17,
+  alarms_latched = 18,
 };
-// Settings are numbered from 16 in the sample's order; a device has at most this many.
-inline constexpr std::uint8_t kFirstSettingNumber = 16;
+// Settings are numbered from 32 in the sample's order (13..31 are the built-in metrics' room to
+// grow); a device has at most this many.
+inline constexpr std::uint8_t kFirstSettingNumber = 32;
 inline constexpr std::size_t kMaxSettings = 256 - kFirstSettingNumber;
 
 // Aliases are unique across the edge node (tck-id-payloads-alias-uniqueness) and the same in
@@ -103,14 +121,19 @@ struct MetricSlot {
   std::uint8_t number = 0;
   std::string name;
   DataType datatype = DataType::Unknown;
-  bool angle = false;    // an angle in degrees: engUnit "deg", and on_change_deg applies
+  bool angle = false;    // an angle in degrees: engUnit "deg", reported as a measurement
+  // Another measurement (it moves with every reading: reported with the angles, not for its
+  // own change), and its engUnit.
+  std::string unit;
   bool setting = false;  // a writable setting: a DCMD may write it
 
   bool operator==(const MetricSlot&) const = default;
 };
 
 // The metrics of a device with this sample's shape: angle_x, angle_y (not on a single-axis
-// model), tilt, status, online, stale, alarms, age_ms, Properties/model, Properties/serial,
+// model), tilt, relative_x, relative_y (not on a single-axis model), displacement_mm (with a
+// lever), temperature (where the sensor reports one), status, online, stale, alarms,
+// alarms_danger, alarms_latched, age_ms, Properties/model, Properties/serial,
 // Properties/firmware, then Settings/<name> for each setting (at most kMaxSettings).
 std::vector<MetricSlot> device_layout(const DeviceSample& sample);
 

@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "gateway/status_copy.h"
+#include "mapping/model_capabilities.h"
 #include "settings/sensor_settings.h"
 
 namespace tiltgate::sparkplug {
@@ -51,8 +52,17 @@ std::vector<DeviceSample> DeviceSampler::sample(SteadyClock::time_point now,
     s.angle_x = status.x;
     s.angle_y = s.single_axis ? std::nullopt : status.y;
     s.tilt = status.tilt;
+    s.relative_x = status.relative_x;
+    s.relative_y = s.single_axis ? std::nullopt : status.relative_y;
+    s.has_lever = sensor->config.lever_m.has_value();
+    s.displacement_mm = status.displacement_mm;
+    s.reports_temperature =
+        reports_temperature(sensor->model, sensor->config.family_options.device_values());
+    s.temperature = status.temperature;
     s.status = view.status();
     s.alarms = status.alarms;
+    s.alarms_danger = status.alarms_danger;
+    s.alarms_latched = status.alarms_latched;
     s.age_ms = status.age_ms;
     if (snapshot->state.reading) s.reading_unix_ms = unix_ms_of(snapshot->state.reading->taken);
     for (const SensorSetting& setting : sensor_settings(sensor->map, families_))

@@ -12,7 +12,8 @@ bool is_axis(const MetricSlot& slot) {
 }
 
 bool is_measurement(const MetricSlot& slot) {
-  return slot.angle || slot.number == static_cast<std::uint8_t>(DeviceMetric::age_ms);
+  return slot.angle || !slot.unit.empty() ||
+         slot.number == static_cast<std::uint8_t>(DeviceMetric::age_ms);
 }
 
 // An angle moved: it appeared, vanished, or changed by `threshold` (> 0) or more.

@@ -132,6 +132,8 @@ asio::awaitable<void> DynaDriver::read_measurement(Line& line) {
   Reading reading;
   reading.raw_counts = counts->number;
   reading.raw_temperature = temperature->number;
+  reading.temperature_c = (temperature->number - options_.temperature_zero_counts) /
+                          options_.temperature_counts_per_degree;
   reading.angle_x = (counts->number - options_.zero_counts) / options_.counts_per_degree;
   reading.angle_y = NAN;  // single axis
   reading.taken = reply_time(line.last_timing());

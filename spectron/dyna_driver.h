@@ -1,8 +1,9 @@
 // The SPECTROTILT Dyna driver, for both of its protocols (9-bit addressing and Modbus-ASCII):
 // turns polls and register writes into Dyna transactions (spectron/dyna_transactions.h).
 //
-// A poll reads the raw sensor counts and the raw temperature; the counts become degrees by the
-// sensor's configured linear conversion, because the application note gives none. Identity
+// A poll reads the raw sensor counts and the raw temperature; the counts become degrees, and the
+// temperature degrees Celsius, by the sensor's configured linear conversions, because the
+// application note gives none. Identity
 // (firmware revision, serial number from EEPROM 4) is read at start, after every reconnect of
 // the line and after a reset. Settings are EEPROM writes: the named offsets (6, 10, 20), the
 // module address (16; the driver follows the module), the baud code (22; in force after the
@@ -35,6 +36,11 @@ struct DynaDriverOptions {
   // degrees = (counts - zero_counts) / counts_per_degree ([[sensor]] keys of the same name).
   double counts_per_degree = 100.0;
   double zero_counts = 0.0;
+  // degC = (temperature counts - temperature_zero_counts) / temperature_counts_per_degree:
+  // the note gives no conversion either; 10 counts per degree (0.1 degC) is the assumption
+  // written down in docs/protocols.md, "Dyna: what the note leaves open".
+  double temperature_counts_per_degree = 10.0;
+  double temperature_zero_counts = 0.0;
   // Quiet time after a reset before the next request. The note does not say how long the
   // processor takes to restart; a module that takes longer only costs one timed-out poll.
   std::chrono::milliseconds reset_settle{200};

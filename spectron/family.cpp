@@ -89,7 +89,9 @@ const ProtocolDescriptor kProtocols[] = {
 
 // Raw counts and temperature; EEPROM writes (offsets 6, 10, 20, module address 16, baud code
 // 22, the EEPROM window) and the reset command; one axis.
-constexpr ValueSource kDynaSources[] = {ValueSource::raw_counts, ValueSource::raw_temperature};
+// The temperature is every model's source (NaN where none); listed, it says the Dyna has one.
+constexpr ValueSource kDynaSources[] = {ValueSource::raw_counts, ValueSource::raw_temperature,
+                                        ValueSource::temperature};
 constexpr SettingDescriptor kDynaSettings[] = {
     settings::sensor_offset,   settings::temperature_offset, settings::pwm_offset,
     settings::eeprom_location, settings::eeprom_value,       settings::command,
@@ -107,19 +109,33 @@ const ModelDescriptor kModels[] = {{
 }};
 
 constexpr SensorKey kSensorKeys[] = {
-    {"counts_per_degree"}, {"zero_counts"}, {"eeprom_reserved_writes"}};
+    {"counts_per_degree"},
+    {"zero_counts"},
+    {"temperature_counts_per_degree"},
+    {"temperature_zero_counts"},
+    {"eeprom_reserved_writes"}};
 
-// Raw-count conversion and the EEPROM window: [[sensor]] keys only the Dyna has.
+// `key` (a divisor: not 0) into `options`, else `fallback`.
+void read_divisor(SensorKeyReader& in, FamilyOptions& options, std::string_view key,
+                  double fallback) {
+  options.set(key, fallback);
+  if (auto v = in.number(key)) {
+    if (*v == 0.0)
+      in.error(key, "must not be 0 (raw counts are divided by it)");
+    else
+      options.set(key, *v);
+  }
+}
+
+// Raw-count conversions and the EEPROM window: [[sensor]] keys only the Dyna has.
 void read_sensor_keys(SensorKeyReader& in, FamilyOptions& options) {
   const DynaDriverOptions defaults;
-  options.set("counts_per_degree", defaults.counts_per_degree);
-  if (auto v = in.number("counts_per_degree")) {
-    if (*v == 0.0)
-      in.error("counts_per_degree", "must not be 0 (raw counts are divided by it)");
-    else
-      options.set("counts_per_degree", *v);
-  }
+  read_divisor(in, options, "counts_per_degree", defaults.counts_per_degree);
   options.set("zero_counts", in.number("zero_counts").value_or(defaults.zero_counts));
+  read_divisor(in, options, "temperature_counts_per_degree",
+               defaults.temperature_counts_per_degree);
+  options.set("temperature_zero_counts",
+              in.number("temperature_zero_counts").value_or(defaults.temperature_zero_counts));
   // The application note's own example writes a reserved location; allowed on request only.
   options.set("eeprom_reserved_writes",
               in.boolean("eeprom_reserved_writes").value_or(defaults.reserved_writes) ? 1.0 : 0.0);
@@ -132,6 +148,10 @@ std::unique_ptr<SensorDriver> make_driver(const DriverSetup& setup) {
   options.address = int(setup.address);
   options.counts_per_degree = setup.options.get("counts_per_degree", options.counts_per_degree);
   options.zero_counts = setup.options.get("zero_counts", options.zero_counts);
+  options.temperature_counts_per_degree = setup.options.get(
+      "temperature_counts_per_degree", options.temperature_counts_per_degree);
+  options.temperature_zero_counts =
+      setup.options.get("temperature_zero_counts", options.temperature_zero_counts);
   options.reply_timeouts = setup.reply_timeouts;
   options.reserved_writes = setup.options.flag("eeprom_reserved_writes");
   return std::make_unique<DynaDriver>(options);

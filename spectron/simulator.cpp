@@ -104,9 +104,10 @@ Expected<Done, std::string> DynaSimulator::command(std::string_view line) {
   auto parsed = parse_simulator_command(line);
   if (!parsed) return Unexpected{parsed.error()};
   if (auto plugged = plug_command(*parsed)) return *plugged;
-  if (parsed->verb != "counts" && parsed->verb != "serial") {
+  if (parsed->verb != "counts" && parsed->verb != "temperature" && parsed->verb != "serial") {
     return Unexpected{"unknown command \"" + parsed->verb +
-                      "\" (try: counts ADDRESS N, serial ADDRESS N, unplug MASTER, replug MASTER)"};
+                      "\" (try: counts ADDRESS N, temperature ADDRESS N, serial ADDRESS N, unplug "
+                      "MASTER, replug MASTER)"};
   }
   SimulatedDyna* module =
       parsed->address > 0xFF ? nullptr : sensor_by_address(std::uint8_t(parsed->address));
@@ -121,9 +122,12 @@ Expected<Done, std::string> DynaSimulator::command(std::string_view line) {
   }
   if (values.size() != 1 || values[0] != std::floor(values[0]) || values[0] < -32768 ||
       values[0] > 32767) {
-    return Unexpected{std::string("counts takes one whole number, -32768..32767")};
+    return Unexpected{parsed->verb + " takes one whole number, -32768..32767"};
   }
-  module->set_counts(std::int16_t(values[0]));
+  if (parsed->verb == "temperature")  // raw counts, as the module reports them
+    module->set_temperature(std::int16_t(values[0]));
+  else
+    module->set_counts(std::int16_t(values[0]));
   return Done{};
 }
 

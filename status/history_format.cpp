@@ -31,9 +31,12 @@ std::string iso8601_utc(std::int64_t unix_ms) {
 std::string history_json(const std::vector<AngleSample>& samples) {
   Json out = Json::array();
   // A float's shortest form, 1.25 or -0.003, not its double expansion 1.2500000476837158.
-  for (const AngleSample& s : samples)
-    out.push_back(
-        Json{{"t", s.unix_ms}, {"x", json_float_number(s.x)}, {"y", json_float_number(s.y)}});
+  // The temperature only where there is one: most sensors have none.
+  for (const AngleSample& s : samples) {
+    Json sample{{"t", s.unix_ms}, {"x", json_float_number(s.x)}, {"y", json_float_number(s.y)}};
+    if (s.temperature) sample["temperature"] = json_float_number(s.temperature);
+    out.push_back(std::move(sample));
+  }
   return json_text(out);
 }
 

@@ -16,16 +16,18 @@ namespace tiltgate {
 
 class HistoryRecorder {
  public:
-  // One ring of `samples_per_sensor` for each of `sensor_names`, memory taken now.
-  HistoryRecorder(std::vector<std::string> sensor_names, std::size_t samples_per_sensor);
+  // One ring of `samples_per_sensor` for each of `sensor_names`, memory taken now; those
+  // also named in `with_temperature` (sensors that report one) keep the temperature too.
+  HistoryRecorder(std::vector<std::string> sensor_names, std::size_t samples_per_sensor,
+                  const std::vector<std::string>& with_temperature = {});
 
   // One sample per sensor of `status` taken at `unix_ms`. A sensor without a fresh reading
   // (none yet, or stale) gets a sample without angles: a gap in its graph, not an old value
   // drawn as if it were current. Sensors not named at construction are ignored.
   void record(const GatewayStatus& status, std::int64_t unix_ms);
 
-  // Takes the rings of the sensors `previous` has too (same name, same number of samples): a
-  // reload keeps the graphs of its sensors that keep their name.
+  // Takes the rings of the sensors `previous` has too (same name, same number of samples, a
+  // temperature or none in both): a reload keeps the graphs of its sensors that keep their name.
   void carry_over(const HistoryRecorder& previous);
 
   // The sensor's samples, oldest first; none for a name not configured.

@@ -81,6 +81,7 @@ Json sensor_object(const SensorStatus& s) {
                   {"displacement_x_mm", json_number(s.displacement_x_mm)},
                   {"displacement_y_mm", json_number(s.displacement_y_mm)},
                   {"displacement_mm", json_number(s.displacement_mm)},
+                  {"temperature", json_number(s.temperature)},
                   {"reading_time", s.reading_unix_ms ? Json(iso8601_utc(*s.reading_unix_ms))
                                                      : Json(nullptr)},
                   {"clock_synchronised", s.clock_synchronised},

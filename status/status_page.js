@@ -49,18 +49,22 @@ function rateOf(key, count) {
 // A 401 means the session is gone (logged out elsewhere, expired): not an unreachable gateway.
 class LoggedOut extends Error {}
 
-async function getJson(path) {
+// A GET's body as `read` takes it (the reply's json or text), within TIMEOUT_MS.
+async function getBody(path, read) {
   const abort = new AbortController();
   const timer = setTimeout(() => abort.abort(), TIMEOUT_MS);
   try {
     const reply = await fetch(path, {cache: "no-store", signal: abort.signal});
     if (reply.status === 401) { showLogin(); throw new LoggedOut(path); }
     if (!reply.ok) throw new Error(path + ": " + reply.status);
-    return await reply.json();
+    return await read(reply);
   } finally {
     clearTimeout(timer);
   }
 }
+
+function getJson(path) { return getBody(path, (reply) => reply.json()); }
+function getText(path) { return getBody(path, (reply) => reply.text()); }
 
 function stateOf(s) {
   // Another device answers at the sensor's address: nothing it says is the sensor's.
@@ -314,6 +318,21 @@ function renderPair(state) {
   el.hidden = false;
 }
 
+// The gateway's clock (/api/status "clock"): every reading's time comes from it, so one that is
+// not synchronised is said plainly (its readings are flagged: status bit 8).
+function renderClock(state) {
+  const c = state.clock;
+  const el = $("clock");
+  if (!c) { el.hidden = true; return; }
+  el.textContent = c.synchronised
+    ? "clock synchronised" + (c.error_ms === null ? "" : " \u00B1" + (c.error_ms < 10 ? c.error_ms.toFixed(1) : c.error_ms.toFixed(0)) + " ms")
+    : "clock not synchronised: readings are flagged";
+  el.title = c.synchronised ? "the system clock's maximum error, as the kernel estimates it"
+                            : "NTP (chrony or systemd-timesyncd) has not synchronised the system clock";
+  el.className = "clock num" + (c.synchronised ? "" : " unsynchronised");
+  el.hidden = false;
+}
+
 let lastBuses = [];
 let lastSensors = [];
 let polls = 0;
@@ -326,7 +345,7 @@ async function poll() {
     renderSensors(sensors);
     renderBuses(buses);
     renderSummary(sensors);
-    if (state) renderPair(state);
+    if (state) { renderPair(state); renderClock(state); }
     if (withStatus) refreshRecentEvents();
     lastBuses = buses;
     lastSensors = sensors;
@@ -345,6 +364,15 @@ async function poll() {
 }
 
 // ---- the history graph ----
+// "10 min" is the recent ring (/history, a sample a second, redrawn every HISTORY_MS); a longer
+// span is the long record (history.csv?from=&to=&points=), which the gateway merges into at most
+// GRAPH_POINTS steps: each is drawn as its mean, in a band from its least to its greatest value,
+// so a short spike still shows in a week. A sensor that reports a temperature has it as a
+// dashed line on the right-hand scale.
+const GRAPH_POINTS = 600;
+const RECORD_REFRESH_MS = 60000;
+let graphSpan = 0;  // 0: the recent ring; else milliseconds back from now
+
 function niceStep(span, ticks) {
   const raw = span / ticks;
   const power = Math.pow(10, Math.floor(Math.log10(raw)));
@@ -352,60 +380,194 @@ function niceStep(span, ticks) {
   return 10 * power;
 }
 
-function drawGraph(samples) {
-  const W = 900, H = 320, L = 62, R = 16, T = 14, B = 34;
-  const values = [];
-  for (const s of samples) for (const v of [s.x, s.y]) if (v !== null && v !== undefined) values.push(v);
-  if (samples.length === 0 || values.length === 0)
-    return '<div class="empty">No readings recorded yet: the gateway keeps one sample a period and the graph fills as they come.</div>';
+// The decimals a step's labels need: 0.25 needs two, 0.5 one.
+function stepDecimals(step, most) {
+  const power = Math.floor(Math.log10(step) + 1e-9);
+  const quarter = Math.abs(step / Math.pow(10, power) - 2.5) < 1e-9 ? 1 : 0;
+  return Math.max(0, Math.min(most, quarter - power));
+}
+
+function present(v) { return v !== null && v !== undefined && !Number.isNaN(v); }
+
+// [lo, hi] of `values` with a margin, at least `least` wide.
+function scaleOf(values, least) {
   let lo = Math.min(...values), hi = Math.max(...values);
-  if (hi - lo < 0.01) { lo -= 0.005; hi += 0.005; }
+  if (hi - lo < least) { const mid = (hi + lo) / 2; lo = mid - least / 2; hi = mid + least / 2; }
   const padding = (hi - lo) * 0.08;
-  lo -= padding; hi += padding;
-  const t0 = samples[0].t, t1 = Math.max(samples[samples.length - 1].t, t0 + 1000);
+  return [lo - padding, hi + padding];
+}
+
+// The path of `key` through the samples, lifted where it has no value; a point alone is a dot
+// (a stroke of no length, drawn by its round cap).
+function linePath(samples, key, px, py) {
+  let d = "", pen = false;
+  for (const s of samples) {
+    if (!present(s[key])) { pen = false; continue; }
+    d += (pen ? "L" : "M") + px(s.t).toFixed(1) + " " + py(s[key]).toFixed(1) + (pen ? "" : "h0");
+    pen = true;
+  }
+  return d;
+}
+
+// The band between `lo` and `hi` through the samples: one closed shape per unbroken run.
+function bandPath(samples, lo, hi, px, py) {
+  let d = "", run = [];
+  const close = () => {
+    if (run.length > 1) {
+      d += "M" + run.map((s) => px(s.t).toFixed(1) + " " + py(s[hi]).toFixed(1)).join("L");
+      d += "L" + run.slice().reverse().map((s) => px(s.t).toFixed(1) + " " + py(s[lo]).toFixed(1)).join("L") + "Z";
+    }
+    run = [];
+  };
+  for (const s of samples) {
+    if (present(s[lo]) && present(s[hi])) run.push(s); else close();
+  }
+  close();
+  return d;
+}
+
+function timeLabel(t, span) {
+  const d = new Date(t);
+  if (span <= 86400000) return span > 3600000 ? pad(d.getHours()) + ":" + pad(d.getMinutes()) : clock(d);
+  return pad(d.getMonth() + 1) + "-" + pad(d.getDate()) + (span <= 7 * 86400000 ? " " + pad(d.getHours()) + ":00" : "");
+}
+
+function drawGraph(samples, span) {
+  const W = 900, H = 320, L = 62, T = 14, B = 34;
+  const temperatures = samples.map((s) => s.temperature).filter(present);
+  const R = temperatures.length > 0 ? 62 : 16;
+  const angles = [];
+  for (const s of samples) for (const k of ["x", "y", "xlo", "xhi", "ylo", "yhi"]) if (present(s[k])) angles.push(s[k]);
+  if (angles.length === 0 && temperatures.length === 0)
+    return '<div class="empty">' + (span
+      ? "Nothing recorded in this range yet: the gateway writes a row of the long record each interval (1 minute by default)."
+      : "No readings recorded yet: the gateway keeps one sample a period and the graph fills as they come.") + "</div>";
+  const [lo, hi] = angles.length ? scaleOf(angles, 0.01) : [-1, 1];
+  const t1 = span ? Date.now() : Math.max(samples[samples.length - 1].t, samples[0].t + 1000);
+  const t0 = span ? t1 - span : samples[0].t;
   const px = (t) => L + (t - t0) * (W - L - R) / (t1 - t0);
   const py = (v) => T + (hi - v) * (H - T - B) / (hi - lo);
   let svg = '<svg class="graph" viewBox="0 0 ' + W + " " + H + '" role="img" aria-label="angles over time">';
   const step = niceStep(hi - lo, 5);
-  const decimals = Math.max(0, Math.min(4, -Math.floor(Math.log10(step) + 1e-9)));
+  const decimals = stepDecimals(step, 4);
   for (let v = Math.ceil(lo / step) * step; v <= hi; v += step) {
     const y = py(v).toFixed(1);
     svg += '<line class="gridline" x1="' + L + '" x2="' + (W - R) + '" y1="' + y + '" y2="' + y + '"/>';
     svg += '<text class="label" x="' + (L - 8) + '" y="' + y + '" dy="4" text-anchor="end">' + v.toFixed(decimals) + "\u00B0</text>";
   }
-  const tStep = [1, 2, 5, 10, 15, 30, 60, 120, 300, 600, 900, 1800, 3600].map((s) => s * 1000)
-                  .find((s) => (t1 - t0) / s <= 7) || 7200000;
+  const tStep = [1, 2, 5, 10, 15, 30, 60, 120, 300, 600, 900, 1800, 3600, 7200, 10800, 21600, 43200, 86400, 172800, 432000]
+                  .map((s) => s * 1000).find((s) => (t1 - t0) / s <= 7) || 604800000;
   for (let t = Math.ceil(t0 / tStep) * tStep; t <= t1; t += tStep) {
     const x = px(t).toFixed(1);
     svg += '<line class="gridline" x1="' + x + '" x2="' + x + '" y1="' + T + '" y2="' + (H - B) + '"/>';
-    svg += '<text class="label" x="' + x + '" y="' + (H - B + 18) + '" text-anchor="middle">' + clock(new Date(t)) + "</text>";
+    svg += '<text class="label" x="' + x + '" y="' + (H - B + 18) + '" text-anchor="middle">' + timeLabel(t, t1 - t0) + "</text>";
   }
   for (const axis of ["x", "y"]) {
-    let d = "", pen = false;
-    for (const s of samples) {
-      const v = s[axis];
-      if (v === null || v === undefined) { pen = false; continue; }
-      d += (pen ? "L" : "M") + px(s.t).toFixed(1) + " " + py(v).toFixed(1);
-      pen = true;
-    }
+    const band = bandPath(samples, axis + "lo", axis + "hi", px, py);
+    if (band) svg += '<path class="band ' + axis + '" d="' + band + '"/>';
+  }
+  for (const axis of ["x", "y"]) {
+    const d = linePath(samples, axis, px, py);
     if (d) svg += '<path class="line ' + axis + '" d="' + d + '"/>';
+  }
+  if (temperatures.length > 0) {
+    const [tlo, thi] = scaleOf(temperatures, 1);
+    const pt = (v) => T + (thi - v) * (H - T - B) / (thi - tlo);
+    const tstep = niceStep(thi - tlo, 5);
+    const tdecimals = stepDecimals(tstep, 2);
+    for (let v = Math.ceil(tlo / tstep) * tstep; v <= thi; v += tstep)
+      svg += '<text class="label temperature" x="' + (W - R + 8) + '" y="' + pt(v).toFixed(1) + '" dy="4">' + v.toFixed(tdecimals) + "\u00B0C</text>";
+    svg += '<path class="line temperature" d="' + linePath(samples, "temperature", px, pt) + '"/>';
   }
   return svg + "</svg>";
 }
 
+// The long record's CSV (monitoring/history_csv.h) as graph samples: each row's mean, least and
+// greatest value; the row's time is the start of its step.
+function recordSamples(text) {
+  const lines = text.trim().split(/\r?\n/);
+  const head = lines.shift().split(",");
+  const at = (name) => head.indexOf(name);
+  const number = (cells, name) => { const v = cells[at(name)]; return v === undefined || v === "" ? null : Number(v); };
+  return lines.map((line) => {
+    const c = line.split(",");
+    return {t: Date.parse(c[at("time")]), x: number(c, "x_mean"), y: number(c, "y_mean"),
+            xlo: number(c, "x_min"), xhi: number(c, "x_max"), ylo: number(c, "y_min"), yhi: number(c, "y_max"),
+            temperature: number(c, "temperature_mean")};
+  });
+}
+
+function recordUrl(name, span, points) {
+  const to = Date.now(), from = to - span;
+  return "/api/sensors/" + encodeURIComponent(name) + "/history.csv?from=" + from + "&to=" + to +
+    (points ? "&points=" + points : "");
+}
+
+async function graphSamples(name) {
+  if (!graphSpan) return getJson("/api/sensors/" + encodeURIComponent(name) + "/history");
+  return recordSamples(await getText(recordUrl(name, graphSpan, GRAPH_POINTS)));
+}
+
+function spanText(ms) {
+  const minutes = ms / 60000;
+  if (minutes < 2) return Math.round(minutes * 60) + " s";
+  if (minutes < 120) return minutes.toFixed(0) + " min";
+  if (minutes < 2880) return (minutes / 60).toFixed(0) + " h";
+  return (minutes / 1440).toFixed(0) + " days";
+}
+
 async function refreshHistory() {
   if (openSensor === null) return;
-  const name = openSensor;
+  const name = openSensor, span = graphSpan;
   try {
-    const samples = await getJson("/api/sensors/" + encodeURIComponent(name) + "/history");
-    if (openSensor !== name) return;
-    $("detail-graph").innerHTML = drawGraph(samples);
-    const minutes = samples.length > 1 ? (samples[samples.length - 1].t - samples[0].t) / 60000 : 0;
-    $("detail-range").textContent = samples.length + " samples" +
-      (minutes > 0 ? " over the last " + (minutes < 2 ? Math.round(minutes * 60) + " s" : minutes.toFixed(0) + " min") : "");
+    const samples = await graphSamples(name);
+    if (openSensor !== name || graphSpan !== span) return;
+    $("detail-graph").innerHTML = drawGraph(samples, span);
+    $("detail-temperature-key").hidden = !samples.some((s) => present(s.temperature));
+    if (span) {
+      $("detail-range").textContent = samples.length + (samples.length === 1 ? " step" : " steps") +
+        " of the long record over the last " + spanText(span);
+    } else {
+      const ms = samples.length > 1 ? samples[samples.length - 1].t - samples[0].t : 0;
+      $("detail-range").textContent = samples.length + " samples" + (ms > 0 ? " over the last " + spanText(ms) : "");
+    }
   } catch (e) {
     // The page's banner already says the gateway is away; keep the last graph.
   }
+}
+
+// The CSV link: the recent samples, or every row of the long record over the span shown.
+function setCsvLink(name) {
+  $("detail-csv").href = graphSpan ? recordUrl(name, graphSpan, 0)
+                                   : "/api/sensors/" + encodeURIComponent(name) + "/history.csv";
+  $("detail-csv").setAttribute("download", name + (graphSpan ? "-record.csv" : "-history.csv"));
+}
+
+function showSpan(span) {
+  graphSpan = span;
+  for (const b of document.querySelectorAll("#detail-zoom button"))
+    b.setAttribute("aria-pressed", String(Number(b.dataset.span) === span));
+  if (openSensor === null) return;
+  setCsvLink(openSensor);
+  $("detail-graph").innerHTML = '<div class="empty">Loading&hellip;</div>';
+  refreshHistory();
+  clearInterval(historyTimer);
+  historyTimer = setInterval(refreshHistory, span ? RECORD_REFRESH_MS : HISTORY_MS);
+}
+
+// The sensor's bursts (docs/monitoring.md, "Bursts"), newest first, each a CSV download.
+const BURSTS_SHOWN = 10;
+async function loadBursts(name) {
+  const base = "/api/sensors/" + encodeURIComponent(name) + "/bursts";
+  let bursts = [];
+  try { bursts = await getJson(base); } catch (e) { bursts = []; }
+  if (openSensor !== name) return;
+  $("detail-bursts").hidden = bursts.length === 0;
+  $("detail-burst-list").innerHTML = bursts.slice(0, BURSTS_SHOWN).map((b) =>
+    '<li><a href="' + base + "/" + encodeURIComponent(b.id) + '.csv" download="' +
+    esc(name + "-burst-" + b.id + ".csv") + '">' + esc(sinceText(b.unix_ms / 1000)) + "</a> " +
+    '<span class="muted">' + Math.max(1, Math.round(b.bytes / 1024)) + " KB</span></li>").join("") +
+    (bursts.length > BURSTS_SHOWN ? '<li class="muted">and ' + (bursts.length - BURSTS_SHOWN) + " older</li>" : "");
 }
 
 function openHistory(name) {
@@ -414,13 +576,10 @@ function openHistory(name) {
   const card = cards.get(name);
   $("detail-name").textContent = name;
   $("detail-sub").textContent = card ? card.parts.meta.textContent + " \u00B7 " + card.parts.where.textContent : "";
-  $("detail-csv").href = "/api/sensors/" + encodeURIComponent(name) + "/history.csv";
-  $("detail-csv").setAttribute("download", name + "-history.csv");
-  $("detail-graph").innerHTML = '<div class="empty">Loading&hellip;</div>';
   $("detail").hidden = false;
-  refreshHistory();
-  clearInterval(historyTimer);
-  historyTimer = setInterval(refreshHistory, HISTORY_MS);
+  $("detail-bursts").hidden = true;
+  showSpan(0);
+  loadBursts(name);
   $("detail-console").hidden = !session.accounts;
   if (session.accounts) loadSensorConsole(name);
   $("detail-close").focus();
@@ -433,6 +592,8 @@ function closeHistory() {
   $("detail").hidden = true;
 }
 
+for (const b of document.querySelectorAll("#detail-zoom button"))
+  b.addEventListener("click", () => showSpan(Number(b.dataset.span)));
 $("detail-close").addEventListener("click", closeHistory);
 $("detail").addEventListener("click", (e) => { if (e.target === $("detail")) closeHistory(); });
 document.addEventListener("keydown", (e) => {
@@ -604,8 +765,10 @@ async function loadSensorConsole(name, keepMessage) {
   settingsFor = name;
   $("detail-identity").innerHTML = "";
   document.querySelector("#detail-settings tbody").innerHTML =
-    '<tr><td colspan="4" class="empty">Reading the settingsReading the settings from the sensor&hellip;hellip;</td></tr>';
+    '<tr><td colspan="4" class="empty">Reading the settings from the sensor&hellip;</td></tr>';
   if (!keepMessage) say("detail-message", "");
+  say("baseline-message", "");
+  $("detail-baseline").textContent = "";
   const path = "/api/sensors/" + encodeURIComponent(name);
   try {
     const [sensor, settings] = await Promise.all([api("GET", path), api("GET", path + "/settings")]);
@@ -615,6 +778,41 @@ async function loadSensorConsole(name, keepMessage) {
     renderSettings(name, sensor, settings.settings || []);
   } catch (e) {
     if (settingsFor === name) say("detail-message", "Could not read the settings: " + e.message, "bad");
+  }
+  loadBaseline(name);
+}
+
+// ---- a sensor's baseline (docs/monitoring.md, "Baseline and displacement") ----
+function baselineText(b) {
+  const angles = "X " + degrees(b.x) + ", Y " + degrees(b.y);
+  if (!b.stored) return angles + " \u2014 the configuration's";
+  return angles + " \u2014 set by " + b.by + " at " + sinceText(b.unix_ms / 1000);
+}
+
+async function loadBaseline(name) {
+  try {
+    const b = await api("GET", "/api/sensors/" + encodeURIComponent(name) + "/baseline");
+    if (settingsFor === name) $("detail-baseline").textContent = baselineText(b);
+  } catch (e) {
+    if (settingsFor === name) $("detail-baseline").textContent = "not known: " + e.message;
+  }
+}
+
+async function changeBaseline(set) {
+  const name = settingsFor;
+  if (name === null) return;
+  const asked = set === "current"
+    ? "Set the baseline of " + name + " to its current reading?"
+    : "Set the baseline of " + name + " back to the configuration's?";
+  if (!await askConfirm(asked, "Every angle from the baseline, the displacement and its alarms are measured from it. The change is recorded in the audit trail and as an event."))
+    return;
+  try {
+    const b = await api("POST", "/api/sensors/" + encodeURIComponent(name) + "/baseline", {set});
+    if (settingsFor !== name) return;
+    $("detail-baseline").textContent = baselineText(b);
+    say("baseline-message", set === "current" ? "Baseline set to the current reading." : "Baseline back to the configuration's.", "ok");
+  } catch (e) {
+    say("baseline-message", "Could not change the baseline: " + e.message, "bad");
   }
 }
 
@@ -1263,6 +1461,8 @@ for (const button of document.querySelectorAll(".tab"))
   button.addEventListener("click", () => showTab(button.dataset.tab));
 $("confirm-ok").addEventListener("click", () => answerConfirm(true));
 $("detail-reset").addEventListener("click", () => resetCounters("sensor", settingsFor, $("counters-message")));
+$("detail-baseline-set").addEventListener("click", () => changeBaseline("current"));
+$("detail-baseline-clear").addEventListener("click", () => changeBaseline("clear"));
 $("confirm-cancel").addEventListener("click", () => answerConfirm(false));
 $("raw-form").addEventListener("submit", sendRaw);
 $("config-reload").addEventListener("click", loadConfig);

@@ -7,7 +7,7 @@ its count of samples what a second of 100 ms polls brings; the rows are there af
 A step past the alarm starts a burst: the sensor is polled back to back for burst_s, the other
 sensor on the line keeps its own period, and the burst's CSV holds pre_trigger_s of samples
 before the trigger; `tiltgate check` prints the record's disk budget, and `tiltgate history`
-reads the record from the state directory.
+reads the record from the state directory, `tiltgate bursts` the bursts.
 
 Usage: /usr/bin/python3 monitoring_record_test.py path/to/tiltgate
 """
@@ -153,6 +153,23 @@ def scenario(t):
         t.check("the trigger is the first reading past x_high",
                 float(burst[phases.index("trigger")]["x"]) > 2.0 and
                 all(float(r["x"]) < 2.0 for r in burst if r["phase"] == "pre"), burst[:15])
+        listed = subprocess.run([tiltgate, "bursts", "--config", gateway.config_path,
+                                 "--sensor", "mast"], capture_output=True, text=True, timeout=30)
+        t.check("tiltgate bursts lists it by its id", listed.returncode == 0 and
+                bursts[0]["id"] in listed.stdout, listed.stdout + listed.stderr)
+        last = subprocess.run([tiltgate, "bursts", "--config", gateway.config_path,
+                               "--sensor", "mast", "--id", "last"],
+                              capture_output=True, text=True, timeout=30)
+        t.check("tiltgate bursts --id last writes the CSV the console downloads",
+                last.returncode == 0 and last.stdout.startswith(
+                    "time,unix_ms,phase,x,y,tilt,relative_x,relative_y,displacement_mm,"
+                    "temperature,alarms,clock_synchronised") and
+                len(last.stdout.splitlines()) >= len(burst), last.stderr or last.stdout[:300])
+        wrong = subprocess.run([tiltgate, "bursts", "--config", gateway.config_path,
+                                "--sensor", "mast", "--id", "../../etc/passwd"],
+                               capture_output=True, text=True, timeout=30)
+        t.check("a burst id that is a path: exit 2 saying what an id looks like",
+                wrong.returncode == 2 and "is no burst id" in wrong.stderr, wrong.stderr)
     kinds = [(e["kind"], e.get("state")) for e in
              json.loads(get(gateway, "/api/events?kind=burst"))]
     t.check("the burst's start and end are events", kinds == [("burst", "end"), ("burst", "start")],

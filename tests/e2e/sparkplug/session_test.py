@@ -133,16 +133,20 @@ def dbirth_contents(t, device, birth, nbirth):
     names = {m["name"]: m for m in birth.metrics()}
     want = {"angle_x": spb_codec.DOUBLE, "tilt": spb_codec.DOUBLE, "status": spb_codec.UINT16,
             "online": spb_codec.BOOLEAN, "stale": spb_codec.BOOLEAN, "wrong_device": spb_codec.BOOLEAN,
-            "alarms": spb_codec.UINT16,
+            "alarms": spb_codec.UINT16, "alarms_danger": spb_codec.UINT16,
+            "alarms_latched": spb_codec.UINT16, "relative_x": spb_codec.DOUBLE,
             "age_ms": spb_codec.INT64, "Properties/model": spb_codec.STRING,
             "Properties/serial": spb_codec.STRING, "Properties/firmware": spb_codec.STRING}
     if device == "boom":
         want["angle_y"] = spb_codec.DOUBLE
+        want["relative_y"] = spb_codec.DOUBLE
     types = {n: names[n]["datatype"] if n in names else None for n in want}
     t.check("tck-id-topics-dbirth-metrics: %s's DBIRTH has every metric with its datatype" % device,
             types == want, types)
     if device == "mast":
         t.check("a single-axis sensor's DBIRTH has no angle_y", "angle_y" not in names, names)
+    t.check("%s's DBIRTH: no temperature (a Rieker reports none) and no displacement (no lever_m)"
+            % device, "temperature" not in names and "displacement_mm" not in names, names)
     units = {n: names[n]["properties"].get("engUnit") for n in ("angle_x", "tilt") if n in names}
     t.check("%s's angles carry the property engUnit deg" % device,
             units == {"angle_x": "deg", "tilt": "deg"}, units)

@@ -13,6 +13,9 @@ driver package is needed.
     chromium_page.py counters URL ADMIN FAILING   the counters in the page
         (tests/e2e/console_counters_test.py): FAILING, a sensor nobody answers for, is red with
         errors in the last 10 min; each bus's table on the Buses tab; its reset, confirmed
+    chromium_page.py monitoring URL ADMIN SENSOR   the monitoring in the page
+        (tests/e2e/console_monitoring_test.py): the clock in the header, SENSOR's baseline set
+        from its panel, its graph zoomed to an hour of the long record
     chromium_page.py forms URL ADMIN SENSOR FREE_UNIT   the guided configuration
         (tests/e2e/config_forms_test.py): SENSOR added with the Add a sensor form, applied and
         confirmed; an Edit form's change
@@ -542,6 +545,64 @@ def counters_check(url, admin, failing):
     return 1 if failures else 0
 
 
+def monitoring_check(url, admin, sensor):
+    """The clock in the header; the admin sets the sensor's baseline from its panel, with a
+    confirmation; its graph zooms from the recent minutes to an hour of the long record."""
+    failures = []
+    browser = Chromium()
+    try:
+        browser.open(url, 1280, 800)
+        if log_in(browser, admin) != "admin":
+            raise SystemExit("FAIL: the admin could not log in")
+        clock = browser.wait_for(
+            "(() => { const c = document.getElementById('clock');"
+            " return c && !c.hidden && c.textContent; })()", 20)
+        if not clock or not clock.startswith("clock "):
+            failures.append("the header does not say the clock: %r" % clock)
+        if open_sensor(browser, sensor) is None:
+            raise SystemExit("FAIL: the sensor's panel did not open")
+        shown = browser.wait_for(
+            "(() => { const t = document.getElementById('detail-baseline').textContent;"
+            " return t.includes('configuration') && t; })()", 10)
+        if not shown:
+            failures.append("the panel does not show the configuration's baseline: %r" %
+                            browser.evaluate("document.getElementById('detail-baseline').textContent"))
+        browser.click("#detail-baseline-set")
+        if not browser.wait_for("!document.getElementById('confirm').hidden", 5):
+            failures.append("Set to the current reading asks for no confirmation")
+        browser.click("#confirm-ok")
+        said = browser.wait_for(
+            "(() => { const t = document.getElementById('baseline-message').textContent;"
+            " return t.startsWith('Baseline set') && t; })()", 10)
+        now = browser.evaluate("document.getElementById('detail-baseline').textContent")
+        if not said or "set by console " + admin.split(":")[0] not in (now or ""):
+            failures.append("the baseline change says nothing, or not who: %r, %r" % (said, now))
+        live = browser.wait_for(
+            "document.querySelector('#detail-graph svg path.line.x') !== null", 15)
+        if not live:
+            failures.append("the recent graph has no X line")
+        browser.click('#detail-zoom button[data-span="3600000"]')
+        zoomed = browser.wait_for(
+            "(() => { const r = document.getElementById('detail-range').textContent;"
+            " return r.includes('long record') &&"
+            " document.querySelector('#detail-graph svg path.line.x') !== null && r; })()", 15)
+        if not zoomed:
+            failures.append("the hour's graph of the long record did not draw: %r" %
+                            browser.evaluate("document.getElementById('detail-graph').innerHTML.slice(0, 300)"))
+        pressed = browser.evaluate(
+            "document.querySelector('#detail-zoom button[data-span=\"3600000\"]').getAttribute('aria-pressed')")
+        link = browser.evaluate("document.getElementById('detail-csv').getAttribute('href')")
+        if pressed != "true" or "from=" not in (link or "") or "points=" in (link or ""):
+            failures.append("the zoom button is not pressed, or the CSV link is not the record's "
+                            "whole range: %r, %r" % (pressed, link))
+        print("monitoring page: clock %r, baseline %r, graph %r" % (clock, now, zoomed))
+    finally:
+        browser.close()
+    for failure in failures:
+        print("FAIL: " + failure)
+    return 1 if failures else 0
+
+
 def forms_check(url, admin, sensor, free_unit):
     """Guided configuration (tests/e2e/config_forms_test.py): the admin adds SENSOR with the
     Add a sensor form, first with a unit id another sensor has (its error at the field), then
@@ -773,6 +834,8 @@ def main(argv):
         return confirm_check(argv[2], argv[3])
     if len(argv) >= 5 and argv[1] == "counters":
         return counters_check(argv[2], argv[3], argv[4])
+    if len(argv) >= 5 and argv[1] == "monitoring":
+        return monitoring_check(argv[2], argv[3], argv[4])
     if len(argv) >= 6 and argv[1] == "forms":
         return forms_check(argv[2], argv[3], argv[4], int(argv[5]))
     if len(argv) >= 7 and argv[1] == "walkthrough":

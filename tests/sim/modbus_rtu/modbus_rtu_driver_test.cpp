@@ -92,6 +92,22 @@ TEST_CASE("without a model_name, the model is the [identity] model value the dev
   CHECK(driver.state().model == "360");
 }
 
+TEST_CASE("a profile's value named temperature is the reading's temperature in degC") {
+  Bench bench(1.0, 2.0);  // the preset's 21.5 degC, as an int16 of tenths at input 6
+  RtuDriver with = driver_for(example_profile());
+  bench.poll(with);
+  REQUIRE(with.state().reading.has_value());
+  REQUIRE(with.state().reading->temperature_c.has_value());
+  CHECK(*with.state().reading->temperature_c == doctest::Approx(21.5));
+
+  DeviceProfile profile = example_profile();
+  std::erase_if(profile.values, [](const ProfileValue& v) { return v.name == "temperature"; });
+  RtuDriver without = driver_for(std::move(profile));
+  bench.poll(without);
+  REQUIRE(without.state().reading.has_value());
+  CHECK_FALSE(without.state().reading->temperature_c.has_value());
+}
+
 TEST_CASE("a profile without angles publishes readings with NaN angles") {
   Bench bench(1.0, 2.0);
   DeviceProfile profile = example_profile();

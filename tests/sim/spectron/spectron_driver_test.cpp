@@ -53,6 +53,9 @@ TEST_CASE_TEMPLATE("a first poll reads the identity, then counts and temperature
   CHECK(s.reading->raw_temperature == std::optional<std::int32_t>(-40));
   CHECK(s.reading->angle_x == doctest::Approx(10.0));  // (1001 - 1) / 100
   CHECK(std::isnan(s.reading->angle_y));
+  // The assumed 0.1 degC per count (docs/protocols.md, "Dyna: what the note leaves open").
+  REQUIRE(s.reading->temperature_c.has_value());
+  CHECK(*s.reading->temperature_c == doctest::Approx(-4.0));
   CHECK(s.sample_seq == 1);
   // firmware, serial, the five EEPROM settings, sensor, temperature
   CHECK(s.counters.transactions == 9);
@@ -69,6 +72,21 @@ TEST_CASE_TEMPLATE("negative counts convert to negative degrees", P, NineBit, Mo
   REQUIRE(driver.state().reading.has_value());
   CHECK(driver.state().reading->raw_counts == std::optional<std::int32_t>(-2499));
   CHECK(driver.state().reading->angle_x == doctest::Approx(-25.0));
+}
+
+TEST_CASE_TEMPLATE("the temperature counts convert by the sensor's own temperature keys", P,
+                   NineBit, ModbusAscii) {
+  SimulatedDynaOptions module = dyna();
+  module.temperature = 523;
+  Bench bench(P::protocol, {module});
+  DynaDriverOptions options = driver_for(P::protocol);
+  options.temperature_counts_per_degree = 20.0;  // 0.05 degC per count
+  options.temperature_zero_counts = 100.0;
+  DynaDriver driver(options);
+  bench.poll(driver);
+  REQUIRE(driver.state().reading.has_value());
+  CHECK(driver.state().reading->raw_temperature == std::optional<std::int32_t>(523));
+  CHECK(driver.state().reading->temperature_c == std::optional<double>((523 - 100) / 20.0));
 }
 
 TEST_CASE_TEMPLATE("every named EEPROM setting and the EEPROM window reach the module", P, NineBit,

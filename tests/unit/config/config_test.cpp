@@ -90,7 +90,8 @@ TEST_CASE("config: an unknown key with nothing close lists the known keys") {
   expect_error(
       valid_plus("colour = \"red\"\n"), 10, "sensor[0].colour",
       "unknown key; expected one of: name, bus, model, address, unit_id, poll_ms, stale_ms, "
-      "serial, counts_per_degree, zero_counts, eeprom_reserved_writes, device, mounting, lever_m, "
+      "serial, counts_per_degree, zero_counts, temperature_counts_per_degree, "
+      "temperature_zero_counts, eeprom_reserved_writes, device, mounting, lever_m, "
       "baseline, alarms, burst_s, pre_trigger_s, burst_rate_deg_s, offline, substitute, map");
 }
 

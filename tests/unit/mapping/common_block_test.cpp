@@ -71,14 +71,14 @@ TEST_CASE("every model's map has the identical common block") {
   const auto h6 = common_layout("h6");
   CHECK(h6 == common_layout("h4360"));
   CHECK(h6 == common_layout("dyna"));
-  // Contiguous: one read of input 0..49 and of holding 0..7 covers it on any model.
+  // Contiguous: one read of input 0..51 and of holding 0..7 covers it on any model.
   for (std::string_view model : models_with_default_maps(registered_families())) {
     CAPTURE(model);
     const RegisterMap map = default_map(registered_families(), model);
     const auto now = SteadyClock::now();
     const SensorState state = online_state(now, 1, 2);
-    CHECK(read_registers(map, view_of(state, now, model), RegisterTable::input, 0, 50));
-    CHECK_FALSE(read_registers(map, view_of(state, now, model), RegisterTable::input, 50, 1));
+    CHECK(read_registers(map, view_of(state, now, model), RegisterTable::input, 0, 52));
+    CHECK_FALSE(read_registers(map, view_of(state, now, model), RegisterTable::input, 52, 1));
     CHECK(read_registers(map, view_of(state, now, model), RegisterTable::holding, 0, 8));
     // Discrete inputs 0..12: online, the six alarm flags, wrong_device, standby, then the
     // displacement alarm, the danger level, an alarm unacknowledged and the clock.
@@ -94,6 +94,19 @@ TEST_CASE("every model's map has the identical common block") {
   CHECK(dyna.find("raw_counts")->address == 100);
   CHECK(dyna.find("raw_temperature")->address == 102);
   CHECK(dyna.find("eeprom_location")->address == 103);
+}
+
+TEST_CASE("input 50 is the temperature in degC as float32, NaN where the sensor has none") {
+  const auto now = SteadyClock::now();
+  SensorState state = online_state(now, 1, 2);
+  for (std::string_view model : {"h6", "dyna"}) {
+    CAPTURE(model);
+    const RegisterMap map = default_map(registered_families(), model);
+    CHECK(std::isnan(float_at(read(map, view_of(state, now, model), RegisterTable::input, 50, 2), 0)));
+  }
+  state.reading->temperature_c = -12.25;
+  const RegisterMap dyna = default_map(registered_families(), "dyna");
+  CHECK(float_at(read(dyna, view_of(state, now, "dyna"), RegisterTable::input, 50, 2), 0) == -12.25f);
 }
 
 TEST_CASE("register 37 tells the model") {

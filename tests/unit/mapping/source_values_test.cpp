@@ -25,6 +25,7 @@ SensorState full_state(SteadyClock::time_point now) {
   r.angle_y = -2.5;
   r.raw_counts = 1234;
   r.raw_temperature = 25;
+  r.temperature_c = 21.5;
   r.taken = now - 10ms;
   s.reading = r;
   s.counters.transactions = 7;
@@ -87,6 +88,7 @@ TEST_CASE("each counter and state source reads its own field") {
   CHECK(source_value(S::angle_y_cdeg, view) == -250);
   CHECK(source_value(S::raw_counts, view) == 1234);
   CHECK(source_value(S::raw_temperature, view) == 25);
+  CHECK(source_value(S::temperature, view) == 21.5);
   CHECK(source_value(S::online, view) == 1);
   CHECK(source_value(S::stale, view) == 0);
   CHECK(source_value(S::age_ms, view) == 10);
@@ -112,6 +114,7 @@ TEST_CASE("a sensor without a reading: no angle, no raw value, and 65535 for wha
   CHECK(std::isnan(source_value(S::angle_x, view)));
   CHECK(std::isnan(source_value(S::tilt, view)));
   CHECK(std::isnan(source_value(S::raw_counts, view)));
+  CHECK(std::isnan(source_value(S::temperature, view)));
   CHECK(source_value(S::last_nak, view) == 65535);
   CHECK(source_value(S::lock_level, view) == 65535);
   CHECK(source_value(S::age_ms, view) == 65535);

@@ -1,6 +1,6 @@
 // A device profile's values in register maps: a map point names one by its name (`source =
-// "temperature"`, `write = "filter_level"`), matched with the sensor's profile when the map is
-// checked; unknown names, writes of read-only values and names used on a sensor without such
+// "filter_level"`, `write = "filter_level"`), matched with the sensor's profile when the map is
+// checked (a value named temperature is the built-in temperature source, in degC); unknown names, writes of read-only values and names used on a sensor without such
 // a value are reported at the map's line; a profile may not take a built-in's name.
 #include <doctest/doctest.h>
 
@@ -59,13 +59,18 @@ TEST_CASE("a map shows and writes a device profile's values by their names") {
   Plant plant;
   const auto loaded = plant.load(
       "modbus-rtu", point("temperature", "input", 0, "source = \"temperature\"\nscale = 10\n") +
+                        point("level", "input", 1, "source = \"filter_level\"\n") +
                         point("filter", "holding", 0, "write = \"filter_level\"\nmin = 1\nmax = 8\n"));
   REQUIRE_MESSAGE(loaded.has_value(), joined(loaded.error()));
   const RegisterMap map = map_for(registered_families(), loaded->sensors[0]);
+  // The profile's temperature is the sensor's, in degC: the built-in source.
   const Point* temperature = map.find("temperature");
   REQUIRE(temperature != nullptr);
-  CHECK(temperature->source == ValueSource::device_value);
-  CHECK(temperature->device_index == value::temperature);
+  CHECK(temperature->source == ValueSource::temperature);
+  const Point* level = map.find("level");
+  REQUIRE(level != nullptr);
+  CHECK(level->source == ValueSource::device_value);
+  CHECK(level->device_index == value::filter_level);
   const Point* filter = map.find("filter");
   REQUIRE(filter != nullptr);
   CHECK(filter->write == WriteTarget::device_value(value::filter_level));
@@ -74,13 +79,14 @@ TEST_CASE("a map shows and writes a device profile's values by their names") {
   SensorState state;
   state.reading = Reading{};
   state.reading->device_values = {1.0, 2.0, 21.5, 4.0, 7.0};
+  state.reading->temperature_c = 21.5;  // as the driver takes it from the profile's value
   state.reading->taken = SteadyClock::now();
   state.online = true;
   const SensorView view{state, SteadyClock::now(), std::chrono::milliseconds(1000), {},
                         WordOrder::big};
-  const auto input = read_registers(map, view, RegisterTable::input, 0, 1);
+  const auto input = read_registers(map, view, RegisterTable::input, 0, 2);
   REQUIRE(input.has_value());
-  CHECK(*input == std::vector<std::uint16_t>{215});
+  CHECK(*input == std::vector<std::uint16_t>{215, 4});
   const auto holding = read_registers(map, view, RegisterTable::holding, 0, 1);
   REQUIRE(holding.has_value());
   CHECK(*holding == std::vector<std::uint16_t>{4});
@@ -122,13 +128,13 @@ TEST_CASE("a write of a read-only device value is refused at the map's line") {
 
 TEST_CASE("a sensor without a device profile has no values of its own to name") {
   Plant plant;
-  const auto loaded = plant.load("h6", point("t", "input", 0, "source = \"temperature\"\n"));
+  const auto loaded = plant.load("h6", point("t", "input", 0, "source = \"filter_level\"\n"));
   REQUIRE_FALSE(loaded.has_value());
   INFO(joined(loaded.error()));
   REQUIRE(loaded.error().size() == 1);
   CHECK(loaded.error()[0].line == 7);
   CHECK(loaded.error()[0].key == "point[0].source");
-  CHECK(loaded.error()[0].message.find("\"temperature\" is not valid, expected one of: angle_x") ==
+  CHECK(loaded.error()[0].message.find("\"filter_level\" is not valid, expected one of: angle_x") ==
         0);
 }
 

@@ -40,23 +40,24 @@ TEST_CASE("mqtt: topics are the prefix, the sensor's name and the kind") {
 TEST_CASE("mqtt: a state carries the reading's Unix time in ms, angles, online and alarms") {
   CHECK(mqtt_state_json(boom(), synced(), 1764640000040) ==
         R"({"ts":1764640000000,"x":1.25,"y":-0.5,"tilt":1.346,"relative_x":null,)"
-        R"("relative_y":null,"displacement_mm":null,"online":true,"stale":false,)"
+        R"("relative_y":null,"displacement_mm":null,"temperature":null,"online":true,"stale":false,)"
         R"("age_ms":40,"alarms":2,"alarms_danger":0,"alarms_latched":0,"wrong_device":false,)"
         R"("reading_clock_synchronised":true,"clock_synchronised":true,"clock_error_ms":12.5})");
 }
 
-TEST_CASE("mqtt: a state's ts is the reading's own stamp, with its baseline and displacement") {
+TEST_CASE("mqtt: a state's ts is the reading's own stamp, with its baseline, displacement and temperature") {
   SensorStatus s = boom();
   s.reading_unix_ms = 1764639999990;  // the reply's arrival, as the bus stamped it
   s.relative_x = 0.25;
   s.relative_y = -0.5;
   s.displacement_mm = 43.62;
+  s.temperature = 21.5;
   s.alarms_danger = 1;
   s.alarms_latched = 3;
   s.clock_synchronised = false;
   CHECK(mqtt_state_json(s, synced(), 1764640000040) ==
         R"({"ts":1764639999990,"x":1.25,"y":-0.5,"tilt":1.346,"relative_x":0.25,)"
-        R"("relative_y":-0.5,"displacement_mm":43.62,"online":true,"stale":false,)"
+        R"("relative_y":-0.5,"displacement_mm":43.62,"temperature":21.5,"online":true,"stale":false,)"
         R"("age_ms":40,"alarms":2,"alarms_danger":1,"alarms_latched":3,"wrong_device":false,)"
         R"("reading_clock_synchronised":false,"clock_synchronised":true,"clock_error_ms":12.5})");
 }
@@ -66,7 +67,7 @@ TEST_CASE("mqtt: a state before the first reading has null angles and the publis
   s.name = "mast";
   CHECK(mqtt_state_json(s, synced(), 1764640000000) ==
         R"({"ts":1764640000000,"x":null,"y":null,"tilt":null,"relative_x":null,)"
-        R"("relative_y":null,"displacement_mm":null,"online":false,"stale":true,)"
+        R"("relative_y":null,"displacement_mm":null,"temperature":null,"online":false,"stale":true,)"
         R"("age_ms":null,"alarms":0,"alarms_danger":0,"alarms_latched":0,"wrong_device":false,)"
         R"("reading_clock_synchronised":true,"clock_synchronised":true,"clock_error_ms":12.5})");
 }

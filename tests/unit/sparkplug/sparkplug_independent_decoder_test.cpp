@@ -110,11 +110,14 @@ TEST_CASE("tck-id-message-flow-device-birth-publish-dbirth-payload: DBIRTH decod
 seq 2
 metric name='angle_x' alias=513 timestamp=@T datatype=10 historical=- double_value=3.0 properties=engUnit:12:string_value='deg'
 metric name='tilt' alias=515 timestamp=@T datatype=10 historical=- double_value=3.0 properties=engUnit:12:string_value='deg'
+metric name='relative_x' alias=525 timestamp=@T datatype=10 historical=- null properties=engUnit:12:string_value='deg'
 metric name='status' alias=516 timestamp=@T datatype=6 historical=- int_value=0
 metric name='online' alias=517 timestamp=@T datatype=11 historical=- boolean_value=True
 metric name='stale' alias=518 timestamp=@T datatype=11 historical=- boolean_value=False
 metric name='wrong_device' alias=524 timestamp=@T datatype=11 historical=- boolean_value=False
 metric name='alarms' alias=519 timestamp=@T datatype=6 historical=- int_value=0
+metric name='alarms_danger' alias=529 timestamp=@T datatype=6 historical=- int_value=0
+metric name='alarms_latched' alias=530 timestamp=@T datatype=6 historical=- int_value=0
 metric name='age_ms' alias=520 timestamp=@T datatype=4 historical=- long_value=70
 metric name='Properties/model' alias=521 timestamp=@T datatype=12 historical=- string_value='h4360'
 metric name='Properties/serial' alias=522 timestamp=@T datatype=12 historical=- null

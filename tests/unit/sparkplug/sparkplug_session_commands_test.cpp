@@ -10,7 +10,7 @@ using namespace tiltgate::sparkplug::test;
 namespace {
 
 constexpr std::string_view kBoomCommands = "spBv1.0/plant/DCMD/gw1/boom";
-constexpr std::uint64_t kBoomFilter = 256 + 16, kBoomZeroX = 256 + 17, kBoomX = 257;
+constexpr std::uint64_t kBoomFilter = 256 + 32, kBoomZeroX = 256 + 33, kBoomX = 257;
 
 Metric by_alias(std::uint64_t alias, Value value) {
   Metric m;

@@ -11,7 +11,8 @@ namespace {
 
 // boom is the first device: 256 + the metric's number (sparkplug/device_metrics.h).
 constexpr std::uint64_t kBoomX = 257, kBoomY = 258, kBoomTilt = 259, kBoomStatus = 260,
-                        kBoomStale = 262, kBoomAlarms = 263, kBoomAge = 264;
+                        kBoomStale = 262, kBoomAlarms = 263, kBoomAge = 264,
+                        kBoomRelativeX = 269, kBoomRelativeY = 270;
 
 std::vector<Publish> step(LiveSession& live, const DeviceSample& sample, std::int64_t ms) {
   const DeviceSample samples[] = {sample};
@@ -81,7 +82,8 @@ TEST_CASE("a DDATA at least every max_interval, with the angles and the age thou
   const auto heartbeat = step(live, boom(1.0, 0.0, 9900), 10000);
   REQUIRE(heartbeat.size() == 1);
   CHECK(aliases(heartbeat[0].payload) ==
-        std::vector<std::uint64_t>{kBoomX, kBoomY, kBoomTilt, kBoomAge});
+        std::vector<std::uint64_t>{kBoomX, kBoomY, kBoomTilt, kBoomRelativeX, kBoomRelativeY,
+                                  kBoomAge});
   CHECK(find_alias(heartbeat[0].payload, kBoomX)->timestamp ==
         static_cast<std::uint64_t>(kUnixStart + 9900));
 }
@@ -123,7 +125,8 @@ TEST_CASE("on_change_deg 0: a DDATA at every new reading, spaced by min_interval
   const auto same_angles = step(live, boom(1.0, 0.0, 150), 200);
   REQUIRE(same_angles.size() == 1);
   CHECK(aliases(same_angles[0].payload) ==
-        std::vector<std::uint64_t>{kBoomX, kBoomY, kBoomTilt, kBoomAge});
+        std::vector<std::uint64_t>{kBoomX, kBoomY, kBoomTilt, kBoomRelativeX, kBoomRelativeY,
+                                  kBoomAge});
   CHECK(step(live, boom(1.0, 0.0, 250), 250).empty());  // min_interval
   CHECK(step(live, boom(1.0, 0.0, 250), 300).size() == 1);
 }

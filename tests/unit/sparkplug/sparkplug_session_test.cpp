@@ -123,8 +123,10 @@ TEST_CASE("tck-id-topics-dbirth-metrics, tck-id-payloads-alias-birth-requirement
     CHECK(m.alias.has_value());
     CHECK(m.datatype != DataType::Unknown);  // tck-id-payloads-metric-datatype-req
   }
-  CHECK(names == std::vector<std::string>{"angle_x", "angle_y", "tilt", "status", "online", "stale",
-                                          "wrong_device", "alarms", "age_ms", "Properties/model",
+  CHECK(names == std::vector<std::string>{"angle_x", "angle_y", "tilt", "relative_x", "relative_y",
+                                          "status", "online", "stale", "wrong_device", "alarms",
+                                          "alarms_danger", "alarms_latched", "age_ms",
+                                          "Properties/model",
                                           "Properties/serial", "Properties/firmware",
                                           "Settings/filter", "Settings/zero_x"});
   CHECK(find_metric(dbirth, "angle_x")->value == Value{1.0});
@@ -172,7 +174,7 @@ TEST_CASE("tck-id-payloads-alias-uniqueness: no two metrics of the node share an
     }
   }
   CHECK(aliases.size() == with_alias);
-  CHECK(with_alias == 4 + 14 + 11);  // the node's version, buses and clock; boom's; mast's
+  CHECK(with_alias == 4 + 18 + 14);  // the node's version, buses and clock; boom's; mast's
   // 256 × (position + 1) + the metric's number: the same in every session.
   CHECK(find_metric(publishes(live.connected).at(1).payload, "angle_x")->alias == 257u);
   CHECK(find_metric(publishes(live.connected).at(2).payload, "angle_x")->alias == 513u);

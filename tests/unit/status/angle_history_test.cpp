@@ -65,6 +65,25 @@ TEST_CASE("history: JSON lists time and both angles, null for a missing angle") 
   CHECK(history_json({{0, 0.1f, -12.345f}}) == "[{\"t\":0,\"x\":0.1,\"y\":-12.345}]");
 }
 
+TEST_CASE("history: a ring made with temperatures keeps them, and the JSON shows them") {
+  AngleRing ring(2, true);
+  CHECK(ring.keeps_temperatures());
+  ring.push({1000, 1.5f, std::nullopt, 21.5f});
+  ring.push({2000, 1.75f, std::nullopt, std::nullopt});  // stale: no temperature either
+  ring.push({3000, 2.0f, std::nullopt, 22.25f});
+  const auto samples = ring.samples();
+  REQUIRE(samples.size() == 2);
+  CHECK_FALSE(samples[0].temperature.has_value());
+  CHECK(samples[1].temperature == 22.25f);
+  CHECK(history_json(samples) == "[{\"t\":2000,\"x\":1.75,\"y\":null},"
+                                 "{\"t\":3000,\"x\":2,\"y\":null,\"temperature\":22.25}]");
+  // A ring without: a temperature given is not kept.
+  AngleRing plain(2);
+  CHECK_FALSE(plain.keeps_temperatures());
+  plain.push({1000, 1.5f, std::nullopt, 21.5f});
+  CHECK_FALSE(plain.samples()[0].temperature.has_value());
+}
+
 TEST_CASE("history: CSV has the header and ISO 8601 UTC times, an empty field when missing") {
   CHECK(history_csv({}) == "time_utc,unix_ms,x_deg,y_deg\r\n");
   CHECK(history_csv({{1764638738250, 1.25f, -0.5f}, {1764638739005, std::nullopt, std::nullopt}}) ==

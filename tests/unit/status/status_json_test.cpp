@@ -24,7 +24,7 @@ TEST_CASE("status JSON: a sensor with a reading shows every field") {
         R"("online":true,"stale":false,"x":1.5,"y":-2.25,)"
         R"("tilt":2.7,"age_ms":40,"alarms":5,"alarms_danger":0,"alarms_latched":0,)"
         R"("relative_x":null,"relative_y":null,"displacement_x_mm":null,)"
-        R"("displacement_y_mm":null,"displacement_mm":null,)"
+        R"("displacement_y_mm":null,"displacement_mm":null,"temperature":null,)"
         R"("reading_time":null,"clock_synchronised":true,)"
         R"("polls_ok":10,"polls_failed":2,"polls_per_s":4.5,)"
         R"("failures":{"timeout":3,"checksum":1,"io_error":0,"late_reply":4},)"
@@ -198,7 +198,7 @@ TEST_CASE("JSON: /api/status shows the clock: synchronised with its error bound 
             .ends_with(R"("clock":{"synchronised":false,"error_ms":null}})"));
 }
 
-TEST_CASE("status JSON: a sensor's baseline, displacement, alarm levels and reading time") {
+TEST_CASE("status JSON: a sensor's baseline, displacement, temperature, alarm levels and reading time") {
   SensorStatus s = boom();
   s.alarms_danger = 1;
   s.alarms_latched = 5;
@@ -207,12 +207,13 @@ TEST_CASE("status JSON: a sensor's baseline, displacement, alarm levels and read
   s.displacement_x_mm = 43.62;
   s.displacement_y_mm = 0.0;
   s.displacement_mm = 43.62;
+  s.temperature = -3.5;
   s.reading_unix_ms = 1796638502250;
   s.clock_synchronised = false;
   const std::string text = sensor_json(s);
   CHECK(text.find(R"("alarms":5,"alarms_danger":1,"alarms_latched":5,)"
                   R"("relative_x":0.25,"relative_y":-0.5,"displacement_x_mm":43.62,)"
-                  R"("displacement_y_mm":0,"displacement_mm":43.62,)"
+                  R"("displacement_y_mm":0,"displacement_mm":43.62,"temperature":-3.5,)"
                   R"("reading_time":"2026-12-07T10:15:02.250Z",)"
                   R"("clock_synchronised":false,)") != std::string::npos);
 }

@@ -121,7 +121,7 @@ class FakeDriver : public SensorDriver {
     if (state_.unanswered) ++state_.counters.timeouts;
     if (state_.online) {
       const double x = counting ? polls : 1.0;
-      state_.reading = Reading{x, counting ? x : 2.0, {}, {}, SteadyClock::now(), {}};
+      state_.reading = Reading{x, counting ? x : 2.0, {}, {}, {}, SteadyClock::now(), {}};
       ++state_.sample_seq;
     }
     events_.push_back(name_ + " poll end");
