@@ -150,6 +150,11 @@ def start_console(t, tiltgate, users_file):
     return http_port
 
 
+def by_name(items, name):
+    """The item of a JSON list (/api/sensors, /api/buses) with that name, or None."""
+    return next((i for i in items if i["name"] == name), None)
+
+
 def listening(port):
     try:
         socket.create_connection(("127.0.0.1", port), timeout=2).close()

@@ -14,7 +14,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sparkplug"))
-from console_api_test import PASSWORDS, Client, add_users, start_gateway, write_config  # noqa: E402
+from console_api_test import (PASSWORDS, Client, add_users, by_name, start_gateway,  # noqa: E402
+                              write_config)
 from spb_e2e.checks import Checks, arguments  # noqa: E402
 from spb_e2e.plant import Simulator  # noqa: E402
 from spb_e2e import processes  # noqa: E402
@@ -28,10 +29,6 @@ address = 50
 unit_id = 3
 """
 CAUSES = ("polls_failed", "timeout", "checksum", "io_error", "late_reply")
-
-
-def by_name(items, name):
-    return next((i for i in items if i["name"] == name), None)
 
 
 def scenario(t):
