@@ -7,6 +7,7 @@
 #include "app/journal_log.h"
 #include "app/redundant_pair.h"
 #include "monitoring/baseline_runner.h"
+#include "mqtt/mqtt_payload.h"
 #include "monitoring/record_download.h"
 #include "commission_wire/requested_command.h"
 #include "control/capture_runner.h"
@@ -66,7 +67,7 @@ ServedGateway::ServedGateway(boost::asio::io_context& io, const Config& config,
       mqtt_(io.get_executor(), [this] { return status(SteadyClock::now()); }, config.mqtt,
             mqtt_events()),
       sparkplug_(io.get_executor(), gateway_, families, config.sparkplug,
-                 [this] { return clock_.current(); }),
+                 [this] { return clock_.current(); }, burst_source()),
       control_(gateway_,
                monitoring::with_baselines(
                    with_capture(requested_command_runner(families, registered_family_commands())),
@@ -94,6 +95,23 @@ MqttEventSource ServedGateway::mqtt_events() {
     for (const monitoring::EventRecord& e : monitoring_.events_after(after, 1000))
       events.push_back({e.seq, monitoring::event_json(e), e.unix_ms});
     return events;
+  };
+  source.last_burst = [this] { return monitoring_.burst_feed().last(); };
+  source.bursts_after = [this](std::uint64_t after) {
+    std::vector<MqttBurst> bursts;
+    for (const monitoring::BurstBatch& b : monitoring_.burst_feed().after(after, 64))
+      bursts.push_back({b.seq, b.sensor, mqtt_burst_json(b), b.samples.back().unix_ms});
+    return bursts;
+  };
+  return source;
+}
+
+monitoring::BurstSource ServedGateway::burst_source() {
+  // Called later, on the event loop: the service is made by then.
+  monitoring::BurstSource source;
+  source.last = [this] { return monitoring_.burst_feed().last(); };
+  source.after = [this](std::uint64_t after, std::size_t max) {
+    return monitoring_.burst_feed().after(after, max);
   };
   return source;
 }

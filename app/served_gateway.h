@@ -49,6 +49,7 @@ class ServedGateway {
   MonitoringSource monitoring_source();
   // The monitoring's events for the MQTT feed's <prefix>/events.
   MqttEventSource mqtt_events();
+  monitoring::BurstSource burst_source();
 
   // Before the gateway: the buses' writes and the services record into it until they stop.
   // So it goes last, and its destructor writes every record still queued for its writer

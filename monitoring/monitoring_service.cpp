@@ -307,13 +307,19 @@ void MonitoringService::record_bursts(GatewaySensor& sensor, const FedBatch& bat
     w.bursts.emplace(config);
     w.burst_config = config;
     w.burst_file.clear();
+    w.burst_id.clear();
   }
   BurstWork work = w.bursts->take(batch.samples, batch.transitions);
   std::string text;
   const std::string& name = config.name;
+  // The same samples for the feeds (monitoring/burst_feed.h), a batch a phase.
+  const auto publish = [&](const char* phase, std::vector<FedSample> samples) {
+    burst_feed_.push(BurstBatch{0, name, w.burst_id, phase, std::move(samples)});
+  };
   if (work.started) {
     if (sensor.bus) sensor.bus->burst(sensor, work.started->until);
     const std::string id = burst_id(work.started->unix_ms);
+    w.burst_id = id;
     if (!state_dir_.empty() && keeps_files_) w.burst_file = bursts_of(name) / (id + ".csv");
     EventRecord e = sensor_event(name, "burst", "start", work.started->trigger);
     e.unix_ms = work.started->unix_ms;
@@ -321,12 +327,15 @@ void MonitoringService::record_bursts(GatewaySensor& sensor, const FedBatch& bat
                          work.started->trigger, config.burst.count(), id);
     events.push_back(std::move(e));
     text = burst_csv_header() + burst_csv_rows(work.started->pre, BurstPhase::pre);
+    publish("pre", work.started->pre);
     if (!work.samples.empty()) {
       text += burst_csv_rows({work.samples.front()}, BurstPhase::trigger);
+      publish("trigger", {work.samples.front()});
       work.samples.erase(work.samples.begin());
     }
   }
   text += burst_csv_rows(work.samples, BurstPhase::burst);
+  if (!w.burst_id.empty()) publish("burst", work.samples);
   if (!w.burst_file.empty() && !text.empty()) {
     boost::asio::post(disk_, [file = w.burst_file, text = std::move(text),
                               dir = bursts_of(name), fresh = work.started.has_value()] {
@@ -336,9 +345,9 @@ void MonitoringService::record_bursts(GatewaySensor& sensor, const FedBatch& bat
     });
   }
   if (work.ended) {
-    events.push_back(sensor_event(name, "burst", "end",
-                                  fmt::format("record {}", w.burst_file.stem().string())));
+    events.push_back(sensor_event(name, "burst", "end", fmt::format("record {}", w.burst_id)));
     w.burst_file.clear();
+    w.burst_id.clear();
   }
 }
 

@@ -29,6 +29,7 @@
 #include "gateway/gateway.h"
 #include "gateway/gateway_service.h"
 #include "monitoring/baseline_book.h"
+#include "monitoring/burst_feed.h"
 #include "monitoring/burst_recorder.h"
 #include "monitoring/interval_summary.h"
 #include "monitoring/long_record.h"
@@ -73,6 +74,8 @@ class MonitoringService final : public GatewayService {
   // Where a sensor's long record is (monitoring/long_record.h); empty without a state
   // directory. Any thread.
   std::filesystem::path record_of(const std::string& sensor) const;
+  // The bursts' samples as they are recorded, for the feeds (monitoring/burst_feed.h).
+  const BurstFeed& burst_feed() const { return burst_feed_; }
 
   // The gateway's executor: the sensor's baseline changed as asked, kept in the book,
   // audited (door and who from `by`) and recorded as an event. The error says why not (no
@@ -94,6 +97,7 @@ class MonitoringService final : public GatewayService {
     std::optional<BurstRecorder> bursts;  // made with the sensor's config (remade at a reload)
     SensorConfig burst_config;            // what `bursts` was made with
     std::filesystem::path burst_file;     // the running burst's; empty: none
+    std::string burst_id;                 // the running burst's; empty: none
     std::optional<IntervalSummary> summary;  // the long record's open interval
   };
 
@@ -112,6 +116,7 @@ class MonitoringService final : public GatewayService {
   std::shared_ptr<BaselineBook> book_;
   // [server] state_dir, where the records and bursts are kept; empty: none kept.
   std::filesystem::path state_dir_;
+  BurstFeed burst_feed_;
   // This gateway holds <state_dir>/events/lock: the files above are its own to write.
   bool keeps_files_ = false;
   store::UniqueFd lock_;

@@ -95,6 +95,7 @@ Expected<Done, std::string> MqttFeed::start() {
   // Events from now on: those before are in the event record (GET /api/events). Asked here,
   // not at construction: the monitoring is made after the feed (app/served_gateway.h).
   if (events_.last) events_sent_ = events_.last();
+  if (events_.last_burst) bursts_sent_ = events_.last_burst();
   schedule();
   return Done{};
 }
@@ -217,11 +218,19 @@ void MqttFeed::tick() {
 }
 
 void MqttFeed::publish_events() {
-  if (!events_.after) return;
-  for (MqttEvent& event : events_.after(events_sent_)) {
-    events_sent_ = event.seq;
-    send_or_keep(MqttMessage{mqtt_events_topic(config_.topic_prefix), std::move(event.payload),
-                             false, event.unix_ms});
+  if (events_.after) {
+    for (MqttEvent& event : events_.after(events_sent_)) {
+      events_sent_ = event.seq;
+      send_or_keep(MqttMessage{mqtt_events_topic(config_.topic_prefix), std::move(event.payload),
+                               false, event.unix_ms});
+    }
+  }
+  if (events_.bursts_after) {
+    for (MqttBurst& burst : events_.bursts_after(bursts_sent_)) {
+      bursts_sent_ = burst.seq;
+      send_or_keep(MqttMessage{mqtt_burst_topic(config_.topic_prefix, burst.sensor),
+                               std::move(burst.payload), false, burst.unix_ms});
+    }
   }
 }
 

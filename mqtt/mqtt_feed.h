@@ -55,7 +55,8 @@ class MqttFeed {
   void take_acknowledgements();
   void keep_unacknowledged();
   void send_or_keep(MqttMessage message);
-  // The events since the last tick, on <prefix>/events.
+  // The events since the last tick, on <prefix>/events, and the bursts' batches, on
+  // <prefix>/<sensor>/burst.
   void publish_events();
   void keep(const MqttMessage& message);
   void replay();
@@ -69,6 +70,7 @@ class MqttFeed {
   StatusSource status_;
   MqttEventSource events_;
   std::uint64_t events_sent_ = 0;  // the last event's number handed to the client or the backlog
+  std::uint64_t bursts_sent_ = 0;  // the same for the bursts' batches
   MqttConfig config_;
   MqttPublisher publisher_;
   MqttClient client_;

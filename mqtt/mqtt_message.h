@@ -29,9 +29,20 @@ struct MqttEvent {
   std::string payload;
   std::int64_t unix_ms = 0;
 };
+// A batch of a burst's samples (monitoring/burst_feed.h), published on
+// <prefix>/<sensor>/burst, QoS 1, kept in the backlog while the broker is away.
+struct MqttBurst {
+  std::uint64_t seq = 0;
+  std::string sensor;
+  std::string payload;
+  std::int64_t unix_ms = 0;  // its newest sample's
+};
 struct MqttEventSource {
   std::function<std::uint64_t()> last;  // the newest event's number now (0: none yet)
   std::function<std::vector<MqttEvent>(std::uint64_t after)> after;  // oldest first
+  // The same for the bursts' batches.
+  std::function<std::uint64_t()> last_burst;
+  std::function<std::vector<MqttBurst>(std::uint64_t after)> bursts_after;
 };
 
 }  // namespace tiltgate

@@ -13,6 +13,10 @@ std::string mqtt_state_topic(std::string_view prefix, std::string_view sensor) {
 
 std::string mqtt_events_topic(std::string_view prefix) { return fmt::format("{}/events", prefix); }
 
+std::string mqtt_burst_topic(std::string_view prefix, std::string_view sensor) {
+  return fmt::format("{}/{}/burst", prefix, sensor);
+}
+
 std::string mqtt_info_topic(std::string_view prefix, std::string_view sensor) {
   return fmt::format("{}/{}/info", prefix, sensor);
 }
@@ -51,6 +55,26 @@ std::string mqtt_historical_state_json(std::string_view state_json) {
   if (state.is_discarded() || !state.is_object()) return std::string(state_json);
   state["historical"] = true;
   return json_text(state);
+}
+
+std::string mqtt_burst_json(const monitoring::BurstBatch& batch) {
+  Json samples = Json::array();
+  for (const FedSample& s : batch.samples)
+    samples.push_back(Json{{"ts", s.unix_ms},
+                           {"x", json_number(s.x)},
+                           {"y", json_number(s.y)},
+                           {"tilt", json_number(s.tilt)},
+                           {"relative_x", json_number(s.relative_x)},
+                           {"relative_y", json_number(s.relative_y)},
+                           {"displacement_mm", json_number(s.displacement_mm)},
+                           {"temperature", json_number(s.temperature_c)},
+                           {"alarms", s.alarms},
+                           {"clock_synchronised", s.clock_synchronised}});
+  return json_text(Json{{"sensor", batch.sensor},
+                        {"burst", batch.id},
+                        {"phase", batch.phase},
+                        {"historical", true},
+                        {"samples", std::move(samples)}});
 }
 
 std::string mqtt_info_json(const SensorStatus& s) { return json_text(sensor_identity_json(s)); }

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "gateway/gateway_status.h"
+#include "monitoring/burst_feed.h"
 
 namespace tiltgate {
 
@@ -15,6 +16,7 @@ std::string mqtt_state_topic(std::string_view prefix, std::string_view sensor);
 std::string mqtt_info_topic(std::string_view prefix, std::string_view sensor);
 std::string mqtt_status_topic(std::string_view prefix);
 std::string mqtt_events_topic(std::string_view prefix);
+std::string mqtt_burst_topic(std::string_view prefix, std::string_view sensor);
 
 // The gateway's retained status: "online" while connected, "offline" as the last will and on
 // a clean shutdown.
@@ -33,6 +35,12 @@ std::string mqtt_state_json(const SensorStatus& sensor, const ClockState& clock,
 // A state kept in the backlog, as it is replayed: `state_json` with "historical":true added, so a
 // subscriber that shows the latest state can tell a replayed, older one from a live one.
 std::string mqtt_historical_state_json(std::string_view state_json);
+
+// A batch of a burst's samples (monitoring/burst_feed.h), historical data by nature:
+// {"sensor","burst","phase","historical":true,"samples":[{"ts","x","y","tilt","relative_x",
+// "relative_y","displacement_mm","temperature","alarms","clock_synchronised"}]}, each sample
+// with its reading's own time and null for a value the sensor has not.
+std::string mqtt_burst_json(const monitoring::BurstBatch& batch);
 
 // The sensor's identity: name, bus, unit_id, address, model, serial, firmware. Retained, and
 // published again whenever it changes (the serial arrives after the first poll).

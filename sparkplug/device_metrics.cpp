@@ -1,6 +1,7 @@
 #include "sparkplug/device_metrics.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace tiltgate::sparkplug {
@@ -109,6 +110,23 @@ Metric device_metric(const MetricSlot& slot, std::size_t device, Value value,
     m.properties.push_back(
         {"engUnit", DataType::String, slot.angle ? std::string("deg") : slot.unit});
   return m;
+}
+
+std::vector<Metric> burst_metrics(const monitoring::BurstBatch& batch) {
+  std::vector<Metric> metrics;
+  for (const FedSample& s : batch.samples) {
+    const std::pair<const char*, double> values[] = {
+        {"angle_x", s.x},           {"angle_y", s.y},
+        {"tilt", s.tilt},           {"relative_x", s.relative_x},
+        {"relative_y", s.relative_y}, {"displacement_mm", s.displacement_mm},
+        {"temperature", s.temperature_c}};
+    for (const auto& [name, value] : values) {
+      if (!std::isfinite(value)) continue;  // a value the sensor has not
+      metrics.push_back(Metric{name, std::nullopt, static_cast<std::uint64_t>(s.unix_ms),
+                               DataType::Double, true, Value{value}, {}});
+    }
+  }
+  return metrics;
 }
 
 Metric bd_seq_metric(std::uint8_t bd_seq, std::uint64_t now_unix_ms) {

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "monitoring/burst_feed.h"
 #include "sparkplug/payload.h"
 
 namespace tiltgate::sparkplug {
@@ -146,6 +147,13 @@ std::vector<Value> device_values(const std::vector<MetricSlot>& layout, const De
 // Its timestamp is the reading's (tck-id-payloads-name-birth-data-requirement).
 Metric device_metric(const MetricSlot& slot, std::size_t device, Value value,
                      std::uint64_t timestamp, bool birth);
+
+// A batch of a burst's samples (monitoring/burst_feed.h) as historical data: for each sample
+// its angle_x, angle_y, tilt, relative_x, relative_y, displacement_mm and temperature, those it
+// has, by name (not alias: a Keep for the store-and-forward, whose replay aliases them for the
+// birth then live), Double, is_historical, with the sample's own timestamp. Several values of
+// one metric in one payload, each at its time, as Sparkplug's historical data allows.
+std::vector<Metric> burst_metrics(const monitoring::BurstBatch& batch);
 
 // The node's NBIRTH metrics: bdSeq (Int64), Node Control/Rebirth (false), version, buses,
 // Clock/synchronised (Boolean) and Clock/error_ms (Double, null while unsynchronised).

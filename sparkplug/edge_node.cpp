@@ -73,12 +73,14 @@ bool due(std::chrono::steady_clock::time_point& last, std::chrono::steady_clock:
 }  // namespace
 
 EdgeNode::EdgeNode(boost::asio::any_io_executor executor, const Gateway& gateway,
-                   FamilyList families, const SparkplugConfig& config, ClockReader clock)
+                   FamilyList families, const SparkplugConfig& config, ClockReader clock,
+                   monitoring::BurstSource bursts)
     : executor_(executor),
       timer_(executor),
       gateway_(gateway),
       config_(config),
       clock_(std::move(clock)),
+      bursts_(std::move(bursts)),
       dir_(fs::path(config.state_dir) / "sparkplug"),
       sampler_(gateway, families),
       writer_(gateway, families),
@@ -133,6 +135,8 @@ Expected<Done, std::string> EdgeNode::start(std::optional<std::uint8_t> last_bd_
   if (!session) return Unexpected(session.error());
   last_bd_seq_ = last_bd_seq;
   session_.emplace(std::move(*session));
+  // Bursts from now on: those before are in their files (tiltgate bursts, the console).
+  if (bursts_.last) bursts_kept_ = bursts_.last();
   // Before the first CONNACK, which may come before the first tick: the NBIRTH has the clock.
   (void)session_->update_node(node_sample(clock_()), now());
   backlog_.emplace(std::move(*backlog));
@@ -248,6 +252,7 @@ void EdgeNode::tick() {
   }
   carry_out(session_->update_node(node_sample(clock_()), at));
   carry_out(session_->update(sampler_.sample(at.steady, at.unix_ms), at));
+  keep_bursts();
   // After the live data of this tick: the replay never holds it up.
   if (client_->connected()) {
     auto replayed = backlog_->replay(*session_, at, kReplayPerTick,
@@ -272,6 +277,21 @@ void EdgeNode::tick() {
       spdlog::error("Sparkplug: store: {}", notice.text);
     else
       spdlog::info("Sparkplug: store: {}", notice.text);
+  }
+}
+
+void EdgeNode::keep_bursts() {
+  if (!bursts_.after) return;
+  for (const monitoring::BurstBatch& batch : bursts_.after(bursts_kept_, kReplayPerTick)) {
+    bursts_kept_ = batch.seq;
+    std::vector<Metric> metrics = burst_metrics(batch);
+    if (metrics.empty()) continue;
+    const std::int64_t newest = batch.samples.back().unix_ms;
+    carry_out({Keep{device_topic(MessageType::DDATA, config_.group_id, config_.edge_node_id,
+                                 batch.sensor),
+                    Payload{static_cast<std::uint64_t>(now().unix_ms), std::nullopt,
+                            std::move(metrics)},
+                    newest}});
   }
 }
 

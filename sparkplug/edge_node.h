@@ -27,6 +27,7 @@
 #include "doors/log_throttle.h"
 #include "doors/request_rate.h"
 #include "mqtt/mqtt_client.h"
+#include "monitoring/burst_feed.h"
 #include "sparkplug/ddata_backlog.h"
 #include "sparkplug/device_sampler.h"
 #include "sparkplug/edge_node_session.h"
@@ -40,9 +41,12 @@ inline constexpr std::size_t kReplayPerTick = 50;
 
 class EdgeNode {
  public:
-  // `clock`: the system clock's state, its NBIRTH's and NDATA's Clock/ metrics.
+  // `clock`: the system clock's state, its NBIRTH's and NDATA's Clock/ metrics. `bursts`: the
+  // monitoring's bursts, each batch after the newest at start() kept for the store-and-forward
+  // as historical DDATA (empty functions: none).
   EdgeNode(boost::asio::any_io_executor executor, const Gateway& gateway, FamilyList families,
-           const SparkplugConfig& config, ClockReader clock);
+           const SparkplugConfig& config, ClockReader clock,
+           monitoring::BurstSource bursts = {});
   ~EdgeNode();
   EdgeNode(const EdgeNode&) = delete;
   EdgeNode& operator=(const EdgeNode&) = delete;
@@ -68,6 +72,9 @@ class EdgeNode {
   void schedule();
   void tick();
   void carry_out(std::vector<Action> actions);
+  // The bursts' batches since the last tick, kept as historical DDATA (burst_metrics()): the
+  // store-and-forward replays them after the live data, in order, once the device is born.
+  void keep_bursts();
   bool publish(const Publish& message);  // false: not connected
   void write_setting(Write write);
   void log_refusal_summaries();
@@ -85,6 +92,8 @@ class EdgeNode {
   const Gateway& gateway_;
   const SparkplugConfig config_;
   ClockReader clock_;
+  monitoring::BurstSource bursts_;
+  std::uint64_t bursts_kept_ = 0;  // the last batch's number handed to the store
   std::filesystem::path dir_;  // state_dir/sparkplug
   DeviceSampler sampler_;
   SettingWriter writer_;

@@ -18,12 +18,13 @@ std::vector<std::string> sensor_names(const Config& config) {
 
 SparkplugService::SparkplugService(boost::asio::any_io_executor executor, const Gateway& gateway,
                                    FamilyList families, const SparkplugConfig& config,
-                                   ClockReader clock)
+                                   ClockReader clock, monitoring::BurstSource bursts)
     : executor_(std::move(executor)),
       gateway_(gateway),
       families_(families),
       config_(config),
       clock_(std::move(clock)),
+      bursts_(std::move(bursts)),
       retired_(executor_),
       retry_(executor_) {
   make_node();
@@ -34,7 +35,8 @@ SparkplugService::~SparkplugService() = default;
 void SparkplugService::make_node() {
   devices_ = sensor_names(gateway_.config());
   if (!config_.enabled || paused_) return;
-  node_ = std::make_unique<sparkplug::EdgeNode>(executor_, gateway_, families_, config_, clock_);
+  node_ = std::make_unique<sparkplug::EdgeNode>(executor_, gateway_, families_, config_, clock_,
+                                                bursts_);
 }
 
 void SparkplugService::retire_node() {

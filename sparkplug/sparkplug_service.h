@@ -24,8 +24,10 @@ namespace tiltgate {
 class SparkplugService final : public GatewayService {
  public:
   // `clock`: the system clock's state, reported as the node's Clock/ metrics.
+  // `bursts`: the monitoring's (sparkplug/edge_node.h).
   SparkplugService(boost::asio::any_io_executor executor, const Gateway& gateway,
-                   FamilyList families, const SparkplugConfig& config, ClockReader clock);
+                   FamilyList families, const SparkplugConfig& config, ClockReader clock,
+                   monitoring::BurstSource bursts = {});
   ~SparkplugService() override;
 
   // Nothing before the switch to [server] user: the node's state_dir is that user's.
@@ -62,6 +64,7 @@ class SparkplugService final : public GatewayService {
   FamilyList families_;
   SparkplugConfig config_;
   ClockReader clock_;
+  monitoring::BurstSource bursts_;
   std::vector<std::string> devices_;  // the sensors' names the node was made for
   std::unique_ptr<sparkplug::EdgeNode> node_;  // none without [sparkplug], and while paused
   bool started_ = false;

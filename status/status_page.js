@@ -525,6 +525,7 @@ async function refreshHistory() {
     $("detail-graph").innerHTML = drawGraph(samples, span);
     $("detail-temperature-key").hidden = !samples.some((s) => present(s.temperature));
     if (span) {
+      setCsvLink(name);  // the span up to now
       $("detail-range").textContent = samples.length + (samples.length === 1 ? " step" : " steps") +
         " of the long record over the last " + spanText(span);
     } else {

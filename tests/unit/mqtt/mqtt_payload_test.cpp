@@ -33,6 +33,7 @@ ClockState synced() { return ClockState{true, 12.5, 1.0, ClockProblem::none}; }
 
 TEST_CASE("mqtt: topics are the prefix, the sensor's name and the kind") {
   CHECK(mqtt_state_topic("tiltgate/gw1", "boom") == "tiltgate/gw1/boom/state");
+  CHECK(mqtt_burst_topic("tiltgate/gw1", "boom") == "tiltgate/gw1/boom/burst");
   CHECK(mqtt_info_topic("plant/north", "boom") == "plant/north/boom/info");
   CHECK(mqtt_status_topic("tiltgate/gw1") == "tiltgate/gw1/status");
 }
@@ -105,4 +106,22 @@ TEST_CASE("mqtt: a state says whether the gateway's clock was synchronised when 
 
 TEST_CASE("mqtt payload: a state kept for a replay says it is historical, and nothing else changes") {
   CHECK(mqtt_historical_state_json(R"({"ts":1,"x":null})") == R"({"ts":1,"x":null,"historical":true})");
+}
+
+TEST_CASE("mqtt: a burst's batch is historical, each sample with its own time") {
+  monitoring::BurstBatch batch{7, "mast", "2026-12-07T10-15-02.250Z", "trigger", {}};
+  FedSample s;
+  s.unix_ms = 1796638502250;
+  s.x = 2.5;
+  s.tilt = 2.5;
+  s.relative_x = 0.5;
+  s.temperature_c = 21.5;
+  s.alarms = 1;
+  s.clock_synchronised = false;
+  batch.samples.push_back(s);
+  CHECK(mqtt_burst_json(batch) ==
+        R"({"sensor":"mast","burst":"2026-12-07T10-15-02.250Z","phase":"trigger",)"
+        R"("historical":true,"samples":[{"ts":1796638502250,"x":2.5,"y":null,"tilt":2.5,)"
+        R"("relative_x":0.5,"relative_y":null,"displacement_mm":null,"temperature":21.5,)"
+        R"("alarms":1,"clock_synchronised":false}]})");
 }

@@ -113,3 +113,30 @@ TEST_CASE("Sparkplug: a temperature that changes alone sends nothing, an alarm l
   danger.alarms_danger = 3;
   CHECK(ddata_due(rules, layout, last, device_values(layout, danger), before.reading_unix_ms, later));
 }
+
+TEST_CASE("Sparkplug: a burst's samples as historical metrics, by name, each at its time") {
+  tiltgate::monitoring::BurstBatch batch{3, "pier", "2026-12-07T10-15-02.250Z", "burst", {}};
+  for (int i = 0; i < 2; ++i) {
+    tiltgate::FedSample s;
+    s.unix_ms = 1796638502250 + 10 * i;
+    s.x = 1.5 + i;
+    s.tilt = 1.5 + i;
+    s.relative_x = 0.5;
+    s.temperature_c = 18.0;  // y, relative_y and the displacement: none, so not sent
+    batch.samples.push_back(s);
+  }
+  const std::vector<Metric> metrics = burst_metrics(batch);
+  REQUIRE(metrics.size() == 8);
+  CHECK(metrics[0].name == "angle_x");
+  CHECK(metrics[0].value == Value{1.5});
+  CHECK(metrics[0].timestamp == std::optional<std::uint64_t>(1796638502250));
+  CHECK(metrics[3].name == "temperature");
+  CHECK(metrics[4].name == "angle_x");
+  CHECK(metrics[4].value == Value{2.5});
+  CHECK(metrics[4].timestamp == std::optional<std::uint64_t>(1796638502260));
+  for (const Metric& m : metrics) {
+    CHECK(m.is_historical);
+    CHECK_FALSE(m.alias.has_value());
+    CHECK(m.datatype == DataType::Double);
+  }
+}

@@ -19,6 +19,8 @@ def toml_value(value):
         return "true" if value else "false"
     if isinstance(value, (int, float)):
         return repr(value)
+    if isinstance(value, dict):  # an inline table
+        return "{ %s }" % ", ".join("%s = %s" % (k, toml_value(v)) for k, v in value.items())
     return '"%s"' % value
 
 
