@@ -96,12 +96,14 @@ MqttEventSource ServedGateway::mqtt_events() {
       events.push_back({e.seq, monitoring::event_json(e), e.unix_ms});
     return events;
   };
-  source.last_burst = [this] { return monitoring_.burst_feed().last(); };
-  source.bursts_after = [this](std::uint64_t after) {
-    std::vector<MqttBurst> bursts;
-    for (const monitoring::BurstBatch& b : monitoring_.burst_feed().after(after, 64))
-      bursts.push_back({b.seq, b.sensor, mqtt_burst_json(b), b.samples.back().unix_ms});
-    return bursts;
+  // The bursts as the Sparkplug edge node takes them, made messages.
+  const monitoring::BurstSource bursts = burst_source();
+  source.last_burst = bursts.last;
+  source.bursts_after = [after_of = bursts.after](std::uint64_t after) {
+    std::vector<MqttBurst> messages;
+    for (const monitoring::BurstBatch& b : after_of(after, 64))
+      messages.push_back({b.seq, b.sensor, mqtt_burst_json(b), b.samples.back().unix_ms});
+    return messages;
   };
   return source;
 }

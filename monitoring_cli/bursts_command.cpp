@@ -9,6 +9,7 @@
 #include "monitoring/burst_files.h"
 #include "monitoring/utc_time.h"
 #include "monitoring_cli/configured_sensor.h"
+#include "monitoring_cli/csv_output.h"
 #include "store/file_io.h"
 
 namespace tiltgate {
@@ -54,15 +55,8 @@ int write_one(const std::filesystem::path& dir, const std::string& id,
     return 1;
   }
   std::ofstream file;
-  std::ostream* out = &std::cout;
-  if (output != "-") {
-    file.open(output, std::ios::binary | std::ios::trunc);
-    if (!file) {
-      std::cerr << fmt::format("tiltgate bursts: cannot write {}\n", output);
-      return 1;
-    }
-    out = &file;
-  }
+  std::ostream* out = open_csv_output(output, file, "bursts");
+  if (out == nullptr) return 1;
   out->write(reinterpret_cast<const char*>(bytes->data()), std::streamsize(bytes->size()));
   out->flush();
   return out->good() ? 0 : 1;

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "monitoring_cli/configured_sensor.h"
+#include "monitoring_cli/csv_output.h"
 #include "monitoring/history_csv.h"
 #include "monitoring/long_record.h"
 #include "monitoring/long_record_reader.h"
@@ -50,15 +51,8 @@ int run_history(const HistoryOptions& o, FamilyList families) {
     return 1;
   }
   std::ofstream file;
-  std::ostream* out = &std::cout;
-  if (o.output != "-") {
-    file.open(o.output, std::ios::binary | std::ios::trunc);
-    if (!file) {
-      std::cerr << fmt::format("tiltgate history: cannot write {}\n", o.output);
-      return 1;
-    }
-    out = &file;
-  }
+  std::ostream* out = open_csv_output(o.output, file, "history");
+  if (out == nullptr) return 1;
   monitoring::LongRecordReader reader(
       monitoring::record_directory(loaded->server.state_dir, o.sensor), from, to);
   *out << monitoring::history_csv_header();
